@@ -1,0 +1,35 @@
+#pragma once
+// Reading and writing meshes through OpenMesh (OFF, OBJ, PLY, STL, OM).
+#include "mesh/triangle_mesh.h"
+#include <string>
+#include <vector>
+
+namespace hb {
+
+/// What a read found and fixed. Warnings are human-readable and name the file.
+struct MeshReadReport {
+  std::size_t input_vertices = 0;
+  std::size_t input_faces = 0;             ///< faces in the file, before triangulation.
+  std::size_t polygons_triangulated = 0;   ///< faces with more than 3 corners.
+  std::size_t degenerate_dropped = 0;      ///< zero-area or repeated-index triangles dropped.
+  std::size_t faces_rejected = 0;          ///< faces the reader could not add (non-manifold).
+  bool open = false;                       ///< has boundary edges.
+  bool non_manifold = false;               ///< has edges shared by more than two faces.
+  std::vector<std::string> warnings;
+};
+
+/// Reads a mesh; the format follows the extension (.off .obj .ply .stl .om, any case).
+/// Polygons are triangulated, degenerate triangles dropped and counted, vertex normals
+/// computed. Open or non-manifold meshes load with a warning in `report`.
+/// Throws hb::IoError (missing, unreadable or empty file) or hb::InvalidInput (unknown
+/// extension, garbage, NaN/Inf coordinates, out-of-range indices, no triangles left); the
+/// message names the file and the cause. Never hangs on garbage input.
+TriangleMesh read_mesh(const std::string& path, MeshReadReport* report = nullptr);
+
+/// Writes a mesh (format from the extension, as read_mesh). Throws hb::IoError.
+void write_mesh(const TriangleMesh& mesh, const std::string& path);
+
+/// 64-bit hash (xxHash) of a file's bytes, for box files and reports. Throws hb::IoError.
+std::uint64_t hash_file(const std::string& path);
+
+} // namespace hb

@@ -1,0 +1,42 @@
+#pragma once
+// The core's mesh: an indexed triangle list with per-vertex (shaded) normals.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace hb {
+
+using Vec3 = Eigen::Vector3f;
+using Triangle = std::array<std::uint32_t, 3>;
+
+/// Axis-aligned bounds.
+struct Bounds {
+  Vec3 min{Vec3::Constant(0.f)};
+  Vec3 max{Vec3::Constant(0.f)};
+  float diagonal() const { return (max - min).norm(); }
+};
+
+/// Indexed triangle mesh in model units. `normals` holds one unit vertex normal per
+/// position (area-weighted average of the incident face normals), used for shaded
+/// normals at ray hits so forces vary smoothly across triangles.
+struct TriangleMesh {
+  std::vector<Vec3> positions;
+  std::vector<Triangle> triangles;
+  std::vector<Vec3> normals;
+
+  std::size_t vertex_count() const { return positions.size(); }
+  std::size_t triangle_count() const { return triangles.size(); }
+  Bounds bounds() const;
+  /// Recomputes `normals` from the triangles (area-weighted, unit length; zero-area
+  /// neighbourhoods get +Z).
+  void compute_vertex_normals();
+  /// Total surface area in model units squared.
+  double area() const;
+};
+
+/// Keeps the triangles whose ids are in `keep` (all vertices kept; unused ones harmless).
+TriangleMesh select_triangles(const TriangleMesh& mesh, const std::vector<std::uint32_t>& keep);
+
+} // namespace hb
