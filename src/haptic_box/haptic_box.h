@@ -1,0 +1,78 @@
+#pragma once
+// The haptic box (paper sections 3-5): a PBB whose faces carry m x m position points, each with
+// a directional hemi-cube (DHC) of 4 sub-blocks x 3 faces x n x n directional samples.
+#include "geometry/obb.h"
+#include "haptic_box/contact.h"
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace hb {
+
+/// Sampling densities (paper Figure 9: "m n").
+struct BoxParams {
+  int m = 32;  ///< position points per PBB face edge (m x m per face, edges included), >= 2.
+  int n = 16;  ///< directional points per sub-block face edge (n x n, edges included), >= 2.
+  std::size_t samples_per_position() const { return 12u * std::size_t(n) * std::size_t(n); }
+  std::size_t position_count() const { return 6u * std::size_t(m) * std::size_t(m); }
+  std::size_t sample_count() const { return position_count() * samples_per_position(); }
+};
+
+/// One directional sample: distance `t` from the position point to the first hit of the
+/// piece along the sample's direction, and the shaded normal there in 32-bit octahedral
+/// encoding. A ray that misses the piece stores `t = kMissT` (negative) and no normal;
+/// see HapticBox::query for why interpolation behaves well next to misses.
+struct Sample {
+  float t;
+  std::uint32_t normal;
+};
+static_assert(sizeof(Sample) == 8, "Sample is an 8-byte record");
+constexpr float kMissT = -1.f;
+
+/// A baked box. Built once (by bake_box or by loading a file), then queried many times
+/// through the const, noexcept, allocation-free query(), safe from many threads.
+class HapticBox final : public ContactQuery {
+public:
+  /// Takes ownership of a table of params.sample_count() samples in the layout of
+  /// sample_index(). Throws hb::InvalidInput when the size does not match.
+  HapticBox(const Obb& obb, const BoxParams& params, std::vector<Sample> table);
+  /// Refers to a table owned elsewhere (a memory-mapped file kept alive by `owner`).
+  HapticBox(const Obb& obb, const BoxParams& params, const Sample* table,
+            std::shared_ptr<const void> owner);
+
+  /// Paper section 5, see the .cpp overview. Contact per hb::Contact.
+  Contact query(const Segment& segment, const ForceLaw& law) const noexcept override;
+
+  /// As query(), and also the distance from the handle to the surface point along the
+  /// segment (for scenes: the contact nearest the handle wins). Returns false and leaves
+  /// `out.contact` false when there is no contact.
+  bool query_into(const Segment& segment, const ForceLaw& law, Contact& out,
+                  float& distance_from_handle) const noexcept;
+
+  const Obb& obb() const { return obb_; }
+  const BoxParams& params() const { return params_; }
+  const Sample* table() const { return table_; }
+  std::size_t table_bytes() const { return params_.sample_count() * sizeof(Sample); }
+
+  /// Layout: index of sample (a, b) of sub-block face `sface` (0..2) of sub-block `sub`
+  /// (0..3) at position point (i, j) of PBB face `face` (0..5).
+  std::size_t sample_index(int face, int i, int j, int sub, int sface, int a, int b) const noexcept {
+    const std::size_t n = std::size_t(params_.n), m = std::size_t(params_.m);
+    return (((std::size_t(face) * m + std::size_t(i)) * m + std::size_t(j)) * 12u +
+            std::size_t(sub) * 3u + std::size_t(sface)) * n * n + std::size_t(a) * n + std::size_t(b);
+  }
+
+  /// World position of position point (i, j) of face `face`.
+  Vec3 position_point(int face, int i, int j) const noexcept;
+  /// World unit direction of directional sample (sub, sface, a, b) at any point of `face`.
+  Vec3 sample_direction(int face, int sub, int sface, int a, int b) const noexcept;
+
+private:
+  Obb obb_;
+  BoxParams params_;
+  std::vector<Sample> owned_;
+  const Sample* table_ = nullptr;
+  std::shared_ptr<const void> owner_;
+};
+
+} // namespace hb
