@@ -1,0 +1,54 @@
+#include "cli_support.h"
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <unistd.h>
+
+namespace hb::cli {
+
+ProgressCallback terminal_progress(const std::string& label) {
+  if (!isatty(STDERR_FILENO)) return {};
+  return [label](double fraction) {
+    const int width = 40;
+    const int filled = int(fraction * width + 0.5);
+    std::fprintf(stderr, "\r%s [%s%s] %3d%%", label.c_str(), std::string(std::size_t(filled), '#').c_str(),
+                 std::string(std::size_t(width - filled), '.').c_str(), int(fraction * 100.0 + 0.5));
+    if (fraction >= 1.0) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+    return true;
+  };
+}
+
+void add_force_law_options(CLI::App& cmd, ForceLaw& law) {
+  cmd.add_option("--stiffness", law.stiffness_n_per_m, "Spring stiffness k in N/m")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd.add_option("--metres-per-unit", law.metres_per_unit, "Model units to metres")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+}
+
+void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << std::endl; }
+
+bool is_box_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[8] = {};
+  in.read(magic, 8);
+  return in.gcount() == 8 && std::string(magic, 8) == "HBOXFILE";
+}
+
+} // namespace hb::cli
+
+#include "mesh/mesh_io.h"
+
+namespace hb::cli {
+
+TriangleMesh load_mesh(const std::string& path, MeshReadReport* report) {
+  MeshReadReport local;
+  TriangleMesh mesh = read_mesh(path, &local);
+  for (const std::string& w : local.warnings) std::cerr << "hapticbox: warning: " << w << "\n";
+  if (report) *report = local;
+  return mesh;
+}
+
+} // namespace hb::cli

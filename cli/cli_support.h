@@ -1,0 +1,41 @@
+#pragma once
+// Small pieces the sub-commands share: the failure type that carries an exit code, the
+// terminal progress bar, the force-law options and JSON output.
+#include "haptic_box/contact.h"
+#include "progress.h"
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+
+namespace hb::cli {
+
+/// Thrown by a command for a usage error the parser could not catch (exit code 2).
+class UsageError : public std::runtime_error {
+public:
+  explicit UsageError(const std::string& what) : std::runtime_error(what) {}
+};
+
+/// A progress callback drawing a bar on stderr when it is a terminal (silent otherwise).
+ProgressCallback terminal_progress(const std::string& label);
+
+/// Adds --stiffness and --metres-per-unit to a command.
+void add_force_law_options(CLI::App& cmd, ForceLaw& law);
+
+/// Prints JSON to stdout (indented).
+void print_json(const nlohmann::json& j);
+
+/// True when `path` names a box file (by its magic bytes, not its extension).
+bool is_box_file(const std::string& path);
+
+} // namespace hb::cli
+
+namespace hb {
+struct TriangleMesh;
+struct MeshReadReport;
+}
+
+namespace hb::cli {
+/// Reads a mesh, printing the reader's warnings to stderr.
+TriangleMesh load_mesh(const std::string& path, MeshReadReport* report = nullptr);
+}

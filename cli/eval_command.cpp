@@ -1,0 +1,65 @@
+// hapticbox eval BOX MESH [--samples N] [--seed S] [--json]
+#include "cli_support.h"
+#include "commands.h"
+#include "evaluation/comparison.h"
+#include "evaluation/probe_sampling.h"
+#include "exact/exact_query.h"
+#include "haptic_box/box_file.h"
+#include "mesh/mesh_io.h"
+#include <iomanip>
+#include <iostream>
+
+void add_eval_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("eval", "Compare a box file against the exact answer on its mesh");
+  struct Opts {
+    std::string box, mesh;
+    std::size_t samples = 20000;
+    hb::ProbeOptions probes;
+    hb::ForceLaw law;
+    bool json = false;
+  };
+  auto opts = std::make_shared<Opts>();
+  cmd->add_option("BOX", opts->box, "Box file (.hbox)")->required();
+  cmd->add_option("MESH", opts->mesh, "The mesh the box was baked from")->required();
+  cmd->add_option("--samples", opts->samples, "Number of probes")->check(CLI::Range(std::size_t(1), std::size_t(100000000)))->capture_default_str();
+  cmd->add_option("--seed", opts->probes.seed, "Probe seed")->capture_default_str();
+  hb::cli::add_force_law_options(*cmd, opts->law);
+  cmd->add_flag("--json", opts->json, "Print JSON");
+  cmd->callback([opts] {
+    const hb::BoxScene scene = hb::load_box_file(opts->box);
+    const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh);
+    if (scene.source().mesh_hash != 0 && scene.source().mesh_hash != hb::hash_file(opts->mesh))
+      std::cerr << "hapticbox: warning: " << opts->box << " was baked from a different file than " << opts->mesh << "\n";
+    const hb::ExactQuery exact(mesh);
+    const auto probes = hb::sample_probes(mesh, opts->samples, opts->probes);
+    const float diag = mesh.bounds().diagonal();
+    const hb::ComparisonStats s = hb::compare_queries(scene, exact, probes, opts->law, diag);
+    const nlohmann::json j = {{"box", opts->box},
+                              {"mesh", opts->mesh},
+                              {"seed", opts->probes.seed},
+                              {"samples", s.samples},
+                              {"exact_contacts", s.exact_contacts},
+                              {"contact_agreement", s.contact_agreement},
+                              {"false_contacts", s.false_contacts},
+                              {"missed_contacts", s.missed_contacts},
+                              {"force_error_median", s.force_error_median},
+                              {"force_error_p95", s.force_error_p95},
+                              {"force_error_max", s.force_error_max},
+                              {"angle_error_median_deg", s.angle_error_median_deg},
+                              {"angle_error_p99_deg", s.angle_error_p99_deg},
+                              {"depth_rms_over_diag", s.depth_rms_over_diag}};
+    if (opts->json) {
+      hb::cli::print_json(j);
+      return;
+    }
+    std::cout << std::fixed << std::setprecision(4) << "eval " << opts->box << " vs " << opts->mesh << " ("
+              << s.samples << " probes, seed " << opts->probes.seed << ")\n"
+              << "  contact agreement   " << 100.0 * s.contact_agreement << " %  (false " << s.false_contacts
+              << ", missed " << s.missed_contacts << ", exact contacts " << s.exact_contacts << ")\n"
+              << "  force error         median " << 100.0 * s.force_error_median << " %, p95 "
+              << 100.0 * s.force_error_p95 << " %, max " << 100.0 * s.force_error_max << " %\n"
+              << "  direction error     median " << s.angle_error_median_deg << " deg, p99 " << s.angle_error_p99_deg
+              << " deg\n"
+              << "  depth RMS / diag    " << s.depth_rms_over_diag << "\n";
+  });
+}

@@ -1,0 +1,63 @@
+#include "evaluation/probe_sampling.h"
+#include "errors.h"
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace hb {
+
+std::vector<Segment> sample_probes(const TriangleMesh& mesh, std::size_t count, const ProbeOptions& options) {
+  if (mesh.triangle_count() == 0) throw InvalidInput("sample_probes: mesh has no triangles");
+  // Cumulative areas for area-proportional triangle choice.
+  std::vector<double> cumulative(mesh.triangle_count());
+  double sum = 0.0;
+  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+    const Triangle& tri = mesh.triangles[t];
+    const Vec3& a = mesh.positions[tri[0]];
+    sum += 0.5 * double((mesh.positions[tri[1]] - a).cross(mesh.positions[tri[2]] - a).norm());
+    cumulative[t] = sum;
+  }
+  if (!(sum > 0.0)) throw InvalidInput("sample_probes: mesh has zero area");
+  const float diagonal = mesh.bounds().diagonal();
+  const float length = options.length_fraction * diagonal;
+  const float max_depth = options.max_depth_fraction * diagonal;
+  const float cos_max = std::cos(options.cone_degrees * float(M_PI) / 180.f);
+
+  std::mt19937_64 rng(options.seed);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  std::vector<Segment> probes;
+  probes.reserve(count);
+  while (probes.size() < count) {
+    const double pick = uni(rng) * sum;
+    const std::size_t t = std::size_t(std::lower_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin());
+    const Triangle& tri = mesh.triangles[std::min(t, mesh.triangle_count() - 1)];
+    const Vec3& a = mesh.positions[tri[0]];
+    const Vec3& b = mesh.positions[tri[1]];
+    const Vec3& c = mesh.positions[tri[2]];
+    float r1 = float(uni(rng)), r2 = float(uni(rng));
+    if (r1 + r2 > 1.f) {
+      r1 = 1.f - r1;
+      r2 = 1.f - r2;
+    }
+    const Vec3 surface = a + r1 * (b - a) + r2 * (c - a);
+    const Vec3 nrm = (b - a).cross(c - a);
+    if (!(nrm.squaredNorm() > 0.f)) continue;
+    const Vec3 inward = -nrm.normalized();
+    // Uniform direction in the cone around `inward`.
+    const float cos_theta = 1.f - float(uni(rng)) * (1.f - cos_max);
+    const float sin_theta = std::sqrt(std::max(0.f, 1.f - cos_theta * cos_theta));
+    const float phi = float(2.0 * M_PI * uni(rng));
+    const Vec3 helper = std::fabs(inward.x()) < 0.9f ? Vec3::UnitX() : Vec3::UnitY();
+    const Vec3 e1 = inward.cross(helper).normalized();
+    const Vec3 e2 = inward.cross(e1);
+    const Vec3 dir = cos_theta * inward + sin_theta * (std::cos(phi) * e1 + std::sin(phi) * e2);
+    const float depth = float(uni(rng)) * max_depth;
+    Segment s;
+    s.end = surface + depth * dir;
+    s.start = s.end - length * dir;
+    probes.push_back(s);
+  }
+  return probes;
+}
+
+} // namespace hb

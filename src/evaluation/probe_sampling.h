@@ -1,0 +1,23 @@
+#pragma once
+// The default probe distribution used by eval, bench, sweep and reports, so figures compare.
+#include "geometry/segment.h"
+#include <cstdint>
+#include <vector>
+
+namespace hb {
+
+/// Options of sample_probes. Lengths are fractions of the mesh's bounding-box diagonal.
+struct ProbeOptions {
+  float cone_degrees = 30.f;        ///< max angle between the probe direction and the inward normal.
+  float length_fraction = 0.10f;    ///< segment length.
+  float max_depth_fraction = 0.03f; ///< tip depth past the surface point, uniform in [0, this].
+  std::uint64_t seed = 1;           ///< same seed, same mesh: same probes.
+};
+
+/// Samples probes: tip near a surface point chosen by area (uniform over the surface), the
+/// direction within the cone around the inward (flat) normal, the tip past the surface point
+/// by a uniform depth along the direction, the handle one segment length back.
+/// Deterministic for a given seed. Throws hb::InvalidInput on an empty mesh.
+std::vector<Segment> sample_probes(const TriangleMesh& mesh, std::size_t count, const ProbeOptions& options = {});
+
+} // namespace hb

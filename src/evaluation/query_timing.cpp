@@ -1,0 +1,26 @@
+#include "evaluation/query_timing.h"
+#include "evaluation/comparison.h"
+#include <chrono>
+
+namespace hb {
+
+double median_query_ns(const ContactQuery& query, const std::vector<Segment>& probes,
+                       const ForceLaw& law, int rounds, std::size_t batch) {
+  if (probes.empty() || batch == 0) return 0.0;
+  std::vector<double> per_batch;
+  volatile float sink = 0.f;  // keeps the optimiser from dropping the queries
+  for (int r = 0; r < rounds; ++r) {
+    for (std::size_t begin = 0; begin < probes.size(); begin += batch) {
+      const std::size_t end = std::min(probes.size(), begin + batch);
+      float acc = 0.f;
+      const auto t0 = std::chrono::steady_clock::now();
+      for (std::size_t i = begin; i < end; ++i) acc += query.query(probes[i], law).depth;
+      const auto t1 = std::chrono::steady_clock::now();
+      sink = sink + acc;
+      per_batch.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / double(end - begin));
+    }
+  }
+  return quantile(per_batch, 0.5);
+}
+
+} // namespace hb

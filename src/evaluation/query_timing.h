@@ -1,0 +1,15 @@
+#pragma once
+// Timing queries on one core, for `bench`, `sweep` and reports. Timing is measured here and
+// reported, never asserted in tests.
+#include "haptic_box/contact.h"
+#include <vector>
+
+namespace hb {
+
+/// Median nanoseconds per query of `query` over `probes` on the calling thread: the probes
+/// are run in batches of `batch` queries, `rounds` times over, and the median of the
+/// per-batch averages is returned (robust to a noisy shared machine).
+double median_query_ns(const ContactQuery& query, const std::vector<Segment>& probes,
+                       const ForceLaw& law, int rounds = 5, std::size_t batch = 1000);
+
+} // namespace hb

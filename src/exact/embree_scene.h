@@ -1,0 +1,44 @@
+#pragma once
+// RAII wrapper of an Embree 3 device and scene over (a subset of) a triangle mesh.
+#include "mesh/triangle_mesh.h"
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace hb {
+
+/// First hit of a ray, with the shaded normal (vertex normals interpolated at the hit,
+/// oriented like the triangle's outward geometric normal) and whether the ray met the
+/// triangle's back side (the ray started inside a closed object or passed an opening).
+struct RayHit {
+  bool hit = false;
+  float t = 0.f;
+  std::uint32_t triangle = 0;   ///< id in the mesh given to the scene.
+  Vec3 normal{Vec3::Zero()};    ///< unit shaded normal, outward.
+  bool back_face = false;       ///< geometric normal points along the ray.
+};
+
+/// An Embree BVH over the chosen triangles of a mesh. Built once; intersect() is const,
+/// noexcept and thread-safe. The mesh must outlive the scene (normals are read from it).
+/// Errors reported by Embree are recorded by the device's error callback and thrown
+/// after the call as hb::LibraryError.
+class EmbreeScene {
+public:
+  /// `triangles` selects triangle ids of `mesh` (empty: all).
+  explicit EmbreeScene(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles = {});
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  /// First hit along origin + t * dir (unit dir) for t in [t_near, t_far].
+  RayHit intersect(const Vec3& origin, const Vec3& dir, float t_near, float t_far) const noexcept;
+
+  const TriangleMesh& mesh() const { return mesh_; }
+
+private:
+  struct Impl;
+  const TriangleMesh& mesh_;
+  std::unique_ptr<Impl> impl_;
+};
+
+} // namespace hb

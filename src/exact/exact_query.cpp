@@ -1,0 +1,21 @@
+#include "exact/exact_query.h"
+
+namespace hb {
+
+Contact ExactQuery::query(const Segment& segment, const ForceLaw& law) const noexcept {
+  Contact c;
+  const Vec3 delta = segment.end - segment.start;
+  const float length = delta.norm();
+  if (!(length > 0.f) || !std::isfinite(length)) return c;
+  const Vec3 dir = delta / length;
+  const RayHit hit = scene_.intersect(segment.start, dir, 0.f, length);
+  if (!hit.hit || hit.back_face) return c;
+  c.contact = true;
+  c.depth = length - hit.t;
+  c.point = segment.start + hit.t * dir;
+  c.normal = hit.normal;
+  apply_force_law(c, law);
+  return c;
+}
+
+} // namespace hb

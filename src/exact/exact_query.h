@@ -1,0 +1,22 @@
+#pragma once
+#include "exact/embree_scene.h"
+#include "haptic_box/contact.h"
+
+namespace hb {
+
+/// The exact reference: the segment against the original mesh with Embree. The first hit
+/// within the segment is the contact when the segment meets the outside of the surface
+/// there; a first hit on a back side means the handle is inside the object: no contact
+/// (the same definition as the haptic box, see hb::Contact). Depth = L - t_hit, the shaded
+/// normal, the same force law.
+class ExactQuery final : public ContactQuery {
+public:
+  /// The mesh must outlive this object and have vertex normals.
+  explicit ExactQuery(const TriangleMesh& mesh) : scene_(mesh) {}
+  Contact query(const Segment& segment, const ForceLaw& law) const noexcept override;
+
+private:
+  EmbreeScene scene_;
+};
+
+} // namespace hb

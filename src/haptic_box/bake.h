@@ -1,0 +1,39 @@
+#pragma once
+// Baking haptic boxes: casting the directional samples with Embree.
+#include "haptic_box/box_scene.h"
+#include "progress.h"
+#include <vector>
+
+namespace hb {
+
+/// Options of bake_box / bake_scene.
+struct BakeOptions {
+  BoxParams params;           ///< densities m and n.
+  ObbOptions obb;             ///< PBB fitting (padding).
+  /// Progress in [0, 1]; return false to cancel (the bake then throws hb::Cancelled).
+  /// Called from one worker thread at a time, not necessarily the caller's.
+  ProgressCallback progress;
+};
+
+/// Statistics of a bake.
+struct BakeStats {
+  double seconds = 0.0;
+  std::uint64_t rays = 0;
+  double rays_per_second = 0.0;
+  std::uint64_t hits = 0;
+};
+
+/// Bakes one box around the given triangles of `mesh` (all when empty): fits the PBB, then
+/// for every position point of every face casts the 12 n^2 directional rays into the box
+/// against those triangles only, on all cores (TBB). Each sample stores the first hit's
+/// distance and shaded normal (outward); a miss stores kMissT.
+/// Throws hb::InvalidInput (bad params, empty selection), hb::Cancelled, hb::LibraryError.
+HapticBox bake_box(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles,
+                   const BakeOptions& options, BakeStats* stats = nullptr);
+
+/// Bakes one box per piece: `piece_of_triangle[t]` is the piece id of triangle t (ids
+/// 0..K-1; empty: one piece). Progress covers all pieces.
+BoxScene bake_scene(const TriangleMesh& mesh, const std::vector<std::uint32_t>& piece_of_triangle,
+                    const BakeOptions& options, const SourceInfo& source, BakeStats* stats = nullptr);
+
+} // namespace hb

@@ -1,0 +1,219 @@
+// The .hbox file format, version 1 (little-endian):
+//  1. Header: magic "HBOXFILE", u32 version, u32 box count, u64 mesh hash, u64 triangles,
+//     f32 diagonal, u32 path length + path bytes; then per box: u32 codec (0 = raw 8-byte
+//     samples), i32 m, i32 n, f32 centre[3], axes[9] (columns), half[3], u64 table offset,
+//     u64 table bytes, u64 table hash (xxHash64); then u64 hash of all header bytes before it.
+//  2. Tables at 64-byte aligned offsets, in HapticBox::sample_index order.
+//  3. Loading maps the file read-only (mmap); boxes point into the mapping, which stays
+//     alive while any box of the scene does. Header and table hashes are checked at load
+//     (xxHash64 runs at memory speed), so corruption is reported, never queried.
+#include "haptic_box/box_file.h"
+#include "errors.h"
+#include <xxhash.h>
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
+#include <fstream>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace hb {
+namespace {
+
+constexpr char kMagic[8] = {'H', 'B', 'O', 'X', 'F', 'I', 'L', 'E'};
+constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kCodecRaw = 0;
+constexpr std::size_t kAlign = 64;
+
+class Writer {
+public:
+  template <typename T> void put(const T& v) {
+    const auto* p = reinterpret_cast<const char*>(&v);
+    bytes_.insert(bytes_.end(), p, p + sizeof(T));
+  }
+  void put_bytes(const void* p, std::size_t n) {
+    const auto* c = static_cast<const char*>(p);
+    bytes_.insert(bytes_.end(), c, c + n);
+  }
+  std::vector<char>& bytes() { return bytes_; }
+
+private:
+  std::vector<char> bytes_;
+};
+
+class Reader {
+public:
+  Reader(const char* data, std::size_t size, const std::string& path) : data_(data), size_(size), path_(path) {}
+  template <typename T> T get() {
+    if (pos_ + sizeof(T) > size_) throw InvalidInput(path_ + ": truncated box file (header cut short)");
+    T v;
+    std::memcpy(&v, data_ + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    return v;
+  }
+  std::string get_string(std::size_t n) {
+    if (n > size_ - pos_) throw InvalidInput(path_ + ": truncated box file (header cut short)");
+    std::string s(data_ + pos_, n);
+    pos_ += n;
+    return s;
+  }
+  std::size_t pos() const { return pos_; }
+
+private:
+  const char* data_;
+  std::size_t size_;
+  std::string path_;
+  std::size_t pos_ = 0;
+};
+
+std::size_t align_up(std::size_t v) { return (v + kAlign - 1) / kAlign * kAlign; }
+
+// Owns a read-only mapping of a whole file.
+struct FileMap {
+  void* data = MAP_FAILED;
+  std::size_t size = 0;
+  ~FileMap() {
+    if (data != MAP_FAILED) munmap(data, size);
+  }
+};
+
+} // namespace
+
+void save_box_file(const BoxScene& scene, const std::string& path) {
+  const auto& boxes = scene.boxes();
+  const SourceInfo& src = scene.source();
+  // Header size is known once written with placeholder offsets; compute offsets after.
+  auto write_header = [&](const std::vector<std::uint64_t>& offsets) {
+    Writer w;
+    w.put_bytes(kMagic, sizeof(kMagic));
+    w.put(kVersion);
+    w.put(std::uint32_t(boxes.size()));
+    w.put(src.mesh_hash);
+    w.put(src.triangles);
+    w.put(src.diagonal);
+    w.put(std::uint32_t(src.mesh_path.size()));
+    w.put_bytes(src.mesh_path.data(), src.mesh_path.size());
+    for (std::size_t b = 0; b < boxes.size(); ++b) {
+      const HapticBox& box = boxes[b];
+      w.put(kCodecRaw);
+      w.put(std::int32_t(box.params().m));
+      w.put(std::int32_t(box.params().n));
+      for (int c = 0; c < 3; ++c) w.put(box.obb().center[c]);
+      for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) w.put(box.obb().axes(r, c));
+      for (int c = 0; c < 3; ++c) w.put(box.obb().half[c]);
+      w.put(std::uint64_t(offsets.empty() ? 0 : offsets[b]));
+      w.put(std::uint64_t(box.table_bytes()));
+      w.put(std::uint64_t(XXH3_64bits(box.table(), box.table_bytes())));
+    }
+    const std::uint64_t header_hash = XXH3_64bits(w.bytes().data(), w.bytes().size());
+    w.put(header_hash);
+    return std::move(w.bytes());
+  };
+  std::vector<std::uint64_t> offsets;
+  std::size_t pos = align_up(write_header({}).size());
+  for (const HapticBox& box : boxes) {
+    offsets.push_back(pos);
+    pos = align_up(pos + box.table_bytes());
+  }
+  const std::vector<char> header = write_header(offsets);
+
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw IoError(path + ": cannot open for writing (" + std::strerror(errno) + ")");
+    out.write(header.data(), std::streamsize(header.size()));
+    std::size_t written = header.size();
+    const char zeros[kAlign] = {};
+    for (std::size_t b = 0; b < boxes.size(); ++b) {
+      out.write(zeros, std::streamsize(offsets[b] - written));
+      out.write(reinterpret_cast<const char*>(boxes[b].table()), std::streamsize(boxes[b].table_bytes()));
+      written = offsets[b] + boxes[b].table_bytes();
+    }
+    if (!out) throw IoError(path + ": write failed (disk full?)");
+  }
+  // Write to a temporary file and rename, so an interrupted save never leaves a half file.
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw IoError(path + ": cannot rename the written file into place (" + std::strerror(errno) + ")");
+  }
+}
+
+BoxScene load_box_file(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw IoError(path + ": cannot open box file (" + std::strerror(errno) + ")");
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    throw IoError(path + ": not a regular file");
+  }
+  auto map = std::make_shared<FileMap>();
+  map->size = std::size_t(st.st_size);
+  if (map->size < sizeof(kMagic) + 8) {
+    ::close(fd);
+    throw InvalidInput(path + ": not a HapticBox box file (too short: " + std::to_string(map->size) + " bytes)");
+  }
+  map->data = ::mmap(nullptr, map->size, PROT_READ, MAP_PRIVATE, fd, 0);
+  ::close(fd);
+  if (map->data == MAP_FAILED) throw IoError(path + ": cannot map box file (" + std::strerror(errno) + ")");
+  const char* data = static_cast<const char*>(map->data);
+
+  if (std::memcmp(data, kMagic, sizeof(kMagic)) != 0)
+    throw InvalidInput(path + ": not a HapticBox box file (bad magic)");
+  Reader r(data, map->size, path);
+  r.get_string(sizeof(kMagic));
+  const auto version = r.get<std::uint32_t>();
+  if (version != kVersion)
+    throw InvalidInput(path + ": unsupported box file version " + std::to_string(version) +
+                       " (this build reads version " + std::to_string(kVersion) + ")");
+  const auto count = r.get<std::uint32_t>();
+  if (count == 0 || count > 100000) throw InvalidInput(path + ": corrupt box file (box count " + std::to_string(count) + ")");
+  SourceInfo src;
+  src.mesh_hash = r.get<std::uint64_t>();
+  src.triangles = r.get<std::uint64_t>();
+  src.diagonal = r.get<float>();
+  const auto path_len = r.get<std::uint32_t>();
+  src.mesh_path = r.get_string(path_len);
+  struct Entry {
+    Obb obb;
+    BoxParams params;
+    std::uint64_t offset, bytes, hash;
+  };
+  std::vector<Entry> entries(count);
+  for (auto& e : entries) {
+    const auto codec = r.get<std::uint32_t>();
+    if (codec != kCodecRaw) throw InvalidInput(path + ": unknown table codec " + std::to_string(codec));
+    e.params.m = r.get<std::int32_t>();
+    e.params.n = r.get<std::int32_t>();
+    for (int c = 0; c < 3; ++c) e.obb.center[c] = r.get<float>();
+    for (int c = 0; c < 3; ++c)
+      for (int rr = 0; rr < 3; ++rr) e.obb.axes(rr, c) = r.get<float>();
+    for (int c = 0; c < 3; ++c) e.obb.half[c] = r.get<float>();
+    e.offset = r.get<std::uint64_t>();
+    e.bytes = r.get<std::uint64_t>();
+    e.hash = r.get<std::uint64_t>();
+  }
+  const std::size_t header_end = r.pos();
+  const auto stored_hash = r.get<std::uint64_t>();
+  if (XXH3_64bits(data, header_end) != stored_hash)
+    throw InvalidInput(path + ": corrupt box file (header checksum mismatch)");
+
+  std::vector<HapticBox> boxes;
+  boxes.reserve(count);
+  for (std::size_t b = 0; b < entries.size(); ++b) {
+    const Entry& e = entries[b];
+    if (e.params.m < 2 || e.params.n < 2 || e.params.m > 1024 || e.params.n > 256 ||
+        e.bytes != e.params.sample_count() * sizeof(Sample) || e.offset % alignof(Sample) != 0)
+      throw InvalidInput(path + ": corrupt box file (box " + std::to_string(b) + " has inconsistent sizes)");
+    if (e.offset > map->size || e.bytes > map->size - e.offset)
+      throw InvalidInput(path + ": truncated box file (box " + std::to_string(b) + " table is cut short)");
+    if (XXH3_64bits(data + e.offset, e.bytes) != e.hash)
+      throw InvalidInput(path + ": corrupt box file (box " + std::to_string(b) + " table checksum mismatch)");
+    boxes.emplace_back(e.obb, e.params, reinterpret_cast<const Sample*>(data + e.offset),
+                       std::shared_ptr<const void>(map, map->data));
+  }
+  return BoxScene(std::move(boxes), src);
+}
+
+} // namespace hb

@@ -1,0 +1,229 @@
+// Haptic box query (paper section 5).
+//  1. Intersect the segment's line with the PBB (slab test). The entry point P1 is where the
+//     line enters from outside; when the handle is inside the box the line is extended
+//     backwards (paper Figure 5a). No box hit, or an entry beyond the tip: no contact.
+//  2. The entry face and P1's grid coordinates give the cell (four position points) and the
+//     positional weights (d1, d2) of eq. 1.
+//  3. The direction l, seen in the face's hemi-cube frame, gives the sub-block (signs of the
+//     in-face components), the sub-block face (cube-map major axis) and the directional
+//     weights; the same for all four corners, so computed once.
+//  4. At each corner, the four directional samples are blended (directional interpolation);
+//     each corner's t is then corrected by half of its tangent-plane estimate at P1 (exact for
+//     quadratic surfaces, see the reading notes); the four corners are blended (eq. 1).
+//  5. Misses: a sample that missed the piece carries no t. Missed samples are dropped and the
+//     remaining weights renormalised, but only when the hits carry at least half of the total
+//     weight; otherwise the blend is a miss. This puts the silhouette half-way between a hit
+//     and a miss sample (no invented surface beyond it, no lost surface before it) and never
+//     blends a far exit distance into t0.
+//  6. Contact test (Figure 7): the surface point P1 + t0 l must lie between the handle and
+//     the tip, on the outside of the surface (n . l < 0); depth = d - t0; F = k depth n.
+#include "haptic_box/haptic_box.h"
+#include "errors.h"
+#include "geometry/octahedral.h"
+#include <algorithm>
+#include <cmath>
+
+namespace hb {
+namespace {
+
+// Local axes of face f: the axis it is normal to, its two in-face axes, and its sign.
+struct FaceAxes {
+  int a, u, v;
+  float sign;  // -1: face at -half[a], +1: at +half[a]
+};
+inline FaceAxes face_axes(int face) noexcept {
+  const int a = face / 2;
+  return {a, (a + 1) % 3, (a + 2) % 3, (face & 1) ? 1.f : -1.f};
+}
+
+// Directional coordinates of a direction (x, y, z) in a hemi-cube frame with z > 0 (into
+// the box): sub-block, sub-block face, and continuous grid coordinates in [0, 1].
+struct DirCoords {
+  int sub, sface;
+  float c1, c2;
+};
+inline DirCoords direction_coords(float x, float y, float z) noexcept {
+  DirCoords d;
+  d.sub = (x < 0.f ? 1 : 0) | (y < 0.f ? 2 : 0);
+  const float X = std::fabs(x), Y = std::fabs(y), Z = std::max(z, 0.f);
+  if (Z >= X && Z >= Y) {
+    d.sface = 0;
+    d.c1 = X / Z;
+    d.c2 = Y / Z;
+  } else if (X >= Y) {
+    d.sface = 1;
+    d.c1 = Y / X;
+    d.c2 = Z / X;
+  } else {
+    d.sface = 2;
+    d.c1 = X / Y;
+    d.c2 = Z / Y;
+  }
+  return d;
+}
+
+// Blend of up to four (t, normal) values with miss handling (overview step 5).
+struct Blend {
+  float t = 0.f;
+  Vec3 n{Vec3::Zero()};
+  bool hit = false;
+};
+
+inline void split_cell(float f, int cells, int& i0, float& w) noexcept {
+  // f in [0, cells]; i0 in [0, cells - 1], w in [0, 1].
+  f = std::min(std::max(f, 0.f), float(cells));
+  i0 = std::min(int(f), cells - 1);
+  w = f - float(i0);
+}
+
+} // namespace
+
+HapticBox::HapticBox(const Obb& obb, const BoxParams& params, std::vector<Sample> table)
+    : obb_(obb), params_(params), owned_(std::move(table)) {
+  if (params_.m < 2 || params_.n < 2)
+    throw InvalidInput("HapticBox: m and n must be >= 2 (m=" + std::to_string(params_.m) +
+                       ", n=" + std::to_string(params_.n) + ")");
+  if (owned_.size() != params_.sample_count())
+    throw InvalidInput("HapticBox: table has " + std::to_string(owned_.size()) +
+                       " samples, expected " + std::to_string(params_.sample_count()));
+  table_ = owned_.data();
+}
+
+HapticBox::HapticBox(const Obb& obb, const BoxParams& params, const Sample* table,
+                     std::shared_ptr<const void> owner)
+    : obb_(obb), params_(params), table_(table), owner_(std::move(owner)) {
+  if (params_.m < 2 || params_.n < 2) throw InvalidInput("HapticBox: m and n must be >= 2");
+  if (!table_) throw InvalidInput("HapticBox: null table");
+}
+
+Vec3 HapticBox::position_point(int face, int i, int j) const noexcept {
+  const FaceAxes fa = face_axes(face);
+  const float step = 1.f / float(params_.m - 1);
+  Vec3 local;
+  local[fa.a] = fa.sign * obb_.half[fa.a];
+  local[fa.u] = obb_.half[fa.u] * (2.f * float(i) * step - 1.f);
+  local[fa.v] = obb_.half[fa.v] * (2.f * float(j) * step - 1.f);
+  return obb_.to_world(local);
+}
+
+Vec3 HapticBox::sample_direction(int face, int sub, int sface, int a, int b) const noexcept {
+  const FaceAxes fa = face_axes(face);
+  const float c1 = float(a) / float(params_.n - 1), c2 = float(b) / float(params_.n - 1);
+  float X, Y, Z;
+  if (sface == 0) {
+    X = c1; Y = c2; Z = 1.f;
+  } else if (sface == 1) {
+    X = 1.f; Y = c1; Z = c2;
+  } else {
+    X = c1; Y = 1.f; Z = c2;
+  }
+  const float x = (sub & 1) ? -X : X;
+  const float y = (sub & 2) ? -Y : Y;
+  Vec3 local;
+  local[fa.u] = x;
+  local[fa.v] = y;
+  local[fa.a] = -fa.sign * Z;  // into the box
+  return (obb_.axes * local).normalized();
+}
+
+bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact& out,
+                           float& distance_from_handle) const noexcept {
+  out = Contact{};
+  const Vec3 delta = segment.end - segment.start;
+  const float length = delta.norm();
+  if (!(length > 0.f) || !std::isfinite(length)) return false;
+  const Vec3 l = delta / length;
+
+  // 1. Entry into the PBB.
+  LineBoxHit box_hit;
+  if (!intersect_line_obb(obb_, segment.start, l, box_hit)) return false;
+  if (box_hit.t_enter > length || box_hit.t_exit < 0.f) return false;
+  const Vec3 p1 = segment.start + box_hit.t_enter * l;
+  const float d = length - box_hit.t_enter;
+
+  // 2. Cell and positional weights.
+  const FaceAxes fa = face_axes(box_hit.enter_face);
+  const Vec3 p1_local = obb_.to_local(p1);
+  const Vec3 l_local = obb_.axes.transpose() * l;
+  const int cells_m = params_.m - 1;
+  int i0, j0;
+  float d1, d2;
+  split_cell((p1_local[fa.u] / obb_.half[fa.u] + 1.f) * 0.5f * float(cells_m), cells_m, i0, d1);
+  split_cell((p1_local[fa.v] / obb_.half[fa.v] + 1.f) * 0.5f * float(cells_m), cells_m, j0, d2);
+
+  // 3. Directional cell, once for all corners.
+  const DirCoords dc = direction_coords(l_local[fa.u], l_local[fa.v], -fa.sign * l_local[fa.a]);
+  const int cells_n = params_.n - 1;
+  int a0, b0;
+  float wa, wb;
+  split_cell(dc.c1 * float(cells_n), cells_n, a0, wa);
+  split_cell(dc.c2 * float(cells_n), cells_n, b0, wb);
+  const std::size_t n = std::size_t(params_.n);
+  const std::size_t dir_offset = (std::size_t(dc.sub) * 3u + std::size_t(dc.sface)) * n * n +
+                                 std::size_t(a0) * n + std::size_t(b0);
+  const std::size_t dir_idx[4] = {0, n, n + 1, 1};
+  const float dir_w[4] = {(1.f - wa) * (1.f - wb), wa * (1.f - wb), wa * wb, (1.f - wa) * wb};
+
+  // 4. Corners (P2..P5 of eq. 1) and their weights.
+  const int ci[4] = {i0, i0 + 1, i0 + 1, i0};
+  const int cj[4] = {j0, j0, j0 + 1, j0 + 1};
+  const float pos_w[4] = {(1.f - d1) * (1.f - d2), d1 * (1.f - d2), d1 * d2, (1.f - d1) * d2};
+  const std::size_t per_position = params_.samples_per_position();
+  const std::size_t face_base = std::size_t(box_hit.enter_face) * std::size_t(params_.m) * std::size_t(params_.m);
+
+  Blend corner_sum;
+  float corner_hit_weight = 0.f;
+  for (int c = 0; c < 4; ++c) {
+    if (pos_w[c] <= 0.f) continue;
+    const Sample* base = table_ + (face_base + std::size_t(ci[c]) * std::size_t(params_.m) + std::size_t(cj[c])) *
+                                      per_position + dir_offset;
+    // Directional interpolation at this corner.
+    float w_hit = 0.f, t = 0.f;
+    Vec3 nrm = Vec3::Zero();
+    for (int k = 0; k < 4; ++k) {
+      const Sample& s = base[dir_idx[k]];
+      if (s.t < 0.f || dir_w[k] <= 0.f) continue;
+      w_hit += dir_w[k];
+      t += dir_w[k] * s.t;
+      nrm += dir_w[k] * decode_octahedral32(s.normal);
+    }
+    if (w_hit < 0.5f) continue;  // this corner sees a miss along l
+    t /= w_hit;
+    nrm /= w_hit;
+    // Half of the tangent-plane correction from the corner to P1.
+    const Vec3 corner = position_point(box_hit.enter_face, ci[c], cj[c]);
+    const float ln = l.dot(nrm);
+    if (ln < -0.2f) {
+      const float correction = (corner - p1).dot(nrm) / ln;
+      t = std::max(0.f, t + 0.5f * correction);
+    }
+    corner_hit_weight += pos_w[c];
+    corner_sum.t += pos_w[c] * t;
+    corner_sum.n += pos_w[c] * nrm;
+  }
+  if (corner_hit_weight < 0.5f) return false;
+  const float t0 = corner_sum.t / corner_hit_weight;
+  const float nlen = corner_sum.n.norm();
+  if (!(nlen > 0.f)) return false;
+  const Vec3 normal = corner_sum.n / nlen;
+
+  // 6. Contact test.
+  const float along = box_hit.t_enter + t0;  // handle to surface point
+  if (along < 0.f || t0 > d || normal.dot(l) >= 0.f) return false;
+  out.contact = true;
+  out.depth = d - t0;
+  out.point = segment.start + along * l;
+  out.normal = normal;
+  apply_force_law(out, law);
+  distance_from_handle = along;
+  return true;
+}
+
+Contact HapticBox::query(const Segment& segment, const ForceLaw& law) const noexcept {
+  Contact c;
+  float along = 0.f;
+  query_into(segment, law, c, along);
+  return c;
+}
+
+} // namespace hb
