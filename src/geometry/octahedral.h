@@ -29,15 +29,22 @@ inline std::uint32_t encode_octahedral32(const Vec3& n) noexcept {
   return std::uint32_t(q(u)) | (std::uint32_t(q(v)) << 16);
 }
 
-/// Decodes to a unit vector.
-inline Vec3 decode_octahedral32(std::uint32_t code) noexcept {
+/// Decodes to a vector along the encoded direction whose length lies in [1/sqrt(3), 1] and
+/// varies smoothly with the direction: blend such vectors of nearby directions and
+/// normalise once (what interpolation does), instead of normalising each.
+inline Vec3 decode_octahedral32_unnormalized(std::uint32_t code) noexcept {
   const float u = float(static_cast<std::int16_t>(code & 0xffffu)) * (1.f / 32767.f);
   const float v = float(static_cast<std::int16_t>(code >> 16)) * (1.f / 32767.f);
   Vec3 n(u, v, 1.f - std::fabs(u) - std::fabs(v));
   const float t = std::fmax(-n.z(), 0.f);
   n.x() += n.x() >= 0.f ? -t : t;
   n.y() += n.y() >= 0.f ? -t : t;
-  return n.normalized();
+  return n;
+}
+
+/// Decodes to a unit vector.
+inline Vec3 decode_octahedral32(std::uint32_t code) noexcept {
+  return decode_octahedral32_unnormalized(code).normalized();
 }
 
 } // namespace hb

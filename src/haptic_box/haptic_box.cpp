@@ -87,6 +87,7 @@ HapticBox::HapticBox(const Obb& obb, const BoxParams& params, std::vector<Sample
     throw InvalidInput("HapticBox: table has " + std::to_string(owned_.size()) +
                        " samples, expected " + std::to_string(params_.sample_count()));
   table_ = owned_.data();
+  init_faces();
 }
 
 HapticBox::HapticBox(const Obb& obb, const BoxParams& params, const Sample* table,
@@ -94,16 +95,21 @@ HapticBox::HapticBox(const Obb& obb, const BoxParams& params, const Sample* tabl
     : obb_(obb), params_(params), table_(table), owner_(std::move(owner)) {
   if (params_.m < 2 || params_.n < 2) throw InvalidInput("HapticBox: m and n must be >= 2");
   if (!table_) throw InvalidInput("HapticBox: null table");
+  init_faces();
 }
 
-Vec3 HapticBox::position_point(int face, int i, int j) const noexcept {
-  const FaceAxes fa = face_axes(face);
-  const float step = 1.f / float(params_.m - 1);
-  Vec3 local;
-  local[fa.a] = fa.sign * obb_.half[fa.a];
-  local[fa.u] = obb_.half[fa.u] * (2.f * float(i) * step - 1.f);
-  local[fa.v] = obb_.half[fa.v] * (2.f * float(j) * step - 1.f);
-  return obb_.to_world(local);
+void HapticBox::init_faces() noexcept {
+  const float step = 2.f / float(params_.m - 1);
+  for (int face = 0; face < 6; ++face) {
+    const FaceAxes fa = face_axes(face);
+    Vec3 local;
+    local[fa.a] = fa.sign * obb_.half[fa.a];
+    local[fa.u] = -obb_.half[fa.u];
+    local[fa.v] = -obb_.half[fa.v];
+    faces_[face].origin = obb_.to_world(local);
+    faces_[face].step_i = obb_.axes.col(fa.u) * (obb_.half[fa.u] * step);
+    faces_[face].step_j = obb_.axes.col(fa.v) * (obb_.half[fa.v] * step);
+  }
 }
 
 Vec3 HapticBox::sample_direction(int face, int sub, int sface, int a, int b) const noexcept {
@@ -171,12 +177,21 @@ bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact&
   const std::size_t per_position = params_.samples_per_position();
   const std::size_t face_base = std::size_t(box_hit.enter_face) * std::size_t(params_.m) * std::size_t(params_.m);
 
+  // The four corners' hemi-cubes lie far apart in memory: start all eight cache-line loads
+  // before using any (memory-level parallelism instead of four serial misses).
+  const Sample* bases[4];
+  for (int c = 0; c < 4; ++c) {
+    bases[c] = table_ + (face_base + std::size_t(ci[c]) * std::size_t(params_.m) + std::size_t(cj[c])) *
+                            per_position + dir_offset;
+    __builtin_prefetch(bases[c]);
+    __builtin_prefetch(bases[c] + n);
+  }
+
   Blend corner_sum;
   float corner_hit_weight = 0.f;
   for (int c = 0; c < 4; ++c) {
     if (pos_w[c] <= 0.f) continue;
-    const Sample* base = table_ + (face_base + std::size_t(ci[c]) * std::size_t(params_.m) + std::size_t(cj[c])) *
-                                      per_position + dir_offset;
+    const Sample* base = bases[c];
     // Directional interpolation at this corner.
     float w_hit = 0.f, t = 0.f;
     Vec3 nrm = Vec3::Zero();
@@ -185,11 +200,11 @@ bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact&
       if (s.t < 0.f || dir_w[k] <= 0.f) continue;
       w_hit += dir_w[k];
       t += dir_w[k] * s.t;
-      nrm += dir_w[k] * decode_octahedral32(s.normal);
+      nrm += dir_w[k] * decode_octahedral32_unnormalized(s.normal);
     }
     if (w_hit < 0.5f) continue;  // this corner sees a miss along l
     t /= w_hit;
-    nrm /= w_hit;
+    nrm.normalize();
     // Half of the tangent-plane correction from the corner to P1.
     const Vec3 corner = position_point(box_hit.enter_face, ci[c], cj[c]);
     const float ln = l.dot(nrm);

@@ -63,11 +63,21 @@ public:
   }
 
   /// World position of position point (i, j) of face `face`.
-  Vec3 position_point(int face, int i, int j) const noexcept;
+  Vec3 position_point(int face, int i, int j) const noexcept {
+    const FaceFrame& f = faces_[face];
+    return f.origin + float(i) * f.step_i + float(j) * f.step_j;
+  }
   /// World unit direction of directional sample (sub, sface, a, b) at any point of `face`.
   Vec3 sample_direction(int face, int sub, int sface, int a, int b) const noexcept;
 
 private:
+  void init_faces() noexcept;
+
+  // Per face: world position of position point (0, 0) and the steps to (1, 0) and (0, 1).
+  struct FaceFrame {
+    Vec3 origin, step_i, step_j;
+  };
+  FaceFrame faces_[6];
   Obb obb_;
   BoxParams params_;
   std::vector<Sample> owned_;

@@ -1,0 +1,214 @@
+// Haptic box bake and query on shapes with closed-form answers.
+#include "errors.h"
+#include "haptic_box/bake.h"
+#include "haptic_box/box_scene.h"
+#include "mesh/generators.h"
+#include <gtest/gtest.h>
+#include <cmath>
+#include <random>
+
+namespace hb {
+namespace {
+
+const ForceLaw kLaw{1000.f, 1.f};
+
+HapticBox bake(const TriangleMesh& mesh, int m, int n) {
+  BakeOptions options;
+  options.params = {m, n};
+  return bake_box(mesh, {}, options);
+}
+
+// Probes aimed at the centre of a sphere of radius r from random directions, tip at a
+// random depth inside; the analytic depth is known.
+struct SphereProbe {
+  Segment segment;
+  float depth;
+};
+std::vector<SphereProbe> sphere_probes(float r, int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> g;
+  std::uniform_real_distribution<float> u(0.02f, 0.2f);
+  std::vector<SphereProbe> out;
+  for (int i = 0; i < count; ++i) {
+    Vec3 dir(g(rng), g(rng), g(rng));
+    dir.normalize();
+    // Direction tilted up to ~25 degrees off the centre line, still crossing the sphere.
+    Vec3 jitter(g(rng), g(rng), g(rng));
+    const Vec3 start = -dir * (1.6f * r);
+    Vec3 towards = (-start).normalized() + 0.25f * (jitter - jitter.dot(dir) * dir).normalized() * u(rng);
+    towards.normalize();
+    // Distance along `towards` to the sphere surface: |start + s t|^2 = r^2.
+    const float b = start.dot(towards);
+    const float c = start.squaredNorm() - r * r;
+    const float s = -b - std::sqrt(b * b - c);
+    const float depth = u(rng) * r;
+    out.push_back({{start, start + (s + depth) * towards}, depth});
+  }
+  return out;
+}
+
+double mean_depth_error(const HapticBox& box, const std::vector<SphereProbe>& probes, float r) {
+  double sum = 0.0;
+  for (const auto& p : probes) {
+    const Contact c = box.query(p.segment, kLaw);
+    EXPECT_TRUE(c.contact);
+    sum += std::fabs(c.depth - p.depth) / r;
+  }
+  return sum / double(probes.size());
+}
+
+TEST(HapticBoxQueryTest, SphereDepthAndNormalMatchAnalyticAnswer) {
+  const float r = 1.f;
+  const TriangleMesh sphere = make_sphere(r, 5);
+  const HapticBox box = bake(sphere, 16, 8);
+  for (const auto& p : sphere_probes(r, 200, 7)) {
+    const Contact c = box.query(p.segment, kLaw);
+    ASSERT_TRUE(c.contact);
+    EXPECT_NEAR(c.depth, p.depth, 0.01f * r);
+    // The normal at the surface point is radial.
+    EXPECT_GT(c.normal.dot(c.point.normalized()), std::cos(3.f * float(M_PI) / 180.f));
+    EXPECT_NEAR(c.force.norm(), kLaw.stiffness_n_per_m * c.depth, 1e-3f);
+  }
+}
+
+TEST(HapticBoxQueryTest, ErrorShrinksAsDensitiesGrow) {
+  const float r = 1.f;
+  const TriangleMesh sphere = make_sphere(r, 6);
+  const auto probes = sphere_probes(r, 300, 11);
+  const double coarse = mean_depth_error(bake(sphere, 4, 3), probes, r);
+  const double medium = mean_depth_error(bake(sphere, 8, 6), probes, r);
+  const double fine = mean_depth_error(bake(sphere, 24, 12), probes, r);
+  EXPECT_LT(medium, coarse);
+  EXPECT_LT(fine, medium);
+  EXPECT_LT(fine, 0.5 * coarse);
+}
+
+TEST(HapticBoxQueryTest, EllipsoidDepthConvergesToExact) {
+  const Vec3 radii(1.f, 0.6f, 0.4f);
+  const TriangleMesh ellipsoid = make_ellipsoid(radii, 6);
+  const HapticBox coarse = bake(ellipsoid, 6, 4), fine = bake(ellipsoid, 24, 12);
+  // Probes along the axes: the analytic surface point is at the semi-axis.
+  double err_coarse = 0.0, err_fine = 0.0;
+  int count = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    for (float sign : {-1.f, 1.f}) {
+      Vec3 start = Vec3::Zero();
+      start[axis] = sign * 2.f;
+      Vec3 offset = Vec3::Zero();
+      offset[(axis + 1) % 3] = 0.01f;  // avoid landing exactly on a sample
+      const float depth = 0.1f;
+      Vec3 end = Vec3::Zero();
+      end[axis] = sign * (radii[axis] - depth);
+      const Segment s{start + offset, end + offset};
+      const Contact cc = coarse.query(s, kLaw), cf = fine.query(s, kLaw);
+      ASSERT_TRUE(cc.contact && cf.contact);
+      err_coarse += std::fabs(cc.depth - depth);
+      err_fine += std::fabs(cf.depth - depth);
+      ++count;
+    }
+  EXPECT_LT(err_fine / count, 0.01 * radii.minCoeff());
+  EXPECT_LE(err_fine, err_coarse);
+}
+
+TEST(HapticBoxQueryTest, CubeFaceGivesFlatDepthAndAxisNormal) {
+  const TriangleMesh cube = make_cube(Vec3(1.f, 1.f, 1.f), 4);
+  const HapticBox box = bake(cube, 8, 6);
+  const Segment s{Vec3(0.3f, -0.2f, 3.f), Vec3(0.3f, -0.2f, 0.75f)};
+  const Contact c = box.query(s, kLaw);
+  ASSERT_TRUE(c.contact);
+  EXPECT_NEAR(c.depth, 0.25f, 1e-3f);
+  EXPECT_GT(c.normal.z(), 0.999f);
+}
+
+TEST(HapticBoxQueryTest, QueryAtStoredSampleReturnsStoredValue) {
+  const TriangleMesh sphere = make_sphere(1.f, 4);
+  const HapticBox box = bake(sphere, 8, 5);
+  int checked = 0;
+  for (int face = 0; face < 6; ++face)
+    for (int sface = 0; sface < 3; ++sface) {
+      const int i = 3, j = 4, sub = face % 4, a = 2, b = 1;
+      const Sample& sample = box.table()[box.sample_index(face, i, j, sub, sface, a, b)];
+      if (sample.t < 0.f) continue;
+      const Vec3 p = box.position_point(face, i, j);
+      const Vec3 dir = box.sample_direction(face, sub, sface, a, b);
+      const float depth = 0.05f;
+      const Segment s{p - 0.5f * dir, p + (sample.t + depth) * dir};
+      const Contact c = box.query(s, kLaw);
+      ASSERT_TRUE(c.contact);
+      EXPECT_NEAR(c.depth, depth, 2e-4f);
+      ++checked;
+    }
+  EXPECT_GT(checked, 6);
+}
+
+TEST(HapticBoxQueryTest, SegmentMissingTheBoxHasNoContact) {
+  const HapticBox box = bake(make_sphere(1.f, 3), 6, 4);
+  EXPECT_FALSE(box.query({Vec3(5.f, 5.f, 5.f), Vec3(6.f, 5.f, 5.f)}, kLaw).contact);
+}
+
+TEST(HapticBoxQueryTest, TipShortOfTheSurfaceHasNoContact) {
+  const HapticBox box = bake(make_sphere(1.f, 4), 8, 6);
+  EXPECT_FALSE(box.query({Vec3(0.f, 0.f, 3.f), Vec3(0.f, 0.05f, 1.05f)}, kLaw).contact);
+  // Tip inside the box but outside the sphere.
+  EXPECT_FALSE(box.query({Vec3(0.9f, 0.9f, 3.f), Vec3(0.9f, 0.9f, 0.95f)}, kLaw).contact);
+}
+
+TEST(HapticBoxQueryTest, HandleInsideTheObjectHasNoContact) {
+  const HapticBox box = bake(make_sphere(1.f, 4), 8, 6);
+  EXPECT_FALSE(box.query({Vec3(0.f, 0.05f, 0.5f), Vec3(0.f, 0.05f, -0.2f)}, kLaw).contact);
+}
+
+TEST(HapticBoxQueryTest, DegenerateSegmentHasNoContact) {
+  const HapticBox box = bake(make_sphere(1.f, 3), 4, 3);
+  EXPECT_FALSE(box.query({Vec3(0.f, 0.f, 0.5f), Vec3(0.f, 0.f, 0.5f)}, kLaw).contact);
+  const float nan = std::nanf("");
+  EXPECT_FALSE(box.query({Vec3(nan, 0.f, 2.f), Vec3(0.f, 0.f, 0.f)}, kLaw).contact);
+}
+
+TEST(HapticBoxBakeTest, ProgressIsReportedAndCancelThrows) {
+  const TriangleMesh sphere = make_sphere(1.f, 3);
+  BakeOptions options;
+  options.params = {6, 4};
+  double last = 0.0;
+  options.progress = [&](double f) {
+    EXPECT_GE(f, last);
+    last = f;
+    return true;
+  };
+  bake_box(sphere, {}, options);
+  EXPECT_DOUBLE_EQ(last, 1.0);
+  options.progress = [](double) { return false; };
+  EXPECT_THROW(bake_box(sphere, {}, options), Cancelled);
+}
+
+TEST(HapticBoxBakeTest, InvalidDensitiesAreRejected) {
+  BakeOptions options;
+  options.params = {1, 4};
+  EXPECT_THROW(bake_box(make_sphere(1.f, 2), {}, options), InvalidInput);
+  options.params = {4, 1};
+  EXPECT_THROW(bake_box(make_sphere(1.f, 2), {}, options), InvalidInput);
+}
+
+TEST(BoxSceneTest, ContactNearestTheHandleWins) {
+  // Two spheres on the x axis; a probe along -x touches the near one first.
+  TriangleMesh a = make_sphere(1.f, 4), b = make_sphere(1.f, 4);
+  for (auto& p : b.positions) p.x() += 3.f;
+  TriangleMesh both = a;
+  const auto offset = std::uint32_t(both.positions.size());
+  both.positions.insert(both.positions.end(), b.positions.begin(), b.positions.end());
+  both.normals.insert(both.normals.end(), b.normals.begin(), b.normals.end());
+  for (auto t : b.triangles) both.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  std::vector<std::uint32_t> piece(both.triangle_count(), 0);
+  for (std::size_t t = a.triangle_count(); t < both.triangle_count(); ++t) piece[t] = 1;
+  BakeOptions options;
+  options.params = {8, 6};
+  const BoxScene scene = bake_scene(both, piece, options, {});
+  ASSERT_EQ(scene.boxes().size(), 2u);
+  const Contact c = scene.query({Vec3(6.f, 0.01f, 0.f), Vec3(-0.5f, 0.01f, 0.f)}, kLaw);
+  ASSERT_TRUE(c.contact);
+  EXPECT_NEAR(c.point.x(), 4.f, 0.02f);
+  EXPECT_GT(c.normal.x(), 0.99f);
+}
+
+} // namespace
+} // namespace hb
