@@ -62,6 +62,8 @@ TEST_F(DatasetsTest, ReferenceMeshesLoadAsClosedMeshes) {
     ASSERT_NE(it, loaded_->end()) << "missing dataset";
     EXPECT_EQ(it->second.error, "");
     EXPECT_GT(it->second.mesh.triangle_count(), 1000u);
+    EXPECT_FALSE(it->second.report.open);
+    EXPECT_FALSE(it->second.report.non_manifold);
     EXPECT_EQ(it->second.mesh.normals.size(), it->second.mesh.vertex_count());
   }
 }
@@ -73,13 +75,28 @@ TEST_F(DatasetsTest, EveryDatasetLoadsOrFailsCleanly) {
       ++ok;
       std::cout << "  " << name << ": " << l.mesh.triangle_count() << " triangles, " << l.mesh.vertex_count()
                 << " vertices" << (l.report.open ? ", open" : "") << (l.report.non_manifold ? ", non-manifold" : "")
-                << (l.report.polygons_triangulated ? ", polygons triangulated" : "") << "\n";
+                << (l.report.polygons_triangulated ? ", polygons triangulated" : "")
+                << (l.report.degenerate_dropped ? ", " + std::to_string(l.report.degenerate_dropped) + " degenerate dropped" : "")
+                << "\n";
     } else {
       std::cout << "  " << name << ": rejected: " << l.error << "\n";
       EXPECT_NE(l.error.find(name), std::string::npos) << l.error;
     }
   }
   EXPECT_GT(ok, loaded_->size() / 2);
+}
+
+TEST(GeneratedDatasetsTest, GeneratedObjectsLoadWithStatedCounts) {
+  const fs::path dir = fs::path(HB_DATASETS_DIR) / "generated";
+  if (!fs::is_directory(dir))
+    GTEST_SKIP() << dir << " is absent: run datasets/fetch.sh build/datasets/hb_generate_datasets";
+  MeshReadReport report;
+  EXPECT_EQ(read_mesh((dir / "bumpy_sphere.off").string(), &report).triangle_count(), 327680u);
+  EXPECT_FALSE(report.open);
+  EXPECT_TRUE(report.warnings.empty());
+  EXPECT_GE(read_mesh((dir / "chess_piece.off").string(), &report).triangle_count(), 100000u);
+  EXPECT_FALSE(report.open);
+  EXPECT_TRUE(report.warnings.empty());
 }
 
 } // namespace
