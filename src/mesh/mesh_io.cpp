@@ -530,7 +530,16 @@ TriangleMesh triangulate(const std::string& path, PolygonSoup& soup, MeshReadRep
   if (report.degenerate_dropped > 0)
     report.warnings.push_back(path + ": " + std::to_string(report.degenerate_dropped) +
                               " degenerate triangles (repeated index or zero area) dropped");
-  if (mesh.triangles.empty()) throw InvalidInput(path + ": no (non-degenerate) triangles in the mesh");
+  if (mesh.triangles.empty()) {
+    // OpenMesh's readers often "succeed" with nothing: pass on what they complained about.
+    std::string hint;
+    for (const std::string& w : report.warnings)
+      if (w.find(": OpenMesh: ") != std::string::npos) {
+        hint = " (" + w.substr(w.find(": OpenMesh: ") + 2) + ")";
+        break;
+      }
+    throw InvalidInput(path + ": no (non-degenerate) triangles in the mesh" + hint);
+  }
   return mesh;
 }
 
@@ -571,9 +580,11 @@ void analyse_edges(const std::string& path, const TriangleMesh& mesh, MeshReadRe
     report.warnings.push_back(path + ": non-manifold: " + std::to_string(non_manifold) +
                               " edges shared by more than two faces (kept)");
   }
-  if (misoriented > 0)
+  if (misoriented > 0) {
+    report.inconsistent_orientation = true;
     report.warnings.push_back(path + ": " + std::to_string(misoriented) +
                               " edges whose two faces have inconsistent orientation");
+  }
 }
 
 void check_readable_file(const std::string& path) {

@@ -15,6 +15,7 @@ struct MeshReadReport {
   std::size_t faces_rejected = 0;          ///< faces the reader could not add (non-manifold).
   bool open = false;                       ///< has boundary edges.
   bool non_manifold = false;               ///< has edges shared by more than two faces.
+  bool inconsistent_orientation = false;   ///< has edges its two faces traverse the same way.
   std::vector<std::string> warnings;
 };
 

@@ -131,6 +131,26 @@ TEST_F(MeshReadTest, AbsurdCountsAreRejectedWithoutAllocating) {
   expect_read_error<InvalidInput>(write("corners.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2000000000 0 1 2\n"));
 }
 
+TEST_F(MeshReadTest, AbsurdCountsInOtherFormatsAreRejected) {
+  // Binary STL header claiming 2^32-1 facets with 100 bytes of data.
+  std::string stl(80, '\0');
+  stl += std::string("\xff\xff\xff\xff", 4) + std::string(100, '\1');
+  expect_read_error<InvalidInput>(write("huge.stl", stl));
+  const std::string ply_header = "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\n"
+                                 "property float y\nproperty float z\nelement face 1\n"
+                                 "property list uchar int vertex_indices\nend_header\n0 0 0\n";
+  expect_read_error<InvalidInput>(write("huge.ply", ply_header));
+  expect_read_error<InvalidInput>(write("huge_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999\n"));
+  expect_read_error<InvalidInput>(write("negative_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -7\n"));
+}
+
+TEST_F(MeshReadTest, TruncatedPlyIsInvalidInput) {
+  const std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                          "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                          "end_header\n0 0 0\n1 0 0\n";
+  expect_read_error<InvalidInput>(write("truncated.ply", ply));
+}
+
 TEST_F(MeshReadTest, NoTrianglesIsInvalidInput) {
   expect_read_error<InvalidInput>(write("points.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"), "no (non-degenerate) triangles");
   expect_read_error<InvalidInput>(write("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"), "no (non-degenerate) triangles");
@@ -214,6 +234,15 @@ TEST_F(MeshReadTest, OffCountsOnHeaderLineAndCrlfAreAccepted) {
   const std::string off = "OFF 4 4 6\r\n0 0 0\r\n1 0 0\r\n0 1 0\r\n0 0 1\r\n3 0 2 1\r\n3 0 1 3\r\n3 0 3 2\r\n3 1 2 3\r\n";
   EXPECT_EQ(read_mesh(write("header.off", off)).triangle_count(), 4u);
   EXPECT_EQ(read_mesh(write("coff.off", std::string("C") + kTetrahedronOff)).triangle_count(), 4u);
+}
+
+TEST_F(MeshReadTest, InconsistentOrientationIsReported) {
+  // Tetrahedron with one face flipped.
+  const std::string off = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  MeshReadReport report;
+  read_mesh(write("flipped.off", off), &report);
+  EXPECT_TRUE(report.inconsistent_orientation);
+  EXPECT_FALSE(report.open);
 }
 
 TEST_F(MeshReadTest, ExtensionIsCaseInsensitive) {
