@@ -29,6 +29,7 @@
 
 #include "errors.h"
 
+#include <tbb/parallel_sort.h>
 #include <xxhash.h>
 
 #include <algorithm>
@@ -556,7 +557,7 @@ void analyse_edges(const std::string& path, const TriangleMesh& mesh, MeshReadRe
       edges.push_back(((lo << 32 | hi) << 1) | (a > b ? 1u : 0u));
     }
   }
-  std::sort(edges.begin(), edges.end());
+  tbb::parallel_sort(edges.begin(), edges.end());
   std::size_t boundary = 0, non_manifold = 0, misoriented = 0;
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i;
