@@ -42,7 +42,7 @@ SafetyFilter::SafetyFilter(const DeviceSpec& spec, const SafetyOptions& options,
       options_(options),
       dt_(dt_s > 0 ? dt_s : 1e-3) {
   ramp_ticks_total_ = options_.ramp_seconds > 0
-                          ? static_cast<std::uint64_t>(std::ceil(options_.ramp_seconds / dt_))
+                          ? static_cast<std::uint64_t>(std::max(1LL, std::llround(options_.ramp_seconds / dt_)))
                           : 0;
   max_step_ = static_cast<float>(options_.max_force_rate_n_per_s * dt_);
   mean_alpha_ = options_.continuous_window_s > 0
