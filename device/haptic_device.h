@@ -25,6 +25,11 @@ struct DeviceState {
   Vec3 position_m{Vec3::Zero()};
   std::uint32_t buttons = 0;   ///< bit i set while button i is pressed.
   double time_s = 0.0;
+  /// Replay only: the recorded tick's timing faults (bits of SafetyEvent: watchdog, device
+  /// fault, emergency stop). A replay re-applies them instead of its own wall-clock lateness,
+  /// so it gives the recorded forces bit for bit. Live devices leave `replayed` false.
+  bool replayed = false;
+  std::uint32_t replayed_flags = 0;
 };
 
 /// A haptic device. Pure virtual: a device that does not implement a method does not compile.

@@ -155,6 +155,8 @@ DeviceStatus ReplayDevice::read_state(DeviceState& out) noexcept {
   out.position_m = Vec3(r.position_m[0], r.position_m[1], r.position_m[2]);
   out.buttons = r.buttons;
   out.time_s = r.time_s;
+  out.replayed = true;
+  out.replayed_flags = r.safety_flags;
   return DeviceStatus::ok;
 }
 

@@ -198,7 +198,10 @@ void ServoLoop::run() noexcept {
       break;
     }
 
-    const bool estop = estop_.load(std::memory_order_acquire);
+    const auto recorded = [&](SafetyEvent e) {
+      return state.replayed && (state.replayed_flags & (1u << static_cast<unsigned>(e)));
+    };
+    const bool estop = estop_.load(std::memory_order_acquire) || recorded(SafetyEvent::emergency_stop);
     if (estop != estop_applied) {
       safety_.set_emergency_stop(estop);
       estop_applied = estop;
@@ -211,8 +214,9 @@ void ServoLoop::run() noexcept {
     SafetyInput in;
     in.desired_force_n = contact.force;
     in.position_m = state.position_m;
-    in.lateness_s = lateness_s;
-    in.device_fault = st == DeviceStatus::fault;
+    // A replay re-applies the recorded timing faults, not its own lateness (see DeviceState).
+    in.lateness_s = state.replayed ? (recorded(SafetyEvent::watchdog) ? 1e9 : 0.0) : lateness_s;
+    in.device_fault = st == DeviceStatus::fault || recorded(SafetyEvent::device_fault);
     const Vec3 force = safety_.apply(in);
     const std::int64_t c1 = now_ns();
 

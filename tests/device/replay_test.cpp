@@ -17,7 +17,7 @@ namespace {
 ServoOptions options() {
   ServoOptions o;
   o.request_realtime = false;
-  o.safety.watchdog_bound_s = 10.0;  // a late tick on a loaded machine must not change forces
+  // Default watchdog: a late tick in the recording is re-applied by the replay.
   o.safety.ramp_seconds = 0.05f;
   o.mapping.model_units_per_metre = 1000.f;
   o.law.stiffness_n_per_m = 2000.f;
