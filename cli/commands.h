@@ -8,3 +8,5 @@ void add_query_command(CLI::App& app);
 void add_eval_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 void add_subdivide_command(CLI::App& app);
+void add_devices_command(CLI::App& app);
+void add_servo_command(CLI::App& app);

@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
   add_eval_command(app);
   add_bench_command(app);
   add_subdivide_command(app);
+  add_devices_command(app);
+  add_servo_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
