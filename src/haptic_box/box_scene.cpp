@@ -1,21 +1,79 @@
+// Box scene query.
+//  1. Cull: the segment against the axis-aligned bounds of every PBB (flat loop).
+//  2. Each surviving box runs its query (which starts with its exact PBB slab test).
+//  3. The valid contact nearest the handle wins (contact definition: the first outside
+//     surface met walking from the handle).
 #include "haptic_box/box_scene.h"
+#include <algorithm>
+#include <cmath>
 
 namespace hb {
 
 BoxScene::BoxScene(std::vector<HapticBox> boxes, SourceInfo source)
-    : boxes_(std::move(boxes)), source_(std::move(source)) {}
+    : boxes_(std::move(boxes)), source_(std::move(source)) {
+  for (auto& b : bounds_) b.reserve(boxes_.size());
+  for (const HapticBox& box : boxes_) {
+    const Obb& o = box.obb();
+    // Half extents of the OBB along world axes: |R| * half.
+    const Vec3 extent = o.axes.cwiseAbs() * o.half;
+    for (int a = 0; a < 3; ++a) {
+      bounds_[a].push_back(o.center[a] - extent[a]);
+      bounds_[3 + a].push_back(o.center[a] + extent[a]);
+    }
+  }
+}
+
+std::size_t BoxScene::cull(const Segment& segment, std::size_t first, std::size_t last,
+                           std::uint32_t* out) const noexcept {
+  const Vec3 d = segment.end - segment.start;
+  float inv[3], s[3];
+  for (int a = 0; a < 3; ++a) {
+    s[a] = segment.start[a];
+    inv[a] = std::fabs(d[a]) > 1e-30f ? 1.f / d[a] : std::copysign(1e30f, d[a]);
+  }
+  std::size_t met = 0;
+  for (std::size_t k = first; k < last; ++k) {
+    float t0 = 0.f, t1 = 1.f;
+    for (int a = 0; a < 3; ++a) {
+      const float u = (bounds_[a][k] - s[a]) * inv[a];
+      const float v = (bounds_[3 + a][k] - s[a]) * inv[a];
+      t0 = std::max(t0, std::min(u, v));
+      t1 = std::min(t1, std::max(u, v));
+    }
+    out[met] = std::uint32_t(k);
+    met += t0 <= t1 ? 1 : 0;
+  }
+  return met;
+}
+
+std::size_t BoxScene::boxes_met(const Segment& segment) const noexcept {
+  std::size_t met = 0;
+  for (const HapticBox& box : boxes_) {
+    const Vec3 delta = segment.end - segment.start;
+    const float length = delta.norm();
+    LineBoxHit hit;
+    if (length > 0.f && intersect_line_obb(box.obb(), segment.start, delta / length, hit) &&
+        hit.t_enter <= length && hit.t_exit >= 0.f)
+      ++met;
+  }
+  return met;
+}
 
 Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexcept {
-  // Each box culls itself with its PBB slab test first (query_into returns at once when
-  // the line misses it); the valid contact nearest the handle wins.
   Contact best;
   float best_along = 0.f;
   Contact c;
-  for (const HapticBox& box : boxes_) {
-    float along = 0.f;
-    if (box.query_into(segment, law, c, along) && (!best.contact || along < best_along)) {
-      best = c;
-      best_along = along;
+  constexpr std::size_t kChunk = 64;
+  std::uint32_t candidates[kChunk];
+  const std::size_t count = boxes_.size();
+  for (std::size_t first = 0; first < count; first += kChunk) {
+    const std::size_t met = cull(segment, first, std::min(count, first + kChunk), candidates);
+    for (std::size_t i = 0; i < met; ++i) {
+      float along = 0.f;
+      if (boxes_[candidates[i]].query_into(segment, law, c, along) && (!best.contact || along < best_along)) {
+        best = c;
+        best_along = along;
+      }
     }
   }
   return best;
