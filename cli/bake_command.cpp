@@ -32,7 +32,7 @@ void add_bake_command(CLI::App& app) {
     hb::SourceInfo source{opts->mesh, hb::hash_file(opts->mesh), mesh.triangle_count(), mesh.bounds().diagonal()};
     opts->bake.progress = hb::cli::terminal_progress("baking");
     hb::BakeStats stats;
-    const auto pieces = hb::cli::resolve_pieces(mesh, opts->pieces);
+    const auto pieces = hb::cli::resolve_pieces(mesh, opts->pieces, opts->bake.params.m);
     const hb::BoxScene scene = hb::bake_scene_from_lists(mesh, pieces, opts->bake, source, &stats);
     hb::save_box_file(scene, opts->out);
     const auto bytes = std::filesystem::file_size(opts->out);

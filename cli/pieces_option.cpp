@@ -14,12 +14,14 @@ void add_pieces_options(CLI::App& cmd, PiecesChoice& choice) {
       ->check(CLI::Range(0.0, 1.0))->capture_default_str();
   cmd.add_option("--max-pieces", choice.automatic.max_pieces, "Auto pieces: most pieces")
       ->check(CLI::Range(1, 4096))->capture_default_str();
-  cmd.add_option("--seam-rings", choice.seam_rings, "Rings of seam triangles shared by neighbouring pieces")
-      ->check(CLI::Range(0, 16))->capture_default_str();
+  cmd.add_option("--seam-rings", choice.seams.rings, "Least rings of seam triangles neighbouring pieces share")
+      ->check(CLI::Range(0, 64))->capture_default_str();
+  cmd.add_option("--seam-cells", choice.seams.cells, "Seam overlap width, in position cells of each box")
+      ->check(CLI::Range(0.0, 64.0))->capture_default_str();
 }
 
-std::vector<std::vector<std::uint32_t>> resolve_pieces(const TriangleMesh& mesh, const PiecesChoice& choice) {
-  if (choice.spec == "none" || choice.spec.empty()) return piece_triangle_lists(mesh, {}, 0);
+std::vector<std::vector<std::uint32_t>> resolve_pieces(const TriangleMesh& mesh, const PiecesChoice& choice, int m) {
+  if (choice.spec == "none" || choice.spec.empty()) return piece_triangle_lists(mesh, {});
   std::vector<std::uint32_t> ids;
   if (choice.spec == "auto") {
     AutoDecompositionOptions options = choice.automatic;
@@ -32,7 +34,9 @@ std::vector<std::vector<std::uint32_t>> resolve_pieces(const TriangleMesh& mesh,
   } else {
     ids = read_piece_file(choice.spec, mesh.triangle_count());
   }
-  return piece_triangle_lists(mesh, ids, choice.seam_rings);
+  SeamOptions seams = choice.seams;
+  seams.m = m;
+  return piece_triangle_lists(mesh, ids, seams);
 }
 
 } // namespace hb::cli
