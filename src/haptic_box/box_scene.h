@@ -15,10 +15,11 @@ struct SourceInfo {
 
 /// A scene of haptic boxes, one per piece. A query culls by PBB and the valid contact
 /// nearest the handle wins, so its cost grows with the boxes the segment meets.
-/// Culling: the segment is tested against the axis-aligned bounds of every PBB in one flat,
-/// vectorisable loop (a few ns a box: for the 5-100 boxes of a decomposed model this beat a
-/// tree, whose traversal branches cost more than the tests they save); only the boxes it
-/// meets run their query (their own exact PBB slab test first).
+/// Culling: the segment is tested against the axis-aligned bounds of every PBB in one flat
+/// loop over arrays of bounds; only the boxes it meets run their query (their own exact PBB
+/// slab test first). Measured with 5, 20 and 100 boxes (random segments, half meeting no
+/// box) this was 3-6x cheaper per query than letting every box run its OBB slab test; a
+/// tree over the bounds was not needed at these counts (the boxes met dominate the cost).
 class BoxScene final : public ContactQuery {
 public:
   BoxScene() = default;
