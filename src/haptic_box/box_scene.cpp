@@ -3,6 +3,9 @@
 //  2. Each surviving box runs its query (which starts with its exact PBB slab test).
 //  3. The valid contact nearest the handle wins (contact definition: the first outside
 //     surface met walking from the handle).
+//  4. With several boxes, a contact is dropped when the handle lies inside any met box's
+//     piece along the line (handle_inside): the first surface from the handle is then an
+//     inside one, which the box that found the contact ahead cannot see.
 #include "haptic_box/box_scene.h"
 #include <algorithm>
 #include <cmath>
@@ -59,6 +62,29 @@ std::size_t BoxScene::boxes_met(const Segment& segment) const noexcept {
   return met;
 }
 
+namespace {
+
+// True when the handle lies inside the box's piece along the segment's line: walking from the
+// box entry towards the handle meets the piece's outside first (the line entered the piece
+// before the handle), and walking back from the box exit towards the handle does too (the
+// piece goes on past the handle). Both are ordinary box queries on the same tables.
+bool handle_inside(const HapticBox& box, const Segment& segment, const ForceLaw& law) noexcept {
+  const Vec3 delta = segment.end - segment.start;
+  const float length = delta.norm();
+  if (!(length > 0.f)) return false;
+  const Vec3 l = delta / length;
+  LineBoxHit hit;
+  if (!intersect_line_obb(box.obb(), segment.start, l, hit) || hit.t_enter >= 0.f || hit.t_exit <= 0.f)
+    return false;
+  const float margin = 1e-3f * box.obb().diagonal();
+  Contact c;
+  float along = 0.f;
+  if (!box.query_into({segment.start + (hit.t_enter - margin) * l, segment.start}, law, c, along)) return false;
+  return box.query_into({segment.start + (hit.t_exit + margin) * l, segment.start}, law, c, along);
+}
+
+} // namespace
+
 Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexcept {
   Contact best;
   float best_along = 0.f;
@@ -75,6 +101,15 @@ Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexc
         best_along = along;
       }
     }
+  }
+  if (!best.contact || count < 2) return best;
+  // With several boxes, a handle inside another piece (the first surface from the handle is
+  // that piece's inside: no contact by definition) is invisible to the box that found the
+  // contact ahead; ask the boxes whose PBB holds the handle.
+  for (std::size_t first = 0; first < count; first += kChunk) {
+    const std::size_t met = cull(segment, first, std::min(count, first + kChunk), candidates);
+    for (std::size_t i = 0; i < met; ++i)
+      if (handle_inside(boxes_[candidates[i]], segment, law)) return Contact{};
   }
   return best;
 }
