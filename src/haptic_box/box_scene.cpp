@@ -4,8 +4,9 @@
 //  3. The valid contact nearest the handle wins (contact definition: the first outside
 //     surface met walking from the handle).
 //  4. With several boxes, a contact is dropped when the handle lies inside any met box's
-//     piece along the line (handle_inside): the first surface from the handle is then an
-//     inside one, which the box that found the contact ahead cannot see.
+//     piece along the line and that piece ends before the contact (handle_inside): the first
+//     surface from the handle is then an inside one, which the box that found the contact
+//     ahead cannot see.
 #include "haptic_box/box_scene.h"
 #include <algorithm>
 #include <cmath>
@@ -68,7 +69,10 @@ namespace {
 // box entry towards the handle meets the piece's outside first (the line entered the piece
 // before the handle), and walking back from the box exit towards the handle does too (the
 // piece goes on past the handle). Both are ordinary box queries on the same tables.
-bool handle_inside(const HapticBox& box, const Segment& segment, const ForceLaw& law) noexcept {
+// The piece's far surface must also come before the contact found ahead (`contact_along`
+// from the handle): otherwise the line leaves the piece, and the handle sits in a pocket of
+// it, not inside it.
+bool handle_inside(const HapticBox& box, const Segment& segment, const ForceLaw& law, float contact_along) noexcept {
   const Vec3 delta = segment.end - segment.start;
   const float length = delta.norm();
   if (!(length > 0.f)) return false;
@@ -80,7 +84,9 @@ bool handle_inside(const HapticBox& box, const Segment& segment, const ForceLaw&
   Contact c;
   float along = 0.f;
   if (!box.query_into({segment.start + (hit.t_enter - margin) * l, segment.start}, law, c, along)) return false;
-  return box.query_into({segment.start + (hit.t_exit + margin) * l, segment.start}, law, c, along);
+  if (!box.query_into({segment.start + (hit.t_exit + margin) * l, segment.start}, law, c, along)) return false;
+  const float far_surface = hit.t_exit + margin - along;  // from the handle along l
+  return far_surface < contact_along;
 }
 
 } // namespace
@@ -109,7 +115,7 @@ Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexc
   for (std::size_t first = 0; first < count; first += kChunk) {
     const std::size_t met = cull(segment, first, std::min(count, first + kChunk), candidates);
     for (std::size_t i = 0; i < met; ++i)
-      if (handle_inside(boxes_[candidates[i]], segment, law)) return Contact{};
+      if (handle_inside(boxes_[candidates[i]], segment, law, best_along)) return Contact{};
   }
   return best;
 }
