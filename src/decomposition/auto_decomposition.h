@@ -12,7 +12,10 @@ namespace hb {
 /// Options of decompose_auto. Defaults work on the CGAL datasets and the generators.
 struct AutoDecompositionOptions {
   /// Largest pocket probability (see PocketScore) a merged piece may have, in [0, 1].
-  /// Lower: more, smaller pieces and fewer hidden contacts.
+  /// Lower: more, smaller pieces and fewer hidden contacts. Measured on the armadillo (52K
+  /// triangles, m=32 n=16, 20K probes): 0.004 gives 6 pieces (0.9 GB of tables, 96.4%
+  /// contact agreement), 0.001 gives 37 pieces (5.6 GB, 99.1%); one box: 90.5%.
+  /// The chess piece gives 5 pieces at 0.004.
   double threshold = 0.004;
   /// Pieces with less than this fraction of the total surface area are merged into their
   /// best neighbour even above the threshold, in [0, 1).
