@@ -218,6 +218,11 @@ TEST(BoxSceneTest, NearestValidContactWinsAndBoxesMetCount) {
   EXPECT_EQ(scene.boxes_met(one), 1u);
   EXPECT_TRUE(scene.query(one, kLaw).contact);
   EXPECT_EQ(scene.boxes_met({Vec3(0.f, 3.f, 0.f), Vec3(0.f, 4.f, 0.f)}), 0u);
+  // A handle inside the first sphere: the first surface from it is an inside one, so the
+  // second sphere's surface ahead is no contact (as for the exact answer).
+  const Segment inside{Vec3(-1.1f, 0.01f, 0.f), Vec3(0.8f, 0.01f, 0.f)};
+  EXPECT_FALSE(ExactQuery(two).query(inside, kLaw).contact);
+  EXPECT_FALSE(scene.query(inside, kLaw).contact);
 }
 
 TEST(PlaneSplitTest, TwoPlanesGiveFourPieces) {
