@@ -1,9 +1,10 @@
-// hapticbox bake MESH -o BOX.hbox [-m 32] [-n 16] [--json]
+// hapticbox bake MESH -o BOX.hbox [-m 32] [-n 16] [--pieces auto|FILE|none] [--json]
 #include "cli_support.h"
 #include "commands.h"
 #include "haptic_box/bake.h"
 #include "haptic_box/box_file.h"
 #include "mesh/mesh_io.h"
+#include "pieces_option.h"
 #include <filesystem>
 #include <iostream>
 
@@ -12,6 +13,7 @@ void add_bake_command(CLI::App& app) {
   struct Opts {
     std::string mesh, out;
     hb::BakeOptions bake;
+    hb::cli::PiecesChoice pieces;
     bool json = false;
   };
   auto opts = std::make_shared<Opts>();
@@ -23,13 +25,15 @@ void add_bake_command(CLI::App& app) {
       ->check(CLI::Range(2, 256))->capture_default_str();
   cmd->add_option("--padding", opts->bake.obb.padding, "PBB padding, fraction of its diagonal")
       ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  hb::cli::add_pieces_options(*cmd, opts->pieces);
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
   cmd->callback([opts] {
     const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh);
     hb::SourceInfo source{opts->mesh, hb::hash_file(opts->mesh), mesh.triangle_count(), mesh.bounds().diagonal()};
     opts->bake.progress = hb::cli::terminal_progress("baking");
     hb::BakeStats stats;
-    const hb::BoxScene scene = hb::bake_scene(mesh, {}, opts->bake, source, &stats);
+    const auto pieces = hb::cli::resolve_pieces(mesh, opts->pieces, opts->bake.params.m);
+    const hb::BoxScene scene = hb::bake_scene_from_lists(mesh, pieces, opts->bake, source, &stats);
     hb::save_box_file(scene, opts->out);
     const auto bytes = std::filesystem::file_size(opts->out);
     const nlohmann::json j = {{"mesh", opts->mesh},

@@ -10,3 +10,4 @@ void add_bench_command(CLI::App& app);
 void add_subdivide_command(CLI::App& app);
 void add_devices_command(CLI::App& app);
 void add_servo_command(CLI::App& app);
+void add_decompose_command(CLI::App& app);

@@ -80,5 +80,11 @@ void add_info_command(CLI::App& app) {
       if (it.key() == "box_list") continue;
       std::cout << it.key() << ": " << (it->is_string() ? it->get<std::string>() : it->dump()) << "\n";
     }
+    if (j.contains("box_list") && j["box_list"].size() > 1) {
+      std::size_t k = 0;
+      for (const auto& b : j["box_list"])
+        std::cout << "box " << k++ << ": centre " << b["center"].dump() << ", half extents " << b["half_extents"].dump()
+                  << ", " << b["table_bytes"].get<std::size_t>() / 1e6 << " MB\n";
+    }
   });
 }

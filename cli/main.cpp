@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   add_subdivide_command(app);
   add_devices_command(app);
   add_servo_command(app);
+  add_decompose_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

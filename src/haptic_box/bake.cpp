@@ -129,6 +129,20 @@ BoxScene bake_scene(const TriangleMesh& mesh, const std::vector<std::uint32_t>& 
     pieces.erase(std::remove_if(pieces.begin(), pieces.end(), [](const auto& p) { return p.empty(); }),
                  pieces.end());
   }
+  if (piece_of_triangle.empty()) pieces[0].clear();  // empty list: all triangles
+  return bake_scene_from_lists(mesh, pieces, options, source, stats);
+}
+
+BoxScene bake_scene_from_lists(const TriangleMesh& mesh, const std::vector<std::vector<std::uint32_t>>& pieces,
+                    const BakeOptions& options, const SourceInfo& source, BakeStats* stats) {
+  check_params(options.params);
+  if (mesh.triangle_count() == 0) throw InvalidInput("bake: mesh has no triangles");
+  if (pieces.empty()) throw InvalidInput("bake: no pieces");
+  for (std::size_t p = 0; p < pieces.size(); ++p)
+    for (std::uint32_t t : pieces[p])
+      if (t >= mesh.triangle_count())
+        throw InvalidInput("bake: piece " + std::to_string(p) + " names triangle " + std::to_string(t) +
+                           ", the mesh has " + std::to_string(mesh.triangle_count()));
   const auto start = std::chrono::steady_clock::now();
   ProgressState progress;
   progress.callback = &options.progress;
@@ -137,8 +151,7 @@ BoxScene bake_scene(const TriangleMesh& mesh, const std::vector<std::uint32_t>& 
   std::vector<HapticBox> boxes;
   boxes.reserve(pieces.size());
   for (const auto& piece : pieces)
-    boxes.push_back(bake_one(mesh, piece_of_triangle.empty() ? std::vector<std::uint32_t>{} : piece,
-                             options, progress, hits));
+    boxes.push_back(bake_one(mesh, piece, options, progress, hits));
   if (stats) {
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     stats->rays = options.params.sample_count() * pieces.size();

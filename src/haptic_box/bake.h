@@ -36,4 +36,10 @@ HapticBox bake_box(const TriangleMesh& mesh, const std::vector<std::uint32_t>& t
 BoxScene bake_scene(const TriangleMesh& mesh, const std::vector<std::uint32_t>& piece_of_triangle,
                     const BakeOptions& options, const SourceInfo& source, BakeStats* stats = nullptr);
 
+/// Bakes one box per triangle list (lists may overlap, e.g. pieces sharing seam triangles,
+/// see hb::piece_triangle_lists); an empty list stands for all triangles. Throws
+/// hb::InvalidInput on no lists or an out-of-range triangle id.
+BoxScene bake_scene_from_lists(const TriangleMesh& mesh, const std::vector<std::vector<std::uint32_t>>& piece_triangles,
+                    const BakeOptions& options, const SourceInfo& source, BakeStats* stats = nullptr);
+
 } // namespace hb

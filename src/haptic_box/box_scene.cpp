@@ -1,22 +1,121 @@
+// Box scene query.
+//  1. Cull: the segment against the axis-aligned bounds of every PBB (flat loop).
+//  2. Each surviving box runs its query (which starts with its exact PBB slab test).
+//  3. The valid contact nearest the handle wins (contact definition: the first outside
+//     surface met walking from the handle).
+//  4. With several boxes, a contact is dropped when the handle lies inside any met box's
+//     piece along the line and that piece ends before the contact (handle_inside): the first
+//     surface from the handle is then an inside one, which the box that found the contact
+//     ahead cannot see.
 #include "haptic_box/box_scene.h"
+#include <algorithm>
+#include <cmath>
 
 namespace hb {
 
 BoxScene::BoxScene(std::vector<HapticBox> boxes, SourceInfo source)
-    : boxes_(std::move(boxes)), source_(std::move(source)) {}
+    : boxes_(std::move(boxes)), source_(std::move(source)) {
+  for (auto& b : bounds_) b.reserve(boxes_.size());
+  for (const HapticBox& box : boxes_) {
+    const Obb& o = box.obb();
+    // Half extents of the OBB along world axes: |R| * half.
+    const Vec3 extent = o.axes.cwiseAbs() * o.half;
+    for (int a = 0; a < 3; ++a) {
+      bounds_[a].push_back(o.center[a] - extent[a]);
+      bounds_[3 + a].push_back(o.center[a] + extent[a]);
+    }
+  }
+}
+
+std::size_t BoxScene::cull(const Segment& segment, std::size_t first, std::size_t last,
+                           std::uint32_t* out) const noexcept {
+  const Vec3 d = segment.end - segment.start;
+  float inv[3], s[3];
+  for (int a = 0; a < 3; ++a) {
+    s[a] = segment.start[a];
+    inv[a] = std::fabs(d[a]) > 1e-30f ? 1.f / d[a] : std::copysign(1e30f, d[a]);
+  }
+  std::size_t met = 0;
+  for (std::size_t k = first; k < last; ++k) {
+    float t0 = 0.f, t1 = 1.f;
+    for (int a = 0; a < 3; ++a) {
+      const float u = (bounds_[a][k] - s[a]) * inv[a];
+      const float v = (bounds_[3 + a][k] - s[a]) * inv[a];
+      t0 = std::max(t0, std::min(u, v));
+      t1 = std::min(t1, std::max(u, v));
+    }
+    out[met] = std::uint32_t(k);
+    met += t0 <= t1 ? 1 : 0;
+  }
+  return met;
+}
+
+std::size_t BoxScene::boxes_met(const Segment& segment) const noexcept {
+  std::size_t met = 0;
+  for (const HapticBox& box : boxes_) {
+    const Vec3 delta = segment.end - segment.start;
+    const float length = delta.norm();
+    LineBoxHit hit;
+    if (length > 0.f && intersect_line_obb(box.obb(), segment.start, delta / length, hit) &&
+        hit.t_enter <= length && hit.t_exit >= 0.f)
+      ++met;
+  }
+  return met;
+}
+
+namespace {
+
+// True when the handle lies inside the box's piece along the segment's line: walking from the
+// box entry towards the handle meets the piece's outside first (the line entered the piece
+// before the handle), and walking back from the box exit towards the handle does too (the
+// piece goes on past the handle). Both are ordinary box queries on the same tables.
+// The piece's far surface must also come before the contact found ahead (`contact_along`
+// from the handle): otherwise the line leaves the piece, and the handle sits in a pocket of
+// it, not inside it.
+bool handle_inside(const HapticBox& box, const Segment& segment, const ForceLaw& law, float contact_along) noexcept {
+  const Vec3 delta = segment.end - segment.start;
+  const float length = delta.norm();
+  if (!(length > 0.f)) return false;
+  const Vec3 l = delta / length;
+  LineBoxHit hit;
+  if (!intersect_line_obb(box.obb(), segment.start, l, hit) || hit.t_enter >= 0.f || hit.t_exit <= 0.f)
+    return false;
+  const float margin = 1e-3f * box.obb().diagonal();
+  Contact c;
+  float along = 0.f;
+  if (!box.query_into({segment.start + (hit.t_enter - margin) * l, segment.start}, law, c, along)) return false;
+  if (!box.query_into({segment.start + (hit.t_exit + margin) * l, segment.start}, law, c, along)) return false;
+  const float far_surface = hit.t_exit + margin - along;  // from the handle along l
+  return far_surface < contact_along;
+}
+
+} // namespace
 
 Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexcept {
-  // Each box culls itself with its PBB slab test first (query_into returns at once when
-  // the line misses it); the valid contact nearest the handle wins.
   Contact best;
   float best_along = 0.f;
   Contact c;
-  for (const HapticBox& box : boxes_) {
-    float along = 0.f;
-    if (box.query_into(segment, law, c, along) && (!best.contact || along < best_along)) {
-      best = c;
-      best_along = along;
+  constexpr std::size_t kChunk = 64;
+  std::uint32_t candidates[kChunk];
+  const std::size_t count = boxes_.size();
+  for (std::size_t first = 0; first < count; first += kChunk) {
+    const std::size_t met = cull(segment, first, std::min(count, first + kChunk), candidates);
+    for (std::size_t i = 0; i < met; ++i) {
+      float along = 0.f;
+      if (boxes_[candidates[i]].query_into(segment, law, c, along) && (!best.contact || along < best_along)) {
+        best = c;
+        best_along = along;
+      }
     }
+  }
+  if (!best.contact || count < 2) return best;
+  // With several boxes, a handle inside another piece (the first surface from the handle is
+  // that piece's inside: no contact by definition) is invisible to the box that found the
+  // contact ahead; ask the boxes whose PBB holds the handle.
+  for (std::size_t first = 0; first < count; first += kChunk) {
+    const std::size_t met = cull(segment, first, std::min(count, first + kChunk), candidates);
+    for (std::size_t i = 0; i < met; ++i)
+      if (handle_inside(boxes_[candidates[i]], segment, law, best_along)) return Contact{};
   }
   return best;
 }

