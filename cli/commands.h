@@ -7,3 +7,6 @@ void add_bake_command(CLI::App& app);
 void add_query_command(CLI::App& app);
 void add_eval_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
+void add_sweep_command(CLI::App& app);
+void add_report_command(CLI::App& app);
+void add_field_command(CLI::App& app);

@@ -15,6 +15,11 @@ int main(int argc, char** argv) {
   add_query_command(app);
   add_eval_command(app);
   add_bench_command(app);
+#ifdef HB_WITH_VTK
+  add_sweep_command(app);
+  add_report_command(app);
+  add_field_command(app);
+#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
