@@ -32,8 +32,8 @@ void add_field_command(CLI::App& app) {
   auto opts = std::make_shared<Opts>();
   cmd->add_option("INPUT", opts->inputs, "MESH (baked here), or BOX MESH")->required()->expected(1, 2);
   cmd->add_option("-o,--output", opts->out, "Output .vtp file")->required();
-  cmd->add_option("--m", opts->m, "Position density m when baking")->check(CLI::Range(2, 4096))->capture_default_str();
-  cmd->add_option("--n", opts->n, "Directional density n when baking")->check(CLI::Range(2, 1024))->capture_default_str();
+  cmd->add_option("-m,--m", opts->m, "Position density m when baking")->check(CLI::Range(2, 4096))->capture_default_str();
+  cmd->add_option("-n,--n", opts->n, "Directional density n when baking")->check(CLI::Range(2, 1024))->capture_default_str();
   cmd->add_option("--probes", opts->probes, "Probes per point")->check(CLI::Range(1, 100000))->capture_default_str();
   cmd->add_option("--even", opts->even, "Sample N points evenly instead of the vertices")->check(CLI::Range(vtkIdType(1), vtkIdType(100000000)));
   cmd->add_option("--seed", opts->seed, "Probe seed")->capture_default_str();

@@ -54,8 +54,8 @@ void add_report_command(CLI::App& app) {
       ->required()
       ->expected(1, 2);
   cmd->add_option("-o,--output", opts->out, "Output directory")->required();
-  cmd->add_option("--m", opts->params.m, "Position density m when baking")->check(CLI::Range(2, 4096))->capture_default_str();
-  cmd->add_option("--n", opts->params.n, "Directional density n when baking")->check(CLI::Range(2, 1024))->capture_default_str();
+  cmd->add_option("-m,--m", opts->params.m, "Position density m when baking")->check(CLI::Range(2, 4096))->capture_default_str();
+  cmd->add_option("-n,--n", opts->params.n, "Directional density n when baking")->check(CLI::Range(2, 1024))->capture_default_str();
   cmd->add_option("--samples", opts->report.samples, "Probes (as eval)")->check(CLI::Range(std::size_t(1), std::size_t(10000000)))->capture_default_str();
   cmd->add_option("--seed", opts->report.probes.seed, "Probe seed (as eval)")->capture_default_str();
   cmd->add_option("--rounds", opts->report.timing_rounds, "Timing passes")->check(CLI::Range(1, 1000))->capture_default_str();
@@ -143,7 +143,7 @@ void add_report_command(CLI::App& app) {
       const std::string png = (std::filesystem::path(opts->out) / "charts" / "error_field.png").string();
       std::filesystem::create_directories(std::filesystem::path(png).parent_path());
       const double range = std::max(ro.tolerances.force_error_p95, data.error_field_p95);
-      if (vtkHapticBoxErrorFieldImage::Render(pd, "RelativeForceError", range, "force error", png, 1200, 600,
+      if (vtkHapticBoxErrorFieldImage::Render(pd, "RelativeForceError", range, "relative force error", png, 1200, 600,
                                               &data.error_field_note))
         data.error_field_image = png;
     }

@@ -47,8 +47,8 @@ void add_sweep_command(CLI::App& app) {
   };
   auto opts = std::make_shared<Opts>();
   cmd->add_option("MESH", opts->mesh, "Mesh file")->required();
-  cmd->add_option("--m", opts->m, "Position densities m (comma separated)")->delimiter(',')->check(CLI::Range(2, 4096))->capture_default_str();
-  cmd->add_option("--n", opts->n, "Directional densities n (comma separated)")->delimiter(',')->check(CLI::Range(2, 1024))->capture_default_str();
+  cmd->add_option("-m,--m", opts->m, "Position densities m (comma separated)")->delimiter(',')->check(CLI::Range(2, 4096))->capture_default_str();
+  cmd->add_option("-n,--n", opts->n, "Directional densities n (comma separated)")->delimiter(',')->check(CLI::Range(2, 1024))->capture_default_str();
   cmd->add_option("--codec", opts->codecs, "Table codecs (comma separated; this build: none)")->delimiter(',')->capture_default_str();
   cmd->add_option("--samples", opts->sweep.samples, "Probes per method")->check(CLI::Range(std::size_t(1), std::size_t(10000000)))->capture_default_str();
   cmd->add_option("--rounds", opts->sweep.timing_rounds, "Timing passes")->check(CLI::Range(1, 1000))->capture_default_str();

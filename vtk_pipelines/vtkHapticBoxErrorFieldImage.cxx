@@ -3,6 +3,7 @@
 // 3. render off screen, grab with vtkWindowToImageFilter, write with vtkPNGWriter.
 #include "vtkHapticBoxErrorFieldImage.h"
 #include <vtkActor.h>
+#include <vtkAutoInit.h>
 #include <vtkCamera.h>
 #include <vtkDataArray.h>
 #include <vtkLookupTable.h>
@@ -17,6 +18,10 @@
 #include <vtkWindowToImageFilter.h>
 #include <cstdlib>
 #include <fstream>
+// The OpenGL render window and font factories, whatever the executable's autoinit covers.
+VTK_MODULE_INIT(vtkRenderingOpenGL2);
+VTK_MODULE_INIT(vtkRenderingFreeType);
+
 // Last: Xlib defines macros (None, Bool, Status) that clash with VTK headers.
 #include <X11/Xlib.h>
 
@@ -65,7 +70,7 @@ bool vtkHapticBoxErrorFieldImage::Render(vtkPolyData* field, const std::string& 
     vtkNew<vtkActor> actor;
     actor->SetMapper(mapper);
     vtkNew<vtkRenderWindow> window;
-    window->SetOffScreenRendering(1);
+    window->SetShowWindow(false);  // renders to an offscreen framebuffer; still needs X here
     window->SetSize(width, height);
     window->SetMultiSamples(0);
     for (int view = 0; view < 2; ++view) {
@@ -75,6 +80,7 @@ bool vtkHapticBoxErrorFieldImage::Render(vtkPolyData* field, const std::string& 
       renderer->AddActor(actor);
       renderer->ResetCamera();
       if (view == 1) renderer->GetActiveCamera()->Azimuth(180.0);
+      renderer->GetActiveCamera()->Zoom(1.4);
       renderer->ResetCameraClippingRange();
       if (view == 1) {
         vtkNew<vtkScalarBarActor> bar;
