@@ -15,6 +15,9 @@ int main(int argc, char** argv) {
   add_query_command(app);
   add_eval_command(app);
   add_bench_command(app);
+  add_subdivide_command(app);
+  add_devices_command(app);
+  add_servo_command(app);
 #ifdef HB_WITH_VTK
   add_sweep_command(app);
   add_report_command(app);

@@ -107,8 +107,14 @@ void add_report_command(CLI::App& app) {
     }
     hb::ReportOptions& ro = opts->report;
     const hb::BoxParams own = scene.boxes().front().params();
-    if (!opts->no_sweep) {
-      if (opts->sweep_m.empty() && opts->sweep_n.empty()) {
+    // Sweep configurations are baked as one box: with a multi-box scene they would not compare
+    // like with like, so the default sweep is skipped then (explicit --sweep-m/-n still run).
+    const bool explicit_sweep = !opts->sweep_m.empty() || !opts->sweep_n.empty();
+    if (scene.boxes().size() > 1 && !explicit_sweep && !opts->no_sweep)
+      std::cerr << "hapticbox: note: " << scene.boxes().size()
+                << " boxes: the default sweep (one box per configuration) is skipped\n";
+    if (!opts->no_sweep && (scene.boxes().size() == 1 || explicit_sweep)) {
+      if (!explicit_sweep) {
         ro.sweep_configs = default_sweep(own.m, own.n);
       } else {
         const std::vector<int> ms = opts->sweep_m.empty() ? std::vector<int>{own.m} : opts->sweep_m;

@@ -60,4 +60,37 @@ std::vector<Segment> sample_probes(const TriangleMesh& mesh, std::size_t count, 
   return probes;
 }
 
+namespace {
+std::uint64_t spread_bits(std::uint64_t v) {  // 21 bits -> every third bit
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+} // namespace
+
+void sort_probes_coherently(std::vector<Segment>& probes) {
+  if (probes.empty()) return;
+  Vec3 lo = probes.front().end, hi = lo;
+  for (const Segment& s : probes) {
+    lo = lo.cwiseMin(s.end);
+    hi = hi.cwiseMax(s.end);
+  }
+  const Vec3 scale = (hi - lo).cwiseMax(Vec3::Constant(1e-20f)).cwiseInverse() * float((1 << 21) - 1);
+  std::vector<std::pair<std::uint64_t, std::size_t>> keys(probes.size());
+  for (std::size_t i = 0; i < probes.size(); ++i) {
+    const Vec3 q = (probes[i].end - lo).cwiseProduct(scale);
+    keys[i] = {spread_bits(std::uint64_t(q.x())) | spread_bits(std::uint64_t(q.y())) << 1 |
+                   spread_bits(std::uint64_t(q.z())) << 2,
+               i};
+  }
+  std::sort(keys.begin(), keys.end());
+  std::vector<Segment> sorted(probes.size());
+  for (std::size_t i = 0; i < keys.size(); ++i) sorted[i] = probes[keys[i].second];
+  probes = std::move(sorted);
+}
+
 } // namespace hb

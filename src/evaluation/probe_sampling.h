@@ -20,4 +20,8 @@ struct ProbeOptions {
 /// Deterministic for a given seed. Throws hb::InvalidInput on an empty mesh.
 std::vector<Segment> sample_probes(const TriangleMesh& mesh, std::size_t count, const ProbeOptions& options = {});
 
+/// Reorders probes along a space-filling (Morton) curve through their tips, so consecutive
+/// probes are close in space, as along a hand's trajectory: the coherent case of `bench`.
+void sort_probes_coherently(std::vector<Segment>& probes);
+
 } // namespace hb

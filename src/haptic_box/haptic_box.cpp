@@ -22,6 +22,7 @@
 #include "geometry/octahedral.h"
 #include <algorithm>
 #include <cmath>
+#include <emmintrin.h>  // SSE2: the x86-64 baseline
 
 namespace hb {
 namespace {
@@ -68,6 +69,37 @@ struct Blend {
   Vec3 n{Vec3::Zero()};
   bool hit = false;
 };
+
+// Weighted sums over the 2 x 2 directional samples of one corner (SSE2, branch-free):
+// a missed sample (t < 0) gets weight zero; octahedral normals are decoded un-normalised
+// (the caller normalises the blend once).
+struct CornerBlend {
+  float weight, t, nx, ny, nz;
+};
+inline CornerBlend blend_corner(const Sample* base, std::size_t row, __m128 w) noexcept {
+  static_assert(sizeof(Sample) == 8, "two samples per 16-byte load");
+  const __m128 r0 = _mm_loadu_ps(reinterpret_cast<const float*>(base));        // t0 n0 t1 n1
+  const __m128 r1 = _mm_loadu_ps(reinterpret_cast<const float*>(base + row));  // t2 n2 t3 n3
+  const __m128 t = _mm_shuffle_ps(r0, r1, _MM_SHUFFLE(2, 0, 2, 0));
+  const __m128i codes = _mm_castps_si128(_mm_shuffle_ps(r0, r1, _MM_SHUFFLE(3, 1, 3, 1)));
+  w = _mm_and_ps(w, _mm_cmpge_ps(t, _mm_setzero_ps()));
+  const __m128 scale = _mm_set1_ps(1.f / 32767.f);
+  __m128 u = _mm_mul_ps(_mm_cvtepi32_ps(_mm_srai_epi32(_mm_slli_epi32(codes, 16), 16)), scale);
+  __m128 v = _mm_mul_ps(_mm_cvtepi32_ps(_mm_srai_epi32(codes, 16)), scale);
+  const __m128 sign = _mm_set1_ps(-0.f);
+  const __m128 z = _mm_sub_ps(_mm_sub_ps(_mm_set1_ps(1.f), _mm_andnot_ps(sign, u)), _mm_andnot_ps(sign, v));
+  const __m128 fold = _mm_max_ps(_mm_sub_ps(_mm_setzero_ps(), z), _mm_setzero_ps());
+  u = _mm_sub_ps(u, _mm_or_ps(fold, _mm_and_ps(u, sign)));  // u - copysign(fold, u)
+  v = _mm_sub_ps(v, _mm_or_ps(fold, _mm_and_ps(v, sign)));
+  __m128 a = w, b = _mm_mul_ps(w, t), c = _mm_mul_ps(w, u), d = _mm_mul_ps(w, v);
+  _MM_TRANSPOSE4_PS(a, b, c, d);
+  float sums[4];
+  _mm_storeu_ps(sums, _mm_add_ps(_mm_add_ps(a, b), _mm_add_ps(c, d)));
+  __m128 wz = _mm_mul_ps(w, z);
+  wz = _mm_add_ps(wz, _mm_movehl_ps(wz, wz));
+  wz = _mm_add_ss(wz, _mm_shuffle_ps(wz, wz, 1));
+  return {sums[0], sums[1], sums[2], sums[3], _mm_cvtss_f32(wz)};
+}
 
 inline void split_cell(float f, int cells, int& i0, float& w) noexcept {
   // f in [0, cells]; i0 in [0, cells - 1], w in [0, 1].
@@ -167,8 +199,8 @@ bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact&
   const std::size_t n = std::size_t(params_.n);
   const std::size_t dir_offset = (std::size_t(dc.sub) * 3u + std::size_t(dc.sface)) * n * n +
                                  std::size_t(a0) * n + std::size_t(b0);
-  const std::size_t dir_idx[4] = {0, n, n + 1, 1};
-  const float dir_w[4] = {(1.f - wa) * (1.f - wb), wa * (1.f - wb), wa * wb, (1.f - wa) * wb};
+  // Samples (a0, b0), (a0, b0+1) are adjacent in memory, (a0+1, b0), (a0+1, b0+1) too.
+  const __m128 dir_w = _mm_setr_ps((1.f - wa) * (1.f - wb), (1.f - wa) * wb, wa * (1.f - wb), wa * wb);
 
   // 4. Corners (P2..P5 of eq. 1) and their weights.
   const int ci[4] = {i0, i0 + 1, i0 + 1, i0};
@@ -192,16 +224,10 @@ bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact&
   for (int c = 0; c < 4; ++c) {
     if (pos_w[c] <= 0.f) continue;
     const Sample* base = bases[c];
-    // Directional interpolation at this corner.
-    float w_hit = 0.f, t = 0.f;
-    Vec3 nrm = Vec3::Zero();
-    for (int k = 0; k < 4; ++k) {
-      const Sample& s = base[dir_idx[k]];
-      if (s.t < 0.f || dir_w[k] <= 0.f) continue;
-      w_hit += dir_w[k];
-      t += dir_w[k] * s.t;
-      nrm += dir_w[k] * decode_octahedral32_unnormalized(s.normal);
-    }
+    const CornerBlend blend = blend_corner(base, n, dir_w);
+    const float w_hit = blend.weight;
+    float t = blend.t;
+    Vec3 nrm(blend.nx, blend.ny, blend.nz);
     if (w_hit < 0.5f) continue;  // this corner sees a miss along l
     t /= w_hit;
     nrm.normalize();

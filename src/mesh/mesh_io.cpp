@@ -10,6 +10,8 @@
 //       (SoupImporter). OpenMesh's own ImporterT silently drops faces with bad or repeated
 //       indices and detaches "complex edge" faces; recording the raw faces lets us validate
 //       and report instead. OpenMesh's std::cerr chatter is captured and becomes warnings.
+//       OBJ: OpenMesh skips unparsable "v" lines (NaN) silently, so their count is checked.
+//       OM stores half-edge topology and is read into a PolyMesh, then flattened.
 //  3. Validate: finite coordinates, indices in range (else hb::InvalidInput).
 //  4. Fan-triangulate polygons, drop and count degenerate triangles (repeated index, zero area).
 //  5. Edge analysis on sorted undirected edges: boundary edges (open), edges with more than
@@ -19,6 +21,7 @@
 // Writing: OFF directly (exact shortest float text); other formats through an OpenMesh TriMesh.
 #include <OpenMesh/Core/IO/MeshIO.hh>  // must precede the mesh kernel headers
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 
@@ -26,6 +29,7 @@
 
 #include "errors.h"
 
+#include <tbb/parallel_sort.h>
 #include <xxhash.h>
 
 #include <algorithm>
@@ -400,7 +404,38 @@ private:
   bool err_was_enabled_ = true, out_was_enabled_ = true, log_was_enabled_ = true;
 };
 
-PolygonSoup read_with_openmesh(const std::string& path, MeshReadReport& report) {
+/// Number of "v x y z" lines of an OBJ file. OpenMesh's OBJ reader silently skips vertex
+/// lines it cannot parse (e.g. "nan"), shifting every later index: we compare the counts.
+std::size_t count_obj_vertex_lines(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  std::size_t n = 0;
+  while (std::getline(in, line)) {
+    const std::string_view l = LineReader::trim(line);
+    if (l.size() > 2 && l[0] == 'v' && (l[1] == ' ' || l[1] == '\t')) ++n;
+  }
+  return n;
+}
+
+/// OM files store half-edge topology and need a real OpenMesh kernel; a PolyMesh is read and
+/// flattened. (OpenMesh's ImporterT may detach non-manifold faces: geometry is unchanged.)
+bool read_om(const std::string& path, PolygonSoup& soup) {
+  OpenMesh::PolyMesh_ArrayKernelT<> om;
+  OpenMesh::IO::Options options;
+  if (!OpenMesh::IO::read_mesh(om, path, options)) return false;
+  soup.positions.reserve(om.n_vertices());
+  for (const auto v : om.vertices()) {
+    const auto& p = om.point(v);
+    soup.positions.emplace_back(p[0], p[1], p[2]);
+  }
+  for (const auto f : om.faces()) {
+    for (const auto v : om.fv_range(f)) soup.indices.push_back(v.idx());
+    soup.offsets.push_back(soup.indices.size());
+  }
+  return true;
+}
+
+PolygonSoup read_with_openmesh(const std::string& path, Format format, MeshReadReport& report) {
   SoupImporter importer;
   bool ok = false;
   std::vector<std::string> chatter;
@@ -409,11 +444,19 @@ PolygonSoup read_with_openmesh(const std::string& path, MeshReadReport& report) 
     OpenMeshChatterCapture capture;
     OpenMesh::IO::Options options;
     try {
-      ok = OpenMesh::IO::IOManager().read(path, importer, options);
+      ok = format == Format::Om ? read_om(path, importer.soup)
+                                : OpenMesh::IO::IOManager().read(path, importer, options);
     } catch (const std::exception& e) {
       throw InvalidInput(path + ": OpenMesh reader failed: " + e.what());
     }
     chatter = capture.lines();
+  }
+  if (ok && format == Format::Obj) {
+    const std::size_t declared = count_obj_vertex_lines(path);
+    if (declared != importer.soup.positions.size())
+      throw InvalidInput(path + ": " + std::to_string(declared) + " vertex lines but only " +
+                         std::to_string(importer.soup.positions.size()) +
+                         " could be parsed (non-finite (NaN or Inf) or malformed coordinates)");
   }
   for (const std::string& l : chatter) report.warnings.push_back(path + ": OpenMesh: " + l);
   if (!ok) {
@@ -488,7 +531,16 @@ TriangleMesh triangulate(const std::string& path, PolygonSoup& soup, MeshReadRep
   if (report.degenerate_dropped > 0)
     report.warnings.push_back(path + ": " + std::to_string(report.degenerate_dropped) +
                               " degenerate triangles (repeated index or zero area) dropped");
-  if (mesh.triangles.empty()) throw InvalidInput(path + ": no (non-degenerate) triangles in the mesh");
+  if (mesh.triangles.empty()) {
+    // OpenMesh's readers often "succeed" with nothing: pass on what they complained about.
+    std::string hint;
+    for (const std::string& w : report.warnings)
+      if (w.find(": OpenMesh: ") != std::string::npos) {
+        hint = " (" + w.substr(w.find(": OpenMesh: ") + 2) + ")";
+        break;
+      }
+    throw InvalidInput(path + ": no (non-degenerate) triangles in the mesh" + hint);
+  }
   return mesh;
 }
 
@@ -505,7 +557,7 @@ void analyse_edges(const std::string& path, const TriangleMesh& mesh, MeshReadRe
       edges.push_back(((lo << 32 | hi) << 1) | (a > b ? 1u : 0u));
     }
   }
-  std::sort(edges.begin(), edges.end());
+  tbb::parallel_sort(edges.begin(), edges.end());
   std::size_t boundary = 0, non_manifold = 0, misoriented = 0;
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i;
@@ -529,9 +581,11 @@ void analyse_edges(const std::string& path, const TriangleMesh& mesh, MeshReadRe
     report.warnings.push_back(path + ": non-manifold: " + std::to_string(non_manifold) +
                               " edges shared by more than two faces (kept)");
   }
-  if (misoriented > 0)
+  if (misoriented > 0) {
+    report.inconsistent_orientation = true;
     report.warnings.push_back(path + ": " + std::to_string(misoriented) +
                               " edges whose two faces have inconsistent orientation");
+  }
 }
 
 void check_readable_file(const std::string& path) {
@@ -622,7 +676,7 @@ TriangleMesh read_mesh(const std::string& path, MeshReadReport* report_out) {
   check_readable_file(path);
   MeshReadReport report;
   PolygonSoup soup = format == Format::Off ? read_off(path, read_whole_file(path), report)
-                                           : read_with_openmesh(path, report);
+                                           : read_with_openmesh(path, format, report);
   TriangleMesh mesh = triangulate(path, soup, report);
   analyse_edges(path, mesh, report);
   mesh.compute_vertex_normals();
@@ -637,6 +691,9 @@ void write_mesh(const TriangleMesh& mesh, const std::string& path) {
   } catch (const InvalidInput& e) {
     throw IoError(e.what());
   }
+  // OpenMesh's STL writer reports success even when it cannot create the file: probe first.
+  if (!std::ofstream(path, std::ios::binary | std::ios::trunc))
+    throw IoError(path + ": cannot open for writing (missing folder or permission)");
   const auto n = mesh.positions.size();
   for (const Triangle& t : mesh.triangles)
     for (auto v : t)

@@ -12,15 +12,20 @@ struct MeshReadReport {
   std::size_t input_faces = 0;             ///< faces in the file, before triangulation.
   std::size_t polygons_triangulated = 0;   ///< faces with more than 3 corners.
   std::size_t degenerate_dropped = 0;      ///< zero-area or repeated-index triangles dropped.
-  std::size_t faces_rejected = 0;          ///< faces the reader could not add (non-manifold).
+  std::size_t faces_rejected = 0;          ///< faces skipped: fewer than 3 corners. Non-manifold
+                                           ///< faces are kept (see non_manifold), never detached.
   bool open = false;                       ///< has boundary edges.
   bool non_manifold = false;               ///< has edges shared by more than two faces.
+  bool inconsistent_orientation = false;   ///< has edges its two faces traverse the same way.
   std::vector<std::string> warnings;
 };
 
 /// Reads a mesh; the format follows the extension (.off .obj .ply .stl .om, any case).
 /// Polygons are triangulated, degenerate triangles dropped and counted, vertex normals
-/// computed. Open or non-manifold meshes load with a warning in `report`.
+/// computed. Open, non-manifold or inconsistently oriented meshes load with a warning in
+/// `report`. OFF is parsed by a strict reader of our own (comments, blank lines, colours
+/// accepted; declared counts checked against the file); other formats go through OpenMesh,
+/// whose messages are captured into `report.warnings` instead of std::cerr.
 /// Throws hb::IoError (missing, unreadable or empty file) or hb::InvalidInput (unknown
 /// extension, garbage, NaN/Inf coordinates, out-of-range indices, no triangles left); the
 /// message names the file and the cause. Never hangs on garbage input.

@@ -1,0 +1,200 @@
+// `hapticbox servo BOX --device virtual|replay:LOG|falcon --seconds S [--record LOG] [--json]`:
+// runs the servo loop over a box file (or the built-in analytic scene `plane`) and prints the
+// timing histogram and the safety events.
+#include "commands.h"
+#include "device/falcon/falcon_device.h"
+#include "device/falcon/falcon_usb_transport.h"
+#include "device/plane_scene.h"
+#include "device/servo_log.h"
+#include "device/servo_loop.h"
+#include "device/virtual_device.h"
+#include "haptic_box/box_file.h"
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <thread>
+
+namespace {
+
+struct ServoArgs {
+  std::string box;
+  std::string device = "virtual";
+  double seconds = 5.0;
+  std::string record;
+  bool json = false;
+  double rate_hz = 1000.0;
+  bool no_realtime = false;
+  double spin_us = 50.0;
+  float stiffness = 500.f;
+  float units_per_metre = 0.f;   // 0 = fit the workspace to the scene
+  std::string firmware;
+};
+
+struct Scene {
+  std::unique_ptr<hb::ContactQuery> query;
+  hb::Vec3 min{hb::Vec3::Constant(-40.f)}, max{hb::Vec3::Constant(40.f)};
+};
+
+Scene load_scene(const std::string& box) {
+  Scene s;
+  if (box == "plane") {
+    s.query = std::make_unique<hb::PlaneScene>(0.f);  // 80 mm cube around the plane z = 0
+    return s;
+  }
+  auto scene = std::make_unique<hb::BoxScene>(hb::load_box_file(box));
+  if (scene->boxes().empty()) throw hb::InvalidInput(box + ": the box file holds no boxes");
+  s.min = hb::Vec3::Constant(std::numeric_limits<float>::max());
+  s.max = -s.min;
+  for (const auto& b : scene->boxes()) {
+    const hb::Obb& o = b.obb();
+    for (int c = 0; c < 8; ++c) {
+      const hb::Vec3 corner = o.to_world(hb::Vec3((c & 1) ? o.half.x() : -o.half.x(),
+                                                  (c & 2) ? o.half.y() : -o.half.y(),
+                                                  (c & 4) ? o.half.z() : -o.half.z()));
+      s.min = s.min.cwiseMin(corner);
+      s.max = s.max.cwiseMax(corner);
+    }
+  }
+  s.query = std::move(scene);
+  return s;
+}
+
+std::unique_ptr<hb::HapticDevice> make_device(const ServoArgs& a, double dt) {
+  if (a.device == "virtual")
+    return std::make_unique<hb::VirtualDevice>(hb::circle_probe_trajectory(0.02f, 0.01f, 4.0), dt);
+  if (a.device.rfind("replay:", 0) == 0)
+    return std::make_unique<hb::ReplayDevice>(a.device.substr(7));
+  if (a.device == "falcon") {
+    hb::FalconOptions o;
+    o.firmware_path = a.firmware;
+    return std::make_unique<hb::FalconDevice>(hb::open_falcon_usb(0), o);
+  }
+  throw CLI::ValidationError("--device", "'" + a.device + "' is not one of virtual, replay:LOG, falcon");
+}
+
+void print_stats(const char* name, const hb::TimingStats& s) {
+  std::printf("  %-9s p50 %9.2f us  p99 %9.2f us  p99.9 %9.2f us  max %9.2f us\n", name, s.p50_us,
+              s.p99_us, s.p999_us, s.max_us);
+}
+
+void run_servo(const ServoArgs& a) {
+  Scene scene = load_scene(a.box);
+  auto device = make_device(a, 1.0 / a.rate_hz);
+  hb::ServoOptions o;
+  o.rate_hz = a.rate_hz;
+  o.request_realtime = !a.no_realtime;
+  o.spin_s = a.spin_us * 1e-6;
+  o.mapping = hb::fit_workspace(scene.min, scene.max, device->spec());
+  if (a.units_per_metre > 0) o.mapping.model_units_per_metre = a.units_per_metre;
+  o.law.stiffness_n_per_m = a.stiffness;
+  if (a.device.rfind("replay:", 0) == 0) {
+    const auto* replay = static_cast<const hb::ReplayDevice*>(device.get());
+    o.rate_hz = replay->log().rate_hz;  // same dt, same safety ramps: same forces
+  }
+
+  std::unique_ptr<hb::LogRecorder> recorder;
+  if (!a.record.empty())
+    recorder = std::make_unique<hb::LogRecorder>(a.record, o.rate_hz, device->spec());
+  std::unique_ptr<hb::FalconHotplugMonitor> monitor;
+  if (a.device == "falcon")
+    monitor = std::make_unique<hb::FalconHotplugMonitor>([](bool arrived, const hb::FalconUsbInfo& i) {
+      std::cerr << "hotplug: Falcon " << (arrived ? "plugged in" : "unplugged") << " (bus " << i.bus
+                << " address " << i.address << ")\n";
+    });
+
+  hb::ServoLoop loop(*device, *scene.query, o);
+  loop.set_recorder(recorder.get());
+  loop.start();
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(a.seconds);
+  while (loop.running() && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  loop.stop();
+  if (recorder) recorder->finish();
+  const hb::ServoReport& r = loop.report();
+
+  if (a.json) {
+    nlohmann::json j;
+    j["device"] = device->spec().name;
+    j["ticks"] = r.ticks;
+    j["rate_hz"] = r.rate_hz;
+    j["nominal_rate_hz"] = r.nominal_rate_hz;
+    j["period_p50_us"] = r.period.p50_us;
+    j["period_p99_us"] = r.period.p99_us;
+    j["period_p999_us"] = r.period.p999_us;
+    j["period_max_us"] = r.period.max_us;
+    j["period_error_p99_us"] = r.period_error.p99_us;
+    j["period_error_p999_us"] = r.period_error.p999_us;
+    j["overruns"] = r.overruns;
+    j["skipped"] = r.skipped;
+    j["compute_p50_us"] = r.compute.p50_us;
+    j["compute_p99_us"] = r.compute.p99_us;
+    j["compute_max_us"] = r.compute.max_us;
+    j["query_p99_us"] = r.query.p99_us;
+    j["realtime_granted"] = r.realtime_granted;
+    j["realtime_message"] = r.realtime_message;
+    j["stiffness_n_per_m"] = r.stiffness_n_per_m;
+    j["stiffness_limited"] = r.stiffness_limited;
+    for (std::size_t i = 0; i < hb::safety_event_count; ++i)
+      j["safety_events"][hb::to_string(static_cast<hb::SafetyEvent>(i))] = r.safety[i];
+    j["exit"] = hb::to_string(r.exit);
+    j["exit_message"] = r.exit_message;
+    if (recorder) {
+      j["log"] = a.record;
+      j["log_records"] = recorder->written();
+      j["log_dropped"] = recorder->dropped();
+    }
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::printf("servo: %s, scene %s, %.0f Hz nominal\n", device->spec().name.c_str(), a.box.c_str(),
+                r.nominal_rate_hz);
+    std::printf("  ticks %llu, measured rate %.2f Hz, overruns %llu (skipped %llu)\n",
+                static_cast<unsigned long long>(r.ticks), r.rate_hz,
+                static_cast<unsigned long long>(r.overruns), static_cast<unsigned long long>(r.skipped));
+    print_stats("period", r.period);
+    print_stats("|error|", r.period_error);
+    print_stats("compute", r.compute);
+    print_stats("query", r.query);
+    std::printf("  real-time: %s (%s)\n", r.realtime_granted ? "granted" : "not granted",
+                r.realtime_message.c_str());
+    std::printf("  stiffness %.1f N/m%s\n", r.stiffness_n_per_m,
+                r.stiffness_limited ? " (limited to the device's maximum)" : "");
+    std::printf("  safety events:");
+    for (std::size_t i = 0; i < hb::safety_event_count; ++i)
+      std::printf(" %s %llu", hb::to_string(static_cast<hb::SafetyEvent>(i)),
+                  static_cast<unsigned long long>(r.safety[i]));
+    std::printf("\n  exit: %s\n", r.exit_message.c_str());
+    if (recorder)
+      std::printf("  log: %s, %llu records, %llu dropped\n", a.record.c_str(),
+                  static_cast<unsigned long long>(recorder->written()),
+                  static_cast<unsigned long long>(recorder->dropped()));
+  }
+  if (r.exit == hb::ServoExit::disconnected)
+    throw hb::DeviceDisconnected(device->spec().name + ": " + r.exit_message);
+}
+
+} // namespace
+
+void add_servo_command(CLI::App& app) {
+  auto a = std::make_shared<ServoArgs>();
+  CLI::App* cmd = app.add_subcommand("servo", "Run the haptic servo loop and report its timing");
+  cmd->add_option("BOX", a->box, "Box file (.hbox), or `plane` for the built-in analytic scene")
+      ->required();
+  cmd->add_option("--device", a->device, "virtual | replay:LOG | falcon")->capture_default_str();
+  cmd->add_option("--seconds", a->seconds, "Run time, s")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--record", a->record, "Write a full-rate binary log here");
+  cmd->add_flag("--json", a->json, "Print the report as JSON");
+  cmd->add_option("--rate", a->rate_hz, "Servo rate, Hz")->check(CLI::Range(1.0, 20000.0))->capture_default_str();
+  cmd->add_flag("--no-realtime", a->no_realtime, "Do not ask for SCHED_FIFO");
+  cmd->add_option("--spin-us", a->spin_us, "Busy-wait the last N us before each deadline")
+      ->check(CLI::Range(0.0, 1000.0))->capture_default_str();
+  cmd->add_option("--stiffness", a->stiffness, "Force-law stiffness, N/m (limited to the device's)")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--units-per-metre", a->units_per_metre,
+                  "Model units per device metre (default: fit the workspace to the scene)");
+  cmd->add_option("--firmware", a->firmware, "Falcon firmware file (supplied by you; not shipped)");
+  cmd->callback([a] { run_servo(*a); });
+}

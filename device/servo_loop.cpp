@@ -1,0 +1,305 @@
+// Servo loop.
+// 1. start(): validate options, limit the stiffness to the device's, open the device, spawn.
+// 2. Thread: request SCHED_FIFO (report granted or strerror), then tick on absolute deadlines:
+//    clock_nanosleep(TIMER_ABSTIME) to `deadline - spin`, busy-wait to the deadline.
+// 3. Tick: read device -> map to a probe segment -> scene.query -> safety -> write force;
+//    record period, |period error|, query and compute (query + safety) in preallocated
+//    histograms; publish the snapshot; push a log record.
+// 4. A tick ending after the next deadline is an overrun; deadlines already past are skipped
+//    (no burst of catch-up ticks), and the safety watchdog sees the lateness.
+// 5. Disconnect or end of stream ends the loop: zero force (when possible), report, exit.
+#include "device/servo_loop.h"
+#include "device/servo_log.h"
+#include <pthread.h>
+#include <sched.h>
+#include <time.h>
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+namespace hb {
+namespace {
+
+std::int64_t now_ns() noexcept {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
+}
+
+void sleep_until_ns(std::int64_t t) noexcept {
+  timespec ts;
+  ts.tv_sec = static_cast<time_t>(t / 1000000000LL);
+  ts.tv_nsec = static_cast<long>(t % 1000000000LL);
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+  }
+}
+
+inline void cpu_relax() noexcept {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
+}
+
+void to_array(const Vec3& v, float* out) noexcept {
+  out[0] = v.x();
+  out[1] = v.y();
+  out[2] = v.z();
+}
+
+} // namespace
+
+const char* to_string(ServoExit e) noexcept {
+  switch (e) {
+    case ServoExit::not_started: return "not started";
+    case ServoExit::stopped: return "stopped";
+    case ServoExit::end_of_stream: return "end of stream";
+    case ServoExit::disconnected: return "disconnected";
+  }
+  return "unknown";
+}
+
+WorkspaceMapping fit_workspace(const Vec3& model_min, const Vec3& model_max,
+                               const DeviceSpec& spec) {
+  WorkspaceMapping m;
+  m.model_origin = 0.5f * (model_min + model_max);
+  const float half_diag = 0.5f * (model_max - model_min).norm();
+  if (half_diag > 0 && spec.workspace_radius_m > 0)
+    m.model_units_per_metre = half_diag / spec.workspace_radius_m;
+  m.probe_length = half_diag > 0 ? 0.2f * half_diag : 1.f;
+  return m;
+}
+
+TimingStats timing_stats(const TimingHistogram& h) {
+  TimingStats s;
+  s.count = h.count();
+  s.p50_us = h.percentile_ns(0.5) * 1e-3;
+  s.p99_us = h.percentile_ns(0.99) * 1e-3;
+  s.p999_us = h.percentile_ns(0.999) * 1e-3;
+  s.max_us = h.max_ns() * 1e-3;
+  s.mean_us = h.mean_ns() * 1e-3;
+  return s;
+}
+
+ServoLoop::ServoLoop(HapticDevice& device, const ContactQuery& scene, ServoOptions options)
+    : device_(device),
+      scene_(scene),
+      options_(options),
+      safety_(device.spec(), options.safety, options.rate_hz > 0 ? 1.0 / options.rate_hz : 1e-3),
+      period_hist_(1000, 20000),        // 1 us bins up to 20 ms
+      period_error_hist_(1000, 20000),
+      compute_hist_(10, 100000),        // 10 ns bins up to 1 ms
+      query_hist_(10, 100000) {}
+
+ServoLoop::~ServoLoop() {
+  try {
+    stop();
+  } catch (...) {
+  }
+}
+
+void ServoLoop::start() {
+  if (thread_.joinable()) throw std::logic_error("servo loop: already started");
+  if (!(options_.rate_hz > 0 && options_.rate_hz <= 20000))
+    throw InvalidInput("servo loop: rate " + std::to_string(options_.rate_hz) +
+                       " Hz is outside (0, 20000]");
+  if (!(options_.mapping.model_units_per_metre > 0) || !(options_.mapping.probe_length > 0) ||
+      !options_.mapping.probe_direction.allFinite() ||
+      options_.mapping.probe_direction.norm() < 1e-6f)
+    throw InvalidInput("servo loop: workspace mapping needs a positive scale, a positive probe "
+                       "length and a non-zero probe direction");
+  options_.mapping.probe_direction.normalize();
+
+  report_ = ServoReport{};
+  report_.nominal_rate_hz = options_.rate_hz;
+  const DeviceSpec& spec = device_.spec();
+  const float felt = options_.law.stiffness_n_per_m * options_.law.metres_per_unit *
+                     options_.mapping.model_units_per_metre;
+  if (options_.limit_stiffness && felt > spec.max_stiffness_n_per_m && felt > 0) {
+    options_.law.stiffness_n_per_m *= spec.max_stiffness_n_per_m / felt;
+    report_.stiffness_limited = true;
+  }
+  report_.stiffness_n_per_m = options_.law.stiffness_n_per_m;
+  safety_ = SafetyFilter(spec, options_.safety, 1.0 / options_.rate_hz);
+  for (auto* h : {&period_hist_, &period_error_hist_, &compute_hist_, &query_hist_}) h->clear();
+
+  device_.open();
+  opened_ = true;
+  stop_.store(false);
+  running_.store(true, std::memory_order_release);
+  try {
+    thread_ = std::thread([this] { run(); });
+  } catch (...) {
+    running_.store(false);
+    device_.close();
+    opened_ = false;
+    throw;
+  }
+}
+
+void ServoLoop::stop() {
+  stop_.store(true, std::memory_order_release);
+  if (thread_.joinable()) thread_.join();
+  if (opened_) {
+    device_.close();
+    opened_ = false;
+  }
+}
+
+void ServoLoop::run() noexcept {
+  ServoReport& rep = report_;
+  rep.realtime_requested = options_.request_realtime;
+  if (options_.request_realtime) {
+    sched_param sp{};
+    sp.sched_priority = std::clamp(options_.realtime_priority, 1, 99);
+    const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
+    rep.realtime_granted = rc == 0;
+    rep.realtime_message = rc == 0 ? "SCHED_FIFO priority " + std::to_string(sp.sched_priority)
+                                   : std::string("SCHED_FIFO refused: ") + std::strerror(rc);
+  } else {
+    rep.realtime_message = "not requested";
+  }
+
+  const std::int64_t period = static_cast<std::int64_t>(std::llround(1e9 / options_.rate_hz));
+  const std::int64_t spin = static_cast<std::int64_t>(std::max(0.0, options_.spin_s) * 1e9);
+  const ForceLaw law = options_.law;
+  const WorkspaceMapping map = options_.mapping;
+  DeviceState state;
+  ServoSnapshot snap;
+  LogRecord rec;
+  std::int64_t deadline = now_ns() + period;
+  std::int64_t prev_wake = -1, first_wake = -1;
+  std::uint64_t tick = 0;
+  bool estop_applied = false;
+  rep.exit = ServoExit::stopped;
+
+  while (!stop_.load(std::memory_order_acquire)) {
+    if (deadline - spin > now_ns()) sleep_until_ns(deadline - spin);
+    std::int64_t wake = now_ns();
+    while (wake < deadline) {
+      cpu_relax();
+      wake = now_ns();
+    }
+    if (first_wake < 0) first_wake = wake;
+    if (prev_wake >= 0) {
+      const std::int64_t p = wake - prev_wake;
+      period_hist_.add(p);
+      period_error_hist_.add(p > period ? p - period : period - p);
+    }
+    prev_wake = wake;
+    const double lateness_s = (wake - deadline) * 1e-9;
+
+    const DeviceStatus st = device_.read_state(state);
+    if (st == DeviceStatus::disconnected || st == DeviceStatus::end_of_stream) {
+      device_.write_force(Vec3::Zero());  // best effort; ignored when gone
+      rep.exit = st == DeviceStatus::disconnected ? ServoExit::disconnected
+                                                  : ServoExit::end_of_stream;
+      break;
+    }
+
+    const auto recorded = [&](SafetyEvent e) {
+      return state.replayed && (state.replayed_flags & (1u << static_cast<unsigned>(e)));
+    };
+    const bool estop = estop_.load(std::memory_order_acquire) || recorded(SafetyEvent::emergency_stop);
+    if (estop != estop_applied) {
+      safety_.set_emergency_stop(estop);
+      estop_applied = estop;
+    }
+
+    const std::int64_t c0 = now_ns();
+    const Segment seg = map.probe(state.position_m);
+    const Contact contact = scene_.query(seg, law);
+    const std::int64_t q1 = now_ns();
+    SafetyInput in;
+    in.desired_force_n = contact.force;
+    in.position_m = state.position_m;
+    // A replay re-applies the recorded timing faults, not its own lateness (see DeviceState).
+    in.lateness_s = state.replayed ? (recorded(SafetyEvent::watchdog) ? 1e9 : 0.0) : lateness_s;
+    in.device_fault = st == DeviceStatus::fault || recorded(SafetyEvent::device_fault);
+    const Vec3 force = safety_.apply(in);
+    const std::int64_t c1 = now_ns();
+
+    if (device_.write_force(force) == DeviceStatus::disconnected) {
+      rep.exit = ServoExit::disconnected;
+      ++tick;
+      break;
+    }
+    compute_hist_.add(c1 - c0);
+    query_hist_.add(q1 - c0);
+
+    snap.tick = tick;
+    snap.time_s = state.time_s;
+    to_array(state.position_m, snap.position_m);
+    to_array(seg.end, snap.tip_model);
+    to_array(contact.force, snap.desired_force_n);
+    to_array(force, snap.force_n);
+    to_array(contact.normal, snap.normal);
+    snap.depth = contact.depth;
+    snap.buttons = state.buttons;
+    snap.safety_flags = safety_.last_flags();
+    snap.query_ns = static_cast<std::uint32_t>(q1 - c0);
+    snap.compute_ns = static_cast<std::uint32_t>(c1 - c0);
+    snap.contact = contact.contact;
+    snap.running = 1;
+    snap.emergency_stopped = safety_.emergency_stopped();
+    std::copy(safety_.counters().begin(), safety_.counters().end(), snap.safety_counts);
+    snapshot_.store(snap);
+
+    if (recorder_) {
+      rec.time_s = state.time_s;
+      to_array(state.position_m, rec.position_m);
+      to_array(force, rec.force_n);
+      rec.depth = contact.depth;
+      rec.query_ns = snap.query_ns;
+      rec.buttons = state.buttons;
+      rec.contact = contact.contact;
+      rec.safety_flags = snap.safety_flags;
+      rec.tick = tick;
+      recorder_->push(rec);
+    }
+    ++tick;
+
+    const std::int64_t end = now_ns();
+    deadline += period;
+    if (end > deadline) {
+      ++rep.overruns;
+      // Skip deadlines already past instead of bursting to catch up.
+      while (deadline + period <= end) {
+        deadline += period;
+        ++rep.skipped;
+      }
+    }
+  }
+
+  rep.ticks = tick;
+  rep.rate_hz = (prev_wake > first_wake && tick > 1)
+                    ? static_cast<double>(period_hist_.count()) / ((prev_wake - first_wake) * 1e-9)
+                    : 0.0;
+  rep.period = timing_stats(period_hist_);
+  rep.period_error = timing_stats(period_error_hist_);
+  rep.compute = timing_stats(compute_hist_);
+  rep.query = timing_stats(query_hist_);
+  rep.safety = safety_.counters();
+  switch (rep.exit) {
+    case ServoExit::disconnected:
+      rep.exit_message = "device disconnected at tick " + std::to_string(tick) +
+                         ": force zeroed, servo loop stopped";
+      break;
+    case ServoExit::end_of_stream:
+      rep.exit_message = "end of replay after " + std::to_string(tick) + " ticks";
+      break;
+    default:
+      rep.exit_message = "stopped after " + std::to_string(tick) + " ticks";
+  }
+  if (recorder_) {
+    rep.log_records = recorder_->written();
+    rep.log_dropped = recorder_->dropped();
+  }
+  snap.running = 0;
+  snap.force_n[0] = snap.force_n[1] = snap.force_n[2] = 0.f;
+  snapshot_.store(snap);
+  running_.store(false, std::memory_order_release);
+}
+
+} // namespace hb

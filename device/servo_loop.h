@@ -1,0 +1,154 @@
+#pragma once
+// The servo thread: fixed rate on absolute deadlines; each tick reads the device, queries the
+// scene, applies safety and writes the force, allocating and locking nothing. The latest state
+// is published through a seqlock snapshot that a GUI reads at display rate.
+#include "device/haptic_device.h"
+#include "device/safety.h"
+#include "device/seqlock.h"
+#include "device/timing_histogram.h"
+#include "haptic_box/contact.h"
+#include <atomic>
+#include <string>
+#include <thread>
+
+namespace hb {
+
+class LogRecorder;
+
+/// Device frame (m, origin at the workspace centre) to model frame (model units), and the probe.
+/// A 3-DOF device has no stylus orientation, so the probe is a virtual stylus of fixed
+/// direction: the tip E is the mapped device position, the handle S lies `probe_length` behind
+/// it along `probe_direction` (paper section 5: S -> E).
+struct WorkspaceMapping {
+  Vec3 model_origin{Vec3::Zero()};      ///< model point at the device origin, model units.
+  float model_units_per_metre = 1000.f; ///< > 0.
+  Vec3 probe_direction{0.f, 0.f, -1.f}; ///< unit, handle -> tip, model frame.
+  float probe_length = 10.f;            ///< model units, > 0.
+
+  Segment probe(const Vec3& device_position_m) const noexcept {
+    const Vec3 tip = model_origin + device_position_m * model_units_per_metre;
+    return Segment{tip - probe_direction * probe_length, tip};
+  }
+};
+
+/// Fits the device workspace sphere to the box [min, max] of a model (its half diagonal), with
+/// a probe one tenth of the model's diagonal long.
+WorkspaceMapping fit_workspace(const Vec3& model_min, const Vec3& model_max,
+                               const DeviceSpec& spec);
+
+/// Options of ServoLoop.
+struct ServoOptions {
+  double rate_hz = 1000.0;          ///< tick rate, Hz, in (0, 20000].
+  bool request_realtime = true;     ///< ask for SCHED_FIFO; the report says whether granted.
+  int realtime_priority = 80;       ///< SCHED_FIFO priority, 1..99.
+  double spin_s = 50e-6;            ///< sleep until deadline - spin, then busy-wait, s (0 = none).
+  ForceLaw law;                     ///< stiffness and model units; see limit_stiffness.
+  bool limit_stiffness = true;      ///< lower law.stiffness so the stiffness felt at the device
+                                    ///< stays <= spec.max_stiffness_n_per_m.
+  WorkspaceMapping mapping;
+  SafetyOptions safety;
+};
+
+/// Latest servo state, published every tick (trivially copyable for the seqlock).
+struct ServoSnapshot {
+  std::uint64_t tick = 0;
+  double time_s = 0;
+  float position_m[3] = {};      ///< device position.
+  float tip_model[3] = {};       ///< probe tip in model units.
+  float desired_force_n[3] = {}; ///< from the query, before safety.
+  float force_n[3] = {};         ///< written to the device.
+  float normal[3] = {};
+  float depth = 0;
+  std::uint32_t buttons = 0;
+  std::uint32_t safety_flags = 0;
+  std::uint32_t query_ns = 0;
+  std::uint32_t compute_ns = 0;
+  std::uint8_t contact = 0;
+  std::uint8_t running = 0;
+  std::uint8_t emergency_stopped = 0;
+  std::uint64_t safety_counts[safety_event_count] = {};
+};
+
+/// Why the loop stopped.
+enum class ServoExit : std::uint8_t { not_started, stopped, end_of_stream, disconnected };
+const char* to_string(ServoExit e) noexcept;
+
+/// Percentiles of one histogram, microseconds.
+struct TimingStats {
+  double p50_us = 0, p99_us = 0, p999_us = 0, max_us = 0, mean_us = 0;
+  std::uint64_t count = 0;
+};
+TimingStats timing_stats(const TimingHistogram& h);
+
+/// What a run measured; complete after stop().
+struct ServoReport {
+  std::uint64_t ticks = 0;
+  double nominal_rate_hz = 0;
+  double rate_hz = 0;               ///< measured: (ticks - 1) / (last wake - first wake).
+  TimingStats period;               ///< wake-to-wake.
+  TimingStats period_error;         ///< |period - nominal|.
+  TimingStats compute;              ///< query + safety.
+  TimingStats query;                ///< contact query alone.
+  std::uint64_t overruns = 0;       ///< ticks that ended after the next tick's deadline.
+  std::uint64_t skipped = 0;        ///< deadlines skipped to resynchronise after an overrun.
+  bool realtime_requested = false;
+  bool realtime_granted = false;
+  std::string realtime_message;     ///< why not granted (strerror), or the policy granted.
+  float stiffness_n_per_m = 0;      ///< law stiffness used (after limiting).
+  bool stiffness_limited = false;
+  SafetyCounters safety{};
+  ServoExit exit = ServoExit::not_started;
+  std::string exit_message;
+  std::uint64_t log_records = 0, log_dropped = 0;
+};
+
+/// Runs the servo loop on its own thread. The device and the scene must outlive the loop.
+class ServoLoop {
+public:
+  ServoLoop(HapticDevice& device, const ContactQuery& scene, ServoOptions options = {});
+  ~ServoLoop();  ///< stops.
+  ServoLoop(const ServoLoop&) = delete;
+  ServoLoop& operator=(const ServoLoop&) = delete;
+
+  /// Records every tick to `recorder` (not owned; set before start; finish it after stop).
+  void set_recorder(LogRecorder* recorder) noexcept { recorder_ = recorder; }
+
+  /// Opens the device (throws its DeviceError) and starts the thread. Throws std::logic_error
+  /// when already running, InvalidInput for bad options.
+  void start();
+  /// Asks the thread to stop, joins it, zeroes force and closes the device. Idempotent.
+  void stop();
+  /// True while the thread runs (false after end of stream or disconnect, before stop()).
+  bool running() const noexcept { return running_.load(std::memory_order_acquire); }
+
+  /// Latches zero force until clear_emergency_stop() (any thread, lock-free).
+  void emergency_stop() noexcept { estop_.store(true, std::memory_order_release); }
+  void clear_emergency_stop() noexcept { estop_.store(false, std::memory_order_release); }
+
+  /// Latest published state (any thread, lock-free, at any rate).
+  ServoSnapshot snapshot() const noexcept { return snapshot_.load(); }
+
+  /// The run's measurements; call after stop().
+  const ServoReport& report() const noexcept { return report_; }
+  /// The options actually used (stiffness limited).
+  const ServoOptions& options() const noexcept { return options_; }
+
+private:
+  void run() noexcept;
+
+  HapticDevice& device_;
+  const ContactQuery& scene_;
+  ServoOptions options_;
+  LogRecorder* recorder_ = nullptr;
+  SafetyFilter safety_;
+  TimingHistogram period_hist_, period_error_hist_, compute_hist_, query_hist_;
+  Seqlock<ServoSnapshot> snapshot_;
+  ServoReport report_;
+  std::atomic<bool> stop_{false};
+  std::atomic<bool> running_{false};
+  std::atomic<bool> estop_{false};
+  std::thread thread_;
+  bool opened_ = false;
+};
+
+} // namespace hb

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# The main job: install what is missing, build, fetch the datasets, then run HapticBox.
+# With a display and the desktop window built, opens it on the default model; otherwise runs
+# the headless main job: bake the default model, evaluate it against the exact answer and
+# benchmark it, printing the summary.
+set -euo pipefail
+cd "$(dirname "$0")"
+bash scripts/build.sh
+bash datasets/fetch.sh build/datasets/hb_generate_datasets
+
+MODEL=${HB_MODEL:-datasets/data/meshes/armadillo.off}
+HB=build/cli/hapticbox
+GUI=build/qt_ui/hapticbox-gui
+if [ -n "${DISPLAY:-}" ] && [ -x "$GUI" ]; then
+  exec "$GUI" "$MODEL"
+fi
+[ -x "$GUI" ] && echo "run.sh: no display: running the headless main job instead of the desktop window"
+
+mkdir -p out
+echo "== mesh"
+"$HB" info "$MODEL"
+echo "== bake (m=32, n=16)"
+"$HB" bake "$MODEL" -o out/default.hbox -m 32 -n 16
+echo "== eval against the exact Embree answer"
+"$HB" eval out/default.hbox "$MODEL" --samples 20000 --seed 1
+echo "== bench (one core)"
+"$HB" bench out/default.hbox "$MODEL"

@@ -1,0 +1,150 @@
+// The hapticbox command end to end: real files in a temp folder, the real binary, no display.
+// Checks exit codes (0 ok, 2 usage, 1 failure), that errors name the file and the cause, and
+// that the JSON outputs carry the documented keys.
+#include "haptic_box/contact.h"
+#include "mesh/generators.h"
+#include "mesh/mesh_io.h"
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+class CliTest : public ::testing::Test {
+protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("hb_cli_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    hb::write_mesh(hb::make_sphere(10.f, 4), (dir_ / "sphere.off").string());
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+
+  static Result run(const std::string& args) {
+    const std::string err_path = (dir_ / "stderr.txt").string();
+    // No display: the command line must never need one.
+    const std::string cmd = "env -u DISPLAY " + std::string(HB_CLI_PATH) + " " + args + " 2>" + err_path;
+    Result r;
+    FILE* pipe = popen(cmd.c_str(), "r");
+    std::array<char, 4096> buf{};
+    std::size_t n;
+    while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.out.append(buf.data(), n);
+    const int status = pclose(pipe);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream e(err_path);
+    r.err.assign(std::istreambuf_iterator<char>(e), {});
+    return r;
+  }
+  static std::string path(const std::string& name) { return (dir_ / name).string(); }
+  static std::string write(const std::string& name, const std::string& text) {
+    std::ofstream(path(name)) << text;
+    return path(name);
+  }
+  static void bake_once() {
+    if (!fs::exists(path("sphere.hbox"))) {
+      ASSERT_EQ(run("bake " + path("sphere.off") + " -o " + path("sphere.hbox") + " -m 8 -n 6").code, 0);
+    }
+  }
+  static fs::path dir_;
+};
+fs::path CliTest::dir_;
+
+TEST_F(CliTest, BakeInfoEvalBenchProduceDocumentedJson) {
+  const Result bake = run("bake " + path("sphere.off") + " -o " + path("sphere.hbox") + " -m 8 -n 6 --json");
+  ASSERT_EQ(bake.code, 0) << bake.err;
+  const auto b = nlohmann::json::parse(bake.out);
+  for (const char* key : {"seconds", "rays_per_second", "bytes"}) EXPECT_TRUE(b.contains(key)) << key;
+  EXPECT_EQ(b["rays"].get<double>(), 6.0 * 64 * 12 * 36);
+
+  const auto info = nlohmann::json::parse(run("info " + path("sphere.hbox") + " --json").out);
+  EXPECT_EQ(info["boxes"], 1);
+  EXPECT_EQ(info["m"], 8);
+  EXPECT_EQ(info["n"], 6);
+  EXPECT_GT(info["bytes"].get<double>(), 0.0);
+
+  const Result eval = run("eval " + path("sphere.hbox") + " " + path("sphere.off") + " --samples 2000 --json");
+  ASSERT_EQ(eval.code, 0) << eval.err;
+  const auto e = nlohmann::json::parse(eval.out);
+  for (const char* key : {"samples", "contact_agreement", "false_contacts", "missed_contacts", "force_error_median",
+                          "force_error_p95", "force_error_max", "angle_error_median_deg", "angle_error_p99_deg",
+                          "depth_rms_over_diag"})
+    EXPECT_TRUE(e.contains(key)) << key;
+  EXPECT_EQ(e["samples"], 2000);
+  EXPECT_GT(e["contact_agreement"].get<double>(), 0.95);
+
+  const Result bench = run("bench " + path("sphere.hbox") + " " + path("sphere.off") + " --samples 2000 --rounds 1 --json");
+  ASSERT_EQ(bench.code, 0) << bench.err;
+  const auto k = nlohmann::json::parse(bench.out);
+  for (const char* key : {"box_ns", "exact_ns", "speedup", "triangles"}) EXPECT_TRUE(k.contains(key)) << key;
+}
+
+TEST_F(CliTest, QueryCsvKeepsRowOrderAndAddsExactColumns) {
+  bake_once();
+  const std::string in = write("segs.csv", "sx,sy,sz,ex,ey,ez\n0,0.1,30,0,0.1,9\n30,30,30,31,31,31\n0,25,0.2,0,9.5,0.2\n");
+  const Result r = run("query " + path("sphere.hbox") + " --segments " + in + " --exact " + path("sphere.off"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::string header, row1, row2, row3;
+  std::getline(lines, header);
+  std::getline(lines, row1);
+  std::getline(lines, row2);
+  std::getline(lines, row3);
+  EXPECT_EQ(header.rfind("contact,depth,nx,ny,nz,fx,fy,fz,exact_contact", 0), 0u);
+  EXPECT_EQ(row1.rfind("1,", 0), 0u);
+  EXPECT_EQ(row2.rfind("0,", 0), 0u);
+  EXPECT_EQ(row3.rfind("1,", 0), 0u);
+}
+
+TEST_F(CliTest, MissingMeshFailsWithExitOneAndNamesTheFile) {
+  const Result r = run("bake " + path("nope.off") + " -o " + path("x.hbox"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("nope.off"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("x.hbox")));
+}
+
+TEST_F(CliTest, GarbageMeshFailsWithExitOne) {
+  const Result r = run("info " + write("garbage.off", "OFF\n3 1 0\n1 2 zz\n"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("garbage.off"), std::string::npos) << r.err;
+}
+
+TEST_F(CliTest, CorruptBoxFailsWithExitOne) {
+  bake_once();
+  std::ifstream in(path("sphere.hbox"), std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  bytes.resize(bytes.size() / 3);
+  std::ofstream(path("cut.hbox"), std::ios::binary) << bytes;
+  const Result r = run("eval " + path("cut.hbox") + " " + path("sphere.off"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("cut.hbox"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("truncated"), std::string::npos) << r.err;
+}
+
+TEST_F(CliTest, UsageErrorsExitTwo) {
+  EXPECT_EQ(run("").code, 2);
+  EXPECT_EQ(run("bake").code, 2);
+  EXPECT_EQ(run("bake " + path("sphere.off") + " -o " + path("y.hbox") + " -m 1").code, 2);
+  EXPECT_EQ(run("no-such-command").code, 2);
+  bake_once();
+  EXPECT_EQ(run("query " + path("sphere.hbox")).code, 2);
+}
+
+TEST_F(CliTest, BadSegmentsCsvNamesFileAndLine) {
+  bake_once();
+  const std::string in = write("bad.csv", "sx,sy,sz,ex,ey,ez\n0,0,30,0,0,9\n1,2,three,4,5,6\n");
+  const Result r = run("query " + path("sphere.hbox") + " --segments " + in);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("bad.csv:3"), std::string::npos) << r.err;
+}
+
+} // namespace

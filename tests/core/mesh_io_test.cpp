@@ -1,0 +1,314 @@
+#include "mesh/mesh_io.h"
+
+#include "errors.h"
+#include "mesh/generators.h"
+#include "mesh_checks.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+namespace hb {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Gives each test its own scratch folder, removed afterwards.
+class MeshReadTest : public ::testing::Test {
+protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / ("hb_mesh_io_" + std::string(info->name()) + "_" +
+                                        std::to_string(std::random_device{}()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  std::string write(const std::string& name, const std::string& bytes) const {
+    const std::string path = (dir_ / name).string();
+    std::ofstream(path, std::ios::binary) << bytes;
+    return path;
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  fs::path dir_;
+};
+
+/// Reads `path` expecting exception type E whose message names the file.
+template <typename E>
+void expect_read_error(const std::string& path, const std::string& cause_fragment = {}) {
+  try {
+    read_mesh(path);
+    ADD_FAILURE() << "no exception for " << path;
+  } catch (const E& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(fs::path(path).filename().string()), std::string::npos) << what;
+    if (!cause_fragment.empty()) {
+      EXPECT_NE(what.find(cause_fragment), std::string::npos) << what;
+    }
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "wrong exception type for " << path << ": " << e.what();
+  }
+}
+
+const char* kTetrahedronOff =
+    "OFF\n4 4 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+
+// --- bad input ------------------------------------------------------------------------
+
+TEST_F(MeshReadTest, MissingFileIsIoError) { expect_read_error<IoError>(path("absent.off"), "no such file"); }
+
+TEST_F(MeshReadTest, EmptyFileIsIoError) { expect_read_error<IoError>(write("empty.off", ""), "empty"); }
+
+TEST_F(MeshReadTest, EmptyObjIsIoError) { expect_read_error<IoError>(write("empty.obj", ""), "empty"); }
+
+TEST_F(MeshReadTest, CommentOnlyOffIsIoError) { expect_read_error<IoError>(write("comments.off", "# nothing\n\n")); }
+
+TEST_F(MeshReadTest, DirectoryIsIoError) {
+  fs::create_directories(dir_ / "folder.off");
+  expect_read_error<IoError>(path("folder.off"), "directory");
+}
+
+TEST_F(MeshReadTest, UnknownExtensionIsInvalidInput) {
+  expect_read_error<InvalidInput>(write("mesh.xyz", kTetrahedronOff), "extension");
+}
+
+TEST_F(MeshReadTest, NoExtensionIsInvalidInput) { expect_read_error<InvalidInput>(write("mesh", kTetrahedronOff)); }
+
+TEST_F(MeshReadTest, GarbageBytesAreRejectedInEveryFormat) {
+  std::mt19937 rng(7);
+  std::string garbage(4096, '\0');
+  for (char& c : garbage) c = char(rng() & 0xff);
+  for (const char* ext : {".off", ".obj", ".ply", ".stl", ".om"}) {
+    SCOPED_TRACE(ext);
+    expect_read_error<Error>(write(std::string("garbage") + ext, garbage));
+  }
+}
+
+TEST_F(MeshReadTest, GarbageTextIsInvalidInput) {
+  expect_read_error<InvalidInput>(write("text.off", "hello world\nthis is not a mesh\n"), "not an OFF file");
+  expect_read_error<InvalidInput>(write("text.obj", "hello world\nthis is not a mesh\n"));
+  expect_read_error<InvalidInput>(write("text.ply", "hello world\nthis is not a mesh\n"));
+}
+
+TEST_F(MeshReadTest, NanCoordinateIsRejected) {
+  expect_read_error<InvalidInput>(write("nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n"), "vertex 1");
+}
+
+TEST_F(MeshReadTest, InfCoordinateIsRejected) {
+  expect_read_error<InvalidInput>(write("inf.off", "OFF\n3 1 0\n0 0 0\n1 inf 0\n0 1 0\n3 0 1 2\n"), "non-finite");
+  // Finite in double but not in float.
+  expect_read_error<InvalidInput>(write("big.off", "OFF\n3 1 0\n0 0 0\n1 1e300 0\n0 1 0\n3 0 1 2\n"), "non-finite");
+}
+
+TEST_F(MeshReadTest, NanCoordinateInObjIsRejected) {
+  expect_read_error<InvalidInput>(write("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"), "non-finite");
+}
+
+TEST_F(MeshReadTest, OutOfRangeIndexIsRejected) {
+  expect_read_error<InvalidInput>(write("index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"), "out of range");
+  expect_read_error<InvalidInput>(write("negative.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n"), "out of range");
+}
+
+TEST_F(MeshReadTest, OutOfRangeIndexInObjIsRejected) {
+  // OpenMesh's OBJ reader itself drops such a face with a message; either way nothing valid is left.
+  expect_read_error<InvalidInput>(write("index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"));
+}
+
+TEST_F(MeshReadTest, TruncatedOffIsIoError) {
+  expect_read_error<IoError>(write("truncated.off", "OFF\n4 4 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n"), "truncated");
+}
+
+TEST_F(MeshReadTest, AbsurdCountsAreRejectedWithoutAllocating) {
+  expect_read_error<IoError>(write("absurd.off", "OFF\n4000000000 4000000000 0\n0 0 0\n"), "truncated");
+  expect_read_error<InvalidInput>(write("huge.off", "OFF\n99999999999999 1 0\n0 0 0\n"));
+  expect_read_error<InvalidInput>(write("overflow.off", "OFF\n999999999999999999999999 1 0\n"), "bad count");
+  expect_read_error<InvalidInput>(write("corners.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2000000000 0 1 2\n"));
+}
+
+TEST_F(MeshReadTest, AbsurdCountsInOtherFormatsAreRejected) {
+  // Binary STL header claiming 2^32-1 facets with 100 bytes of data.
+  std::string stl(80, '\0');
+  stl += std::string("\xff\xff\xff\xff", 4) + std::string(100, '\1');
+  expect_read_error<InvalidInput>(write("huge.stl", stl));
+  const std::string ply_header = "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\n"
+                                 "property float y\nproperty float z\nelement face 1\n"
+                                 "property list uchar int vertex_indices\nend_header\n0 0 0\n";
+  expect_read_error<InvalidInput>(write("huge.ply", ply_header));
+  expect_read_error<InvalidInput>(write("huge_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999\n"));
+  expect_read_error<InvalidInput>(write("negative_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -7\n"));
+}
+
+TEST_F(MeshReadTest, TruncatedPlyIsInvalidInput) {
+  const std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                          "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                          "end_header\n0 0 0\n1 0 0\n";
+  expect_read_error<InvalidInput>(write("truncated.ply", ply));
+}
+
+TEST_F(MeshReadTest, NoTrianglesIsInvalidInput) {
+  expect_read_error<InvalidInput>(write("points.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"), "no (non-degenerate) triangles");
+  expect_read_error<InvalidInput>(write("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"), "no (non-degenerate) triangles");
+  expect_read_error<InvalidInput>(write("flat.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n2 0 0\n3 0 1 2\n"));
+}
+
+TEST_F(MeshReadTest, BinaryOffIsInvalidInput) {
+  expect_read_error<InvalidInput>(write("binary.off", "OFF BINARY\n"), "binary");
+}
+
+// --- accepted input -------------------------------------------------------------------
+
+TEST_F(MeshReadTest, QuadMeshIsTriangulated) {
+  const std::string off =
+      "OFF\n8 6 12\n"
+      "-1 -1 -1\n1 -1 -1\n1 1 -1\n-1 1 -1\n-1 -1 1\n1 -1 1\n1 1 1\n-1 1 1\n"
+      "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n";
+  MeshReadReport report;
+  const TriangleMesh m = read_mesh(write("quads.off", off), &report);
+  EXPECT_EQ(m.triangle_count(), 12u);
+  EXPECT_EQ(report.input_faces, 6u);
+  EXPECT_EQ(report.polygons_triangulated, 6u);
+  EXPECT_FALSE(report.open);
+  EXPECT_TRUE(test::is_watertight(m));
+  EXPECT_NEAR(test::signed_volume(m), 8.0, 1e-9);
+  EXPECT_TRUE(test::normals_are_unit(m));
+}
+
+TEST_F(MeshReadTest, DegenerateTrianglesAreDroppedAndCounted) {
+  const std::string off = std::string("OFF\n5 6 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n2 0 0\n") +
+                          "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"
+                          "3 0 0 1\n"   // repeated index
+                          "3 0 1 4\n";  // collinear: zero area
+  MeshReadReport report;
+  const TriangleMesh m = read_mesh(write("degenerate.off", off), &report);
+  EXPECT_EQ(m.triangle_count(), 4u);
+  EXPECT_EQ(report.degenerate_dropped, 2u);
+  EXPECT_FALSE(report.warnings.empty());
+}
+
+TEST_F(MeshReadTest, OpenMeshLoadsWithWarning) {
+  const std::string off = "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  MeshReadReport report;
+  const std::string p = write("open.off", off);
+  const TriangleMesh m = read_mesh(p, &report);
+  EXPECT_EQ(m.triangle_count(), 3u);
+  EXPECT_TRUE(report.open);
+  ASSERT_FALSE(report.warnings.empty());
+  EXPECT_NE(report.warnings.front().find("open.off"), std::string::npos);
+}
+
+TEST_F(MeshReadTest, NonManifoldEdgeIsReportedAndKept) {
+  // Three triangles on the edge 0-1.
+  const std::string off = "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n";
+  MeshReadReport report;
+  const TriangleMesh m = read_mesh(write("fin.off", off), &report);
+  EXPECT_EQ(m.triangle_count(), 3u);
+  EXPECT_TRUE(report.non_manifold);
+}
+
+TEST_F(MeshReadTest, NonManifoldObjKeepsEveryFace) {
+  // OpenMesh's own importer would detach the third face ("complex edge"); ours keeps it.
+  const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
+  MeshReadReport report;
+  const TriangleMesh m = read_mesh(write("fin.obj", obj), &report);
+  EXPECT_EQ(m.triangle_count(), 3u);
+  EXPECT_EQ(m.vertex_count(), 5u);
+  EXPECT_TRUE(report.non_manifold);
+}
+
+TEST_F(MeshReadTest, OffCommentsBlankLinesAndColoursAreAccepted) {
+  const std::string off =
+      "# CGAL style\n\nOFF\n\n# counts\n4 4 0\n\n0 0 0 # origin\n1 0 0\n0 1 0\n0 0 1\n"
+      "3 0 2 1 255 0 0\n3 0 1 3 0.5 0.5 0.5 1\n3 0 3 2\n3 1 2 3\n";
+  const TriangleMesh m = read_mesh(write("cgal.off", off));
+  EXPECT_EQ(m.triangle_count(), 4u);
+  EXPECT_TRUE(test::is_watertight(m));
+}
+
+TEST_F(MeshReadTest, OffCountsOnHeaderLineAndCrlfAreAccepted) {
+  const std::string off = "OFF 4 4 6\r\n0 0 0\r\n1 0 0\r\n0 1 0\r\n0 0 1\r\n3 0 2 1\r\n3 0 1 3\r\n3 0 3 2\r\n3 1 2 3\r\n";
+  EXPECT_EQ(read_mesh(write("header.off", off)).triangle_count(), 4u);
+  EXPECT_EQ(read_mesh(write("coff.off", std::string("C") + kTetrahedronOff)).triangle_count(), 4u);
+}
+
+TEST_F(MeshReadTest, InconsistentOrientationIsReported) {
+  // Tetrahedron with one face flipped.
+  const std::string off = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  MeshReadReport report;
+  read_mesh(write("flipped.off", off), &report);
+  EXPECT_TRUE(report.inconsistent_orientation);
+  EXPECT_FALSE(report.open);
+}
+
+TEST_F(MeshReadTest, ExtensionIsCaseInsensitive) {
+  EXPECT_EQ(read_mesh(write("upper.OFF", kTetrahedronOff)).triangle_count(), 4u);
+}
+
+TEST_F(MeshReadTest, OpenMeshChatterBecomesWarningsNotStderr) {
+  ::testing::internal::CaptureStderr();
+  EXPECT_THROW(read_mesh(write("index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")), InvalidInput);
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_EQ(err, "");
+}
+
+// --- round trips ----------------------------------------------------------------------
+
+class MeshRoundTripTest : public MeshReadTest, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(MeshRoundTripTest, CubeSurvivesWriteThenRead) {
+  const TriangleMesh cube = make_cube(Vec3(1.f, 2.f, 0.5f), 2);
+  const std::string p = path(std::string("cube") + GetParam());
+  write_mesh(cube, p);
+  MeshReadReport report;
+  const TriangleMesh back = read_mesh(p, &report);
+  EXPECT_EQ(back.triangle_count(), cube.triangle_count());
+  EXPECT_EQ(back.vertex_count(), cube.vertex_count());
+  EXPECT_TRUE(test::is_watertight(back));
+  EXPECT_NEAR(test::signed_volume(back), test::signed_volume(cube), 1e-5);
+  EXPECT_FALSE(report.open);
+  EXPECT_FALSE(report.non_manifold);
+  EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
+}
+
+INSTANTIATE_TEST_SUITE_P(AllFormats, MeshRoundTripTest, ::testing::Values(".off", ".obj", ".ply", ".stl", ".om"),
+                         [](const auto& info) { return std::string(info.param + 1); });
+
+TEST_F(MeshReadTest, OffRoundTripIsBitExact) {
+  const TriangleMesh sphere = make_sphere(0.7f, 2);
+  const std::string p = path("sphere.off");
+  write_mesh(sphere, p);
+  const TriangleMesh back = read_mesh(p);
+  ASSERT_EQ(back.vertex_count(), sphere.vertex_count());
+  for (std::size_t i = 0; i < back.vertex_count(); ++i) EXPECT_EQ(back.positions[i], sphere.positions[i]);
+  EXPECT_EQ(back.triangles, sphere.triangles);
+}
+
+TEST_F(MeshReadTest, WriteToMissingFolderIsIoError) {
+  EXPECT_THROW(write_mesh(make_cube(Vec3(1, 1, 1)), path("no/such/dir/cube.off")), IoError);
+  EXPECT_THROW(write_mesh(make_cube(Vec3(1, 1, 1)), path("no/such/dir/cube.stl")), IoError);
+  EXPECT_THROW(write_mesh(make_cube(Vec3(1, 1, 1)), path("cube.xyz")), IoError);
+}
+
+// --- hashing --------------------------------------------------------------------------
+
+TEST_F(MeshReadTest, HashFileIsStableAndSeesChanges) {
+  const std::string a = write("a.off", kTetrahedronOff);
+  const std::string b = write("b.off", kTetrahedronOff);
+  const std::string c = write("c.off", std::string(kTetrahedronOff) + "\n");
+  EXPECT_EQ(hash_file(a), hash_file(b));
+  EXPECT_NE(hash_file(a), hash_file(c));
+  EXPECT_EQ(hash_file(write("empty.bin", "")), 0xEF46DB3751D8E999ull);  // XXH64 of nothing, seed 0
+}
+
+TEST_F(MeshReadTest, HashMissingFileIsIoError) {
+  EXPECT_THROW(hash_file(path("absent.off")), IoError);
+  EXPECT_THROW(hash_file(dir_.string()), IoError);
+}
+
+} // namespace
+} // namespace hb

@@ -1,0 +1,139 @@
+#include "analytic_scene.h"
+#include "device/servo_log.h"
+#include "device/servo_loop.h"
+#include "device/virtual_device.h"
+#include <gtest/gtest.h>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <thread>
+
+using namespace hb;
+using namespace std::chrono_literals;
+
+namespace {
+
+ServoOptions options() {
+  ServoOptions o;
+  o.request_realtime = false;
+  // Default watchdog: a late tick in the recording is re-applied by the replay.
+  o.safety.ramp_seconds = 0.05f;
+  o.mapping.model_units_per_metre = 1000.f;
+  o.law.stiffness_n_per_m = 2000.f;
+  return o;
+}
+
+std::string temp(const char* name) { return ::testing::TempDir() + name; }
+
+void run_until_done(ServoLoop& loop, std::uint64_t ticks) {
+  for (int i = 0; i < 5000 && loop.running() && loop.snapshot().tick < ticks; ++i)
+    std::this_thread::sleep_for(1ms);
+}
+
+} // namespace
+
+TEST(ReplayTest, ReplayingALogGivesTheSameForcesBitForBit) {
+  const std::string rec1 = temp("hb_replay_1.hblog"), rec2 = temp("hb_replay_2.hblog");
+  test::HalfSpaceScene scene(0.f);
+  {
+    VirtualDevice dev(circle_probe_trajectory(0.01f, 0.004f, 0.1), 1e-3);
+    LogRecorder recorder(rec1, 1000.0, dev.spec());
+    ServoLoop loop(dev, scene, options());
+    loop.set_recorder(&recorder);
+    loop.start();
+    run_until_done(loop, 300);
+    loop.stop();
+    recorder.finish();
+    EXPECT_EQ(recorder.dropped(), 0u);
+  }
+  const ServoLog original = read_servo_log(rec1);
+  ASSERT_GE(original.records.size(), 300u);
+  {
+    ReplayDevice dev(rec1);
+    LogRecorder recorder(rec2, original.rate_hz, dev.spec());
+    ServoLoop loop(dev, scene, options());
+    loop.set_recorder(&recorder);
+    loop.start();
+    for (int i = 0; i < 10000 && loop.running(); ++i) std::this_thread::sleep_for(1ms);
+    loop.stop();
+    recorder.finish();
+    EXPECT_EQ(loop.report().exit, ServoExit::end_of_stream);
+  }
+  const ServoLog replay = read_servo_log(rec2);
+  ASSERT_EQ(replay.records.size(), original.records.size());
+  std::size_t contacts = 0;
+  for (std::size_t i = 0; i < original.records.size(); ++i) {
+    const LogRecord &a = original.records[i], &b = replay.records[i];
+    ASSERT_EQ(std::memcmp(a.force_n, b.force_n, sizeof a.force_n), 0) << "tick " << i;
+    ASSERT_EQ(std::memcmp(a.position_m, b.position_m, sizeof a.position_m), 0) << "tick " << i;
+    ASSERT_EQ(std::memcmp(&a.depth, &b.depth, sizeof a.depth), 0) << "tick " << i;
+    ASSERT_EQ(a.contact, b.contact);
+    ASSERT_EQ(a.time_s, b.time_s);
+    contacts += a.contact;
+  }
+  EXPECT_GT(contacts, 0u);  // the trajectory does touch the surface
+  std::remove(rec1.c_str());
+  std::remove(rec2.c_str());
+}
+
+TEST(ReplayTest, LogRoundTripsRecords) {
+  const std::string path = temp("hb_log_roundtrip.hblog");
+  DeviceSpec spec = virtual_device_spec();
+  {
+    LogRecorder rec(path, 500.0, spec, 1024);
+    for (int i = 0; i < 3000; ++i) {
+      LogRecord r;
+      r.tick = i;
+      r.time_s = i * 0.002;
+      r.force_n[1] = static_cast<float>(i);
+      while (!rec.push(r)) std::this_thread::sleep_for(1ms);  // tiny ring: wait for the writer
+    }
+    rec.finish();
+    EXPECT_EQ(rec.written(), 3000u);
+  }
+  const ServoLog log = read_servo_log(path);
+  EXPECT_EQ(log.rate_hz, 500.0);
+  EXPECT_EQ(log.spec.max_force_n, spec.max_force_n);
+  ASSERT_EQ(log.records.size(), 3000u);
+  for (int i = 0; i < 3000; ++i) {
+    EXPECT_EQ(log.records[i].tick, static_cast<std::uint64_t>(i));
+    EXPECT_EQ(log.records[i].force_n[1], static_cast<float>(i));
+  }
+  std::remove(path.c_str());
+}
+
+TEST(ReplayTest, TruncatedOrForeignLogsAreRejectedNamingTheFile) {
+  const std::string path = temp("hb_log_truncated.hblog");
+  {
+    LogRecorder rec(path, 1000.0, virtual_device_spec());
+    rec.push(LogRecord{});
+    rec.finish();
+  }
+  std::ofstream(path, std::ios::binary | std::ios::app).write("xyz", 3);
+  try {
+    read_servo_log(path);
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos);
+  }
+  std::ofstream(path, std::ios::binary).write("not a log at all, definitely not 64 bytes of header..........", 62);
+  EXPECT_THROW(read_servo_log(path), InvalidInput);
+  std::remove(path.c_str());
+  EXPECT_THROW(read_servo_log(path), IoError);
+}
+
+TEST(ReplayTest, ReplayDeviceEndsWithEndOfStream) {
+  ServoLog log;
+  log.records.resize(3);
+  log.records[1].position_m[0] = 0.5f;
+  ReplayDevice dev(log);
+  dev.open();
+  DeviceState s;
+  EXPECT_EQ(dev.read_state(s), DeviceStatus::ok);
+  EXPECT_EQ(dev.read_state(s), DeviceStatus::ok);
+  EXPECT_EQ(s.position_m.x(), 0.5f);
+  EXPECT_EQ(dev.read_state(s), DeviceStatus::ok);
+  EXPECT_EQ(dev.read_state(s), DeviceStatus::end_of_stream);
+}

@@ -1,0 +1,155 @@
+#include "analytic_scene.h"
+#include "device/servo_loop.h"
+#include "device/virtual_device.h"
+#include <gtest/gtest.h>
+#include <chrono>
+#include <thread>
+
+using namespace hb;
+using namespace std::chrono_literals;
+
+namespace {
+
+ServoOptions test_options() {
+  ServoOptions o;
+  o.request_realtime = false;  // do not compete with the build on a shared machine
+  o.safety.watchdog_bound_s = 10.0;  // timing is measured by `hapticbox servo`, not asserted here
+  o.safety.ramp_seconds = 0.01f;
+  o.mapping.model_units_per_metre = 1000.f;  // model in mm
+  o.mapping.probe_length = 10.f;
+  o.law.stiffness_n_per_m = 1000.f;
+  return o;
+}
+
+void wait_ticks(const ServoLoop& loop, std::uint64_t n) {
+  for (int i = 0; i < 2000 && loop.snapshot().tick < n && loop.running(); ++i)
+    std::this_thread::sleep_for(1ms);
+}
+
+} // namespace
+
+TEST(ServoLoopTest, RunsWithTheVirtualDeviceAndStopsCleanly) {
+  VirtualDevice dev;
+  test::HalfSpaceScene scene(-100.f);  // far below: no contact
+  ServoLoop loop(dev, scene, test_options());
+  loop.start();
+  EXPECT_TRUE(loop.running());
+  wait_ticks(loop, 50);
+  loop.stop();
+  EXPECT_FALSE(loop.running());
+  const ServoReport& r = loop.report();
+  EXPECT_GE(r.ticks, 50u);
+  EXPECT_EQ(r.exit, ServoExit::stopped);
+  EXPECT_EQ(r.period.count + 1, r.ticks);
+  EXPECT_GT(r.rate_hz, 0.0);
+  EXPECT_FALSE(r.realtime_granted);
+  EXPECT_EQ(dev.last_force(), Vec3::Zero());
+  loop.stop();  // idempotent
+}
+
+TEST(ServoLoopTest, PressingIntoTheSurfacePushesBackOut) {
+  VirtualDevice dev;
+  test::HalfSpaceScene scene(0.f);
+  ServoLoop loop(dev, scene, test_options());
+  dev.set_target(Vec3(0.f, 0.f, -0.002f));  // 2 mm below the surface
+  loop.start();
+  wait_ticks(loop, 100);
+  const ServoSnapshot s = loop.snapshot();
+  loop.stop();
+  EXPECT_EQ(s.contact, 1);
+  EXPECT_NEAR(s.depth, 2.f, 1e-3f);
+  EXPECT_NEAR(s.desired_force_n[2], 2.f, 1e-3f);  // 1000 N/m * 2 mm
+  EXPECT_GT(s.force_n[2], 0.f);
+  EXPECT_LE(s.force_n[2], 2.f + 1e-5f);
+}
+
+TEST(ServoLoopTest, StiffnessIsLimitedToTheDevice) {
+  VirtualDevice dev;
+  test::HalfSpaceScene scene(0.f);
+  ServoOptions o = test_options();
+  o.law.stiffness_n_per_m = 1e6f;  // far above the 3000 N/m the device can render
+  ServoLoop loop(dev, scene, o);
+  loop.start();
+  loop.stop();
+  EXPECT_TRUE(loop.report().stiffness_limited);
+  EXPECT_FLOAT_EQ(loop.report().stiffness_n_per_m, 3000.f);
+}
+
+TEST(ServoLoopTest, DisconnectMidRunZeroesForceStopsAndReports) {
+  VirtualDevice dev;
+  test::HalfSpaceScene scene(0.f);
+  ServoLoop loop(dev, scene, test_options());
+  dev.set_target(Vec3(0.f, 0.f, -0.002f));
+  loop.start();
+  wait_ticks(loop, 30);
+  dev.simulate_disconnect();
+  for (int i = 0; i < 1000 && loop.running(); ++i) std::this_thread::sleep_for(1ms);
+  EXPECT_FALSE(loop.running());
+  loop.stop();
+  EXPECT_EQ(loop.report().exit, ServoExit::disconnected);
+  EXPECT_NE(loop.report().exit_message.find("force zeroed"), std::string::npos);
+  EXPECT_EQ(loop.snapshot().running, 0);
+  EXPECT_EQ(loop.snapshot().force_n[2], 0.f);
+}
+
+TEST(ServoLoopTest, EmergencyStopZeroesForce) {
+  VirtualDevice dev;
+  test::HalfSpaceScene scene(0.f);
+  ServoLoop loop(dev, scene, test_options());
+  dev.set_target(Vec3(0.f, 0.f, -0.002f));
+  loop.start();
+  wait_ticks(loop, 50);
+  loop.emergency_stop();
+  const std::uint64_t t = loop.snapshot().tick;
+  wait_ticks(loop, t + 5);
+  const ServoSnapshot s = loop.snapshot();
+  loop.stop();
+  EXPECT_EQ(s.emergency_stopped, 1);
+  EXPECT_EQ(s.force_n[2], 0.f);
+  EXPECT_GT(loop.report().safety[static_cast<int>(SafetyEvent::emergency_stop)], 0u);
+}
+
+TEST(ServoLoopTest, NanFromTheSceneNeverReachesTheDevice) {
+  VirtualDevice dev;
+  test::NanScene scene;
+  ServoLoop loop(dev, scene, test_options());
+  loop.start();
+  wait_ticks(loop, 20);
+  loop.stop();
+  EXPECT_EQ(dev.last_force(), Vec3::Zero());
+  EXPECT_GE(loop.report().safety[static_cast<int>(SafetyEvent::non_finite)], 20u);
+}
+
+TEST(ServoLoopTest, DeviceFaultIsCountedAndRampedBack) {
+  VirtualDevice dev;
+  test::HalfSpaceScene scene(0.f);
+  ServoLoop loop(dev, scene, test_options());
+  dev.set_target(Vec3(0.f, 0.f, -0.001f));
+  loop.start();
+  wait_ticks(loop, 30);
+  dev.simulate_fault();
+  const std::uint64_t t = loop.snapshot().tick;
+  wait_ticks(loop, t + 30);
+  loop.stop();
+  EXPECT_EQ(loop.report().safety[static_cast<int>(SafetyEvent::device_fault)], 1u);
+}
+
+TEST(ServoLoopTest, RejectsABadRate) {
+  VirtualDevice dev;
+  test::HalfSpaceScene scene;
+  ServoOptions o = test_options();
+  o.rate_hz = -5;
+  ServoLoop loop(dev, scene, o);
+  EXPECT_THROW(loop.start(), InvalidInput);
+}
+
+TEST(ServoLoopTest, ScriptedTrajectoryRunsThroughTheSamePath) {
+  VirtualDevice dev(circle_probe_trajectory(0.01f, 0.005f, 0.05), 1e-3);
+  test::HalfSpaceScene scene(0.f);
+  ServoLoop loop(dev, scene, test_options());
+  loop.start();
+  wait_ticks(loop, 100);
+  loop.stop();
+  EXPECT_GE(dev.reads(), 100u);
+  EXPECT_GT(loop.report().compute.count, 0u);
+}
