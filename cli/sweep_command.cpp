@@ -3,6 +3,7 @@
 // timed on the same probes next to exact Embree and VTK's vtkStaticCellLocator.
 #include "cli_support.h"
 #include "commands.h"
+#include "errors.h"
 #include "evaluation/sweep.h"
 #include "exact/exact_query.h"
 #include "mesh/mesh_io.h"
@@ -49,7 +50,7 @@ void add_sweep_command(CLI::App& app) {
   cmd->add_option("MESH", opts->mesh, "Mesh file")->required();
   cmd->add_option("-m,--m", opts->m, "Position densities m (comma separated)")->delimiter(',')->check(CLI::Range(2, 4096))->capture_default_str();
   cmd->add_option("-n,--n", opts->n, "Directional densities n (comma separated)")->delimiter(',')->check(CLI::Range(2, 1024))->capture_default_str();
-  cmd->add_option("--codec", opts->codecs, "Table codecs (comma separated; this build: none)")->delimiter(',')->capture_default_str();
+  cmd->add_option("--codec", opts->codecs, "Table codecs (comma separated: none, and haar, block when the codec layer is built)")->delimiter(',')->capture_default_str();
   cmd->add_option("--samples", opts->sweep.samples, "Probes per method")->check(CLI::Range(std::size_t(1), std::size_t(10000000)))->capture_default_str();
   cmd->add_option("--rounds", opts->sweep.timing_rounds, "Timing passes")->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--seed", opts->sweep.probes.seed, "Probe seed")->capture_default_str();
@@ -59,8 +60,13 @@ void add_sweep_command(CLI::App& app) {
   hb::cli::add_force_law_options(*cmd, opts->sweep.law);
   cmd->add_flag("--json", opts->json, "Print JSON");
   cmd->callback([opts] {
-    for (const std::string& c : opts->codecs)
-      if (c != "none") throw hb::cli::UsageError("--codec " + c + ": not available in this build (only 'none')");
+    for (const std::string& c : opts->codecs) {
+      try {
+        hb::check_sweep_config({2, 2, c});
+      } catch (const hb::InvalidInput& e) {
+        throw hb::cli::UsageError(std::string("--codec: ") + e.what());
+      }
+    }
     hb::MeshReadReport read;
     const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh, &read);
     hb::SourceInfo source;

@@ -12,8 +12,40 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+// Codecs come with src/codec/ (the codec layer); without it only "none" is accepted.
+#if __has_include("codec/codec.h")
+#include "codec/codec.h"
+#define HB_SWEEP_HAS_CODECS 1
+#endif
 
 namespace hb {
+namespace {
+
+// The raw scene compressed with `codec` at the codec's default error bound.
+BoxScene compress_scene(const BoxScene& raw, const std::string& codec) {
+#ifdef HB_SWEEP_HAS_CODECS
+  CodecOptions options;
+  options.codec = parse_codec(codec);
+  std::vector<HapticBox> boxes;
+  for (const HapticBox& box : raw.boxes()) boxes.push_back(box.compressed(options));
+  return BoxScene(std::move(boxes), raw.source());
+#else
+  (void)codec;
+  return raw;
+#endif
+}
+
+} // namespace
+
+void check_sweep_config(const SweepConfig& config) {
+  if (config.m < 2 || config.n < 2) throw InvalidInput("sweep: m and n must be >= 2");
+  if (config.codec == "none") return;
+#ifdef HB_SWEEP_HAS_CODECS
+  (void)parse_codec(config.codec);  // throws hb::InvalidInput naming the accepted values
+#else
+  throw InvalidInput("sweep: codec '" + config.codec + "' is not available in this build (only 'none')");
+#endif
+}
 
 std::vector<SweepConfig> sweep_grid(const std::vector<int>& ms, const std::vector<int>& ns,
                                     const std::vector<std::string>& codecs) {
@@ -50,10 +82,7 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const std::vector<std:
                                 const SweepOptions& options) {
   if (references.empty() || !references.front().query)
     throw InvalidInput("run_sweep: needs the exact reference first");
-  for (const SweepConfig& c : options.configs) {
-    if (c.m < 2 || c.n < 2) throw InvalidInput("run_sweep: m and n must be >= 2");
-    if (c.codec != "none") throw InvalidInput("run_sweep: codec '" + c.codec + "' is not available in this build");
-  }
+  for (const SweepConfig& c : options.configs) check_sweep_config(c);
   const bool use_cache = !options.cache_dir.empty() && source.mesh_hash != 0;
   if (use_cache) std::filesystem::create_directories(options.cache_dir);
 
@@ -96,7 +125,9 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const std::vector<std:
     row.n = config.n;
     row.codec = config.codec;
     BoxScene scene;
-    const std::string cached = use_cache ? sweep_cache_path(options.cache_dir, source.mesh_hash, config) : "";
+    // The cache holds raw boxes; a codec is applied in memory after loading or baking.
+    const SweepConfig raw_config{config.m, config.n, "none"};
+    const std::string cached = use_cache ? sweep_cache_path(options.cache_dir, source.mesh_hash, raw_config) : "";
     bool loaded = false;
     if (use_cache && std::filesystem::exists(cached)) {
       try {
@@ -122,6 +153,7 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const std::vector<std:
       if (use_cache) save_box_file(scene, cached);
     }
     row.from_cache = loaded;
+    if (config.codec != "none") scene = compress_scene(scene, config.codec);
     row.memory_bytes = scene.table_bytes();
     step(1.0);
     measure(row, scene);

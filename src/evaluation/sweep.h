@@ -12,13 +12,17 @@
 
 namespace hb {
 
-/// One box configuration: densities and the table codec ("none": plain 8-byte samples, the
-/// only codec of this build; others are rejected with hb::InvalidInput until src/codec lands).
+/// One box configuration: densities and the table codec ("none": plain 8-byte samples; with
+/// the codec layer (src/codec) also "haar" and "block" at the codec's default error bound;
+/// names the build does not know are rejected with hb::InvalidInput).
 struct SweepConfig {
   int m = 32;
   int n = 16;
   std::string codec = "none";
 };
+
+/// Throws hb::InvalidInput when m or n is below 2 or the codec is unknown to this build.
+void check_sweep_config(const SweepConfig& config);
 
 /// The grid ms x ns x codecs, in that nesting order (m slowest).
 std::vector<SweepConfig> sweep_grid(const std::vector<int>& ms, const std::vector<int>& ns,
@@ -57,7 +61,7 @@ struct SweepOptions {
   ProbeOptions probes;             ///< the default probe distribution.
   ForceLaw law;
   ObbOptions obb;
-  /// Directory of cached boxes, named by mesh hash and configuration; empty: no cache.
+  /// Directory of cached (raw) boxes, named by mesh hash and densities; empty: no cache.
   /// A cached box is used only when its recorded mesh hash matches `source.mesh_hash` (!= 0).
   std::string cache_dir;
   /// Progress in [0, 1] from the calling thread; false cancels (throws hb::Cancelled).

@@ -41,6 +41,6 @@ TEST(SweepTest, RunsReferencesAndConfigurationsAndReusesTheCache) {
   EXPECT_TRUE(again[2].from_cache);
   EXPECT_EQ(again[2].force_error_median, rows[2].force_error_median);
   std::filesystem::remove_all(cache);
-  options.configs = {{8, 3, "haar"}};
+  options.configs = {{8, 3, "nonsense"}};
   EXPECT_THROW(hb::run_sweep(mesh, {}, source, {{"exact_embree", &exact, 0, 0.0}}, options), hb::InvalidInput);
 }
