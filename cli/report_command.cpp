@@ -70,6 +70,8 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--tol-median", opts->report.tolerances.force_error_median, "Tolerance: median force error (fraction)")->capture_default_str();
   cmd->add_option("--tol-p95", opts->report.tolerances.force_error_p95, "Tolerance: p95 force error (fraction)")->capture_default_str();
   cmd->add_option("--tol-agreement", opts->report.tolerances.contact_agreement, "Tolerance: min contact agreement")->capture_default_str();
+  cmd->add_option("--compression-curve", opts->report.compression_codec,
+                  "Also draw this codec's compression curve (haar, block; needs the codec layer)");
   cmd->add_option("--save-box", opts->save_box, "When baking, also save the box file here");
   hb::cli::add_force_law_options(*cmd, opts->report.law);
   cmd->callback([opts] {

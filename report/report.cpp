@@ -19,6 +19,11 @@
 #include <fstream>
 #include <iomanip>
 #include <sstream>
+// The compression curve comes with the codec layer (src/codec, evaluation/compression_sweep).
+#if __has_include("evaluation/compression_sweep.h")
+#include "evaluation/compression_sweep.h"
+#define HB_REPORT_HAS_CODECS 1
+#endif
 
 namespace hb {
 namespace fs = std::filesystem;
@@ -187,6 +192,21 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   d.pass_p95 = d.stats.force_error_p95 <= tol.force_error_p95;
   d.pass_agreement = d.stats.contact_agreement >= tol.contact_agreement;
 
+  // Compression curve of one codec over its error bounds.
+  if (!options.compression_codec.empty() && options.compression_codec != "none") {
+#ifdef HB_REPORT_HAS_CODECS
+    CompressionSweepOptions co;
+    co.codecs = {parse_codec(options.compression_codec)};
+    co.probes = probes;
+    co.exact = &exact;
+    co.law = options.law;
+    for (const CompressionSweepPoint& p : compression_sweep(scene, co))
+      if (p.codec != CodecId::none) d.compression_curve.emplace_back(p.ratio, p.force_error_vs_raw_median);
+#else
+    throw InvalidInput("report: codec '" + options.compression_codec + "' is not available in this build");
+#endif
+  }
+
   // 3. Error field at the vertices.
   if (options.error_field_probes_per_vertex > 0) {
     ErrorFieldOptions fo;
@@ -233,6 +253,7 @@ std::string report_json(const ReportData& d) {
                      {"metres_per_unit", o.law.metres_per_unit},
                      {"timing_rounds", o.timing_rounds},
                      {"error_field_probes_per_vertex", o.error_field_probes_per_vertex},
+                     {"compression_codec", o.compression_codec},
                      {"sweep_configs", nlohmann::json::array()}};
   for (const SweepConfig& c : o.sweep_configs)
     j["parameters"]["sweep_configs"].push_back({{"m", c.m}, {"n", c.n}, {"codec", c.codec}});
@@ -387,7 +408,9 @@ void write_report(const ReportData& d, const std::string& dir_name) {
   h << "</table>\n<p class=note>Pareto front: no other row is both faster and more accurate (median force "
        "error). Memory of the references counts the mesh arrays and the locator's index, not Embree's BVH.</p>\n";
   h << "<h2>Force error distribution</h2>\n" << img(hist_png, "force error histogram") << "\n";
-  if (!d.compression_curve.empty()) h << "<h2>Compression</h2>\n" << img(comp_png, "compression curve") << "\n";
+  if (!d.compression_curve.empty())
+    h << "<h2>Compression (" << html_escape(d.options.compression_codec) << ")</h2>\n"
+      << img(comp_png, "compression curve") << "\n";
   h << "<h2>Error field</h2>\n<p>" << d.error_field.size() << " vertices, "
     << d.options.error_field_probes_per_vertex << " probe(s) each, computed in " << fmt(d.error_field.seconds, 3)
     << " s; relative force error over the vertices: median " << fmt(100 * d.error_field_median) << " %, p95 "

@@ -145,7 +145,8 @@ void plot_compression_curve(const std::vector<std::pair<double, double>>& curve,
     for (std::size_t i = 0; i < x.size(); ++i) xmax = std::max(xmax, x[i]), ymax = std::max(ymax, y[i]);
     pls->schr(0, 0.85);
     pls->env(0.0, xmax * 1.1, 0.0, ymax * 1.15, 0, 2);
-    pls->lab("compression rate (x : 1)", "relative error of decompressed values, %", "Compression curve");
+    pls->lab("compression rate (x : 1)", "median force error against the raw tables, %",
+             "Compression curve (one point per error bound)");
     pls->col0(kBlue);
     if (x.size() > 1) pls->line(PLINT(x.size()), x.data(), y.data());
     if (!x.empty()) pls->poin(PLINT(x.size()), x.data(), y.data(), 17);

@@ -15,7 +15,8 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
 /// Histogram of relative force errors (fractions; shown in %), `bins` bins over [0, p99].
 void plot_force_error_histogram(const std::vector<double>& errors, const std::string& png_path, int bins = 40);
 
-/// Compression curve: (compression rate, relative error) points joined by a line.
+/// Compression curve: (compression rate, median relative force error against the raw
+/// tables) points joined by a line.
 void plot_compression_curve(const std::vector<std::pair<double, double>>& curve, const std::string& png_path);
 
 } // namespace hb

@@ -128,3 +128,23 @@ TEST(ChartTablesTest, SweepAndHistogramTablesHaveTheRowsAndColumns) {
   EXPECT_DOUBLE_EQ(h->GetValueByName(3, "Probes").ToDouble(), 1.0);  // overflow in the last bin
   EXPECT_DOUBLE_EQ(h->GetValueByName(0, "ErrorPercent").ToDouble(), 5.0);
 }
+
+TEST_F(ReportFixture, CompressionCurveIsEmbeddedWhenGiven) {
+  const vtkHapticBoxReferenceQueries refs(mesh);
+  hb::ReportOptions options;
+  options.samples = 300;
+  options.timing_rounds = 1;
+  options.error_field_probes_per_vertex = 0;
+  hb::ReportData data = hb::compute_report(mesh, {}, scene, 0.0, refs.References(), options);
+  data.compression_curve = {{2.0, 0.001}, {5.0, 0.004}, {9.0, 0.02}};
+  hb::write_report(data, dir);
+  const std::string html = ReadText(std::filesystem::path(dir) / "report.html");
+  std::size_t n = 0;
+  for (std::size_t at = html.find("data:image/png;base64,"); at != std::string::npos;
+       at = html.find("data:image/png;base64,", at + 1))
+    ++n;
+  EXPECT_EQ(n, 3u);
+  const nlohmann::json j = nlohmann::json::parse(ReadText(std::filesystem::path(dir) / "summary.json"));
+  EXPECT_EQ(j["compression_curve"].size(), 3u);
+  EXPECT_EQ(j["error_field"]["points"], 0);
+}
