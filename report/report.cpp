@@ -153,6 +153,9 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   d.params = scene.boxes().front().params();
   d.memory_bytes = scene.table_bytes();
   d.bake_seconds = bake_seconds;
+#ifdef HB_REPORT_HAS_CODECS
+  d.codec = codec_name(scene.boxes().front().codec());
+#endif
   const ContactQuery& exact = *references.front().query;
 
   // 1. Accuracy on eval's probes.

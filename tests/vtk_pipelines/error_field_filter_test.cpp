@@ -120,3 +120,27 @@ TEST(ErrorFieldFilterTest, MissingBoxesFail) {
   vtkObject::GlobalWarningDisplayOn();
   EXPECT_EQ(field->GetOutput()->GetNumberOfPoints(), 0);
 }
+
+#include <vtkCallbackCommand.h>
+
+TEST(ErrorFieldFilterTest, AbortFromAProgressObserverStopsTheField) {
+  vtkSmartPointer<vtkPolyData> surface = hb::test::SpherePolyData(6);  // 40,962 vertices: several blocks
+  vtkNew<vtkHapticBoxBakeFilter> bake;
+  bake->SetInputData(surface);
+  bake->SetM(4);
+  bake->SetN(3);
+  vtkNew<vtkHapticBoxErrorFieldFilter> field;
+  field->SetInputData(surface);
+  field->SetBoxSetConnection(bake->GetOutputPort(0));
+  bake->Update();
+  vtkNew<vtkCallbackCommand> onProgress;
+  onProgress->SetCallback([](vtkObject* caller, unsigned long, void*, void*) {
+    auto* algorithm = static_cast<vtkHapticBoxErrorFieldFilter*>(caller);
+    if (algorithm->GetProgress() > 0.06) algorithm->SetAbortExecute(1);
+  });
+  field->AddObserver(vtkCommand::ProgressEvent, onProgress);
+  vtkObject::GlobalWarningDisplayOff();
+  field->Update();
+  vtkObject::GlobalWarningDisplayOn();
+  EXPECT_EQ(field->GetOutput()->GetPointData()->GetArray("RelativeForceError"), nullptr);
+}
