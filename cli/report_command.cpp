@@ -145,6 +145,10 @@ void add_report_command(CLI::App& app) {
     } else if (std::string why; !vtkHapticBoxErrorFieldImage::DisplayAvailable(&why)) {
       data.error_field_note = why;
     } else {
+      // Write the report without the image first: a display that vanishes mid-render can take
+      // the process down inside Xlib, and the figures must survive that.
+      data.error_field_note = "rendering the error field did not finish";
+      hb::write_report(data, opts->out);
       vtkSmartPointer<vtkPolyData> pd = vtkHapticBoxUtilities::ToPolyData(mesh);
       pd->GetPointData()->AddArray(
           vtkHapticBoxUtilities::ToScalarArray("RelativeForceError", data.error_field.force_error));
