@@ -11,3 +11,6 @@ void add_subdivide_command(CLI::App& app);
 void add_devices_command(CLI::App& app);
 void add_servo_command(CLI::App& app);
 void add_decompose_command(CLI::App& app);
+void add_sweep_command(CLI::App& app);
+void add_report_command(CLI::App& app);
+void add_field_command(CLI::App& app);

@@ -19,6 +19,11 @@ int main(int argc, char** argv) {
   add_devices_command(app);
   add_servo_command(app);
   add_decompose_command(app);
+#ifdef HB_WITH_VTK
+  add_sweep_command(app);
+  add_report_command(app);
+  add_field_command(app);
+#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,111 @@
+// hapticbox sweep MESH [--m 8,16,32,64] [--n 4,8,16] [--codec none] [--samples N] [--json]
+// Speed against accuracy: every configuration baked (or taken from the cache), evaluated and
+// timed on the same probes next to exact Embree and VTK's vtkStaticCellLocator.
+#include "cli_support.h"
+#include "commands.h"
+#include "errors.h"
+#include "evaluation/sweep.h"
+#include "exact/exact_query.h"
+#include "mesh/mesh_io.h"
+#include "report_charts.h"
+#include "vtkHapticBoxReferenceQueries.h"
+#include <algorithm>
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+
+namespace {
+
+void print_row(const hb::SweepRow& r, bool pareto_known) {
+  char line[256];
+  const bool box = r.method == "haptic_box";
+  std::snprintf(line, sizeof line, "%-24s %4s %4s %-6s %10.1f %12.2f %9.3f%s %9.2f %9.2f %9.2f %s",
+                r.method.c_str(), box ? std::to_string(r.m).c_str() : "-", box ? std::to_string(r.n).c_str() : "-",
+                box ? r.codec.c_str() : "-", r.query_ns, double(r.memory_bytes) / (1024.0 * 1024.0), r.bake_seconds,
+                r.from_cache ? "c" : " ", 100.0 * r.force_error_median, 100.0 * r.force_error_p95,
+                100.0 * r.contact_agreement, pareto_known ? (r.pareto ? "*" : "") : "");
+  std::cout << line << std::endl;
+}
+
+void print_header() {
+  std::cout << "method                      m    n codec    query_ns   memory_MiB   bake_s  median_%    p95_%  agree_% pareto\n";
+}
+
+} // namespace
+
+void add_sweep_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("sweep", "Speed against accuracy over box configurations, with exact and VTK references");
+  struct Opts {
+    std::string mesh;
+    std::vector<int> m{8, 16, 32, 64};
+    std::vector<int> n{4, 8, 16};
+    std::vector<std::string> codecs{"none"};
+    std::string cache = hb::cli::default_cache_dir();
+    bool no_cache = false;
+    std::string chart;
+    hb::SweepOptions sweep;
+    bool json = false;
+  };
+  auto opts = std::make_shared<Opts>();
+  cmd->add_option("MESH", opts->mesh, "Mesh file")->required();
+  cmd->add_option("-m,--m", opts->m, "Position densities m (comma separated)")->delimiter(',')->check(CLI::Range(2, 4096))->capture_default_str();
+  cmd->add_option("-n,--n", opts->n, "Directional densities n (comma separated)")->delimiter(',')->check(CLI::Range(2, 1024))->capture_default_str();
+  cmd->add_option("--codec", opts->codecs, "Table codecs (comma separated: none, and haar, block when the codec layer is built)")->delimiter(',')->capture_default_str();
+  cmd->add_option("--samples", opts->sweep.samples, "Probes per method")->check(CLI::Range(std::size_t(1), std::size_t(10000000)))->capture_default_str();
+  cmd->add_option("--rounds", opts->sweep.timing_rounds, "Timing passes")->check(CLI::Range(1, 1000))->capture_default_str();
+  cmd->add_option("--seed", opts->sweep.probes.seed, "Probe seed")->capture_default_str();
+  cmd->add_option("--cache", opts->cache, "Directory of cached boxes")->capture_default_str();
+  cmd->add_flag("--no-cache", opts->no_cache, "Bake every configuration, cache nothing");
+  cmd->add_option("--chart", opts->chart, "Also write the speed-vs-accuracy chart (PNG)");
+  hb::cli::add_force_law_options(*cmd, opts->sweep.law);
+  cmd->add_flag("--json", opts->json, "Print JSON");
+  cmd->callback([opts] {
+    for (const std::string& c : opts->codecs) {
+      try {
+        hb::check_sweep_config({2, 2, c});
+      } catch (const hb::InvalidInput& e) {
+        throw hb::cli::UsageError(std::string("--codec: ") + e.what());
+      }
+    }
+    hb::MeshReadReport read;
+    const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh, &read);
+    hb::SourceInfo source;
+    source.mesh_path = opts->mesh;
+    source.mesh_hash = hb::hash_file(opts->mesh);
+    source.triangles = mesh.triangle_count();
+    source.diagonal = mesh.bounds().diagonal();
+    const vtkHapticBoxReferenceQueries refs(mesh);
+    hb::SweepOptions& so = opts->sweep;
+    so.configs = hb::sweep_grid(opts->m, opts->n, opts->codecs);
+    so.cache_dir = opts->no_cache ? "" : opts->cache;
+    so.progress = hb::cli::terminal_progress("sweep");
+    if (!opts->json) {
+      std::cout << "sweep " << opts->mesh << " (" << mesh.triangle_count() << " triangles, " << so.samples
+                << " probes, seed " << so.probes.seed << ", one core for timing)\n";
+      print_header();
+      so.on_row = [](const hb::SweepRow& r) { print_row(r, false); };
+    }
+    std::vector<hb::SweepRow> rows = hb::run_sweep(mesh, {}, source, refs.References(), so);
+    if (!opts->chart.empty()) hb::plot_speed_accuracy(rows, opts->chart);
+    if (opts->json) {
+      nlohmann::json j = {{"mesh", opts->mesh}, {"triangles", mesh.triangle_count()}, {"samples", so.samples},
+                          {"seed", so.probes.seed}, {"rows", nlohmann::json::array()}};
+      for (const hb::SweepRow& r : rows)
+        j["rows"].push_back({{"method", r.method}, {"m", r.m}, {"n", r.n}, {"codec", r.codec},
+                             {"query_ns", r.query_ns}, {"memory_bytes", r.memory_bytes},
+                             {"bake_seconds", r.bake_seconds}, {"from_cache", r.from_cache},
+                             {"force_error_median", r.force_error_median}, {"force_error_p95", r.force_error_p95},
+                             {"contact_agreement", r.contact_agreement}, {"pareto", r.pareto}});
+      hb::cli::print_json(j);
+      return;
+    }
+    std::cout << "\nPareto front (no configuration both faster and more accurate), fastest first:\n";
+    print_header();
+    std::vector<hb::SweepRow> front;
+    for (const hb::SweepRow& r : rows)
+      if (r.pareto) front.push_back(r);
+    std::sort(front.begin(), front.end(), [](const hb::SweepRow& a, const hb::SweepRow& b) { return a.query_ns < b.query_ns; });
+    for (const hb::SweepRow& r : front) print_row(r, true);
+    std::cout << "(c: box from the cache; memory of references: mesh arrays and index, not Embree's BVH)\n";
+  });
+}

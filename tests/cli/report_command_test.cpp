@@ -1,0 +1,128 @@
+// hapticbox sweep / report / field end to end, with no display: the real binary on real files.
+#include "mesh/generators.h"
+#include "mesh/mesh_io.h"
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommandResult {
+  int code = -1;
+  std::string out, err;
+};
+
+class ReportCommandTest : public ::testing::Test {
+protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("hb_report_cli_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    hb::write_mesh(hb::make_torus(10.f, 3.f, 64, 24), (dir_ / "torus.off").string());
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static std::string path(const std::string& name) { return (dir_ / name).string(); }
+  static std::string read(const std::string& name) {
+    std::ifstream in(path(name));
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }
+  static CommandResult run(const std::string& args) {
+    const std::string err_path = path("stderr.txt");
+    const std::string cmd = "env -u DISPLAY " + std::string(HB_CLI_PATH) + " " + args + " 2>" + err_path;
+    CommandResult r;
+    FILE* pipe = popen(cmd.c_str(), "r");
+    std::array<char, 4096> buf{};
+    std::size_t n;
+    while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.out.append(buf.data(), n);
+    const int status = pclose(pipe);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.err = read("stderr.txt");
+    return r;
+  }
+  static fs::path dir_;
+};
+fs::path ReportCommandTest::dir_;
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+} // namespace
+
+TEST_F(ReportCommandTest, ReportJsonCarriesTheFiguresEvalPrintsForTheSameInputAndSeed) {
+  ASSERT_EQ(run("bake " + path("torus.off") + " -o " + path("torus.hbox") + " -m 8 -n 6").code, 0);
+  const CommandResult eval = run("eval " + path("torus.hbox") + " " + path("torus.off") + " --samples 3000 --seed 7 --json");
+  ASSERT_EQ(eval.code, 0) << eval.err;
+  const CommandResult report = run("report " + path("torus.hbox") + " " + path("torus.off") + " -o " + path("rep") +
+                         " --samples 3000 --seed 7 --rounds 1 --no-cache --sweep-m 4 --sweep-n 4");
+  ASSERT_EQ(report.code, 0) << report.err;
+  EXPECT_NE(report.out.find("no error-field image"), std::string::npos) << report.out;
+
+  const auto e = nlohmann::json::parse(eval.out);
+  const auto s = nlohmann::json::parse(read("rep/summary.json"));
+  for (const auto& [key, value] : e.items()) EXPECT_EQ(s["eval"][key], value) << key;
+  EXPECT_EQ(s["box"]["m"], 8);
+  EXPECT_EQ(s["model"]["triangles"].get<std::size_t>(), 64u * 24u * 2u);
+  EXPECT_EQ(s["inputs"]["mesh_hash"].get<std::string>().size(), 16u);
+  EXPECT_EQ(s["inputs"]["box_hash"].get<std::string>().size(), 16u);
+  EXPECT_FALSE(s["product"]["version"].get<std::string>().empty());
+  for (const char* key : {"box_ns", "exact_embree_ns", "vtk_static_cell_locator_ns"}) EXPECT_TRUE(s["timing"].contains(key)) << key;
+  EXPECT_EQ(s["sweep"].size(), 4u);  // exact, VTK, m4 n4, the box itself
+
+  const std::string html = read("rep/report.html");
+  EXPECT_EQ(count(html, "src=\"data:image/png;base64,iVBORw0KGgo"), 2u);
+  EXPECT_EQ(count(html, "src=\""), count(html, "src=\"data:"));
+  EXPECT_EQ(count(html, "href="), 0u);
+  EXPECT_NE(html.find("DISPLAY"), std::string::npos);  // the note explaining the missing image
+
+  std::ifstream csv(path("rep/samples.csv"));
+  std::size_t lines = 0;
+  for (std::string line; std::getline(csv, line);) ++lines;
+  EXPECT_EQ(lines, 3001u);
+}
+
+TEST_F(ReportCommandTest, ReportBakesFromAMesh) {
+  const CommandResult r = run("report " + path("torus.off") + " -o " + path("rep2") + " -m 6 -n 4 --samples 500 --rounds 1 "
+                    "--no-sweep --no-cache");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto s = nlohmann::json::parse(read("rep2/summary.json"));
+  EXPECT_GT(s["box"]["bake_seconds"].get<double>(), 0.0);
+  EXPECT_EQ(s["sweep"].size(), 3u);
+}
+
+TEST_F(ReportCommandTest, SweepPrintsRowsAndTheParetoFront) {
+  const CommandResult r = run("sweep " + path("torus.off") + " -m 4,8 -n 3 --samples 500 --rounds 1 --no-cache --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["rows"].size(), 4u);
+  EXPECT_EQ(j["rows"][0]["method"], "exact_embree");
+  EXPECT_EQ(j["rows"][1]["method"], "vtk_static_cell_locator");
+  EXPECT_GT(j["rows"][1]["contact_agreement"].get<double>(), 0.99);
+  bool front = false;
+  for (const auto& row : j["rows"]) front = front || row["pareto"].get<bool>();
+  EXPECT_TRUE(front);
+}
+
+TEST_F(ReportCommandTest, FieldWritesAVtpFile) {
+  const CommandResult r = run("field " + path("torus.off") + " -o " + path("field.vtp") + " -m 4 -n 3");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string vtp = read("field.vtp");
+  EXPECT_NE(vtp.find("RelativeForceError"), std::string::npos);
+  EXPECT_NE(vtp.find("ContactDisagreement"), std::string::npos);
+}
+
+TEST_F(ReportCommandTest, UsageAndFileErrorsHaveTheirExitCodes) {
+  EXPECT_EQ(run("sweep " + path("torus.off") + " --codec nonsense").code, 2);
+  EXPECT_EQ(run("report " + path("torus.off") + " " + path("torus.off") + " -o " + path("x")).code, 2);
+  const CommandResult missing = run("report " + path("missing.off") + " -o " + path("x"));
+  EXPECT_EQ(missing.code, 1);
+  EXPECT_NE(missing.err.find("missing.off"), std::string::npos) << missing.err;
+}

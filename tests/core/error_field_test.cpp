@@ -1,0 +1,42 @@
+#include "evaluation/error_field.h"
+#include "exact/exact_query.h"
+#include "errors.h"
+#include "mesh/generators.h"
+#include <gtest/gtest.h>
+#include <cmath>
+
+TEST(ErrorFieldTest, ExactAgainstItselfHasNoError) {
+  const hb::TriangleMesh mesh = hb::make_sphere(1.f, 3);
+  const hb::ExactQuery exact(mesh);
+  hb::ErrorFieldOptions options;
+  options.probes_per_point = 2;
+  const auto points = hb::surface_points_at_vertices(mesh);
+  const hb::ErrorField f = hb::compute_error_field(exact, exact, points, mesh.bounds().diagonal(), options);
+  ASSERT_EQ(f.size(), mesh.vertex_count());
+  EXPECT_EQ(f.probes, 2 * mesh.vertex_count());
+  std::size_t with_data = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    EXPECT_EQ(f.contact_disagreement[i], 0.f);
+    if (!std::isnan(f.force_error[i])) {
+      ++with_data;
+      EXPECT_EQ(f.force_error[i], 0.f);
+    }
+  }
+  EXPECT_EQ(with_data, mesh.vertex_count());  // every probe aimed at the sphere reaches it
+}
+
+TEST(ErrorFieldTest, DeterministicWhateverTheThreadsAndCancellable) {
+  const hb::TriangleMesh mesh = hb::make_torus(1.f, 0.3f, 48, 16);
+  const hb::ExactQuery exact(mesh);
+  const auto points = hb::sample_surface_evenly(mesh, 5000, 3);
+  EXPECT_EQ(points.size(), 5000u);
+  hb::ErrorFieldOptions options;
+  const auto a = hb::compute_error_field(exact, exact, points, 2.f, options);
+  const auto b = hb::compute_error_field(exact, exact, points, 2.f, options);
+  EXPECT_EQ(a.exact_force, b.exact_force);
+  options.progress = [](double f) { return f < 0.3; };
+  EXPECT_THROW(hb::compute_error_field(exact, exact, points, 2.f, options), hb::Cancelled);
+  options.progress = {};
+  options.probes_per_point = 0;
+  EXPECT_THROW(hb::compute_error_field(exact, exact, points, 2.f, options), hb::InvalidInput);
+}

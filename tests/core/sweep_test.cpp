@@ -1,0 +1,46 @@
+#include "evaluation/sweep.h"
+#include "exact/exact_query.h"
+#include "errors.h"
+#include "mesh/generators.h"
+#include <gtest/gtest.h>
+#include <filesystem>
+#include <unistd.h>
+
+TEST(SweepTest, ParetoFrontKeepsOnlyUndominatedRows) {
+  std::vector<hb::SweepRow> rows(4);
+  rows[0].query_ns = 100, rows[0].force_error_median = 0.10;  // fast, inaccurate: front
+  rows[1].query_ns = 200, rows[1].force_error_median = 0.05;  // front
+  rows[2].query_ns = 300, rows[2].force_error_median = 0.06;  // dominated by 1
+  rows[3].query_ns = 900, rows[3].force_error_median = 0.0;   // exact: front
+  hb::mark_pareto_front(rows);
+  EXPECT_TRUE(rows[0].pareto);
+  EXPECT_TRUE(rows[1].pareto);
+  EXPECT_FALSE(rows[2].pareto);
+  EXPECT_TRUE(rows[3].pareto);
+}
+
+TEST(SweepTest, RunsReferencesAndConfigurationsAndReusesTheCache) {
+  const hb::TriangleMesh mesh = hb::make_sphere(1.f, 3);
+  const hb::ExactQuery exact(mesh);
+  const std::string cache = "/tmp/vtk_hb_sweep_test_" + std::to_string(::getpid());
+  hb::SweepOptions options;
+  options.configs = hb::sweep_grid({4, 8}, {3});
+  options.samples = 1000;
+  options.timing_rounds = 1;
+  options.cache_dir = cache;
+  const hb::SourceInfo source{"sphere", 0x1234, mesh.triangle_count(), mesh.bounds().diagonal()};
+  const auto rows = hb::run_sweep(mesh, {}, source, {{"exact_embree", &exact, 0, 0.0}}, options);
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0].method, "exact_embree");
+  EXPECT_EQ(rows[0].force_error_median, 0.0);
+  EXPECT_EQ(rows[0].contact_agreement, 1.0);
+  EXPECT_EQ(rows[2].m, 8);
+  EXPECT_FALSE(rows[2].from_cache);
+  EXPECT_TRUE(std::filesystem::exists(hb::sweep_cache_path(cache, 0x1234, options.configs[1])));
+  const auto again = hb::run_sweep(mesh, {}, source, {{"exact_embree", &exact, 0, 0.0}}, options);
+  EXPECT_TRUE(again[2].from_cache);
+  EXPECT_EQ(again[2].force_error_median, rows[2].force_error_median);
+  std::filesystem::remove_all(cache);
+  options.configs = {{8, 3, "nonsense"}};
+  EXPECT_THROW(hb::run_sweep(mesh, {}, source, {{"exact_embree", &exact, 0, 0.0}}, options), hb::InvalidInput);
+}

@@ -1,0 +1,32 @@
+/**
+ * @class   vtkHapticBoxErrorFieldImage
+ * @brief   Renders an error field (output of vtkHapticBoxErrorFieldFilter) to a PNG file.
+ *
+ * Debian's VTK 9.1 renders only through X, so rendering is attempted only when a display is
+ * available: $DISPLAY is set and an X connection opens (DisplayAvailable). Headless callers
+ * (the hapticbox command without X) get false and a note instead of a crash. Under
+ * `xvfb-run -a` an image is produced.
+ */
+#ifndef vtkHapticBoxErrorFieldImage_h
+#define vtkHapticBoxErrorFieldImage_h
+
+#include <string>
+
+class vtkPolyData;
+
+class vtkHapticBoxErrorFieldImage {
+public:
+  /// True when an X display can be opened; otherwise false with the reason in `why`.
+  static bool DisplayAvailable(std::string* why = nullptr);
+
+  /**
+   * Renders `field` coloured by its point array `arrayName` (blue 0 to red `rangeMax`; NaN,
+   * "no data", grey) with a scalar bar titled `title`, from two opposite views side by side,
+   * to `pngPath` (`width` x `height` pixels). Returns false with the reason in `note` when
+   * there is no display, the array is missing or the file cannot be written. Never throws.
+   */
+  static bool Render(vtkPolyData* field, const std::string& arrayName, double rangeMax, const std::string& title,
+                     const std::string& pngPath, int width = 1200, int height = 600, std::string* note = nullptr);
+};
+
+#endif
