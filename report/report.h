@@ -1,0 +1,80 @@
+#pragma once
+// Error reports: the figures a user asks for ("how much accuracy for how much speed and memory,
+// and where is it wrong?") computed once and written as report.html (self-contained, charts
+// embedded), summary.json (every figure and parameter, versions and hashes) and samples.csv
+// (one row per probe with both answers). The CLI's `report` and the desktop window call these.
+#include "evaluation/comparison.h"
+#include "evaluation/error_field.h"
+#include "evaluation/sweep.h"
+#include "haptic_box/box_scene.h"
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hb {
+
+/// Stated tolerances a report checks (pass/fail).
+struct ReportTolerances {
+  double force_error_median = 0.05;  ///< max median relative force error.
+  double force_error_p95 = 0.25;     ///< max 95th percentile.
+  double contact_agreement = 0.95;   ///< min fraction of probes where contact flags agree.
+};
+
+/// Options of compute_report.
+struct ReportOptions {
+  std::size_t samples = 20000;       ///< probes for accuracy and timing (hb::sample_probes).
+  ProbeOptions probes;               ///< the default probe distribution (eval's).
+  ForceLaw law;
+  int timing_rounds = 5;
+  ReportTolerances tolerances;
+  /// Extra box configurations measured for the speed-vs-accuracy chart (the report's own
+  /// box is always a row). Empty: none.
+  std::vector<SweepConfig> sweep_configs;
+  std::string cache_dir;             ///< sweep box cache (see SweepOptions::cache_dir).
+  int error_field_probes_per_vertex = 1; ///< 0: no error field.
+  ProgressCallback progress;         ///< [0, 1], calling thread; false cancels.
+};
+
+/// Everything a report shows.
+struct ReportData {
+  std::string product_version;
+  std::string mesh_path, box_path;       ///< box_path empty when baked for the report.
+  std::uint64_t mesh_hash = 0, box_hash = 0;
+  std::size_t vertices = 0, triangles = 0, pieces = 0;
+  float diagonal = 0.f;
+  BoxParams params;
+  std::string codec = "none";
+  std::size_t memory_bytes = 0;          ///< box tables.
+  double bake_seconds = 0.0;             ///< 0 when loaded from a file.
+  ComparisonStats stats;                 ///< the report's box against the exact reference.
+  std::vector<ProbeRecord> records;      ///< one per probe (samples.csv).
+  std::vector<SweepRow> rows;            ///< references, sweep configurations and the box itself.
+  double box_ns = 0.0;                   ///< query time of the report's box.
+  bool pass_median = false, pass_p95 = false, pass_agreement = false;
+  ErrorField error_field;                ///< per vertex (empty when disabled).
+  double error_field_median = 0.0, error_field_p95 = 0.0; ///< over vertices with data.
+  std::string error_field_image;         ///< PNG path of the rendered field, or empty.
+  std::string error_field_note;          ///< why there is no image, when there is none.
+  std::vector<std::pair<double, double>> compression_curve; ///< empty when no codec.
+  ReportOptions options;
+  double compute_seconds = 0.0;
+  bool pass() const { return pass_median && pass_p95 && pass_agreement; }
+};
+
+/// Evaluates `scene` against the first reference (exact Embree) on the same probes as
+/// `hapticbox eval` (same count, same seed: same figures), times every method on one core,
+/// measures the extra sweep configurations (baked from `mesh` and `pieces`) and computes the
+/// per-vertex error field. `bake_seconds`: how long `scene` took to bake (0: loaded). Fills
+/// everything but the paths, hashes, version and image, which the caller knows. Throws hb::InvalidInput, hb::Cancelled.
+ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint32_t>& pieces,
+                          const BoxScene& scene, double bake_seconds,
+                          const std::vector<SweepReference>& references, const ReportOptions& options);
+
+/// The JSON summary (what summary.json holds); `eval` carries the keys of `hapticbox eval --json`.
+std::string report_json(const ReportData& data);
+
+/// Writes DIR/report.html, DIR/summary.json, DIR/samples.csv (and the chart PNGs under
+/// DIR/charts/); creates DIR. Throws hb::IoError.
+void write_report(const ReportData& data, const std::string& dir);
+
+} // namespace hb

@@ -1,0 +1,66 @@
+#pragma once
+// The error field: where on a model the approximation is wrong. Probes are aimed at points of
+// the surface from a cone of directions; the exact and approximated answers are compared per
+// point (paper 6.1.2's relative force error, mapped over the surface).
+#include "haptic_box/contact.h"
+#include "progress.h"
+#include <cstdint>
+#include <vector>
+
+namespace hb {
+
+/// A point of the surface and its unit outward normal (the probe cone opens around -normal).
+struct SurfacePoint {
+  Vec3 position{Vec3::Zero()};
+  Vec3 normal{Vec3::UnitZ()};
+};
+
+/// The mesh's vertices with their (shaded) vertex normals: one field value per vertex.
+std::vector<SurfacePoint> surface_points_at_vertices(const TriangleMesh& mesh);
+
+/// `count` points spread evenly over the surface: area-proportional (stratified over the
+/// cumulative area, so dense and sparse regions get their share without clumping), each with
+/// its triangle's flat normal. Deterministic for a seed. Throws hb::InvalidInput on an empty
+/// or zero-area mesh.
+std::vector<SurfacePoint> sample_surface_evenly(const TriangleMesh& mesh, std::size_t count,
+                                                std::uint64_t seed = 1);
+
+/// Options of compute_error_field. Lengths are fractions of `diagonal` (the mesh's
+/// bounding-box diagonal); the defaults are those of sample_probes, so figures compare.
+struct ErrorFieldOptions {
+  int probes_per_point = 1;         ///< probes aimed at each point, >= 1.
+  float cone_degrees = 30.f;        ///< max angle between a probe and the inward normal, [0, 89].
+  float length_fraction = 0.10f;    ///< probe segment length.
+  float max_depth_fraction = 0.03f; ///< tip past the point by a uniform depth in [0, this].
+  std::uint64_t seed = 1;           ///< probes of point i depend on (seed, i) only.
+  ForceLaw law;                     ///< the same force law for both answers.
+  /// Progress in [0, 1] from the calling thread; return false to cancel (throws hb::Cancelled).
+  ProgressCallback progress;
+};
+
+/// Per-point statistics over the probes aimed at that point. Force and direction errors are
+/// over the probes where both answers are in contact, NaN where there is none (no data: a
+/// renderer shows it as such rather than as zero error).
+struct ErrorField {
+  std::vector<Vec3> exact_force;        ///< mean exact force over the point's probes, N.
+  std::vector<Vec3> approx_force;       ///< mean approximated force, N.
+  std::vector<float> force_error;       ///< mean relative |F1 - F0| / |F0|, NaN when no data.
+  std::vector<float> direction_error;   ///< mean angle between the normals, degrees, NaN when no data.
+  std::vector<float> contact_disagreement; ///< fraction of probes whose contact flags differ, [0, 1].
+  std::vector<float> exact_contact_fraction; ///< fraction of probes in exact contact, [0, 1].
+  std::size_t probes = 0;               ///< total probes run.
+  double seconds = 0.0;                 ///< wall time of the computation.
+  std::size_t size() const { return force_error.size(); }
+};
+
+/// Aims `options.probes_per_point` probes at each point (tip past the point along a direction
+/// within the cone around -normal, handle one segment length back: the distribution of
+/// sample_probes, centred on the given points; each aimed 1e-4 diagonal beside the point in its
+/// tangent plane, since a ray through a mesh vertex exactly can slip between its triangles), answers each with `exact` and `approx`, and
+/// reduces per point. Runs on all cores (TBB); deterministic for a seed whatever the threads.
+/// Throws hb::InvalidInput (bad options, diagonal <= 0) or hb::Cancelled.
+ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& exact,
+                               const std::vector<SurfacePoint>& points, float diagonal,
+                               const ErrorFieldOptions& options = {});
+
+} // namespace hb

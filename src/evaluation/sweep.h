@@ -1,0 +1,86 @@
+#pragma once
+// Speed against accuracy: bake, evaluate and time a grid of box configurations next to
+// reference methods measured in the same run on the same probe segments.
+#include "evaluation/comparison.h"
+#include "evaluation/probe_sampling.h"
+#include "geometry/obb.h"
+#include "haptic_box/box_scene.h"
+#include "progress.h"
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace hb {
+
+/// One box configuration: densities and the table codec ("none": plain 8-byte samples, the
+/// only codec of this build; others are rejected with hb::InvalidInput until src/codec lands).
+struct SweepConfig {
+  int m = 32;
+  int n = 16;
+  std::string codec = "none";
+};
+
+/// The grid ms x ns x codecs, in that nesting order (m slowest).
+std::vector<SweepConfig> sweep_grid(const std::vector<int>& ms, const std::vector<int>& ns,
+                                    const std::vector<std::string>& codecs = {"none"});
+
+/// A method measured by the sweep that is not a box: the exact reference (Embree), VTK's
+/// locator, ... `query` must outlive the sweep.
+struct SweepReference {
+  std::string method;              ///< e.g. "exact_embree", "vtk_static_cell_locator".
+  const ContactQuery* query = nullptr;
+  std::size_t memory_bytes = 0;    ///< what the method keeps in memory (estimate where noted).
+  double build_seconds = 0.0;      ///< acceleration-structure build time.
+};
+
+/// One row of the sweep table.
+struct SweepRow {
+  std::string method;              ///< "haptic_box" or a reference's name.
+  int m = 0, n = 0;                ///< 0 for references.
+  std::string codec;               ///< empty for references.
+  double query_ns = 0.0;           ///< median ns per query, one core (hb::median_query_ns).
+  std::size_t memory_bytes = 0;    ///< tables for boxes; the reference's figure otherwise.
+  double bake_seconds = 0.0;       ///< bake (or build) time; 0 when the box came from the cache.
+  bool from_cache = false;         ///< the box was loaded from the cache directory.
+  double force_error_median = 0.0; ///< against the exact reference, both-contact probes.
+  double force_error_p95 = 0.0;
+  double contact_agreement = 0.0;
+  double angle_error_median_deg = 0.0;
+  bool pareto = false;             ///< on the Pareto front (see mark_pareto_front).
+};
+
+/// Options of run_sweep.
+struct SweepOptions {
+  std::vector<SweepConfig> configs = sweep_grid({8, 16, 32, 64}, {4, 8, 16});
+  std::size_t samples = 20000;     ///< probes (hb::sample_probes) for accuracy and timing.
+  int timing_rounds = 5;           ///< passes of median_query_ns.
+  ProbeOptions probes;             ///< the default probe distribution.
+  ForceLaw law;
+  ObbOptions obb;
+  /// Directory of cached boxes, named by mesh hash and configuration; empty: no cache.
+  /// A cached box is used only when its recorded mesh hash matches `source.mesh_hash` (!= 0).
+  std::string cache_dir;
+  /// Progress in [0, 1] from the calling thread; false cancels (throws hb::Cancelled).
+  ProgressCallback progress;
+  /// Called with each row as soon as it is measured (e.g. to print it).
+  std::function<void(const SweepRow&)> on_row;
+};
+
+/// Runs the sweep: the references first (the first one is the ground truth, normally exact
+/// Embree; its own row has zero error), then each configuration: bake (or load from the
+/// cache, saving new bakes to it), evaluate on the same probes, time on one core. Only one
+/// box is held in memory at a time. Returns the rows with the Pareto front marked.
+/// Throws hb::InvalidInput (no reference, bad configuration or codec), hb::IoError (cache),
+/// hb::Cancelled.
+std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const std::vector<std::uint32_t>& piece_of_triangle,
+                                const SourceInfo& source, const std::vector<SweepReference>& references,
+                                const SweepOptions& options);
+
+/// Marks the Pareto front over (query_ns, force_error_median): a row is on it when no
+/// other row is at least as fast and at least as accurate, and strictly better in one.
+void mark_pareto_front(std::vector<SweepRow>& rows);
+
+/// The cache file of a configuration: DIR/<mesh hash hex>_m<M>_n<N>_<codec>.hbox.
+std::string sweep_cache_path(const std::string& dir, std::uint64_t mesh_hash, const SweepConfig& config);
+
+} // namespace hb

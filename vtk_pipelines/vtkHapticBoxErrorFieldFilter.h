@@ -1,0 +1,109 @@
+/**
+ * @class   vtkHapticBoxErrorFieldFilter
+ * @brief   Where on the surface the haptic box is wrong: exact against approximated forces.
+ *
+ * Input 0: the surface (vtkPolyData with triangles; the mesh the boxes were baked from).
+ * Input 1: the boxes (vtkHapticBoxSet, e.g. from vtkHapticBoxBakeFilter output 0).
+ * Output: the sample points with point arrays (a thin adapter over hb::compute_error_field):
+ *  - "ExactForce", "ApproxForce" (3 components, N): mean forces over the point's probes;
+ *  - "RelativeForceError": mean |F1 - F0| / |F0| over the probes both answers call a contact
+ *    (NaN where none does: no data, not zero error);
+ *  - "DirectionError": mean angle between the normals, degrees (NaN likewise);
+ *  - "ContactDisagreement": fraction of the point's probes whose contact flags differ;
+ *  - "ExactContactFraction": fraction of probes in exact contact;
+ *  - "Normals".
+ * SampleMode Vertices (default): the output is the triangulated input surface, one value per
+ * vertex. SampleMode Even: NumberOfSamples points spread evenly by area (vertex cells).
+ * The exact reference is Embree on the input surface (hb::ExactQuery). Field data
+ * "ErrorFieldSeconds" holds the computation's wall time. Progress events; abort honoured.
+ */
+#ifndef vtkHapticBoxErrorFieldFilter_h
+#define vtkHapticBoxErrorFieldFilter_h
+
+#include <vtkPolyDataAlgorithm.h>
+#include <cstdint>
+
+class vtkHapticBoxSet;
+
+class vtkHapticBoxErrorFieldFilter : public vtkPolyDataAlgorithm {
+public:
+  static vtkHapticBoxErrorFieldFilter* New();
+  vtkTypeMacro(vtkHapticBoxErrorFieldFilter, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum SampleModes { VERTICES = 0, EVEN = 1 };
+
+  /// Connect the boxes (input port 1).
+  void SetBoxSetConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(1, output); }
+  void SetBoxSetData(vtkHapticBoxSet* boxes);
+
+  ///@{
+  /// Vertices (one value per vertex) or Even (NumberOfSamples area-uniform points).
+  vtkSetClampMacro(SampleMode, int, VERTICES, EVEN);
+  vtkGetMacro(SampleMode, int);
+  void SetSampleModeToVertices() { this->SetSampleMode(VERTICES); }
+  void SetSampleModeToEven() { this->SetSampleMode(EVEN); }
+  ///@}
+
+  ///@{
+  /// Points for SampleMode Even (default 10000).
+  vtkSetClampMacro(NumberOfSamples, vtkIdType, 1, VTK_ID_MAX);
+  vtkGetMacro(NumberOfSamples, vtkIdType);
+  ///@}
+
+  ///@{
+  /// Probes aimed at each point (default 1).
+  vtkSetClampMacro(ProbesPerPoint, int, 1, 100000);
+  vtkGetMacro(ProbesPerPoint, int);
+  ///@}
+
+  ///@{
+  /// Half-angle of the probe cone around the inward normal, degrees (default 30).
+  vtkSetClampMacro(ConeAngle, double, 0.0, 89.0);
+  vtkGetMacro(ConeAngle, double);
+  ///@}
+
+  ///@{
+  /// Probe length and maximal tip depth as fractions of the diagonal (defaults 0.1, 0.03).
+  vtkSetClampMacro(LengthFraction, double, 1e-6, 10.0);
+  vtkGetMacro(LengthFraction, double);
+  vtkSetClampMacro(MaxDepthFraction, double, 0.0, 10.0);
+  vtkGetMacro(MaxDepthFraction, double);
+  ///@}
+
+  ///@{
+  /// Seed of the probe directions and depths (default 1).
+  vtkSetMacro(Seed, vtkTypeUInt64);
+  vtkGetMacro(Seed, vtkTypeUInt64);
+  ///@}
+
+  ///@{
+  /// Force law: stiffness in N/m (default 500) and model units to metres (default 0.001).
+  vtkSetClampMacro(Stiffness, double, 1e-12, VTK_DOUBLE_MAX);
+  vtkGetMacro(Stiffness, double);
+  vtkSetClampMacro(MetresPerUnit, double, 1e-12, VTK_DOUBLE_MAX);
+  vtkGetMacro(MetresPerUnit, double);
+  ///@}
+
+protected:
+  vtkHapticBoxErrorFieldFilter();
+  ~vtkHapticBoxErrorFieldFilter() override;
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int SampleMode = VERTICES;
+  vtkIdType NumberOfSamples = 10000;
+  int ProbesPerPoint = 1;
+  double ConeAngle = 30.0;
+  double LengthFraction = 0.10;
+  double MaxDepthFraction = 0.03;
+  vtkTypeUInt64 Seed = 1;
+  double Stiffness = 500.0;
+  double MetresPerUnit = 0.001;
+
+private:
+  vtkHapticBoxErrorFieldFilter(const vtkHapticBoxErrorFieldFilter&) = delete;
+  void operator=(const vtkHapticBoxErrorFieldFilter&) = delete;
+};
+
+#endif
