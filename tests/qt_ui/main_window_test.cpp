@@ -1,0 +1,231 @@
+// The window end to end under a display: open, bake, probe with both arrows, error field,
+// report, screenshot (checked pixel by pixel), cache, cancel, sessions, bad input.
+#include "BackgroundJob.h"
+#include "BakePanel.h"
+#include "ErrorFieldPanel.h"
+#include "HapticSession.h"
+#include "MainWindow.h"
+#include "ProbeView.h"
+#include "ReadoutPanel.h"
+#include "ui_test_support.h"
+#include <QFile>
+#include <QFileInfo>
+#include <QImage>
+#include <QPushButton>
+#include <vtkRenderWindow.h>
+#include <gtest/gtest.h>
+
+using hbtest::pump;
+using hbtest::waitFor;
+
+namespace {
+
+void setSmallBake(HapticSession& s, int m = 8, int n = 4) {
+  BakeSettings b = s.bakeSettings();
+  b.m = m;
+  b.n = n;
+  s.setBakeSettings(b);
+}
+
+/// Opens the mesh and bakes a small box through the panel's Bake button.
+void openAndBake(MainWindow& w, const QString& mesh) {
+  w.setBakeOnOpen(false);
+  ASSERT_TRUE(w.openFile(mesh));
+  setSmallBake(*w.session());
+  w.bakePanel()->showSettings();
+  w.bakePanel()->bakeButton()->click();
+  ASSERT_TRUE(waitFor([&] { return w.session()->hasBoxes() && !w.session()->job()->isRunning(); }));
+}
+
+/// Places the probe on the model at the centre of the view.
+bool placeProbe(MainWindow& w) {
+  ProbeView* v = w.probeView();
+  const int* size = v->renderWindow()->GetSize();
+  hb::Vec3 p;
+  if (!v->pickSurface(size[0] / 2, size[1] / 2, p)) return false;
+  w.session()->aimProbe(v->viewDirection(), v->viewRight());
+  w.session()->setProbeTarget(p);
+  return true;
+}
+
+struct PixelCounts {
+  int model = 0, exactArrow = 0, approxArrow = 0, total = 0;
+};
+
+/// Counts the model's beige pixels and the arrows' green and orange ones.
+PixelCounts countPixels(const QString& png) {
+  PixelCounts c;
+  QImage img(png);
+  if (img.isNull()) return c;
+  img = img.convertToFormat(QImage::Format_RGB32);
+  for (int y = 0; y < img.height(); ++y)
+    for (int x = 0; x < img.width(); ++x) {
+      const QColor q(img.pixel(x, y));
+      const int r = q.red(), g = q.green(), b = q.blue();
+      ++c.total;
+      if (r > 90 && r >= g && g >= b && r - b > 25 && !(g < 0.75 * r && b < 80)) ++c.model;
+      if (g > 110 && g > r + 40 && g > b + 40) ++c.exactArrow;
+      if (r > 150 && g > 50 && g < 0.7 * r && b < 60) ++c.approxArrow;
+    }
+  return c;
+}
+
+}  // namespace
+
+TEST(MainWindowTest, OpensBakesAndShowsBothArrowsAtContact) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  openAndBake(w, data.mesh);
+  EXPECT_TRUE(w.session()->servoRunning());
+  ASSERT_TRUE(placeProbe(w));
+  ASSERT_TRUE(waitFor([&] {
+    const ProbeReading r = w.session()->reading();
+    return r.exact.contact && r.approx.contact;
+  }, 10.0));
+  pump(0.7);
+  w.refresh();
+  EXPECT_TRUE(w.probeView()->exactArrowShown());
+  EXPECT_TRUE(w.probeView()->approxArrowShown());
+  const ProbeReading r = w.session()->reading();
+  EXPECT_GT(r.exact.force.norm(), 0.f);
+  EXPECT_LT(r.relativeError, 0.5);
+  EXPECT_GT(r.rateHz, 500.0);  // the device thread runs at ~1 kHz
+  for (int i = 0; i < 6; ++i) w.refresh();
+  EXPECT_TRUE(w.readoutPanel()->rowText("exact").endsWith(" N"));
+  EXPECT_TRUE(w.readoutPanel()->rowText("approx").endsWith(" N"));
+  EXPECT_TRUE(w.readoutPanel()->rowText("device").contains("Hz"));
+
+  // Deeper means more force.
+  const float before = r.exact.force.norm();
+  w.session()->setDepthFraction(w.session()->depthFraction() + 0.01);
+  pump(0.1);
+  EXPECT_GT(w.session()->reading().exact.force.norm(), before);
+}
+
+TEST(MainWindowTest, ScreenshotShowsTheModelAndBothArrows) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  openAndBake(w, data.mesh);
+  ASSERT_TRUE(placeProbe(w));
+  w.session()->setDepthFraction(0.03);
+  pump(1.0);
+  w.refresh();
+  const QString png = data.dir.filePath(QStringLiteral("shot.png"));
+  ASSERT_TRUE(w.exportScreenshot(png));
+  const PixelCounts c = countPixels(png);
+  ASSERT_GT(c.total, 10000);
+  EXPECT_GT(c.model, c.total / 50) << "the model covers too few pixels: blank screenshot?";
+  EXPECT_GT(c.exactArrow, 20) << "no green (exact) arrow pixels";
+  EXPECT_GT(c.approxArrow, 20) << "no orange (haptic box) arrow pixels";
+}
+
+TEST(MainWindowTest, ComputesTheErrorFieldAndExportsAReport) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  openAndBake(w, data.mesh);
+  w.errorFieldPanel()->computeButton()->click();
+  ASSERT_TRUE(waitFor([&] { return w.session()->hasErrorField() && !w.session()->job()->isRunning(); }));
+  EXPECT_EQ(w.session()->errorField()->size(), w.session()->mesh().vertex_count());
+  EXPECT_EQ(w.probeView()->colorMode(), ProbeView::ColorMode::ErrorField);
+  EXPECT_TRUE(w.probeView()->scalarBarShown());
+  w.errorFieldPanel()->setMetric(ErrorMetric::Direction);
+  EXPECT_TRUE(w.probeView()->scalarBarShown());
+
+  const QString dir = data.dir.filePath(QStringLiteral("report"));
+  ASSERT_TRUE(w.exportReport(dir, 2000));
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 300));
+  for (const char* f : {"report.html", "summary.json", "samples.csv", "error_field.png"})
+    EXPECT_TRUE(QFileInfo::exists(dir + "/" + f)) << f;
+  QFile html(dir + "/report.html");
+  ASSERT_TRUE(html.open(QIODevice::ReadOnly));
+  EXPECT_TRUE(html.readAll().contains("data:image/png;base64"));
+  EXPECT_GT(w.session()->sweepRows().size(), 1u);
+}
+
+TEST(MainWindowTest, ReopeningUsesTheCachedBake) {
+  hbtest::MeshDir data;
+  {
+    MainWindow w;
+    openAndBake(w, data.mesh);
+  }
+  MainWindow w;
+  w.setBakeOnOpen(false);
+  setSmallBake(*w.session());
+  const auto t0 = std::chrono::steady_clock::now();
+  ASSERT_TRUE(w.openFile(data.mesh));
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_TRUE(w.session()->hasBoxes());
+  EXPECT_TRUE(w.session()->boxesFromCache());
+  EXPECT_LT(s, 5.0);  // generous: the figure itself belongs in a benchmark
+}
+
+TEST(MainWindowTest, CancellingABakeLeavesNoBoxes) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.setBakeOnOpen(false);
+  ASSERT_TRUE(w.openFile(data.mesh));
+  BakeSettings b = w.session()->bakeSettings();
+  b.m = 96;
+  b.n = 24;
+  b.useCache = false;
+  w.session()->setBakeSettings(b);
+  w.bakePanel()->showSettings();
+  w.bakePanel()->bakeButton()->click();
+  ASSERT_TRUE(w.session()->job()->isRunning());
+  pump(0.2);
+  w.bakePanel()->cancelButton()->click();
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 60));
+  EXPECT_FALSE(w.session()->hasBoxes());
+  EXPECT_TRUE(w.bakePanel()->bakeButton()->isEnabled());
+}
+
+TEST(MainWindowTest, BadFilesAreReportedNotFatal) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  const QString garbage = data.dir.filePath(QStringLiteral("garbage.off"));
+  QFile f(garbage);
+  ASSERT_TRUE(f.open(QIODevice::WriteOnly));
+  f.write("OFF\n3 1 0\n0 0 0\nnan 1 0\n");
+  f.close();
+  EXPECT_FALSE(w.openFile(garbage));
+  EXPECT_FALSE(w.openFile(data.dir.filePath(QStringLiteral("missing.off"))));
+  EXPECT_FALSE(w.openFile(data.dir.filePath(QStringLiteral("model.xyz"))));
+  EXPECT_FALSE(w.session()->hasMesh());
+  // A good file still opens afterwards.
+  w.setBakeOnOpen(false);
+  EXPECT_TRUE(w.openFile(data.mesh));
+}
+
+TEST(MainWindowTest, SessionFileReopensModelBoxesAndCamera) {
+  hbtest::MeshDir data;
+  const QString path = data.dir.filePath(QStringLiteral("s.hbsession"));
+  CameraState camera;
+  {
+    MainWindow w;
+    w.show();
+    openAndBake(w, data.mesh);
+    w.session()->setDepthFraction(0.02);
+    camera = w.probeView()->cameraState();
+    ASSERT_TRUE(w.saveSession(path));
+  }
+  MainWindow w;
+  w.show();
+  ASSERT_TRUE(w.openFile(path));
+  EXPECT_EQ(w.session()->meshPath(), QFileInfo(data.mesh).absoluteFilePath());
+  EXPECT_TRUE(w.session()->hasBoxes());  // from the cache
+  EXPECT_EQ(w.session()->bakeSettings().m, 8);
+  EXPECT_NEAR(w.session()->depthFraction(), 0.02, 1e-9);
+  const CameraState c = w.probeView()->cameraState();
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(c.position[i], camera.position[i], 1e-6);
+}
+
+TEST(MainWindowTest, WithoutAFalconTheVirtualDeviceIsUsed) {
+  MainWindow w;
+  QString note;
+  EXPECT_FALSE(w.session()->setDevice(DeviceKind::Falcon, {}, &note));
+  EXPECT_EQ(w.session()->deviceKind(), DeviceKind::Virtual);
+  EXPECT_FALSE(note.isEmpty());
+}
