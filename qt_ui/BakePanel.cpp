@@ -158,6 +158,7 @@ void BakePanel::updateState() {
     info_->setText(session_->hasMesh() ? tr("No boxes yet: bake to start the device thread") : QString());
     return;
   }
+  if (!busy) progress_->setValue(1000);
   const hb::BoxScene& s = *session_->boxes();
   const auto& p = s.boxes().front().params();
   info_->setText(tr("%1 box(es), m %2, n %3, %4 MB of tables, %5")

@@ -546,6 +546,10 @@ void HapticSession::startServo() {
   o.law = law_;
   o.mapping = mapping_;
   o.request_realtime = qEnvironmentVariableIsEmpty("HB_GUI_NO_REALTIME");
+  // No busy-wait before each deadline: the window renders on the same cores (software GL
+  // uses every core), and a real-time thread spinning 50 us per tick halves its frame rate
+  // while sleeping to the deadline keeps the p99 period within a few tens of us.
+  o.spin_s = qEnvironmentVariableIntValue("HB_GUI_SPIN_US") * 1e-6;
   if (auto* replay = dynamic_cast<hb::ReplayDevice*>(device_.get())) o.rate_hz = replay->log().rate_hz;
   try {
     loop_ = std::make_unique<hb::ServoLoop>(*device_, *monitor_, o);

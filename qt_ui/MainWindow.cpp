@@ -121,17 +121,16 @@ void MainWindow::createDocks() {
     addDockWidget(area, d);
     return d;
   };
-  QDockWidget* bake = dock(bake_, tr("Bake"), QStringLiteral("BakeDock"), Qt::RightDockWidgetArea);
   QDockWidget* readout = dock(readout_, tr("Readout"), QStringLiteral("ReadoutDock"), Qt::RightDockWidgetArea);
+  QDockWidget* bake = dock(bake_, tr("Bake"), QStringLiteral("BakeDock"), Qt::RightDockWidgetArea);
   QDockWidget* field = dock(errorPanel_, tr("Error field"), QStringLiteral("ErrorFieldDock"), Qt::RightDockWidgetArea);
   QDockWidget* device = dock(device_, tr("Device"), QStringLiteral("DeviceDock"), Qt::RightDockWidgetArea);
   QDockWidget* charts = dock(charts_, tr("Charts"), QStringLiteral("ChartsDock"), Qt::BottomDockWidgetArea);
   tabifyDockWidget(bake, field);
   tabifyDockWidget(field, device);
   bake->raise();
-  splitDockWidget(bake, readout, Qt::Vertical);
+  resizeDocks({readout, bake}, {260, 520}, Qt::Vertical);
   charts->hide();
-  (void)readout;
 }
 
 void MainWindow::createActions() {

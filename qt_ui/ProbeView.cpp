@@ -2,9 +2,16 @@
 #include "ProbeInteractorStyle.h"
 #include "errors.h"
 #include <QFile>
+#include <QTimer>
+#include <QtGlobal>
 #include <vtkActor.h>
 #include <vtkArrowSource.h>
+#include <vtkCallbackCommand.h>
 #include <vtkCamera.h>
+#include <vtkIdTypeArray.h>
+#include <vtkPolyDataNormals.h>
+#include <vtkQuadricClustering.h>
+#include <vtkStaticPointLocator.h>
 #include <vtkCellData.h>
 #include <vtkCellPicker.h>
 #include <vtkDataArray.h>
@@ -87,6 +94,9 @@ vtkSmartPointer<vtkTextActor> makeLegend(const char* text, const double color[3]
 
 ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   window_ = vtkSmartPointer<vtkGenericOpenGLRenderWindow>::New();
+  // No multisampling: under software OpenGL (Mesa llvmpipe) 8x MSAA multiplies the fragment
+  // work for little visual gain; the frame-rate target is met without it.
+  window_->SetMultiSamples(0);
   setRenderWindow(window_);
   renderer_ = vtkSmartPointer<vtkRenderer>::New();
   renderer_->SetBackground(0.32, 0.34, 0.43);
@@ -98,9 +108,25 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   surfaceMapper_->SetStatic(1);  // the surface changes only through setSurface
   surfaceActor_ = vtkSmartPointer<vtkActor>::New();
   surfaceActor_->SetMapper(surfaceMapper_);
-  surfaceActor_->GetProperty()->SetSpecular(0.15);
+  surfaceActor_->GetProperty()->SetSpecular(0.0);  // cheaper fragments under software GL
   surfaceActor_->VisibilityOff();
   renderer_->AddActor(surfaceActor_);
+
+  proxyMapper_ = vtkSmartPointer<vtkPolyDataMapper>::New();
+  proxyMapper_->SetStatic(1);
+  proxyActor_ = vtkSmartPointer<vtkActor>::New();
+  proxyActor_->SetMapper(proxyMapper_);
+  proxyActor_->SetProperty(surfaceActor_->GetProperty());
+  proxyActor_->VisibilityOff();
+  proxyActor_->PickableOff();
+  renderer_->AddActor(proxyActor_);
+  stillTimer_ = new QTimer(this);
+  stillTimer_->setSingleShot(true);
+  stillTimer_->setInterval(250);
+  connect(stillTimer_, &QTimer::timeout, this, [this] {
+    setInteracting(false);
+    renderNow();
+  });
 
   outlineMapper_ = vtkSmartPointer<vtkPolyDataMapper>::New();
   outlineMapper_->ScalarVisibilityOff();
@@ -161,12 +187,26 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   style_->SetDefaultRenderer(renderer_);
   style_->ProbeCallback = [this](int x, int y, bool press) {
     hb::Vec3 p;
+    if (press) setInteracting(true);
     if (!pickSurface(x, y, p)) return false;
     emit surfaceDragged(p, press);
     return true;
   };
   style_->DepthCallback = [this](int step) { emit depthStepped(step); };
   interactor()->SetInteractorStyle(style_);
+  auto interaction = vtkSmartPointer<vtkCallbackCommand>::New();
+  interaction->SetClientData(this);
+  interaction->SetCallback([](vtkObject*, unsigned long event, void* self, void*) {
+    auto* view = static_cast<ProbeView*>(self);
+    if (event == vtkCommand::StartInteractionEvent) {
+      view->stillTimer_->stop();
+      view->setInteracting(true);
+    } else {
+      view->stillTimer_->start();
+    }
+  });
+  style_->AddObserver(vtkCommand::StartInteractionEvent, interaction);
+  style_->AddObserver(vtkCommand::EndInteractionEvent, interaction);
   setFocusPolicy(Qt::StrongFocus);
 }
 
@@ -191,6 +231,9 @@ void ProbeView::setSurface(vtkPolyData* surface, float diagonal) {
   exactArrow_->VisibilityOff();
   approxArrow_->VisibilityOff();
   lastShown_.fill(0.f);
+  buildProxy();
+  interacting_ = true;
+  setInteracting(false);
   updateColoring();
   resetCamera();
 }
@@ -275,6 +318,89 @@ void ProbeView::updateColoring() {
     }
   }
   surfaceMapper_->Modified();
+  updateProxyColors();
+}
+
+void ProbeView::buildProxy() {
+  proxy_ = nullptr;
+  proxySource_ = nullptr;
+  proxyMapper_->SetInputData(nullptr);
+  constexpr vtkIdType kProxyAbove = 30000;  // triangles; smaller models are drawn as they are
+  constexpr vtkIdType kProxyTarget = 20000;
+  if (!surface_ || surface_->GetNumberOfCells() <= kProxyAbove) return;
+  // Quadric clustering: fast (one pass) and keeps the silhouette; the grid is refined once
+  // towards the target triangle count.
+  int divisions = 96;
+  vtkSmartPointer<vtkPolyData> coarse;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    auto cluster = vtkSmartPointer<vtkQuadricClustering>::New();
+    cluster->SetInputData(surface_);
+    cluster->SetNumberOfDivisions(divisions, divisions, divisions);
+    cluster->AutoAdjustNumberOfDivisionsOn();
+    cluster->CopyCellDataOn();
+    cluster->Update();
+    coarse = cluster->GetOutput();
+    const double ratio = static_cast<double>(coarse->GetNumberOfCells()) / kProxyTarget;
+    if (ratio < 1.3 && ratio > 0.5) break;
+    divisions = std::max(16, static_cast<int>(divisions / std::sqrt(ratio)));
+  }
+  auto normals = vtkSmartPointer<vtkPolyDataNormals>::New();
+  normals->SetInputData(coarse);
+  normals->SplittingOff();
+  normals->ConsistencyOff();
+  normals->Update();
+  proxy_ = normals->GetOutput();
+  // Nearest model vertex of each proxy point, to carry the error field's point arrays over.
+  auto locator = vtkSmartPointer<vtkStaticPointLocator>::New();
+  locator->SetDataSet(surface_);
+  locator->BuildLocator();
+  proxySource_ = vtkSmartPointer<vtkIdTypeArray>::New();
+  proxySource_->SetNumberOfTuples(proxy_->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < proxy_->GetNumberOfPoints(); ++i)
+    proxySource_->SetValue(i, locator->FindClosestPoint(proxy_->GetPoint(i)));
+  proxyMapper_->SetInputData(proxy_);
+}
+
+void ProbeView::updateProxyColors() {
+  if (!proxy_) return;
+  // Point arrays of the error field: copied from the nearest model vertex.
+  vtkPointData* from = surface_->GetPointData();
+  for (ErrorMetric m : {ErrorMetric::RelativeForce, ErrorMetric::Direction, ErrorMetric::ContactDisagreement}) {
+    const char* name = HapticSession::errorArrayName(m);
+    vtkDataArray* a = from->GetArray(name);
+    if (!a) {
+      proxy_->GetPointData()->RemoveArray(name);
+      continue;
+    }
+    vtkDataArray* b = proxy_->GetPointData()->GetArray(name);
+    if (!b || b->GetMTime() < a->GetMTime()) {
+      vtkSmartPointer<vtkDataArray> copy;
+      copy.TakeReference(a->NewInstance());
+      copy->SetName(name);
+      copy->SetNumberOfComponents(1);
+      copy->SetNumberOfTuples(proxy_->GetNumberOfPoints());
+      for (vtkIdType i = 0; i < proxy_->GetNumberOfPoints(); ++i)
+        copy->SetTuple1(i, a->GetTuple1(proxySource_->GetValue(i)));
+      proxy_->GetPointData()->AddArray(copy);
+    }
+  }
+  proxyMapper_->SetLookupTable(surfaceMapper_->GetLookupTable());
+  proxyMapper_->SetScalarMode(surfaceMapper_->GetScalarMode());
+  proxyMapper_->SelectColorArray(surfaceMapper_->GetArrayName());
+  proxyMapper_->SetScalarRange(surfaceMapper_->GetScalarRange());
+  proxyMapper_->SetScalarVisibility(surfaceMapper_->GetScalarVisibility());
+  proxy_->Modified();
+  proxyMapper_->Modified();
+}
+
+vtkIdType ProbeView::proxyTriangles() const { return proxy_ ? proxy_->GetNumberOfCells() : 0; }
+
+void ProbeView::setInteracting(bool on) {
+  if (on == interacting_) return;
+  interacting_ = on;
+  const bool proxy = on && proxy_ != nullptr;
+  surfaceActor_->SetVisibility(surface_ != nullptr && !proxy);
+  proxyActor_->SetVisibility(proxy);
 }
 
 void ProbeView::setReading(const ProbeReading& r, double forceScale) {
@@ -288,6 +414,9 @@ void ProbeView::setReading(const ProbeReading& r, double forceScale) {
   lastShown_ = key;
   probeActor_->SetVisibility(r.placed);
   tipActor_->SetVisibility(r.placed);
+  // A moving probe redraws at display rate: use the proxy until it is still again.
+  setInteracting(true);
+  stillTimer_->start();
   if (!r.placed) {
     exactArrow_->VisibilityOff();
     approxArrow_->VisibilityOff();
@@ -311,11 +440,26 @@ void ProbeView::setReading(const ProbeReading& r, double forceScale) {
 void ProbeView::setProbeMode(bool on) { style_->SetProbeMode(on); }
 
 bool ProbeView::pickSurface(int x, int y, hb::Vec3& point) const {
-  if (!surface_) return false;
-  if (!picker_->Pick(x, y, 0.0, renderer_)) return false;
-  if (picker_->GetCellId() < 0) return false;
-  const double* p = picker_->GetPickPosition();
-  point = hb::Vec3(static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]));
+  // The mouse ray against the model's cell locator: independent of which actor (model or
+  // level-of-detail proxy) is on screen.
+  if (!surface_ || !locator_) return false;
+  double p0[4], p1[4];
+  renderer_->SetDisplayPoint(x, y, 0.0);
+  renderer_->DisplayToWorld();
+  renderer_->GetWorldPoint(p0);
+  renderer_->SetDisplayPoint(x, y, 1.0);
+  renderer_->DisplayToWorld();
+  renderer_->GetWorldPoint(p1);
+  if (p0[3] == 0.0 || p1[3] == 0.0) return false;
+  for (int i = 0; i < 3; ++i) {
+    p0[i] /= p0[3];
+    p1[i] /= p1[3];
+  }
+  double t = 0.0, hit[3], pcoords[3];
+  int subId = 0;
+  vtkIdType cellId = -1;
+  if (!locator_->IntersectWithLine(p0, p1, 0.0, t, hit, pcoords, subId, cellId) || cellId < 0) return false;
+  point = hb::Vec3(static_cast<float>(hit[0]), static_cast<float>(hit[1]), static_cast<float>(hit[2]));
   return true;
 }
 
@@ -334,6 +478,15 @@ hb::Vec3 ProbeView::viewRight() const {
 
 void ProbeView::resetCamera() {
   renderer_->ResetCamera();
+  renderNow();
+}
+
+void ProbeView::orbitCamera(double azimuth, double elevation) {
+  vtkCamera* c = renderer_->GetActiveCamera();
+  c->Azimuth(azimuth);
+  c->Elevation(elevation);
+  c->OrthogonalizeViewUp();
+  renderer_->ResetCameraClippingRange();
   renderNow();
 }
 
@@ -378,8 +531,10 @@ void ProbeView::saveScreenshot(const QString& path) {
     throw hb::IoError(QFile::encodeName(path).toStdString() + ": cannot write the screenshot");
 }
 
-double ProbeView::measureFrameRate(int frames) {
+double ProbeView::measureFrameRate(int frames, bool interactive) {
   vtkCamera* c = renderer_->GetActiveCamera();
+  stillTimer_->stop();
+  setInteracting(interactive);
   renderWindow()->Render();
   const auto t0 = std::chrono::steady_clock::now();
   for (int i = 0; i < frames; ++i) {
@@ -387,6 +542,7 @@ double ProbeView::measureFrameRate(int frames) {
     renderWindow()->Render();
   }
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  setInteracting(false);
   return s > 0 ? frames / s : 0.0;
 }
 

@@ -12,6 +12,7 @@ class ProbeInteractorStyle;
 class vtkActor;
 class vtkCellPicker;
 class vtkGenericOpenGLRenderWindow;
+class vtkIdTypeArray;
 class vtkLineSource;
 class vtkPolyDataMapper;
 class vtkRenderer;
@@ -47,6 +48,8 @@ public:
   hb::Vec3 viewRight() const;
 
   void resetCamera();
+  /// Orbits the camera about the focal point, degrees.
+  void orbitCamera(double azimuth, double elevation);
   CameraState cameraState() const;
   void setCameraState(const CameraState& s);
 
@@ -58,8 +61,14 @@ public:
   bool exactArrowShown() const;
   bool approxArrowShown() const;
   bool scalarBarShown() const;
-  /// Frames per second over `frames` full renders (benchmark).
-  double measureFrameRate(int frames);
+  /// Frames per second over `frames` renders while orbiting (benchmark); `interactive`
+  /// renders the level-of-detail proxy, as during a drag.
+  double measureFrameRate(int frames, bool interactive = false);
+  /// Triangles of the level-of-detail proxy (0: the model is small enough to need none).
+  vtkIdType proxyTriangles() const;
+  /// While interacting (camera or probe moving) a decimated proxy of a large model is drawn,
+  /// as ParaView does; the full model is drawn again once the view is still for 250 ms.
+  void setInteracting(bool on);
 
 signals:
   /// A left drag on the model: the point under the mouse; `press` on the first one.
@@ -69,12 +78,20 @@ signals:
 
 private:
   void updateColoring();
+  void buildProxy();
+  void updateProxyColors();
 
   vtkSmartPointer<vtkGenericOpenGLRenderWindow> window_;
   vtkSmartPointer<vtkRenderer> renderer_;
   vtkSmartPointer<ProbeInteractorStyle> style_;
   vtkSmartPointer<vtkPolyDataMapper> surfaceMapper_;
   vtkSmartPointer<vtkActor> surfaceActor_;
+  vtkSmartPointer<vtkPolyData> proxy_;
+  vtkSmartPointer<vtkIdTypeArray> proxySource_;  ///< nearest model vertex of each proxy point
+  vtkSmartPointer<vtkPolyDataMapper> proxyMapper_;
+  vtkSmartPointer<vtkActor> proxyActor_;
+  class QTimer* stillTimer_ = nullptr;
+  bool interacting_ = false;
   vtkSmartPointer<vtkPolyDataMapper> outlineMapper_;
   vtkSmartPointer<vtkActor> outlineActor_;
   vtkSmartPointer<vtkLineSource> probeLine_;

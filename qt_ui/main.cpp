@@ -88,22 +88,32 @@ int main(int argc, char** argv) {
     for (int dy = 0; dy < size[1] / 2 && !placed; dy += 8)
       placed = view->pickSurface(size[0] / 2, size[1] / 2 + dy, p);
     if (placed) {
+      window.session()->setTiltDegrees(20.0);
       window.session()->aimProbe(view->viewDirection(), view->viewRight());
+      window.session()->setDepthFraction(0.02);
       window.session()->setProbeTarget(p);
+      view->orbitCamera(50.0, 15.0);  // see the probe and the arrows from the side
     }
     waitFor([] { return false; }, 1.0);
     window.refresh();
     if (parser.isSet(fps)) {
       const int frames = std::max(1, parser.value(fps).toInt());
       const double rate = view->measureFrameRate(frames);
+      const double lodRate = view->measureFrameRate(frames, true);
+      const std::string caps = view->renderWindow()->ReportCapabilities();
+      std::printf("%s", caps.substr(0, caps.find("OpenGL extensions")).c_str());
       waitFor([] { return false; }, 0.6);
       const ProbeReading r = window.session()->reading();
-      std::printf("probe view: %.1f frames/s over %d frames (%zu triangles); device thread %s: %.1f Hz, p99 period %.0f us\n",
-                  rate, frames, window.session()->hasMesh() ? window.session()->mesh().triangle_count() : 0,
+      std::printf("probe view: %.1f frames/s full model, %.1f frames/s while moving (proxy of %lld triangles), over %d "
+                  "frames (%zu triangles); device thread %s: %.1f Hz, p99 period %.0f us\n",
+                  rate, lodRate, static_cast<long long>(view->proxyTriangles()), frames, window.session()->hasMesh() ? window.session()->mesh().triangle_count() : 0,
                   r.deviceRunning ? "on" : "off", r.rateHz, r.p99PeriodUs);
     }
     if (parser.isSet(shot)) {
       if (!window.exportScreenshot(parser.value(shot))) return 1;
+      QString whole = parser.value(shot);
+      whole.insert(whole.size() - 4, QStringLiteral("-window"));
+      window.grab().save(whole);  // the whole window, panels included
       std::printf("screenshot: %s\n", qPrintable(parser.value(shot)));
     }
     return 0;
