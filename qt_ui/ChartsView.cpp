@@ -1,5 +1,6 @@
 #include "ChartsView.h"
 #include <QLabel>
+#include <QHBoxLayout>
 #include <QVBoxLayout>
 #include <QVTKOpenGLNativeWidget.h>
 #include <vtkAxis.h>
@@ -75,10 +76,19 @@ ChartsView::ChartsView(QWidget* parent) : QWidget(parent) {
   hint_ = new QLabel(tr("Run a sweep (Tools > Sweep) or export a report to fill the charts; click a "
                         "haptic-box point to load that configuration."));
   hint_->setWordWrap(true);
+  compressionNote_ = new QLabel(tr("Compression against error: no codec in this build (codec none); "
+                                   "the chart fills once the codecs are merged."));
+  compressionNote_->setWordWrap(true);
+  compressionNote_->setAlignment(Qt::AlignCenter);
+  compressionWidget_->hide();
+  auto* charts = new QHBoxLayout;
+  charts->addWidget(speedWidget_, 3);
+  charts->addWidget(compressionWidget_, 2);
+  charts->addWidget(compressionNote_, 2);
   auto* layout = new QVBoxLayout(this);
   layout->addWidget(hint_);
-  layout->addWidget(speedWidget_, 2);
-  layout->addWidget(compressionWidget_, 1);
+  layout->addLayout(charts, 1);
+  setMinimumHeight(300);
 
   auto observer = vtkSmartPointer<vtkCallbackCommand>::New();
   observer->SetClientData(this);
@@ -117,6 +127,8 @@ void ChartsView::setRows(const std::vector<hb::SweepRow>& rows, const std::vecto
   speedChart_->RecalculateBounds();
 
   compressionChart_->ClearPlots();
+  compressionWidget_->setVisible(!compression.empty());
+  compressionNote_->setVisible(compression.empty());
   if (!compression.empty()) {
     std::vector<double> cx, cy;
     for (const auto& p : compression) {

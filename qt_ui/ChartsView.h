@@ -33,6 +33,7 @@ private:
   QVTKOpenGLNativeWidget* speedWidget_;
   QVTKOpenGLNativeWidget* compressionWidget_;
   QLabel* hint_;
+  QLabel* compressionNote_;
   vtkSmartPointer<vtkContextView> speedView_, compressionView_;
   vtkSmartPointer<vtkChartXY> speedChart_, compressionChart_;
   vtkPlot* boxPlot_ = nullptr;

@@ -36,6 +36,7 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -134,6 +135,7 @@ bool HapticSession::busy(QString* error) const {
 bool HapticSession::openMesh(const QString& path, QString* error) {
   if (busy(error)) return false;
   try {
+    const auto t0 = std::chrono::steady_clock::now();
     const std::string p = QFile::encodeName(path).toStdString();
     const std::string ext = vtkHapticBoxUtilities::Extension(p);
     hb::MeshReadReport report;
@@ -149,8 +151,12 @@ bool HapticSession::openMesh(const QString& path, QString* error) {
     } else {
       mesh = std::make_shared<hb::TriangleMesh>(hb::read_mesh(p, &report));
     }
+    const auto tRead = std::chrono::steady_clock::now();
     const std::uint64_t hash = hb::hash_file(p);
-    auto exact = std::make_unique<hb::ExactQuery>(*mesh);
+    const auto tHash = std::chrono::steady_clock::now();
+    std::shared_future<std::shared_ptr<const hb::ExactQuery>> exact =
+        std::async(std::launch::async, [mesh] { return std::make_shared<const hb::ExactQuery>(*mesh); }).share();
+    const auto tExact = std::chrono::steady_clock::now();
 
     // Commit: nothing below throws on a valid mesh.
     stopServo();
@@ -171,8 +177,16 @@ bool HapticSession::openMesh(const QString& path, QString* error) {
     mapping_ = hb::fit_workspace(b.min, b.max, hb::virtual_device_spec());
     mapping_.probe_direction = probeDirection_;
     picked_.reset();
+    const auto tSurface = std::chrono::steady_clock::now();
     emit meshChanged();
+    const auto tView = std::chrono::steady_clock::now();
     loadCachedBoxes();
+    if (qEnvironmentVariableIsSet("HB_GUI_TIMING")) {
+      const auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+      std::fprintf(stderr, "open timing: read %.0f ms, hash %.0f ms, exact %.0f ms, surface %.0f ms, view %.0f ms, cache %.0f ms\n",
+                   ms(t0, tRead), ms(tRead, tHash), ms(tHash, tExact), ms(tExact, tSurface), ms(tSurface, tView),
+                   ms(tView, std::chrono::steady_clock::now()));
+    }
     return true;
   } catch (const std::exception& e) {
     if (error) *error = QString::fromStdString(e.what());
@@ -402,9 +416,10 @@ bool HapticSession::startErrorField(int probesPerPoint, QString* error) {
   if (busy(error)) return false;
   auto mesh = mesh_;
   auto boxes = boxes_;
-  const hb::ExactQuery* exact = exact_.get();  // outlives the job: openMesh refuses while busy
+  const auto exactFuture = exact_;
   const float diagonal = diagonal_;
-  return job_->start(tr("Error field"), [this, mesh, boxes, exact, diagonal, probesPerPoint](const auto& progress) {
+  return job_->start(tr("Error field"), [this, mesh, boxes, exactFuture, diagonal, probesPerPoint](const auto& progress) {
+    const std::shared_ptr<const hb::ExactQuery> exact = exactFuture.get();
     hb::ErrorFieldOptions o;
     o.probes_per_point = probesPerPoint;
     o.law = law_;
@@ -487,7 +502,9 @@ ProbeReading HapticSession::reading() {
   }
   if (!r.placed) return r;
   const auto t0 = std::chrono::steady_clock::now();
-  r.exact = exact_->query(r.segment, law);
+  const hb::ExactQuery* exact = readyExact();
+  if (!exact) return r;  // the exact query is still building (a fraction of a second after open)
+  r.exact = exact->query(r.segment, law);
   r.exactQueryNs = elapsedNs(t0);
   if (r.exact.contact && r.approx.contact) {
     r.relativeError = hb::relative_force_error(r.exact, r.approx);
@@ -580,7 +597,7 @@ bool HapticSession::startReport(const QString& dir, const QString& errorFieldIma
   if (busy(error)) return false;
   auto mesh = mesh_;
   auto boxes = boxes_;
-  const hb::ExactQuery* exact = exact_.get();
+  const auto exactFuture = exact_;
   const std::vector<std::uint32_t> pieces = boxPieces_;
   const double bakeSeconds = bakeSeconds_;
   const hb::SourceInfo source = sourceInfo();
@@ -588,9 +605,10 @@ bool HapticSession::startReport(const QString& dir, const QString& errorFieldIma
   const std::string out = QFile::encodeName(dir).toStdString();
   const std::string image = QFile::encodeName(errorFieldImage).toStdString();
   return job_->start(tr("Report"), [=](const auto& progress) {
+    const std::shared_ptr<const hb::ExactQuery> exact = exactFuture.get();
     vtkHapticBoxCellLocatorQuery locator(*mesh);
     std::vector<hb::SweepReference> refs;
-    refs.push_back({"exact_embree", exact, 0, 0.0});
+    refs.push_back({"exact_embree", exact.get(), 0, 0.0});
     refs.push_back({"vtk_static_cell_locator", &locator, locator.GetMemoryBytes(), locator.GetBuildSeconds()});
     hb::ReportOptions o;
     o.samples = samples;
@@ -618,13 +636,14 @@ bool HapticSession::startSweep(const std::vector<int>& ms, const std::vector<int
   }
   if (busy(error)) return false;
   auto mesh = mesh_;
-  const hb::ExactQuery* exact = exact_.get();
+  const auto exactFuture = exact_;
   const hb::SourceInfo source = sourceInfo();
   const QString cache = bake_.useCache ? QFileInfo(cachePath()).absolutePath() : QString();
   return job_->start(tr("Sweep"), [=](const auto& progress) {
+    const std::shared_ptr<const hb::ExactQuery> exact = exactFuture.get();
     vtkHapticBoxCellLocatorQuery locator(*mesh);
     std::vector<hb::SweepReference> refs;
-    refs.push_back({"exact_embree", exact, 0, 0.0});
+    refs.push_back({"exact_embree", exact.get(), 0, 0.0});
     refs.push_back({"vtk_static_cell_locator", &locator, locator.GetMemoryBytes(), locator.GetBuildSeconds()});
     hb::SweepOptions o;
     o.configs = hb::sweep_grid(ms, ns);
@@ -647,4 +666,13 @@ void HapticSession::aimProbe(const hb::Vec3& view, const hb::Vec3& right) {
 double HapticSession::forceDisplayScale() const {
   const double f = law_.stiffness_n_per_m * 0.01 * diagonal_ * law_.metres_per_unit;
   return f > 0.0 ? 0.08 * diagonal_ / f : 1.0;
+}
+
+const hb::ExactQuery* HapticSession::readyExact() const {
+  if (!exact_.valid() || exact_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return nullptr;
+  try {
+    return exact_.get().get();
+  } catch (const std::exception&) {
+    return nullptr;  // Embree failed: reported when a job needs it
+  }
 }

@@ -15,6 +15,7 @@
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 #include <chrono>
+#include <future>
 #include <memory>
 #include <optional>
 
@@ -180,7 +181,10 @@ private:
   std::shared_ptr<hb::TriangleMesh> mesh_;
   std::uint64_t meshHash_ = 0;
   float diagonal_ = 0.f;
-  std::unique_ptr<hb::ExactQuery> exact_;
+  // The exact query's Embree build runs beside the window's own setup; readers take it from
+  // here (reading() skips the exact answer until it is ready, jobs wait for it).
+  std::shared_future<std::shared_ptr<const hb::ExactQuery>> exact_;
+  const hb::ExactQuery* readyExact() const;
   vtkSmartPointer<vtkPolyData> surface_;
   vtkSmartPointer<vtkPolyData> outlines_;
   std::shared_ptr<const hb::BoxScene> boxes_;

@@ -171,9 +171,13 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
 
   scalarBar_ = vtkSmartPointer<vtkScalarBarActor>::New();
   scalarBar_->SetNumberOfLabels(5);
+  scalarBar_->SetUnconstrainedFontSize(true);
+  scalarBar_->GetTitleTextProperty()->SetFontSize(16);
+  scalarBar_->GetLabelTextProperty()->SetFontSize(14);
+  scalarBar_->SetVerticalTitleSeparation(8);
   scalarBar_->SetMaximumWidthInPixels(90);
-  scalarBar_->GetPositionCoordinate()->SetValue(0.88, 0.1);
-  scalarBar_->SetWidth(0.1);
+  scalarBar_->GetPositionCoordinate()->SetValue(0.84, 0.1);
+  scalarBar_->SetWidth(0.14);
   scalarBar_->SetHeight(0.8);
   scalarBar_->VisibilityOff();
   renderer_->AddViewProp(scalarBar_);
@@ -513,7 +517,13 @@ void ProbeView::setCameraState(const CameraState& s) {
 }
 
 void ProbeView::renderNow() {
-  if (isVisible()) renderWindow()->Render();
+  // Coalesced: every change of one event-loop pass (surface, colours, probe) costs one render.
+  if (renderPending_) return;
+  renderPending_ = true;
+  QTimer::singleShot(0, this, [this] {
+    renderPending_ = false;
+    if (isVisible()) renderWindow()->Render();
+  });
 }
 
 void ProbeView::saveScreenshot(const QString& path) {

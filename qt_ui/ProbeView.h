@@ -53,7 +53,7 @@ public:
   CameraState cameraState() const;
   void setCameraState(const CameraState& s);
 
-  /// Renders now (GUI thread).
+  /// Renders at the next pass of the event loop (GUI thread; coalesced).
   void renderNow();
   /// Writes the view as PNG; throws hb::IoError.
   void saveScreenshot(const QString& path);
@@ -92,6 +92,7 @@ private:
   vtkSmartPointer<vtkActor> proxyActor_;
   class QTimer* stillTimer_ = nullptr;
   bool interacting_ = false;
+  bool renderPending_ = false;
   vtkSmartPointer<vtkPolyDataMapper> outlineMapper_;
   vtkSmartPointer<vtkActor> outlineActor_;
   vtkSmartPointer<vtkLineSource> probeLine_;

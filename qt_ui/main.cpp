@@ -7,6 +7,7 @@
 #include "ProbeView.h"
 #include <QApplication>
 #include <QCommandLineParser>
+#include <QDockWidget>
 #include <QEventLoop>
 #include <QSurfaceFormat>
 #include <QTimer>
@@ -52,7 +53,9 @@ int main(int argc, char** argv) {
   QCommandLineOption noBake(QStringLiteral("no-bake"), QStringLiteral("Do not bake on open when there is no cached bake"));
   QCommandLineOption shot(QStringLiteral("screenshot"), QStringLiteral("After opening (and baking), place the probe, save the view as PNG and quit"), QStringLiteral("png"));
   QCommandLineOption fps(QStringLiteral("measure-fps"), QStringLiteral("Render N frames of the probe view with the device thread on, print frames/s and quit"), QStringLiteral("frames"));
-  parser.addOptions({device, noBake, shot, fps});
+  QCommandLineOption field(QStringLiteral("error-field"), QStringLiteral("With --screenshot: compute the error field and show it"));
+  QCommandLineOption sweep(QStringLiteral("sweep"), QStringLiteral("With --screenshot: run a small sweep and show the charts"));
+  parser.addOptions({device, noBake, shot, fps, field, sweep});
   parser.process(app);
 
   MainWindow window;
@@ -96,6 +99,16 @@ int main(int argc, char** argv) {
     }
     waitFor([] { return false; }, 1.0);
     window.refresh();
+    if (parser.isSet(field)) {
+      window.session()->startErrorField(1);
+      waitFor([&] { return !window.session()->job()->isRunning(); }, 600);
+    }
+    if (parser.isSet(sweep)) {
+      window.session()->startSweep({8, 16}, {4, 8}, 2000);
+      waitFor([&] { return !window.session()->job()->isRunning(); }, 600);
+      if (auto* d = window.findChild<QDockWidget*>(QStringLiteral("ChartsDock"))) d->show();
+    }
+    waitFor([] { return false; }, 0.5);
     if (parser.isSet(fps)) {
       const int frames = std::max(1, parser.value(fps).toInt());
       const double rate = view->measureFrameRate(frames);
