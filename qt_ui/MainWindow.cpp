@@ -28,10 +28,6 @@
 #include <QStatusBar>
 #include <QTimer>
 
-struct MainWindow::PendingSession {
-  SessionState state;
-};
-
 namespace {
 constexpr int kMaxRecent = 8;
 bool isSessionFile(const QString& path) { return path.endsWith(QLatin1String(".hbsession"), Qt::CaseInsensitive); }
@@ -300,11 +296,6 @@ void MainWindow::onJobFinished(const QString& name, bool ok, const QString& mess
   jobCancel_->hide();
   showMessage(ok && name == tr("Report") ? tr("Report written to %1").arg(pendingReportDir_) : message, !ok);
   updateActions();
-  if (pendingSession_ && session_->hasBoxes()) {
-    const SessionState s = pendingSession_->state;
-    pendingSession_.reset();
-    outlinesAction_->setChecked(s.outlines);
-  }
 }
 
 // --- probe -------------------------------------------------------------------------------
@@ -420,11 +411,14 @@ void MainWindow::dragEnterEvent(QDragEnterEvent* event) {
 }
 
 void MainWindow::dropEvent(QDropEvent* event) {
-  const auto urls = event->mimeData()->urls();
-  if (!urls.isEmpty() && urls.front().isLocalFile()) {
-    openFile(urls.front().toLocalFile(), true);
-    event->acceptProposedAction();
-  }
+  if (openDroppedUrls(event->mimeData()->urls())) event->acceptProposedAction();
+}
+
+bool MainWindow::openDroppedUrls(const QList<QUrl>& urls) {
+  for (const QUrl& url : urls)
+    if (url.isLocalFile()) return openFile(url.toLocalFile(), true);
+  showMessage(tr("Drop a model or session file from this computer"), true);
+  return false;
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {

@@ -3,7 +3,9 @@
 // the session (the logic) and holds neither data nor algorithms.
 #include "HapticSession.h"
 #include <QMainWindow>
+#include <QList>
 #include <QStringList>
+#include <QUrl>
 
 class BakePanel;
 class ChartsView;
@@ -27,6 +29,8 @@ public:
   /// Opens a mesh or a session file; errors go to the status bar (and a dialog when
   /// `interactive`). Returns false on failure.
   bool openFile(const QString& path, bool interactive = false);
+  /// What a drop does: opens the first local file. Returns false when there is none or it fails.
+  bool openDroppedUrls(const QList<QUrl>& urls);
   /// Bakes automatically after opening a model without a cached bake (default on).
   void setBakeOnOpen(bool on) { bakeOnOpen_ = on; }
 
@@ -85,6 +89,4 @@ private:
   bool bakeOnOpen_ = true;
   int refreshCount_ = 0;
   QString pendingReportDir_;
-  struct PendingSession;
-  std::unique_ptr<PendingSession> pendingSession_;
 };

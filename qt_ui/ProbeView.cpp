@@ -13,7 +13,6 @@
 #include <vtkQuadricClustering.h>
 #include <vtkStaticPointLocator.h>
 #include <vtkCellData.h>
-#include <vtkCellPicker.h>
 #include <vtkDataArray.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkLineSource.h>
@@ -182,10 +181,6 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   scalarBar_->VisibilityOff();
   renderer_->AddViewProp(scalarBar_);
 
-  picker_ = vtkSmartPointer<vtkCellPicker>::New();
-  picker_->SetTolerance(0.0005);
-  picker_->PickFromListOn();
-  picker_->AddPickList(surfaceActor_);
 
   style_ = vtkSmartPointer<ProbeInteractorStyle>::New();
   style_->SetDefaultRenderer(renderer_);
@@ -221,12 +216,11 @@ void ProbeView::setSurface(vtkPolyData* surface, float diagonal) {
   diagonal_ = diagonal > 0.f ? diagonal : 1.f;
   surfaceMapper_->SetInputData(surface);
   surfaceActor_->SetVisibility(surface != nullptr);
-  picker_->RemoveAllLocators();
+  locator_ = nullptr;
   if (surface) {
     locator_ = vtkSmartPointer<vtkStaticCellLocator>::New();
     locator_->SetDataSet(surface);
     locator_->BuildLocator();
-    picker_->AddLocator(locator_);
   }
   auto* tipSource = vtkSphereSource::SafeDownCast(tipActor_->GetMapper()->GetInputAlgorithm());
   if (tipSource) tipSource->SetRadius(0.006 * diagonal_);

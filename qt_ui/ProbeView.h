@@ -10,7 +10,6 @@
 
 class ProbeInteractorStyle;
 class vtkActor;
-class vtkCellPicker;
 class vtkGenericOpenGLRenderWindow;
 class vtkIdTypeArray;
 class vtkLineSource;
@@ -103,7 +102,6 @@ private:
   vtkSmartPointer<vtkTextActor> legendExact_;
   vtkSmartPointer<vtkTextActor> legendApprox_;
   vtkSmartPointer<vtkScalarBarActor> scalarBar_;
-  vtkSmartPointer<vtkCellPicker> picker_;
   vtkSmartPointer<vtkStaticCellLocator> locator_;
   vtkPolyData* surface_ = nullptr;
   float diagonal_ = 1.f;

@@ -12,7 +12,13 @@
 #include <QFileInfo>
 #include <QImage>
 #include <QPushButton>
+#include <QDropEvent>
+#include <QStatusBar>
+#include <QMimeData>
+#include <QUrl>
+#include <vtkCommand.h>
 #include <vtkRenderWindow.h>
+#include <vtkRenderWindowInteractor.h>
 #include <gtest/gtest.h>
 
 using hbtest::pump;
@@ -228,4 +234,54 @@ TEST(MainWindowTest, WithoutAFalconTheVirtualDeviceIsUsed) {
   EXPECT_FALSE(w.session()->setDevice(DeviceKind::Falcon, {}, &note));
   EXPECT_EQ(w.session()->deviceKind(), DeviceKind::Virtual);
   EXPECT_FALSE(note.isEmpty());
+}
+
+TEST(MainWindowTest, DraggingOnTheModelMovesTheProbe) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  openAndBake(w, data.mesh);
+  pump(0.3);
+  vtkRenderWindowInteractor* rwi = w.probeView()->interactor();
+  const int* size = w.probeView()->renderWindow()->GetSize();
+  const int x = size[0] / 2, y = size[1] / 2;
+  rwi->SetEventInformation(x, y);
+  rwi->InvokeEvent(vtkCommand::LeftButtonPressEvent);
+  ASSERT_TRUE(w.session()->surfacePoint().has_value()) << "a press on the model places the probe";
+  const hb::Vec3 first = *w.session()->surfacePoint();
+  rwi->SetEventInformation(x + 15, y + 10);
+  rwi->InvokeEvent(vtkCommand::MouseMoveEvent);
+  rwi->InvokeEvent(vtkCommand::LeftButtonReleaseEvent);
+  EXPECT_GT((*w.session()->surfacePoint() - first).norm(), 0.f) << "the drag moves the tip";
+  ASSERT_TRUE(waitFor([&] { return w.session()->reading().approx.contact; }, 5.0));
+  // Ctrl+wheel pushes deeper.
+  const double depth = w.session()->depthFraction();
+  rwi->SetControlKey(1);
+  rwi->InvokeEvent(vtkCommand::MouseWheelForwardEvent);
+  rwi->SetControlKey(0);
+  EXPECT_GT(w.session()->depthFraction(), depth);
+  // A press off the model rotates the camera instead.
+  const hb::Vec3 placed = *w.session()->surfacePoint();
+  rwi->SetEventInformation(2, 2);
+  rwi->InvokeEvent(vtkCommand::LeftButtonPressEvent);
+  rwi->InvokeEvent(vtkCommand::LeftButtonReleaseEvent);
+  EXPECT_EQ(*w.session()->surfacePoint(), placed);
+}
+
+TEST(MainWindowTest, DroppingAFileOpensIt) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.setBakeOnOpen(false);
+  EXPECT_FALSE(w.openDroppedUrls({QUrl(QStringLiteral("https://example.org/a.off"))}));
+  EXPECT_FALSE(w.session()->hasMesh());
+  EXPECT_TRUE(w.openDroppedUrls({QUrl::fromLocalFile(data.mesh)}));
+  EXPECT_TRUE(w.session()->hasMesh());
+}
+
+TEST(MainWindowTest, AMissingReplayLogFallsBackToTheVirtualDevice) {
+  MainWindow w;
+  QString note;
+  EXPECT_FALSE(w.session()->setDevice(DeviceKind::Replay, QStringLiteral("/nonexistent/run.hblog"), &note));
+  EXPECT_EQ(w.session()->deviceKind(), DeviceKind::Virtual);
+  EXPECT_TRUE(note.contains("virtual"));
 }
