@@ -1,6 +1,7 @@
 #include "BakePanel.h"
 #include "BackgroundJob.h"
 #include "HapticSession.h"
+#include "haptic_box/haptic_box.h"
 #include <QCheckBox>
 #include <QComboBox>
 #include <QDoubleSpinBox>
@@ -51,6 +52,18 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   codec_->addItem(tr("none (8-byte samples)"), QStringLiteral("none"));
   // LEAD: add the codecs of src/codec here (item data = the codec name HapticSession::startBake takes).
   cache_ = new QCheckBox(tr("Cache baked boxes next to the model"));
+  size_ = new QLabel;
+  const auto showSize = [this] {
+    hb::BoxParams p;
+    p.m = m_->value();
+    p.n = n_->value();
+    const double mb = static_cast<double>(p.sample_count() * sizeof(hb::Sample)) / 1048576.0;
+    size_->setText(tr("%1 MB of tables per box, %2 M rays per box").arg(mb, 0, 'f', 1)
+                       .arg(static_cast<double>(p.sample_count()) / 1e6, 0, 'f', 1));
+    size_->setStyleSheet(mb > 1024.0 ? QStringLiteral("color: #c00000;") : QString());
+  };
+  connect(m_, QOverload<int>::of(&QSpinBox::valueChanged), this, showSize);
+  connect(n_, QOverload<int>::of(&QSpinBox::valueChanged), this, showSize);
 
   bake_ = new QPushButton(tr("Bake"));
   bake_->setDefault(true);
@@ -70,6 +83,7 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   form->addRow(tr("Pieces"), pieces_);
   form->addRow(tr("Piece file"), fileRow);
   form->addRow(tr("Codec"), codec_);
+  form->addRow(tr("Size"), size_);
   form->addRow(cache_);
   auto* buttons = new QHBoxLayout;
   buttons->addWidget(bake_);
@@ -82,6 +96,7 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   layout->addStretch(1);
 
   showSettings();
+  showSize();
   connect(bake_, &QPushButton::clicked, this, &BakePanel::bake);
   connect(cancel_, &QPushButton::clicked, this, [this] { session_->job()->cancel(); });
   connect(browse_, &QPushButton::clicked, this, &BakePanel::browsePieces);

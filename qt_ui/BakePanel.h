@@ -42,6 +42,7 @@ private:
   QPushButton* browse_;
   QComboBox* codec_;
   QCheckBox* cache_;
+  QLabel* size_;
   QPushButton* bake_;
   QPushButton* cancel_;
   QProgressBar* progress_;
