@@ -7,6 +7,7 @@
 #include <vtkCallbackCommand.h>
 #include <vtkChartLegend.h>
 #include <vtkChartXY.h>
+#include <vtkContextMouseEvent.h>
 #include <vtkContextScene.h>
 #include <vtkContextView.h>
 #include <vtkDoubleArray.h>
@@ -95,6 +96,8 @@ ChartsView::ChartsView(QWidget* parent) : QWidget(parent) {
   observer->SetCallback([](vtkObject*, unsigned long, void* self, void*) {
     static_cast<ChartsView*>(self)->onSelection();
   });
+  // A left click on a point selects it (VTK's default is the right button); drag still pans.
+  speedChart_->SetClickActionToButton(vtkChart::SELECT, vtkContextMouseEvent::LEFT_BUTTON);
   speedChart_->AddObserver(vtkCommand::SelectionChangedEvent, observer);
 }
 

@@ -2,6 +2,7 @@
 // report, screenshot (checked pixel by pixel), cache, cancel, sessions, bad input.
 #include "BackgroundJob.h"
 #include "BakePanel.h"
+#include "ChartsView.h"
 #include "ErrorFieldPanel.h"
 #include "HapticSession.h"
 #include "MainWindow.h"
@@ -284,4 +285,20 @@ TEST(MainWindowTest, AMissingReplayLogFallsBackToTheVirtualDevice) {
   EXPECT_FALSE(w.session()->setDevice(DeviceKind::Replay, QStringLiteral("/nonexistent/run.hblog"), &note));
   EXPECT_EQ(w.session()->deviceKind(), DeviceKind::Virtual);
   EXPECT_TRUE(note.contains("virtual"));
+}
+
+TEST(MainWindowTest, SweepFillsTheChartAndAPointLoadsItsConfiguration) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  openAndBake(w, data.mesh);
+  QString error;
+  ASSERT_TRUE(w.session()->startSweep({8, 12}, {4}, 1000, &error)) << error.toStdString();
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 300));
+  ASSERT_EQ(w.chartsView()->pointCount(), 2u);
+  w.chartsView()->choose(1);  // what a click on the m 12 point does
+  EXPECT_EQ(w.session()->bakeSettings().m, 12);
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 120));
+  ASSERT_TRUE(w.session()->hasBoxes());
+  EXPECT_EQ(w.session()->boxes()->boxes().front().params().m, 12);
 }
