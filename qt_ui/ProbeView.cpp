@@ -424,12 +424,14 @@ void ProbeView::setReading(const ProbeReading& r, double forceScale) {
   probeLine_->SetPoint1(r.segment.start.x(), r.segment.start.y(), r.segment.start.z());
   probeLine_->SetPoint2(r.segment.end.x(), r.segment.end.y(), r.segment.end.z());
   tipActor_->SetPosition(r.segment.end.x(), r.segment.end.y(), r.segment.end.z());
+  // Both arrows on one scale (so their lengths compare), capped at a fifth of the model.
+  const double cap = 0.2 * diagonal_;
   if (r.exact.contact)
-    placeArrow(exactArrow_, r.exact.point, r.exact.force, r.exact.force.norm() * forceScale);
+    placeArrow(exactArrow_, r.exact.point, r.exact.force, std::min(cap, r.exact.force.norm() * forceScale));
   else
     exactArrow_->VisibilityOff();
   if (r.approx.contact)
-    placeArrow(approxArrow_, r.approx.point, r.approx.force, r.approx.force.norm() * forceScale);
+    placeArrow(approxArrow_, r.approx.point, r.approx.force, std::min(cap, r.approx.force.norm() * forceScale));
   else
     approxArrow_->VisibilityOff();
   renderNow();
