@@ -215,10 +215,11 @@ hb::SourceInfo HapticSession::sourceInfo() const {
 
 // --- bake ------------------------------------------------------------------------------
 
-std::vector<std::uint32_t> HapticSession::piecesFor(const hb::TriangleMesh& mesh) const {
-  switch (bake_.pieces) {
+std::vector<std::uint32_t> HapticSession::piecesFor(const hb::TriangleMesh& mesh, const BakeSettings& settings) {
+  switch (settings.pieces) {
   case BakeSettings::Pieces::None: return {};
-  case BakeSettings::Pieces::File: return readPieceFile(QFile::encodeName(bake_.piecesFile).toStdString(), mesh.triangle_count());
+  case BakeSettings::Pieces::File:
+    return readPieceFile(QFile::encodeName(settings.piecesFile).toStdString(), mesh.triangle_count());
   case BakeSettings::Pieces::Automatic:
     // LEAD: wire src/decomposition here after the merge, e.g.
     //   return hb::decompose(mesh, hb::DecompositionOptions{...}).piece_of_triangle;
@@ -261,7 +262,7 @@ bool HapticSession::loadCachedBoxes() {
   try {
     auto scene = std::make_shared<hb::BoxScene>(hb::load_box_file(QFile::encodeName(path).toStdString()));
     if (scene->source().mesh_hash != meshHash_) return false;
-    boxPieces_ = piecesFor(*mesh_);
+    boxPieces_ = piecesFor(*mesh_, bake_);
     installBoxes(std::move(scene), 0.0, true);
     emit statusMessage(tr("Loaded cached boxes %1").arg(path));
     return true;
@@ -288,7 +289,7 @@ bool HapticSession::startBake(QString* error) {
   const hb::SourceInfo source = sourceInfo();
   const QString cache = settings.useCache ? cachePath() : QString();
   return job_->start(tr("Bake"), [this, mesh, settings, source, cache](const auto& progress) {
-    const std::vector<std::uint32_t> pieces = piecesFor(*mesh);
+    const std::vector<std::uint32_t> pieces = piecesFor(*mesh, settings);
     hb::BakeOptions o;
     o.params.m = settings.m;
     o.params.n = settings.n;

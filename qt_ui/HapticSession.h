@@ -166,7 +166,8 @@ signals:
   void statusMessage(const QString& message);
 
 private:
-  std::vector<std::uint32_t> piecesFor(const hb::TriangleMesh& mesh) const;
+  /// Piece id per triangle for `settings` (empty: one piece). Pure: safe on the worker.
+  static std::vector<std::uint32_t> piecesFor(const hb::TriangleMesh& mesh, const BakeSettings& settings);
   void installBoxes(std::shared_ptr<const hb::BoxScene> boxes, double seconds, bool fromCache);
   void rebuildOutlines();
   void updatePieceArray(const std::vector<std::uint32_t>& pieces);

@@ -302,3 +302,46 @@ TEST(MainWindowTest, SweepFillsTheChartAndAPointLoadsItsConfiguration) {
   ASSERT_TRUE(w.session()->hasBoxes());
   EXPECT_EQ(w.session()->boxes()->boxes().front().params().m, 12);
 }
+
+TEST(MainWindowTest, APieceFileBakesOneBoxPerPieceAndABadOneIsReported) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.setBakeOnOpen(false);
+  ASSERT_TRUE(w.openFile(data.mesh));
+  const hb::TriangleMesh& mesh = w.session()->mesh();
+  const QString good = data.dir.filePath(QStringLiteral("halves.pieces"));
+  {
+    QFile f(good);
+    ASSERT_TRUE(f.open(QIODevice::WriteOnly));
+    for (const auto& t : mesh.triangles) f.write(mesh.positions[t[0]].z() > 0.f ? "7\n" : "3\n");
+  }
+  BakeSettings b = w.session()->bakeSettings();
+  b.m = 8;
+  b.n = 4;
+  b.pieces = BakeSettings::Pieces::File;
+  b.piecesFile = good;
+  w.session()->setBakeSettings(b);
+  w.bakePanel()->showSettings();
+  w.bakePanel()->bakeButton()->click();
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }));
+  ASSERT_TRUE(w.session()->hasBoxes());
+  EXPECT_EQ(w.session()->boxes()->boxes().size(), 2u);
+  EXPECT_EQ(w.session()->outlines()->GetNumberOfLines(), 24);
+
+  const QString bad = data.dir.filePath(QStringLiteral("short.pieces"));
+  {
+    QFile f(bad);
+    ASSERT_TRUE(f.open(QIODevice::WriteOnly));
+    f.write("0\n1\n");
+  }
+  b.piecesFile = bad;
+  w.session()->setBakeSettings(b);
+  w.bakePanel()->showSettings();
+  QString message;
+  QObject::connect(w.session(), &HapticSession::jobFinished,
+                   [&](const QString&, bool ok, const QString& m) { message = ok ? QString() : m; });
+  w.bakePanel()->bakeButton()->click();
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }));
+  EXPECT_TRUE(message.contains("piece ids")) << message.toStdString();
+  EXPECT_EQ(w.session()->boxes()->boxes().size(), 2u) << "the previous boxes stay";
+}
