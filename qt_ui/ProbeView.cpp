@@ -324,7 +324,7 @@ void ProbeView::buildProxy() {
   proxySource_ = nullptr;
   proxyMapper_->SetInputData(nullptr);
   constexpr vtkIdType kProxyAbove = 30000;  // triangles; smaller models are drawn as they are
-  constexpr vtkIdType kProxyTarget = 20000;
+  constexpr vtkIdType kProxyTarget = 15000;
   if (!surface_ || surface_->GetNumberOfCells() <= kProxyAbove) return;
   // Quadric clustering: fast (one pass) and keeps the silhouette; the grid is refined once
   // towards the target triangle count.

@@ -17,7 +17,9 @@
 #include <QStatusBar>
 #include <QMimeData>
 #include <QUrl>
+#include "vtkHapticBoxUtilities.h"
 #include <vtkCommand.h>
+#include <vtkXMLPolyDataWriter.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderWindowInteractor.h>
 #include <gtest/gtest.h>
@@ -344,4 +346,18 @@ TEST(MainWindowTest, APieceFileBakesOneBoxPerPieceAndABadOneIsReported) {
   ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }));
   EXPECT_TRUE(message.contains("piece ids")) << message.toStdString();
   EXPECT_EQ(w.session()->boxes()->boxes().size(), 2u) << "the previous boxes stay";
+}
+
+TEST(MainWindowTest, OpensVtkPolyDataFiles) {
+  hbtest::MeshDir data;
+  const hb::TriangleMesh mesh = hb::read_mesh(QFile::encodeName(data.mesh).toStdString());
+  const QString vtp = data.dir.filePath(QStringLiteral("bumpy.vtp"));
+  auto writer = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
+  writer->SetInputData(vtkHapticBoxUtilities::ToPolyData(mesh));
+  writer->SetFileName(QFile::encodeName(vtp).constData());
+  ASSERT_EQ(writer->Write(), 1);
+  MainWindow w;
+  w.setBakeOnOpen(false);
+  ASSERT_TRUE(w.openFile(vtp));
+  EXPECT_EQ(w.session()->mesh().triangle_count(), mesh.triangle_count());
 }
