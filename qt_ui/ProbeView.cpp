@@ -1,3 +1,12 @@
+// ProbeView: what the 3D view draws, and how.
+//  1. The model (cell i = triangle i) coloured by "PieceId" (golden-angle hues) or by an error
+//     array (blue to red over [0, p95], NaN = no data in grey) with a scalar bar.
+//  2. Models above 30K triangles get a quadric-clustering proxy (~15K triangles) drawn while the
+//     camera or the probe moves; the full model returns 250 ms after the view is still.
+//  3. The probe (handle to tip) and two arrows on one force scale: exact (green), box (orange).
+//  4. Picking casts the mouse ray against a static cell locator of the model, so it works
+//     whichever of model or proxy is on screen.
+//  5. Renders are coalesced to one per event-loop pass and skipped when nothing moved.
 #include "ProbeView.h"
 #include "ProbeInteractorStyle.h"
 #include "errors.h"
