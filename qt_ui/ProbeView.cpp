@@ -48,10 +48,10 @@ namespace {
 const double kExactColor[3] = {0.15, 0.75, 0.25};   // green
 const double kApproxColor[3] = {1.0, 0.45, 0.0};    // orange
 
-vtkSmartPointer<vtkActor> makeArrow(const double color[3]) {
+vtkSmartPointer<vtkActor> makeArrow(const double color[3], double thickness) {
   auto source = vtkSmartPointer<vtkArrowSource>::New();
-  source->SetShaftRadius(0.04);
-  source->SetTipRadius(0.1);
+  source->SetShaftRadius(0.04 * thickness);
+  source->SetTipRadius(0.1 * thickness);
   source->SetTipLength(0.3);
   source->SetShaftResolution(16);
   source->SetTipResolution(16);
@@ -168,8 +168,9 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   tipActor_->VisibilityOff();
   renderer_->AddActor(tipActor_);
 
-  exactArrow_ = makeArrow(kExactColor);
-  approxArrow_ = makeArrow(kApproxColor);
+  // The exact arrow is a little thicker, so it shows around the box's when the two coincide.
+  exactArrow_ = makeArrow(kExactColor, 1.5);
+  approxArrow_ = makeArrow(kApproxColor, 1.0);
   renderer_->AddActor(exactArrow_);
   renderer_->AddActor(approxArrow_);
   legendExact_ = makeLegend("-> exact force (Embree)", kExactColor, 0);
@@ -532,6 +533,8 @@ void ProbeView::renderNow() {
 }
 
 void ProbeView::saveScreenshot(const QString& path) {
+  stillTimer_->stop();
+  setInteracting(false);  // a screenshot shows the full model, never the proxy
   renderWindow()->Render();
   auto grab = vtkSmartPointer<vtkWindowToImageFilter>::New();
   grab->SetInput(renderWindow());
