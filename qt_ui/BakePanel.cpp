@@ -1,0 +1,186 @@
+#include "BakePanel.h"
+#include "BackgroundJob.h"
+#include "HapticSession.h"
+#include "haptic_box/haptic_box.h"
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QFormLayout>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QLineEdit>
+#include <QProgressBar>
+#include <QPushButton>
+#include <QSpinBox>
+#include <QStandardItemModel>
+#include <QVBoxLayout>
+
+BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent), session_(session) {
+  m_ = new QSpinBox;
+  m_->setRange(2, 256);
+  m_->setToolTip(tr("Position points per PBB face edge (m)"));
+  n_ = new QSpinBox;
+  n_->setRange(2, 64);
+  n_->setToolTip(tr("Directional points per sub-block face edge (n)"));
+  padding_ = new QDoubleSpinBox;
+  padding_->setRange(0.0, 0.5);
+  padding_->setDecimals(3);
+  padding_->setSingleStep(0.005);
+  padding_->setToolTip(tr("PBB padding, fraction of the box diagonal"));
+
+  pieces_ = new QComboBox;
+  pieces_->addItem(tr("None (one box)"), int(BakeSettings::Pieces::None));
+  pieces_->addItem(tr("From a piece file"), int(BakeSettings::Pieces::File));
+  pieces_->addItem(tr("Automatic"), int(BakeSettings::Pieces::Automatic));
+  // LEAD: enable once src/decomposition is merged (HapticSession::piecesFor).
+  if (auto* model = qobject_cast<QStandardItemModel*>(pieces_->model())) {
+    model->item(2)->setEnabled(false);
+    model->item(2)->setToolTip(tr("The automatic decomposition is not in this build"));
+  }
+  piecesFile_ = new QLineEdit;
+  piecesFile_->setPlaceholderText(tr("one piece id per triangle"));
+  browse_ = new QPushButton(tr("..."));
+  browse_->setMaximumWidth(32);
+  auto* fileRow = new QHBoxLayout;
+  fileRow->setContentsMargins(0, 0, 0, 0);
+  fileRow->addWidget(piecesFile_);
+  fileRow->addWidget(browse_);
+
+  codec_ = new QComboBox;
+  codec_->addItem(tr("none (8-byte samples)"), QStringLiteral("none"));
+  // LEAD: add the codecs of src/codec here (item data = the codec name HapticSession::startBake takes).
+  cache_ = new QCheckBox(tr("Cache baked boxes next to the model"));
+  size_ = new QLabel;
+  const auto showSize = [this] {
+    hb::BoxParams p;
+    p.m = m_->value();
+    p.n = n_->value();
+    const double mb = static_cast<double>(p.sample_count() * sizeof(hb::Sample)) / 1048576.0;
+    size_->setText(tr("%1 MB of tables per box, %2 M rays per box").arg(mb, 0, 'f', 1)
+                       .arg(static_cast<double>(p.sample_count()) / 1e6, 0, 'f', 1));
+    size_->setStyleSheet(mb > 1024.0 ? QStringLiteral("color: #c00000;") : QString());
+  };
+  connect(m_, QOverload<int>::of(&QSpinBox::valueChanged), this, showSize);
+  connect(n_, QOverload<int>::of(&QSpinBox::valueChanged), this, showSize);
+
+  bake_ = new QPushButton(tr("Bake"));
+  bake_->setDefault(true);
+  cancel_ = new QPushButton(tr("Cancel"));
+  progress_ = new QProgressBar;
+  progress_->setRange(0, 1000);
+  progress_->setTextVisible(true);
+  progress_->setFormat(QStringLiteral("%p%"));
+  info_ = new QLabel;
+  info_->setWordWrap(true);
+  info_->setTextInteractionFlags(Qt::TextSelectableByMouse);
+
+  auto* form = new QFormLayout;
+  form->addRow(tr("Positions m"), m_);
+  form->addRow(tr("Directions n"), n_);
+  form->addRow(tr("Padding"), padding_);
+  form->addRow(tr("Pieces"), pieces_);
+  form->addRow(tr("Piece file"), fileRow);
+  form->addRow(tr("Codec"), codec_);
+  form->addRow(tr("Size"), size_);
+  form->addRow(cache_);
+  auto* buttons = new QHBoxLayout;
+  buttons->addWidget(bake_);
+  buttons->addWidget(cancel_);
+  auto* layout = new QVBoxLayout(this);
+  layout->addLayout(form);
+  layout->addLayout(buttons);
+  layout->addWidget(progress_);
+  layout->addWidget(info_);
+  layout->addStretch(1);
+
+  showSettings();
+  showSize();
+  connect(bake_, &QPushButton::clicked, this, &BakePanel::bake);
+  connect(cancel_, &QPushButton::clicked, this, [this] { session_->job()->cancel(); });
+  connect(browse_, &QPushButton::clicked, this, &BakePanel::browsePieces);
+  connect(pieces_, QOverload<int>::of(&QComboBox::currentIndexChanged), this, &BakePanel::updateState);
+  connect(session_->job(), &BackgroundJob::progressChanged, this, [this](double f) {
+    if (bakeRunning_) progress_->setValue(static_cast<int>(f * 1000.0));
+  });
+  connect(session_, &HapticSession::jobFinished, this, [this](const QString&, bool ok, const QString&) {
+    if (bakeRunning_ && !ok) progress_->setValue(0);
+    bakeRunning_ = false;
+    updateState();
+  });
+  connect(session_, &HapticSession::boxesChanged, this, &BakePanel::updateState);
+  connect(session_, &HapticSession::meshChanged, this, &BakePanel::updateState);
+  updateState();
+}
+
+void BakePanel::showSettings() {
+  const BakeSettings& s = session_->bakeSettings();
+  m_->setValue(s.m);
+  n_->setValue(s.n);
+  padding_->setValue(s.padding);
+  pieces_->setCurrentIndex(pieces_->findData(int(s.pieces)));
+  piecesFile_->setText(s.piecesFile);
+  const int c = codec_->findData(s.codec);
+  codec_->setCurrentIndex(c < 0 ? 0 : c);
+  cache_->setChecked(s.useCache);
+}
+
+void BakePanel::applySettings() {
+  BakeSettings s = session_->bakeSettings();
+  s.m = m_->value();
+  s.n = n_->value();
+  s.padding = static_cast<float>(padding_->value());
+  s.pieces = static_cast<BakeSettings::Pieces>(pieces_->currentData().toInt());
+  s.piecesFile = piecesFile_->text();
+  s.codec = codec_->currentData().toString();
+  s.useCache = cache_->isChecked();
+  session_->setBakeSettings(s);
+}
+
+void BakePanel::bake() {
+  applySettings();
+  // Reopening with the same settings is instant: use the cache when it holds this bake.
+  if (session_->bakeSettings().useCache && session_->loadCachedBoxes()) {
+    progress_->setValue(1000);
+    emit message(tr("Loaded the cached bake %1").arg(session_->cachePath()));
+    return;
+  }
+  QString error;
+  if (!session_->startBake(&error)) {
+    emit message(error);
+    return;
+  }
+  bakeRunning_ = true;
+  progress_->setValue(0);
+  updateState();
+}
+
+void BakePanel::browsePieces() {
+  const QString path = QFileDialog::getOpenFileName(this, tr("Piece file"), QFileInfo(session_->meshPath()).absolutePath(),
+                                                    tr("Piece files (*.txt *.pieces);;All files (*)"));
+  if (!path.isEmpty()) piecesFile_->setText(path);
+}
+
+void BakePanel::updateState() {
+  const bool busy = session_->job()->isRunning();
+  bake_->setEnabled(session_->hasMesh() && !busy);
+  cancel_->setEnabled(bakeRunning_);
+  const bool file = pieces_->currentData().toInt() == int(BakeSettings::Pieces::File);
+  piecesFile_->setEnabled(file);
+  browse_->setEnabled(file);
+  if (!session_->hasBoxes()) {
+    info_->setText(session_->hasMesh() ? tr("No boxes yet: bake to start the device thread") : QString());
+    return;
+  }
+  if (!busy) progress_->setValue(1000);
+  const hb::BoxScene& s = *session_->boxes();
+  const auto& p = s.boxes().front().params();
+  info_->setText(tr("%1 box(es), m %2, n %3, %4 MB of tables, %5")
+                     .arg(s.boxes().size())
+                     .arg(p.m)
+                     .arg(p.n)
+                     .arg(static_cast<double>(s.table_bytes()) / 1048576.0, 0, 'f', 1)
+                     .arg(session_->boxesFromCache() ? tr("from the cache")
+                                                     : tr("baked in %1 s").arg(session_->bakeSeconds(), 0, 'f', 2)));
+}

@@ -1,0 +1,41 @@
+#pragma once
+// The charts: speed against accuracy (sweep rows, with the exact Embree and VTK locator
+// points) and compression against error, in VTK chart views. Clicking a box configuration
+// asks for it to be loaded.
+#include "evaluation/sweep.h"
+#include <QWidget>
+#include <vtkSmartPointer.h>
+#include <utility>
+#include <vector>
+
+class QLabel;
+class QVTKOpenGLNativeWidget;
+class vtkChartXY;
+class vtkContextView;
+class vtkPlot;
+
+class ChartsView : public QWidget {
+  Q_OBJECT
+public:
+  explicit ChartsView(QWidget* parent = nullptr);
+  ~ChartsView() override;
+  void setRows(const std::vector<hb::SweepRow>& rows, const std::vector<std::pair<double, double>>& compression);
+  std::size_t pointCount() const { return boxRows_.size(); }
+  /// As a click on the box point `index` would do.
+  void choose(std::size_t index);
+
+signals:
+  void configurationChosen(int m, int n, const QString& codec);
+
+private:
+  void onSelection();
+
+  QVTKOpenGLNativeWidget* speedWidget_;
+  QVTKOpenGLNativeWidget* compressionWidget_;
+  QLabel* hint_;
+  QLabel* compressionNote_;
+  vtkSmartPointer<vtkContextView> speedView_, compressionView_;
+  vtkSmartPointer<vtkChartXY> speedChart_, compressionChart_;
+  vtkPlot* boxPlot_ = nullptr;
+  std::vector<hb::SweepRow> boxRows_;
+};

@@ -1,0 +1,679 @@
+// HapticSession: the window's logic.
+//  1. openMesh reads the mesh (hb::read_mesh), hashes the file, builds the exact query
+//     (Embree) and the surface polydata, then tries the bake cache for the current settings.
+//  2. startBake runs hb::bake_scene on the worker (progress/cancel); the result is installed
+//     on the GUI thread and saved to the cache.
+//  3. With boxes, the servo thread (hb::ServoLoop) runs the chosen device against them at 1 kHz;
+//     a ServoRateMonitor between the loop and the boxes measures the live rate.
+//  4. reading() is called at display rate: the latest servo snapshot (lock-free) gives the tip
+//     and the box's answer; the exact answer is computed here on the same segment.
+#include "HapticSession.h"
+#include "BackgroundJob.h"
+#include "ServoRateMonitor.h"
+#include "device/device_error.h"
+#include "device/falcon/falcon_device.h"
+#include "device/falcon/falcon_usb_transport.h"
+#include "device/servo_log.h"
+#include "device/virtual_device.h"
+#include "errors.h"
+#include "evaluation/comparison.h"
+#include "evaluation/sweep.h"
+#include "haptic_box/bake.h"
+#include "haptic_box/box_file.h"
+#include "mesh/mesh_io.h"
+#include "report.h"
+#include "vtkHapticBoxCellLocatorQuery.h"
+#include "vtkHapticBoxMeshReader.h"
+#include "vtkHapticBoxUtilities.h"
+#include <QDir>
+#include <QFileInfo>
+#include <QStandardPaths>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkFloatArray.h>
+#include <vtkIntArray.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <algorithm>
+#include <cstdio>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace {
+
+double elapsedNs(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Reads a piece file: one integer piece id per triangle, whitespace separated.
+std::vector<std::uint32_t> readPieceFile(const std::string& path, std::size_t triangles) {
+  std::ifstream in(path);
+  if (!in) throw hb::IoError(path + ": cannot open the piece file");
+  std::vector<std::uint32_t> ids;
+  ids.reserve(triangles);
+  long long v = 0;
+  while (in >> v) {
+    if (v < 0) throw hb::InvalidInput(path + ": negative piece id");
+    ids.push_back(static_cast<std::uint32_t>(v));
+  }
+  if (!in.eof()) throw hb::InvalidInput(path + ": not a list of integers");
+  if (ids.size() != triangles)
+    throw hb::InvalidInput(path + ": " + std::to_string(ids.size()) + " piece ids for " +
+                           std::to_string(triangles) + " triangles");
+  // Renumber to 0..K-1 in increasing order, as bake_scene expects.
+  std::vector<std::uint32_t> sorted(ids);
+  std::sort(sorted.begin(), sorted.end());
+  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+  for (auto& id : ids)
+    id = static_cast<std::uint32_t>(std::lower_bound(sorted.begin(), sorted.end(), id) - sorted.begin());
+  return ids;
+}
+
+std::string hex64(std::uint64_t v) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
+  return buf;
+}
+
+}  // namespace
+
+HapticSession::HapticSession(QObject* parent) : QObject(parent), job_(new BackgroundJob(this)) {
+  outlines_ = vtkSmartPointer<vtkPolyData>::New();
+  connect(job_, &BackgroundJob::finished, this, [this](bool ok, bool cancelled, const QString& message) {
+    const QString name = job_->name();
+    if (ok && pendingBoxes_) {
+      boxPieces_ = std::move(pendingPieces_);
+      installBoxes(std::move(pendingBoxes_), pendingSeconds_, false);
+      if (!pendingCacheWarning_.isEmpty()) emit statusMessage(pendingCacheWarning_);
+    }
+    if (ok && pendingField_) {
+      errorField_ = std::move(pendingField_);
+      vtkPointData* pd = surface_->GetPointData();
+      pd->AddArray(vtkHapticBoxUtilities::ToScalarArray(errorArrayName(ErrorMetric::RelativeForce),
+                                                        errorField_->force_error));
+      pd->AddArray(vtkHapticBoxUtilities::ToScalarArray(errorArrayName(ErrorMetric::Direction),
+                                                        errorField_->direction_error));
+      pd->AddArray(vtkHapticBoxUtilities::ToScalarArray(errorArrayName(ErrorMetric::ContactDisagreement),
+                                                        errorField_->contact_disagreement));
+      surface_->Modified();
+      emit errorFieldChanged();
+    }
+    if (ok && pendingRowsReady_) {
+      sweepRows_ = std::move(pendingRows_);
+      compression_ = std::move(pendingCompression_);
+      emit sweepChanged();
+    }
+    pendingRowsReady_ = false;
+    pendingBoxes_.reset();
+    pendingField_.reset();
+    pendingCacheWarning_.clear();
+    emit jobFinished(name, ok, ok ? tr("%1 done").arg(name) : message);
+    (void)cancelled;
+  });
+}
+
+HapticSession::~HapticSession() {
+  job_->cancel();
+  job_->wait();
+  stopServo();
+}
+
+QString HapticSession::meshFileFilter() {
+  return tr("Meshes (*.off *.obj *.ply *.stl *.om *.vtp *.vtk);;All files (*)");
+}
+
+bool HapticSession::busy(QString* error) const {
+  if (!job_->isRunning()) return false;
+  if (error) *error = tr("%1 is running: wait for it or cancel it first").arg(job_->name());
+  return true;
+}
+
+// --- model -----------------------------------------------------------------------------
+
+bool HapticSession::openMesh(const QString& path, QString* error) {
+  if (busy(error)) return false;
+  try {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::string p = QFile::encodeName(path).toStdString();
+    const std::string ext = vtkHapticBoxUtilities::Extension(p);
+    hb::MeshReadReport report;
+    std::shared_ptr<hb::TriangleMesh> mesh;
+    if (ext == ".vtp" || ext == ".vtk") {
+      // VTK's own formats go through the pipeline's reader.
+      auto reader = vtkSmartPointer<vtkHapticBoxMeshReader>::New();
+      reader->SetFileName(p.c_str());
+      reader->Update();
+      vtkPolyData* out = reader->GetOutput();
+      if (!out || out->GetNumberOfCells() == 0) throw hb::InvalidInput(p + ": no triangles could be read");
+      mesh = std::make_shared<hb::TriangleMesh>(vtkHapticBoxUtilities::ToTriangleMesh(out));
+    } else {
+      mesh = std::make_shared<hb::TriangleMesh>(hb::read_mesh(p, &report));
+    }
+    const auto tRead = std::chrono::steady_clock::now();
+    const std::uint64_t hash = hb::hash_file(p);
+    const auto tHash = std::chrono::steady_clock::now();
+    std::shared_future<std::shared_ptr<const hb::ExactQuery>> exact =
+        std::async(std::launch::async, [mesh] { return std::make_shared<const hb::ExactQuery>(*mesh); }).share();
+    const auto tExact = std::chrono::steady_clock::now();
+
+    // Commit: nothing below throws on a valid mesh.
+    stopServo();
+    boxes_.reset();
+    errorField_.reset();
+    boxPieces_.clear();
+    exact_ = std::move(exact);
+    mesh_ = std::move(mesh);
+    meshHash_ = hash;
+    meshPath_ = QFileInfo(path).absoluteFilePath();
+    diagonal_ = mesh_->bounds().diagonal();
+    warnings_.clear();
+    for (const auto& w : report.warnings) warnings_ << QString::fromStdString(w);
+    surface_ = vtkHapticBoxUtilities::ToPolyData(*mesh_);
+    updatePieceArray({});
+    outlines_ = vtkSmartPointer<vtkPolyData>::New();
+    const hb::Bounds b = mesh_->bounds();
+    mapping_ = hb::fit_workspace(b.min, b.max, hb::virtual_device_spec());
+    mapping_.probe_direction = probeDirection_;
+    picked_.reset();
+    const auto tSurface = std::chrono::steady_clock::now();
+    emit meshChanged();
+    const auto tView = std::chrono::steady_clock::now();
+    loadCachedBoxes();
+    if (qEnvironmentVariableIsSet("HB_GUI_TIMING")) {
+      const auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+      std::fprintf(stderr, "open timing: read %.0f ms, hash %.0f ms, exact %.0f ms, surface %.0f ms, view %.0f ms, cache %.0f ms\n",
+                   ms(t0, tRead), ms(tRead, tHash), ms(tHash, tExact), ms(tExact, tSurface), ms(tSurface, tView),
+                   ms(tView, std::chrono::steady_clock::now()));
+    }
+    return true;
+  } catch (const std::exception& e) {
+    if (error) *error = QString::fromStdString(e.what());
+    return false;
+  }
+}
+
+void HapticSession::updatePieceArray(const std::vector<std::uint32_t>& pieces) {
+  auto ids = vtkSmartPointer<vtkIntArray>::New();
+  ids->SetName("PieceId");
+  ids->SetNumberOfTuples(static_cast<vtkIdType>(mesh_->triangle_count()));
+  for (vtkIdType i = 0; i < ids->GetNumberOfTuples(); ++i)
+    ids->SetValue(i, pieces.empty() ? 0 : static_cast<int>(pieces[static_cast<std::size_t>(i)]));
+  surface_->GetCellData()->AddArray(ids);
+  surface_->Modified();
+}
+
+hb::SourceInfo HapticSession::sourceInfo() const {
+  hb::SourceInfo s;
+  s.mesh_path = QFile::encodeName(meshPath_).toStdString();
+  s.mesh_hash = meshHash_;
+  s.triangles = mesh_->triangle_count();
+  s.diagonal = diagonal_;
+  return s;
+}
+
+// --- bake ------------------------------------------------------------------------------
+
+std::vector<std::uint32_t> HapticSession::piecesFor(const hb::TriangleMesh& mesh, const BakeSettings& settings) {
+  switch (settings.pieces) {
+  case BakeSettings::Pieces::None: return {};
+  case BakeSettings::Pieces::File:
+    return readPieceFile(QFile::encodeName(settings.piecesFile).toStdString(), mesh.triangle_count());
+  case BakeSettings::Pieces::Automatic:
+    // LEAD: wire src/decomposition here after the merge, e.g.
+    //   return hb::decompose(mesh, hb::DecompositionOptions{...}).piece_of_triangle;
+    throw hb::InvalidInput("automatic decomposition is not in this build (src/decomposition)");
+  }
+  return {};
+}
+
+QString HapticSession::cachePath() const {
+  if (!mesh_) return {};
+  hb::SweepConfig config;
+  config.m = bake_.m;
+  config.n = bake_.n;
+  config.codec = bake_.codec.toStdString();
+  const QFileInfo model(meshPath_);
+  QString dir = model.absolutePath() + QStringLiteral("/.hapticbox-cache");
+  if (!QFileInfo(model.absolutePath()).isWritable() && !QFileInfo(dir).isWritable())
+    dir = QStandardPaths::writableLocation(QStandardPaths::GenericCacheLocation) + QStringLiteral("/hapticbox");
+  QString file = QString::fromStdString(hb::sweep_cache_path(dir.toStdString(), meshHash_, config));
+  // Padding and pieces change the boxes too: encode them in the name.
+  QString suffix = QStringLiteral("_p%1").arg(static_cast<int>(std::lround(bake_.padding * 10000)));
+  if (bake_.pieces == BakeSettings::Pieces::File) {
+    try {
+      suffix += QStringLiteral("_pieces%1").arg(QString::fromStdString(
+          hex64(hb::hash_file(QFile::encodeName(bake_.piecesFile).toStdString()))));
+    } catch (const std::exception&) {
+      suffix += QStringLiteral("_pieces-missing");
+    }
+  } else if (bake_.pieces == BakeSettings::Pieces::Automatic) {
+    suffix += QStringLiteral("_auto");
+  }
+  file.insert(file.size() - 5, suffix);  // before ".hbox"
+  return file;
+}
+
+bool HapticSession::loadCachedBoxes() {
+  if (!mesh_ || !bake_.useCache) return false;
+  const QString path = cachePath();
+  if (!QFileInfo::exists(path)) return false;
+  try {
+    auto scene = std::make_shared<hb::BoxScene>(hb::load_box_file(QFile::encodeName(path).toStdString()));
+    if (scene->source().mesh_hash != meshHash_) return false;
+    boxPieces_ = piecesFor(*mesh_, bake_);
+    installBoxes(std::move(scene), 0.0, true);
+    emit statusMessage(tr("Loaded cached boxes %1").arg(path));
+    return true;
+  } catch (const std::exception& e) {
+    emit statusMessage(tr("Ignoring the cached boxes: %1").arg(QString::fromStdString(e.what())));
+    return false;
+  }
+}
+
+bool HapticSession::startBake(QString* error) {
+  if (!mesh_) {
+    if (error) *error = tr("Open a model first");
+    return false;
+  }
+  if (busy(error)) return false;
+  if (bake_.codec != QLatin1String("none")) {
+    // LEAD: codecs (src/codec) plug in here: encode the tables after bake_scene and save with
+    // the codec; until then only "none" exists.
+    if (error) *error = tr("codec '%1' is not in this build").arg(bake_.codec);
+    return false;
+  }
+  auto mesh = mesh_;
+  const BakeSettings settings = bake_;
+  const hb::SourceInfo source = sourceInfo();
+  const QString cache = settings.useCache ? cachePath() : QString();
+  return job_->start(tr("Bake"), [this, mesh, settings, source, cache](const auto& progress) {
+    const std::vector<std::uint32_t> pieces = piecesFor(*mesh, settings);
+    hb::BakeOptions o;
+    o.params.m = settings.m;
+    o.params.n = settings.n;
+    o.obb.padding = settings.padding;
+    o.progress = progress;
+    hb::BakeStats stats;
+    auto scene = std::make_shared<hb::BoxScene>(hb::bake_scene(*mesh, pieces, o, source, &stats));
+    if (!cache.isEmpty()) {
+      try {
+        QDir().mkpath(QFileInfo(cache).absolutePath());
+        hb::save_box_file(*scene, QFile::encodeName(cache).toStdString());
+      } catch (const std::exception& e) {
+        pendingCacheWarning_ = tr("Baked, but not cached: %1").arg(QString::fromStdString(e.what()));
+      }
+    }
+    pendingPieces_ = pieces;
+    pendingSeconds_ = stats.seconds;
+    pendingBoxes_ = std::move(scene);
+  });
+}
+
+bool HapticSession::openBoxFile(const QString& path, QString* error) {
+  if (!mesh_) {
+    if (error) *error = tr("Open the model the boxes were baked from first");
+    return false;
+  }
+  if (busy(error)) return false;
+  try {
+    auto scene = std::make_shared<hb::BoxScene>(hb::load_box_file(QFile::encodeName(path).toStdString()));
+    if (scene->source().mesh_hash != 0 && scene->source().mesh_hash != meshHash_)
+      throw hb::InvalidInput(QFile::encodeName(path).toStdString() + ": baked from another mesh (" +
+                             scene->source().mesh_path + ")");
+    boxPieces_.clear();
+    installBoxes(std::move(scene), 0.0, true);
+    return true;
+  } catch (const std::exception& e) {
+    if (error) *error = QString::fromStdString(e.what());
+    return false;
+  }
+}
+
+bool HapticSession::saveBoxFile(const QString& path, QString* error) const {
+  try {
+    if (!boxes_) throw hb::InvalidInput("no boxes: bake first");
+    hb::save_box_file(*boxes_, QFile::encodeName(path).toStdString());
+    return true;
+  } catch (const std::exception& e) {
+    if (error) *error = QString::fromStdString(e.what());
+    return false;
+  }
+}
+
+void HapticSession::installBoxes(std::shared_ptr<const hb::BoxScene> boxes, double seconds, bool fromCache) {
+  stopServo();
+  boxes_ = std::move(boxes);
+  bakeSeconds_ = seconds;
+  boxesFromCache_ = fromCache;
+  errorField_.reset();
+  vtkPointData* pd = surface_->GetPointData();
+  for (ErrorMetric m : {ErrorMetric::RelativeForce, ErrorMetric::Direction, ErrorMetric::ContactDisagreement})
+    pd->RemoveArray(errorArrayName(m));
+  updatePieceArray(boxPieces_);
+  rebuildOutlines();
+  startServo();
+  emit boxesChanged();
+  emit errorFieldChanged();
+}
+
+void HapticSession::rebuildOutlines() {
+  // 12 edges per PBB, corners in the box frame.
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  auto lines = vtkSmartPointer<vtkCellArray>::New();
+  auto ids = vtkSmartPointer<vtkIntArray>::New();
+  ids->SetName("BoxId");
+  static const int edges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
+                                   {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  int boxId = 0;
+  for (const auto& box : boxes_->boxes()) {
+    const hb::Obb& o = box.obb();
+    const vtkIdType base = points->GetNumberOfPoints();
+    for (int c = 0; c < 8; ++c) {
+      const hb::Vec3 p = o.to_world(hb::Vec3((c & 1) ? o.half.x() : -o.half.x(),
+                                             (c & 2) ? o.half.y() : -o.half.y(),
+                                             (c & 4) ? o.half.z() : -o.half.z()));
+      points->InsertNextPoint(p.x(), p.y(), p.z());
+    }
+    for (const auto& e : edges) {
+      const vtkIdType line[2] = {base + e[0], base + e[1]};
+      lines->InsertNextCell(2, line);
+      ids->InsertNextValue(boxId);
+    }
+    ++boxId;
+  }
+  outlines_ = vtkSmartPointer<vtkPolyData>::New();
+  outlines_->SetPoints(points);
+  outlines_->SetLines(lines);
+  outlines_->GetCellData()->AddArray(ids);
+}
+
+// --- error field -----------------------------------------------------------------------
+
+const char* HapticSession::errorArrayName(ErrorMetric metric) {
+  switch (metric) {
+  case ErrorMetric::RelativeForce: return "RelativeForceError";
+  case ErrorMetric::Direction: return "DirectionError";
+  case ErrorMetric::ContactDisagreement: return "ContactDisagreement";
+  }
+  return "RelativeForceError";
+}
+
+QString HapticSession::errorMetricTitle(ErrorMetric metric) {
+  switch (metric) {
+  case ErrorMetric::RelativeForce: return tr("Relative force error");
+  case ErrorMetric::Direction: return tr("Direction error (deg)");
+  case ErrorMetric::ContactDisagreement: return tr("Contact disagreement");
+  }
+  return {};
+}
+
+bool HapticSession::startErrorField(int probesPerPoint, QString* error) {
+  if (!boxes_) {
+    if (error) *error = tr("Bake or open boxes first");
+    return false;
+  }
+  if (busy(error)) return false;
+  auto mesh = mesh_;
+  auto boxes = boxes_;
+  const auto exactFuture = exact_;
+  const float diagonal = diagonal_;
+  return job_->start(tr("Error field"), [this, mesh, boxes, exactFuture, diagonal, probesPerPoint](const auto& progress) {
+    const std::shared_ptr<const hb::ExactQuery> exact = exactFuture.get();
+    hb::ErrorFieldOptions o;
+    o.probes_per_point = probesPerPoint;
+    o.law = law_;
+    o.progress = progress;
+    auto field = std::make_unique<hb::ErrorField>(
+        hb::compute_error_field(*boxes, *exact, hb::surface_points_at_vertices(*mesh), diagonal, o));
+    pendingField_ = std::move(field);
+  });
+}
+
+// --- probe -----------------------------------------------------------------------------
+
+void HapticSession::setProbeTarget(const hb::Vec3& surfacePoint) {
+  picked_ = surfacePoint;
+  if (virtual_) {
+    const hb::Vec3 tip = surfacePoint + probeDirection_ * static_cast<float>(depthFraction_ * diagonal_);
+    virtual_->set_target((tip - mapping_.model_origin) / mapping_.model_units_per_metre);
+  }
+}
+
+void HapticSession::setProbeDirection(const hb::Vec3& direction) {
+  const hb::Vec3 d = direction.normalized();
+  if (!d.allFinite() || d.dot(probeDirection_) > 0.99996f) return;  // < ~0.5 degree: keep
+  probeDirection_ = d;
+  mapping_.probe_direction = d;
+  if (loop_) {
+    stopServo();
+    startServo();
+  }
+  if (picked_) setProbeTarget(*picked_);
+}
+
+void HapticSession::setDepthFraction(double f) {
+  depthFraction_ = std::clamp(f, -0.05, 0.1);
+  if (picked_) setProbeTarget(*picked_);
+}
+
+ProbeReading HapticSession::reading() {
+  ProbeReading r;
+  if (!mesh_) return r;
+  r.haveBoxes = boxes_ != nullptr;
+  r.deviceName = deviceName_;
+  hb::ForceLaw law = law_;
+  hb::Vec3 tip;
+  const bool servo = loop_ && loop_->running();
+  r.deviceRunning = servo;
+  if (servo) {
+    const hb::ServoSnapshot s = loop_->snapshot();
+    law = loop_->options().law;
+    tip = hb::Vec3(s.tip_model[0], s.tip_model[1], s.tip_model[2]);
+    r.placed = virtual_ ? picked_.has_value() : s.tick > 0;
+    r.segment = hb::Segment{tip - probeDirection_ * mapping_.probe_length, tip};
+    r.approx.contact = s.contact != 0;
+    r.approx.depth = s.depth;
+    r.approx.normal = hb::Vec3(s.normal[0], s.normal[1], s.normal[2]);
+    r.approx.point = tip - probeDirection_ * s.depth;
+    r.approx.force = hb::Vec3(s.desired_force_n[0], s.desired_force_n[1], s.desired_force_n[2]);
+    r.approxQueryNs = s.query_ns;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - lastWindow_ > std::chrono::milliseconds(500)) {
+      const ServoRateMonitor::Window w = monitor_->takeWindow();
+      if (w.ticks > 0) {
+        rateHz_ = w.rate_hz;
+        p99Us_ = w.p99_period_us;
+      }
+      lastWindow_ = now;
+    }
+    r.rateHz = rateHz_;
+    r.p99PeriodUs = p99Us_;
+  } else {
+    if (!picked_) return r;
+    r.placed = true;
+    tip = *picked_ + probeDirection_ * static_cast<float>(depthFraction_ * diagonal_);
+    r.segment = hb::Segment{tip - probeDirection_ * mapping_.probe_length, tip};
+    if (boxes_) {
+      const auto t0 = std::chrono::steady_clock::now();
+      r.approx = boxes_->query(r.segment, law);
+      r.approxQueryNs = elapsedNs(t0);
+    }
+  }
+  if (!r.placed) return r;
+  const auto t0 = std::chrono::steady_clock::now();
+  const hb::ExactQuery* exact = readyExact();
+  if (!exact) return r;  // the exact query is still building (a fraction of a second after open)
+  r.exact = exact->query(r.segment, law);
+  r.exactQueryNs = elapsedNs(t0);
+  if (r.exact.contact && r.approx.contact) {
+    r.relativeError = hb::relative_force_error(r.exact, r.approx);
+    r.angleDeg = hb::angle_error_degrees(r.exact, r.approx);
+  }
+  return r;
+}
+
+// --- device ----------------------------------------------------------------------------
+
+bool HapticSession::setDevice(DeviceKind kind, const QString& replayPath, QString* message) {
+  stopServo();
+  device_.reset();
+  virtual_ = nullptr;
+  bool ok = true;
+  QString note;
+  try {
+    if (kind == DeviceKind::Replay) {
+      device_ = std::make_unique<hb::ReplayDevice>(QFile::encodeName(replayPath).toStdString());
+      deviceName_ = tr("Replay: %1").arg(QFileInfo(replayPath).fileName());
+    } else if (kind == DeviceKind::Falcon) {
+      device_ = std::make_unique<hb::FalconDevice>(hb::open_falcon_usb(0), hb::FalconOptions{});
+      deviceName_ = tr("Novint Falcon");
+    }
+  } catch (const std::exception& e) {
+    ok = false;
+    note = tr("%1; using the virtual (mouse) device").arg(QString::fromStdString(e.what()));
+    kind = DeviceKind::Virtual;
+  }
+  if (kind == DeviceKind::Virtual) {
+    auto v = std::make_unique<hb::VirtualDevice>();
+    virtual_ = v.get();
+    device_ = std::move(v);
+    deviceName_ = tr("Virtual (mouse)");
+  }
+  deviceKind_ = kind;
+  if (picked_) setProbeTarget(*picked_);
+  startServo();
+  if (message) *message = note;
+  emit deviceChanged(note.isEmpty() ? deviceName_ : note);
+  return ok;
+}
+
+bool HapticSession::servoRunning() const { return loop_ && loop_->running(); }
+
+void HapticSession::startServo() {
+  if (!boxes_ || !mesh_) return;
+  if (!device_) {
+    auto v = std::make_unique<hb::VirtualDevice>();
+    virtual_ = v.get();
+    device_ = std::move(v);
+    deviceName_ = tr("Virtual (mouse)");
+  }
+  monitor_ = std::make_unique<ServoRateMonitor>(*boxes_);
+  hb::ServoOptions o;
+  o.law = law_;
+  o.mapping = mapping_;
+  o.request_realtime = qEnvironmentVariableIsEmpty("HB_GUI_NO_REALTIME");
+  // No busy-wait before each deadline: the window renders on the same cores (software GL
+  // uses every core), and a real-time thread spinning 50 us per tick halves its frame rate
+  // while sleeping to the deadline keeps the p99 period within a few tens of us.
+  o.spin_s = qEnvironmentVariableIntValue("HB_GUI_SPIN_US") * 1e-6;
+  if (auto* replay = dynamic_cast<hb::ReplayDevice*>(device_.get())) o.rate_hz = replay->log().rate_hz;
+  try {
+    loop_ = std::make_unique<hb::ServoLoop>(*device_, *monitor_, o);
+    loop_->start();
+    rateHz_ = p99Us_ = 0.0;
+    lastWindow_ = std::chrono::steady_clock::now();
+    monitor_->takeWindow();
+  } catch (const std::exception& e) {
+    loop_.reset();
+    emit statusMessage(tr("Device thread not started: %1").arg(QString::fromStdString(e.what())));
+  }
+}
+
+void HapticSession::stopServo() {
+  if (loop_) loop_->stop();
+  loop_.reset();
+  monitor_.reset();
+}
+
+// --- export ----------------------------------------------------------------------------
+
+bool HapticSession::startReport(const QString& dir, const QString& errorFieldImage, std::size_t samples,
+                                QString* error) {
+  if (!boxes_) {
+    if (error) *error = tr("Bake or open boxes first");
+    return false;
+  }
+  if (busy(error)) return false;
+  auto mesh = mesh_;
+  auto boxes = boxes_;
+  const auto exactFuture = exact_;
+  const std::vector<std::uint32_t> pieces = boxPieces_;
+  const double bakeSeconds = bakeSeconds_;
+  const hb::SourceInfo source = sourceInfo();
+  const BakeSettings settings = bake_;
+  const std::string out = QFile::encodeName(dir).toStdString();
+  const std::string image = QFile::encodeName(errorFieldImage).toStdString();
+  return job_->start(tr("Report"), [=](const auto& progress) {
+    const std::shared_ptr<const hb::ExactQuery> exact = exactFuture.get();
+    vtkHapticBoxCellLocatorQuery locator(*mesh);
+    std::vector<hb::SweepReference> refs;
+    refs.push_back({"exact_embree", exact.get(), 0, 0.0});
+    refs.push_back({"vtk_static_cell_locator", &locator, locator.GetMemoryBytes(), locator.GetBuildSeconds()});
+    hb::ReportOptions o;
+    o.samples = samples;
+    o.law = law_;
+    o.progress = progress;
+    hb::ReportData d = hb::compute_report(*mesh, pieces, *boxes, bakeSeconds, refs, o);
+    d.product_version = HB_VERSION;
+    d.mesh_path = source.mesh_path;
+    d.mesh_hash = source.mesh_hash;
+    d.codec = settings.codec.toStdString();
+    pendingRows_ = d.rows;
+    pendingCompression_ = d.compression_curve;
+    pendingRowsReady_ = true;
+    if (!image.empty()) d.error_field_image = image;
+    else d.error_field_note = "the error field was not computed in the window";
+    hb::write_report(d, out);
+  });
+}
+
+bool HapticSession::startSweep(const std::vector<int>& ms, const std::vector<int>& ns, std::size_t samples,
+                               QString* error) {
+  if (!mesh_) {
+    if (error) *error = tr("Open a model first");
+    return false;
+  }
+  if (busy(error)) return false;
+  auto mesh = mesh_;
+  const auto exactFuture = exact_;
+  const hb::SourceInfo source = sourceInfo();
+  const QString cache = bake_.useCache ? QFileInfo(cachePath()).absolutePath() : QString();
+  return job_->start(tr("Sweep"), [=](const auto& progress) {
+    const std::shared_ptr<const hb::ExactQuery> exact = exactFuture.get();
+    vtkHapticBoxCellLocatorQuery locator(*mesh);
+    std::vector<hb::SweepReference> refs;
+    refs.push_back({"exact_embree", exact.get(), 0, 0.0});
+    refs.push_back({"vtk_static_cell_locator", &locator, locator.GetMemoryBytes(), locator.GetBuildSeconds()});
+    hb::SweepOptions o;
+    o.configs = hb::sweep_grid(ms, ns);
+    o.samples = samples;
+    o.timing_rounds = 3;
+    o.law = law_;
+    o.cache_dir = QFile::encodeName(cache).toStdString();
+    o.progress = progress;
+    pendingRows_ = hb::run_sweep(*mesh, {}, source, refs, o);
+    pendingCompression_.clear();
+    pendingRowsReady_ = true;
+  });
+}
+
+void HapticSession::aimProbe(const hb::Vec3& view, const hb::Vec3& right) {
+  const float a = static_cast<float>(tiltDegrees_ * 3.14159265358979 / 180.0);
+  setProbeDirection(Eigen::AngleAxisf(a, right.normalized()) * view.normalized());
+}
+
+double HapticSession::forceDisplayScale() const {
+  const double f = law_.stiffness_n_per_m * 0.01 * diagonal_ * law_.metres_per_unit;
+  return f > 0.0 ? 0.08 * diagonal_ / f : 1.0;
+}
+
+const hb::ExactQuery* HapticSession::readyExact() const {
+  if (!exact_.valid() || exact_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return nullptr;
+  try {
+    return exact_.get().get();
+  } catch (const std::exception&) {
+    return nullptr;  // Embree failed: reported when a job needs it
+  }
+}

@@ -1,0 +1,225 @@
+#pragma once
+// The window's logic (3D Slicer's "Logic" apart from the widgets): owns the mesh, the boxes,
+// the exact query, the device and its servo thread, and the long jobs. Widgets call it and
+// listen to its signals; it holds no widget and renders nothing.
+#include "exact/exact_query.h"
+#include "device/haptic_device.h"
+#include "device/servo_loop.h"
+#include "evaluation/error_field.h"
+#include "evaluation/sweep.h"
+#include "haptic_box/box_scene.h"
+#include "mesh/triangle_mesh.h"
+#include <QObject>
+#include <QString>
+#include <QStringList>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <chrono>
+#include <future>
+#include <memory>
+#include <optional>
+
+class BackgroundJob;
+class ServoRateMonitor;
+class VirtualDeviceHandle;
+class vtkHapticBoxCellLocatorQuery;
+namespace hb {
+class VirtualDevice;
+}
+
+/// What the bake panel sets. The decomposition and the codecs are not in this build: pieces
+/// are "none" (one box) or a piece file; the codec is "none". See HapticSession::piecesFor
+/// and HapticSession::startBake for where `auto` and codecs plug in.
+struct BakeSettings {
+  enum class Pieces { None, File, Automatic };
+  int m = 16;                     ///< position points per PBB face edge.
+  int n = 8;                      ///< directional points per sub-block face edge.
+  float padding = 0.01f;          ///< PBB padding, fraction of its diagonal.
+  Pieces pieces = Pieces::None;
+  QString piecesFile;             ///< text: one integer piece id per triangle.
+  QString codec = QStringLiteral("none");
+  bool useCache = true;           ///< load/save baked boxes next to the model.
+};
+
+/// The surface metric the error-field view colours by.
+enum class ErrorMetric { RelativeForce = 0, Direction = 1, ContactDisagreement = 2 };
+
+enum class DeviceKind { Virtual = 0, Replay = 1, Falcon = 2 };
+
+/// One display frame's worth of probe state (read by the readout and the probe view).
+struct ProbeReading {
+  bool placed = false;            ///< the probe has a position.
+  hb::Segment segment;            ///< handle (start) to tip (end), model units.
+  hb::Contact exact;              ///< the exact Embree answer on `segment`.
+  hb::Contact approx;             ///< the haptic box's answer (from the servo thread when running).
+  bool haveBoxes = false;
+  double exactQueryNs = 0.0;      ///< this frame's exact query, GUI thread.
+  double approxQueryNs = 0.0;     ///< the servo thread's last box query.
+  double relativeError = 0.0;     ///< |F1 - F0| / |F0| when both are in contact.
+  double angleDeg = 0.0;          ///< angle between the normals when both are in contact.
+  bool deviceRunning = false;
+  QString deviceName;
+  double rateHz = 0.0;            ///< measured over the last window (~0.5 s).
+  double p99PeriodUs = 0.0;
+};
+
+class HapticSession : public QObject {
+  Q_OBJECT
+public:
+  explicit HapticSession(QObject* parent = nullptr);
+  ~HapticSession() override;
+
+  // --- model ---------------------------------------------------------------------------
+  /// Reads a mesh (any format read_mesh takes), builds the exact query and, when a cached
+  /// bake for the current settings exists, loads it. On failure the previous model stays and
+  /// `error` names the file and the cause.
+  bool openMesh(const QString& path, QString* error = nullptr);
+  bool hasMesh() const { return mesh_ != nullptr; }
+  QString meshPath() const { return meshPath_; }
+  const hb::TriangleMesh& mesh() const { return *mesh_; }
+  float diagonal() const { return diagonal_; }
+  QStringList meshWarnings() const { return warnings_; }
+  /// The surface: cell i = triangle i, cell "PieceId", point "Normals" and, after an error
+  /// field, the point arrays named by errorArrayName().
+  vtkPolyData* surface() const { return surface_; }
+  /// PBB outlines of the current boxes (12 lines per box, cell "BoxId"); empty when none.
+  vtkPolyData* outlines() const { return outlines_; }
+  /// File filter of every format the reader takes.
+  static QString meshFileFilter();
+
+  // --- bake ----------------------------------------------------------------------------
+  void setBakeSettings(const BakeSettings& s) { bake_ = s; }
+  const BakeSettings& bakeSettings() const { return bake_; }
+  /// Cache file of the current mesh and settings (next to the model when writable, else
+  /// under the user cache directory).
+  QString cachePath() const;
+  /// Loads the cached bake for the current settings; false when there is none or it is stale.
+  bool loadCachedBoxes();
+  /// Starts the bake on the worker thread (progress and cancel through job()).
+  bool startBake(QString* error = nullptr);
+  bool hasBoxes() const { return boxes_ != nullptr; }
+  const hb::BoxScene* boxes() const { return boxes_.get(); }
+  double bakeSeconds() const { return bakeSeconds_; }
+  bool boxesFromCache() const { return boxesFromCache_; }
+  /// Installs a loaded .hbox file (checked against the mesh hash when it records one).
+  bool openBoxFile(const QString& path, QString* error = nullptr);
+  bool saveBoxFile(const QString& path, QString* error = nullptr) const;
+
+  /// The one worker: bake, error field, report. One job at a time.
+  BackgroundJob* job() const { return job_; }
+
+  // --- error field ---------------------------------------------------------------------
+  bool startErrorField(int probesPerPoint = 1, QString* error = nullptr);
+  bool hasErrorField() const { return errorField_ != nullptr; }
+  const hb::ErrorField* errorField() const { return errorField_.get(); }
+  static const char* errorArrayName(ErrorMetric metric);
+  static QString errorMetricTitle(ErrorMetric metric);
+
+  // --- probe ---------------------------------------------------------------------------
+  /// Places the tip `depth` past `surfacePoint` along the probe direction (mouse drag).
+  void setProbeTarget(const hb::Vec3& surfacePoint);
+  /// Handle -> tip direction (unit). Restarts the servo thread when it changes.
+  void setProbeDirection(const hb::Vec3& direction);
+  hb::Vec3 probeDirection() const { return probeDirection_; }
+  /// Aims the probe along the view direction `view`, tilted by tiltDegrees() about `right`.
+  void aimProbe(const hb::Vec3& view, const hb::Vec3& right);
+  /// Tilt of the probe away from the view direction, degrees; tilt() steps it by 15 (0..60).
+  double tiltDegrees() const { return tiltDegrees_; }
+  void setTiltDegrees(double d) { tiltDegrees_ = d; }
+  void tilt() { tiltDegrees_ = tiltDegrees_ >= 60.0 ? 0.0 : tiltDegrees_ + 15.0; }
+  /// Arrow length per newton, model units, so that the force at 1 % depth is 8 % of the diagonal.
+  double forceDisplayScale() const;
+  /// Sweep rows of the last report or sweep (the charts).
+  const std::vector<hb::SweepRow>& sweepRows() const { return sweepRows_; }
+  const std::vector<std::pair<double, double>>& compressionCurve() const { return compression_; }
+  /// Runs a small sweep (m x n grid, codec none) with the exact and VTK-locator references.
+  bool startSweep(const std::vector<int>& ms, const std::vector<int>& ns, std::size_t samples = 5000,
+                  QString* error = nullptr);
+  /// Push depth past the picked point, fraction of the diagonal; clamped to [-0.05, 0.1].
+  void setDepthFraction(double f);
+  double depthFraction() const { return depthFraction_; }
+  float probeLength() const { return mapping_.probe_length; }
+  std::optional<hb::Vec3> surfacePoint() const { return picked_; }
+  /// The state to show now (GUI thread, display rate; lock-free read of the servo snapshot).
+  ProbeReading reading();
+
+  // --- device --------------------------------------------------------------------------
+  /// Chooses the device. Falcon without hardware: false, `message` says so, and the
+  /// virtual device is used instead. The servo thread runs while there are boxes.
+  bool setDevice(DeviceKind kind, const QString& replayPath = {}, QString* message = nullptr);
+  DeviceKind deviceKind() const { return deviceKind_; }
+  bool servoRunning() const;
+
+  // --- export --------------------------------------------------------------------------
+  /// Computes and writes the error report (the files of `hapticbox report`) into `dir` on the
+  /// worker. `errorFieldImage`: a PNG of the rendered field to embed, or empty.
+  bool startReport(const QString& dir, const QString& errorFieldImage, std::size_t samples = 20000,
+                   QString* error = nullptr);
+
+signals:
+  void meshChanged();
+  void boxesChanged();
+  void errorFieldChanged();
+  void sweepChanged();
+  void deviceChanged(const QString& description);
+  void jobFinished(const QString& name, bool ok, const QString& message);
+  void statusMessage(const QString& message);
+
+private:
+  /// Piece id per triangle for `settings` (empty: one piece). Pure: safe on the worker.
+  static std::vector<std::uint32_t> piecesFor(const hb::TriangleMesh& mesh, const BakeSettings& settings);
+  void installBoxes(std::shared_ptr<const hb::BoxScene> boxes, double seconds, bool fromCache);
+  void rebuildOutlines();
+  void updatePieceArray(const std::vector<std::uint32_t>& pieces);
+  void startServo();
+  void stopServo();
+  bool busy(QString* error) const;
+  hb::SourceInfo sourceInfo() const;
+
+  BakeSettings bake_;
+  QString meshPath_;
+  QStringList warnings_;
+  std::shared_ptr<hb::TriangleMesh> mesh_;
+  std::uint64_t meshHash_ = 0;
+  float diagonal_ = 0.f;
+  // The exact query's Embree build runs beside the window's own setup; readers take it from
+  // here (reading() skips the exact answer until it is ready, jobs wait for it).
+  std::shared_future<std::shared_ptr<const hb::ExactQuery>> exact_;
+  const hb::ExactQuery* readyExact() const;
+  vtkSmartPointer<vtkPolyData> surface_;
+  vtkSmartPointer<vtkPolyData> outlines_;
+  std::shared_ptr<const hb::BoxScene> boxes_;
+  std::vector<std::uint32_t> boxPieces_;
+  double bakeSeconds_ = 0.0;
+  bool boxesFromCache_ = false;
+  std::unique_ptr<hb::ErrorField> errorField_;
+
+  // Results handed from the worker to the GUI thread on finished().
+  std::shared_ptr<const hb::BoxScene> pendingBoxes_;
+  std::vector<std::uint32_t> pendingPieces_;
+  std::unique_ptr<hb::ErrorField> pendingField_;
+  double pendingSeconds_ = 0.0;
+  QString pendingCacheWarning_;
+
+  hb::ForceLaw law_;
+  hb::WorkspaceMapping mapping_;
+  hb::Vec3 probeDirection_{0.f, 0.f, -1.f};
+  double depthFraction_ = 0.01;
+  double tiltDegrees_ = 0.0;
+  std::vector<hb::SweepRow> sweepRows_, pendingRows_;
+  std::vector<std::pair<double, double>> compression_, pendingCompression_;
+  bool pendingRowsReady_ = false;
+  std::optional<hb::Vec3> picked_;
+
+  DeviceKind deviceKind_ = DeviceKind::Virtual;
+  std::unique_ptr<hb::HapticDevice> device_;
+  hb::VirtualDevice* virtual_ = nullptr;   ///< device_ when it is the virtual device.
+  QString deviceName_;
+  std::unique_ptr<ServoRateMonitor> monitor_;
+  std::unique_ptr<hb::ServoLoop> loop_;
+  ServoRateMonitor* windowSource_ = nullptr;
+  double rateHz_ = 0.0, p99Us_ = 0.0;
+  std::chrono::steady_clock::time_point lastWindow_{};
+
+  BackgroundJob* job_ = nullptr;
+};

@@ -1,0 +1,429 @@
+#include "MainWindow.h"
+#include "BackgroundJob.h"
+#include "BakePanel.h"
+#include "ChartsView.h"
+#include "DevicePanel.h"
+#include "ErrorFieldPanel.h"
+#include "ProbeView.h"
+#include "ReadoutPanel.h"
+#include "SessionFile.h"
+#include <QAction>
+#include <QApplication>
+#include <QCloseEvent>
+#include <QDir>
+#include <QDockWidget>
+#include <QDragEnterEvent>
+#include <QDropEvent>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QInputDialog>
+#include <QKeySequence>
+#include <QLabel>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QMimeData>
+#include <QProgressBar>
+#include <QPushButton>
+#include <QSettings>
+#include <QStatusBar>
+#include <QTimer>
+
+namespace {
+constexpr int kMaxRecent = 8;
+bool isSessionFile(const QString& path) { return path.endsWith(QLatin1String(".hbsession"), Qt::CaseInsensitive); }
+}  // namespace
+
+MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new HapticSession(this)) {
+  setWindowTitle(tr("HapticBox"));
+  setAcceptDrops(true);
+  view_ = new ProbeView(this);
+  setCentralWidget(view_);
+  bake_ = new BakePanel(session_);
+  readout_ = new ReadoutPanel;
+  errorPanel_ = new ErrorFieldPanel(session_);
+  device_ = new DevicePanel(session_);
+  charts_ = new ChartsView;
+  createDocks();
+  createActions();
+
+  jobProgress_ = new QProgressBar;
+  jobProgress_->setRange(0, 1000);
+  jobProgress_->setMaximumWidth(180);
+  jobProgress_->hide();
+  jobCancel_ = new QPushButton(tr("Cancel"));
+  jobCancel_->hide();
+  statusBar()->addPermanentWidget(jobProgress_);
+  statusBar()->addPermanentWidget(jobCancel_);
+  connect(jobCancel_, &QPushButton::clicked, session_->job(), &BackgroundJob::cancel);
+  connect(session_->job(), &BackgroundJob::progressChanged, this, [this](double f) {
+    jobProgress_->setValue(static_cast<int>(f * 1000.0));
+    jobProgress_->setFormat(session_->job()->name() + QStringLiteral(" %p%"));
+    jobProgress_->show();
+    jobCancel_->show();
+  });
+
+  connect(session_, &HapticSession::meshChanged, this, &MainWindow::onMeshChanged);
+  connect(session_, &HapticSession::boxesChanged, this, [this] {
+    view_->setOutlines(session_->outlines());
+    view_->setColorMode(ProbeView::ColorMode::Pieces);
+    updateActions();
+  });
+  connect(session_, &HapticSession::jobFinished, this, &MainWindow::onJobFinished);
+  connect(session_, &HapticSession::statusMessage, this, [this](const QString& m) { showMessage(m); });
+  connect(session_, &HapticSession::sweepChanged, this,
+          [this] { charts_->setRows(session_->sweepRows(), session_->compressionCurve()); });
+  connect(bake_, &BakePanel::message, this, [this](const QString& m) { showMessage(m); });
+  connect(errorPanel_, &ErrorFieldPanel::message, this, [this](const QString& m) { showMessage(m, true); });
+  connect(errorPanel_, &ErrorFieldPanel::displayChanged, this, [this](bool field, ErrorMetric metric) {
+    view_->setColorMode(field ? ProbeView::ColorMode::ErrorField : ProbeView::ColorMode::Pieces, metric);
+  });
+  connect(device_, &DevicePanel::message, this, [this](const QString& m) { showMessage(m); });
+  connect(device_, &DevicePanel::tiltRequested, this, [this] {
+    session_->tilt();
+    session_->aimProbe(view_->viewDirection(), view_->viewRight());
+    showMessage(tr("Probe tilted %1 degrees from the view direction").arg(session_->tiltDegrees()));
+  });
+  connect(view_, &ProbeView::surfaceDragged, this, &MainWindow::probeDragged);
+  connect(view_, &ProbeView::depthStepped, this, &MainWindow::stepDepth);
+  connect(charts_, &ChartsView::configurationChosen, this, [this](int m, int n, const QString& codec) {
+    BakeSettings s = session_->bakeSettings();
+    s.m = m;
+    s.n = n;
+    s.codec = codec;
+    session_->setBakeSettings(s);
+    bake_->showSettings();
+    bake_->bakeButton()->click();
+    showMessage(tr("Loading configuration m %1, n %2, codec %3").arg(m).arg(n).arg(codec));
+  });
+
+  QString note;
+  session_->setDevice(DeviceKind::Virtual, {}, &note);
+  timer_ = new QTimer(this);
+  timer_->setInterval(16);
+  connect(timer_, &QTimer::timeout, this, &MainWindow::refresh);
+  timer_->start();
+  resize(1280, 860);
+  updateActions();
+  showMessage(tr("Open a model (File > Open, or drop a file here)"));
+}
+
+MainWindow::~MainWindow() { timer_->stop(); }
+
+void MainWindow::createDocks() {
+  const auto dock = [this](QWidget* w, const QString& title, const QString& name, Qt::DockWidgetArea area) {
+    auto* d = new QDockWidget(title, this);
+    d->setObjectName(name);
+    d->setWidget(w);
+    addDockWidget(area, d);
+    return d;
+  };
+  QDockWidget* readout = dock(readout_, tr("Readout"), QStringLiteral("ReadoutDock"), Qt::RightDockWidgetArea);
+  QDockWidget* bake = dock(bake_, tr("Bake"), QStringLiteral("BakeDock"), Qt::RightDockWidgetArea);
+  QDockWidget* field = dock(errorPanel_, tr("Error field"), QStringLiteral("ErrorFieldDock"), Qt::RightDockWidgetArea);
+  QDockWidget* device = dock(device_, tr("Device"), QStringLiteral("DeviceDock"), Qt::RightDockWidgetArea);
+  QDockWidget* charts = dock(charts_, tr("Charts"), QStringLiteral("ChartsDock"), Qt::BottomDockWidgetArea);
+  tabifyDockWidget(bake, field);
+  tabifyDockWidget(field, device);
+  bake->raise();
+  resizeDocks({readout, bake}, {260, 520}, Qt::Vertical);
+  charts->hide();
+}
+
+void MainWindow::createActions() {
+  QMenu* file = menuBar()->addMenu(tr("&File"));
+  file->addAction(tr("&Open..."), this, &MainWindow::openDialog, QKeySequence::Open);
+  recentMenu_ = file->addMenu(tr("Open &Recent"));
+  file->addAction(tr("Open &Box File..."), this, &MainWindow::openBoxDialog);
+  saveBoxAction_ = file->addAction(tr("Save Box File &As..."), this, &MainWindow::saveBoxDialog);
+  file->addSeparator();
+  file->addAction(tr("Open &Session..."), this, [this] {
+    const QString p = QFileDialog::getOpenFileName(this, tr("Open session"), QString(), tr("Sessions (*.hbsession)"));
+    if (!p.isEmpty()) openFile(p, true);
+  });
+  file->addAction(tr("Save Session &As..."), this, [this] {
+    const QString p = QFileDialog::getSaveFileName(this, tr("Save session"), QString(), tr("Sessions (*.hbsession)"));
+    if (!p.isEmpty()) saveSession(p.endsWith(QLatin1String(".hbsession")) ? p : p + QStringLiteral(".hbsession"));
+  });
+  file->addSeparator();
+  file->addAction(tr("Export Screens&hot..."), this, [this] {
+    const QString p = QFileDialog::getSaveFileName(this, tr("Screenshot"), QStringLiteral("hapticbox.png"), tr("PNG (*.png)"));
+    if (!p.isEmpty()) exportScreenshot(p);
+  }, QKeySequence(tr("Ctrl+P")));
+  reportAction_ = file->addAction(tr("Export Error &Report..."), this, [this] {
+    const QString d = QFileDialog::getExistingDirectory(this, tr("Report folder"));
+    if (!d.isEmpty()) exportReport(d);
+  });
+  file->addSeparator();
+  file->addAction(tr("&Quit"), this, &QWidget::close, QKeySequence::Quit);
+
+  QMenu* view = menuBar()->addMenu(tr("&View"));
+  outlinesAction_ = view->addAction(tr("PBB &Outlines"));
+  outlinesAction_->setCheckable(true);
+  outlinesAction_->setShortcut(QKeySequence(tr("O")));
+  connect(outlinesAction_, &QAction::toggled, view_, &ProbeView::setOutlinesVisible);
+  view->addAction(tr("&Reset Camera"), view_, &ProbeView::resetCamera, QKeySequence(tr("R")));
+  QAction* bakeOnOpen = view->addAction(tr("&Bake on Open"));
+  bakeOnOpen->setCheckable(true);
+  bakeOnOpen->setChecked(bakeOnOpen_);
+  connect(bakeOnOpen, &QAction::toggled, this, [this](bool on) { bakeOnOpen_ = on; });
+
+  QMenu* probe = menuBar()->addMenu(tr("&Probe"));
+  probeToolAction_ = probe->addAction(tr("Probe &Tool (drag on the model)"));
+  probeToolAction_->setCheckable(true);
+  probeToolAction_->setChecked(true);
+  probeToolAction_->setShortcut(QKeySequence(tr("P")));
+  connect(probeToolAction_, &QAction::toggled, view_, &ProbeView::setProbeMode);
+  probe->addAction(tr("Push &Deeper"), this, [this] { stepDepth(+1); }, QKeySequence(tr("]")));
+  probe->addAction(tr("&Pull Back"), this, [this] { stepDepth(-1); }, QKeySequence(tr("[")));
+  probe->addAction(tr("T&ilt"), device_, &DevicePanel::tiltRequested, QKeySequence(tr("T")));
+
+  QMenu* tools = menuBar()->addMenu(tr("&Tools"));
+  tools->addAction(tr("&Bake"), bake_->bakeButton(), &QPushButton::click, QKeySequence(tr("Ctrl+B")));
+  errorFieldAction_ = tools->addAction(tr("Compute &Error Field"), errorPanel_->computeButton(), &QPushButton::click,
+                                       QKeySequence(tr("Ctrl+E")));
+  tools->addAction(tr("Run &Sweep (speed against accuracy)"), this, [this] {
+    QString error;
+    if (!session_->startSweep({8, 16, 32}, {4, 8}, 5000, &error)) showMessage(error, true);
+    else if (auto* d = findChild<QDockWidget*>(QStringLiteral("ChartsDock"))) d->show();
+  });
+  tools->addAction(tr("Cancel Running Job"), session_->job(), &BackgroundJob::cancel, QKeySequence(tr("Esc")));
+
+  QMenu* windows = menuBar()->addMenu(tr("&Window"));
+  for (QDockWidget* d : findChildren<QDockWidget*>()) windows->addAction(d->toggleViewAction());
+
+  QMenu* help = menuBar()->addMenu(tr("&Help"));
+  help->addAction(tr("&Controls"), this, [this] {
+    QMessageBox::information(this, tr("Controls"),
+                             tr("Left drag on the model: move the probe tip over the surface.\n"
+                                "Left drag on the background: rotate. Right drag: zoom. Middle drag: pan.\n"
+                                "Ctrl+wheel or [ and ]: push the tip deeper / pull it back.\n"
+                                "T: tilt the probe (15 degree steps). O: PBB outlines. R: reset camera.\n"
+                                "Green arrow: exact force (Embree). Orange arrow: haptic box force."));
+  });
+  help->addAction(tr("&About"), this, [this] {
+    QMessageBox::about(this, tr("About HapticBox"),
+                       tr("HapticBox %1: haptic rendering by directional sampling.").arg(QStringLiteral(HB_VERSION)));
+  });
+  updateRecentMenu();
+}
+
+void MainWindow::showMessage(const QString& text, bool error) {
+  statusBar()->showMessage(text, error ? 0 : 8000);
+}
+
+void MainWindow::updateActions() {
+  saveBoxAction_->setEnabled(session_->hasBoxes());
+  reportAction_->setEnabled(session_->hasBoxes());
+  errorFieldAction_->setEnabled(session_->hasBoxes());
+}
+
+// --- files -------------------------------------------------------------------------------
+
+bool MainWindow::openFile(const QString& path, bool interactive) {
+  if (isSessionFile(path)) {
+    return openSessionFile(path, interactive);
+  }
+  QApplication::setOverrideCursor(Qt::WaitCursor);
+  QString error;
+  const bool ok = session_->openMesh(path, &error);
+  QApplication::restoreOverrideCursor();
+  if (!ok) {
+    showMessage(tr("Cannot open %1: %2").arg(path, error), true);
+    if (interactive) QMessageBox::warning(this, tr("Cannot open"), error);
+    return false;
+  }
+  addRecentFile(session_->meshPath());
+  if (!session_->hasBoxes() && bakeOnOpen_) bake_->bakeButton()->click();
+  return true;
+}
+
+void MainWindow::openDialog() {
+  const QString p = QFileDialog::getOpenFileName(this, tr("Open model"), QString(),
+                                                 HapticSession::meshFileFilter() + tr(";;Sessions (*.hbsession)"));
+  if (!p.isEmpty()) openFile(p, true);
+}
+
+void MainWindow::openBoxDialog() {
+  const QString p = QFileDialog::getOpenFileName(this, tr("Open box file"), QString(), tr("Box files (*.hbox)"));
+  if (p.isEmpty()) return;
+  QString error;
+  if (!session_->openBoxFile(p, &error)) {
+    showMessage(error, true);
+    QMessageBox::warning(this, tr("Cannot open the box file"), error);
+  }
+}
+
+void MainWindow::saveBoxDialog() {
+  const QString p = QFileDialog::getSaveFileName(this, tr("Save box file"), QString(), tr("Box files (*.hbox)"));
+  if (p.isEmpty()) return;
+  QString error;
+  if (!session_->saveBoxFile(p, &error)) showMessage(error, true);
+  else showMessage(tr("Saved %1").arg(p));
+}
+
+void MainWindow::addRecentFile(const QString& path) {
+  QSettings settings;
+  QStringList recent = settings.value(QStringLiteral("recentFiles")).toStringList();
+  recent.removeAll(path);
+  recent.prepend(path);
+  while (recent.size() > kMaxRecent) recent.removeLast();
+  settings.setValue(QStringLiteral("recentFiles"), recent);
+  updateRecentMenu();
+}
+
+void MainWindow::updateRecentMenu() {
+  recentMenu_->clear();
+  const QStringList recent = QSettings().value(QStringLiteral("recentFiles")).toStringList();
+  for (const QString& p : recent)
+    recentMenu_->addAction(QFileInfo(p).fileName(), this, [this, p] { openFile(p, true); })->setToolTip(p);
+  recentMenu_->setEnabled(!recent.isEmpty());
+}
+
+void MainWindow::onMeshChanged() {
+  view_->setSurface(session_->surface(), session_->diagonal());
+  view_->setOutlines(session_->outlines());
+  setWindowTitle(tr("HapticBox - %1").arg(QFileInfo(session_->meshPath()).fileName()));
+  const hb::TriangleMesh& m = session_->mesh();
+  QString text = tr("Opened %1: %2 vertices, %3 triangles").arg(session_->meshPath()).arg(m.vertex_count()).arg(m.triangle_count());
+  if (!session_->meshWarnings().isEmpty()) text += QStringLiteral(" (") + session_->meshWarnings().join(QStringLiteral("; ")) + QStringLiteral(")");
+  showMessage(text);
+  device_->showDepth();
+  updateActions();
+}
+
+void MainWindow::onJobFinished(const QString& name, bool ok, const QString& message) {
+  jobProgress_->hide();
+  jobCancel_->hide();
+  showMessage(ok && name == tr("Report") ? tr("Report written to %1").arg(pendingReportDir_) : message, !ok);
+  updateActions();
+}
+
+// --- probe -------------------------------------------------------------------------------
+
+void MainWindow::probeDragged(const hb::Vec3& point, bool press) {
+  if (press) session_->aimProbe(view_->viewDirection(), view_->viewRight());
+  session_->setProbeTarget(point);
+}
+
+void MainWindow::stepDepth(int step) {
+  session_->setDepthFraction(session_->depthFraction() + 0.0025 * step);
+  device_->showDepth();
+}
+
+void MainWindow::refresh() {
+  const ProbeReading r = session_->reading();
+  view_->setReading(r, session_->forceDisplayScale());
+  if (++refreshCount_ % 6 == 0) readout_->setReading(r);  // text at ~10 Hz
+}
+
+// --- export ------------------------------------------------------------------------------
+
+bool MainWindow::exportScreenshot(const QString& path) {
+  try {
+    view_->saveScreenshot(path);
+    showMessage(tr("Saved %1").arg(path));
+    return true;
+  } catch (const std::exception& e) {
+    showMessage(QString::fromStdString(e.what()), true);
+    return false;
+  }
+}
+
+bool MainWindow::exportReport(const QString& dir, std::size_t samples) {
+  if (!QDir().mkpath(dir)) {
+    showMessage(tr("Cannot create %1").arg(dir), true);
+    return false;
+  }
+  QString image;
+  if (session_->hasErrorField()) {
+    // The rendered field, as the window shows it with the scalar bar.
+    const ProbeView::ColorMode mode = view_->colorMode();
+    view_->setColorMode(ProbeView::ColorMode::ErrorField, errorPanel_->metric());
+    image = QDir(dir).absoluteFilePath(QStringLiteral("error_field.png"));
+    if (!exportScreenshot(image)) image.clear();
+    view_->setColorMode(mode, errorPanel_->metric());
+  }
+  QString error;
+  if (!session_->startReport(dir, image, samples, &error)) {
+    showMessage(error, true);
+    return false;
+  }
+  pendingReportDir_ = dir;
+  return true;
+}
+
+bool MainWindow::saveSession(const QString& path) {
+  SessionState s;
+  s.meshPath = session_->meshPath();
+  s.bake = session_->bakeSettings();
+  s.baked = session_->hasBoxes();
+  s.depthFraction = session_->depthFraction();
+  const hb::Vec3 d = session_->probeDirection();
+  s.probeDirection = {d.x(), d.y(), d.z()};
+  s.tiltDegrees = session_->tiltDegrees();
+  s.outlines = outlinesAction_->isChecked();
+  s.showErrorField = errorPanel_->showField();
+  s.metric = errorPanel_->metric();
+  s.hasCamera = session_->hasMesh();
+  s.camera = view_->cameraState();
+  try {
+    saveSessionFile(s, path);
+    showMessage(tr("Saved session %1").arg(path));
+    return true;
+  } catch (const std::exception& e) {
+    showMessage(QString::fromStdString(e.what()), true);
+    return false;
+  }
+}
+
+bool MainWindow::openSessionFile(const QString& path, bool interactive) {
+  SessionState s;
+  try {
+    s = loadSessionFile(path);
+  } catch (const std::exception& e) {
+    showMessage(QString::fromStdString(e.what()), true);
+    if (interactive) QMessageBox::warning(this, tr("Cannot open the session"), QString::fromStdString(e.what()));
+    return false;
+  }
+  session_->setBakeSettings(s.bake);
+  bake_->showSettings();
+  const bool bakeOnOpen = bakeOnOpen_;
+  bakeOnOpen_ = s.baked;
+  const bool ok = openFile(s.meshPath, interactive);
+  bakeOnOpen_ = bakeOnOpen;
+  if (!ok) return false;
+  session_->setProbeDirection(hb::Vec3(s.probeDirection[0], s.probeDirection[1], s.probeDirection[2]));
+  session_->setTiltDegrees(s.tiltDegrees);
+  session_->setDepthFraction(s.depthFraction);
+  device_->showDepth();
+  errorPanel_->setMetric(s.metric);
+  if (s.hasCamera) view_->setCameraState(s.camera);
+  outlinesAction_->setChecked(s.outlines);
+  addRecentFile(path);
+  showMessage(tr("Opened session %1").arg(path));
+  return true;
+}
+
+// --- events ------------------------------------------------------------------------------
+
+void MainWindow::dragEnterEvent(QDragEnterEvent* event) {
+  if (event->mimeData()->hasUrls()) event->acceptProposedAction();
+}
+
+void MainWindow::dropEvent(QDropEvent* event) {
+  if (openDroppedUrls(event->mimeData()->urls())) event->acceptProposedAction();
+}
+
+bool MainWindow::openDroppedUrls(const QList<QUrl>& urls) {
+  for (const QUrl& url : urls)
+    if (url.isLocalFile()) return openFile(url.toLocalFile(), true);
+  showMessage(tr("Drop a model or session file from this computer"), true);
+  return false;
+}
+
+void MainWindow::closeEvent(QCloseEvent* event) {
+  session_->job()->cancel();
+  session_->job()->wait();
+  timer_->stop();
+  QMainWindow::closeEvent(event);
+}

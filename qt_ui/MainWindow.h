@@ -1,0 +1,92 @@
+#pragma once
+// The main window: menus, docks and the status bar around the probe view. It wires widgets to
+// the session (the logic) and holds neither data nor algorithms.
+#include "HapticSession.h"
+#include <QMainWindow>
+#include <QList>
+#include <QStringList>
+#include <QUrl>
+
+class BakePanel;
+class ChartsView;
+class DevicePanel;
+class ErrorFieldPanel;
+class ProbeView;
+class QAction;
+class QLabel;
+class QMenu;
+class QProgressBar;
+class QPushButton;
+class QTimer;
+class ReadoutPanel;
+
+class MainWindow : public QMainWindow {
+  Q_OBJECT
+public:
+  explicit MainWindow(QWidget* parent = nullptr);
+  ~MainWindow() override;
+
+  /// Opens a mesh or a session file; errors go to the status bar (and a dialog when
+  /// `interactive`). Returns false on failure.
+  bool openFile(const QString& path, bool interactive = false);
+  /// What a drop does: opens the first local file. Returns false when there is none or it fails.
+  bool openDroppedUrls(const QList<QUrl>& urls);
+  /// Bakes automatically after opening a model without a cached bake (default on).
+  void setBakeOnOpen(bool on) { bakeOnOpen_ = on; }
+
+  bool exportScreenshot(const QString& path);
+  /// Starts the report job (the files of `hapticbox report` plus the error-field image).
+  bool exportReport(const QString& dir, std::size_t samples = 20000);
+  bool saveSession(const QString& path);
+
+  HapticSession* session() const { return session_; }
+  ProbeView* probeView() const { return view_; }
+  ReadoutPanel* readoutPanel() const { return readout_; }
+  BakePanel* bakePanel() const { return bake_; }
+  ErrorFieldPanel* errorFieldPanel() const { return errorPanel_; }
+  DevicePanel* devicePanel() const { return device_; }
+  ChartsView* chartsView() const { return charts_; }
+  /// One display tick (the timer calls it at ~60 Hz): latest reading to the view and readout.
+  void refresh();
+
+protected:
+  void dragEnterEvent(QDragEnterEvent* event) override;
+  void dropEvent(QDropEvent* event) override;
+  void closeEvent(QCloseEvent* event) override;
+
+private:
+  void createActions();
+  void createDocks();
+  void showMessage(const QString& text, bool error = false);
+  void addRecentFile(const QString& path);
+  void updateRecentMenu();
+  void updateActions();
+  void onMeshChanged();
+  void onJobFinished(const QString& name, bool ok, const QString& message);
+  void openDialog();
+  void openBoxDialog();
+  void saveBoxDialog();
+  bool openSessionFile(const QString& path, bool interactive);
+  void probeDragged(const hb::Vec3& point, bool press);
+  void stepDepth(int step);
+
+  HapticSession* session_;
+  ProbeView* view_;
+  BakePanel* bake_;
+  ReadoutPanel* readout_;
+  ErrorFieldPanel* errorPanel_;
+  DevicePanel* device_;
+  ChartsView* charts_;
+  QTimer* timer_;
+  QProgressBar* jobProgress_;
+  QPushButton* jobCancel_;
+  QMenu* recentMenu_ = nullptr;
+  QAction* outlinesAction_ = nullptr;
+  QAction* probeToolAction_ = nullptr;
+  QAction* saveBoxAction_ = nullptr;
+  QAction* reportAction_ = nullptr;
+  QAction* errorFieldAction_ = nullptr;
+  bool bakeOnOpen_ = true;
+  int refreshCount_ = 0;
+  QString pendingReportDir_;
+};

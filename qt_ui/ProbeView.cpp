@@ -1,0 +1,569 @@
+// ProbeView: what the 3D view draws, and how.
+//  1. The model (cell i = triangle i) coloured by "PieceId" (golden-angle hues) or by an error
+//     array (blue to red over [0, p95], NaN = no data in grey) with a scalar bar.
+//  2. Models above 30K triangles get a quadric-clustering proxy (~15K triangles) drawn while the
+//     camera or the probe moves; the full model returns 250 ms after the view is still.
+//  3. The probe (handle to tip) and two arrows on one force scale: exact (green), box (orange).
+//  4. Picking casts the mouse ray against a static cell locator of the model, so it works
+//     whichever of model or proxy is on screen.
+//  5. Renders are coalesced to one per event-loop pass and skipped when nothing moved.
+#include "ProbeView.h"
+#include "ProbeInteractorStyle.h"
+#include "errors.h"
+#include <QFile>
+#include <QTimer>
+#include <QtGlobal>
+#include <vtkActor.h>
+#include <vtkArrowSource.h>
+#include <vtkCallbackCommand.h>
+#include <vtkCamera.h>
+#include <vtkIdTypeArray.h>
+#include <vtkPolyDataNormals.h>
+#include <vtkQuadricClustering.h>
+#include <vtkStaticPointLocator.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkLineSource.h>
+#include <vtkLookupTable.h>
+#include <vtkMath.h>
+#include <vtkMatrix4x4.h>
+#include <vtkPNGWriter.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkProperty.h>
+#include <vtkRenderer.h>
+#include <vtkScalarBarActor.h>
+#include <vtkSphereSource.h>
+#include <vtkStaticCellLocator.h>
+#include <vtkTextActor.h>
+#include <vtkTextProperty.h>
+#include <vtkWindowToImageFilter.h>
+#include <chrono>
+#include <cmath>
+
+namespace {
+
+const double kExactColor[3] = {0.15, 0.75, 0.25};   // green
+const double kApproxColor[3] = {1.0, 0.45, 0.0};    // orange
+
+vtkSmartPointer<vtkActor> makeArrow(const double color[3], double thickness) {
+  auto source = vtkSmartPointer<vtkArrowSource>::New();
+  source->SetShaftRadius(0.04 * thickness);
+  source->SetTipRadius(0.1 * thickness);
+  source->SetTipLength(0.3);
+  source->SetShaftResolution(16);
+  source->SetTipResolution(16);
+  auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  mapper->SetInputConnection(source->GetOutputPort());
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(color[0], color[1], color[2]);
+  actor->GetProperty()->SetAmbient(0.3);
+  actor->VisibilityOff();
+  return actor;
+}
+
+/// Places the unit arrow (along +x from the origin) at `from`, pointing along `v`, `length` long.
+void placeArrow(vtkActor* arrow, const hb::Vec3& from, const hb::Vec3& v, double length) {
+  const float n = v.norm();
+  if (!(n > 0.f) || !(length > 0.0)) {
+    arrow->VisibilityOff();
+    return;
+  }
+  const hb::Vec3 x = v / n;
+  hb::Vec3 helper = std::abs(x.x()) < 0.9f ? hb::Vec3::UnitX() : hb::Vec3::UnitY();
+  const hb::Vec3 y = x.cross(helper).normalized();
+  const hb::Vec3 z = x.cross(y);
+  auto m = vtkSmartPointer<vtkMatrix4x4>::New();
+  for (int r = 0; r < 3; ++r) {
+    m->SetElement(r, 0, x[r] * length);
+    m->SetElement(r, 1, y[r] * length);
+    m->SetElement(r, 2, z[r] * length);
+    m->SetElement(r, 3, from[r]);
+  }
+  arrow->SetUserMatrix(m);
+  arrow->VisibilityOn();
+}
+
+vtkSmartPointer<vtkTextActor> makeLegend(const char* text, const double color[3], int row) {
+  auto t = vtkSmartPointer<vtkTextActor>::New();
+  t->SetInput(text);
+  t->GetTextProperty()->SetColor(color[0], color[1], color[2]);
+  t->GetTextProperty()->SetFontSize(16);
+  t->GetTextProperty()->BoldOn();
+  t->GetPositionCoordinate()->SetCoordinateSystemToNormalizedDisplay();
+  t->GetPositionCoordinate()->SetValue(0.01, 0.95 - 0.04 * row);
+  return t;
+}
+
+}  // namespace
+
+ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
+  window_ = vtkSmartPointer<vtkGenericOpenGLRenderWindow>::New();
+  // No multisampling: under software OpenGL (Mesa llvmpipe) 8x MSAA multiplies the fragment
+  // work for little visual gain; the frame-rate target is met without it.
+  window_->SetMultiSamples(0);
+  setRenderWindow(window_);
+  renderer_ = vtkSmartPointer<vtkRenderer>::New();
+  renderer_->SetBackground(0.32, 0.34, 0.43);
+  renderer_->SetBackground2(0.08, 0.08, 0.12);
+  renderer_->GradientBackgroundOn();
+  window_->AddRenderer(renderer_);
+
+  surfaceMapper_ = vtkSmartPointer<vtkPolyDataMapper>::New();
+  surfaceMapper_->SetStatic(1);  // the surface changes only through setSurface
+  surfaceActor_ = vtkSmartPointer<vtkActor>::New();
+  surfaceActor_->SetMapper(surfaceMapper_);
+  surfaceActor_->GetProperty()->SetSpecular(0.0);  // cheaper fragments under software GL
+  surfaceActor_->VisibilityOff();
+  renderer_->AddActor(surfaceActor_);
+
+  proxyMapper_ = vtkSmartPointer<vtkPolyDataMapper>::New();
+  proxyMapper_->SetStatic(1);
+  proxyActor_ = vtkSmartPointer<vtkActor>::New();
+  proxyActor_->SetMapper(proxyMapper_);
+  proxyActor_->SetProperty(surfaceActor_->GetProperty());
+  proxyActor_->VisibilityOff();
+  proxyActor_->PickableOff();
+  renderer_->AddActor(proxyActor_);
+  stillTimer_ = new QTimer(this);
+  stillTimer_->setSingleShot(true);
+  stillTimer_->setInterval(250);
+  connect(stillTimer_, &QTimer::timeout, this, [this] {
+    setInteracting(false);
+    renderNow();
+  });
+
+  outlineMapper_ = vtkSmartPointer<vtkPolyDataMapper>::New();
+  outlineMapper_->ScalarVisibilityOff();
+  outlineActor_ = vtkSmartPointer<vtkActor>::New();
+  outlineActor_->SetMapper(outlineMapper_);
+  outlineActor_->GetProperty()->SetColor(1.0, 1.0, 0.4);
+  outlineActor_->GetProperty()->SetLineWidth(1.5);
+  outlineActor_->GetProperty()->LightingOff();
+  outlineActor_->VisibilityOff();
+  renderer_->AddActor(outlineActor_);
+
+  probeLine_ = vtkSmartPointer<vtkLineSource>::New();
+  auto probeMapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  probeMapper->SetInputConnection(probeLine_->GetOutputPort());
+  probeActor_ = vtkSmartPointer<vtkActor>::New();
+  probeActor_->SetMapper(probeMapper);
+  probeActor_->GetProperty()->SetColor(0.3, 0.7, 1.0);
+  probeActor_->GetProperty()->SetLineWidth(4);
+  probeActor_->GetProperty()->SetRenderLinesAsTubes(true);
+  probeActor_->VisibilityOff();
+  renderer_->AddActor(probeActor_);
+
+  auto tip = vtkSmartPointer<vtkSphereSource>::New();
+  tip->SetThetaResolution(16);
+  tip->SetPhiResolution(12);
+  auto tipMapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  tipMapper->SetInputConnection(tip->GetOutputPort());
+  tipActor_ = vtkSmartPointer<vtkActor>::New();
+  tipActor_->SetMapper(tipMapper);
+  tipActor_->GetProperty()->SetColor(0.3, 0.7, 1.0);
+  tipActor_->VisibilityOff();
+  renderer_->AddActor(tipActor_);
+
+  // The exact arrow is a little thicker, so it shows around the box's when the two coincide.
+  exactArrow_ = makeArrow(kExactColor, 1.5);
+  approxArrow_ = makeArrow(kApproxColor, 1.0);
+  renderer_->AddActor(exactArrow_);
+  renderer_->AddActor(approxArrow_);
+  legendExact_ = makeLegend("-> exact force (Embree)", kExactColor, 0);
+  legendApprox_ = makeLegend("-> haptic box force", kApproxColor, 1);
+  renderer_->AddViewProp(legendExact_);
+  renderer_->AddViewProp(legendApprox_);
+
+  scalarBar_ = vtkSmartPointer<vtkScalarBarActor>::New();
+  scalarBar_->SetNumberOfLabels(5);
+  scalarBar_->SetUnconstrainedFontSize(true);
+  scalarBar_->GetTitleTextProperty()->SetFontSize(16);
+  scalarBar_->GetLabelTextProperty()->SetFontSize(14);
+  scalarBar_->SetVerticalTitleSeparation(8);
+  scalarBar_->SetMaximumWidthInPixels(90);
+  scalarBar_->GetPositionCoordinate()->SetValue(0.84, 0.1);
+  scalarBar_->SetWidth(0.14);
+  scalarBar_->SetHeight(0.8);
+  scalarBar_->VisibilityOff();
+  renderer_->AddViewProp(scalarBar_);
+
+
+  style_ = vtkSmartPointer<ProbeInteractorStyle>::New();
+  style_->SetDefaultRenderer(renderer_);
+  style_->ProbeCallback = [this](int x, int y, bool press) {
+    hb::Vec3 p;
+    if (press) setInteracting(true);
+    if (!pickSurface(x, y, p)) return false;
+    emit surfaceDragged(p, press);
+    return true;
+  };
+  style_->DepthCallback = [this](int step) { emit depthStepped(step); };
+  interactor()->SetInteractorStyle(style_);
+  auto interaction = vtkSmartPointer<vtkCallbackCommand>::New();
+  interaction->SetClientData(this);
+  interaction->SetCallback([](vtkObject*, unsigned long event, void* self, void*) {
+    auto* view = static_cast<ProbeView*>(self);
+    if (event == vtkCommand::StartInteractionEvent) {
+      view->stillTimer_->stop();
+      view->setInteracting(true);
+    } else {
+      view->stillTimer_->start();
+    }
+  });
+  style_->AddObserver(vtkCommand::StartInteractionEvent, interaction);
+  style_->AddObserver(vtkCommand::EndInteractionEvent, interaction);
+  setFocusPolicy(Qt::StrongFocus);
+}
+
+ProbeView::~ProbeView() = default;
+
+void ProbeView::setSurface(vtkPolyData* surface, float diagonal) {
+  surface_ = surface;
+  diagonal_ = diagonal > 0.f ? diagonal : 1.f;
+  surfaceMapper_->SetInputData(surface);
+  surfaceActor_->SetVisibility(surface != nullptr);
+  locator_ = nullptr;
+  if (surface) {
+    locator_ = vtkSmartPointer<vtkStaticCellLocator>::New();
+    locator_->SetDataSet(surface);
+    locator_->BuildLocator();
+  }
+  auto* tipSource = vtkSphereSource::SafeDownCast(tipActor_->GetMapper()->GetInputAlgorithm());
+  if (tipSource) tipSource->SetRadius(0.006 * diagonal_);
+  probeActor_->VisibilityOff();
+  tipActor_->VisibilityOff();
+  exactArrow_->VisibilityOff();
+  approxArrow_->VisibilityOff();
+  lastShown_.fill(0.f);
+  buildProxy();
+  interacting_ = true;
+  setInteracting(false);
+  updateColoring();
+  resetCamera();
+}
+
+void ProbeView::setOutlines(vtkPolyData* outlines) {
+  outlineMapper_->SetInputData(outlines);
+  outlineMapper_->Modified();
+}
+
+void ProbeView::setOutlinesVisible(bool on) {
+  outlineActor_->SetVisibility(on);
+  renderNow();
+}
+
+bool ProbeView::outlinesVisible() const { return outlineActor_->GetVisibility() != 0; }
+
+void ProbeView::setColorMode(ColorMode mode, ErrorMetric metric) {
+  colorMode_ = mode;
+  metric_ = metric;
+  updateColoring();
+  renderNow();
+}
+
+void ProbeView::updateColoring() {
+  scalarBar_->VisibilityOff();
+  if (!surface_) return;
+  const char* name = HapticSession::errorArrayName(metric_);
+  vtkDataArray* field = surface_->GetPointData()->GetArray(name);
+  if (colorMode_ == ColorMode::ErrorField && field) {
+    double range[2] = {0.0, 1.0};
+    // Robust range: the 95th percentile of the finite values, so a few outliers do not wash
+    // the map out (the bar's top label then means "this or more").
+    std::vector<double> v;
+    v.reserve(static_cast<std::size_t>(field->GetNumberOfTuples()));
+    for (vtkIdType i = 0; i < field->GetNumberOfTuples(); ++i) {
+      const double x = field->GetTuple1(i);
+      if (std::isfinite(x)) v.push_back(x);
+    }
+    if (!v.empty()) {
+      const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(0.95 * v.size()));
+      std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+      range[1] = v[k] > 0.0 ? v[k] : 1.0;
+    }
+    if (metric_ == ErrorMetric::ContactDisagreement) range[1] = std::max(range[1], 0.05);
+    auto lut = vtkSmartPointer<vtkLookupTable>::New();
+    lut->SetHueRange(0.667, 0.0);  // blue (small error) to red (large)
+    lut->SetTableRange(range);
+    lut->SetNanColor(0.55, 0.55, 0.55, 1.0);  // no data: grey, not zero error
+    lut->SetUseAboveRangeColor(true);
+    lut->SetAboveRangeColor(0.6, 0.0, 0.0, 1.0);
+    lut->Build();
+    surfaceMapper_->SetLookupTable(lut);
+    surfaceMapper_->SetScalarModeToUsePointFieldData();
+    surfaceMapper_->SelectColorArray(name);
+    surfaceMapper_->SetScalarRange(range);
+    surfaceMapper_->ScalarVisibilityOn();
+    scalarBar_->SetLookupTable(lut);
+    scalarBar_->SetTitle(HapticSession::errorMetricTitle(metric_).toUtf8().constData());
+    scalarBar_->VisibilityOn();
+  } else {
+    vtkDataArray* pieces = surface_->GetCellData()->GetArray("PieceId");
+    const double count = pieces ? pieces->GetRange()[1] + 1.0 : 1.0;
+    if (count <= 1.0) {
+      surfaceMapper_->ScalarVisibilityOff();
+      surfaceActor_->GetProperty()->SetColor(0.93, 0.82, 0.66);
+    } else {
+      auto lut = vtkSmartPointer<vtkLookupTable>::New();
+      lut->SetNumberOfTableValues(static_cast<vtkIdType>(count));
+      lut->SetTableRange(0.0, count - 1.0);
+      for (vtkIdType i = 0; i < static_cast<vtkIdType>(count); ++i) {
+        // Golden-angle hues: neighbouring ids get distinct colours.
+        const double h = std::fmod(0.61803398875 * static_cast<double>(i), 1.0);
+        double rgb[3];
+        vtkMath::HSVToRGB(h, 0.45, 0.95, rgb + 0, rgb + 1, rgb + 2);
+        lut->SetTableValue(i, rgb[0], rgb[1], rgb[2], 1.0);
+      }
+      surfaceMapper_->SetLookupTable(lut);
+      surfaceMapper_->SetScalarModeToUseCellFieldData();
+      surfaceMapper_->SelectColorArray("PieceId");
+      surfaceMapper_->SetScalarRange(0.0, count - 1.0);
+      surfaceMapper_->ScalarVisibilityOn();
+    }
+  }
+  surfaceMapper_->Modified();
+  updateProxyColors();
+}
+
+void ProbeView::buildProxy() {
+  proxy_ = nullptr;
+  proxySource_ = nullptr;
+  proxyMapper_->SetInputData(nullptr);
+  constexpr vtkIdType kProxyAbove = 30000;  // triangles; smaller models are drawn as they are
+  constexpr vtkIdType kProxyTarget = 15000;
+  if (!surface_ || surface_->GetNumberOfCells() <= kProxyAbove) return;
+  // Quadric clustering: fast (one pass) and keeps the silhouette; the grid is refined once
+  // towards the target triangle count.
+  int divisions = 96;
+  vtkSmartPointer<vtkPolyData> coarse;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    auto cluster = vtkSmartPointer<vtkQuadricClustering>::New();
+    cluster->SetInputData(surface_);
+    cluster->SetNumberOfDivisions(divisions, divisions, divisions);
+    cluster->AutoAdjustNumberOfDivisionsOn();
+    cluster->CopyCellDataOn();
+    cluster->Update();
+    coarse = cluster->GetOutput();
+    const double ratio = static_cast<double>(coarse->GetNumberOfCells()) / kProxyTarget;
+    if (ratio < 1.3 && ratio > 0.5) break;
+    divisions = std::max(16, static_cast<int>(divisions / std::sqrt(ratio)));
+  }
+  auto normals = vtkSmartPointer<vtkPolyDataNormals>::New();
+  normals->SetInputData(coarse);
+  normals->SplittingOff();
+  normals->ConsistencyOff();
+  normals->Update();
+  proxy_ = normals->GetOutput();
+  // Nearest model vertex of each proxy point, to carry the error field's point arrays over.
+  auto locator = vtkSmartPointer<vtkStaticPointLocator>::New();
+  locator->SetDataSet(surface_);
+  locator->BuildLocator();
+  proxySource_ = vtkSmartPointer<vtkIdTypeArray>::New();
+  proxySource_->SetNumberOfTuples(proxy_->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < proxy_->GetNumberOfPoints(); ++i)
+    proxySource_->SetValue(i, locator->FindClosestPoint(proxy_->GetPoint(i)));
+  proxyMapper_->SetInputData(proxy_);
+}
+
+void ProbeView::updateProxyColors() {
+  if (!proxy_) return;
+  // Point arrays of the error field: copied from the nearest model vertex.
+  vtkPointData* from = surface_->GetPointData();
+  for (ErrorMetric m : {ErrorMetric::RelativeForce, ErrorMetric::Direction, ErrorMetric::ContactDisagreement}) {
+    const char* name = HapticSession::errorArrayName(m);
+    vtkDataArray* a = from->GetArray(name);
+    if (!a) {
+      proxy_->GetPointData()->RemoveArray(name);
+      continue;
+    }
+    vtkDataArray* b = proxy_->GetPointData()->GetArray(name);
+    if (!b || b->GetMTime() < a->GetMTime()) {
+      vtkSmartPointer<vtkDataArray> copy;
+      copy.TakeReference(a->NewInstance());
+      copy->SetName(name);
+      copy->SetNumberOfComponents(1);
+      copy->SetNumberOfTuples(proxy_->GetNumberOfPoints());
+      for (vtkIdType i = 0; i < proxy_->GetNumberOfPoints(); ++i)
+        copy->SetTuple1(i, a->GetTuple1(proxySource_->GetValue(i)));
+      proxy_->GetPointData()->AddArray(copy);
+    }
+  }
+  proxyMapper_->SetLookupTable(surfaceMapper_->GetLookupTable());
+  proxyMapper_->SetScalarMode(surfaceMapper_->GetScalarMode());
+  proxyMapper_->SelectColorArray(surfaceMapper_->GetArrayName());
+  proxyMapper_->SetScalarRange(surfaceMapper_->GetScalarRange());
+  proxyMapper_->SetScalarVisibility(surfaceMapper_->GetScalarVisibility());
+  proxy_->Modified();
+  proxyMapper_->Modified();
+}
+
+vtkIdType ProbeView::proxyTriangles() const { return proxy_ ? proxy_->GetNumberOfCells() : 0; }
+
+void ProbeView::setInteracting(bool on) {
+  if (on == interacting_) return;
+  interacting_ = on;
+  const bool proxy = on && proxy_ != nullptr;
+  surfaceActor_->SetVisibility(surface_ != nullptr && !proxy);
+  proxyActor_->SetVisibility(proxy);
+}
+
+void ProbeView::setReading(const ProbeReading& r, double forceScale) {
+  std::array<float, 12> key{};
+  if (r.placed) {
+    key = {r.segment.end.x(), r.segment.end.y(), r.segment.end.z(), r.segment.start.x(),
+           r.segment.start.y(), r.segment.start.z(), r.exact.force.x(), r.exact.force.y(),
+           r.exact.force.z(), r.approx.force.x(), r.approx.force.y(), r.approx.force.z()};
+  }
+  if (key == lastShown_) return;  // nothing moved: no render
+  lastShown_ = key;
+  probeActor_->SetVisibility(r.placed);
+  tipActor_->SetVisibility(r.placed);
+  // A moving probe redraws at display rate: use the proxy until it is still again.
+  setInteracting(true);
+  stillTimer_->start();
+  if (!r.placed) {
+    exactArrow_->VisibilityOff();
+    approxArrow_->VisibilityOff();
+    renderNow();
+    return;
+  }
+  probeLine_->SetPoint1(r.segment.start.x(), r.segment.start.y(), r.segment.start.z());
+  probeLine_->SetPoint2(r.segment.end.x(), r.segment.end.y(), r.segment.end.z());
+  tipActor_->SetPosition(r.segment.end.x(), r.segment.end.y(), r.segment.end.z());
+  // Both arrows on one scale (so their lengths compare), capped at a fifth of the model.
+  const double cap = 0.2 * diagonal_;
+  if (r.exact.contact)
+    placeArrow(exactArrow_, r.exact.point, r.exact.force, std::min(cap, r.exact.force.norm() * forceScale));
+  else
+    exactArrow_->VisibilityOff();
+  if (r.approx.contact)
+    placeArrow(approxArrow_, r.approx.point, r.approx.force, std::min(cap, r.approx.force.norm() * forceScale));
+  else
+    approxArrow_->VisibilityOff();
+  renderNow();
+}
+
+void ProbeView::setProbeMode(bool on) { style_->SetProbeMode(on); }
+
+bool ProbeView::pickSurface(int x, int y, hb::Vec3& point) const {
+  // The mouse ray against the model's cell locator: independent of which actor (model or
+  // level-of-detail proxy) is on screen.
+  if (!surface_ || !locator_) return false;
+  double p0[4], p1[4];
+  renderer_->SetDisplayPoint(x, y, 0.0);
+  renderer_->DisplayToWorld();
+  renderer_->GetWorldPoint(p0);
+  renderer_->SetDisplayPoint(x, y, 1.0);
+  renderer_->DisplayToWorld();
+  renderer_->GetWorldPoint(p1);
+  if (p0[3] == 0.0 || p1[3] == 0.0) return false;
+  for (int i = 0; i < 3; ++i) {
+    p0[i] /= p0[3];
+    p1[i] /= p1[3];
+  }
+  double t = 0.0, hit[3], pcoords[3];
+  int subId = 0;
+  vtkIdType cellId = -1;
+  if (!locator_->IntersectWithLine(p0, p1, 0.0, t, hit, pcoords, subId, cellId) || cellId < 0) return false;
+  point = hb::Vec3(static_cast<float>(hit[0]), static_cast<float>(hit[1]), static_cast<float>(hit[2]));
+  return true;
+}
+
+hb::Vec3 ProbeView::viewDirection() const {
+  double d[3];
+  renderer_->GetActiveCamera()->GetDirectionOfProjection(d);
+  return hb::Vec3(static_cast<float>(d[0]), static_cast<float>(d[1]), static_cast<float>(d[2])).normalized();
+}
+
+hb::Vec3 ProbeView::viewRight() const {
+  double up[3];
+  renderer_->GetActiveCamera()->GetViewUp(up);
+  const hb::Vec3 u(static_cast<float>(up[0]), static_cast<float>(up[1]), static_cast<float>(up[2]));
+  return viewDirection().cross(u).normalized();
+}
+
+void ProbeView::resetCamera() {
+  renderer_->ResetCamera();
+  renderNow();
+}
+
+void ProbeView::orbitCamera(double azimuth, double elevation) {
+  vtkCamera* c = renderer_->GetActiveCamera();
+  c->Azimuth(azimuth);
+  c->Elevation(elevation);
+  c->OrthogonalizeViewUp();
+  renderer_->ResetCameraClippingRange();
+  renderNow();
+}
+
+CameraState ProbeView::cameraState() const {
+  CameraState s;
+  vtkCamera* c = renderer_->GetActiveCamera();
+  c->GetPosition(s.position.data());
+  c->GetFocalPoint(s.focalPoint.data());
+  c->GetViewUp(s.viewUp.data());
+  s.viewAngle = c->GetViewAngle();
+  s.parallelScale = c->GetParallelScale();
+  return s;
+}
+
+void ProbeView::setCameraState(const CameraState& s) {
+  vtkCamera* c = renderer_->GetActiveCamera();
+  c->SetPosition(s.position.data());
+  c->SetFocalPoint(s.focalPoint.data());
+  c->SetViewUp(s.viewUp.data());
+  c->SetViewAngle(s.viewAngle);
+  c->SetParallelScale(s.parallelScale);
+  renderer_->ResetCameraClippingRange();
+  renderNow();
+}
+
+void ProbeView::renderNow() {
+  // Coalesced: every change of one event-loop pass (surface, colours, probe) costs one render.
+  if (renderPending_) return;
+  renderPending_ = true;
+  QTimer::singleShot(0, this, [this] {
+    renderPending_ = false;
+    if (isVisible()) renderWindow()->Render();
+  });
+}
+
+void ProbeView::saveScreenshot(const QString& path) {
+  stillTimer_->stop();
+  setInteracting(false);  // a screenshot shows the full model, never the proxy
+  renderWindow()->Render();
+  auto grab = vtkSmartPointer<vtkWindowToImageFilter>::New();
+  grab->SetInput(renderWindow());
+  grab->SetInputBufferTypeToRGB();
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  auto writer = vtkSmartPointer<vtkPNGWriter>::New();
+  writer->SetFileName(QFile::encodeName(path).constData());
+  writer->SetInputConnection(grab->GetOutputPort());
+  writer->Write();
+  if (writer->GetErrorCode() != 0 || !QFile::exists(path))
+    throw hb::IoError(QFile::encodeName(path).toStdString() + ": cannot write the screenshot");
+}
+
+double ProbeView::measureFrameRate(int frames, bool interactive) {
+  vtkCamera* c = renderer_->GetActiveCamera();
+  stillTimer_->stop();
+  setInteracting(interactive);
+  renderWindow()->Render();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < frames; ++i) {
+    c->Azimuth(360.0 / frames);
+    renderWindow()->Render();
+  }
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  setInteracting(false);
+  return s > 0 ? frames / s : 0.0;
+}
+
+bool ProbeView::exactArrowShown() const { return exactArrow_->GetVisibility() != 0; }
+bool ProbeView::approxArrowShown() const { return approxArrow_->GetVisibility() != 0; }
+bool ProbeView::scalarBarShown() const { return scalarBar_->GetVisibility() != 0; }

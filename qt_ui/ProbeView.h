@@ -1,0 +1,111 @@
+#pragma once
+// The 3D probe view: the model coloured by piece or by error field, PBB outlines, the probe
+// segment and the exact and approximated force arrows with a legend. Shows what it is given;
+// computes nothing (the session does).
+#include "HapticSession.h"
+#include "SessionFile.h"
+#include <QVTKOpenGLNativeWidget.h>
+#include <vtkSmartPointer.h>
+#include <array>
+
+class ProbeInteractorStyle;
+class vtkActor;
+class vtkGenericOpenGLRenderWindow;
+class vtkIdTypeArray;
+class vtkLineSource;
+class vtkPolyDataMapper;
+class vtkRenderer;
+class vtkScalarBarActor;
+class vtkStaticCellLocator;
+class vtkTextActor;
+
+
+class ProbeView : public QVTKOpenGLNativeWidget {
+  Q_OBJECT
+public:
+  enum class ColorMode { Pieces, ErrorField };
+
+  explicit ProbeView(QWidget* parent = nullptr);
+  ~ProbeView() override;
+
+  /// The surface to show (cell "PieceId", optional error point arrays). Resets the camera.
+  void setSurface(vtkPolyData* surface, float diagonal);
+  void setOutlines(vtkPolyData* outlines);
+  void setOutlinesVisible(bool on);
+  bool outlinesVisible() const;
+  /// Colours by piece, or by the error field's `metric` (when the surface has the array).
+  void setColorMode(ColorMode mode, ErrorMetric metric = ErrorMetric::RelativeForce);
+  ColorMode colorMode() const { return colorMode_; }
+  /// Updates the probe segment and both arrows; renders when something changed.
+  void setReading(const ProbeReading& reading, double forceScale);
+  void setProbeMode(bool on);
+
+  /// Picks the model at display coordinates (VTK's, origin bottom-left).
+  bool pickSurface(int x, int y, hb::Vec3& point) const;
+  /// The camera's view direction and right vector (unit), for aiming the probe.
+  hb::Vec3 viewDirection() const;
+  hb::Vec3 viewRight() const;
+
+  void resetCamera();
+  /// Orbits the camera about the focal point, degrees.
+  void orbitCamera(double azimuth, double elevation);
+  CameraState cameraState() const;
+  void setCameraState(const CameraState& s);
+
+  /// Renders at the next pass of the event loop (GUI thread; coalesced).
+  void renderNow();
+  /// Writes the view as PNG; throws hb::IoError.
+  void saveScreenshot(const QString& path);
+  /// What is on screen (tests).
+  bool exactArrowShown() const;
+  bool approxArrowShown() const;
+  bool scalarBarShown() const;
+  /// Frames per second over `frames` renders while orbiting (benchmark); `interactive`
+  /// renders the level-of-detail proxy, as during a drag.
+  double measureFrameRate(int frames, bool interactive = false);
+  /// Triangles of the level-of-detail proxy (0: the model is small enough to need none).
+  vtkIdType proxyTriangles() const;
+  /// While interacting (camera or probe moving) a decimated proxy of a large model is drawn,
+  /// as ParaView does; the full model is drawn again once the view is still for 250 ms.
+  void setInteracting(bool on);
+
+signals:
+  /// A left drag on the model: the point under the mouse; `press` on the first one.
+  void surfaceDragged(const hb::Vec3& point, bool press);
+  /// Ctrl + wheel: +1 deeper, -1 shallower.
+  void depthStepped(int step);
+
+private:
+  void updateColoring();
+  void buildProxy();
+  void updateProxyColors();
+
+  vtkSmartPointer<vtkGenericOpenGLRenderWindow> window_;
+  vtkSmartPointer<vtkRenderer> renderer_;
+  vtkSmartPointer<ProbeInteractorStyle> style_;
+  vtkSmartPointer<vtkPolyDataMapper> surfaceMapper_;
+  vtkSmartPointer<vtkActor> surfaceActor_;
+  vtkSmartPointer<vtkPolyData> proxy_;
+  vtkSmartPointer<vtkIdTypeArray> proxySource_;  ///< nearest model vertex of each proxy point
+  vtkSmartPointer<vtkPolyDataMapper> proxyMapper_;
+  vtkSmartPointer<vtkActor> proxyActor_;
+  class QTimer* stillTimer_ = nullptr;
+  bool interacting_ = false;
+  bool renderPending_ = false;
+  vtkSmartPointer<vtkPolyDataMapper> outlineMapper_;
+  vtkSmartPointer<vtkActor> outlineActor_;
+  vtkSmartPointer<vtkLineSource> probeLine_;
+  vtkSmartPointer<vtkActor> probeActor_;
+  vtkSmartPointer<vtkActor> tipActor_;
+  vtkSmartPointer<vtkActor> exactArrow_;
+  vtkSmartPointer<vtkActor> approxArrow_;
+  vtkSmartPointer<vtkTextActor> legendExact_;
+  vtkSmartPointer<vtkTextActor> legendApprox_;
+  vtkSmartPointer<vtkScalarBarActor> scalarBar_;
+  vtkSmartPointer<vtkStaticCellLocator> locator_;
+  vtkPolyData* surface_ = nullptr;
+  float diagonal_ = 1.f;
+  ColorMode colorMode_ = ColorMode::Pieces;
+  ErrorMetric metric_ = ErrorMetric::RelativeForce;
+  std::array<float, 12> lastShown_{};
+};

@@ -1,0 +1,64 @@
+#include "ReadoutPanel.h"
+#include "HapticSession.h"
+#include <QFontDatabase>
+#include <QFormLayout>
+#include <QLabel>
+
+namespace {
+QLabel* value() {
+  auto* l = new QLabel(QStringLiteral("-"));
+  l->setFont(QFontDatabase::systemFont(QFontDatabase::FixedFont));
+  l->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  return l;
+}
+}  // namespace
+
+ReadoutPanel::ReadoutPanel(QWidget* parent)
+    : QWidget(parent), depth_(value()), exact_(value()), approx_(value()), error_(value()), angle_(value()),
+      query_(value()), device_(value()) {
+  auto* form = new QFormLayout(this);
+  exact_->setStyleSheet(QStringLiteral("color: #26bf40;"));
+  approx_->setStyleSheet(QStringLiteral("color: #ff7300;"));
+  form->addRow(tr("Depth"), depth_);
+  form->addRow(tr("|F| exact"), exact_);
+  form->addRow(tr("|F| haptic box"), approx_);
+  form->addRow(tr("Relative error"), error_);
+  form->addRow(tr("Angle"), angle_);
+  form->addRow(tr("Query time"), query_);
+  form->addRow(tr("Device thread"), device_);
+}
+
+void ReadoutPanel::setReading(const ProbeReading& r) {
+  if (!r.placed) {
+    depth_->setText(tr("drag on the model to place the probe"));
+    for (QLabel* l : {exact_, approx_, error_, angle_, query_}) l->setText(QStringLiteral("-"));
+  } else {
+    depth_->setText(r.exact.contact || r.approx.contact
+                        ? tr("%1 exact, %2 box (model units)").arg(r.exact.depth, 0, 'g', 4).arg(r.approx.depth, 0, 'g', 4)
+                        : tr("no contact"));
+    exact_->setText(r.exact.contact ? tr("%1 N").arg(r.exact.force.norm(), 0, 'f', 4) : tr("no contact"));
+    approx_->setText(!r.haveBoxes ? tr("no boxes (bake first)")
+                     : r.approx.contact ? tr("%1 N").arg(r.approx.force.norm(), 0, 'f', 4)
+                                        : tr("no contact"));
+    const bool both = r.exact.contact && r.approx.contact;
+    error_->setText(both ? tr("%1 %").arg(100.0 * r.relativeError, 0, 'f', 2)
+                         : (r.exact.contact != r.approx.contact && r.haveBoxes ? tr("contacts disagree") : tr("-")));
+    angle_->setText(both ? tr("%1 deg").arg(r.angleDeg, 0, 'f', 2) : tr("-"));
+    query_->setText(tr("exact %1 ns, box %2 ns").arg(r.exactQueryNs, 0, 'f', 0).arg(r.approxQueryNs, 0, 'f', 0));
+  }
+  if (r.deviceRunning)
+    device_->setText(tr("%1: %2 Hz, p99 period %3 us").arg(r.deviceName).arg(r.rateHz, 0, 'f', 1).arg(r.p99PeriodUs, 0, 'f', 0));
+  else
+    device_->setText(r.haveBoxes ? tr("%1: stopped").arg(r.deviceName) : tr("not running (bake first)"));
+}
+
+QString ReadoutPanel::rowText(const QString& key) const {
+  if (key == QLatin1String("depth")) return depth_->text();
+  if (key == QLatin1String("exact")) return exact_->text();
+  if (key == QLatin1String("approx")) return approx_->text();
+  if (key == QLatin1String("error")) return error_->text();
+  if (key == QLatin1String("angle")) return angle_->text();
+  if (key == QLatin1String("query")) return query_->text();
+  if (key == QLatin1String("device")) return device_->text();
+  return {};
+}

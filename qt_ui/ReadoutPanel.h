@@ -1,0 +1,25 @@
+#pragma once
+// The readout: depth, both force magnitudes, their relative error and angle, query times,
+// the device thread's rate and p99 period.
+#include <QWidget>
+
+struct ProbeReading;
+class QLabel;
+
+class ReadoutPanel : public QWidget {
+  Q_OBJECT
+public:
+  explicit ReadoutPanel(QWidget* parent = nullptr);
+  void setReading(const ProbeReading& r);
+  /// The text of a row (tests): "depth", "exact", "approx", "error", "angle", "query", "device".
+  QString rowText(const QString& key) const;
+
+private:
+  QLabel* depth_;
+  QLabel* exact_;
+  QLabel* approx_;
+  QLabel* error_;
+  QLabel* angle_;
+  QLabel* query_;
+  QLabel* device_;
+};

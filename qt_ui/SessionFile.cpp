@@ -1,0 +1,95 @@
+#include "SessionFile.h"
+#include "errors.h"
+#include <QDir>
+#include <QFile>
+#include <QFileInfo>
+#include <nlohmann/json.hpp>
+#include <fstream>
+
+namespace {
+std::string local(const QString& s) { return QFile::encodeName(s).toStdString(); }
+}  // namespace
+
+void saveSessionFile(const SessionState& s, const QString& path) {
+  nlohmann::json j;
+  j["format"] = "hapticbox-session";
+  j["version"] = 1;
+  j["mesh"] = s.meshPath.toStdString();
+  j["bake"] = {{"m", s.bake.m},
+               {"n", s.bake.n},
+               {"padding", s.bake.padding},
+               {"pieces", s.bake.pieces == BakeSettings::Pieces::None   ? "none"
+                          : s.bake.pieces == BakeSettings::Pieces::File ? "file"
+                                                                        : "auto"},
+               {"pieces_file", s.bake.piecesFile.toStdString()},
+               {"codec", s.bake.codec.toStdString()},
+               {"cache", s.bake.useCache},
+               {"baked", s.baked}};
+  j["probe"] = {{"depth_fraction", s.depthFraction},
+                {"direction", {s.probeDirection[0], s.probeDirection[1], s.probeDirection[2]}},
+                {"tilt_degrees", s.tiltDegrees}};
+  j["display"] = {{"outlines", s.outlines},
+                  {"error_field", s.showErrorField},
+                  {"metric", HapticSession::errorArrayName(s.metric)}};
+  if (s.hasCamera)
+    j["camera"] = {{"position", s.camera.position},
+                   {"focal_point", s.camera.focalPoint},
+                   {"view_up", s.camera.viewUp},
+                   {"view_angle", s.camera.viewAngle},
+                   {"parallel_scale", s.camera.parallelScale}};
+  std::ofstream out(local(path));
+  out << j.dump(2) << "\n";
+  if (!out) throw hb::IoError(local(path) + ": cannot write the session file");
+}
+
+SessionState loadSessionFile(const QString& path) {
+  std::ifstream in(local(path));
+  if (!in) throw hb::IoError(local(path) + ": cannot open the session file");
+  SessionState s;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(in);
+    if (j.value("format", "") != "hapticbox-session")
+      throw hb::InvalidInput(local(path) + ": not a HapticBox session file");
+    const QDir base = QFileInfo(path).absoluteDir();
+    s.meshPath = QDir::cleanPath(base.absoluteFilePath(QString::fromStdString(j.at("mesh").get<std::string>())));
+    const auto& b = j.at("bake");
+    s.bake.m = b.value("m", 16);
+    s.bake.n = b.value("n", 8);
+    s.bake.padding = b.value("padding", 0.01f);
+    const std::string pieces = b.value("pieces", "none");
+    s.bake.pieces = pieces == "file" ? BakeSettings::Pieces::File
+                    : pieces == "auto" ? BakeSettings::Pieces::Automatic
+                                       : BakeSettings::Pieces::None;
+    const std::string pf = b.value("pieces_file", "");
+    if (!pf.empty()) s.bake.piecesFile = QDir::cleanPath(base.absoluteFilePath(QString::fromStdString(pf)));
+    s.bake.codec = QString::fromStdString(b.value("codec", "none"));
+    s.bake.useCache = b.value("cache", true);
+    s.baked = b.value("baked", false);
+    if (j.contains("probe")) {
+      const auto& p = j["probe"];
+      s.depthFraction = p.value("depth_fraction", 0.01);
+      if (p.contains("direction")) s.probeDirection = p["direction"].get<std::array<float, 3>>();
+      s.tiltDegrees = p.value("tilt_degrees", 0.0);
+    }
+    if (j.contains("display")) {
+      const auto& d = j["display"];
+      s.outlines = d.value("outlines", false);
+      s.showErrorField = d.value("error_field", false);
+      const std::string m = d.value("metric", "RelativeForceError");
+      for (ErrorMetric e : {ErrorMetric::RelativeForce, ErrorMetric::Direction, ErrorMetric::ContactDisagreement})
+        if (m == HapticSession::errorArrayName(e)) s.metric = e;
+    }
+    if (j.contains("camera")) {
+      const auto& c = j["camera"];
+      s.hasCamera = true;
+      s.camera.position = c.at("position").get<std::array<double, 3>>();
+      s.camera.focalPoint = c.at("focal_point").get<std::array<double, 3>>();
+      s.camera.viewUp = c.at("view_up").get<std::array<double, 3>>();
+      s.camera.viewAngle = c.value("view_angle", 30.0);
+      s.camera.parallelScale = c.value("parallel_scale", 1.0);
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw hb::InvalidInput(local(path) + ": not a valid session file (" + e.what() + ")");
+  }
+  return s;
+}

@@ -1,0 +1,33 @@
+#pragma once
+// The session file (.hbsession, JSON): model, pieces and bake parameters, probe, display and
+// camera, so that opening it restores the window.
+#include "HapticSession.h"
+#include <QString>
+#include <array>
+
+/// Camera state.
+struct CameraState {
+  std::array<double, 3> position{}, focalPoint{}, viewUp{};
+  double viewAngle = 30.0;
+  double parallelScale = 1.0;
+};
+
+struct SessionState {
+  QString meshPath;
+  BakeSettings bake;
+  bool baked = false;                  ///< boxes existed: bake (or load the cache) on open.
+  double depthFraction = 0.01;
+  std::array<float, 3> probeDirection{0.f, 0.f, -1.f};
+  double tiltDegrees = 0.0;
+  bool outlines = false;
+  bool showErrorField = false;
+  ErrorMetric metric = ErrorMetric::RelativeForce;
+  bool hasCamera = false;
+  CameraState camera;
+};
+
+/// Writes `state` as JSON. Throws hb::IoError.
+void saveSessionFile(const SessionState& state, const QString& path);
+/// Reads a session file; relative paths are resolved against the file's folder.
+/// Throws hb::IoError (unreadable) or hb::InvalidInput (not a session file).
+SessionState loadSessionFile(const QString& path);

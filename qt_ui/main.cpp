@@ -1,0 +1,135 @@
+// hapticbox-gui [MESH|SESSION] [--device virtual|falcon|replay:LOG] [--no-bake]
+//               [--screenshot PNG] [--measure-fps N]
+#include "BackgroundJob.h"
+#include "DevicePanel.h"
+#include "HapticSession.h"
+#include "MainWindow.h"
+#include "ProbeView.h"
+#include <QApplication>
+#include <QCommandLineParser>
+#include <QDockWidget>
+#include <QEventLoop>
+#include <QSurfaceFormat>
+#include <QTimer>
+#include <QVTKOpenGLNativeWidget.h>
+#include <vtkRenderWindow.h>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+
+namespace {
+
+/// Processes events until `done` or `seconds` pass.
+template <class F>
+bool waitFor(F done, double seconds) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (!done()) {
+    if (std::chrono::steady_clock::now() > until) return false;
+    QApplication::processEvents(QEventLoop::AllEvents, 20);
+  }
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY") && !std::getenv("QT_QPA_PLATFORM")) {
+    std::fprintf(stderr, "hapticbox-gui: no display (DISPLAY is not set); use the hapticbox command, or "
+                         "./run.sh for the headless main job\n");
+    return 1;
+  }
+  QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());
+  QApplication app(argc, argv);
+  QApplication::setOrganizationName(QStringLiteral("HapticBox"));
+  QApplication::setApplicationName(QStringLiteral("hapticbox-gui"));
+  QApplication::setApplicationVersion(QStringLiteral(HB_VERSION));
+
+  QCommandLineParser parser;
+  parser.setApplicationDescription(QStringLiteral("HapticBox desktop window"));
+  parser.addHelpOption();
+  parser.addVersionOption();
+  parser.addPositionalArgument(QStringLiteral("file"), QStringLiteral("Model (.off .obj .ply .stl .om) or session (.hbsession)"));
+  QCommandLineOption device(QStringLiteral("device"), QStringLiteral("virtual | falcon | replay:LOG"), QStringLiteral("device"), QStringLiteral("virtual"));
+  QCommandLineOption noBake(QStringLiteral("no-bake"), QStringLiteral("Do not bake on open when there is no cached bake"));
+  QCommandLineOption shot(QStringLiteral("screenshot"), QStringLiteral("After opening (and baking), place the probe, save the view as PNG and quit"), QStringLiteral("png"));
+  QCommandLineOption fps(QStringLiteral("measure-fps"), QStringLiteral("Render N frames of the probe view with the device thread on, print frames/s and quit"), QStringLiteral("frames"));
+  QCommandLineOption field(QStringLiteral("error-field"), QStringLiteral("With --screenshot: compute the error field and show it"));
+  QCommandLineOption sweep(QStringLiteral("sweep"), QStringLiteral("With --screenshot: run a small sweep and show the charts"));
+  parser.addOptions({device, noBake, shot, fps, field, sweep});
+  parser.process(app);
+
+  MainWindow window;
+  window.setBakeOnOpen(!parser.isSet(noBake));
+  window.show();
+  const QString dev = parser.value(device);
+  if (dev != QLatin1String("virtual")) {
+    QString note;
+    if (dev == QLatin1String("falcon")) window.session()->setDevice(DeviceKind::Falcon, {}, &note);
+    else if (dev.startsWith(QLatin1String("replay:"))) window.session()->setDevice(DeviceKind::Replay, dev.mid(7), &note);
+    if (!note.isEmpty()) std::fprintf(stderr, "hapticbox-gui: %s\n", qPrintable(note));
+  }
+  const QStringList args = parser.positionalArguments();
+  if (!args.isEmpty()) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const bool ok = window.openFile(args.front(), false);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (ok)
+      std::fprintf(stderr, "hapticbox-gui: opened %s in %.3f s (%s)\n", qPrintable(args.front()), s,
+                   window.session()->hasBoxes() ? "boxes from the cache" : "no cached boxes");
+    else if (parser.isSet(shot) || parser.isSet(fps))
+      return 1;
+  }
+
+  if (parser.isSet(shot) || parser.isSet(fps)) {
+    // Scripted runs: wait for the bake, put the probe in contact at the centre of the view.
+    waitFor([&] { return !window.session()->job()->isRunning(); }, 600);
+    waitFor([] { return false; }, 0.3);
+    ProbeView* view = window.probeView();
+    hb::Vec3 p;
+    const int* size = view->renderWindow()->GetSize();
+    bool placed = false;
+    for (int dy = 0; dy < size[1] / 2 && !placed; dy += 8)
+      placed = view->pickSurface(size[0] / 2, size[1] / 2 + dy, p);
+    if (placed) {
+      window.session()->setTiltDegrees(20.0);
+      window.session()->aimProbe(view->viewDirection(), view->viewRight());
+      window.session()->setDepthFraction(0.02);
+      window.session()->setProbeTarget(p);
+      view->orbitCamera(50.0, 15.0);  // see the probe and the arrows from the side
+    }
+    waitFor([] { return false; }, 1.0);
+    window.refresh();
+    if (parser.isSet(field)) {
+      window.session()->startErrorField(1);
+      waitFor([&] { return !window.session()->job()->isRunning(); }, 600);
+    }
+    if (parser.isSet(sweep)) {
+      window.session()->startSweep({8, 16}, {4, 8}, 2000);
+      waitFor([&] { return !window.session()->job()->isRunning(); }, 600);
+      if (auto* d = window.findChild<QDockWidget*>(QStringLiteral("ChartsDock"))) d->show();
+    }
+    waitFor([] { return false; }, 0.5);
+    if (parser.isSet(fps)) {
+      const int frames = std::max(1, parser.value(fps).toInt());
+      const double rate = view->measureFrameRate(frames);
+      const double lodRate = view->measureFrameRate(frames, true);
+      const std::string caps = view->renderWindow()->ReportCapabilities();
+      std::printf("%s", caps.substr(0, caps.find("OpenGL extensions")).c_str());
+      waitFor([] { return false; }, 0.6);
+      const ProbeReading r = window.session()->reading();
+      std::printf("probe view: %.1f frames/s full model, %.1f frames/s while moving (proxy of %lld triangles), over %d "
+                  "frames (%zu triangles); device thread %s: %.1f Hz, p99 period %.0f us\n",
+                  rate, lodRate, static_cast<long long>(view->proxyTriangles()), frames, window.session()->hasMesh() ? window.session()->mesh().triangle_count() : 0,
+                  r.deviceRunning ? "on" : "off", r.rateHz, r.p99PeriodUs);
+    }
+    if (parser.isSet(shot)) {
+      if (!window.exportScreenshot(parser.value(shot))) return 1;
+      QString whole = parser.value(shot);
+      whole.insert(whole.size() - 4, QStringLiteral("-window"));
+      window.grab().save(whole);  // the whole window, panels included
+      std::printf("screenshot: %s\n", qPrintable(parser.value(shot)));
+    }
+    return 0;
+  }
+  return app.exec();
+}

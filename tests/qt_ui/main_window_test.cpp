@@ -1,0 +1,363 @@
+// The window end to end under a display: open, bake, probe with both arrows, error field,
+// report, screenshot (checked pixel by pixel), cache, cancel, sessions, bad input.
+#include "BackgroundJob.h"
+#include "BakePanel.h"
+#include "ChartsView.h"
+#include "ErrorFieldPanel.h"
+#include "HapticSession.h"
+#include "MainWindow.h"
+#include "ProbeView.h"
+#include "ReadoutPanel.h"
+#include "ui_test_support.h"
+#include <QFile>
+#include <QFileInfo>
+#include <QImage>
+#include <QPushButton>
+#include <QDropEvent>
+#include <QStatusBar>
+#include <QMimeData>
+#include <QUrl>
+#include "vtkHapticBoxUtilities.h"
+#include <vtkCommand.h>
+#include <vtkXMLPolyDataWriter.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderWindowInteractor.h>
+#include <gtest/gtest.h>
+
+using hbtest::pump;
+using hbtest::waitFor;
+
+namespace {
+
+void setSmallBake(HapticSession& s, int m = 8, int n = 4) {
+  BakeSettings b = s.bakeSettings();
+  b.m = m;
+  b.n = n;
+  s.setBakeSettings(b);
+}
+
+/// Opens the mesh and bakes a small box through the panel's Bake button.
+void openAndBake(MainWindow& w, const QString& mesh) {
+  w.setBakeOnOpen(false);
+  ASSERT_TRUE(w.openFile(mesh));
+  setSmallBake(*w.session());
+  w.bakePanel()->showSettings();
+  w.bakePanel()->bakeButton()->click();
+  ASSERT_TRUE(waitFor([&] { return w.session()->hasBoxes() && !w.session()->job()->isRunning(); }));
+}
+
+/// Places the probe on the model at the centre of the view.
+bool placeProbe(MainWindow& w) {
+  ProbeView* v = w.probeView();
+  const int* size = v->renderWindow()->GetSize();
+  hb::Vec3 p;
+  if (!v->pickSurface(size[0] / 2, size[1] / 2, p)) return false;
+  w.session()->aimProbe(v->viewDirection(), v->viewRight());
+  w.session()->setProbeTarget(p);
+  return true;
+}
+
+struct PixelCounts {
+  int model = 0, exactArrow = 0, approxArrow = 0, total = 0;
+};
+
+/// Counts the model's beige pixels and the arrows' green and orange ones.
+PixelCounts countPixels(const QString& png) {
+  PixelCounts c;
+  QImage img(png);
+  if (img.isNull()) return c;
+  img = img.convertToFormat(QImage::Format_RGB32);
+  for (int y = 0; y < img.height(); ++y)
+    for (int x = 0; x < img.width(); ++x) {
+      const QColor q(img.pixel(x, y));
+      const int r = q.red(), g = q.green(), b = q.blue();
+      ++c.total;
+      if (r > 90 && r >= g && g >= b && r - b > 25 && !(g < 0.75 * r && b < 80)) ++c.model;
+      if (g > 110 && g > r + 40 && g > b + 40) ++c.exactArrow;
+      if (r > 150 && g > 50 && g < 0.7 * r && b < 60) ++c.approxArrow;
+    }
+  return c;
+}
+
+}  // namespace
+
+TEST(MainWindowTest, OpensBakesAndShowsBothArrowsAtContact) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  openAndBake(w, data.mesh);
+  EXPECT_TRUE(w.session()->servoRunning());
+  ASSERT_TRUE(placeProbe(w));
+  ASSERT_TRUE(waitFor([&] {
+    const ProbeReading r = w.session()->reading();
+    return r.exact.contact && r.approx.contact;
+  }, 10.0));
+  pump(0.7);
+  w.refresh();
+  EXPECT_TRUE(w.probeView()->exactArrowShown());
+  EXPECT_TRUE(w.probeView()->approxArrowShown());
+  const ProbeReading r = w.session()->reading();
+  EXPECT_GT(r.exact.force.norm(), 0.f);
+  EXPECT_LT(r.relativeError, 0.5);
+  EXPECT_GT(r.rateHz, 500.0);  // the device thread runs at ~1 kHz
+  for (int i = 0; i < 6; ++i) w.refresh();
+  EXPECT_TRUE(w.readoutPanel()->rowText("exact").endsWith(" N"));
+  EXPECT_TRUE(w.readoutPanel()->rowText("approx").endsWith(" N"));
+  EXPECT_TRUE(w.readoutPanel()->rowText("device").contains("Hz"));
+
+  // Deeper means more force.
+  const float before = r.exact.force.norm();
+  w.session()->setDepthFraction(w.session()->depthFraction() + 0.01);
+  pump(0.1);
+  EXPECT_GT(w.session()->reading().exact.force.norm(), before);
+}
+
+TEST(MainWindowTest, ScreenshotShowsTheModelAndBothArrows) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  openAndBake(w, data.mesh);
+  ASSERT_TRUE(placeProbe(w));
+  w.session()->setDepthFraction(0.03);
+  pump(1.0);
+  w.refresh();
+  const QString png = data.dir.filePath(QStringLiteral("shot.png"));
+  ASSERT_TRUE(w.exportScreenshot(png));
+  const PixelCounts c = countPixels(png);
+  ASSERT_GT(c.total, 10000);
+  EXPECT_GT(c.model, c.total / 50) << "the model covers too few pixels: blank screenshot?";
+  EXPECT_GT(c.exactArrow, 20) << "no green (exact) arrow pixels";
+  EXPECT_GT(c.approxArrow, 20) << "no orange (haptic box) arrow pixels";
+}
+
+TEST(MainWindowTest, ComputesTheErrorFieldAndExportsAReport) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  openAndBake(w, data.mesh);
+  w.errorFieldPanel()->computeButton()->click();
+  ASSERT_TRUE(waitFor([&] { return w.session()->hasErrorField() && !w.session()->job()->isRunning(); }));
+  EXPECT_EQ(w.session()->errorField()->size(), w.session()->mesh().vertex_count());
+  EXPECT_EQ(w.probeView()->colorMode(), ProbeView::ColorMode::ErrorField);
+  EXPECT_TRUE(w.probeView()->scalarBarShown());
+  w.errorFieldPanel()->setMetric(ErrorMetric::Direction);
+  EXPECT_TRUE(w.probeView()->scalarBarShown());
+
+  const QString dir = data.dir.filePath(QStringLiteral("report"));
+  ASSERT_TRUE(w.exportReport(dir, 2000));
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 300));
+  for (const char* f : {"report.html", "summary.json", "samples.csv", "error_field.png"})
+    EXPECT_TRUE(QFileInfo::exists(dir + "/" + f)) << f;
+  QFile html(dir + "/report.html");
+  ASSERT_TRUE(html.open(QIODevice::ReadOnly));
+  EXPECT_TRUE(html.readAll().contains("data:image/png;base64"));
+  EXPECT_GT(w.session()->sweepRows().size(), 1u);
+}
+
+TEST(MainWindowTest, ReopeningUsesTheCachedBake) {
+  hbtest::MeshDir data;
+  {
+    MainWindow w;
+    openAndBake(w, data.mesh);
+  }
+  MainWindow w;
+  w.setBakeOnOpen(false);
+  setSmallBake(*w.session());
+  const auto t0 = std::chrono::steady_clock::now();
+  ASSERT_TRUE(w.openFile(data.mesh));
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_TRUE(w.session()->hasBoxes());
+  EXPECT_TRUE(w.session()->boxesFromCache());
+  EXPECT_LT(s, 5.0);  // generous: the figure itself belongs in a benchmark
+}
+
+TEST(MainWindowTest, CancellingABakeLeavesNoBoxes) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.setBakeOnOpen(false);
+  ASSERT_TRUE(w.openFile(data.mesh));
+  BakeSettings b = w.session()->bakeSettings();
+  b.m = 32;  // 150 MB of tables: long enough to cancel, small enough for a shared machine
+  b.n = 16;
+  b.useCache = false;
+  w.session()->setBakeSettings(b);
+  w.bakePanel()->showSettings();
+  w.bakePanel()->bakeButton()->click();
+  ASSERT_TRUE(w.session()->job()->isRunning());
+  pump(0.2);
+  w.bakePanel()->cancelButton()->click();
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 60));
+  EXPECT_FALSE(w.session()->hasBoxes());
+  EXPECT_TRUE(w.bakePanel()->bakeButton()->isEnabled());
+}
+
+TEST(MainWindowTest, BadFilesAreReportedNotFatal) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  const QString garbage = data.dir.filePath(QStringLiteral("garbage.off"));
+  QFile f(garbage);
+  ASSERT_TRUE(f.open(QIODevice::WriteOnly));
+  f.write("OFF\n3 1 0\n0 0 0\nnan 1 0\n");
+  f.close();
+  EXPECT_FALSE(w.openFile(garbage));
+  EXPECT_FALSE(w.openFile(data.dir.filePath(QStringLiteral("missing.off"))));
+  EXPECT_FALSE(w.openFile(data.dir.filePath(QStringLiteral("model.xyz"))));
+  EXPECT_FALSE(w.session()->hasMesh());
+  // A good file still opens afterwards.
+  w.setBakeOnOpen(false);
+  EXPECT_TRUE(w.openFile(data.mesh));
+}
+
+TEST(MainWindowTest, SessionFileReopensModelBoxesAndCamera) {
+  hbtest::MeshDir data;
+  const QString path = data.dir.filePath(QStringLiteral("s.hbsession"));
+  CameraState camera;
+  {
+    MainWindow w;
+    w.show();
+    openAndBake(w, data.mesh);
+    w.session()->setDepthFraction(0.02);
+    camera = w.probeView()->cameraState();
+    ASSERT_TRUE(w.saveSession(path));
+  }
+  MainWindow w;
+  w.show();
+  ASSERT_TRUE(w.openFile(path));
+  EXPECT_EQ(w.session()->meshPath(), QFileInfo(data.mesh).absoluteFilePath());
+  EXPECT_TRUE(w.session()->hasBoxes());  // from the cache
+  EXPECT_EQ(w.session()->bakeSettings().m, 8);
+  EXPECT_NEAR(w.session()->depthFraction(), 0.02, 1e-9);
+  const CameraState c = w.probeView()->cameraState();
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(c.position[i], camera.position[i], 1e-6);
+}
+
+TEST(MainWindowTest, WithoutAFalconTheVirtualDeviceIsUsed) {
+  MainWindow w;
+  QString note;
+  EXPECT_FALSE(w.session()->setDevice(DeviceKind::Falcon, {}, &note));
+  EXPECT_EQ(w.session()->deviceKind(), DeviceKind::Virtual);
+  EXPECT_FALSE(note.isEmpty());
+}
+
+TEST(MainWindowTest, DraggingOnTheModelMovesTheProbe) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  openAndBake(w, data.mesh);
+  pump(0.3);
+  vtkRenderWindowInteractor* rwi = w.probeView()->interactor();
+  const int* size = w.probeView()->renderWindow()->GetSize();
+  const int x = size[0] / 2, y = size[1] / 2;
+  rwi->SetEventInformation(x, y);
+  rwi->InvokeEvent(vtkCommand::LeftButtonPressEvent);
+  ASSERT_TRUE(w.session()->surfacePoint().has_value()) << "a press on the model places the probe";
+  const hb::Vec3 first = *w.session()->surfacePoint();
+  rwi->SetEventInformation(x + 15, y + 10);
+  rwi->InvokeEvent(vtkCommand::MouseMoveEvent);
+  rwi->InvokeEvent(vtkCommand::LeftButtonReleaseEvent);
+  EXPECT_GT((*w.session()->surfacePoint() - first).norm(), 0.f) << "the drag moves the tip";
+  ASSERT_TRUE(waitFor([&] { return w.session()->reading().approx.contact; }, 5.0));
+  // Ctrl+wheel pushes deeper.
+  const double depth = w.session()->depthFraction();
+  rwi->SetControlKey(1);
+  rwi->InvokeEvent(vtkCommand::MouseWheelForwardEvent);
+  rwi->SetControlKey(0);
+  EXPECT_GT(w.session()->depthFraction(), depth);
+  // A press off the model rotates the camera instead.
+  const hb::Vec3 placed = *w.session()->surfacePoint();
+  rwi->SetEventInformation(2, 2);
+  rwi->InvokeEvent(vtkCommand::LeftButtonPressEvent);
+  rwi->InvokeEvent(vtkCommand::LeftButtonReleaseEvent);
+  EXPECT_EQ(*w.session()->surfacePoint(), placed);
+}
+
+TEST(MainWindowTest, DroppingAFileOpensIt) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.setBakeOnOpen(false);
+  EXPECT_FALSE(w.openDroppedUrls({QUrl(QStringLiteral("https://example.org/a.off"))}));
+  EXPECT_FALSE(w.session()->hasMesh());
+  EXPECT_TRUE(w.openDroppedUrls({QUrl::fromLocalFile(data.mesh)}));
+  EXPECT_TRUE(w.session()->hasMesh());
+}
+
+TEST(MainWindowTest, AMissingReplayLogFallsBackToTheVirtualDevice) {
+  MainWindow w;
+  QString note;
+  EXPECT_FALSE(w.session()->setDevice(DeviceKind::Replay, QStringLiteral("/nonexistent/run.hblog"), &note));
+  EXPECT_EQ(w.session()->deviceKind(), DeviceKind::Virtual);
+  EXPECT_TRUE(note.contains("virtual"));
+}
+
+TEST(MainWindowTest, SweepFillsTheChartAndAPointLoadsItsConfiguration) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  openAndBake(w, data.mesh);
+  QString error;
+  ASSERT_TRUE(w.session()->startSweep({8, 12}, {4}, 1000, &error)) << error.toStdString();
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 300));
+  ASSERT_EQ(w.chartsView()->pointCount(), 2u);
+  w.chartsView()->choose(1);  // what a click on the m 12 point does
+  EXPECT_EQ(w.session()->bakeSettings().m, 12);
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 120));
+  ASSERT_TRUE(w.session()->hasBoxes());
+  EXPECT_EQ(w.session()->boxes()->boxes().front().params().m, 12);
+}
+
+TEST(MainWindowTest, APieceFileBakesOneBoxPerPieceAndABadOneIsReported) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.setBakeOnOpen(false);
+  ASSERT_TRUE(w.openFile(data.mesh));
+  const hb::TriangleMesh& mesh = w.session()->mesh();
+  const QString good = data.dir.filePath(QStringLiteral("halves.pieces"));
+  {
+    QFile f(good);
+    ASSERT_TRUE(f.open(QIODevice::WriteOnly));
+    for (const auto& t : mesh.triangles) f.write(mesh.positions[t[0]].z() > 0.f ? "7\n" : "3\n");
+  }
+  BakeSettings b = w.session()->bakeSettings();
+  b.m = 8;
+  b.n = 4;
+  b.pieces = BakeSettings::Pieces::File;
+  b.piecesFile = good;
+  w.session()->setBakeSettings(b);
+  w.bakePanel()->showSettings();
+  w.bakePanel()->bakeButton()->click();
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }));
+  ASSERT_TRUE(w.session()->hasBoxes());
+  EXPECT_EQ(w.session()->boxes()->boxes().size(), 2u);
+  EXPECT_EQ(w.session()->outlines()->GetNumberOfLines(), 24);
+
+  const QString bad = data.dir.filePath(QStringLiteral("short.pieces"));
+  {
+    QFile f(bad);
+    ASSERT_TRUE(f.open(QIODevice::WriteOnly));
+    f.write("0\n1\n");
+  }
+  b.piecesFile = bad;
+  w.session()->setBakeSettings(b);
+  w.bakePanel()->showSettings();
+  QString message;
+  QObject::connect(w.session(), &HapticSession::jobFinished,
+                   [&](const QString&, bool ok, const QString& m) { message = ok ? QString() : m; });
+  w.bakePanel()->bakeButton()->click();
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }));
+  EXPECT_TRUE(message.contains("piece ids")) << message.toStdString();
+  EXPECT_EQ(w.session()->boxes()->boxes().size(), 2u) << "the previous boxes stay";
+}
+
+TEST(MainWindowTest, OpensVtkPolyDataFiles) {
+  hbtest::MeshDir data;
+  const hb::TriangleMesh mesh = hb::read_mesh(QFile::encodeName(data.mesh).toStdString());
+  const QString vtp = data.dir.filePath(QStringLiteral("bumpy.vtp"));
+  auto writer = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
+  writer->SetInputData(vtkHapticBoxUtilities::ToPolyData(mesh));
+  writer->SetFileName(QFile::encodeName(vtp).constData());
+  ASSERT_EQ(writer->Write(), 1);
+  MainWindow w;
+  w.setBakeOnOpen(false);
+  ASSERT_TRUE(w.openFile(vtp));
+  EXPECT_EQ(w.session()->mesh().triangle_count(), mesh.triangle_count());
+}
