@@ -14,7 +14,6 @@
 #include <QProgressBar>
 #include <QPushButton>
 #include <QSpinBox>
-#include <QStandardItemModel>
 #include <QVBoxLayout>
 
 BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent), session_(session) {
@@ -34,11 +33,7 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   pieces_->addItem(tr("None (one box)"), int(BakeSettings::Pieces::None));
   pieces_->addItem(tr("From a piece file"), int(BakeSettings::Pieces::File));
   pieces_->addItem(tr("Automatic"), int(BakeSettings::Pieces::Automatic));
-  // LEAD: enable once src/decomposition is merged (HapticSession::piecesFor).
-  if (auto* model = qobject_cast<QStandardItemModel*>(pieces_->model())) {
-    model->item(2)->setEnabled(false);
-    model->item(2)->setToolTip(tr("The automatic decomposition is not in this build"));
-  }
+  pieces_->setItemData(2, tr("Quasi-convex pieces by hb::decompose_auto (one box each)"), Qt::ToolTipRole);
   piecesFile_ = new QLineEdit;
   piecesFile_->setPlaceholderText(tr("one piece id per triangle"));
   browse_ = new QPushButton(tr("..."));

@@ -15,6 +15,9 @@
 #include "device/falcon/falcon_usb_transport.h"
 #include "device/servo_log.h"
 #include "device/virtual_device.h"
+#include "decomposition/auto_decomposition.h"
+#include "decomposition/piece_file.h"
+#include "decomposition/seam_overlap.h"
 #include "errors.h"
 #include "evaluation/comparison.h"
 #include "evaluation/sweep.h"
@@ -47,22 +50,9 @@ double elapsedNs(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
 }
 
-/// Reads a piece file: one integer piece id per triangle, whitespace separated.
-std::vector<std::uint32_t> readPieceFile(const std::string& path, std::size_t triangles) {
-  std::ifstream in(path);
-  if (!in) throw hb::IoError(path + ": cannot open the piece file");
-  std::vector<std::uint32_t> ids;
-  ids.reserve(triangles);
-  long long v = 0;
-  while (in >> v) {
-    if (v < 0) throw hb::InvalidInput(path + ": negative piece id");
-    ids.push_back(static_cast<std::uint32_t>(v));
-  }
-  if (!in.eof()) throw hb::InvalidInput(path + ": not a list of integers");
-  if (ids.size() != triangles)
-    throw hb::InvalidInput(path + ": " + std::to_string(ids.size()) + " piece ids for " +
-                           std::to_string(triangles) + " triangles");
-  // Renumber to 0..K-1 in increasing order, as bake_scene expects.
+/// Renumbers piece ids to 0..K-1 in increasing order (the colouring by piece expects
+/// contiguous ids; a piece file may skip some).
+std::vector<std::uint32_t> compactPieceIds(std::vector<std::uint32_t> ids) {
   std::vector<std::uint32_t> sorted(ids);
   std::sort(sorted.begin(), sorted.end());
   sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
@@ -219,11 +209,9 @@ std::vector<std::uint32_t> HapticSession::piecesFor(const hb::TriangleMesh& mesh
   switch (settings.pieces) {
   case BakeSettings::Pieces::None: return {};
   case BakeSettings::Pieces::File:
-    return readPieceFile(QFile::encodeName(settings.piecesFile).toStdString(), mesh.triangle_count());
+    return compactPieceIds(hb::read_piece_file(QFile::encodeName(settings.piecesFile).toStdString(), mesh.triangle_count()));
   case BakeSettings::Pieces::Automatic:
-    // LEAD: wire src/decomposition here after the merge, e.g.
-    //   return hb::decompose(mesh, hb::DecompositionOptions{...}).piece_of_triangle;
-    throw hb::InvalidInput("automatic decomposition is not in this build (src/decomposition)");
+    return hb::decompose_auto(mesh).piece_of_triangle;
   }
   return {};
 }
@@ -296,7 +284,12 @@ bool HapticSession::startBake(QString* error) {
     o.obb.padding = settings.padding;
     o.progress = progress;
     hb::BakeStats stats;
-    auto scene = std::make_shared<hb::BoxScene>(hb::bake_scene(*mesh, pieces, o, source, &stats));
+    // Pieces share their seam triangles (see hb::piece_triangle_lists), as the CLI bakes them.
+    hb::SeamOptions seams;
+    seams.m = settings.m;
+    seams.obb = o.obb;
+    auto scene = std::make_shared<hb::BoxScene>(
+        hb::bake_scene_from_lists(*mesh, hb::piece_triangle_lists(*mesh, pieces, seams), o, source, &stats));
     if (!cache.isEmpty()) {
       try {
         QDir().mkpath(QFileInfo(cache).absolutePath());
