@@ -87,7 +87,7 @@ HapticBox bake_one(const TriangleMesh& mesh, const std::vector<std::uint32_t>& t
     }
     hit_count += local_hits;
     progress.advance(std::uint64_t(r.size()) * p.samples_per_position());
-  });
+  }, tbb::simple_partitioner());  // chunks of 4 position points: a cancel is seen within ms
   if (progress.cancelled) throw Cancelled("bake cancelled");
   hits += hit_count;
   return HapticBox(obb, p, std::move(table));
