@@ -1,0 +1,123 @@
+#pragma once
+// The paper's codec (sections 4.4, 6.1.3): a 2D Haar wavelet per n x n sub-block face (a
+// tile, padded to N = the next power of two by repeating its edge), on t and on the two
+// octahedral normal coordinates, with coefficients quantised on a per-tile step and the
+// ones that round to zero dropped (thresholding).
+//  - Hit/miss is kept exactly in a per-tile mask (the paper stores a far value for misses,
+//    which a transform smears into the hits next to a silhouette); misses are filled with
+//    the mean of the tile's hits before the transform, so they cost few coefficients.
+//  - Unnormalised (averaging) Haar: a value is the DC term plus, per level, +-H +-V +-D of
+//    its group. Coefficients are integers in units of the tile's step, so a single value is
+//    an exact integer sum of 1 + 3 log2 N coefficients: random access without a tile decode.
+//  - Per tile the encoder halves the step until every hit is within the bound (checked on
+//    the decoded values, so the bound holds whatever the rounding does).
+//  - Record: 16-byte header (mode, widths, step exponents, bit offsets of the u and v
+//    sections), the hit mask when mixed, then per channel a non-zero bitmap of N^2 bits and
+//    the non-zero coefficients (zigzag, fixed width); a coefficient is found by popcount.
+#include "codec/bit_io.h"
+#include "codec/table_payload.h"
+#include <algorithm>
+#include <cmath>
+
+namespace hb {
+
+/// Encodes a raw table into a Haar payload; t error <= t_step / 2, octahedral coordinate
+/// error <= n_step / 2 for every hit.
+std::vector<std::uint8_t> encode_haar_table(const Sample* raw, const BoxParams& params, float t_step, float n_step);
+
+/// Read-only view of a Haar payload.
+class HaarTable {
+public:
+  static constexpr std::size_t kHeaderBytes = 16;
+
+  HaarTable() = default;
+  /// Validates the payload's header (O(1)); throws hb::InvalidInput.
+  HaarTable(const std::uint8_t* payload, std::size_t bytes, const BoxParams& params);
+
+  void prefetch(std::size_t tile, int, int) const noexcept { __builtin_prefetch(index_ + tile); }
+
+  /// Random access to one sample; false for a miss. Corrupt records read as misses.
+  bool fetch(std::size_t tile, int a, int b, float& t, float& u, float& v) const noexcept {
+    std::uint32_t offset;
+    std::memcpy(&offset, index_ + tile, 4);
+    if (offset >= data_bytes_) return false;
+    const std::uint8_t* rec = data_ + offset;
+    const unsigned mode = rec[0];
+    if (mode == 0) return false;
+    const unsigned idx = unsigned(a) * unsigned(N_) + unsigned(b);
+    const std::uint8_t* bits = rec + kHeaderBytes;
+    if (mode == 2) {
+      if (!((bits[idx >> 3] >> (idx & 7u)) & 1u)) return false;
+      bits += mask_bytes_;
+    }
+    const auto off_u = get_pod<std::uint32_t>(rec + 8), off_v = get_pod<std::uint32_t>(rec + 12);
+    if (off_u > max_section_bits_ || off_v > max_section_bits_) return false;
+    const auto st = std::int8_t(rec[4]), su = std::int8_t(rec[5]), sv = std::int8_t(rec[6]);
+    t = std::fmax(0.f, float(path_sum(bits, rec[1] & 31u, a, b)) * std::ldexp(t_step_, -st));
+    u = std::fmin(1.f, std::fmax(-1.f, float(path_sum(bits + off_u / 8, rec[2] & 31u, a, b)) * std::ldexp(n_step_, -su)));
+    v = std::fmin(1.f, std::fmax(-1.f, float(path_sum(bits + off_v / 8, rec[3] & 31u, a, b)) * std::ldexp(n_step_, -sv)));
+    return true;
+  }
+
+  DecodedSample decode(std::size_t tile, int a, int b) const noexcept {
+    DecodedSample s{kMissT, 0.f, 0.f};
+    if (!fetch(tile, a, b, s.t, s.u, s.v)) s = {kMissT, 0.f, 0.f};
+    return s;
+  }
+
+  /// Full decode of a tile by the integer inverse transform (n x n, row a major).
+  void decode_tile(std::size_t tile, DecodedSample* out) const noexcept;
+
+  /// Coefficient index of each term of value (a, b), and its sign; returns the count.
+  static int path(int N, int a, int b, unsigned* index, int* sign) noexcept {
+    int count = 0;
+    index[count] = 0;
+    sign[count++] = 1;
+    for (int h = N / 2, l = 0; h >= 1; h /= 2, ++l) {
+      const int ga = a >> (l + 1), gb = b >> (l + 1);
+      const int sa = ((a >> l) & 1) ? -1 : 1, sb = ((b >> l) & 1) ? -1 : 1;
+      index[count] = unsigned(ga * N + h + gb);
+      sign[count++] = sb;
+      index[count] = unsigned((h + ga) * N + gb);
+      sign[count++] = sa;
+      index[count] = unsigned((h + ga) * N + h + gb);
+      sign[count++] = sa * sb;
+    }
+    return count;
+  }
+
+private:
+  // Sum of the signed coefficients on the path of (a, b) in one channel section.
+  std::int64_t path_sum(const std::uint8_t* section, unsigned k, int a, int b) const noexcept {
+    const std::uint8_t* values = section + bitmap_bytes_;
+    std::int64_t sum = 0;
+    auto term = [&](unsigned idx) -> std::int64_t {
+      const std::uint64_t word = get_pod<std::uint64_t>(section + (idx >> 6) * 8);
+      if (!((word >> (idx & 63u)) & 1u)) return 0;
+      unsigned rank = unsigned(__builtin_popcountll(word & ((std::uint64_t(1) << (idx & 63u)) - 1u)));
+      for (unsigned w = 0; w < (idx >> 6); ++w) rank += unsigned(__builtin_popcountll(get_pod<std::uint64_t>(section + w * 8)));
+      const std::uint64_t z = read_bits(values, std::uint64_t(rank) * k, k);
+      return std::int64_t(z >> 1) ^ -std::int64_t(z & 1u);
+    };
+    sum += term(0);
+    for (int h = N_ / 2, l = 0; h >= 1; h /= 2, ++l) {
+      const int ga = a >> (l + 1), gb = b >> (l + 1);
+      const bool sa = (a >> l) & 1, sb = (b >> l) & 1;
+      const std::int64_t H = term(unsigned(ga * N_ + h + gb));
+      const std::int64_t V = term(unsigned((h + ga) * N_ + gb));
+      const std::int64_t D = term(unsigned((h + ga) * N_ + h + gb));
+      sum += (sb ? -H : H) + (sa ? -V : V) + ((sa != sb) ? -D : D);
+    }
+    return sum;
+  }
+
+  const std::uint32_t* index_ = nullptr;
+  const std::uint8_t* data_ = nullptr;
+  std::size_t data_bytes_ = 0;
+  float t_step_ = 1.f, n_step_ = 1.f;
+  int n_ = 2, N_ = 2;
+  std::size_t mask_bytes_ = 0, bitmap_bytes_ = 0;
+  std::uint32_t max_section_bits_ = 0;
+};
+
+} // namespace hb
