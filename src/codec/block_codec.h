@@ -43,10 +43,22 @@ public:
   /// Random access to sample (a, b) of `tile` (= position * 12 + sub * 3 + sface). Returns
   /// false for a miss. A corrupt record reads as a miss, never out of bounds.
   bool fetch(std::size_t tile, int a, int b, float& t, float& u, float& v) const noexcept {
+    return fetch_from(record(block_of(tile, a, b)), a, b, t, u, v);
+  }
+
+  /// The block holding sample (a, b) of `tile`.
+  std::size_t block_of(std::size_t tile, int a, int b) const noexcept {
+    return (tile * std::size_t(nb_) + std::size_t(a >> 3)) * std::size_t(nb_) + std::size_t(b >> 3);
+  }
+  /// A block's record (a corrupt offset gives the shared all-miss record).
+  const std::uint8_t* record(std::size_t block) const noexcept {
     std::uint32_t offset;
-    std::memcpy(&offset, index_ + block_of(tile, a, b), 4);
-    if (offset >= data_bytes_) return false;
-    const std::uint8_t* rec = data_ + offset;
+    std::memcpy(&offset, index_ + block, 4);
+    return data_ + (offset < data_bytes_ ? offset : 0u);
+  }
+  /// fetch() from a record found with record(block_of(tile, a, b)): lets a caller start
+  /// the record's load early (two-phase prefetch).
+  bool fetch_from(const std::uint8_t* rec, int a, int b, float& t, float& u, float& v) const noexcept {
     const unsigned mode = rec[0];
     if (mode == 0) return false;
     const int la = a & (kBlock - 1), lb = b & (kBlock - 1);
@@ -96,9 +108,6 @@ public:
   }
 
 private:
-  std::size_t block_of(std::size_t tile, int a, int b) const noexcept {
-    return (tile * std::size_t(nb_) + std::size_t(a >> 3)) * std::size_t(nb_) + std::size_t(b >> 3);
-  }
   const std::uint32_t* index_ = nullptr;
   const std::uint8_t* data_ = nullptr;
   std::size_t data_bytes_ = 0;

@@ -92,6 +92,7 @@ struct RawFetch {
     __builtin_prefetch(c.base);
     __builtin_prefetch(c.base + n);
   }
+  void resolve(Corner&) const noexcept {}
   bool load(const Corner& c, int k, float& t, Vec3& nrm) const noexcept {
     const std::size_t offset[4] = {0, n, n + 1, 1};
     const Sample& s = c.base[offset[k]];
@@ -112,9 +113,42 @@ template <class View> struct CodecFetch {
     c = {position * 12u + sf, a0, b0};
     view.prefetch(c.tile, a0, b0);
   }
+  void resolve(Corner&) const noexcept {}
   bool load(const Corner& c, int k, float& t, Vec3& nrm) const noexcept {
     float u, v;
     if (!view.fetch(c.tile, c.a0 + (k == 1 || k == 2), c.b0 + (k >= 2), t, u, v)) return false;
+    nrm = oct_decode_unnormalized(u, v);
+    return true;
+  }
+};
+
+// The block codec in two phases: begin() prefetches the index entries of the quad's blocks,
+// resolve() (after all corners began) reads them and prefetches the records, so the two
+// dependent loads of the four corners overlap instead of running in series.
+template <> struct CodecFetch<BlockTable> {
+  const BlockTable& view;
+  struct Corner {
+    std::size_t tile;
+    int a0, b0;
+    const std::uint8_t* rec[4];
+  };
+  void begin(std::size_t position, std::size_t sf, int a0, int b0, Corner& c) const noexcept {
+    c.tile = position * 12u + sf;
+    c.a0 = a0;
+    c.b0 = b0;
+    view.prefetch(c.tile, a0, b0);
+    view.prefetch(c.tile, a0 + 1, b0 + 1);
+  }
+  void resolve(Corner& c) const noexcept {
+    for (int k = 0; k < 4; ++k) {
+      c.rec[k] = view.record(view.block_of(c.tile, c.a0 + (k == 1 || k == 2), c.b0 + (k >= 2)));
+      __builtin_prefetch(c.rec[k]);
+      __builtin_prefetch(c.rec[k] + 64);
+    }
+  }
+  bool load(const Corner& c, int k, float& t, Vec3& nrm) const noexcept {
+    float u, v;
+    if (!view.fetch_from(c.rec[k], c.a0 + (k == 1 || k == 2), c.b0 + (k >= 2), t, u, v)) return false;
     nrm = oct_decode_unnormalized(u, v);
     return true;
   }
@@ -266,6 +300,7 @@ bool HapticBox::query_with(const Fetch& fetch, const Segment& segment, const For
   typename Fetch::Corner corners[4];
   for (int c = 0; c < 4; ++c)
     fetch.begin(face_base + std::size_t(ci[c]) * std::size_t(params_.m) + std::size_t(cj[c]), sf, a0, b0, corners[c]);
+  for (int c = 0; c < 4; ++c) fetch.resolve(corners[c]);
 
   Blend corner_sum;
   float corner_hit_weight = 0.f;
