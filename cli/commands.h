@@ -7,3 +7,4 @@ void add_bake_command(CLI::App& app);
 void add_query_command(CLI::App& app);
 void add_eval_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
+void add_compress_sweep_command(CLI::App& app);
