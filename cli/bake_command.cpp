@@ -30,7 +30,7 @@ void add_bake_command(CLI::App& app) {
       ->check(CLI::IsMember({"none", "haar", "block"}))->capture_default_str();
   auto* max_error = cmd->add_option("--max-error", opts->codec_options.max_error,
                                     "Bound on |t1 - t0| / box diagonal for every hit sample")
-                        ->check(CLI::Range(1e-6, 0.1))->capture_default_str();
+                        ->check(CLI::Range(1e-5, 0.1))->capture_default_str();
   auto* ratio = cmd->add_option("--ratio", opts->codec_options.ratio,
                                 "Target compression ratio (finds the tightest bound reaching it)")
                     ->check(CLI::Range(1.0, 1e6));

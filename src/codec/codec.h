@@ -24,10 +24,10 @@ CodecId parse_codec(const std::string& name);
 /// Options of compress_table.
 struct CodecOptions {
   CodecId codec = CodecId::block;
-  /// Bound on |t1 - t0| / box diagonal for every hit sample, in (0, 0.1]. Used unless
+  /// Bound on |t1 - t0| / box diagonal for every hit sample, in [1e-5, 0.1]. Used unless
   /// `ratio` > 0. Default 0.0005 (0.05% of the diagonal).
   float max_error = 0.0005f;
-  /// When > 0: find the smallest error bound whose compression ratio reaches this (>= 1);
+  /// When > 0: find the smallest error bound in [1e-5, 0.1] whose ratio reaches this (>= 1);
   /// the bound found is reported in CodecStats::max_error_bound. If even the loosest bound
   /// (0.1) misses the ratio, that bound is used and the achieved ratio reported.
   float ratio = 0.f;
