@@ -101,10 +101,10 @@ public:
   /// walks each block's record once instead of random access.
   void decode_tile(std::size_t tile, DecodedSample* out) const noexcept;
 
-  /// The integer plane predictor: floor((ga * la + gb * lb) / 4).
+  /// The integer plane predictor: floor((ga * la + gb * lb) / 4) (an arithmetic shift:
+  /// GCC and Clang define >> on negative values so, and C++20 requires it).
   static std::int32_t predict(std::int32_t ga, std::int32_t gb, int la, int lb) noexcept {
-    const std::int32_t s = ga * la + gb * lb;
-    return s >= 0 ? s / 4 : -((-s + 3) / 4);
+    return (ga * la + gb * lb) >> 2;
   }
 
 private:
