@@ -8,3 +8,4 @@ void add_query_command(CLI::App& app);
 void add_eval_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 void add_compress_sweep_command(CLI::App& app);
+void add_compress_command(CLI::App& app);

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   add_query_command(app);
   add_eval_command(app);
   add_bench_command(app);
+  add_compress_command(app);
   add_compress_sweep_command(app);
   try {
     app.parse(argc, argv);
