@@ -73,7 +73,7 @@ ChannelCode quantise_channel(const std::vector<double>& coeffs, const std::vecto
   code.q.resize(coeffs.size());
   std::vector<std::int64_t> rec;
   for (int s = 0; s < 40; ++s) {
-    const float step = std::ldexp(base, -s);
+    const float step = HaarTable::step(base, std::uint8_t(s));
     for (std::size_t i = 0; i < coeffs.size(); ++i) code.q[i] = std::llround(coeffs[i] / double(step));
     rec = code.q;
     inverse_haar(rec, N);
@@ -153,9 +153,9 @@ bool encode_tile(const Sample* tile, int n, int N, float t_step, float n_step, s
   out.push_back(std::uint8_t(ct.k));
   out.push_back(std::uint8_t(cu.k));
   out.push_back(std::uint8_t(cv.k));
-  out.push_back(std::uint8_t(std::int8_t(ct.exponent)));
-  out.push_back(std::uint8_t(std::int8_t(cu.exponent)));
-  out.push_back(std::uint8_t(std::int8_t(cv.exponent)));
+  out.push_back(std::uint8_t(ct.exponent));
+  out.push_back(std::uint8_t(cu.exponent));
+  out.push_back(std::uint8_t(cv.exponent));
   out.push_back(0);
   put_pod(out, std::uint32_t(0));
   put_pod(out, std::uint32_t(0));
@@ -254,8 +254,7 @@ void HaarTable::decode_tile(std::size_t tile, DecodedSample* out) const noexcept
       }
     inverse_haar(c[ch], N_);
   }
-  const float qt = std::ldexp(t_step_, -std::int8_t(rec[4]));
-  const float qu = std::ldexp(n_step_, -std::int8_t(rec[5])), qv = std::ldexp(n_step_, -std::int8_t(rec[6]));
+  const float qt = step(t_step_, rec[4]), qu = step(n_step_, rec[5]), qv = step(n_step_, rec[6]);
   for (int a = 0; a < n_; ++a)
     for (int b = 0; b < n_; ++b) {
       const std::size_t i = std::size_t(a) * std::size_t(N_) + std::size_t(b);

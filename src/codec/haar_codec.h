@@ -52,10 +52,9 @@ public:
     }
     const auto off_u = get_pod<std::uint32_t>(rec + 8), off_v = get_pod<std::uint32_t>(rec + 12);
     if (off_u > max_section_bits_ || off_v > max_section_bits_) return false;
-    const auto st = std::int8_t(rec[4]), su = std::int8_t(rec[5]), sv = std::int8_t(rec[6]);
-    t = std::fmax(0.f, float(path_sum(bits, rec[1] & 31u, a, b)) * std::ldexp(t_step_, -st));
-    u = std::fmin(1.f, std::fmax(-1.f, float(path_sum(bits + off_u / 8, rec[2] & 31u, a, b)) * std::ldexp(n_step_, -su)));
-    v = std::fmin(1.f, std::fmax(-1.f, float(path_sum(bits + off_v / 8, rec[3] & 31u, a, b)) * std::ldexp(n_step_, -sv)));
+    t = std::fmax(0.f, float(path_sum(bits, rec[1] & 31u, a, b)) * step(t_step_, rec[4]));
+    u = std::fmin(1.f, std::fmax(-1.f, float(path_sum(bits + off_u / 8, rec[2] & 31u, a, b)) * step(n_step_, rec[5])));
+    v = std::fmin(1.f, std::fmax(-1.f, float(path_sum(bits + off_v / 8, rec[3] & 31u, a, b)) * step(n_step_, rec[6])));
     return true;
   }
 
@@ -86,7 +85,19 @@ public:
     return count;
   }
 
+  /// A tile's step: base * 2^-exponent (exponent byte 0..63; exact, equal to std::ldexp).
+  static float step(float base, std::uint8_t exponent) noexcept {
+    return base * kInversePowersOfTwo[exponent & 63u];
+  }
+
 private:
+  static constexpr float kInversePowersOfTwo[64] = {
+      0x1p-0f,  0x1p-1f,  0x1p-2f,  0x1p-3f,  0x1p-4f,  0x1p-5f,  0x1p-6f,  0x1p-7f,  0x1p-8f,  0x1p-9f,  0x1p-10f,
+      0x1p-11f, 0x1p-12f, 0x1p-13f, 0x1p-14f, 0x1p-15f, 0x1p-16f, 0x1p-17f, 0x1p-18f, 0x1p-19f, 0x1p-20f, 0x1p-21f,
+      0x1p-22f, 0x1p-23f, 0x1p-24f, 0x1p-25f, 0x1p-26f, 0x1p-27f, 0x1p-28f, 0x1p-29f, 0x1p-30f, 0x1p-31f, 0x1p-32f,
+      0x1p-33f, 0x1p-34f, 0x1p-35f, 0x1p-36f, 0x1p-37f, 0x1p-38f, 0x1p-39f, 0x1p-40f, 0x1p-41f, 0x1p-42f, 0x1p-43f,
+      0x1p-44f, 0x1p-45f, 0x1p-46f, 0x1p-47f, 0x1p-48f, 0x1p-49f, 0x1p-50f, 0x1p-51f, 0x1p-52f, 0x1p-53f, 0x1p-54f,
+      0x1p-55f, 0x1p-56f, 0x1p-57f, 0x1p-58f, 0x1p-59f, 0x1p-60f, 0x1p-61f, 0x1p-62f, 0x1p-63f};
   // Sum of the signed coefficients on the path of (a, b) in one channel section.
   std::int64_t path_sum(const std::uint8_t* section, unsigned k, int a, int b) const noexcept {
     const std::uint8_t* values = section + bitmap_bytes_;
