@@ -68,7 +68,7 @@ public:
     if (mode == 2) {
       const auto mask = get_pod<std::uint64_t>(rec + kHeaderBytes);
       if (!((mask >> li) & 1u)) return false;
-      rank = unsigned(__builtin_popcountll(mask & ((std::uint64_t(1) << li) - 1u)));
+      rank = unsigned(popcount64(mask & ((std::uint64_t(1) << li) - 1u)));
       bits += 8;
     } else {
       const int bw = std::min(kBlock, n_ - (b & ~(kBlock - 1)));

@@ -105,8 +105,8 @@ private:
     auto term = [&](unsigned idx) -> std::int64_t {
       const std::uint64_t word = get_pod<std::uint64_t>(section + (idx >> 6) * 8);
       if (!((word >> (idx & 63u)) & 1u)) return 0;
-      unsigned rank = unsigned(__builtin_popcountll(word & ((std::uint64_t(1) << (idx & 63u)) - 1u)));
-      for (unsigned w = 0; w < (idx >> 6); ++w) rank += unsigned(__builtin_popcountll(get_pod<std::uint64_t>(section + w * 8)));
+      unsigned rank = unsigned(popcount64(word & ((std::uint64_t(1) << (idx & 63u)) - 1u)));
+      for (unsigned w = 0; w < (idx >> 6); ++w) rank += unsigned(popcount64(get_pod<std::uint64_t>(section + w * 8)));
       const std::uint64_t z = read_bits(values, std::uint64_t(rank) * k, k);
       return std::int64_t(z >> 1) ^ -std::int64_t(z & 1u);
     };
