@@ -39,14 +39,14 @@ void add_bake_command(CLI::App& app) {
       ->check(CLI::Range(6, 14))->capture_default_str();
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
   cmd->callback([opts, max_error] {
+    opts->codec_options.codec = hb::parse_codec(opts->codec);
+    if (opts->codec_options.codec == hb::CodecId::none && (*max_error || opts->codec_options.ratio > 0.f))
+      throw hb::cli::UsageError("bake: --max-error and --ratio need --codec haar or block");
     const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh);
     hb::SourceInfo source{opts->mesh, hb::hash_file(opts->mesh), mesh.triangle_count(), mesh.bounds().diagonal()};
     opts->bake.progress = hb::cli::terminal_progress("baking");
     hb::BakeStats stats;
     hb::BoxScene scene = hb::bake_scene(mesh, {}, opts->bake, source, &stats);
-    opts->codec_options.codec = hb::parse_codec(opts->codec);
-    if (opts->codec_options.codec == hb::CodecId::none && (*max_error || opts->codec_options.ratio > 0.f))
-      throw hb::cli::UsageError("bake: --max-error and --ratio need --codec haar or block");
     if (opts->codec_options.codec != hb::CodecId::none) {
       std::vector<hb::HapticBox> boxes;
       for (const hb::HapticBox& box : scene.boxes()) boxes.push_back(box.compressed(opts->codec_options));
