@@ -47,7 +47,7 @@ void add_compress_sweep_command(CLI::App& app) {
     std::size_t samples = 20000;
     hb::ProbeOptions probes;
     hb::ForceLaw law;
-    int normal_bits = 10;
+    int normal_bits = 9;
     bool json = false;
   };
   auto opts = std::make_shared<Opts>();

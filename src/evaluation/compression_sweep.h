@@ -13,7 +13,7 @@ struct CompressionSweepOptions {
   std::vector<CodecId> codecs{CodecId::haar, CodecId::block};
   /// Error bounds relative to the box diagonal, each in [1e-5, 0.1].
   std::vector<float> max_errors{1e-4f, 2e-4f, 5e-4f, 1e-3f, 2e-3f, 5e-3f, 1e-2f, 2e-2f};
-  int normal_bits = 10;  ///< as CodecOptions::normal_bits.
+  int normal_bits = 9;  ///< as CodecOptions::normal_bits.
   /// Probes for the query-level errors (may be empty: those columns stay zero). Answers of
   /// the compressed scene are compared with those of the uncompressed scene (the
   /// compression's own error) and, when `exact` is given, with the exact answer.

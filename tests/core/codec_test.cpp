@@ -36,6 +36,12 @@ const Boxes& boxes() {
   return b;
 }
 
+// Keeps the optimiser from dropping the reads of a robustness test.
+void benchmark_sink(double v) {
+  volatile double sink = v;
+  (void)sink;
+}
+
 CodecOptions options(CodecId codec, float max_error) {
   CodecOptions o;
   o.codec = codec;
@@ -86,15 +92,15 @@ void expect_random_access_equals_full_decode(const HapticBox& c) {
 
 TEST(BlockCodecTest, ErrorBoundIsHonouredOnRealTables) {
   for (float bound : {1e-4f, 1e-3f, 1e-2f}) {
-    expect_within_bound(boxes().bumpy, boxes().bumpy.compressed(options(CodecId::block, bound)), bound, 10);
-    expect_within_bound(boxes().torus, boxes().torus.compressed(options(CodecId::block, bound)), bound, 10);
+    expect_within_bound(boxes().bumpy, boxes().bumpy.compressed(options(CodecId::block, bound)), bound, CodecOptions{}.normal_bits);
+    expect_within_bound(boxes().torus, boxes().torus.compressed(options(CodecId::block, bound)), bound, CodecOptions{}.normal_bits);
   }
 }
 
 TEST(HaarCodecTest, ErrorBoundIsHonouredOnRealTables) {
   for (float bound : {1e-4f, 1e-3f, 1e-2f}) {
-    expect_within_bound(boxes().bumpy, boxes().bumpy.compressed(options(CodecId::haar, bound)), bound, 10);
-    expect_within_bound(boxes().torus, boxes().torus.compressed(options(CodecId::haar, bound)), bound, 10);
+    expect_within_bound(boxes().bumpy, boxes().bumpy.compressed(options(CodecId::haar, bound)), bound, CodecOptions{}.normal_bits);
+    expect_within_bound(boxes().torus, boxes().torus.compressed(options(CodecId::haar, bound)), bound, CodecOptions{}.normal_bits);
   }
 }
 
@@ -205,7 +211,7 @@ TEST(CodecTest, CorruptRecordsNeverReadOutOfBounds) {
     for (std::size_t tile = 0; tile < p.tile_count(); ++tile)
       for (int a = 0; a < p.n; ++a)
         for (int b = 0; b < p.n; ++b) sum += view.decode(tile, a, b).t;
-    EXPECT_FALSE(std::isnan(sum) && false);
+    benchmark_sink(sum);
   }
 }
 
