@@ -224,7 +224,7 @@ HaarTable::HaarTable(const std::uint8_t* payload, std::size_t bytes, const BoxPa
   max_section_bits_ = std::uint32_t(8u * 2u * (bitmap_bytes_ + std::size_t(N) * std::size_t(N) * 4u));
 }
 
-void HaarTable::decode_tile(std::size_t tile, DecodedSample* out) const noexcept {
+void HaarTable::decode_tile(std::size_t tile, DecodedSample* out) const {
   for (int i = 0; i < n_ * n_; ++i) out[i] = {kMissT, 0.f, 0.f};
   std::uint32_t offset;
   std::memcpy(&offset, index_ + tile, 4);

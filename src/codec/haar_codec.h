@@ -64,8 +64,9 @@ public:
     return s;
   }
 
-  /// Full decode of a tile by the integer inverse transform (n x n, row a major).
-  void decode_tile(std::size_t tile, DecodedSample* out) const noexcept;
+  /// Full decode of a tile by the integer inverse transform (n x n, row a major). Not for
+  /// the hot path: allocates (may throw std::bad_alloc).
+  void decode_tile(std::size_t tile, DecodedSample* out) const;
 
   /// Coefficient index of each term of value (a, b), and its sign; returns the count.
   static int path(int N, int a, int b, unsigned* index, int* sign) noexcept {

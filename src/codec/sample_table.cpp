@@ -37,7 +37,7 @@ DecodedSample SampleTable::decode(std::size_t tile, int a, int b) const noexcept
   return {s.t, float(std::int16_t(s.normal & 0xffffu)) / 32767.f, float(std::int16_t(s.normal >> 16)) / 32767.f};
 }
 
-void SampleTable::decode_tile(std::size_t tile, DecodedSample* out) const noexcept {
+void SampleTable::decode_tile(std::size_t tile, DecodedSample* out) const {
   switch (codec_) {
   case CodecId::block: block_.decode_tile(tile, out); return;
   case CodecId::haar: haar_.decode_tile(tile, out); return;

@@ -25,8 +25,9 @@ public:
 
   /// Random access to sample (a, b) of tile (position * 12 + sub * 3 + sface).
   DecodedSample decode(std::size_t tile, int a, int b) const noexcept;
-  /// Whole tile, n x n, row a major (sequential decoders; may allocate for Haar).
-  void decode_tile(std::size_t tile, DecodedSample* out) const noexcept;
+  /// Whole tile, n x n, row a major (sequential decoders; Haar allocates, may throw
+  /// std::bad_alloc).
+  void decode_tile(std::size_t tile, DecodedSample* out) const;
 
 private:
   CodecId codec_ = CodecId::none;
