@@ -20,7 +20,7 @@ inline std::uint64_t read_bits(const std::uint8_t* data, std::uint64_t pos, unsi
 /// Appends bits to a byte vector, least significant first.
 class BitWriter {
 public:
-  explicit BitWriter(std::vector<std::uint8_t>& out) : out_(out), start_(out.size()) {}
+  explicit BitWriter(std::vector<std::uint8_t>& out) : out_(out) {}
   void put(std::uint64_t value, unsigned bits) {
     for (unsigned i = 0; i < bits; ++i) {
       if ((pos_ & 7u) == 0) out_.push_back(0);
@@ -32,7 +32,6 @@ public:
 
 private:
   std::vector<std::uint8_t>& out_;
-  std::size_t start_;
   std::uint64_t pos_ = 0;
 };
 

@@ -15,10 +15,12 @@
 //     weight; otherwise the blend is a miss. This puts the silhouette half-way between a hit
 //     and a miss sample (no invented surface beyond it, no lost surface before it) and never
 //     blends a far exit distance into t0.
-//  7. The samples are read through a fetch policy (raw records, block or Haar codec): the
-//     codec is switched on once per query and the query body is instantiated per codec.
 //  6. Contact test (Figure 7): the surface point P1 + t0 l must lie between the handle and
 //     the tip, on the outside of the surface (n . l < 0); depth = d - t0; F = k depth n.
+//  7. The samples are read through a fetch policy (raw records, block or Haar codec): the
+//     codec is switched on once per query and the query body is instantiated per codec.
+//     Every codec keeps hit/miss exact, so step 5 sees the same silhouettes on a compressed
+//     table as on the raw one; only t and the normals move, within the codec's bound.
 #include "haptic_box/haptic_box.h"
 #include "errors.h"
 #include "geometry/octahedral.h"
