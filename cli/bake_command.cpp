@@ -1,10 +1,11 @@
-// hapticbox bake MESH -o BOX.hbox [-m 32] [-n 16] [--pieces auto|FILE|none] [--json]
+// hapticbox bake MESH -o BOX.hbox [-m 32] [-n 16] [--pieces auto|FILE|none] [--codec none|haar|block] [--max-error E | --ratio R] [--json]
 #include "cli_support.h"
 #include "commands.h"
 #include "haptic_box/bake.h"
 #include "haptic_box/box_file.h"
 #include "mesh/mesh_io.h"
 #include "pieces_option.h"
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 
@@ -14,6 +15,8 @@ void add_bake_command(CLI::App& app) {
     std::string mesh, out;
     hb::BakeOptions bake;
     hb::cli::PiecesChoice pieces;
+    std::string codec = "none";
+    hb::CodecOptions codec_options;
     bool json = false;
   };
   auto opts = std::make_shared<Opts>();
@@ -26,15 +29,46 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--padding", opts->bake.obb.padding, "PBB padding, fraction of its diagonal")
       ->check(CLI::Range(0.0, 1.0))->capture_default_str();
   hb::cli::add_pieces_options(*cmd, opts->pieces);
+  cmd->add_option("--codec", opts->codec, "Table codec: none, haar (the paper's) or block (ours)")
+      ->check(CLI::IsMember({"none", "haar", "block"}))->capture_default_str();
+  auto* max_error = cmd->add_option("--max-error", opts->codec_options.max_error,
+                                    "Bound on |t1 - t0| / box diagonal for every hit sample")
+                        ->check(CLI::Range(1e-5, 0.1))->capture_default_str();
+  auto* ratio = cmd->add_option("--ratio", opts->codec_options.ratio,
+                                "Target compression ratio (finds the tightest bound reaching it)")
+                    ->check(CLI::Range(1.0, 1e6));
+  max_error->excludes(ratio);
+  cmd->add_option("--normal-bits", opts->codec_options.normal_bits, "Octahedral normal bits per coordinate")
+      ->check(CLI::Range(6, 14))->capture_default_str();
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
-  cmd->callback([opts] {
+  cmd->callback([opts, max_error] {
+    opts->codec_options.codec = hb::parse_codec(opts->codec);
+    if (opts->codec_options.codec == hb::CodecId::none && (*max_error || opts->codec_options.ratio > 0.f))
+      throw hb::cli::UsageError("bake: --max-error and --ratio need --codec haar or block");
     const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh);
     hb::SourceInfo source{opts->mesh, hb::hash_file(opts->mesh), mesh.triangle_count(), mesh.bounds().diagonal()};
     opts->bake.progress = hb::cli::terminal_progress("baking");
     hb::BakeStats stats;
     const auto pieces = hb::cli::resolve_pieces(mesh, opts->pieces, opts->bake.params.m);
-    const hb::BoxScene scene = hb::bake_scene_from_lists(mesh, pieces, opts->bake, source, &stats);
+    hb::BoxScene scene = hb::bake_scene_from_lists(mesh, pieces, opts->bake, source, &stats);
+    if (opts->codec_options.codec != hb::CodecId::none) {
+      std::vector<hb::HapticBox> boxes;
+      for (const hb::HapticBox& box : scene.boxes()) boxes.push_back(box.compressed(opts->codec_options));
+      scene = hb::BoxScene(std::move(boxes), scene.source());
+    }
     hb::save_box_file(scene, opts->out);
+    std::uint64_t raw_bytes = 0, table_bytes = 0;
+    double t_mean = 0, t_max = 0, a_mean = 0, a_max = 0, bound = 0;
+    for (const hb::HapticBox& box : scene.boxes()) {
+      const hb::CodecStats& cs = box.codec_stats();
+      raw_bytes += box.raw_table_bytes();
+      table_bytes += box.table_bytes();
+      t_mean += cs.t_error_mean / double(scene.boxes().size());
+      a_mean += cs.normal_error_mean_deg / double(scene.boxes().size());
+      t_max = std::max<double>(t_max, cs.t_error_max);
+      a_max = std::max<double>(a_max, cs.normal_error_max_deg);
+      bound = std::max<double>(bound, cs.max_error_bound);
+    }
     const auto bytes = std::filesystem::file_size(opts->out);
     const nlohmann::json j = {{"mesh", opts->mesh},
                               {"output", opts->out},
@@ -46,13 +80,26 @@ void add_bake_command(CLI::App& app) {
                               {"rays", stats.rays},
                               {"rays_per_second", stats.rays_per_second},
                               {"hit_fraction", stats.rays ? double(stats.hits) / double(stats.rays) : 0.0},
-                              {"bytes", bytes}};
+                              {"bytes", bytes},
+                              {"codec", opts->codec},
+                              {"table_bytes", table_bytes},
+                              {"raw_table_bytes", raw_bytes},
+                              {"compression_ratio", table_bytes ? double(raw_bytes) / double(table_bytes) : 0.0},
+                              {"max_error_bound", bound},
+                              {"t_error_mean", t_mean},
+                              {"t_error_max", t_max},
+                              {"normal_error_mean_deg", a_mean},
+                              {"normal_error_max_deg", a_max}};
     if (opts->json) {
       hb::cli::print_json(j);
     } else {
       std::cout << "baked " << opts->out << ": " << scene.boxes().size() << " box(es), m=" << opts->bake.params.m
                 << " n=" << opts->bake.params.n << ", " << stats.rays << " rays in " << stats.seconds << " s ("
                 << stats.rays_per_second / 1e6 << " M rays/s), " << bytes / 1e6 << " MB\n";
+      if (opts->codec_options.codec != hb::CodecId::none)
+        std::cout << "codec " << opts->codec << ": ratio " << double(raw_bytes) / double(table_bytes)
+                  << ":1, bound " << bound << " of the box diagonal; t error mean " << t_mean << ", max " << t_max
+                  << "; normal error mean " << a_mean << " deg, max " << a_max << " deg\n";
     }
   });
 }

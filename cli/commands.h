@@ -14,3 +14,5 @@ void add_decompose_command(CLI::App& app);
 void add_sweep_command(CLI::App& app);
 void add_report_command(CLI::App& app);
 void add_field_command(CLI::App& app);
+void add_compress_sweep_command(CLI::App& app);
+void add_compress_command(CLI::App& app);

@@ -1,9 +1,11 @@
-// hapticbox info FILE [--json]: the facts of a mesh or a box file.
+// hapticbox info FILE [--verify] [--json]: the facts of a mesh or a box file (codec, bytes per
+// table, compression ratio and the error statistics stored at compression).
 #include "cli_support.h"
 #include "commands.h"
 #include "errors.h"
 #include "haptic_box/box_file.h"
 #include "mesh/mesh_io.h"
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 
@@ -30,19 +32,42 @@ nlohmann::json mesh_info(const std::string& path) {
           {"warnings", report.warnings}};
 }
 
-nlohmann::json box_info(const std::string& path) {
-  const hb::BoxScene scene = hb::load_box_file(path);
+nlohmann::json box_info(const std::string& path, bool verify) {
+  const hb::BoxScene scene = hb::load_box_file(path, hb::LoadOptions{verify});
   nlohmann::json boxes = nlohmann::json::array();
+  std::uint64_t raw_bytes = 0;
+  double t_mean = 0, t_max = 0, a_mean = 0, a_max = 0, bound = 0;
+  std::string codec;
   for (const hb::HapticBox& box : scene.boxes()) {
     const hb::Obb& o = box.obb();
+    const hb::CodecStats& cs = box.codec_stats();
+    raw_bytes += box.raw_table_bytes();
+    const double w = double(box.raw_table_bytes());
+    t_mean += cs.t_error_mean * w;
+    a_mean += cs.normal_error_mean_deg * w;
+    t_max = std::max<double>(t_max, cs.t_error_max);
+    a_max = std::max<double>(a_max, cs.normal_error_max_deg);
+    bound = std::max<double>(bound, cs.max_error_bound);
+    const std::string name = hb::codec_name(box.codec());
+    codec = codec.empty() || codec == name ? name : "mixed";
     boxes.push_back({{"m", box.params().m},
                      {"n", box.params().n},
                      {"samples", box.params().sample_count()},
+                     {"codec", name},
                      {"table_bytes", box.table_bytes()},
+                     {"raw_table_bytes", box.raw_table_bytes()},
+                     {"compression_ratio", double(box.raw_table_bytes()) / double(box.table_bytes())},
+                     {"max_error_bound", cs.max_error_bound},
+                     {"t_error_mean", cs.t_error_mean},
+                     {"t_error_max", cs.t_error_max},
+                     {"normal_error_mean_deg", cs.normal_error_mean_deg},
+                     {"normal_error_max_deg", cs.normal_error_max_deg},
+                     {"hit_miss_flips", cs.hit_miss_flips},
                      {"center", {o.center.x(), o.center.y(), o.center.z()}},
                      {"half_extents", {o.half.x(), o.half.y(), o.half.z()}}});
   }
   const auto& first = scene.boxes().front();
+  const double table_bytes = double(scene.table_bytes());
   return {{"kind", "box"},
           {"file", path},
           {"bytes", std::filesystem::file_size(path)},
@@ -50,7 +75,15 @@ nlohmann::json box_info(const std::string& path) {
           {"boxes", scene.boxes().size()},
           {"m", first.params().m},
           {"n", first.params().n},
-          {"codec", "none"},
+          {"codec", codec},
+          {"raw_table_bytes", raw_bytes},
+          {"compression_ratio", table_bytes > 0 ? double(raw_bytes) / table_bytes : 0.0},
+          {"max_error_bound", bound},
+          {"t_error_mean", raw_bytes ? t_mean / double(raw_bytes) : 0.0},
+          {"t_error_max", t_max},
+          {"normal_error_mean_deg", raw_bytes ? a_mean / double(raw_bytes) : 0.0},
+          {"normal_error_max_deg", a_max},
+          {"verified", verify},
           {"source_mesh", scene.source().mesh_path},
           {"source_mesh_hash", scene.source().mesh_hash},
           {"source_triangles", scene.source().triangles},
@@ -65,13 +98,15 @@ void add_info_command(CLI::App& app) {
   struct Opts {
     std::string file;
     bool json = false;
+    bool verify = false;
   };
   auto opts = std::make_shared<Opts>();
   cmd->add_option("FILE", opts->file, "Mesh (.off .obj .ply .stl .om) or box file (.hbox)")->required();
   cmd->add_flag("--json", opts->json, "Print JSON");
+  cmd->add_flag("--verify", opts->verify, "Box files: check every table's checksum (reads the whole file)");
   cmd->callback([opts] {
     if (!std::filesystem::exists(opts->file)) throw hb::IoError(opts->file + ": no such file");
-    const nlohmann::json j = hb::cli::is_box_file(opts->file) ? box_info(opts->file) : mesh_info(opts->file);
+    const nlohmann::json j = hb::cli::is_box_file(opts->file) ? box_info(opts->file, opts->verify) : mesh_info(opts->file);
     if (opts->json) {
       hb::cli::print_json(j);
       return;
@@ -81,10 +116,13 @@ void add_info_command(CLI::App& app) {
       std::cout << it.key() << ": " << (it->is_string() ? it->get<std::string>() : it->dump()) << "\n";
     }
     if (j.contains("box_list") && j["box_list"].size() > 1) {
-      std::size_t k = 0;
-      for (const auto& b : j["box_list"])
-        std::cout << "box " << k++ << ": centre " << b["center"].dump() << ", half extents " << b["half_extents"].dump()
-                  << ", " << b["table_bytes"].get<std::size_t>() / 1e6 << " MB\n";
+      for (std::size_t b = 0; b < j["box_list"].size(); ++b) {
+        const auto& x = j["box_list"][b];
+        std::cout << "box " << b << ": centre " << x["center"].dump() << ", half extents " << x["half_extents"].dump()
+                  << ", codec " << x["codec"].get<std::string>() << ", " << x["table_bytes"].dump() << " bytes, ratio "
+                  << x["compression_ratio"].dump() << ", t error mean " << x["t_error_mean"].dump() << " max "
+                  << x["t_error_max"].dump() << "\n";
+      }
     }
   });
 }

@@ -24,6 +24,8 @@ int main(int argc, char** argv) {
   add_report_command(app);
   add_field_command(app);
 #endif
+  add_compress_command(app);
+  add_compress_sweep_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -42,6 +42,15 @@ inline Vec3 decode_octahedral32_unnormalized(std::uint32_t code) noexcept {
   return n;
 }
 
+/// As decode_octahedral32_unnormalized, from octahedral coordinates u, v in [-1, 1].
+inline Vec3 oct_decode_unnormalized(float u, float v) noexcept {
+  Vec3 n(u, v, 1.f - std::fabs(u) - std::fabs(v));
+  const float t = std::fmax(-n.z(), 0.f);
+  n.x() += n.x() >= 0.f ? -t : t;
+  n.y() += n.y() >= 0.f ? -t : t;
+  return n;
+}
+
 /// Decodes to a unit vector.
 inline Vec3 decode_octahedral32(std::uint32_t code) noexcept {
   return decode_octahedral32_unnormalized(code).normalized();

@@ -1,12 +1,17 @@
-// The .hbox file format, version 1 (little-endian):
+// The .hbox file format, version 2 (little-endian; version 1 is still read):
 //  1. Header: magic "HBOXFILE", u32 version, u32 box count, u64 mesh hash, u64 triangles,
-//     f32 diagonal, u32 path length + path bytes; then per box: u32 codec (0 = raw 8-byte
-//     samples), i32 m, i32 n, f32 centre[3], axes[9] (columns), half[3], u64 table offset,
-//     u64 table bytes, u64 table hash (xxHash64); then u64 hash of all header bytes before it.
-//  2. Tables at 64-byte aligned offsets, in HapticBox::sample_index order.
+//     f32 diagonal, u32 path length + path bytes; then per box: u32 codec (CodecId: 0 raw
+//     8-byte samples, 1 Haar, 2 block), i32 m, i32 n, f32 centre[3], axes[9] (columns),
+//     half[3], u64 table offset, u64 table bytes, u64 table hash (xxHash3 64); version 2 adds
+//     the codec statistics: f32 error bound, mean and max t error (relative to the box
+//     diagonal), mean and max normal angle (degrees), u64 hit/miss flips; then u64 hash of
+//     all header bytes before it.
+//  2. Tables at 64-byte aligned offsets: raw records in HapticBox::sample_index order, or a
+//     compressed payload (codec/table_payload.h).
 //  3. Loading maps the file read-only (mmap); boxes point into the mapping, which stays
-//     alive while any box of the scene does. Header and table hashes are checked at load
-//     (xxHash64 runs at memory speed), so corruption is reported, never queried.
+//     alive while any box of the scene does. Always checked: the header hash, sizes and
+//     offsets, and each compressed payload's own header (one page). Table hashes only with
+//     LoadOptions::verify (they read every page; lazy opening is the default).
 #include "haptic_box/box_file.h"
 #include "errors.h"
 #include <xxhash.h>
@@ -22,8 +27,7 @@ namespace hb {
 namespace {
 
 constexpr char kMagic[8] = {'H', 'B', 'O', 'X', 'F', 'I', 'L', 'E'};
-constexpr std::uint32_t kVersion = 1;
-constexpr std::uint32_t kCodecRaw = 0;
+constexpr std::uint32_t kVersion = 2;
 constexpr std::size_t kAlign = 64;
 
 class Writer {
@@ -96,7 +100,7 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
     w.put_bytes(src.mesh_path.data(), src.mesh_path.size());
     for (std::size_t b = 0; b < boxes.size(); ++b) {
       const HapticBox& box = boxes[b];
-      w.put(kCodecRaw);
+      w.put(std::uint32_t(box.codec()));
       w.put(std::int32_t(box.params().m));
       w.put(std::int32_t(box.params().n));
       for (int c = 0; c < 3; ++c) w.put(box.obb().center[c]);
@@ -105,7 +109,14 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
       for (int c = 0; c < 3; ++c) w.put(box.obb().half[c]);
       w.put(std::uint64_t(offsets.empty() ? 0 : offsets[b]));
       w.put(std::uint64_t(box.table_bytes()));
-      w.put(std::uint64_t(XXH3_64bits(box.table(), box.table_bytes())));
+      w.put(std::uint64_t(XXH3_64bits(box.samples().data(), box.table_bytes())));
+      const CodecStats& cs = box.codec_stats();
+      w.put(cs.max_error_bound);
+      w.put(cs.t_error_mean);
+      w.put(cs.t_error_max);
+      w.put(cs.normal_error_mean_deg);
+      w.put(cs.normal_error_max_deg);
+      w.put(std::uint64_t(cs.hit_miss_flips));
     }
     const std::uint64_t header_hash = XXH3_64bits(w.bytes().data(), w.bytes().size());
     w.put(header_hash);
@@ -128,7 +139,7 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
     const char zeros[kAlign] = {};
     for (std::size_t b = 0; b < boxes.size(); ++b) {
       out.write(zeros, std::streamsize(offsets[b] - written));
-      out.write(reinterpret_cast<const char*>(boxes[b].table()), std::streamsize(boxes[b].table_bytes()));
+      out.write(static_cast<const char*>(boxes[b].samples().data()), std::streamsize(boxes[b].table_bytes()));
       written = offsets[b] + boxes[b].table_bytes();
     }
     if (!out) throw IoError(path + ": write failed (disk full?)");
@@ -140,7 +151,7 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
   }
 }
 
-BoxScene load_box_file(const std::string& path) {
+BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throw IoError(path + ": cannot open box file (" + std::strerror(errno) + ")");
   struct stat st {};
@@ -164,7 +175,7 @@ BoxScene load_box_file(const std::string& path) {
   Reader r(data, map->size, path);
   r.get_string(sizeof(kMagic));
   const auto version = r.get<std::uint32_t>();
-  if (version != kVersion)
+  if (version != kVersion && version != 1)
     throw InvalidInput(path + ": unsupported box file version " + std::to_string(version) +
                        " (this build reads version " + std::to_string(kVersion) + ")");
   const auto count = r.get<std::uint32_t>();
@@ -179,11 +190,15 @@ BoxScene load_box_file(const std::string& path) {
     Obb obb;
     BoxParams params;
     std::uint64_t offset, bytes, hash;
+    CodecId codec;
+    CodecStats stats;
   };
   std::vector<Entry> entries(count);
   for (auto& e : entries) {
     const auto codec = r.get<std::uint32_t>();
-    if (codec != kCodecRaw) throw InvalidInput(path + ": unknown table codec " + std::to_string(codec));
+    if (codec > std::uint32_t(CodecId::block) || (version == 1 && codec != 0))
+      throw InvalidInput(path + ": unknown table codec " + std::to_string(codec));
+    e.codec = CodecId(codec);
     e.params.m = r.get<std::int32_t>();
     e.params.n = r.get<std::int32_t>();
     for (int c = 0; c < 3; ++c) e.obb.center[c] = r.get<float>();
@@ -193,6 +208,14 @@ BoxScene load_box_file(const std::string& path) {
     e.offset = r.get<std::uint64_t>();
     e.bytes = r.get<std::uint64_t>();
     e.hash = r.get<std::uint64_t>();
+    if (version >= 2) {
+      e.stats.max_error_bound = r.get<float>();
+      e.stats.t_error_mean = r.get<float>();
+      e.stats.t_error_max = r.get<float>();
+      e.stats.normal_error_mean_deg = r.get<float>();
+      e.stats.normal_error_max_deg = r.get<float>();
+      e.stats.hit_miss_flips = r.get<std::uint64_t>();
+    }
   }
   const std::size_t header_end = r.pos();
   const auto stored_hash = r.get<std::uint64_t>();
@@ -204,14 +227,24 @@ BoxScene load_box_file(const std::string& path) {
   for (std::size_t b = 0; b < entries.size(); ++b) {
     const Entry& e = entries[b];
     if (e.params.m < 2 || e.params.n < 2 || e.params.m > 1024 || e.params.n > 256 ||
-        e.bytes != e.params.sample_count() * sizeof(Sample) || e.offset % alignof(Sample) != 0)
+        (e.codec == CodecId::none && e.bytes != e.params.sample_count() * sizeof(Sample)) ||
+        e.offset % alignof(Sample) != 0)
       throw InvalidInput(path + ": corrupt box file (box " + std::to_string(b) + " has inconsistent sizes)");
     if (e.offset > map->size || e.bytes > map->size - e.offset)
       throw InvalidInput(path + ": truncated box file (box " + std::to_string(b) + " table is cut short)");
-    if (XXH3_64bits(data + e.offset, e.bytes) != e.hash)
+    if (options.verify && XXH3_64bits(data + e.offset, e.bytes) != e.hash)
       throw InvalidInput(path + ": corrupt box file (box " + std::to_string(b) + " table checksum mismatch)");
-    boxes.emplace_back(e.obb, e.params, reinterpret_cast<const Sample*>(data + e.offset),
-                       std::shared_ptr<const void>(map, map->data));
+    if (e.codec == CodecId::none) {
+      boxes.emplace_back(e.obb, e.params, reinterpret_cast<const Sample*>(data + e.offset),
+                         std::shared_ptr<const void>(map, map->data));
+      continue;
+    }
+    try {
+      boxes.emplace_back(e.obb, e.params, e.codec, reinterpret_cast<const std::uint8_t*>(data + e.offset),
+                         std::size_t(e.bytes), std::shared_ptr<const void>(map, map->data), e.stats);
+    } catch (const InvalidInput& err) {
+      throw InvalidInput(path + ": corrupt box file (box " + std::to_string(b) + " " + err.what() + ")");
+    }
   }
   return BoxScene(std::move(boxes), src);
 }

@@ -17,6 +17,10 @@
 //     blends a far exit distance into t0.
 //  6. Contact test (Figure 7): the surface point P1 + t0 l must lie between the handle and
 //     the tip, on the outside of the surface (n . l < 0); depth = d - t0; F = k depth n.
+//  7. The samples are read through a fetch policy (raw records, block or Haar codec): the
+//     codec is switched on once per query and the query body is instantiated per codec.
+//     Every codec keeps hit/miss exact, so step 5 sees the same silhouettes on a compressed
+//     table as on the raw one; only t and the normals move, within the codec's bound.
 #include "haptic_box/haptic_box.h"
 #include "errors.h"
 #include "geometry/octahedral.h"
@@ -108,17 +112,123 @@ inline void split_cell(float f, int cells, int& i0, float& w) noexcept {
   w = f - float(i0);
 }
 
+// Directional interpolation at one corner through a policy's load(): missed samples are
+// dropped, weights summed (the caller applies the miss rule and normalises).
+template <class Fetch>
+inline CornerBlend blend_by_load(const Fetch& fetch, const typename Fetch::Corner& corner, const float w[4]) noexcept {
+  CornerBlend b{0.f, 0.f, 0.f, 0.f, 0.f};
+  for (int k = 0; k < 4; ++k) {
+    if (w[k] <= 0.f) continue;
+    float ts;
+    Vec3 ns;
+    if (!fetch.load(corner, k, ts, ns)) continue;
+    b.weight += w[k];
+    b.t += w[k] * ts;
+    b.nx += w[k] * ns.x();
+    b.ny += w[k] * ns.y();
+    b.nz += w[k] * ns.z();
+  }
+  return b;
+}
+
+// Sample fetch policies: begin() locates (and prefetches) the 2 x 2 directional quad at
+// (a0, b0) of one corner's tile; load(k) reads its k-th sample in the order (0,0), (1,0),
+// (1,1), (0,1), returning false for a miss; blend() is the corner's directional interpolation.
+struct RawFetch {
+  const Sample* table;
+  std::size_t n, per_position;
+  struct Corner {
+    const Sample* base;
+  };
+  void begin(std::size_t position, std::size_t sf, int a0, int b0, Corner& c) const noexcept {
+    c.base = table + position * per_position + sf * n * n + std::size_t(a0) * n + std::size_t(b0);
+    __builtin_prefetch(c.base);
+    __builtin_prefetch(c.base + n);
+  }
+  void resolve(Corner&) const noexcept {}
+  bool load(const Corner& c, int k, float& t, Vec3& nrm) const noexcept {
+    const std::size_t offset[4] = {0, n, n + 1, 1};
+    const Sample& s = c.base[offset[k]];
+    if (s.t < 0.f) return false;
+    t = s.t;
+    nrm = decode_octahedral32_unnormalized(s.normal);
+    return true;
+  }
+  // Raw samples: the quad is two 16-byte loads, blended with SSE2 (weights reordered to the
+  // memory order (0,0), (0,1), (1,0), (1,1)).
+  CornerBlend blend(const Corner& c, const float w[4]) const noexcept {
+    return blend_corner(c.base, n, _mm_setr_ps(w[0], w[3], w[1], w[2]));
+  }
+};
+
+template <class View> struct CodecFetch {
+  const View& view;
+  struct Corner {
+    std::size_t tile;
+    int a0, b0;
+  };
+  void begin(std::size_t position, std::size_t sf, int a0, int b0, Corner& c) const noexcept {
+    c = {position * 12u + sf, a0, b0};
+    view.prefetch(c.tile, a0, b0);
+  }
+  void resolve(Corner&) const noexcept {}
+  bool load(const Corner& c, int k, float& t, Vec3& nrm) const noexcept {
+    float u, v;
+    if (!view.fetch(c.tile, c.a0 + (k == 1 || k == 2), c.b0 + (k >= 2), t, u, v)) return false;
+    nrm = oct_decode_unnormalized(u, v);
+    return true;
+  }
+  CornerBlend blend(const Corner& c, const float w[4]) const noexcept { return blend_by_load(*this, c, w); }
+};
+
+// The block codec in two phases: begin() prefetches the index entries of the quad's blocks,
+// resolve() (after all corners began) reads them and prefetches the records, so the two
+// dependent loads of the four corners overlap instead of running in series.
+template <> struct CodecFetch<BlockTable> {
+  const BlockTable& view;
+  struct Corner {
+    std::size_t tile;
+    int a0, b0;
+    const std::uint8_t* rec[4];
+  };
+  void begin(std::size_t position, std::size_t sf, int a0, int b0, Corner& c) const noexcept {
+    c.tile = position * 12u + sf;
+    c.a0 = a0;
+    c.b0 = b0;
+    view.prefetch(c.tile, a0, b0);
+    view.prefetch(c.tile, a0 + 1, b0 + 1);
+  }
+  void resolve(Corner& c) const noexcept {
+    for (int k = 0; k < 4; ++k) {
+      c.rec[k] = view.record(view.block_of(c.tile, c.a0 + (k == 1 || k == 2), c.b0 + (k >= 2)));
+      __builtin_prefetch(c.rec[k]);
+      __builtin_prefetch(c.rec[k] + 64);
+    }
+  }
+  bool load(const Corner& c, int k, float& t, Vec3& nrm) const noexcept {
+    float u, v;
+    if (!view.fetch_from(c.rec[k], c.a0 + (k == 1 || k == 2), c.b0 + (k >= 2), t, u, v)) return false;
+    nrm = oct_decode_unnormalized(u, v);
+    return true;
+  }
+  CornerBlend blend(const Corner& c, const float w[4]) const noexcept { return blend_by_load(*this, c, w); }
+};
+
 } // namespace
 
 HapticBox::HapticBox(const Obb& obb, const BoxParams& params, std::vector<Sample> table)
-    : obb_(obb), params_(params), owned_(std::move(table)) {
+    : obb_(obb), params_(params) {
   if (params_.m < 2 || params_.n < 2)
     throw InvalidInput("HapticBox: m and n must be >= 2 (m=" + std::to_string(params_.m) +
                        ", n=" + std::to_string(params_.n) + ")");
-  if (owned_.size() != params_.sample_count())
-    throw InvalidInput("HapticBox: table has " + std::to_string(owned_.size()) +
+  if (table.size() != params_.sample_count())
+    throw InvalidInput("HapticBox: table has " + std::to_string(table.size()) +
                        " samples, expected " + std::to_string(params_.sample_count()));
-  table_ = owned_.data();
+  auto owned = std::make_shared<const std::vector<Sample>>(std::move(table));
+  table_ = owned->data();
+  owner_ = std::move(owned);
+  samples_ = SampleTable(table_, params_);
+  stats_.raw_bytes = stats_.bytes = raw_table_bytes();
   init_faces();
 }
 
@@ -127,7 +237,33 @@ HapticBox::HapticBox(const Obb& obb, const BoxParams& params, const Sample* tabl
     : obb_(obb), params_(params), table_(table), owner_(std::move(owner)) {
   if (params_.m < 2 || params_.n < 2) throw InvalidInput("HapticBox: m and n must be >= 2");
   if (!table_) throw InvalidInput("HapticBox: null table");
+  samples_ = SampleTable(table_, params_);
+  stats_.raw_bytes = stats_.bytes = raw_table_bytes();
   init_faces();
+}
+
+HapticBox::HapticBox(const Obb& obb, const BoxParams& params, CompressedTable table)
+    : obb_(obb), params_(params), stats_(table.stats) {
+  if (params_.m < 2 || params_.n < 2) throw InvalidInput("HapticBox: m and n must be >= 2");
+  auto owned = std::make_shared<const std::vector<std::uint8_t>>(std::move(table.payload));
+  samples_ = SampleTable(table.codec, owned->data(), owned->size(), params_);
+  owner_ = std::move(owned);
+  init_faces();
+}
+
+HapticBox::HapticBox(const Obb& obb, const BoxParams& params, CodecId codec, const std::uint8_t* payload,
+                     std::size_t bytes, std::shared_ptr<const void> owner, const CodecStats& stats)
+    : obb_(obb), params_(params), stats_(stats), owner_(std::move(owner)) {
+  if (params_.m < 2 || params_.n < 2) throw InvalidInput("HapticBox: m and n must be >= 2");
+  samples_ = SampleTable(codec, payload, bytes, params_);
+  stats_.bytes = bytes;
+  stats_.raw_bytes = raw_table_bytes();
+  init_faces();
+}
+
+HapticBox HapticBox::compressed(const CodecOptions& options) const {
+  if (!table_) throw InvalidInput("HapticBox: the table is already compressed");
+  return HapticBox(obb_, params_, compress_table(table_, params_, obb_.diagonal(), options));
 }
 
 void HapticBox::init_faces() noexcept {
@@ -166,6 +302,20 @@ Vec3 HapticBox::sample_direction(int face, int sub, int sface, int a, int b) con
 
 bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact& out,
                            float& distance_from_handle) const noexcept {
+  switch (samples_.codec()) {
+  case CodecId::block:
+    return query_with(CodecFetch<BlockTable>{samples_.block()}, segment, law, out, distance_from_handle);
+  case CodecId::haar:
+    return query_with(CodecFetch<HaarTable>{samples_.haar()}, segment, law, out, distance_from_handle);
+  default:
+    return query_with(RawFetch{table_, std::size_t(params_.n), params_.samples_per_position()}, segment, law, out,
+                      distance_from_handle);
+  }
+}
+
+template <class Fetch>
+bool HapticBox::query_with(const Fetch& fetch, const Segment& segment, const ForceLaw& law, Contact& out,
+                           float& distance_from_handle) const noexcept {
   out = Contact{};
   const Vec3 delta = segment.end - segment.start;
   const float length = delta.norm();
@@ -196,35 +346,28 @@ bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact&
   float wa, wb;
   split_cell(dc.c1 * float(cells_n), cells_n, a0, wa);
   split_cell(dc.c2 * float(cells_n), cells_n, b0, wb);
-  const std::size_t n = std::size_t(params_.n);
-  const std::size_t dir_offset = (std::size_t(dc.sub) * 3u + std::size_t(dc.sface)) * n * n +
-                                 std::size_t(a0) * n + std::size_t(b0);
-  // Samples (a0, b0), (a0, b0+1) are adjacent in memory, (a0+1, b0), (a0+1, b0+1) too.
-  const __m128 dir_w = _mm_setr_ps((1.f - wa) * (1.f - wb), (1.f - wa) * wb, wa * (1.f - wb), wa * wb);
+  const std::size_t sf = std::size_t(dc.sub) * 3u + std::size_t(dc.sface);
+  const float dir_w[4] = {(1.f - wa) * (1.f - wb), wa * (1.f - wb), wa * wb, (1.f - wa) * wb};
 
   // 4. Corners (P2..P5 of eq. 1) and their weights.
   const int ci[4] = {i0, i0 + 1, i0 + 1, i0};
   const int cj[4] = {j0, j0, j0 + 1, j0 + 1};
   const float pos_w[4] = {(1.f - d1) * (1.f - d2), d1 * (1.f - d2), d1 * d2, (1.f - d1) * d2};
-  const std::size_t per_position = params_.samples_per_position();
   const std::size_t face_base = std::size_t(box_hit.enter_face) * std::size_t(params_.m) * std::size_t(params_.m);
 
-  // The four corners' hemi-cubes lie far apart in memory: start all eight cache-line loads
-  // before using any (memory-level parallelism instead of four serial misses).
-  const Sample* bases[4];
-  for (int c = 0; c < 4; ++c) {
-    bases[c] = table_ + (face_base + std::size_t(ci[c]) * std::size_t(params_.m) + std::size_t(cj[c])) *
-                            per_position + dir_offset;
-    __builtin_prefetch(bases[c]);
-    __builtin_prefetch(bases[c] + n);
-  }
+  // The four corners' hemi-cubes lie far apart in memory: start all their loads before
+  // using any (memory-level parallelism instead of four serial misses).
+  typename Fetch::Corner corners[4];
+  for (int c = 0; c < 4; ++c)
+    fetch.begin(face_base + std::size_t(ci[c]) * std::size_t(params_.m) + std::size_t(cj[c]), sf, a0, b0, corners[c]);
+  for (int c = 0; c < 4; ++c) fetch.resolve(corners[c]);
 
   Blend corner_sum;
   float corner_hit_weight = 0.f;
   for (int c = 0; c < 4; ++c) {
     if (pos_w[c] <= 0.f) continue;
-    const Sample* base = bases[c];
-    const CornerBlend blend = blend_corner(base, n, dir_w);
+    // Directional interpolation at this corner.
+    const CornerBlend blend = fetch.blend(corners[c], dir_w);
     const float w_hit = blend.weight;
     float t = blend.t;
     Vec3 nrm(blend.nx, blend.ny, blend.nz);

@@ -2,32 +2,14 @@
 // The haptic box (paper sections 3-5): a PBB whose faces carry m x m position points, each with
 // a directional hemi-cube (DHC) of 4 sub-blocks x 3 faces x n x n directional samples.
 #include "geometry/obb.h"
+#include "codec/sample_table.h"
 #include "haptic_box/contact.h"
+#include "haptic_box/sample.h"
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 namespace hb {
-
-/// Sampling densities (paper Figure 9: "m n").
-struct BoxParams {
-  int m = 32;  ///< position points per PBB face edge (m x m per face, edges included), >= 2.
-  int n = 16;  ///< directional points per sub-block face edge (n x n, edges included), >= 2.
-  std::size_t samples_per_position() const { return 12u * std::size_t(n) * std::size_t(n); }
-  std::size_t position_count() const { return 6u * std::size_t(m) * std::size_t(m); }
-  std::size_t sample_count() const { return position_count() * samples_per_position(); }
-};
-
-/// One directional sample: distance `t` from the position point to the first hit of the
-/// piece along the sample's direction, and the shaded normal there in 32-bit octahedral
-/// encoding. A ray that misses the piece stores `t = kMissT` (negative) and no normal;
-/// see HapticBox::query for why interpolation behaves well next to misses.
-struct Sample {
-  float t;
-  std::uint32_t normal;
-};
-static_assert(sizeof(Sample) == 8, "Sample is an 8-byte record");
-constexpr float kMissT = -1.f;
 
 /// A baked box. Built once (by bake_box or by loading a file), then queried many times
 /// through the const, noexcept, allocation-free query(), safe from many threads.
@@ -39,8 +21,19 @@ public:
   /// Refers to a table owned elsewhere (a memory-mapped file kept alive by `owner`).
   HapticBox(const Obb& obb, const BoxParams& params, const Sample* table,
             std::shared_ptr<const void> owner);
+  /// Takes ownership of a compressed table (see compress_table / compressed()).
+  HapticBox(const Obb& obb, const BoxParams& params, CompressedTable table);
+  /// Refers to a compressed payload owned elsewhere (kept alive by `owner`); validates its
+  /// header only (O(1), touches one page). Throws hb::InvalidInput.
+  HapticBox(const Obb& obb, const BoxParams& params, CodecId codec, const std::uint8_t* payload,
+            std::size_t bytes, std::shared_ptr<const void> owner, const CodecStats& stats);
 
-  /// Paper section 5, see the .cpp overview. Contact per hb::Contact.
+  /// A copy of this (raw) box with its table compressed; throws hb::InvalidInput when this
+  /// box is already compressed or the options are out of range.
+  HapticBox compressed(const CodecOptions& options) const;
+
+  /// Paper section 5, see the .cpp overview. Contact per hb::Contact. Works on raw and
+  /// compressed tables alike (the codec is dispatched once per query).
   Contact query(const Segment& segment, const ForceLaw& law) const noexcept override;
 
   /// As query(), and also the distance from the handle to the surface point along the
@@ -51,8 +44,17 @@ public:
 
   const Obb& obb() const { return obb_; }
   const BoxParams& params() const { return params_; }
+  /// The raw records, or nullptr when the table is compressed.
   const Sample* table() const { return table_; }
-  std::size_t table_bytes() const { return params_.sample_count() * sizeof(Sample); }
+  /// The table in whatever codec it is stored.
+  const SampleTable& samples() const { return samples_; }
+  CodecId codec() const { return samples_.codec(); }
+  /// Compression statistics (zero for a raw table, except the byte counts).
+  const CodecStats& codec_stats() const { return stats_; }
+  /// Bytes of the stored table (compressed payload, or 8 bytes a sample when raw).
+  std::size_t table_bytes() const { return samples_.bytes(); }
+  /// Bytes of the table uncompressed.
+  std::size_t raw_table_bytes() const { return params_.sample_count() * sizeof(Sample); }
 
   /// Layout: index of sample (a, b) of sub-block face `sface` (0..2) of sub-block `sub`
   /// (0..3) at position point (i, j) of PBB face `face` (0..5).
@@ -72,6 +74,9 @@ public:
 
 private:
   void init_faces() noexcept;
+  template <class Fetch>
+  bool query_with(const Fetch& fetch, const Segment& segment, const ForceLaw& law, Contact& out,
+                  float& distance_from_handle) const noexcept;
 
   // Per face: world position of position point (0, 0) and the steps to (1, 0) and (0, 1).
   struct FaceFrame {
@@ -80,9 +85,10 @@ private:
   FaceFrame faces_[6];
   Obb obb_;
   BoxParams params_;
-  std::vector<Sample> owned_;
   const Sample* table_ = nullptr;
-  std::shared_ptr<const void> owner_;
+  SampleTable samples_;
+  CodecStats stats_;
+  std::shared_ptr<const void> owner_;  // keeps the table alive; shared by copies
 };
 
 } // namespace hb

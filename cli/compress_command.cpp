@@ -1,0 +1,63 @@
+// hapticbox compress BOX -o OUT.hbox --codec haar|block [--max-error E | --ratio R] [--json]
+// Compresses the tables of an uncompressed box file without baking again.
+#include "cli_support.h"
+#include "commands.h"
+#include "errors.h"
+#include "haptic_box/box_file.h"
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+
+void add_compress_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("compress", "Compress the tables of an uncompressed box file");
+  struct Opts {
+    std::string box, out, codec = "block";
+    hb::CodecOptions codec_options;
+    bool json = false;
+  };
+  auto opts = std::make_shared<Opts>();
+  cmd->add_option("BOX", opts->box, "Box file with uncompressed tables")->required();
+  cmd->add_option("-o,--output", opts->out, "Output box file (.hbox)")->required();
+  cmd->add_option("--codec", opts->codec, "Table codec: haar (the paper's) or block (ours)")
+      ->check(CLI::IsMember({"haar", "block"}))->capture_default_str();
+  auto* max_error = cmd->add_option("--max-error", opts->codec_options.max_error,
+                                    "Bound on |t1 - t0| / box diagonal for every hit sample")
+                        ->check(CLI::Range(1e-5, 0.1))->capture_default_str();
+  auto* ratio = cmd->add_option("--ratio", opts->codec_options.ratio,
+                                "Target compression ratio (finds the tightest bound reaching it)")
+                    ->check(CLI::Range(1.0, 1e6));
+  max_error->excludes(ratio);
+  cmd->add_option("--normal-bits", opts->codec_options.normal_bits, "Octahedral normal bits per coordinate")
+      ->check(CLI::Range(6, 14))->capture_default_str();
+  cmd->add_flag("--json", opts->json, "Print a JSON summary");
+  cmd->callback([opts] {
+    const hb::BoxScene scene = hb::load_box_file(opts->box);
+    opts->codec_options.codec = hb::parse_codec(opts->codec);
+    std::vector<hb::HapticBox> boxes;
+    for (const hb::HapticBox& box : scene.boxes()) {
+      if (box.codec() != hb::CodecId::none)
+        throw hb::cli::UsageError(opts->box + ": already compressed (codec " + hb::codec_name(box.codec()) + ")");
+      boxes.push_back(box.compressed(opts->codec_options));
+    }
+    const hb::BoxScene out(std::move(boxes), scene.source());
+    hb::save_box_file(out, opts->out);
+    std::uint64_t raw = 0, bytes = 0;
+    double t_max = 0, bound = 0;
+    for (const hb::HapticBox& box : out.boxes()) {
+      raw += box.raw_table_bytes();
+      bytes += box.table_bytes();
+      t_max = std::max<double>(t_max, box.codec_stats().t_error_max);
+      bound = std::max<double>(bound, box.codec_stats().max_error_bound);
+    }
+    const nlohmann::json j = {{"input", opts->box}, {"output", opts->out}, {"codec", opts->codec},
+                              {"bytes", std::filesystem::file_size(opts->out)}, {"table_bytes", bytes},
+                              {"compression_ratio", double(raw) / double(bytes)}, {"max_error_bound", bound},
+                              {"t_error_max", t_max}};
+    if (opts->json) {
+      hb::cli::print_json(j);
+      return;
+    }
+    std::cout << "compressed " << opts->out << ": codec " << opts->codec << ", ratio " << double(raw) / double(bytes)
+              << ":1, bound " << bound << ", t error max " << t_max << " (of the box diagonal)\n";
+  });
+}

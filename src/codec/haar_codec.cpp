@@ -1,0 +1,267 @@
+// Haar codec encoder and full decoder (the format is described in haar_codec.h).
+//  1. Per tile (in parallel chunks): pad to N x N by edge repetition, fill misses with the
+//     mean of the hits, forward-transform t, u and v (doubles).
+//  2. Per channel: for step exponent s = 0, 1, ...: quantise every coefficient to an integer
+//     multiple of step 2^-s, reconstruct every hit exactly as the decoder does, and stop at
+//     the first s whose worst hit is within the bound.
+//  3. Write the record; all-miss tiles share a 1-byte record at data offset 0.
+#include "codec/haar_codec.h"
+#include "errors.h"
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace hb {
+namespace {
+
+int pow2_at_least(int n) {
+  int N = 1;
+  while (N < n) N *= 2;
+  return N;
+}
+std::size_t bitmap_bytes_for(int N) { return (std::size_t(N) * std::size_t(N) + 63u) / 64u * 8u; }
+std::size_t max_record_bytes(int N) {
+  return HaarTable::kHeaderBytes + bitmap_bytes_for(N) + 3u * (bitmap_bytes_for(N) + std::size_t(N) * std::size_t(N) * 4u) + 16u;
+}
+
+void forward_haar(std::vector<double>& x, int N) {
+  std::vector<double> tmp(x.size());
+  for (int s = N; s > 1; s /= 2) {
+    const int h = s / 2;
+    for (int i = 0; i < h; ++i)
+      for (int j = 0; j < h; ++j) {
+        const double x00 = x[(2 * i) * N + 2 * j], x01 = x[(2 * i) * N + 2 * j + 1];
+        const double x10 = x[(2 * i + 1) * N + 2 * j], x11 = x[(2 * i + 1) * N + 2 * j + 1];
+        tmp[i * N + j] = (x00 + x01 + x10 + x11) / 4;
+        tmp[i * N + h + j] = (x00 - x01 + x10 - x11) / 4;        // H: along b
+        tmp[(h + i) * N + j] = (x00 + x01 - x10 - x11) / 4;      // V: along a
+        tmp[(h + i) * N + h + j] = (x00 - x01 - x10 + x11) / 4;  // D
+      }
+    for (int i = 0; i < s; ++i)
+      for (int j = 0; j < s; ++j) x[i * N + j] = tmp[i * N + j];
+  }
+}
+
+// Integer inverse transform in place (exact).
+void inverse_haar(std::vector<std::int64_t>& c, int N) {
+  std::vector<std::int64_t> tmp(c.size());
+  for (int s = 2; s <= N; s *= 2) {
+    const int h = s / 2;
+    for (int i = 0; i < h; ++i)
+      for (int j = 0; j < h; ++j) {
+        const std::int64_t A = c[i * N + j], H = c[i * N + h + j], V = c[(h + i) * N + j], D = c[(h + i) * N + h + j];
+        tmp[(2 * i) * N + 2 * j] = A + H + V + D;
+        tmp[(2 * i) * N + 2 * j + 1] = A - H + V - D;
+        tmp[(2 * i + 1) * N + 2 * j] = A + H - V - D;
+        tmp[(2 * i + 1) * N + 2 * j + 1] = A - H - V + D;
+      }
+    for (int i = 0; i < s; ++i)
+      for (int j = 0; j < s; ++j) c[i * N + j] = tmp[i * N + j];
+  }
+}
+
+struct ChannelCode {
+  std::vector<std::int64_t> q;  // quantised coefficients
+  int exponent = 0;
+  unsigned k = 0;
+};
+
+// Finds the coarsest step (base * 2^-s) that keeps every hit within `bound` of its value.
+ChannelCode quantise_channel(const std::vector<double>& coeffs, const std::vector<double>& values,
+                             const std::vector<char>& hit, int N, int n, float base, double bound, bool clamp_unit,
+                             bool clamp_zero) {
+  ChannelCode code;
+  code.q.resize(coeffs.size());
+  std::vector<std::int64_t> rec;
+  for (int s = 0; s < 40; ++s) {
+    const float step = HaarTable::step(base, std::uint8_t(s));
+    for (std::size_t i = 0; i < coeffs.size(); ++i) code.q[i] = std::llround(coeffs[i] / double(step));
+    rec = code.q;
+    inverse_haar(rec, N);
+    bool ok = true;
+    for (int a = 0; a < n && ok; ++a)
+      for (int b = 0; b < n; ++b) {
+        if (!hit[a * n + b]) continue;
+        float v = float(rec[a * N + b]) * step;
+        if (clamp_unit) v = std::fmin(1.f, std::fmax(-1.f, v));
+        if (clamp_zero) v = std::fmax(0.f, v);
+        if (std::fabs(double(v) - values[a * N + b]) > bound) {
+          ok = false;
+          break;
+        }
+      }
+    if (ok) {
+      code.exponent = s;
+      std::uint64_t zmax = 0;
+      for (auto c : code.q) zmax = std::max(zmax, std::uint64_t((c << 1) ^ (c >> 63)));
+      code.k = bits_for(zmax);
+      if (code.k > 31) throw InvalidInput("haar codec: coefficient range too wide for the error bound");
+      return code;
+    }
+  }
+  throw InvalidInput("haar codec: could not meet the error bound");
+}
+
+void write_channel(std::vector<std::uint8_t>& out, const ChannelCode& code, int N) {
+  const std::size_t bm = bitmap_bytes_for(N);
+  const std::size_t at = out.size();
+  out.resize(at + bm, 0);
+  for (std::size_t i = 0; i < code.q.size(); ++i)
+    if (code.q[i] != 0) out[at + i / 8] |= std::uint8_t(1u << (i % 8));
+  BitWriter w(out);
+  for (auto c : code.q)
+    if (c != 0) w.put(std::uint64_t((c << 1) ^ (c >> 63)), code.k);
+}
+
+bool encode_tile(const Sample* tile, int n, int N, float t_step, float n_step, std::vector<std::uint8_t>& out) {
+  std::vector<char> hit(std::size_t(n) * std::size_t(n));
+  double st = 0, su = 0, sv = 0;
+  int hits = 0;
+  for (int i = 0; i < n * n; ++i) {
+    hit[i] = tile[i].t >= 0.f;
+    if (!hit[i]) continue;
+    ++hits;
+    st += tile[i].t;
+    su += float(std::int16_t(tile[i].normal & 0xffffu)) / 32767.f;
+    sv += float(std::int16_t(tile[i].normal >> 16)) / 32767.f;
+  }
+  if (hits == 0) return false;
+  std::vector<double> t(std::size_t(N) * N), u(t.size()), v(t.size());
+  for (int a = 0; a < N; ++a)
+    for (int b = 0; b < N; ++b) {
+      const int sa = std::min(a, n - 1), sb = std::min(b, n - 1);
+      const Sample& s = tile[sa * n + sb];
+      if (s.t >= 0.f) {
+        t[a * N + b] = s.t;
+        u[a * N + b] = float(std::int16_t(s.normal & 0xffffu)) / 32767.f;
+        v[a * N + b] = float(std::int16_t(s.normal >> 16)) / 32767.f;
+      } else {
+        t[a * N + b] = st / hits;
+        u[a * N + b] = su / hits;
+        v[a * N + b] = sv / hits;
+      }
+    }
+  const std::vector<double> t_values = t, u_values = u, v_values = v;
+  forward_haar(t, N);
+  forward_haar(u, N);
+  forward_haar(v, N);
+  const ChannelCode ct = quantise_channel(t, t_values, hit, N, n, t_step, 0.5 * t_step, false, true);
+  const ChannelCode cu = quantise_channel(u, u_values, hit, N, n, n_step, 0.5 * n_step, true, false);
+  const ChannelCode cv = quantise_channel(v, v_values, hit, N, n, n_step, 0.5 * n_step, true, false);
+  const bool mixed = hits != n * n;
+  const std::size_t at = out.size();
+  out.push_back(mixed ? 2 : 1);
+  out.push_back(std::uint8_t(ct.k));
+  out.push_back(std::uint8_t(cu.k));
+  out.push_back(std::uint8_t(cv.k));
+  out.push_back(std::uint8_t(ct.exponent));
+  out.push_back(std::uint8_t(cu.exponent));
+  out.push_back(std::uint8_t(cv.exponent));
+  out.push_back(0);
+  put_pod(out, std::uint32_t(0));
+  put_pod(out, std::uint32_t(0));
+  if (mixed) {
+    const std::size_t m = out.size();
+    out.resize(m + bitmap_bytes_for(N), 0);
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b)
+        if (hit[a * n + b]) out[m + std::size_t(a * N + b) / 8] |= std::uint8_t(1u << ((a * N + b) % 8));
+  }
+  const std::size_t sections = out.size();
+  write_channel(out, ct, N);
+  const auto off_u = std::uint32_t((out.size() - sections) * 8);
+  write_channel(out, cu, N);
+  const auto off_v = std::uint32_t((out.size() - sections) * 8);
+  write_channel(out, cv, N);
+  std::memcpy(out.data() + at + 8, &off_u, 4);
+  std::memcpy(out.data() + at + 12, &off_v, 4);
+  return true;
+}
+
+} // namespace
+
+std::vector<std::uint8_t> encode_haar_table(const Sample* raw, const BoxParams& params, float t_step, float n_step) {
+  const int n = params.n, N = pow2_at_least(n);
+  const std::size_t tiles = params.tile_count();
+  const std::size_t per_tile = std::size_t(n) * std::size_t(n);
+  constexpr std::size_t kChunk = 512;
+  const std::size_t chunks = (tiles + kChunk - 1) / kChunk;
+  std::vector<std::vector<std::uint8_t>> chunk_data(chunks);
+  std::vector<std::uint32_t> index(tiles, 0);
+  constexpr std::uint32_t kMiss = 0xffffffffu;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t c = r.begin(); c != r.end(); ++c)
+      for (std::size_t tile = c * kChunk; tile < std::min(tiles, (c + 1) * kChunk); ++tile) {
+        const std::size_t at = chunk_data[c].size();
+        index[tile] = encode_tile(raw + tile * per_tile, n, N, t_step, n_step, chunk_data[c]) ? std::uint32_t(at) : kMiss;
+      }
+  });
+  std::vector<std::uint8_t> data(1, 0);
+  std::vector<std::uint64_t> base(chunks);
+  for (std::size_t c = 0; c < chunks; ++c) {
+    base[c] = data.size();
+    data.insert(data.end(), chunk_data[c].begin(), chunk_data[c].end());
+    std::vector<std::uint8_t>().swap(chunk_data[c]);
+  }
+  if (data.size() > 0xffffffffull) throw InvalidInput("haar codec: compressed table larger than 4 GiB");
+  for (std::size_t c = 0; c < chunks; ++c)
+    for (std::size_t tile = c * kChunk; tile < std::min(tiles, (c + 1) * kChunk); ++tile)
+      index[tile] = index[tile] == kMiss ? 0u : std::uint32_t(base[c] + index[tile]);
+  return assemble_payload(CodecId::haar, params, t_step, n_step, index, data, max_record_bytes(N));
+}
+
+HaarTable::HaarTable(const std::uint8_t* payload, std::size_t bytes, const BoxParams& params) {
+  const int N = pow2_at_least(params.n);
+  const PayloadHeader h = validate_payload(payload, bytes, CodecId::haar, params, params.tile_count(), max_record_bytes(N));
+  index_ = reinterpret_cast<const std::uint32_t*>(payload + h.index_offset);
+  data_ = payload + h.data_offset;
+  data_bytes_ = std::size_t(h.data_bytes);
+  t_step_ = h.t_step;
+  n_step_ = h.n_step;
+  n_ = params.n;
+  N_ = N;
+  mask_bytes_ = bitmap_bytes_for(N);
+  bitmap_bytes_ = bitmap_bytes_for(N);
+  max_section_bits_ = std::uint32_t(8u * 2u * (bitmap_bytes_ + std::size_t(N) * std::size_t(N) * 4u));
+}
+
+void HaarTable::decode_tile(std::size_t tile, DecodedSample* out) const {
+  for (int i = 0; i < n_ * n_; ++i) out[i] = {kMissT, 0.f, 0.f};
+  std::uint32_t offset;
+  std::memcpy(&offset, index_ + tile, 4);
+  if (offset >= data_bytes_) return;
+  const std::uint8_t* rec = data_ + offset;
+  if (rec[0] == 0) return;
+  const std::uint8_t* bits = rec + kHeaderBytes;
+  const std::uint8_t* mask = nullptr;
+  if (rec[0] == 2) {
+    mask = bits;
+    bits += mask_bytes_;
+  }
+  const auto off_u = get_pod<std::uint32_t>(rec + 8), off_v = get_pod<std::uint32_t>(rec + 12);
+  if (off_u > max_section_bits_ || off_v > max_section_bits_) return;
+  const std::size_t NN = std::size_t(N_) * std::size_t(N_);
+  std::vector<std::int64_t> c[3];  // not the hot path: a full decode may allocate
+  const std::uint8_t* sections[3] = {bits, bits + off_u / 8, bits + off_v / 8};
+  for (int ch = 0; ch < 3; ++ch) {
+    const unsigned k = rec[1 + ch] & 31u;
+    c[ch].assign(NN, 0);
+    std::uint64_t pos = 0;
+    for (std::size_t i = 0; i < NN; ++i)
+      if ((sections[ch][i / 8] >> (i % 8)) & 1u) {
+        const std::uint64_t z = read_bits(sections[ch] + bitmap_bytes_, pos, k);
+        pos += k;
+        c[ch][i] = std::int64_t(z >> 1) ^ -std::int64_t(z & 1u);
+      }
+    inverse_haar(c[ch], N_);
+  }
+  const float qt = step(t_step_, rec[4]), qu = step(n_step_, rec[5]), qv = step(n_step_, rec[6]);
+  for (int a = 0; a < n_; ++a)
+    for (int b = 0; b < n_; ++b) {
+      const std::size_t i = std::size_t(a) * std::size_t(N_) + std::size_t(b);
+      if (mask && !((mask[i / 8] >> (i % 8)) & 1u)) continue;
+      out[a * n_ + b] = {std::fmax(0.f, float(c[0][i]) * qt), std::fmin(1.f, std::fmax(-1.f, float(c[1][i]) * qu)),
+                         std::fmin(1.f, std::fmax(-1.f, float(c[2][i]) * qv))};
+    }
+}
+
+} // namespace hb

@@ -1,0 +1,295 @@
+// Table codecs on real (baked) tables: error bounds, random access, hit/miss, corruption,
+// file round trip. Small boxes from generated meshes keep the suite fast.
+#include "codec/sample_table.h"
+#include "errors.h"
+#include "geometry/octahedral.h"
+#include "haptic_box/bake.h"
+#include "haptic_box/box_file.h"
+#include "mesh/generators.h"
+#include <gtest/gtest.h>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <unistd.h>
+
+namespace hb {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Bumpy sphere and torus boxes, baked once: n = 12 gives partial 8 x 8 blocks and a padded
+// Haar tile (N = 16); the torus has misses and silhouettes in most tiles.
+struct Boxes {
+  HapticBox bumpy, torus;
+};
+const Boxes& boxes() {
+  static const Boxes b = [] {
+    BakeOptions options;
+    options.params = {6, 12};
+    BumpySphereOptions bumpy;
+    bumpy.subdivisions = 4;
+    const TriangleMesh a = make_bumpy_sphere(bumpy);
+    const TriangleMesh t = make_torus(1.f, 0.35f, 48, 24);
+    return Boxes{bake_box(a, {}, options), bake_box(t, {}, options)};
+  }();
+  return b;
+}
+
+// Keeps the optimiser from dropping the reads of a robustness test.
+void benchmark_sink(double v) {
+  volatile double sink = v;
+  (void)sink;
+}
+
+CodecOptions options(CodecId codec, float max_error) {
+  CodecOptions o;
+  o.codec = codec;
+  o.max_error = max_error;
+  return o;
+}
+
+// Checks every sample of `c` against the raw `box` directly (not through CodecStats).
+void expect_within_bound(const HapticBox& box, const HapticBox& c, float bound, int normal_bits) {
+  const BoxParams& p = box.params();
+  const std::size_t per_tile = std::size_t(p.n) * std::size_t(p.n);
+  const double limit = double(bound) * double(box.obb().diagonal());
+  const double n_limit = 1.0 / double((1 << normal_bits) - 1) + 1e-6;
+  std::vector<DecodedSample> dec(per_tile);
+  std::size_t hits = 0;
+  for (std::size_t tile = 0; tile < p.tile_count(); ++tile) {
+    c.samples().decode_tile(tile, dec.data());
+    for (std::size_t i = 0; i < per_tile; ++i) {
+      const Sample& s = box.table()[tile * per_tile + i];
+      ASSERT_EQ(s.t >= 0.f, dec[i].t >= 0.f) << "hit/miss changed at tile " << tile << " sample " << i;
+      if (s.t < 0.f) continue;
+      ++hits;
+      ASSERT_LE(std::fabs(double(dec[i].t) - double(s.t)), limit) << "tile " << tile << " sample " << i;
+      ASSERT_LE(std::fabs(dec[i].u - float(std::int16_t(s.normal & 0xffffu)) / 32767.f), n_limit);
+      ASSERT_LE(std::fabs(dec[i].v - float(std::int16_t(s.normal >> 16)) / 32767.f), n_limit);
+    }
+  }
+  EXPECT_GT(hits, 0u);
+  EXPECT_LE(c.codec_stats().t_error_max, bound);
+  EXPECT_EQ(c.codec_stats().hit_miss_flips, 0u);
+}
+
+void expect_random_access_equals_full_decode(const HapticBox& c) {
+  const BoxParams& p = c.params();
+  std::vector<DecodedSample> dec(std::size_t(p.n) * std::size_t(p.n));
+  for (std::size_t tile = 0; tile < p.tile_count(); tile += 7) {
+    c.samples().decode_tile(tile, dec.data());
+    for (int a = 0; a < p.n; ++a)
+      for (int b = 0; b < p.n; ++b) {
+        const DecodedSample one = c.samples().decode(tile, a, b);
+        const DecodedSample& all = dec[std::size_t(a * p.n + b)];
+        ASSERT_EQ(one.t, all.t) << "tile " << tile << " (" << a << ", " << b << ")";
+        ASSERT_EQ(one.u, all.u);
+        ASSERT_EQ(one.v, all.v);
+      }
+  }
+}
+
+TEST(BlockCodecTest, ErrorBoundIsHonouredOnRealTables) {
+  for (float bound : {1e-4f, 1e-3f, 1e-2f}) {
+    expect_within_bound(boxes().bumpy, boxes().bumpy.compressed(options(CodecId::block, bound)), bound, CodecOptions{}.normal_bits);
+    expect_within_bound(boxes().torus, boxes().torus.compressed(options(CodecId::block, bound)), bound, CodecOptions{}.normal_bits);
+  }
+}
+
+TEST(HaarCodecTest, ErrorBoundIsHonouredOnRealTables) {
+  for (float bound : {1e-4f, 1e-3f, 1e-2f}) {
+    expect_within_bound(boxes().bumpy, boxes().bumpy.compressed(options(CodecId::haar, bound)), bound, CodecOptions{}.normal_bits);
+    expect_within_bound(boxes().torus, boxes().torus.compressed(options(CodecId::haar, bound)), bound, CodecOptions{}.normal_bits);
+  }
+}
+
+TEST(BlockCodecTest, CoarseNormalsStayWithinTheirBound) {
+  CodecOptions o = options(CodecId::block, 1e-3f);
+  o.normal_bits = 7;
+  expect_within_bound(boxes().torus, boxes().torus.compressed(o), 1e-3f, 7);
+}
+
+TEST(BlockCodecTest, RandomAccessEqualsFullDecode) {
+  expect_random_access_equals_full_decode(boxes().torus.compressed(options(CodecId::block, 1e-3f)));
+  expect_random_access_equals_full_decode(boxes().bumpy.compressed(options(CodecId::block, 1e-4f)));
+}
+
+TEST(HaarCodecTest, RandomAccessEqualsFullDecode) {
+  expect_random_access_equals_full_decode(boxes().torus.compressed(options(CodecId::haar, 1e-3f)));
+  expect_random_access_equals_full_decode(boxes().bumpy.compressed(options(CodecId::haar, 1e-4f)));
+}
+
+TEST(CodecTest, HitMissIsPreservedExactlyEvenAtLooseBounds) {
+  for (CodecId codec : {CodecId::block, CodecId::haar}) {
+    const HapticBox c = boxes().torus.compressed(options(codec, 0.1f));
+    EXPECT_EQ(c.codec_stats().hit_miss_flips, 0u) << codec_name(codec);
+    const BoxParams& p = c.params();
+    for (std::size_t tile = 0; tile < p.tile_count(); tile += 3)
+      for (int a = 0; a < p.n; ++a)
+        for (int b = 0; b < p.n; ++b) {
+          const Sample& s = boxes().torus.table()[(tile * std::size_t(p.n) + std::size_t(a)) * std::size_t(p.n) + std::size_t(b)];
+          ASSERT_EQ(s.t >= 0.f, c.samples().decode(tile, a, b).t >= 0.f);
+        }
+  }
+}
+
+TEST(CodecTest, CompressedQueryAgreesWithRawQuery) {
+  const HapticBox& raw = boxes().bumpy;
+  const HapticBox c = raw.compressed(options(CodecId::block, 2e-4f));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-1.f, 1.f);
+  int agree = 0, total = 0;
+  double depth_err = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 dir = Vec3(u(rng), u(rng), u(rng)).normalized();
+    const Vec3 tip = dir * (0.95f + 0.1f * u(rng));
+    const Segment s{tip + dir * 0.5f, tip};
+    const Contact a = raw.query(s, {}), b = c.query(s, {});
+    ++total;
+    agree += a.contact == b.contact;
+    if (a.contact && b.contact) depth_err = std::max(depth_err, double(std::fabs(a.depth - b.depth)));
+  }
+  EXPECT_GE(double(agree) / total, 0.99);
+  // The bound, times a little for the tangent-plane correction through the normals.
+  EXPECT_LE(depth_err, 4.0 * 2e-4 * raw.obb().diagonal());
+}
+
+TEST(CodecTest, RatioTargetIsReached) {
+  CodecOptions o;
+  o.codec = CodecId::block;
+  o.ratio = 6.f;
+  const HapticBox c = boxes().bumpy.compressed(o);
+  EXPECT_GE(c.codec_stats().ratio(), 6.0);
+  EXPECT_LE(c.codec_stats().t_error_max, c.codec_stats().max_error_bound);
+}
+
+TEST(CodecTest, OutOfRangeOptionsAreRejected) {
+  EXPECT_THROW(boxes().bumpy.compressed(options(CodecId::block, 0.5f)), InvalidInput);
+  EXPECT_THROW(boxes().bumpy.compressed(options(CodecId::none, 1e-3f)), InvalidInput);
+  CodecOptions o = options(CodecId::haar, 1e-3f);
+  o.normal_bits = 20;
+  EXPECT_THROW(boxes().bumpy.compressed(o), InvalidInput);
+  EXPECT_THROW(parse_codec("zip"), InvalidInput);
+  const HapticBox c = boxes().bumpy.compressed(options(CodecId::block, 1e-3f));
+  EXPECT_THROW(c.compressed(options(CodecId::block, 1e-3f)), InvalidInput);
+}
+
+TEST(CodecTest, CorruptPayloadHeaderIsRejected) {
+  for (CodecId codec : {CodecId::block, CodecId::haar}) {
+    CompressedTable t = compress_table(boxes().bumpy.table(), boxes().bumpy.params(), boxes().bumpy.obb().diagonal(),
+                                       options(codec, 1e-3f));
+    std::vector<std::uint8_t> bad = t.payload;
+    bad[0] ^= 0xff;  // magic
+    EXPECT_THROW(SampleTable(codec, bad.data(), bad.size(), boxes().bumpy.params()), InvalidInput);
+    bad = t.payload;
+    bad.resize(bad.size() / 2);  // truncated
+    try {
+      SampleTable(codec, bad.data(), bad.size(), boxes().bumpy.params());
+      FAIL() << "truncated payload accepted";
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find("compressed payload"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(SampleTable(codec, t.payload.data(), t.payload.size(), BoxParams{6, 10}), InvalidInput);
+  }
+}
+
+TEST(CodecTest, CorruptRecordsNeverReadOutOfBounds) {
+  for (CodecId codec : {CodecId::block, CodecId::haar}) {
+    CompressedTable t = compress_table(boxes().torus.table(), boxes().torus.params(), boxes().torus.obb().diagonal(),
+                                       options(codec, 1e-3f));
+    PayloadHeader h;
+    std::memcpy(&h, t.payload.data(), sizeof(h));
+    std::mt19937 rng(11);
+    // Garbage in the index and the data, header intact: the view is accepted (lazy
+    // loading validates the header only) and every read must stay in bounds.
+    for (std::size_t i = h.index_offset; i < h.data_offset + h.data_bytes; i += 1 + rng() % 64)
+      t.payload[i] = std::uint8_t(rng());
+    const SampleTable view(codec, t.payload.data(), t.payload.size(), boxes().torus.params());
+    const BoxParams& p = boxes().torus.params();
+    double sum = 0;
+    for (std::size_t tile = 0; tile < p.tile_count(); ++tile)
+      for (int a = 0; a < p.n; ++a)
+        for (int b = 0; b < p.n; ++b) sum += view.decode(tile, a, b).t;
+    benchmark_sink(sum);
+  }
+}
+
+class CodecFileTest : public ::testing::Test {
+protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("hb_codec_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string save(const BoxScene& scene, const std::string& name) {
+    const std::string p = (dir_ / name).string();
+    save_box_file(scene, p);
+    return p;
+  }
+  std::vector<char> read(const std::string& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+  }
+  std::string write(const std::string& name, const std::vector<char>& data) {
+    const std::string p = (dir_ / name).string();
+    std::ofstream(p, std::ios::binary).write(data.data(), std::streamsize(data.size()));
+    return p;
+  }
+  fs::path dir_;
+};
+
+TEST_F(CodecFileTest, RoundTripGivesIdenticalAnswersAndStats) {
+  for (CodecId codec : {CodecId::block, CodecId::haar}) {
+    const BoxScene scene({boxes().torus.compressed(options(codec, 5e-4f)), boxes().bumpy}, {"x.off", 1u, 10u, 3.f});
+    const BoxScene loaded = load_box_file(save(scene, std::string("rt_") + codec_name(codec) + ".hbox"), LoadOptions{true});
+    ASSERT_EQ(loaded.boxes().size(), 2u);
+    EXPECT_EQ(loaded.boxes()[0].codec(), codec);
+    EXPECT_EQ(loaded.boxes()[1].codec(), CodecId::none);
+    EXPECT_EQ(loaded.boxes()[0].table_bytes(), scene.boxes()[0].table_bytes());
+    EXPECT_EQ(loaded.boxes()[0].codec_stats().t_error_max, scene.boxes()[0].codec_stats().t_error_max);
+    EXPECT_EQ(loaded.boxes()[0].codec_stats().max_error_bound, 5e-4f);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(-2.f, 2.f);
+    for (int i = 0; i < 500; ++i) {
+      const Segment s{Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)) * 0.3f};
+      const Contact a = scene.query(s, {}), b = loaded.query(s, {});
+      ASSERT_EQ(a.contact, b.contact);
+      EXPECT_EQ(a.depth, b.depth);
+      EXPECT_EQ(a.force, b.force);
+    }
+  }
+}
+
+TEST_F(CodecFileTest, CorruptCompressedPayloadIsRejected) {
+  const BoxScene scene({boxes().torus.compressed(options(CodecId::block, 1e-3f))}, {"x.off", 1u, 10u, 3.f});
+  const std::string path = save(scene, "good.hbox");
+  auto data = read(path);
+  // A flipped byte deep inside the payload: found by the checksum when verifying.
+  auto bad = data;
+  bad[bad.size() - 2000] ^= 0x5a;
+  const std::string p1 = write("corrupt_payload.hbox", bad);
+  try {
+    load_box_file(p1, LoadOptions{true});
+    FAIL() << "corrupt payload accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find(p1), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("checksum"), std::string::npos) << e.what();
+  }
+  // The payload's own header is checked even on a lazy open.
+  const std::size_t payload_at = (data.size() - scene.boxes()[0].table_bytes()) / 64 * 64;
+  ASSERT_EQ(std::memcmp(data.data() + payload_at, "HBTC", 4), 0);
+  bad = data;
+  bad[payload_at + 8] ^= 0x01;  // m
+  const std::string p2 = write("corrupt_payload_header.hbox", bad);
+  try {
+    load_box_file(p2);
+    FAIL() << "corrupt payload header accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find(p2), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("compressed payload"), std::string::npos) << e.what();
+  }
+}
+
+} // namespace
+} // namespace hb
