@@ -51,11 +51,7 @@ void add_bake_command(CLI::App& app) {
     hb::BakeStats stats;
     const auto pieces = hb::cli::resolve_pieces(mesh, opts->pieces, opts->bake.params.m);
     hb::BoxScene scene = hb::bake_scene_from_lists(mesh, pieces, opts->bake, source, &stats);
-    if (opts->codec_options.codec != hb::CodecId::none) {
-      std::vector<hb::HapticBox> boxes;
-      for (const hb::HapticBox& box : scene.boxes()) boxes.push_back(box.compressed(opts->codec_options));
-      scene = hb::BoxScene(std::move(boxes), scene.source());
-    }
+    if (opts->codec_options.codec != hb::CodecId::none) scene = scene.compressed(opts->codec_options);
     hb::save_box_file(scene, opts->out);
     std::uint64_t raw_bytes = 0, table_bytes = 0;
     double t_mean = 0, t_max = 0, a_mean = 0, a_max = 0, bound = 0;

@@ -33,13 +33,10 @@ void add_compress_command(CLI::App& app) {
   cmd->callback([opts] {
     const hb::BoxScene scene = hb::load_box_file(opts->box);
     opts->codec_options.codec = hb::parse_codec(opts->codec);
-    std::vector<hb::HapticBox> boxes;
-    for (const hb::HapticBox& box : scene.boxes()) {
+    for (const hb::HapticBox& box : scene.boxes())
       if (box.codec() != hb::CodecId::none)
         throw hb::cli::UsageError(opts->box + ": already compressed (codec " + hb::codec_name(box.codec()) + ")");
-      boxes.push_back(box.compressed(opts->codec_options));
-    }
-    const hb::BoxScene out(std::move(boxes), scene.source());
+    const hb::BoxScene out = scene.compressed(opts->codec_options);
     hb::save_box_file(out, opts->out);
     std::uint64_t raw = 0, bytes = 0;
     double t_max = 0, bound = 0;

@@ -229,6 +229,7 @@ QString HapticSession::cachePath() const {
   QString file = QString::fromStdString(hb::sweep_cache_path(dir.toStdString(), meshHash_, config));
   // Padding and pieces change the boxes too: encode them in the name.
   QString suffix = QStringLiteral("_p%1").arg(static_cast<int>(std::lround(bake_.padding * 10000)));
+  if (bake_.pieces == BakeSettings::Pieces::Automatic) suffix += QStringLiteral("_auto");
   if (bake_.pieces == BakeSettings::Pieces::File) {
     try {
       suffix += QStringLiteral("_pieces%1").arg(QString::fromStdString(
@@ -266,17 +267,18 @@ bool HapticSession::startBake(QString* error) {
     return false;
   }
   if (busy(error)) return false;
-  if (bake_.codec != QLatin1String("none")) {
-    // LEAD: codecs (src/codec) plug in here: encode the tables after bake_scene and save with
-    // the codec; until then only "none" exists.
-    if (error) *error = tr("codec '%1' is not in this build").arg(bake_.codec);
+  hb::CodecOptions codec;
+  try {
+    codec.codec = hb::parse_codec(bake_.codec.toStdString());
+  } catch (const std::exception& e) {
+    if (error) *error = QString::fromStdString(e.what());
     return false;
   }
   auto mesh = mesh_;
   const BakeSettings settings = bake_;
   const hb::SourceInfo source = sourceInfo();
   const QString cache = settings.useCache ? cachePath() : QString();
-  return job_->start(tr("Bake"), [this, mesh, settings, source, cache](const auto& progress) {
+  return job_->start(tr("Bake"), [this, mesh, settings, source, cache, codec](const auto& progress) {
     const std::vector<std::uint32_t> pieces = piecesFor(*mesh, settings);
     hb::BakeOptions o;
     o.params.m = settings.m;
@@ -290,6 +292,7 @@ bool HapticSession::startBake(QString* error) {
     seams.obb = o.obb;
     auto scene = std::make_shared<hb::BoxScene>(
         hb::bake_scene_from_lists(*mesh, hb::piece_triangle_lists(*mesh, pieces, seams), o, source, &stats));
+    if (codec.codec != hb::CodecId::none) *scene = scene->compressed(codec);  // default error bound
     if (!cache.isEmpty()) {
       try {
         QDir().mkpath(QFileInfo(cache).absolutePath());

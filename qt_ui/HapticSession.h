@@ -27,9 +27,9 @@ namespace hb {
 class VirtualDevice;
 }
 
-/// What the bake panel sets. The decomposition and the codecs are not in this build: pieces
-/// are "none" (one box) or a piece file; the codec is "none". See HapticSession::piecesFor
-/// and HapticSession::startBake for where `auto` and codecs plug in.
+/// What the bake panel sets: densities, padding, pieces (none: one box, a piece file, or
+/// automatic: hb::decompose_auto) and the table codec ("none", "block", "haar"; compressed at
+/// the codec's default error bound).
 struct BakeSettings {
   enum class Pieces { None, File, Automatic };
   int m = 16;                     ///< position points per PBB face edge.

@@ -19,11 +19,7 @@
 #include <fstream>
 #include <iomanip>
 #include <sstream>
-// The compression curve comes with the codec layer (src/codec, evaluation/compression_sweep).
-#if __has_include("evaluation/compression_sweep.h")
 #include "evaluation/compression_sweep.h"
-#define HB_REPORT_HAS_CODECS 1
-#endif
 
 namespace hb {
 namespace fs = std::filesystem;
@@ -153,9 +149,7 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   d.params = scene.boxes().front().params();
   d.memory_bytes = scene.table_bytes();
   d.bake_seconds = bake_seconds;
-#ifdef HB_REPORT_HAS_CODECS
   d.codec = codec_name(scene.boxes().front().codec());
-#endif
   const ContactQuery& exact = *references.front().query;
 
   // 1. Accuracy on eval's probes.
@@ -197,7 +191,6 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
 
   // Compression curve of one codec over its error bounds.
   if (!options.compression_codec.empty() && options.compression_codec != "none") {
-#ifdef HB_REPORT_HAS_CODECS
     CompressionSweepOptions co;
     co.codecs = {parse_codec(options.compression_codec)};
     co.probes = probes;
@@ -205,9 +198,6 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
     co.law = options.law;
     for (const CompressionSweepPoint& p : compression_sweep(scene, co))
       if (p.codec != CodecId::none) d.compression_curve.emplace_back(p.ratio, p.force_error_vs_raw_median);
-#else
-    throw InvalidInput("report: codec '" + options.compression_codec + "' is not available in this build");
-#endif
   }
 
   // 3. Error field at the vertices.

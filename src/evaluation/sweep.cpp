@@ -12,27 +12,16 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-// Codecs come with src/codec/ (the codec layer); without it only "none" is accepted.
-#if __has_include("codec/codec.h")
 #include "codec/codec.h"
-#define HB_SWEEP_HAS_CODECS 1
-#endif
 
 namespace hb {
 namespace {
 
 // The raw scene compressed with `codec` at the codec's default error bound.
 BoxScene compress_scene(const BoxScene& raw, const std::string& codec) {
-#ifdef HB_SWEEP_HAS_CODECS
   CodecOptions options;
   options.codec = parse_codec(codec);
-  std::vector<HapticBox> boxes;
-  for (const HapticBox& box : raw.boxes()) boxes.push_back(box.compressed(options));
-  return BoxScene(std::move(boxes), raw.source());
-#else
-  (void)codec;
-  return raw;
-#endif
+  return raw.compressed(options);
 }
 
 } // namespace
@@ -40,11 +29,7 @@ BoxScene compress_scene(const BoxScene& raw, const std::string& codec) {
 void check_sweep_config(const SweepConfig& config) {
   if (config.m < 2 || config.n < 2) throw InvalidInput("sweep: m and n must be >= 2");
   if (config.codec == "none") return;
-#ifdef HB_SWEEP_HAS_CODECS
   (void)parse_codec(config.codec);  // throws hb::InvalidInput naming the accepted values
-#else
-  throw InvalidInput("sweep: codec '" + config.codec + "' is not available in this build (only 'none')");
-#endif
 }
 
 std::vector<SweepConfig> sweep_grid(const std::vector<int>& ms, const std::vector<int>& ns,

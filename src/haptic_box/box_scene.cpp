@@ -126,4 +126,11 @@ std::size_t BoxScene::table_bytes() const {
   return sum;
 }
 
+BoxScene BoxScene::compressed(const CodecOptions& options) const {
+  std::vector<HapticBox> boxes;
+  boxes.reserve(boxes_.size());
+  for (const HapticBox& box : boxes_) boxes.push_back(box.compressed(options));
+  return BoxScene(std::move(boxes), source_);
+}
+
 } // namespace hb

@@ -30,6 +30,10 @@ public:
   /// How many boxes' PBBs the segment meets (the boxes whose tables a query reads).
   std::size_t boxes_met(const Segment& segment) const noexcept;
 
+  /// A copy with every box's table compressed (see HapticBox::compressed); throws
+  /// hb::InvalidInput when a box is already compressed or the options are out of range.
+  BoxScene compressed(const CodecOptions& options) const;
+
   const std::vector<HapticBox>& boxes() const { return boxes_; }
   const SourceInfo& source() const { return source_; }
   std::size_t table_bytes() const;
