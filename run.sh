@@ -19,9 +19,13 @@ fi
 mkdir -p out
 echo "== mesh"
 "$HB" info "$MODEL"
-echo "== bake (m=32, n=16)"
-"$HB" bake "$MODEL" -o out/default.hbox -m 32 -n 16
+echo "== bake: automatic quasi-convex pieces, m=32 n=16, block codec (0.05% of each box's diagonal)"
+"$HB" bake "$MODEL" -o out/default.hbox -m 32 -n 16 --pieces auto --codec block
+"$HB" info out/default.hbox | grep -E '^(boxes|bytes|codec|compression_ratio|table_bytes):'
 echo "== eval against the exact Embree answer"
 "$HB" eval out/default.hbox "$MODEL" --samples 20000 --seed 1
 echo "== bench (one core)"
 "$HB" bench out/default.hbox "$MODEL"
+echo "== report (report.html, summary.json, samples.csv)"
+"$HB" report out/default.hbox "$MODEL" -o out/report --no-sweep
+echo "run.sh: the report is in out/report/report.html"
