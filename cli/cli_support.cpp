@@ -20,6 +20,21 @@ ProgressCallback terminal_progress(const std::string& label) {
   };
 }
 
+CLI::Option* add_codec_bound_options(CLI::App& cmd, CodecOptions& options) {
+  auto* max_error = cmd.add_option("--max-error", options.max_error,
+                                   "Bound on |t1 - t0| / box diagonal for every hit sample")
+                        ->check(CLI::Range(1e-5, 0.1))
+                        ->capture_default_str();
+  auto* ratio = cmd.add_option("--ratio", options.ratio,
+                               "Target compression ratio (finds the tightest bound reaching it)")
+                    ->check(CLI::Range(1.0, 1e6));
+  max_error->excludes(ratio);
+  cmd.add_option("--normal-bits", options.normal_bits, "Octahedral normal bits per coordinate")
+      ->check(CLI::Range(6, 14))
+      ->capture_default_str();
+  return max_error;
+}
+
 void add_force_law_options(CLI::App& cmd, ForceLaw& law) {
   cmd.add_option("--stiffness", law.stiffness_n_per_m, "Spring stiffness k in N/m")
       ->check(CLI::PositiveNumber)

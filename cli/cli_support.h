@@ -1,6 +1,7 @@
 #pragma once
 // Small pieces the sub-commands share: the failure type that carries an exit code, the
 // terminal progress bar, the force-law options and JSON output.
+#include "codec/codec.h"
 #include "haptic_box/contact.h"
 #include "progress.h"
 #include <CLI/CLI.hpp>
@@ -18,6 +19,10 @@ public:
 
 /// A progress callback drawing a bar on stderr when it is a terminal (silent otherwise).
 ProgressCallback terminal_progress(const std::string& label);
+
+/// Adds --max-error, --ratio (mutually exclusive) and --normal-bits to a command; returns the
+/// --max-error option (to tell whether it was given).
+CLI::Option* add_codec_bound_options(CLI::App& cmd, CodecOptions& options);
 
 /// Adds --stiffness and --metres-per-unit to a command.
 void add_force_law_options(CLI::App& cmd, ForceLaw& law);

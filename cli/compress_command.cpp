@@ -20,15 +20,7 @@ void add_compress_command(CLI::App& app) {
   cmd->add_option("-o,--output", opts->out, "Output box file (.hbox)")->required();
   cmd->add_option("--codec", opts->codec, "Table codec: haar (the paper's) or block (ours)")
       ->check(CLI::IsMember({"haar", "block"}))->capture_default_str();
-  auto* max_error = cmd->add_option("--max-error", opts->codec_options.max_error,
-                                    "Bound on |t1 - t0| / box diagonal for every hit sample")
-                        ->check(CLI::Range(1e-5, 0.1))->capture_default_str();
-  auto* ratio = cmd->add_option("--ratio", opts->codec_options.ratio,
-                                "Target compression ratio (finds the tightest bound reaching it)")
-                    ->check(CLI::Range(1.0, 1e6));
-  max_error->excludes(ratio);
-  cmd->add_option("--normal-bits", opts->codec_options.normal_bits, "Octahedral normal bits per coordinate")
-      ->check(CLI::Range(6, 14))->capture_default_str();
+  hb::cli::add_codec_bound_options(*cmd, opts->codec_options);
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
   cmd->callback([opts] {
     const hb::BoxScene scene = hb::load_box_file(opts->box);

@@ -1,6 +1,7 @@
 // hapticbox eval BOX MESH [--samples N] [--seed S] [--json]
 #include "cli_support.h"
 #include "commands.h"
+#include "eval_json.h"
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
@@ -34,20 +35,7 @@ void add_eval_command(CLI::App& app) {
     const auto probes = hb::sample_probes(mesh, opts->samples, opts->probes);
     const float diag = mesh.bounds().diagonal();
     const hb::ComparisonStats s = hb::compare_queries(scene, exact, probes, opts->law, diag);
-    const nlohmann::json j = {{"box", opts->box},
-                              {"mesh", opts->mesh},
-                              {"seed", opts->probes.seed},
-                              {"samples", s.samples},
-                              {"exact_contacts", s.exact_contacts},
-                              {"contact_agreement", s.contact_agreement},
-                              {"false_contacts", s.false_contacts},
-                              {"missed_contacts", s.missed_contacts},
-                              {"force_error_median", s.force_error_median},
-                              {"force_error_p95", s.force_error_p95},
-                              {"force_error_max", s.force_error_max},
-                              {"angle_error_median_deg", s.angle_error_median_deg},
-                              {"angle_error_p99_deg", s.angle_error_p99_deg},
-                              {"depth_rms_over_diag", s.depth_rms_over_diag}};
+    const nlohmann::json j = hb::eval_json(s, opts->box, opts->mesh, opts->probes.seed);
     if (opts->json) {
       hb::cli::print_json(j);
       return;

@@ -7,6 +7,7 @@
 //  4. writing: charts through PLplot (PNG files), then report.html with the PNGs embedded as
 //     base64 data URIs (one self-contained file), summary.json and samples.csv.
 #include "report.h"
+#include "eval_json.h"
 #include "errors.h"
 #include "evaluation/probe_sampling.h"
 #include "evaluation/query_timing.h"
@@ -251,20 +252,7 @@ std::string report_json(const ReportData& d) {
   for (const SweepConfig& c : o.sweep_configs)
     j["parameters"]["sweep_configs"].push_back({{"m", c.m}, {"n", c.n}, {"codec", c.codec}});
   // The keys of `hapticbox eval --json`, with the same values for the same input and seed.
-  j["eval"] = {{"box", d.box_path},
-               {"mesh", d.mesh_path},
-               {"seed", o.probes.seed},
-               {"samples", s.samples},
-               {"exact_contacts", s.exact_contacts},
-               {"contact_agreement", s.contact_agreement},
-               {"false_contacts", s.false_contacts},
-               {"missed_contacts", s.missed_contacts},
-               {"force_error_median", s.force_error_median},
-               {"force_error_p95", s.force_error_p95},
-               {"force_error_max", s.force_error_max},
-               {"angle_error_median_deg", s.angle_error_median_deg},
-               {"angle_error_p99_deg", s.angle_error_p99_deg},
-               {"depth_rms_over_diag", s.depth_rms_over_diag}};
+  j["eval"] = eval_json(s, d.box_path, d.mesh_path, o.probes.seed);
   nlohmann::json timing = {{"box_ns", d.box_ns}};
   for (const SweepRow& r : d.rows)
     if (r.method != "haptic_box") timing[r.method + "_ns"] = r.query_ns;

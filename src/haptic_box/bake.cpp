@@ -14,7 +14,7 @@
 #include <tbb/parallel_for.h>
 #include <atomic>
 #include <chrono>
-#include <mutex>
+#include <thread>
 
 namespace hb {
 namespace {
@@ -26,24 +26,27 @@ void check_params(const BoxParams& p) {
     throw InvalidInput("bake: n must be in [2, 256], got " + std::to_string(p.n));
 }
 
-// Shared progress state across the boxes of one scene bake.
+// Shared progress state across the boxes of one scene bake. Workers add what they finished;
+// the callback runs on the calling thread only (which also works in the parallel loop), at
+// most every 50 ms, and once more at the end of each box, so a cancel is always honoured.
 struct ProgressState {
   const ProgressCallback* callback = nullptr;
+  const std::thread::id caller = std::this_thread::get_id();
   std::atomic<std::uint64_t> done{0};
   std::uint64_t total = 1;
   std::atomic<bool> cancelled{false};
-  std::mutex mutex;
-  std::chrono::steady_clock::time_point last{};
+  std::chrono::steady_clock::time_point last{};  // the calling thread's only
 
   void advance(std::uint64_t amount) {
-    const std::uint64_t now_done = done.fetch_add(amount) + amount;
-    if (!callback || !*callback) return;
-    std::unique_lock<std::mutex> lock(mutex, std::try_to_lock);
-    if (!lock.owns_lock()) return;
+    done += amount;
+    if (std::this_thread::get_id() != caller) return;
     const auto now = std::chrono::steady_clock::now();
-    if (now_done < total && now - last < std::chrono::milliseconds(50)) return;
+    if (now - last < std::chrono::milliseconds(50)) return;
     last = now;
-    if (!(*callback)(double(now_done) / double(total))) cancelled = true;
+    report();
+  }
+  void report() {
+    if (callback && *callback && !(*callback)(double(done) / double(total))) cancelled = true;
   }
 };
 
@@ -88,6 +91,7 @@ HapticBox bake_one(const TriangleMesh& mesh, const std::vector<std::uint32_t>& t
     hit_count += local_hits;
     progress.advance(std::uint64_t(r.size()) * p.samples_per_position());
   }, tbb::simple_partitioner());  // chunks of 4 position points: a cancel is seen within ms
+  progress.report();
   if (progress.cancelled) throw Cancelled("bake cancelled");
   hits += hit_count;
   return HapticBox(obb, p, std::move(table));

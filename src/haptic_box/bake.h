@@ -10,8 +10,9 @@ namespace hb {
 struct BakeOptions {
   BoxParams params;           ///< densities m and n.
   ObbOptions obb;             ///< PBB fitting (padding).
-  /// Progress in [0, 1]; return false to cancel (the bake then throws hb::Cancelled).
-  /// Called from one worker thread at a time, not necessarily the caller's.
+  /// Progress in [0, 1]; return false to cancel (the bake then throws hb::Cancelled, even
+  /// when the cancel comes with the last call). Called on the calling thread only, about
+  /// every 50 ms and at the end of each box.
   ProgressCallback progress;
 };
 

@@ -4,6 +4,7 @@
 #include "haptic_box/contact.h"
 #include "mesh/generators.h"
 #include "mesh/mesh_io.h"
+#include "run_cli.h"
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <array>
@@ -16,10 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
+using Result = hb::test::CommandResult;
 
 class CliTest : public ::testing::Test {
 protected:
@@ -30,21 +28,7 @@ protected:
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
 
-  static Result run(const std::string& args) {
-    const std::string err_path = (dir_ / "stderr.txt").string();
-    // No display: the command line must never need one.
-    const std::string cmd = "env -u DISPLAY " + std::string(HB_CLI_PATH) + " " + args + " 2>" + err_path;
-    Result r;
-    FILE* pipe = popen(cmd.c_str(), "r");
-    std::array<char, 4096> buf{};
-    std::size_t n;
-    while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.out.append(buf.data(), n);
-    const int status = pclose(pipe);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream e(err_path);
-    r.err.assign(std::istreambuf_iterator<char>(e), {});
-    return r;
-  }
+  static Result run(const std::string& args) { return hb::test::run_cli(args, dir_.string()); }
   static std::string path(const std::string& name) { return (dir_ / name).string(); }
   static std::string write(const std::string& name, const std::string& text) {
     std::ofstream(path(name)) << text;

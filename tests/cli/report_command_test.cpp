@@ -1,6 +1,7 @@
 // hapticbox sweep / report / field end to end, with no display: the real binary on real files.
 #include "mesh/generators.h"
 #include "mesh/mesh_io.h"
+#include "run_cli.h"
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <array>
@@ -14,10 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandResult {
-  int code = -1;
-  std::string out, err;
-};
+using hb::test::CommandResult;
 
 class ReportCommandTest : public ::testing::Test {
 protected:
@@ -32,19 +30,7 @@ protected:
     std::ifstream in(path(name));
     return std::string(std::istreambuf_iterator<char>(in), {});
   }
-  static CommandResult run(const std::string& args) {
-    const std::string err_path = path("stderr.txt");
-    const std::string cmd = "env -u DISPLAY " + std::string(HB_CLI_PATH) + " " + args + " 2>" + err_path;
-    CommandResult r;
-    FILE* pipe = popen(cmd.c_str(), "r");
-    std::array<char, 4096> buf{};
-    std::size_t n;
-    while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.out.append(buf.data(), n);
-    const int status = pclose(pipe);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.err = read("stderr.txt");
-    return r;
-  }
+  static CommandResult run(const std::string& args) { return hb::test::run_cli(args, dir_.string()); }
   static fs::path dir_;
 };
 fs::path ReportCommandTest::dir_;

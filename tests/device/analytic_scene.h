@@ -1,31 +1,14 @@
 #pragma once
-// A real ContactQuery for device tests: the half-space z < height (model units), answered in
-// closed form with the project's contact definition (first surface met walking from S to E
-// must lie on the segment; S inside = no contact).
+// Real ContactQuery scenes for device tests: the closed-form half-space (the project's contact
+// definition) and a scene that answers NaN forces, for the safety path.
+#include "device/plane_scene.h"
 #include "haptic_box/contact.h"
+#include <limits>
 
 namespace hb::test {
 
-class HalfSpaceScene final : public ContactQuery {
-public:
-  explicit HalfSpaceScene(float height = 0.f) : height_(height) {}
-  Contact query(const Segment& s, const ForceLaw& law) const noexcept override {
-    Contact c;
-    const float zs = s.start.z() - height_, ze = s.end.z() - height_;
-    if (zs > 0.f && ze < 0.f) {
-      const float t = zs / (zs - ze);
-      c.contact = true;
-      c.point = s.start + t * (s.end - s.start);
-      c.depth = (s.end - c.point).norm();
-      c.normal = Vec3(0.f, 0.f, 1.f);
-    }
-    apply_force_law(c, law);
-    return c;
-  }
-
-private:
-  float height_;
-};
+/// The device layer's own closed-form half-space scene (device/plane_scene.h).
+using HalfSpaceScene = hb::PlaneScene;
 
 /// Returns NaN forces: for the safety path.
 class NanScene final : public ContactQuery {

@@ -1,0 +1,29 @@
+#pragma once
+// The JSON of `hapticbox eval --json`, shared by the command and the report's summary.json so
+// that both carry the same keys and values for the same input and seed.
+#include "evaluation/comparison.h"
+#include <nlohmann/json.hpp>
+#include <cstdint>
+#include <string>
+
+namespace hb {
+
+inline nlohmann::json eval_json(const ComparisonStats& s, const std::string& box, const std::string& mesh,
+                                std::uint64_t seed) {
+  return {{"box", box},
+          {"mesh", mesh},
+          {"seed", seed},
+          {"samples", s.samples},
+          {"exact_contacts", s.exact_contacts},
+          {"contact_agreement", s.contact_agreement},
+          {"false_contacts", s.false_contacts},
+          {"missed_contacts", s.missed_contacts},
+          {"force_error_median", s.force_error_median},
+          {"force_error_p95", s.force_error_p95},
+          {"force_error_max", s.force_error_max},
+          {"angle_error_median_deg", s.angle_error_median_deg},
+          {"angle_error_p99_deg", s.angle_error_p99_deg},
+          {"depth_rms_over_diag", s.depth_rms_over_diag}};
+}
+
+} // namespace hb
