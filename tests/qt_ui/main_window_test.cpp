@@ -361,3 +361,26 @@ TEST(MainWindowTest, OpensVtkPolyDataFiles) {
   ASSERT_TRUE(w.openFile(vtp));
   EXPECT_EQ(w.session()->mesh().triangle_count(), mesh.triangle_count());
 }
+
+TEST(MainWindowTest, AutomaticPiecesAndTheBlockCodecBakeACompressedSceneOfSeveralBoxes) {
+  // A torus has pockets along its own lines: the automatic decomposition splits it.
+  QTemporaryDir dir;
+  const QString mesh = dir.filePath(QStringLiteral("torus.off"));
+  hb::write_mesh(hb::make_torus(40.f, 12.f, 96, 32), QFile::encodeName(mesh).toStdString());
+  MainWindow w;
+  w.setBakeOnOpen(false);
+  ASSERT_TRUE(w.openFile(mesh));
+  BakeSettings b = w.session()->bakeSettings();
+  b.m = 8;
+  b.n = 4;
+  b.pieces = BakeSettings::Pieces::Automatic;
+  b.codec = QStringLiteral("block");
+  b.useCache = false;
+  w.session()->setBakeSettings(b);
+  w.bakePanel()->showSettings();
+  w.bakePanel()->bakeButton()->click();
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }));
+  ASSERT_TRUE(w.session()->hasBoxes());
+  EXPECT_GT(w.session()->boxes()->boxes().size(), 1u);
+  for (const hb::HapticBox& box : w.session()->boxes()->boxes()) EXPECT_EQ(box.codec(), hb::CodecId::block);
+}
