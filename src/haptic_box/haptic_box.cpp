@@ -106,6 +106,48 @@ inline CornerBlend blend_corner(const Sample* base, std::size_t row, __m128 w) n
   return {sums[0], sums[1], sums[2], sums[3], _mm_cvtss_f32(wz)};
 }
 
+// As blend_corner, without the sums: per sample (memory order) the masked weight and the
+// weighted t and un-normalised normal, for blend4 to sum four corners at once.
+struct CornerLanes {
+  __m128 w, t, nx, ny, nz;
+};
+inline CornerLanes corner_lanes(const Sample* base, std::size_t row, __m128 w) noexcept {
+  const __m128 r0 = _mm_loadu_ps(reinterpret_cast<const float*>(base));
+  const __m128 r1 = _mm_loadu_ps(reinterpret_cast<const float*>(base + row));
+  const __m128 t = _mm_shuffle_ps(r0, r1, _MM_SHUFFLE(2, 0, 2, 0));
+  const __m128i codes = _mm_castps_si128(_mm_shuffle_ps(r0, r1, _MM_SHUFFLE(3, 1, 3, 1)));
+  w = _mm_and_ps(w, _mm_cmpge_ps(t, _mm_setzero_ps()));
+  const __m128 scale = _mm_set1_ps(1.f / 32767.f);
+  __m128 u = _mm_mul_ps(_mm_cvtepi32_ps(_mm_srai_epi32(_mm_slli_epi32(codes, 16), 16)), scale);
+  __m128 v = _mm_mul_ps(_mm_cvtepi32_ps(_mm_srai_epi32(codes, 16)), scale);
+  const __m128 sign = _mm_set1_ps(-0.f);
+  const __m128 z = _mm_sub_ps(_mm_sub_ps(_mm_set1_ps(1.f), _mm_andnot_ps(sign, u)), _mm_andnot_ps(sign, v));
+  const __m128 fold = _mm_max_ps(_mm_sub_ps(_mm_setzero_ps(), z), _mm_setzero_ps());
+  u = _mm_sub_ps(u, _mm_or_ps(fold, _mm_and_ps(u, sign)));
+  v = _mm_sub_ps(v, _mm_or_ps(fold, _mm_and_ps(v, sign)));
+  return {w, _mm_mul_ps(w, t), _mm_mul_ps(w, u), _mm_mul_ps(w, v), _mm_mul_ps(w, z)};
+}
+
+// Lane c of the result: the sum of the four lanes of x_c.
+inline __m128 lane_sums(__m128 x0, __m128 x1, __m128 x2, __m128 x3) noexcept {
+  _MM_TRANSPOSE4_PS(x0, x1, x2, x3);
+  return _mm_add_ps(_mm_add_ps(x0, x1), _mm_add_ps(x2, x3));
+}
+
+// The four corners' blends side by side (lane c: corner c), through any policy's blend().
+struct Corners4 {
+  __m128 w, t, nx, ny, nz;
+};
+template <class Fetch>
+inline Corners4 blend_each(const Fetch& fetch, const typename Fetch::Corner* corners, const float w[4]) noexcept {
+  alignas(16) float cw[4], ct[4], cnx[4], cny[4], cnz[4];
+  for (int c = 0; c < 4; ++c) {
+    const CornerBlend b = fetch.blend(corners[c], w);
+    cw[c] = b.weight, ct[c] = b.t, cnx[c] = b.nx, cny[c] = b.ny, cnz[c] = b.nz;
+  }
+  return {_mm_load_ps(cw), _mm_load_ps(ct), _mm_load_ps(cnx), _mm_load_ps(cny), _mm_load_ps(cnz)};
+}
+
 inline void split_cell(float f, int cells, int& i0, float& w) noexcept {
   // f in [0, cells]; i0 in [0, cells - 1], w in [0, 1].
   f = std::min(std::max(f, 0.f), float(cells));
@@ -160,6 +202,14 @@ struct RawFetch {
   CornerBlend blend(const Corner& c, const float w[4]) const noexcept {
     return blend_corner(c.base, n, _mm_setr_ps(w[0], w[3], w[1], w[2]));
   }
+  // All four corners: per-sample lanes, then one transpose per quantity sums them.
+  Corners4 blend4(const Corner* c, const float w[4]) const noexcept {
+    const __m128 wv = _mm_setr_ps(w[0], w[3], w[1], w[2]);
+    const CornerLanes a = corner_lanes(c[0].base, n, wv), b = corner_lanes(c[1].base, n, wv);
+    const CornerLanes e = corner_lanes(c[2].base, n, wv), f = corner_lanes(c[3].base, n, wv);
+    return {lane_sums(a.w, b.w, e.w, f.w), lane_sums(a.t, b.t, e.t, f.t), lane_sums(a.nx, b.nx, e.nx, f.nx),
+            lane_sums(a.ny, b.ny, e.ny, f.ny), lane_sums(a.nz, b.nz, e.nz, f.nz)};
+  }
 };
 
 template <class View> struct CodecFetch {
@@ -180,6 +230,7 @@ template <class View> struct CodecFetch {
     return true;
   }
   CornerBlend blend(const Corner& c, const float w[4]) const noexcept { return blend_by_load(*this, c, w); }
+  Corners4 blend4(const Corner* c, const float w[4]) const noexcept { return blend_each(*this, c, w); }
 };
 
 // The block codec in two phases: begin() prefetches the index entries of the quad's blocks,
@@ -213,6 +264,7 @@ template <> struct CodecFetch<BlockTable> {
     return true;
   }
   CornerBlend blend(const Corner& c, const float w[4]) const noexcept { return blend_by_load(*this, c, w); }
+  Corners4 blend4(const Corner* c, const float w[4]) const noexcept { return blend_each(*this, c, w); }
 };
 
 } // namespace
@@ -407,24 +459,20 @@ bool HapticBox::query_with(const Fetch& fetch, const Segment& segment, const For
   fetch.begin(p00 + m + 1, sf, a0, b0, corners[2]);
   fetch.begin(p00 + 1, sf, a0, b0, corners[3]);
   for (int c = 0; c < 4; ++c) fetch.resolve(corners[c]);
-  alignas(16) float cw[4], ct[4], cnx[4], cny[4], cnz[4];
-  for (int c = 0; c < 4; ++c) {
-    const CornerBlend b = fetch.blend(corners[c], dir_w);
-    cw[c] = b.weight, ct[c] = b.t, cnx[c] = b.nx, cny[c] = b.ny, cnz[c] = b.nz;
-  }
+  const Corners4 blended = fetch.blend4(corners, dir_w);
 
   // The four corners side by side (SSE2 lanes): miss rule, normalisation, half of the
   // tangent-plane correction from the corner to P1, positional blend.
   const float p1x = sx + t_enter * lx, p1y = sy + t_enter * ly, p1z = sz + t_enter * lz;
   const FaceFrame& ff = faces_[face];
   const __m128 zero = _mm_setzero_ps();
-  const __m128 W = _mm_load_ps(cw);
-  __m128 NX = _mm_load_ps(cnx), NY = _mm_load_ps(cny), NZ = _mm_load_ps(cnz);
+  const __m128 W = blended.w;
+  __m128 NX = blended.nx, NY = blended.ny, NZ = blended.nz;
   const __m128 omd1 = _mm_setr_ps(1.f - d1, d1, d1, 1.f - d1);
   const __m128 omd2 = _mm_setr_ps(1.f - d2, 1.f - d2, d2, d2);
   const __m128 PW = _mm_mul_ps(omd1, omd2);
   const __m128 valid = _mm_and_ps(_mm_cmpgt_ps(PW, zero), _mm_cmpge_ps(W, _mm_set1_ps(0.5f)));
-  __m128 T = _mm_div_ps(_mm_load_ps(ct), W);
+  __m128 T = _mm_div_ps(blended.t, W);
   const __m128 sq = _mm_add_ps(_mm_add_ps(_mm_mul_ps(NX, NX), _mm_mul_ps(NY, NY)), _mm_mul_ps(NZ, NZ));
   const __m128 rn = _mm_and_ps(_mm_cmpgt_ps(sq, zero), _mm_div_ps(_mm_set1_ps(1.f), _mm_sqrt_ps(sq)));
   NX = _mm_mul_ps(NX, rn), NY = _mm_mul_ps(NY, rn), NZ = _mm_mul_ps(NZ, rn);
