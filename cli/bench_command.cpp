@@ -19,6 +19,7 @@ void add_bench_command(CLI::App& app) {
     hb::ProbeOptions probes;
     hb::ForceLaw law;
     bool json = false;
+    bool no_huge_pages = false;
   };
   auto opts = std::make_shared<Opts>();
   cmd->add_option("BOX", opts->box, "Box file (.hbox)")->required();
@@ -27,8 +28,12 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--rounds", opts->rounds, "Passes over the probes")->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--seed", opts->probes.seed, "Probe seed")->capture_default_str();
   cmd->add_flag("--json", opts->json, "Print JSON");
+  cmd->add_flag("--no-huge-pages", opts->no_huge_pages,
+                "Query the file mapping instead of a copy of the tables in huge pages");
   cmd->callback([opts] {
-    const hb::BoxScene scene = hb::load_box_file(opts->box);
+    hb::LoadOptions load;
+    load.huge_pages = !opts->no_huge_pages;
+    const hb::BoxScene scene = hb::load_box_file(opts->box, load);
     const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh);
     const hb::ExactQuery exact(mesh);
     const auto probes = hb::sample_probes(mesh, opts->samples, opts->probes);

@@ -82,6 +82,18 @@ struct FileMap {
   }
 };
 
+// Owns an anonymous private copy of a file, 2 MB aligned and advised for huge pages.
+struct HugeCopy {
+  void* region = MAP_FAILED;
+  std::size_t region_size = 0;
+  char* data = nullptr;
+  ~HugeCopy() {
+    if (region != MAP_FAILED) munmap(region, region_size);
+  }
+};
+
+constexpr std::size_t kHugePage = std::size_t(2) << 20;
+
 } // namespace
 
 void save_box_file(const BoxScene& scene, const std::string& path) {
@@ -222,6 +234,25 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
   if (XXH3_64bits(data, header_end) != stored_hash)
     throw InvalidInput(path + ": corrupt box file (header checksum mismatch)");
 
+  std::shared_ptr<const void> keep = map;
+  if (options.huge_pages) {
+    auto copy = std::make_shared<HugeCopy>();
+    const std::size_t rounded = (map->size + kHugePage - 1) / kHugePage * kHugePage;
+    copy->region_size = rounded + kHugePage;
+    copy->region = ::mmap(nullptr, copy->region_size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (copy->region == MAP_FAILED)
+      throw IoError(path + ": cannot allocate " + std::to_string(map->size) + " bytes for the tables (" +
+                    std::strerror(errno) + ")");
+    const auto base = reinterpret_cast<std::uintptr_t>(copy->region);
+    copy->data = reinterpret_cast<char*>((base + kHugePage - 1) / kHugePage * kHugePage);
+#ifdef MADV_HUGEPAGE
+    ::madvise(copy->data, rounded, MADV_HUGEPAGE);  // advice only: 4 KB pages when refused
+#endif
+    std::memcpy(copy->data, data, map->size);
+    data = copy->data;
+    keep = std::shared_ptr<const void>(copy, copy->data);
+  }
+
   std::vector<HapticBox> boxes;
   boxes.reserve(count);
   for (std::size_t b = 0; b < entries.size(); ++b) {
@@ -236,12 +267,12 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
       throw InvalidInput(path + ": corrupt box file (box " + std::to_string(b) + " table checksum mismatch)");
     if (e.codec == CodecId::none) {
       boxes.emplace_back(e.obb, e.params, reinterpret_cast<const Sample*>(data + e.offset),
-                         std::shared_ptr<const void>(map, map->data));
+                         keep);
       continue;
     }
     try {
       boxes.emplace_back(e.obb, e.params, e.codec, reinterpret_cast<const std::uint8_t*>(data + e.offset),
-                         std::size_t(e.bytes), std::shared_ptr<const void>(map, map->data), e.stats);
+                         std::size_t(e.bytes), keep, e.stats);
     } catch (const InvalidInput& err) {
       throw InvalidInput(path + ": corrupt box file (box " + std::to_string(b) + " " + err.what() + ")");
     }

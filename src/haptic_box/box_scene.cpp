@@ -94,10 +94,16 @@ bool handle_inside(const HapticBox& box, const Segment& segment, const ForceLaw&
 Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexcept {
   Contact best;
   float best_along = 0.f;
+  const std::size_t count = boxes_.size();
+  // One box: its own exact slab test replaces the bounds cull (which only ever rejects
+  // segments that miss the PBB), and no other piece can hide the handle.
+  if (count == 1) {
+    boxes_[0].query_into(segment, law, best, best_along);
+    return best;
+  }
   Contact c;
   constexpr std::size_t kChunk = 64;
   std::uint32_t candidates[kChunk];
-  const std::size_t count = boxes_.size();
   for (std::size_t first = 0; first < count; first += kChunk) {
     const std::size_t met = cull(segment, first, std::min(count, first + kChunk), candidates);
     for (std::size_t i = 0; i < met; ++i) {

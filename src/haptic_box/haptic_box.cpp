@@ -26,6 +26,7 @@
 #include "geometry/octahedral.h"
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <emmintrin.h>  // SSE2: the x86-64 baseline
 
 namespace hb {
@@ -105,6 +106,48 @@ inline CornerBlend blend_corner(const Sample* base, std::size_t row, __m128 w) n
   return {sums[0], sums[1], sums[2], sums[3], _mm_cvtss_f32(wz)};
 }
 
+// As blend_corner, without the sums: per sample (memory order) the masked weight and the
+// weighted t and un-normalised normal, for blend4 to sum four corners at once.
+struct CornerLanes {
+  __m128 w, t, nx, ny, nz;
+};
+inline CornerLanes corner_lanes(const Sample* base, std::size_t row, __m128 w) noexcept {
+  const __m128 r0 = _mm_loadu_ps(reinterpret_cast<const float*>(base));
+  const __m128 r1 = _mm_loadu_ps(reinterpret_cast<const float*>(base + row));
+  const __m128 t = _mm_shuffle_ps(r0, r1, _MM_SHUFFLE(2, 0, 2, 0));
+  const __m128i codes = _mm_castps_si128(_mm_shuffle_ps(r0, r1, _MM_SHUFFLE(3, 1, 3, 1)));
+  w = _mm_and_ps(w, _mm_cmpge_ps(t, _mm_setzero_ps()));
+  const __m128 scale = _mm_set1_ps(1.f / 32767.f);
+  __m128 u = _mm_mul_ps(_mm_cvtepi32_ps(_mm_srai_epi32(_mm_slli_epi32(codes, 16), 16)), scale);
+  __m128 v = _mm_mul_ps(_mm_cvtepi32_ps(_mm_srai_epi32(codes, 16)), scale);
+  const __m128 sign = _mm_set1_ps(-0.f);
+  const __m128 z = _mm_sub_ps(_mm_sub_ps(_mm_set1_ps(1.f), _mm_andnot_ps(sign, u)), _mm_andnot_ps(sign, v));
+  const __m128 fold = _mm_max_ps(_mm_sub_ps(_mm_setzero_ps(), z), _mm_setzero_ps());
+  u = _mm_sub_ps(u, _mm_or_ps(fold, _mm_and_ps(u, sign)));
+  v = _mm_sub_ps(v, _mm_or_ps(fold, _mm_and_ps(v, sign)));
+  return {w, _mm_mul_ps(w, t), _mm_mul_ps(w, u), _mm_mul_ps(w, v), _mm_mul_ps(w, z)};
+}
+
+// Lane c of the result: the sum of the four lanes of x_c.
+inline __m128 lane_sums(__m128 x0, __m128 x1, __m128 x2, __m128 x3) noexcept {
+  _MM_TRANSPOSE4_PS(x0, x1, x2, x3);
+  return _mm_add_ps(_mm_add_ps(x0, x1), _mm_add_ps(x2, x3));
+}
+
+// The four corners' blends side by side (lane c: corner c), through any policy's blend().
+struct Corners4 {
+  __m128 w, t, nx, ny, nz;
+};
+template <class Fetch>
+inline Corners4 blend_each(const Fetch& fetch, const typename Fetch::Corner* corners, const float w[4]) noexcept {
+  alignas(16) float cw[4], ct[4], cnx[4], cny[4], cnz[4];
+  for (int c = 0; c < 4; ++c) {
+    const CornerBlend b = fetch.blend(corners[c], w);
+    cw[c] = b.weight, ct[c] = b.t, cnx[c] = b.nx, cny[c] = b.ny, cnz[c] = b.nz;
+  }
+  return {_mm_load_ps(cw), _mm_load_ps(ct), _mm_load_ps(cnx), _mm_load_ps(cny), _mm_load_ps(cnz)};
+}
+
 inline void split_cell(float f, int cells, int& i0, float& w) noexcept {
   // f in [0, cells]; i0 in [0, cells - 1], w in [0, 1].
   f = std::min(std::max(f, 0.f), float(cells));
@@ -159,6 +202,14 @@ struct RawFetch {
   CornerBlend blend(const Corner& c, const float w[4]) const noexcept {
     return blend_corner(c.base, n, _mm_setr_ps(w[0], w[3], w[1], w[2]));
   }
+  // All four corners: per-sample lanes, then one transpose per quantity sums them.
+  Corners4 blend4(const Corner* c, const float w[4]) const noexcept {
+    const __m128 wv = _mm_setr_ps(w[0], w[3], w[1], w[2]);
+    const CornerLanes a = corner_lanes(c[0].base, n, wv), b = corner_lanes(c[1].base, n, wv);
+    const CornerLanes e = corner_lanes(c[2].base, n, wv), f = corner_lanes(c[3].base, n, wv);
+    return {lane_sums(a.w, b.w, e.w, f.w), lane_sums(a.t, b.t, e.t, f.t), lane_sums(a.nx, b.nx, e.nx, f.nx),
+            lane_sums(a.ny, b.ny, e.ny, f.ny), lane_sums(a.nz, b.nz, e.nz, f.nz)};
+  }
 };
 
 template <class View> struct CodecFetch {
@@ -179,6 +230,7 @@ template <class View> struct CodecFetch {
     return true;
   }
   CornerBlend blend(const Corner& c, const float w[4]) const noexcept { return blend_by_load(*this, c, w); }
+  Corners4 blend4(const Corner* c, const float w[4]) const noexcept { return blend_each(*this, c, w); }
 };
 
 // The block codec in two phases: begin() prefetches the index entries of the quad's blocks,
@@ -212,6 +264,7 @@ template <> struct CodecFetch<BlockTable> {
     return true;
   }
   CornerBlend blend(const Corner& c, const float w[4]) const noexcept { return blend_by_load(*this, c, w); }
+  Corners4 blend4(const Corner* c, const float w[4]) const noexcept { return blend_each(*this, c, w); }
 };
 
 } // namespace
@@ -267,6 +320,12 @@ HapticBox HapticBox::compressed(const CodecOptions& options) const {
 }
 
 void HapticBox::init_faces() noexcept {
+  for (int a = 0; a < 3; ++a) {
+    for (int k = 0; k < 3; ++k) rt_[a][k] = obb_.axes(k, a);
+    center_[a] = obb_.center[a];
+    half_[a] = obb_.half[a];
+    grid_scale_[a] = 0.5f * float(params_.m - 1) / obb_.half[a];
+  }
   const float step = 2.f / float(params_.m - 1);
   for (int face = 0; face < 6; ++face) {
     const FaceAxes fa = face_axes(face);
@@ -316,88 +375,147 @@ bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact&
 template <class Fetch>
 bool HapticBox::query_with(const Fetch& fetch, const Segment& segment, const ForceLaw& law, Contact& out,
                            float& distance_from_handle) const noexcept {
+  // All geometry up to the corner blend runs in box-local coordinates: one 3 x 3 transform
+  // of the handle and of l, reciprocals instead of divisions, no Eigen temporaries.
   out = Contact{};
-  const Vec3 delta = segment.end - segment.start;
-  const float length = delta.norm();
-  if (!(length > 0.f) || !std::isfinite(length)) return false;
-  const Vec3 l = delta / length;
+  const float sx = segment.start.x(), sy = segment.start.y(), sz = segment.start.z();
+  const float dx = segment.end.x() - sx, dy = segment.end.y() - sy, dz = segment.end.z() - sz;
+  const float length = std::sqrt(dx * dx + dy * dy + dz * dz);
+  if (!(length > 0.f && length <= std::numeric_limits<float>::max())) return false;
+  const float inv_length = 1.f / length;
+  const float lx = dx * inv_length, ly = dy * inv_length, lz = dz * inv_length;
 
-  // 1. Entry into the PBB.
-  LineBoxHit box_hit;
-  if (!intersect_line_obb(obb_, segment.start, l, box_hit)) return false;
-  if (box_hit.t_enter > length || box_hit.t_exit < 0.f) return false;
-  const Vec3 p1 = segment.start + box_hit.t_enter * l;
-  const float d = length - box_hit.t_enter;
+  // 1. Entry into the PBB (slab test in local coordinates, as intersect_line_obb).
+  const float px = sx - center_[0], py = sy - center_[1], pz = sz - center_[2];
+  float o[3], dl[3];
+  for (int a = 0; a < 3; ++a) {
+    o[a] = rt_[a][0] * px + rt_[a][1] * py + rt_[a][2] * pz;
+    dl[a] = rt_[a][0] * lx + rt_[a][1] * ly + rt_[a][2] * lz;
+  }
+  float t_enter = -std::numeric_limits<float>::infinity();
+  float t_exit = std::numeric_limits<float>::infinity();
+  int face = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (std::fabs(dl[a]) < 1e-12f) {
+      if (o[a] < -half_[a] || o[a] > half_[a]) return false;
+      continue;
+    }
+    const float inv = 1.f / dl[a];
+    float t0 = (-half_[a] - o[a]) * inv;
+    float t1 = (half_[a] - o[a]) * inv;
+    int f0 = 2 * a;
+    if (t0 > t1) {
+      std::swap(t0, t1);
+      f0 = 2 * a + 1;
+    }
+    if (t0 > t_enter) {
+      t_enter = t0;
+      face = f0;
+    }
+    t_exit = std::min(t_exit, t1);
+  }
+  if (!(t_enter <= t_exit) || !(std::fabs(t_enter) <= std::numeric_limits<float>::max())) return false;
+  if (t_enter > length || t_exit < 0.f) return false;
+  const float d = length - t_enter;
 
   // 2. Cell and positional weights.
-  const FaceAxes fa = face_axes(box_hit.enter_face);
-  const Vec3 p1_local = obb_.to_local(p1);
-  const Vec3 l_local = obb_.axes.transpose() * l;
+  const FaceAxes fa = face_axes(face);
   const int cells_m = params_.m - 1;
+  const float half_cells = 0.5f * float(cells_m);
   int i0, j0;
   float d1, d2;
-  split_cell((p1_local[fa.u] / obb_.half[fa.u] + 1.f) * 0.5f * float(cells_m), cells_m, i0, d1);
-  split_cell((p1_local[fa.v] / obb_.half[fa.v] + 1.f) * 0.5f * float(cells_m), cells_m, j0, d2);
+  split_cell((o[fa.u] + t_enter * dl[fa.u]) * grid_scale_[fa.u] + half_cells, cells_m, i0, d1);
+  split_cell((o[fa.v] + t_enter * dl[fa.v]) * grid_scale_[fa.v] + half_cells, cells_m, j0, d2);
 
-  // 3. Directional cell, once for all corners.
-  const DirCoords dc = direction_coords(l_local[fa.u], l_local[fa.v], -fa.sign * l_local[fa.a]);
+  // 3. Directional cell, once for all corners (cube-map projection with one reciprocal).
+  const float x = dl[fa.u], y = dl[fa.v], z = -fa.sign * dl[fa.a];
+  const int sub = (x < 0.f ? 1 : 0) | (y < 0.f ? 2 : 0);
+  const float X = std::fabs(x), Y = std::fabs(y), Z = std::max(z, 0.f);
+  int sface;
+  float num1, num2, den;
+  if (Z >= X && Z >= Y) {
+    sface = 0, num1 = X, num2 = Y, den = Z;
+  } else if (X >= Y) {
+    sface = 1, num1 = Y, num2 = Z, den = X;
+  } else {
+    sface = 2, num1 = X, num2 = Z, den = Y;
+  }
   const int cells_n = params_.n - 1;
+  const float dir_scale = float(cells_n) / den;
   int a0, b0;
   float wa, wb;
-  split_cell(dc.c1 * float(cells_n), cells_n, a0, wa);
-  split_cell(dc.c2 * float(cells_n), cells_n, b0, wb);
-  const std::size_t sf = std::size_t(dc.sub) * 3u + std::size_t(dc.sface);
+  split_cell(num1 * dir_scale, cells_n, a0, wa);
+  split_cell(num2 * dir_scale, cells_n, b0, wb);
+  const std::size_t sf = std::size_t(sub) * 3u + std::size_t(sface);
   const float dir_w[4] = {(1.f - wa) * (1.f - wb), wa * (1.f - wb), wa * wb, (1.f - wa) * wb};
 
-  // 4. Corners (P2..P5 of eq. 1) and their weights.
-  const int ci[4] = {i0, i0 + 1, i0 + 1, i0};
-  const int cj[4] = {j0, j0, j0 + 1, j0 + 1};
-  const float pos_w[4] = {(1.f - d1) * (1.f - d2), d1 * (1.f - d2), d1 * d2, (1.f - d1) * d2};
-  const std::size_t face_base = std::size_t(box_hit.enter_face) * std::size_t(params_.m) * std::size_t(params_.m);
-
-  // The four corners' hemi-cubes lie far apart in memory: start all their loads before
-  // using any (memory-level parallelism instead of four serial misses).
+  // 4. Corners (P2..P5 of eq. 1): start all four corners' loads before using any
+  // (memory-level parallelism instead of four serial misses).
+  const std::size_t m = std::size_t(params_.m);
+  const std::size_t p00 = std::size_t(face) * m * m + std::size_t(i0) * m + std::size_t(j0);
   typename Fetch::Corner corners[4];
-  for (int c = 0; c < 4; ++c)
-    fetch.begin(face_base + std::size_t(ci[c]) * std::size_t(params_.m) + std::size_t(cj[c]), sf, a0, b0, corners[c]);
+  fetch.begin(p00, sf, a0, b0, corners[0]);
+  fetch.begin(p00 + m, sf, a0, b0, corners[1]);
+  fetch.begin(p00 + m + 1, sf, a0, b0, corners[2]);
+  fetch.begin(p00 + 1, sf, a0, b0, corners[3]);
   for (int c = 0; c < 4; ++c) fetch.resolve(corners[c]);
+  const Corners4 blended = fetch.blend4(corners, dir_w);
 
-  Blend corner_sum;
-  float corner_hit_weight = 0.f;
-  for (int c = 0; c < 4; ++c) {
-    if (pos_w[c] <= 0.f) continue;
-    // Directional interpolation at this corner.
-    const CornerBlend blend = fetch.blend(corners[c], dir_w);
-    const float w_hit = blend.weight;
-    float t = blend.t;
-    Vec3 nrm(blend.nx, blend.ny, blend.nz);
-    if (w_hit < 0.5f) continue;  // this corner sees a miss along l
-    t /= w_hit;
-    nrm.normalize();
-    // Half of the tangent-plane correction from the corner to P1.
-    const Vec3 corner = position_point(box_hit.enter_face, ci[c], cj[c]);
-    const float ln = l.dot(nrm);
-    if (ln < -0.2f) {
-      const float correction = (corner - p1).dot(nrm) / ln;
-      t = std::max(0.f, t + 0.5f * correction);
-    }
-    corner_hit_weight += pos_w[c];
-    corner_sum.t += pos_w[c] * t;
-    corner_sum.n += pos_w[c] * nrm;
-  }
+  // The four corners side by side (SSE2 lanes): miss rule, normalisation, half of the
+  // tangent-plane correction from the corner to P1, positional blend.
+  const float p1x = sx + t_enter * lx, p1y = sy + t_enter * ly, p1z = sz + t_enter * lz;
+  const FaceFrame& ff = faces_[face];
+  const __m128 zero = _mm_setzero_ps();
+  const __m128 W = blended.w;
+  __m128 NX = blended.nx, NY = blended.ny, NZ = blended.nz;
+  const __m128 omd1 = _mm_setr_ps(1.f - d1, d1, d1, 1.f - d1);
+  const __m128 omd2 = _mm_setr_ps(1.f - d2, 1.f - d2, d2, d2);
+  const __m128 PW = _mm_mul_ps(omd1, omd2);
+  const __m128 valid = _mm_and_ps(_mm_cmpgt_ps(PW, zero), _mm_cmpge_ps(W, _mm_set1_ps(0.5f)));
+  __m128 T = _mm_div_ps(blended.t, W);
+  const __m128 sq = _mm_add_ps(_mm_add_ps(_mm_mul_ps(NX, NX), _mm_mul_ps(NY, NY)), _mm_mul_ps(NZ, NZ));
+  const __m128 rn = _mm_and_ps(_mm_cmpgt_ps(sq, zero), _mm_div_ps(_mm_set1_ps(1.f), _mm_sqrt_ps(sq)));
+  NX = _mm_mul_ps(NX, rn), NY = _mm_mul_ps(NY, rn), NZ = _mm_mul_ps(NZ, rn);
+  const __m128 CI = _mm_setr_ps(float(i0), float(i0 + 1), float(i0 + 1), float(i0));
+  const __m128 CJ = _mm_setr_ps(float(j0), float(j0), float(j0 + 1), float(j0 + 1));
+  const auto offset = [&](float origin, float p1, float si, float sj) {
+    return _mm_add_ps(_mm_set1_ps(origin - p1),
+                      _mm_add_ps(_mm_mul_ps(CI, _mm_set1_ps(si)), _mm_mul_ps(CJ, _mm_set1_ps(sj))));
+  };
+  const __m128 DX = offset(ff.origin.x(), p1x, ff.step_i.x(), ff.step_j.x());
+  const __m128 DY = offset(ff.origin.y(), p1y, ff.step_i.y(), ff.step_j.y());
+  const __m128 DZ = offset(ff.origin.z(), p1z, ff.step_i.z(), ff.step_j.z());
+  const __m128 LN = _mm_add_ps(_mm_add_ps(_mm_mul_ps(NX, _mm_set1_ps(lx)), _mm_mul_ps(NY, _mm_set1_ps(ly))),
+                               _mm_mul_ps(NZ, _mm_set1_ps(lz)));
+  const __m128 DN = _mm_add_ps(_mm_add_ps(_mm_mul_ps(NX, DX), _mm_mul_ps(NY, DY)), _mm_mul_ps(NZ, DZ));
+  const __m128 corrected = _mm_max_ps(zero, _mm_add_ps(T, _mm_mul_ps(_mm_set1_ps(0.5f), _mm_div_ps(DN, LN))));
+  const __m128 steep = _mm_cmplt_ps(LN, _mm_set1_ps(-0.2f));
+  T = _mm_or_ps(_mm_and_ps(steep, corrected), _mm_andnot_ps(steep, T));
+  const __m128 PWv = _mm_and_ps(valid, PW);
+  __m128 s0 = PWv, s1 = _mm_and_ps(valid, _mm_mul_ps(PW, T));
+  __m128 s2 = _mm_and_ps(valid, _mm_mul_ps(PW, NX)), s3 = _mm_and_ps(valid, _mm_mul_ps(PW, NY));
+  __m128 wnz = _mm_and_ps(valid, _mm_mul_ps(PW, NZ));
+  _MM_TRANSPOSE4_PS(s0, s1, s2, s3);
+  alignas(16) float sums[4];
+  _mm_store_ps(sums, _mm_add_ps(_mm_add_ps(s0, s1), _mm_add_ps(s2, s3)));
+  wnz = _mm_add_ps(wnz, _mm_movehl_ps(wnz, wnz));
+  wnz = _mm_add_ss(wnz, _mm_shuffle_ps(wnz, wnz, 1));
+  const float corner_hit_weight = sums[0];
   if (corner_hit_weight < 0.5f) return false;
-  const float t0 = corner_sum.t / corner_hit_weight;
-  const float nlen = corner_sum.n.norm();
+  const float t0 = sums[1] / corner_hit_weight;
+  const float nsx = sums[2], nsy = sums[3], nsz = _mm_cvtss_f32(wnz);
+  const float nlen = std::sqrt(nsx * nsx + nsy * nsy + nsz * nsz);
   if (!(nlen > 0.f)) return false;
-  const Vec3 normal = corner_sum.n / nlen;
+  const float inv_nlen = 1.f / nlen;
+  const float nx = nsx * inv_nlen, ny = nsy * inv_nlen, nz = nsz * inv_nlen;
 
   // 6. Contact test.
-  const float along = box_hit.t_enter + t0;  // handle to surface point
-  if (along < 0.f || t0 > d || normal.dot(l) >= 0.f) return false;
+  const float along = t_enter + t0;  // handle to surface point
+  if (along < 0.f || t0 > d || nx * lx + ny * ly + nz * lz >= 0.f) return false;
   out.contact = true;
   out.depth = d - t0;
-  out.point = segment.start + along * l;
-  out.normal = normal;
+  out.point = Vec3(sx + along * lx, sy + along * ly, sz + along * lz);
+  out.normal = Vec3(nx, ny, nz);
   apply_force_law(out, law);
   distance_from_handle = along;
   return true;

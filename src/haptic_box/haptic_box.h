@@ -83,6 +83,10 @@ private:
     Vec3 origin, step_i, step_j;
   };
   FaceFrame faces_[6];
+  // Query constants in box-local coordinates (init_faces): rows of axes^T (local =
+  // rt_ (p - centre)), centre, half extents, and grid scales 0.5 (m - 1) / half per axis.
+  float rt_[3][3];
+  float center_[3], half_[3], grid_scale_[3];
   Obb obb_;
   BoxParams params_;
   const Sample* table_ = nullptr;
