@@ -8,7 +8,10 @@ namespace hb {
 
 /// Options of bake_box / bake_scene.
 struct BakeOptions {
-  BoxParams params;           ///< densities m and n.
+  BoxParams params;           ///< densities m and n (m: see `density`).
+  /// Per-box position density: with density.cell > 0 each box's m comes from its PBB's size
+  /// (PositionDensity::m_for) instead of params.m; n is params.n for all boxes.
+  PositionDensity density;
   ObbOptions obb;             ///< PBB fitting (padding).
   /// Progress in [0, 1]; return false to cancel (the bake then throws hb::Cancelled).
   /// Called from one worker thread at a time, not necessarily the caller's.
