@@ -4,7 +4,10 @@
 //  2. Build an Embree scene of the piece's triangles only.
 //  3. In parallel over position points (TBB), cast the 12 n^2 directional rays of each
 //     hemi-cube with rtcIntersect1 (single rays beat 16-wide packets here) and store t and
-//     the octahedral-encoded shaded normal; misses store kMissT.
+//     the octahedral-encoded shaded normal; misses store kMissT, and so do rays whose first
+//     hit is a back face (they entered an open piece through its seam; measured on the
+//     armadillo, 6 pieces: +0.1% contact agreement, same force error, 19% smaller block-coded
+//     tables). On a closed piece from outside its box every first hit is a front face.
 //  4. Progress is reported per finished position point, from one thread at a time; a
 //     cancel request stops the remaining work and throws hb::Cancelled.
 #include "haptic_box/bake.h"
@@ -91,7 +94,10 @@ HapticBox bake_one(const TriangleMesh& mesh, const std::vector<std::uint32_t>& t
               const Vec3 dir = geometry.sample_direction(face, sub, sface, a, b);
               const RayHit hit = scene.intersect(origin, dir, 0.f, t_far);
               Sample& s = table[geometry.sample_index(face, i, j, sub, sface, a, b)];
-              if (hit.hit) {
+              // A back face first (the ray entered the piece through a seam cut) is stored as a
+              // miss: the contact there belongs to the neighbouring piece's box, and a miss
+              // lets that box answer instead of blending an inside surface into this one.
+              if (hit.hit && hit.normal.dot(dir) < 0.f) {
                 s.t = hit.t;
                 s.normal = encode_octahedral32(hit.normal);
                 ++local_hits;

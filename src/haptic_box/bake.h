@@ -29,7 +29,8 @@ struct BakeStats {
 /// Bakes one box around the given triangles of `mesh` (all when empty): fits the PBB, then
 /// for every position point of every face casts the 12 n^2 directional rays into the box
 /// against those triangles only, on all cores (TBB). Each sample stores the first hit's
-/// distance and shaded normal (outward); a miss stores kMissT.
+/// distance and shaded normal (outward); a miss, or a first hit on a back face (shaded normal
+/// along the ray: the ray entered an open piece through its seam), stores kMissT.
 /// Throws hb::InvalidInput (bad params, empty selection), hb::Cancelled, hb::LibraryError.
 HapticBox bake_box(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles,
                    const BakeOptions& options, BakeStats* stats = nullptr);
