@@ -1,4 +1,4 @@
-// hapticbox bake MESH -o BOX.hbox [-m 32] [-n 16] [--pieces auto|FILE|none] [--codec none|haar|block] [--max-error E | --ratio R] [--json]
+// hapticbox bake MESH -o BOX.hbox [-m 32] [-n 16] [--cell C [--max-m 64]] [--pieces auto|FILE|none] [--codec none|haar|block] [--max-error E | --ratio R] [--json]
 #include "cli_support.h"
 #include "commands.h"
 #include "haptic_box/bake.h"
@@ -26,6 +26,11 @@ void add_bake_command(CLI::App& app) {
       ->check(CLI::Range(2, 1024))->capture_default_str();
   cmd->add_option("-n", opts->bake.params.n, "Directional points per sub-block face edge")
       ->check(CLI::Range(2, 256))->capture_default_str();
+  cmd->add_option("--cell", opts->bake.density.cell,
+                  "Per-box m: target position-cell size, fraction of the mesh diagonal (0: -m for every box)")
+      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  cmd->add_option("--max-m", opts->bake.density.max_m, "Largest per-box m with --cell")
+      ->check(CLI::Range(2, 1024))->capture_default_str();
   cmd->add_option("--padding", opts->bake.obb.padding, "PBB padding, fraction of its diagonal")
       ->check(CLI::Range(0.0, 1.0))->capture_default_str();
   hb::cli::add_pieces_options(*cmd, opts->pieces);
@@ -41,7 +46,8 @@ void add_bake_command(CLI::App& app) {
     hb::SourceInfo source{opts->mesh, hb::hash_file(opts->mesh), mesh.triangle_count(), mesh.bounds().diagonal()};
     opts->bake.progress = hb::cli::terminal_progress("baking");
     hb::BakeStats stats;
-    const auto pieces = hb::cli::resolve_pieces(mesh, opts->pieces, opts->bake.params.m);
+    opts->bake.density.min_m = std::min(opts->bake.density.min_m, opts->bake.density.max_m);
+    const auto pieces = hb::cli::resolve_pieces(mesh, opts->pieces, opts->bake.params.m, opts->bake.density);
     hb::BoxScene scene = hb::bake_scene_from_lists(mesh, pieces, opts->bake, source, &stats);
     if (opts->codec_options.codec != hb::CodecId::none) scene = scene.compressed(opts->codec_options);
     hb::save_box_file(scene, opts->out);
@@ -58,11 +64,14 @@ void add_bake_command(CLI::App& app) {
       bound = std::max<double>(bound, cs.max_error_bound);
     }
     const auto bytes = std::filesystem::file_size(opts->out);
+    std::vector<int> box_m;
+    for (const hb::HapticBox& box : scene.boxes()) box_m.push_back(box.params().m);
     const nlohmann::json j = {{"mesh", opts->mesh},
                               {"output", opts->out},
                               {"triangles", mesh.triangle_count()},
                               {"boxes", scene.boxes().size()},
                               {"m", opts->bake.params.m},
+                              {"box_m", box_m},
                               {"n", opts->bake.params.n},
                               {"seconds", stats.seconds},
                               {"rays", stats.rays},
@@ -81,7 +90,10 @@ void add_bake_command(CLI::App& app) {
     if (opts->json) {
       hb::cli::print_json(j);
     } else {
-      std::cout << "baked " << opts->out << ": " << scene.boxes().size() << " box(es), m=" << opts->bake.params.m
+      std::cout << "baked " << opts->out << ": " << scene.boxes().size() << " box(es), m="
+                << (opts->bake.density.cell > 0.f ? std::to_string(*std::min_element(box_m.begin(), box_m.end())) + ".." +
+                                                         std::to_string(*std::max_element(box_m.begin(), box_m.end()))
+                                                   : std::to_string(opts->bake.params.m))
                 << " n=" << opts->bake.params.n << ", " << stats.rays << " rays in " << stats.seconds << " s ("
                 << stats.rays_per_second / 1e6 << " M rays/s), " << bytes / 1e6 << " MB\n";
       if (opts->codec_options.codec != hb::CodecId::none)

@@ -20,7 +20,8 @@ void add_pieces_options(CLI::App& cmd, PiecesChoice& choice) {
       ->check(CLI::Range(0.0, 64.0))->capture_default_str();
 }
 
-std::vector<std::vector<std::uint32_t>> resolve_pieces(const TriangleMesh& mesh, const PiecesChoice& choice, int m) {
+std::vector<std::vector<std::uint32_t>> resolve_pieces(const TriangleMesh& mesh, const PiecesChoice& choice, int m,
+                                                       const PositionDensity& density) {
   if (choice.spec == "none" || choice.spec.empty()) return piece_triangle_lists(mesh, {});
   std::vector<std::uint32_t> ids;
   if (choice.spec == "auto") {
@@ -36,6 +37,7 @@ std::vector<std::vector<std::uint32_t>> resolve_pieces(const TriangleMesh& mesh,
   }
   SeamOptions seams = choice.seams;
   seams.m = m;
+  seams.density = density;
   return piece_triangle_lists(mesh, ids, seams);
 }
 

@@ -22,6 +22,7 @@ void add_pieces_options(CLI::App& cmd, PiecesChoice& choice);
 /// The triangle lists to bake (one per piece, seams shared). Prints a one-line summary of an
 /// automatic decomposition to stderr. Throws what the reader or the decomposition throws.
 /// `m` is the bake's position density (seam widths are in its cells).
-std::vector<std::vector<std::uint32_t>> resolve_pieces(const TriangleMesh& mesh, const PiecesChoice& choice, int m);
+std::vector<std::vector<std::uint32_t>> resolve_pieces(const TriangleMesh& mesh, const PiecesChoice& choice, int m,
+                                                       const PositionDensity& density = {});
 
 } // namespace hb::cli

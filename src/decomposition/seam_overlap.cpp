@@ -1,5 +1,6 @@
 // Seam overlap, per piece:
-//  1. Fit the piece's PBB and take its cell size h = largest edge / (m - 1).
+//  1. Fit the piece's PBB and take its cell size h = largest edge / (m - 1), with the piece's
+//     own m when the bake picks m per box (SeamOptions::density).
 //  2. Breadth-first growth over edge adjacency; every grown triangle remembers the centroid
 //     of the piece triangle its growth started from. A neighbour joins when it is within the
 //     minimum ring count, or its centroid is within cells * h of that origin.
@@ -41,7 +42,8 @@ std::vector<std::vector<std::uint32_t>> piece_triangle_lists(const TriangleMesh&
     float width = 0.f;
     if (options.cells > 0.f) {
       const Obb box = fit_obb(mesh, list, options.obb);
-      width = options.cells * 2.f * box.half.maxCoeff() / float(options.m - 1);
+      const float edge = 2.f * box.half.maxCoeff();
+      width = options.cells * edge / float(options.density.m_for(options.m, edge, mesh.bounds().diagonal()) - 1);
     }
     const float width_sq = width * width;
     for (std::uint32_t t : list) {

@@ -1,6 +1,7 @@
 #pragma once
 // Seams between pieces: which triangles each piece's box is baked from.
 #include "geometry/obb.h"
+#include "haptic_box/sample.h"
 #include <cstdint>
 #include <vector>
 
@@ -16,6 +17,9 @@ struct SeamOptions {
   /// the entry point, so a seam closer than about one cell is seen through the cut.
   float cells = 1.5f;
   int m = 32;          ///< the bake's position density (BoxParams::m), >= 2.
+  /// The bake's per-box density (BakeOptions::density): with density.cell > 0 a piece's cell
+  /// is its own box's, density.m_for(m, largest edge, mesh diagonal).
+  PositionDensity density;
   ObbOptions obb;      ///< PBB fitting, as the bake does it.
 };
 

@@ -1,9 +1,13 @@
 // Baking (paper section 4).
-//  1. Fit the PBB of the piece (geometry/obb).
+//  1. Fit the PBB of the piece (geometry/obb); its position density m is BoxParams::m, or
+//     with BakeOptions::density.cell > 0 chosen from the PBB's size (same cell size for all).
 //  2. Build an Embree scene of the piece's triangles only.
 //  3. In parallel over position points (TBB), cast the 12 n^2 directional rays of each
 //     hemi-cube with rtcIntersect1 (single rays beat 16-wide packets here) and store t and
-//     the octahedral-encoded shaded normal; misses store kMissT.
+//     the octahedral-encoded shaded normal; misses store kMissT, and so do rays whose first
+//     hit is a back face (they entered an open piece through its seam; measured on the
+//     armadillo, 6 pieces: +0.1% contact agreement, same force error, 19% smaller block-coded
+//     tables). On a closed piece from outside its box every first hit is a front face.
 //  4. Progress is reported per finished position point, from one thread at a time; a
 //     cancel request stops the remaining work and throws hb::Cancelled.
 #include "haptic_box/bake.h"
@@ -50,10 +54,25 @@ struct ProgressState {
   }
 };
 
-HapticBox bake_one(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles,
-                   const BakeOptions& options, ProgressState& progress, std::uint64_t& hits) {
-  const BoxParams& p = options.params;
-  const Obb obb = fit_obb(mesh, triangles, options.obb);
+// A piece's PBB and densities (the position density per BakeOptions::density).
+struct BoxPlan {
+  Obb obb;
+  BoxParams params;
+};
+BoxPlan plan_box(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, const BakeOptions& options) {
+  const PositionDensity& d = options.density;
+  if (!(d.cell >= 0.f) || d.min_m < 2 || d.max_m < d.min_m || d.max_m > 1024)
+    throw InvalidInput("bake: density needs cell >= 0 and 2 <= min_m <= max_m <= 1024");
+  BoxPlan plan{fit_obb(mesh, triangles, options.obb), options.params};
+  plan.params.m = options.density.m_for(options.params.m, 2.f * plan.obb.half.maxCoeff(), mesh.bounds().diagonal());
+  check_params(plan.params);
+  return plan;
+}
+
+HapticBox bake_one(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, const BoxPlan& plan,
+                   ProgressState& progress, std::uint64_t& hits) {
+  const BoxParams& p = plan.params;
+  const Obb& obb = plan.obb;
   const EmbreeScene scene(mesh, triangles);
   std::vector<Sample> table(p.sample_count());
   // A view of the table being filled, for the layout and geometry helpers.
@@ -78,7 +97,10 @@ HapticBox bake_one(const TriangleMesh& mesh, const std::vector<std::uint32_t>& t
               const Vec3 dir = geometry.sample_direction(face, sub, sface, a, b);
               const RayHit hit = scene.intersect(origin, dir, 0.f, t_far);
               Sample& s = table[geometry.sample_index(face, i, j, sub, sface, a, b)];
-              if (hit.hit) {
+              // A back face first (the ray entered the piece through a seam cut) is stored as a
+              // miss: the contact there belongs to the neighbouring piece's box, and a miss
+              // lets that box answer instead of blending an inside surface into this one.
+              if (hit.hit && hit.normal.dot(dir) < 0.f) {
                 s.t = hit.t;
                 s.normal = encode_octahedral32(hit.normal);
                 ++local_hits;
@@ -103,14 +125,15 @@ HapticBox bake_box(const TriangleMesh& mesh, const std::vector<std::uint32_t>& t
                    const BakeOptions& options, BakeStats* stats) {
   check_params(options.params);
   const auto start = std::chrono::steady_clock::now();
+  const BoxPlan plan = plan_box(mesh, triangles, options);
   ProgressState progress;
   progress.callback = &options.progress;
-  progress.total = options.params.sample_count();
+  progress.total = plan.params.sample_count();
   std::uint64_t hits = 0;
-  HapticBox box = bake_one(mesh, triangles, options, progress, hits);
+  HapticBox box = bake_one(mesh, triangles, plan, progress, hits);
   if (stats) {
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    stats->rays = options.params.sample_count();
+    stats->rays = plan.params.sample_count();
     stats->hits = hits;
     stats->rays_per_second = stats->seconds > 0 ? double(stats->rays) / stats->seconds : 0.0;
   }
@@ -148,17 +171,24 @@ BoxScene bake_scene_from_lists(const TriangleMesh& mesh, const std::vector<std::
         throw InvalidInput("bake: piece " + std::to_string(p) + " names triangle " + std::to_string(t) +
                            ", the mesh has " + std::to_string(mesh.triangle_count()));
   const auto start = std::chrono::steady_clock::now();
+  std::vector<BoxPlan> plans;
+  plans.reserve(pieces.size());
+  std::uint64_t rays = 0;
+  for (const auto& piece : pieces) {
+    plans.push_back(plan_box(mesh, piece, options));
+    rays += plans.back().params.sample_count();
+  }
   ProgressState progress;
   progress.callback = &options.progress;
-  progress.total = options.params.sample_count() * pieces.size();
+  progress.total = rays;
   std::uint64_t hits = 0;
   std::vector<HapticBox> boxes;
   boxes.reserve(pieces.size());
-  for (const auto& piece : pieces)
-    boxes.push_back(bake_one(mesh, piece, options, progress, hits));
+  for (std::size_t p = 0; p < pieces.size(); ++p)
+    boxes.push_back(bake_one(mesh, pieces[p], plans[p], progress, hits));
   if (stats) {
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    stats->rays = options.params.sample_count() * pieces.size();
+    stats->rays = rays;
     stats->hits = hits;
     stats->rays_per_second = stats->seconds > 0 ? double(stats->rays) / stats->seconds : 0.0;
   }

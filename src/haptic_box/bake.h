@@ -8,7 +8,10 @@ namespace hb {
 
 /// Options of bake_box / bake_scene.
 struct BakeOptions {
-  BoxParams params;           ///< densities m and n.
+  BoxParams params;           ///< densities m and n (m: see `density`).
+  /// Per-box position density: with density.cell > 0 each box's m comes from its PBB's size
+  /// (PositionDensity::m_for) instead of params.m; n is params.n for all boxes.
+  PositionDensity density;
   ObbOptions obb;             ///< PBB fitting (padding).
   /// Progress in [0, 1]; return false to cancel (the bake then throws hb::Cancelled, even
   /// when the cancel comes with the last call). Called on the calling thread only, about
@@ -27,7 +30,8 @@ struct BakeStats {
 /// Bakes one box around the given triangles of `mesh` (all when empty): fits the PBB, then
 /// for every position point of every face casts the 12 n^2 directional rays into the box
 /// against those triangles only, on all cores (TBB). Each sample stores the first hit's
-/// distance and shaded normal (outward); a miss stores kMissT.
+/// distance and shaded normal (outward); a miss, or a first hit on a back face (shaded normal
+/// along the ray: the ray entered an open piece through its seam), stores kMissT.
 /// Throws hb::InvalidInput (bad params, empty selection), hb::Cancelled, hb::LibraryError.
 HapticBox bake_box(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles,
                    const BakeOptions& options, BakeStats* stats = nullptr);

@@ -189,6 +189,45 @@ TEST(HapticBoxBakeTest, InvalidDensitiesAreRejected) {
   EXPECT_THROW(bake_box(make_sphere(1.f, 2), {}, options), InvalidInput);
 }
 
+TEST(HapticBoxBakeTest, PerBoxDensityFollowsTheCellSize) {
+  PositionDensity d;
+  EXPECT_EQ(d.m_for(32, 1.f, 10.f), 32);  // cell 0: the fixed m
+  d.cell = 0.01f;                         // cells of 0.1 on a diagonal of 10
+  d.min_m = 4;
+  d.max_m = 40;
+  EXPECT_EQ(d.m_for(32, 1.f, 10.f), 11);   // 10 cells
+  EXPECT_EQ(d.m_for(32, 1.05f, 10.f), 12); // 10.5 cells: rounded up
+  EXPECT_EQ(d.m_for(32, 0.1f, 10.f), 4);   // clamped to min_m
+  EXPECT_EQ(d.m_for(32, 100.f, 10.f), 40); // clamped to max_m
+
+  // A small and a large sphere in one mesh: the large one's box gets the larger m, and both
+  // still answer a central probe with the analytic depth.
+  TriangleMesh a = make_sphere(0.5f, 3), b = make_sphere(1.5f, 3);
+  for (auto& p : b.positions) p.x() += 4.f;
+  TriangleMesh both = a;
+  const auto offset = std::uint32_t(both.positions.size());
+  both.positions.insert(both.positions.end(), b.positions.begin(), b.positions.end());
+  both.normals.insert(both.normals.end(), b.normals.begin(), b.normals.end());
+  for (auto t : b.triangles) both.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  std::vector<std::vector<std::uint32_t>> lists(2);
+  for (std::uint32_t t = 0; t < both.triangles.size(); ++t) lists[t < a.triangles.size() ? 0 : 1].push_back(t);
+  BakeOptions options;
+  options.params = {32, 4};
+  options.density.cell = 0.05f;
+  options.density.min_m = 3;
+  BakeStats stats;
+  const BoxScene scene = bake_scene_from_lists(both, lists, options, SourceInfo{}, &stats);
+  const int m0 = scene.boxes()[0].params().m, m1 = scene.boxes()[1].params().m;
+  EXPECT_LT(m0, m1);
+  EXPECT_LE(m1, options.density.max_m);
+  EXPECT_EQ(stats.rays, scene.boxes()[0].params().sample_count() + scene.boxes()[1].params().sample_count());
+  const Contact c = scene.query({Vec3(4.f, 0.f, 3.f), Vec3(4.f, 0.f, 1.3f)}, kLaw);
+  ASSERT_TRUE(c.contact);
+  EXPECT_NEAR(c.depth, 0.2f, 0.02f);
+  options.density.max_m = 2;  // below min_m
+  EXPECT_THROW(bake_scene_from_lists(both, lists, options, SourceInfo{}), InvalidInput);
+}
+
 TEST(BoxSceneTest, ContactNearestTheHandleWins) {
   // Two spheres on the x axis; a probe along -x touches the near one first.
   TriangleMesh a = make_sphere(1.f, 4), b = make_sphere(1.f, 4);
