@@ -75,39 +75,10 @@ struct Blend {
   bool hit = false;
 };
 
-// Weighted sums over the 2 x 2 directional samples of one corner (SSE2, branch-free):
-// a missed sample (t < 0) gets weight zero; octahedral normals are decoded un-normalised
-// (the caller normalises the blend once).
-struct CornerBlend {
-  float weight, t, nx, ny, nz;
-};
-inline CornerBlend blend_corner(const Sample* base, std::size_t row, __m128 w) noexcept {
-  static_assert(sizeof(Sample) == 8, "two samples per 16-byte load");
-  const __m128 r0 = _mm_loadu_ps(reinterpret_cast<const float*>(base));        // t0 n0 t1 n1
-  const __m128 r1 = _mm_loadu_ps(reinterpret_cast<const float*>(base + row));  // t2 n2 t3 n3
-  const __m128 t = _mm_shuffle_ps(r0, r1, _MM_SHUFFLE(2, 0, 2, 0));
-  const __m128i codes = _mm_castps_si128(_mm_shuffle_ps(r0, r1, _MM_SHUFFLE(3, 1, 3, 1)));
-  w = _mm_and_ps(w, _mm_cmpge_ps(t, _mm_setzero_ps()));
-  const __m128 scale = _mm_set1_ps(1.f / 32767.f);
-  __m128 u = _mm_mul_ps(_mm_cvtepi32_ps(_mm_srai_epi32(_mm_slli_epi32(codes, 16), 16)), scale);
-  __m128 v = _mm_mul_ps(_mm_cvtepi32_ps(_mm_srai_epi32(codes, 16)), scale);
-  const __m128 sign = _mm_set1_ps(-0.f);
-  const __m128 z = _mm_sub_ps(_mm_sub_ps(_mm_set1_ps(1.f), _mm_andnot_ps(sign, u)), _mm_andnot_ps(sign, v));
-  const __m128 fold = _mm_max_ps(_mm_sub_ps(_mm_setzero_ps(), z), _mm_setzero_ps());
-  u = _mm_sub_ps(u, _mm_or_ps(fold, _mm_and_ps(u, sign)));  // u - copysign(fold, u)
-  v = _mm_sub_ps(v, _mm_or_ps(fold, _mm_and_ps(v, sign)));
-  __m128 a = w, b = _mm_mul_ps(w, t), c = _mm_mul_ps(w, u), d = _mm_mul_ps(w, v);
-  _MM_TRANSPOSE4_PS(a, b, c, d);
-  float sums[4];
-  _mm_storeu_ps(sums, _mm_add_ps(_mm_add_ps(a, b), _mm_add_ps(c, d)));
-  __m128 wz = _mm_mul_ps(w, z);
-  wz = _mm_add_ps(wz, _mm_movehl_ps(wz, wz));
-  wz = _mm_add_ss(wz, _mm_shuffle_ps(wz, wz, 1));
-  return {sums[0], sums[1], sums[2], sums[3], _mm_cvtss_f32(wz)};
-}
-
-// As blend_corner, without the sums: per sample (memory order) the masked weight and the
-// weighted t and un-normalised normal, for blend4 to sum four corners at once.
+// The 2 x 2 directional samples of one corner's quad (SSE2, branch-free, memory order):
+// per sample the weight (zero for a miss, t < 0), and the weighted t and octahedral normal
+// decoded un-normalised (the caller normalises the blend once). Kept per lane so that the
+// raw path can sum four corners at once.
 struct CornerLanes {
   __m128 w, t, nx, ny, nz;
 };
@@ -132,6 +103,19 @@ inline CornerLanes corner_lanes(const Sample* base, std::size_t row, __m128 w) n
 inline __m128 lane_sums(__m128 x0, __m128 x1, __m128 x2, __m128 x3) noexcept {
   _MM_TRANSPOSE4_PS(x0, x1, x2, x3);
   return _mm_add_ps(_mm_add_ps(x0, x1), _mm_add_ps(x2, x3));
+}
+
+// The weighted sums over one corner's quad.
+struct CornerBlend {
+  float weight, t, nx, ny, nz;
+};
+inline CornerBlend blend_corner(const Sample* base, std::size_t row, __m128 w) noexcept {
+  const CornerLanes l = corner_lanes(base, row, w);
+  float sums[4];
+  _mm_storeu_ps(sums, lane_sums(l.w, l.t, l.nx, l.ny));
+  __m128 wz = _mm_add_ps(l.nz, _mm_movehl_ps(l.nz, l.nz));
+  wz = _mm_add_ss(wz, _mm_shuffle_ps(wz, wz, 1));
+  return {sums[0], sums[1], sums[2], sums[3], _mm_cvtss_f32(wz)};
 }
 
 // The four corners' blends side by side (lane c: corner c), through any policy's blend().
