@@ -1,16 +1,13 @@
 #include "device/virtual_device.h"
+#include "device/falcon/falcon_device.h"
 #include <cmath>
 
 namespace hb {
 
 DeviceSpec virtual_device_spec() {
-  DeviceSpec s;
+  // A Falcon-sized device, so a scene felt with the mouse feels the same on the hardware.
+  DeviceSpec s = falcon_spec();
   s.name = "virtual device";
-  s.workspace_radius_m = 0.04f;
-  s.max_force_n = 8.f;
-  s.max_continuous_force_n = 4.f;
-  s.max_stiffness_n_per_m = 3000.f;
-  s.max_damping_n_s_per_m = 10.f;
   return s;
 }
 

@@ -140,7 +140,6 @@ std::vector<std::uint8_t> encode_block_table(const Sample* raw, const BoxParams&
   const std::size_t chunks = (tiles + kChunk - 1) / kChunk;
   std::vector<std::vector<std::uint8_t>> chunk_data(chunks);
   std::vector<std::uint32_t> index(tiles * blocks_per_tile, 0);
-  constexpr std::uint32_t kMiss = 0xffffffffu;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t c = r.begin(); c != r.end(); ++c) {
       auto& out = chunk_data[c];
@@ -151,24 +150,11 @@ std::vector<std::uint8_t> encode_block_table(const Sample* raw, const BoxParams&
             const bool hit = encode_block(raw + tile * per_tile, n, ba, bb, t_step, n_step, out);
             if (out.size() > 0xffffffffu) throw InvalidInput("block codec: compressed table larger than 4 GiB");
             index[tile * blocks_per_tile + std::size_t(ba) * std::size_t(nb) + std::size_t(bb)] =
-                hit ? std::uint32_t(at) : kMiss;
+                hit ? std::uint32_t(at) : kMissEntry;
           }
     }
   });
-  std::vector<std::uint8_t> data(1, 0);  // the shared all-miss record
-  std::vector<std::uint64_t> base(chunks);
-  for (std::size_t c = 0; c < chunks; ++c) {
-    base[c] = data.size();
-    data.insert(data.end(), chunk_data[c].begin(), chunk_data[c].end());
-    std::vector<std::uint8_t>().swap(chunk_data[c]);
-  }
-  if (data.size() > 0xffffffffull) throw InvalidInput("block codec: compressed table larger than 4 GiB");
-  for (std::size_t c = 0; c < chunks; ++c)
-    for (std::size_t tile = c * kChunk; tile < std::min(tiles, (c + 1) * kChunk); ++tile)
-      for (std::size_t k = 0; k < blocks_per_tile; ++k) {
-        std::uint32_t& e = index[tile * blocks_per_tile + k];
-        e = e == kMiss ? 0u : std::uint32_t(base[c] + e);
-      }
+  const std::vector<std::uint8_t> data = join_chunk_records(chunk_data, index, kChunk * blocks_per_tile, "block");
   return assemble_payload(CodecId::block, params, t_step, n_step, index, data);
 }
 

@@ -187,25 +187,14 @@ std::vector<std::uint8_t> encode_haar_table(const Sample* raw, const BoxParams& 
   const std::size_t chunks = (tiles + kChunk - 1) / kChunk;
   std::vector<std::vector<std::uint8_t>> chunk_data(chunks);
   std::vector<std::uint32_t> index(tiles, 0);
-  constexpr std::uint32_t kMiss = 0xffffffffu;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t c = r.begin(); c != r.end(); ++c)
       for (std::size_t tile = c * kChunk; tile < std::min(tiles, (c + 1) * kChunk); ++tile) {
         const std::size_t at = chunk_data[c].size();
-        index[tile] = encode_tile(raw + tile * per_tile, n, N, t_step, n_step, chunk_data[c]) ? std::uint32_t(at) : kMiss;
+        index[tile] = encode_tile(raw + tile * per_tile, n, N, t_step, n_step, chunk_data[c]) ? std::uint32_t(at) : kMissEntry;
       }
   });
-  std::vector<std::uint8_t> data(1, 0);
-  std::vector<std::uint64_t> base(chunks);
-  for (std::size_t c = 0; c < chunks; ++c) {
-    base[c] = data.size();
-    data.insert(data.end(), chunk_data[c].begin(), chunk_data[c].end());
-    std::vector<std::uint8_t>().swap(chunk_data[c]);
-  }
-  if (data.size() > 0xffffffffull) throw InvalidInput("haar codec: compressed table larger than 4 GiB");
-  for (std::size_t c = 0; c < chunks; ++c)
-    for (std::size_t tile = c * kChunk; tile < std::min(tiles, (c + 1) * kChunk); ++tile)
-      index[tile] = index[tile] == kMiss ? 0u : std::uint32_t(base[c] + index[tile]);
+  const std::vector<std::uint8_t> data = join_chunk_records(chunk_data, index, kChunk, "haar");
   return assemble_payload(CodecId::haar, params, t_step, n_step, index, data, max_record_bytes(N));
 }
 

@@ -3,6 +3,7 @@
 #include "errors.h"
 #include <cmath>
 #include <cstring>
+#include <string>
 
 namespace hb {
 
@@ -48,6 +49,24 @@ std::vector<std::uint8_t> assemble_payload(CodecId codec, const BoxParams& param
   std::memcpy(out.data() + h.index_offset, index.data(), index.size() * 4u);
   std::memcpy(out.data() + h.data_offset, data.data(), data.size());
   return out;
+}
+
+std::vector<std::uint8_t> join_chunk_records(std::vector<std::vector<std::uint8_t>>& chunk_data,
+                                             std::vector<std::uint32_t>& index, std::size_t entries_per_chunk,
+                                             const char* codec) {
+  std::vector<std::uint8_t> data(1, 0);  // the shared all-miss record
+  std::vector<std::uint64_t> base(chunk_data.size());
+  for (std::size_t c = 0; c < chunk_data.size(); ++c) {
+    base[c] = data.size();
+    data.insert(data.end(), chunk_data[c].begin(), chunk_data[c].end());
+    std::vector<std::uint8_t>().swap(chunk_data[c]);
+  }
+  if (data.size() > 0xffffffffull) throw InvalidInput(std::string(codec) + " codec: compressed table larger than 4 GiB");
+  for (std::size_t i = 0; i < index.size(); ++i) {
+    std::uint32_t& e = index[i];
+    e = e == kMissEntry ? 0u : std::uint32_t(base[i / entries_per_chunk] + e);
+  }
+  return data;
 }
 
 } // namespace hb

@@ -31,6 +31,18 @@ PayloadHeader validate_payload(const std::uint8_t* payload, std::size_t bytes, C
                                const BoxParams& params, std::uint64_t expected_entries,
                                std::size_t padding = kPayloadPadding);
 
+/// While encoding in parallel chunks: the index entry of a record that holds only misses.
+constexpr std::uint32_t kMissEntry = 0xffffffffu;
+
+/// Joins records encoded in parallel chunks: the data starts with one shared all-miss byte,
+/// then chunk 0's records, chunk 1's, ...; index entries [c * entries_per_chunk, (c + 1) *
+/// entries_per_chunk) hold offsets local to chunk c (or kMissEntry) and are rebased to offsets
+/// into the joined data (kMissEntry to 0). Frees the chunks. Throws hb::InvalidInput when the
+/// data exceeds 4 GiB (`codec` names the codec in the message).
+std::vector<std::uint8_t> join_chunk_records(std::vector<std::vector<std::uint8_t>>& chunk_data,
+                                             std::vector<std::uint32_t>& index, std::size_t entries_per_chunk,
+                                             const char* codec);
+
 /// Assembles header + index + data + padding.
 std::vector<std::uint8_t> assemble_payload(CodecId codec, const BoxParams& params, float t_step, float n_step,
                                            const std::vector<std::uint32_t>& index,
