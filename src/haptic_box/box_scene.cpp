@@ -51,14 +51,14 @@ std::size_t BoxScene::cull(const Segment& segment, std::size_t first, std::size_
 }
 
 std::size_t BoxScene::boxes_met(const Segment& segment) const noexcept {
+  const Vec3 delta = segment.end - segment.start;
+  const float length = delta.norm();
+  if (!(length > 0.f)) return 0;
+  const Vec3 l = delta / length;
   std::size_t met = 0;
   for (const HapticBox& box : boxes_) {
-    const Vec3 delta = segment.end - segment.start;
-    const float length = delta.norm();
     LineBoxHit hit;
-    if (length > 0.f && intersect_line_obb(box.obb(), segment.start, delta / length, hit) &&
-        hit.t_enter <= length && hit.t_exit >= 0.f)
-      ++met;
+    if (intersect_line_obb(box.obb(), segment.start, l, hit) && hit.t_enter <= length && hit.t_exit >= 0.f) ++met;
   }
   return met;
 }
