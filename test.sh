@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # All tests: install what is missing, build, fetch the datasets, then run every CTest suite.
 # The whole run is under xvfb-run -a so the suites labelled `gui` get a display; the others
-# do not need one (CLI tests unset DISPLAY themselves).
+# do not need one (CLI tests unset DISPLAY themselves). -noreset keeps Xvfb from resetting
+# (and refusing connections for a moment) each time its last client leaves.
 set -euo pipefail
 cd "$(dirname "$0")"
 bash scripts/build.sh
@@ -14,4 +15,4 @@ if grep -rEn '#\s*include\s*[<"](vtk|Q[A-Z]|qt|libusb)' src; then
 fi
 
 cd build
-xvfb-run -a -s "-screen 0 1280x1024x24" ctest --output-on-failure -j2 --timeout 600
+xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --output-on-failure -j2 --timeout 600

@@ -16,8 +16,10 @@
 #include <vtkScalarBarActor.h>
 #include <vtkTextProperty.h>
 #include <vtkWindowToImageFilter.h>
+#include <chrono>
 #include <cstdlib>
 #include <fstream>
+#include <thread>
 // The OpenGL render window and font factories, whatever the executable's autoinit covers.
 VTK_MODULE_INIT(vtkRenderingOpenGL2);
 VTK_MODULE_INIT(vtkRenderingFreeType);
@@ -31,7 +33,13 @@ bool vtkHapticBoxErrorFieldImage::DisplayAvailable(std::string* why) {
     if (why) *why = "no display ($DISPLAY is not set); run under xvfb-run -a for an image";
     return false;
   }
-  Display* display = XOpenDisplay(name);
+  // An X server that is resetting (Xvfb does so when its last client leaves) refuses new
+  // connections for a moment: try a few times before calling the display absent.
+  Display* display = nullptr;
+  for (int attempt = 0; attempt < 20 && !display; ++attempt) {
+    if (attempt > 0) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    display = XOpenDisplay(name);
+  }
   if (!display) {
     if (why) *why = std::string("cannot open the X display ") + name;
     return false;
