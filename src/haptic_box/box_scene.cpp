@@ -126,6 +126,12 @@ Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexc
   return best;
 }
 
+void BoxScene::query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
+                          Contact* out) const noexcept {
+  if (boxes_.size() == 1) return boxes_[0].query_many(segments, count, law, out);
+  for (std::size_t i = 0; i < count; ++i) out[i] = query(segments[i], law);
+}
+
 std::size_t BoxScene::table_bytes() const {
   std::size_t sum = 0;
   for (const HapticBox& box : boxes_) sum += box.table_bytes();

@@ -26,6 +26,10 @@ public:
   explicit BoxScene(std::vector<HapticBox> boxes, SourceInfo source = {});
 
   Contact query(const Segment& segment, const ForceLaw& law) const noexcept override;
+  /// The same answers as query() one by one. A one-box scene runs HapticBox::query_many
+  /// (fetches of a group of queries overlapped); with several boxes, query() in a loop.
+  void query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
+                  Contact* out) const noexcept override;
 
   /// How many boxes' PBBs the segment meets (the boxes whose tables a query reads).
   std::size_t boxes_met(const Segment& segment) const noexcept;

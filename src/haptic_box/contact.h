@@ -2,6 +2,7 @@
 // The answer to a probe query, shared by the exact reference and the haptic box so that a
 // comparison isolates the approximation.
 #include "geometry/segment.h"
+#include <cstddef>
 
 namespace hb {
 
@@ -29,6 +30,13 @@ class ContactQuery {
 public:
   virtual ~ContactQuery() = default;
   virtual Contact query(const Segment& segment, const ForceLaw& law) const noexcept = 0;
+  /// Answers segments[0, count) into out[0, count), the same answers as query() one by one.
+  /// Implementations may overlap the work of several queries (see HapticBox::query_many);
+  /// this default runs query() in a loop.
+  virtual void query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
+                          Contact* out) const noexcept {
+    for (std::size_t i = 0; i < count; ++i) out[i] = query(segments[i], law);
+  }
 };
 
 /// Fills `c.force` from `c.depth` and `c.normal`.

@@ -356,19 +356,27 @@ bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact&
   }
 }
 
+// A query between its two phases: the geometry (steps 1-3) is done and the corners'
+// samples are being fetched (step 4 began); finish() blends them.
+template <class Fetch> struct HapticBox::Located {
+  float sx, sy, sz, lx, ly, lz;  // handle, unit direction
+  float t_enter, d;              // box entry from the handle; entry to tip
+  float d1, d2;                  // positional weights
+  int face, i0, j0;
+  float dir_w[4];                // directional weights
+  typename Fetch::Corner corners[4];
+};
+
 template <class Fetch>
-bool HapticBox::query_with(const Fetch& fetch, const Segment& segment, const ForceLaw& law, Contact& out,
-                           float& distance_from_handle) const noexcept {
+bool HapticBox::locate(const Fetch& fetch, const Segment& segment, Located<Fetch>& q) const noexcept {
   // All geometry up to the corner blend runs in box-local coordinates: one 3 x 3 transform
   // of the handle and of l, reciprocals instead of divisions, no Eigen temporaries.
-  out = Contact{};
   const float sx = segment.start.x(), sy = segment.start.y(), sz = segment.start.z();
   const float dx = segment.end.x() - sx, dy = segment.end.y() - sy, dz = segment.end.z() - sz;
   const float length = std::sqrt(dx * dx + dy * dy + dz * dz);
   if (!(length > 0.f && length <= std::numeric_limits<float>::max())) return false;
   const float inv_length = 1.f / length;
   const float lx = dx * inv_length, ly = dy * inv_length, lz = dz * inv_length;
-
   // 1. Entry into the PBB (slab test in local coordinates, as intersect_line_obb).
   const float px = sx - center_[0], py = sy - center_[1], pz = sz - center_[2];
   float o[3], dl[3];
@@ -437,13 +445,24 @@ bool HapticBox::query_with(const Fetch& fetch, const Segment& segment, const For
   // (memory-level parallelism instead of four serial misses).
   const std::size_t m = std::size_t(params_.m);
   const std::size_t p00 = std::size_t(face) * m * m + std::size_t(i0) * m + std::size_t(j0);
-  typename Fetch::Corner corners[4];
-  fetch.begin(p00, sf, a0, b0, corners[0]);
-  fetch.begin(p00 + m, sf, a0, b0, corners[1]);
-  fetch.begin(p00 + m + 1, sf, a0, b0, corners[2]);
-  fetch.begin(p00 + 1, sf, a0, b0, corners[3]);
-  for (int c = 0; c < 4; ++c) fetch.resolve(corners[c]);
-  const Corners4 blended = fetch.blend4(corners, dir_w);
+  fetch.begin(p00, sf, a0, b0, q.corners[0]);
+  fetch.begin(p00 + m, sf, a0, b0, q.corners[1]);
+  fetch.begin(p00 + m + 1, sf, a0, b0, q.corners[2]);
+  fetch.begin(p00 + 1, sf, a0, b0, q.corners[3]);
+  q.sx = sx, q.sy = sy, q.sz = sz, q.lx = lx, q.ly = ly, q.lz = lz;
+  q.t_enter = t_enter, q.d = d, q.d1 = d1, q.d2 = d2;
+  q.face = face, q.i0 = i0, q.j0 = j0;
+  for (int k = 0; k < 4; ++k) q.dir_w[k] = dir_w[k];
+  return true;
+}
+
+template <class Fetch>
+bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceLaw& law, Contact& out,
+                       float& distance_from_handle) const noexcept {
+  const float sx = q.sx, sy = q.sy, sz = q.sz, lx = q.lx, ly = q.ly, lz = q.lz;
+  const float t_enter = q.t_enter, d = q.d, d1 = q.d1, d2 = q.d2;
+  const int face = q.face, i0 = q.i0, j0 = q.j0;
+  const Corners4 blended = fetch.blend4(q.corners, q.dir_w);
 
   // The four corners side by side (SSE2 lanes): miss rule, normalisation, half of the
   // tangent-plane correction from the corner to P1, positional blend.
@@ -503,6 +522,54 @@ bool HapticBox::query_with(const Fetch& fetch, const Segment& segment, const For
   apply_force_law(out, law);
   distance_from_handle = along;
   return true;
+}
+
+template <class Fetch>
+bool HapticBox::query_with(const Fetch& fetch, const Segment& segment, const ForceLaw& law, Contact& out,
+                           float& distance_from_handle) const noexcept {
+  out = Contact{};
+  Located<Fetch> q;
+  if (!locate(fetch, segment, q)) return false;
+  for (typename Fetch::Corner& c : q.corners) fetch.resolve(c);
+  return finish(fetch, q, law, out, distance_from_handle);
+}
+
+// Batches: the geometry and the fetches of a group of queries start before any blend, so
+// the DRAM misses of the whole group (8 cache lines a query) overlap instead of running in
+// series query after query. Each query goes through the same locate() and finish() as
+// query(), so the answers are the same bit for bit.
+template <class Fetch>
+void HapticBox::query_many_with(const Fetch& fetch, const Segment* segments, std::size_t count, const ForceLaw& law,
+                                Contact* out) const noexcept {
+  constexpr std::size_t kGroup = 8;
+  Located<Fetch> q[kGroup];
+  bool located[kGroup];
+  for (std::size_t first = 0; first < count; first += kGroup) {
+    const std::size_t size = std::min(kGroup, count - first);
+    for (std::size_t i = 0; i < size; ++i) located[i] = locate(fetch, segments[first + i], q[i]);
+    for (std::size_t i = 0; i < size; ++i)
+      if (located[i])
+        for (typename Fetch::Corner& c : q[i].corners) fetch.resolve(c);
+    for (std::size_t i = 0; i < size; ++i) {
+      Contact& c = out[first + i];
+      c = Contact{};
+      float along = 0.f;
+      if (located[i]) finish(fetch, q[i], law, c, along);
+    }
+  }
+}
+
+void HapticBox::query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
+                           Contact* out) const noexcept {
+  switch (samples_.codec()) {
+  case CodecId::block:
+    return query_many_with(CodecFetch<BlockTable>{samples_.block()}, segments, count, law, out);
+  case CodecId::haar:
+    return query_many_with(CodecFetch<HaarTable>{samples_.haar()}, segments, count, law, out);
+  default:
+    return query_many_with(RawFetch{table_, std::size_t(params_.n), params_.samples_per_position()}, segments, count,
+                           law, out);
+  }
 }
 
 Contact HapticBox::query(const Segment& segment, const ForceLaw& law) const noexcept {

@@ -1,0 +1,97 @@
+// Batched queries (query_many) give the same answers as query(), bit for bit.
+#include "evaluation/probe_sampling.h"
+#include "haptic_box/bake.h"
+#include "haptic_box/box_scene.h"
+#include "mesh/generators.h"
+#include <gtest/gtest.h>
+#include <cstring>
+#include <random>
+
+namespace hb {
+namespace {
+
+const ForceLaw kLaw{1000.f, 1.f};
+
+// Bitwise equality of every field (so -0 vs 0 or a last-bit difference fails).
+bool same_bits(const Contact& a, const Contact& b) {
+  const auto eq = [](const Vec3& x, const Vec3& y) { return std::memcmp(x.data(), y.data(), 3 * sizeof(float)) == 0; };
+  return a.contact == b.contact && std::memcmp(&a.depth, &b.depth, sizeof(float)) == 0 && eq(a.point, b.point) &&
+         eq(a.normal, b.normal) && eq(a.force, b.force);
+}
+
+// Probes of the usual distribution, plus segments that miss the box, a degenerate one and
+// reversed ones (handle inside), in a count that is not a multiple of any group size.
+std::vector<Segment> mixed_probes(const TriangleMesh& mesh) {
+  std::vector<Segment> probes = sample_probes(mesh, 997);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-3.f, 3.f);
+  for (int i = 0; i < 40; ++i) probes.push_back({Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng))});
+  probes.push_back({Vec3(0.2f, 0.1f, 2.f), Vec3(0.2f, 0.1f, 2.f)});
+  for (int i = 0; i < 20; ++i) probes.push_back({probes[std::size_t(i)].end, probes[std::size_t(i)].start});
+  return probes;
+}
+
+std::size_t expect_same_as_single(const ContactQuery& q, const std::vector<Segment>& probes) {
+  std::vector<Contact> many(probes.size());
+  q.query_many(probes.data(), probes.size(), kLaw, many.data());
+  std::size_t contacts = 0;
+  for (std::size_t i = 0; i < probes.size(); ++i) {
+    const Contact one = q.query(probes[i], kLaw);
+    EXPECT_TRUE(same_bits(one, many[i])) << "probe " << i;
+    contacts += one.contact ? 1 : 0;
+  }
+  return contacts;
+}
+
+TEST(QueryManyTest, RawBoxGivesTheSameAnswersAsSingleQueries) {
+  BumpySphereOptions bumpy;
+  bumpy.subdivisions = 4;
+  const TriangleMesh mesh = make_bumpy_sphere(bumpy);
+  BakeOptions options;
+  options.params = {12, 8};
+  const HapticBox box = bake_box(mesh, {}, options);
+  const std::vector<Segment> probes = mixed_probes(mesh);
+  EXPECT_GT(expect_same_as_single(box, probes), probes.size() / 2);
+  // Sub-ranges and an empty batch.
+  std::vector<Contact> out(5);
+  box.query_many(probes.data() + 3, 5, kLaw, out.data());
+  for (std::size_t i = 0; i < 5; ++i) EXPECT_TRUE(same_bits(out[i], box.query(probes[3 + i], kLaw)));
+  box.query_many(probes.data(), 0, kLaw, out.data());
+}
+
+TEST(QueryManyTest, CompressedBoxesGiveTheSameAnswersAsSingleQueries) {
+  const TriangleMesh mesh = make_torus(1.f, 0.35f, 48, 24);
+  BakeOptions options;
+  options.params = {8, 12};
+  const HapticBox box = bake_box(mesh, {}, options);
+  const std::vector<Segment> probes = mixed_probes(mesh);
+  for (CodecId codec : {CodecId::block, CodecId::haar}) {
+    CodecOptions co;
+    co.codec = codec;
+    co.max_error = 1e-3f;
+    EXPECT_GT(expect_same_as_single(box.compressed(co), probes), probes.size() / 4);
+  }
+}
+
+TEST(QueryManyTest, SceneOfSeveralBoxesGivesTheSameAnswersAsSingleQueries) {
+  TriangleMesh a = make_sphere(1.f, 4), b = make_sphere(1.f, 4);
+  for (auto& p : b.positions) p.x() += 1.5f;  // overlapping pieces: handle_inside matters
+  TriangleMesh both = a;
+  const auto offset = std::uint32_t(both.positions.size());
+  both.positions.insert(both.positions.end(), b.positions.begin(), b.positions.end());
+  both.normals.insert(both.normals.end(), b.normals.begin(), b.normals.end());
+  for (auto t : b.triangles) both.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  std::vector<std::uint32_t> piece(both.triangle_count(), 0);
+  for (std::size_t t = a.triangle_count(); t < both.triangle_count(); ++t) piece[t] = 1;
+  BakeOptions options;
+  options.params = {8, 6};
+  const BoxScene scene = bake_scene(both, piece, options, {});
+  ASSERT_EQ(scene.boxes().size(), 2u);
+  const std::vector<Segment> probes = mixed_probes(both);
+  EXPECT_GT(expect_same_as_single(scene, probes), 0u);
+  const BoxScene one(std::vector<HapticBox>{scene.boxes()[0]});
+  expect_same_as_single(one, mixed_probes(a));
+}
+
+} // namespace
+} // namespace hb
