@@ -23,4 +23,25 @@ double median_query_ns(const ContactQuery& query, const std::vector<Segment>& pr
   return quantile(per_batch, 0.5);
 }
 
+double median_query_many_ns(const ContactQuery& query, const std::vector<Segment>& probes,
+                            const ForceLaw& law, int rounds, std::size_t batch) {
+  if (probes.empty() || batch == 0) return 0.0;
+  std::vector<double> per_batch;
+  std::vector<Contact> out(std::min(batch, probes.size()));
+  volatile float sink = 0.f;
+  for (int r = 0; r < rounds; ++r) {
+    for (std::size_t begin = 0; begin < probes.size(); begin += batch) {
+      const std::size_t count = std::min(probes.size(), begin + batch) - begin;
+      const auto t0 = std::chrono::steady_clock::now();
+      query.query_many(probes.data() + begin, count, law, out.data());
+      float acc = 0.f;
+      for (std::size_t i = 0; i < count; ++i) acc += out[i].depth;
+      const auto t1 = std::chrono::steady_clock::now();
+      sink = sink + acc;
+      per_batch.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / double(count));
+    }
+  }
+  return quantile(per_batch, 0.5);
+}
+
 } // namespace hb

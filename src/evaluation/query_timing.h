@@ -12,4 +12,9 @@ namespace hb {
 double median_query_ns(const ContactQuery& query, const std::vector<Segment>& probes,
                        const ForceLaw& law, int rounds = 5, std::size_t batch = 1000);
 
+/// As median_query_ns, but each batch is answered by one query_many() call (for a haptic
+/// box: the fetches of a group of queries overlap).
+double median_query_many_ns(const ContactQuery& query, const std::vector<Segment>& probes,
+                            const ForceLaw& law, int rounds = 5, std::size_t batch = 1000);
+
 } // namespace hb
