@@ -377,37 +377,42 @@ bool HapticBox::locate(const Fetch& fetch, const Segment& segment, Located<Fetch
   if (!(length > 0.f && length <= std::numeric_limits<float>::max())) return false;
   const float inv_length = 1.f / length;
   const float lx = dx * inv_length, ly = dy * inv_length, lz = dz * inv_length;
-  // 1. Entry into the PBB (slab test in local coordinates, as intersect_line_obb).
+  // 1. Entry into the PBB (slab test in local coordinates, as intersect_line_obb), along the
+  // segment's own vector D = end - start (parameter s = t / length): it needs neither the
+  // length nor l, so it runs beside their square root and division, and so do steps 2-3
+  // (the cube-map projection is invariant to the scale of the direction).
   const float px = sx - center_[0], py = sy - center_[1], pz = sz - center_[2];
-  float o[3], dl[3];
+  float o[3], D[3];
   for (int a = 0; a < 3; ++a) {
     o[a] = rt_[a][0] * px + rt_[a][1] * py + rt_[a][2] * pz;
-    dl[a] = rt_[a][0] * lx + rt_[a][1] * ly + rt_[a][2] * lz;
+    D[a] = rt_[a][0] * dx + rt_[a][1] * dy + rt_[a][2] * dz;
   }
-  float t_enter = -std::numeric_limits<float>::infinity();
-  float t_exit = std::numeric_limits<float>::infinity();
+  float s_enter = -std::numeric_limits<float>::infinity();
+  float s_exit = std::numeric_limits<float>::infinity();
   int face = 0;
+  const float parallel = 1e-12f * length;  // |l . axis| < 1e-12: parallel to the slab
   for (int a = 0; a < 3; ++a) {
-    if (std::fabs(dl[a]) < 1e-12f) {
+    if (std::fabs(D[a]) < parallel) {
       if (o[a] < -half_[a] || o[a] > half_[a]) return false;
       continue;
     }
-    const float inv = 1.f / dl[a];
-    float t0 = (-half_[a] - o[a]) * inv;
-    float t1 = (half_[a] - o[a]) * inv;
+    const float inv = 1.f / D[a];
+    float s0 = (-half_[a] - o[a]) * inv;
+    float s1 = (half_[a] - o[a]) * inv;
     int f0 = 2 * a;
-    if (t0 > t1) {
-      std::swap(t0, t1);
+    if (s0 > s1) {
+      std::swap(s0, s1);
       f0 = 2 * a + 1;
     }
-    if (t0 > t_enter) {
-      t_enter = t0;
+    if (s0 > s_enter) {
+      s_enter = s0;
       face = f0;
     }
-    t_exit = std::min(t_exit, t1);
+    s_exit = std::min(s_exit, s1);
   }
-  if (!(t_enter <= t_exit) || !(std::fabs(t_enter) <= std::numeric_limits<float>::max())) return false;
-  if (t_enter > length || t_exit < 0.f) return false;
+  if (!(s_enter <= s_exit) || !(std::fabs(s_enter) <= std::numeric_limits<float>::max())) return false;
+  if (s_enter > 1.f || s_exit < 0.f) return false;
+  const float t_enter = s_enter * length;
   const float d = length - t_enter;
 
   // 2. Cell and positional weights.
@@ -416,11 +421,11 @@ bool HapticBox::locate(const Fetch& fetch, const Segment& segment, Located<Fetch
   const float half_cells = 0.5f * float(cells_m);
   int i0, j0;
   float d1, d2;
-  split_cell((o[fa.u] + t_enter * dl[fa.u]) * grid_scale_[fa.u] + half_cells, cells_m, i0, d1);
-  split_cell((o[fa.v] + t_enter * dl[fa.v]) * grid_scale_[fa.v] + half_cells, cells_m, j0, d2);
+  split_cell((o[fa.u] + s_enter * D[fa.u]) * grid_scale_[fa.u] + half_cells, cells_m, i0, d1);
+  split_cell((o[fa.v] + s_enter * D[fa.v]) * grid_scale_[fa.v] + half_cells, cells_m, j0, d2);
 
   // 3. Directional cell, once for all corners (cube-map projection with one reciprocal).
-  const float x = dl[fa.u], y = dl[fa.v], z = -fa.sign * dl[fa.a];
+  const float x = D[fa.u], y = D[fa.v], z = -fa.sign * D[fa.a];
   const int sub = (x < 0.f ? 1 : 0) | (y < 0.f ? 2 : 0);
   const float X = std::fabs(x), Y = std::fabs(y), Z = std::max(z, 0.f);
   int sface;
@@ -470,15 +475,18 @@ bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceL
   const FaceFrame& ff = faces_[face];
   const __m128 zero = _mm_setzero_ps();
   const __m128 W = blended.w;
-  __m128 NX = blended.nx, NY = blended.ny, NZ = blended.nz;
   const __m128 omd1 = _mm_setr_ps(1.f - d1, d1, d1, 1.f - d1);
   const __m128 omd2 = _mm_setr_ps(1.f - d2, 1.f - d2, d2, d2);
   const __m128 PW = _mm_mul_ps(omd1, omd2);
   const __m128 valid = _mm_and_ps(_mm_cmpgt_ps(PW, zero), _mm_cmpge_ps(W, _mm_set1_ps(0.5f)));
   __m128 T = _mm_div_ps(blended.t, W);
-  const __m128 sq = _mm_add_ps(_mm_add_ps(_mm_mul_ps(NX, NX), _mm_mul_ps(NY, NY)), _mm_mul_ps(NZ, NZ));
+  // The tangent-plane correction DN / LN is invariant to the scale of the corner normal, so
+  // it uses the blended normal as summed; its normalisation runs beside it, off the
+  // dependency chain from the loads to t0.
+  const __m128 NXu = blended.nx, NYu = blended.ny, NZu = blended.nz;
+  const __m128 sq = _mm_add_ps(_mm_add_ps(_mm_mul_ps(NXu, NXu), _mm_mul_ps(NYu, NYu)), _mm_mul_ps(NZu, NZu));
   const __m128 rn = _mm_and_ps(_mm_cmpgt_ps(sq, zero), _mm_div_ps(_mm_set1_ps(1.f), _mm_sqrt_ps(sq)));
-  NX = _mm_mul_ps(NX, rn), NY = _mm_mul_ps(NY, rn), NZ = _mm_mul_ps(NZ, rn);
+  const __m128 NX = _mm_mul_ps(NXu, rn), NY = _mm_mul_ps(NYu, rn), NZ = _mm_mul_ps(NZu, rn);
   const __m128 CI = _mm_setr_ps(float(i0), float(i0 + 1), float(i0 + 1), float(i0));
   const __m128 CJ = _mm_setr_ps(float(j0), float(j0), float(j0 + 1), float(j0 + 1));
   const auto offset = [&](float origin, float p1, float si, float sj) {
@@ -488,11 +496,12 @@ bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceL
   const __m128 DX = offset(ff.origin.x(), p1x, ff.step_i.x(), ff.step_j.x());
   const __m128 DY = offset(ff.origin.y(), p1y, ff.step_i.y(), ff.step_j.y());
   const __m128 DZ = offset(ff.origin.z(), p1z, ff.step_i.z(), ff.step_j.z());
-  const __m128 LN = _mm_add_ps(_mm_add_ps(_mm_mul_ps(NX, _mm_set1_ps(lx)), _mm_mul_ps(NY, _mm_set1_ps(ly))),
-                               _mm_mul_ps(NZ, _mm_set1_ps(lz)));
-  const __m128 DN = _mm_add_ps(_mm_add_ps(_mm_mul_ps(NX, DX), _mm_mul_ps(NY, DY)), _mm_mul_ps(NZ, DZ));
-  const __m128 corrected = _mm_max_ps(zero, _mm_add_ps(T, _mm_mul_ps(_mm_set1_ps(0.5f), _mm_div_ps(DN, LN))));
-  const __m128 steep = _mm_cmplt_ps(LN, _mm_set1_ps(-0.2f));
+  const __m128 LNu = _mm_add_ps(_mm_add_ps(_mm_mul_ps(NXu, _mm_set1_ps(lx)), _mm_mul_ps(NYu, _mm_set1_ps(ly))),
+                                _mm_mul_ps(NZu, _mm_set1_ps(lz)));
+  const __m128 DNu = _mm_add_ps(_mm_add_ps(_mm_mul_ps(NXu, DX), _mm_mul_ps(NYu, DY)), _mm_mul_ps(NZu, DZ));
+  const __m128 corrected = _mm_max_ps(zero, _mm_add_ps(T, _mm_mul_ps(_mm_set1_ps(0.5f), _mm_div_ps(DNu, LNu))));
+  // Steep enough (unit n . l < -0.2) for the correction; a zero normal is never steep.
+  const __m128 steep = _mm_cmplt_ps(_mm_mul_ps(LNu, rn), _mm_set1_ps(-0.2f));
   T = _mm_or_ps(_mm_and_ps(steep, corrected), _mm_andnot_ps(steep, T));
   const __m128 PWv = _mm_and_ps(valid, PW);
   __m128 s0 = PWv, s1 = _mm_and_ps(valid, _mm_mul_ps(PW, T));
