@@ -86,8 +86,10 @@ public:
     const auto u_ga = std::int8_t(rec[16]), u_gb = std::int8_t(rec[17]);
     const auto v_ga = std::int8_t(rec[18]), v_gb = std::int8_t(rec[19]);
     t = float(t_base + predict(t_ga, t_gb, la, lb) + rt) * t_step_;
-    u = std::fmin(1.f, std::fmax(-1.f, float(u_base + predict(u_ga, u_gb, la, lb) + ru) * n_step_));
-    v = std::fmin(1.f, std::fmax(-1.f, float(v_base + predict(v_ga, v_gb, la, lb) + rv) * n_step_));
+    // std::min / max, not fmin / fmax (library calls on x86-64): the same for these values,
+    // which are never NaN or -0 (an integer times a positive step).
+    u = std::min(1.f, std::max(-1.f, float(u_base + predict(u_ga, u_gb, la, lb) + ru) * n_step_));
+    v = std::min(1.f, std::max(-1.f, float(v_base + predict(v_ga, v_gb, la, lb) + rv) * n_step_));
     return t >= 0.f;
   }
 

@@ -52,9 +52,11 @@ public:
     }
     const auto off_u = get_pod<std::uint32_t>(rec + 8), off_v = get_pod<std::uint32_t>(rec + 12);
     if (off_u > max_section_bits_ || off_v > max_section_bits_) return false;
-    t = std::fmax(0.f, float(path_sum(bits, rec[1] & 31u, a, b)) * step(t_step_, rec[4]));
-    u = std::fmin(1.f, std::fmax(-1.f, float(path_sum(bits + off_u / 8, rec[2] & 31u, a, b)) * step(n_step_, rec[5])));
-    v = std::fmin(1.f, std::fmax(-1.f, float(path_sum(bits + off_v / 8, rec[3] & 31u, a, b)) * step(n_step_, rec[6])));
+    // std::min / max, not fmin / fmax (library calls on x86-64): the same for these values,
+    // which are never NaN or -0 (an integer times a positive step).
+    t = std::max(0.f, float(path_sum(bits, rec[1] & 31u, a, b)) * step(t_step_, rec[4]));
+    u = std::min(1.f, std::max(-1.f, float(path_sum(bits + off_u / 8, rec[2] & 31u, a, b)) * step(n_step_, rec[5])));
+    v = std::min(1.f, std::max(-1.f, float(path_sum(bits + off_v / 8, rec[3] & 31u, a, b)) * step(n_step_, rec[6])));
     return true;
   }
 
