@@ -3,6 +3,7 @@
 // Representations for Independent Unit Vectors"): two signed 16-bit values in 32 bits,
 // worst-case angular error about 0.003 degrees.
 #include "mesh/triangle_mesh.h"
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -36,7 +37,7 @@ inline Vec3 decode_octahedral32_unnormalized(std::uint32_t code) noexcept {
   const float u = float(static_cast<std::int16_t>(code & 0xffffu)) * (1.f / 32767.f);
   const float v = float(static_cast<std::int16_t>(code >> 16)) * (1.f / 32767.f);
   Vec3 n(u, v, 1.f - std::fabs(u) - std::fabs(v));
-  const float t = std::fmax(-n.z(), 0.f);
+  const float t = std::max(-n.z(), 0.f);  // not fmax (a libm call); z is never NaN
   n.x() += n.x() >= 0.f ? -t : t;
   n.y() += n.y() >= 0.f ? -t : t;
   return n;
@@ -45,7 +46,7 @@ inline Vec3 decode_octahedral32_unnormalized(std::uint32_t code) noexcept {
 /// As decode_octahedral32_unnormalized, from octahedral coordinates u, v in [-1, 1].
 inline Vec3 oct_decode_unnormalized(float u, float v) noexcept {
   Vec3 n(u, v, 1.f - std::fabs(u) - std::fabs(v));
-  const float t = std::fmax(-n.z(), 0.f);
+  const float t = std::max(-n.z(), 0.f);  // not fmax (a libm call); z is never NaN
   n.x() += n.x() >= 0.f ? -t : t;
   n.y() += n.y() >= 0.f ? -t : t;
   return n;
