@@ -21,6 +21,9 @@
 //     codec is switched on once per query and the query body is instantiated per codec.
 //     Every codec keeps hit/miss exact, so step 5 sees the same silhouettes on a compressed
 //     table as on the raw one; only t and the normals move, within the codec's bound.
+//  8. The body is split in two: locate() (steps 1-3 and the start of the fetches) and
+//     finish() (the blends and step 6). query() runs them back to back; query_many() runs
+//     locate() for a group of queries before finishing any, so their DRAM misses overlap.
 #include "haptic_box/haptic_box.h"
 #include "errors.h"
 #include "geometry/octahedral.h"
