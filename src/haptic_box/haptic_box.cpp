@@ -17,7 +17,12 @@
 //     blends a far exit distance into t0.
 //  6. Contact test (Figure 7): the surface point P1 + t0 l must lie between the handle and
 //     the tip, on the outside of the surface (n . l < 0); depth = d - t0; F = k depth n.
-//  7. The samples are read through a fetch policy (raw records, block or Haar codec): the
+//  7. Exact refinement (optional, boxes baked with triangle ids): the triangles hit by the 16
+//     samples of step 4 are candidates; the line is intersected with each exactly, and the
+//     nearest front-face hit, when it lies within two position cells of the blended t0 (or
+//     the blend was a miss), gives t0 and the shaded normal instead of the blend. The cost
+//     stays constant (at most 16 triangle tests), independent of the triangle count.
+//  8. The samples are read through a fetch policy (raw records, block or Haar codec): the
 //     codec is switched on once per query and the query body is instantiated per codec.
 //     Every codec keeps hit/miss exact, so step 5 sees the same silhouettes on a compressed
 //     table as on the raw one; only t and the normals move, within the codec's bound.
@@ -300,7 +305,86 @@ HapticBox::HapticBox(const Obb& obb, const BoxParams& params, CodecId codec, con
 
 HapticBox HapticBox::compressed(const CodecOptions& options) const {
   if (!table_) throw InvalidInput("HapticBox: the table is already compressed");
-  return HapticBox(obb_, params_, compress_table(table_, params_, obb_.diagonal(), options));
+  HapticBox box(obb_, params_, compress_table(table_, params_, obb_.diagonal(), options));
+  if (surface_) box.attach_surface(triangle_ids_, params_.sample_count(), ids_owner_, surface_, false);
+  return box;
+}
+
+void HapticBox::attach_surface(const std::uint32_t* triangle_ids, std::size_t count,
+                               std::shared_ptr<const void> ids_owner, std::shared_ptr<const SurfaceTriangles> surface,
+                               bool validate) {
+  if (!triangle_ids || !surface) throw InvalidInput("HapticBox: refinement needs triangle ids and a surface");
+  if (count != params_.sample_count())
+    throw InvalidInput("HapticBox: " + std::to_string(count) + " triangle ids, expected " +
+                       std::to_string(params_.sample_count()));
+  if (validate)
+    for (std::size_t k = 0; k < count; ++k)
+      if (triangle_ids[k] != kNoTriangle && triangle_ids[k] >= surface->size())
+        throw InvalidInput("HapticBox: sample " + std::to_string(k) + " names triangle " +
+                           std::to_string(triangle_ids[k]) + ", the surface has " + std::to_string(surface->size()));
+  triangle_ids_ = triangle_ids;
+  ids_owner_ = std::move(ids_owner);
+  surface_ = std::move(surface);
+  // A refined hit farther than this from the blended one is a different surface than the one
+  // the samples blend (a candidate behind the first one): two position cells.
+  refine_tolerance_ = 2.f * 2.f * obb_.half.maxCoeff() / float(params_.m - 1);
+}
+
+// Step 6: the triangles the 16 blended samples hit are the candidates for the true contact.
+// The line from P1 along l is tested against each (distinct) one exactly; the nearest hit,
+// when it is a front face and agrees with the blend within the tolerance, replaces the blend.
+bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const float p1[3], const float l[3],
+                       float t_blend, float& t0, Vec3& normal) const noexcept {
+  const std::size_t n = std::size_t(params_.n), m = std::size_t(params_.m);
+  const std::size_t positions[4] = {p00, p00 + m, p00 + m + 1, p00 + 1};
+  std::uint32_t candidates[16];
+  int count = 0;
+  for (std::size_t position : positions) {
+    const std::uint32_t* ids = triangle_ids_ + (position * 12u + sf) * n * n + std::size_t(a0) * n + std::size_t(b0);
+    const std::uint32_t quad[4] = {ids[0], ids[1], ids[n], ids[n + 1]};
+    for (std::uint32_t id : quad) {
+      if (id == kNoTriangle) continue;
+      bool seen = false;
+      for (int k = 0; k < count; ++k) seen |= candidates[k] == id;
+      if (!seen) candidates[count++] = id;
+    }
+  }
+  float best = std::numeric_limits<float>::infinity();
+  Vec3 best_normal = Vec3::Zero();
+  bool best_front = false;
+  for (int k = 0; k < count; ++k) {
+    float s = 0.f;
+    Vec3 nrm = Vec3::Zero();
+    bool front = false;
+    if (surface_->intersect(candidates[k], p1, l, 0.f, s, nrm, front) && s < best) {
+      best = s;
+      best_normal = nrm;
+      best_front = front;
+    }
+  }
+  const auto accepted = [&](float s, bool front) {
+    return s < std::numeric_limits<float>::infinity() && front &&
+           (t_blend < 0.f || std::fabs(s - t_blend) <= refine_tolerance_);
+  };
+  if (!accepted(best, best_front)) {
+    // No candidate is crossed: the line passes between them. Walk from the first few
+    // candidates across the edges the line passes to the triangle it crosses.
+    best = std::numeric_limits<float>::infinity();
+    for (int k = 0; k < count && k < 4; ++k) {
+      float s = 0.f;
+      Vec3 nrm = Vec3::Zero();
+      bool front = false;
+      if (surface_->walk(candidates[k], p1, l, 0.f, 4, s, nrm, front) && accepted(s, front) && s < best) {
+        best = s;
+        best_normal = nrm;
+        best_front = front;
+      }
+    }
+    if (!accepted(best, best_front)) return false;
+  }
+  t0 = best;
+  normal = best_normal;
+  return true;
 }
 
 void HapticBox::init_faces() noexcept {
@@ -485,13 +569,25 @@ bool HapticBox::query_with(const Fetch& fetch, const Segment& segment, const For
   wnz = _mm_add_ps(wnz, _mm_movehl_ps(wnz, wnz));
   wnz = _mm_add_ss(wnz, _mm_shuffle_ps(wnz, wnz, 1));
   const float corner_hit_weight = sums[0];
-  if (corner_hit_weight < 0.5f) return false;
-  const float t0 = sums[1] / corner_hit_weight;
   const float nsx = sums[2], nsy = sums[3], nsz = _mm_cvtss_f32(wnz);
   const float nlen = std::sqrt(nsx * nsx + nsy * nsy + nsz * nsz);
-  if (!(nlen > 0.f)) return false;
-  const float inv_nlen = 1.f / nlen;
-  const float nx = nsx * inv_nlen, ny = nsy * inv_nlen, nz = nsz * inv_nlen;
+  const bool blended_hit = corner_hit_weight >= 0.5f && nlen > 0.f;
+  float t0 = blended_hit ? sums[1] / corner_hit_weight : -1.f;
+  float nx = 0.f, ny = 0.f, nz = 0.f;
+  if (blended_hit) {
+    const float inv_nlen = 1.f / nlen;
+    nx = nsx * inv_nlen, ny = nsy * inv_nlen, nz = nsz * inv_nlen;
+  }
+  bool hit = blended_hit;
+  if (surface_ && _mm_movemask_ps(_mm_cmpgt_ps(W, zero)) != 0) {
+    const float p1[3] = {p1x, p1y, p1z}, l[3] = {lx, ly, lz};
+    Vec3 refined_normal;
+    if (refine(p00, a0, b0, sf, p1, l, t0, t0, refined_normal)) {
+      nx = refined_normal.x(), ny = refined_normal.y(), nz = refined_normal.z();
+      hit = true;
+    }
+  }
+  if (!hit) return false;
 
   // 6. Contact test.
   const float along = t_enter + t0;  // handle to surface point

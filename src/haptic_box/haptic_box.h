@@ -5,6 +5,7 @@
 #include "codec/sample_table.h"
 #include "haptic_box/contact.h"
 #include "haptic_box/sample.h"
+#include "haptic_box/surface_triangles.h"
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -27,6 +28,21 @@ public:
   /// header only (O(1), touches one page). Throws hb::InvalidInput.
   HapticBox(const Obb& obb, const BoxParams& params, CodecId codec, const std::uint8_t* payload,
             std::size_t bytes, std::shared_ptr<const void> owner, const CodecStats& stats);
+
+  /// Exact refinement (step 6 of the query, see the .cpp overview): `triangle_ids` holds,
+  /// per sample in the layout of sample_index(), the mesh triangle the sample's ray hit
+  /// (kNoTriangle for a miss), `surface` those triangles. Both are kept alive by the box.
+  /// Throws hb::InvalidInput when the id count is not params().sample_count() or an id is
+  /// beyond `surface` (checked when `validate`; a mapped file checks its own bounds).
+  void attach_surface(const std::uint32_t* triangle_ids, std::size_t count, std::shared_ptr<const void> ids_owner,
+                      std::shared_ptr<const SurfaceTriangles> surface, bool validate = true);
+  /// Whether queries refine with the exact triangles (attach_surface was called).
+  bool refines() const { return surface_ != nullptr; }
+  const std::uint32_t* triangle_ids() const { return triangle_ids_; }
+  const std::shared_ptr<const SurfaceTriangles>& surface() const { return surface_; }
+  /// Bytes of the triangle ids (0 without refinement); the shared surface is counted once
+  /// per scene (BoxScene::surface_bytes).
+  std::size_t triangle_id_bytes() const { return triangle_ids_ ? params_.sample_count() * 4u : 0u; }
 
   /// A copy of this (raw) box with its table compressed; throws hb::InvalidInput when this
   /// box is already compressed or the options are out of range.
@@ -74,6 +90,8 @@ public:
 
 private:
   void init_faces() noexcept;
+  bool refine(std::size_t p00, int a0, int b0, std::size_t sf, const float p1[3], const float l[3], float t_blend,
+              float& t0, Vec3& normal) const noexcept;
   template <class Fetch>
   bool query_with(const Fetch& fetch, const Segment& segment, const ForceLaw& law, Contact& out,
                   float& distance_from_handle) const noexcept;
@@ -93,6 +111,10 @@ private:
   SampleTable samples_;
   CodecStats stats_;
   std::shared_ptr<const void> owner_;  // keeps the table alive; shared by copies
+  const std::uint32_t* triangle_ids_ = nullptr;
+  std::shared_ptr<const void> ids_owner_;
+  std::shared_ptr<const SurfaceTriangles> surface_;
+  float refine_tolerance_ = 0.f;  // largest |refined t - blended t| accepted (attach_surface)
 };
 
 } // namespace hb

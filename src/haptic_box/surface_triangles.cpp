@@ -1,0 +1,123 @@
+#include "haptic_box/surface_triangles.h"
+#include "errors.h"
+#include "geometry/octahedral.h"
+#include "mesh/triangle_adjacency.h"
+#include <cmath>
+
+namespace hb {
+
+SurfaceTriangles::SurfaceTriangles(const TriangleMesh& mesh) {
+  if (mesh.normals.size() != mesh.positions.size())
+    throw InvalidInput("SurfaceTriangles: mesh has no vertex normals (call compute_vertex_normals)");
+  if (mesh.triangle_count() == 0) throw InvalidInput("SurfaceTriangles: mesh has no triangles");
+  auto owned = std::make_shared<std::vector<Record>>(mesh.triangle_count());
+  std::vector<Record>& records = *owned;
+  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+    const Triangle& tri = mesh.triangles[t];
+    const Vec3& a = mesh.positions[tri[0]];
+    const Vec3 e1 = mesh.positions[tri[1]] - a, e2 = mesh.positions[tri[2]] - a;
+    Record& r = records[t];
+    for (int k = 0; k < 3; ++k) {
+      r.a[k] = a[k];
+      r.e1[k] = e1[k];
+      r.e2[k] = e2[k];
+      r.normal[k] = encode_octahedral32(mesh.normals[tri[k]]);
+      r.neighbour[k] = kNoTriangle;
+    }
+    r.pad = 0;
+  }
+  // Neighbour across the edge opposite vertex k: the (first) triangle holding both of the
+  // edge's vertices.
+  const TriangleAdjacency adjacency = triangle_adjacency(mesh);
+  for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+    const Triangle& tri = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t e0 = tri[(k + 1) % 3], e1 = tri[(k + 2) % 3];
+      for (const std::uint32_t* nb = adjacency.begin(t); nb != adjacency.end(t); ++nb) {
+        const Triangle& other = mesh.triangles[*nb];
+        const bool has0 = other[0] == e0 || other[1] == e0 || other[2] == e0;
+        const bool has1 = other[0] == e1 || other[1] == e1 || other[2] == e1;
+        if (has0 && has1) {
+          records[t].neighbour[k] = *nb;
+          break;
+        }
+      }
+    }
+  }
+  records_ = records.data();
+  count_ = records.size();
+  owner_ = std::move(owned);
+}
+
+SurfaceTriangles::SurfaceTriangles(const Record* records, std::size_t count, std::shared_ptr<const void> owner)
+    : records_(records), count_(count), owner_(std::move(owner)) {
+  if (!records_ || count_ == 0) throw InvalidInput("SurfaceTriangles: no triangles");
+}
+
+bool SurfaceTriangles::plane_hit(const Record& r, const float o[3], const float d[3], float& u, float& v,
+                                 float& s) noexcept {
+  // Moller-Trumbore: p = d x e2, det = e1 . p.
+  const float px = d[1] * r.e2[2] - d[2] * r.e2[1];
+  const float py = d[2] * r.e2[0] - d[0] * r.e2[2];
+  const float pz = d[0] * r.e2[1] - d[1] * r.e2[0];
+  const float det = r.e1[0] * px + r.e1[1] * py + r.e1[2] * pz;
+  if (!(std::fabs(det) > 1e-20f)) return false;
+  const float inv = 1.f / det;
+  const float tx = o[0] - r.a[0], ty = o[1] - r.a[1], tz = o[2] - r.a[2];
+  u = (tx * px + ty * py + tz * pz) * inv;
+  const float qx = ty * r.e1[2] - tz * r.e1[1];
+  const float qy = tz * r.e1[0] - tx * r.e1[2];
+  const float qz = tx * r.e1[1] - ty * r.e1[0];
+  v = (d[0] * qx + d[1] * qy + d[2] * qz) * inv;
+  s = (r.e2[0] * qx + r.e2[1] * qy + r.e2[2] * qz) * inv;
+  return std::isfinite(u) && std::isfinite(v) && std::isfinite(s);
+}
+
+bool SurfaceTriangles::finish(const Record& r, const float d[3], float u, float v, float s, float s_min, float& s_out,
+                              Vec3& normal, bool& front) noexcept {
+  if (!(s >= s_min)) return false;
+  // Geometric normal e1 x e2 (outward for a consistently oriented mesh).
+  const Vec3 g(r.e1[1] * r.e2[2] - r.e1[2] * r.e2[1], r.e1[2] * r.e2[0] - r.e1[0] * r.e2[2],
+               r.e1[0] * r.e2[1] - r.e1[1] * r.e2[0]);
+  Vec3 shaded = (1.f - u - v) * decode_octahedral32(r.normal[0]) + u * decode_octahedral32(r.normal[1]) +
+                v * decode_octahedral32(r.normal[2]);
+  if (shaded.dot(g) < 0.f || shaded.squaredNorm() < 1e-12f) shaded = g;
+  const float len = shaded.norm();
+  if (!(len > 0.f)) return false;
+  s_out = s;
+  normal = shaded / len;
+  front = g.x() * d[0] + g.y() * d[1] + g.z() * d[2] < 0.f;
+  return true;
+}
+
+bool SurfaceTriangles::intersect(std::uint32_t id, const float o[3], const float d[3], float s_min, float& s,
+                                 Vec3& normal, bool& front) const noexcept {
+  if (id >= count_) return false;
+  const Record& r = records_[id];
+  float u, v, hit;
+  if (!plane_hit(r, o, d, u, v, hit) || u < 0.f || v < 0.f || u + v > 1.f) return false;
+  return finish(r, d, u, v, hit, s_min, s, normal, front);
+}
+
+bool SurfaceTriangles::walk(std::uint32_t start, const float o[3], const float d[3], float s_min, int max_steps,
+                            float& s, Vec3& normal, bool& front) const noexcept {
+  std::uint32_t id = start, previous = kNoTriangle;
+  for (int step = 0; step <= max_steps; ++step) {
+    if (id >= count_) return false;
+    const Record& r = records_[id];
+    float u, v, hit;
+    if (!plane_hit(r, o, d, u, v, hit)) return false;
+    const float w[3] = {1.f - u - v, u, v};
+    int worst = 0;
+    for (int k = 1; k < 3; ++k)
+      if (w[k] < w[worst]) worst = k;
+    if (w[worst] >= 0.f) return finish(r, d, u, v, hit, s_min, s, normal, front);
+    const std::uint32_t next = r.neighbour[worst];
+    if (next == kNoTriangle || next == previous) return false;
+    previous = id;
+    id = next;
+  }
+  return false;
+}
+
+} // namespace hb
