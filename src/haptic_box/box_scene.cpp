@@ -2,7 +2,8 @@
 //  1. Cull: the segment against the axis-aligned bounds of every PBB (flat loop).
 //  2. Each surviving box runs its query (which starts with its exact PBB slab test).
 //  3. The valid contact nearest the handle wins (contact definition: the first outside
-//     surface met walking from the handle).
+//     surface met walking from the handle). Boxes that refine (HapticBox::attach_surface)
+//     compete with their refined answers.
 //  4. With several boxes, a contact is dropped when the handle lies inside any met box's
 //     piece along the line and that piece ends before the contact (handle_inside): the first
 //     surface from the handle is then an inside one, which the box that found the contact
@@ -114,7 +115,7 @@ Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexc
       }
     }
   }
-  if (!best.contact || count < 2) return best;
+  if (!best.contact) return best;
   // With several boxes, a handle inside another piece (the first surface from the handle is
   // that piece's inside: no contact by definition) is invisible to the box that found the
   // contact ahead; ask the boxes whose PBB holds the handle.

@@ -349,14 +349,22 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
       if (!seen) candidates[count++] = id;
     }
   }
+  for (int k = 0; k < count; ++k) surface_->prefetch(candidates[k]);
   float best = std::numeric_limits<float>::infinity();
   Vec3 best_normal = Vec3::Zero();
   bool best_front = false;
+  std::uint32_t start = kNoTriangle;
+  float nearest_outside = std::numeric_limits<float>::infinity();
   for (int k = 0; k < count; ++k) {
-    float s = 0.f;
+    float s = 0.f, outside = 0.f;
     Vec3 nrm = Vec3::Zero();
     bool front = false;
-    if (surface_->intersect(candidates[k], p1, l, 0.f, s, nrm, front) && s < best) {
+    const bool crossed = surface_->intersect(candidates[k], p1, l, 0.f, s, nrm, front, &outside);
+    if (!crossed && outside < nearest_outside) {
+      nearest_outside = outside;
+      start = candidates[k];
+    }
+    if (crossed && s < best) {
       best = s;
       best_normal = nrm;
       best_front = front;
@@ -367,20 +375,11 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
            (t_blend < 0.f || std::fabs(s - t_blend) <= refine_tolerance_);
   };
   if (!accepted(best, best_front)) {
-    // No candidate is crossed: the line passes between them. Walk from the first few
-    // candidates across the edges the line passes to the triangle it crosses.
-    best = std::numeric_limits<float>::infinity();
-    for (int k = 0; k < count && k < 4; ++k) {
-      float s = 0.f;
-      Vec3 nrm = Vec3::Zero();
-      bool front = false;
-      if (surface_->walk(candidates[k], p1, l, 0.f, 4, s, nrm, front) && accepted(s, front) && s < best) {
-        best = s;
-        best_normal = nrm;
-        best_front = front;
-      }
-    }
-    if (!accepted(best, best_front)) return false;
+    // No candidate is crossed: the line passes between them. Walk from the candidate it
+    // passes nearest, across the edges it passes, to the triangle it crosses.
+    if (start == kNoTriangle || !surface_->walk(start, p1, l, 0.f, 6, best, best_normal, best_front) ||
+        !accepted(best, best_front))
+      return false;
   }
   t0 = best;
   normal = best_normal;
@@ -428,21 +427,21 @@ Vec3 HapticBox::sample_direction(int face, int sub, int sface, int a, int b) con
 }
 
 bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact& out,
-                           float& distance_from_handle) const noexcept {
+                           float& distance_from_handle, Refine refine_hit) const noexcept {
   switch (samples_.codec()) {
   case CodecId::block:
-    return query_with(CodecFetch<BlockTable>{samples_.block()}, segment, law, out, distance_from_handle);
+    return query_with(CodecFetch<BlockTable>{samples_.block()}, segment, law, out, distance_from_handle, refine_hit);
   case CodecId::haar:
-    return query_with(CodecFetch<HaarTable>{samples_.haar()}, segment, law, out, distance_from_handle);
+    return query_with(CodecFetch<HaarTable>{samples_.haar()}, segment, law, out, distance_from_handle, refine_hit);
   default:
     return query_with(RawFetch{table_, std::size_t(params_.n), params_.samples_per_position()}, segment, law, out,
-                      distance_from_handle);
+                      distance_from_handle, refine_hit);
   }
 }
 
 template <class Fetch>
 bool HapticBox::query_with(const Fetch& fetch, const Segment& segment, const ForceLaw& law, Contact& out,
-                           float& distance_from_handle) const noexcept {
+                           float& distance_from_handle, Refine refine_hit) const noexcept {
   // All geometry up to the corner blend runs in box-local coordinates: one 3 x 3 transform
   // of the handle and of l, reciprocals instead of divisions, no Eigen temporaries.
   out = Contact{};
@@ -521,6 +520,16 @@ bool HapticBox::query_with(const Fetch& fetch, const Segment& segment, const For
   // (memory-level parallelism instead of four serial misses).
   const std::size_t m = std::size_t(params_.m);
   const std::size_t p00 = std::size_t(face) * m * m + std::size_t(i0) * m + std::size_t(j0);
+  if (refine_hit != Refine::off && triangle_ids_) {
+    // The triangle ids of the four quads, loaded now so they arrive with the samples.
+    const std::size_t n = std::size_t(params_.n);
+    const std::size_t corner_positions[4] = {p00, p00 + m, p00 + m + 1, p00 + 1};
+    for (std::size_t position : corner_positions) {
+      const std::uint32_t* ids = triangle_ids_ + (position * 12u + sf) * n * n + std::size_t(a0) * n + std::size_t(b0);
+      __builtin_prefetch(ids);
+      __builtin_prefetch(ids + n + 1);
+    }
+  }
   typename Fetch::Corner corners[4];
   fetch.begin(p00, sf, a0, b0, corners[0]);
   fetch.begin(p00 + m, sf, a0, b0, corners[1]);
@@ -579,7 +588,8 @@ bool HapticBox::query_with(const Fetch& fetch, const Segment& segment, const For
     nx = nsx * inv_nlen, ny = nsy * inv_nlen, nz = nsz * inv_nlen;
   }
   bool hit = blended_hit;
-  if (surface_ && _mm_movemask_ps(_mm_cmpgt_ps(W, zero)) != 0) {
+  if (surface_ && (refine_hit == Refine::all || (refine_hit == Refine::misses && !blended_hit)) &&
+      _mm_movemask_ps(_mm_cmpgt_ps(W, zero)) != 0) {
     const float p1[3] = {p1x, p1y, p1z}, l[3] = {lx, ly, lz};
     Vec3 refined_normal;
     if (refine(p00, a0, b0, sf, p1, l, t0, t0, refined_normal)) {

@@ -12,6 +12,13 @@
 
 namespace hb {
 
+/// Which answers of a refining box a query refines exactly (HapticBox::attach_surface).
+enum class Refine {
+  off,     ///< none: the blended answer only.
+  misses,  ///< only where the blend found no surface but some samples hit (silhouettes).
+  all,     ///< every answer (the default).
+};
+
 /// A baked box. Built once (by bake_box or by loading a file), then queried many times
 /// through the const, noexcept, allocation-free query(), safe from many threads.
 class HapticBox final : public ContactQuery {
@@ -54,9 +61,10 @@ public:
 
   /// As query(), and also the distance from the handle to the surface point along the
   /// segment (for scenes: the contact nearest the handle wins). Returns false and leaves
-  /// `out.contact` false when there is no contact.
+  /// `out.contact` false when there is no contact. `refine` limits the exact
+  /// refinement (for callers that need only whether and roughly where a surface is).
   bool query_into(const Segment& segment, const ForceLaw& law, Contact& out,
-                  float& distance_from_handle) const noexcept;
+                  float& distance_from_handle, Refine refine = Refine::all) const noexcept;
 
   const Obb& obb() const { return obb_; }
   const BoxParams& params() const { return params_; }
@@ -94,7 +102,7 @@ private:
               float& t0, Vec3& normal) const noexcept;
   template <class Fetch>
   bool query_with(const Fetch& fetch, const Segment& segment, const ForceLaw& law, Contact& out,
-                  float& distance_from_handle) const noexcept;
+                  float& distance_from_handle, Refine refine) const noexcept;
 
   // Per face: world position of position point (0, 0) and the steps to (1, 0) and (0, 1).
   struct FaceFrame {

@@ -2,7 +2,9 @@
 #include "errors.h"
 #include "geometry/octahedral.h"
 #include "mesh/triangle_adjacency.h"
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hb {
 
@@ -91,11 +93,18 @@ bool SurfaceTriangles::finish(const Record& r, const float d[3], float u, float 
 }
 
 bool SurfaceTriangles::intersect(std::uint32_t id, const float o[3], const float d[3], float s_min, float& s,
-                                 Vec3& normal, bool& front) const noexcept {
+                                 Vec3& normal, bool& front, float* outside) const noexcept {
+  if (outside) *outside = std::numeric_limits<float>::infinity();
   if (id >= count_) return false;
   const Record& r = records_[id];
   float u, v, hit;
-  if (!plane_hit(r, o, d, u, v, hit) || u < 0.f || v < 0.f || u + v > 1.f) return false;
+  if (!plane_hit(r, o, d, u, v, hit)) return false;
+  const float w = std::min(std::min(u, v), 1.f - u - v);
+  if (w < 0.f) {
+    if (outside) *outside = -w;
+    return false;
+  }
+  if (outside) *outside = 0.f;
   return finish(r, d, u, v, hit, s_min, s, normal, front);
 }
 

@@ -43,8 +43,15 @@ public:
   /// Ray origin + s dir (dir need not be unit; s in units of |dir|) against triangle `id`
   /// (Moller-Trumbore, both sides): true with the parameter `s` >= s_min, the shaded normal
   /// (unit, oriented like the geometric normal) and whether the ray meets the front face.
+  /// When the line passes beside the triangle, `outside` (if given) receives how far: minus
+  /// the most negative barycentric coordinate of its plane crossing (infinity: parallel).
   bool intersect(std::uint32_t id, const float origin[3], const float dir[3], float s_min, float& s,
-                 Vec3& normal, bool& front) const noexcept;
+                 Vec3& normal, bool& front, float* outside = nullptr) const noexcept;
+
+  /// Starts loading triangle `id`'s record (no effect when out of range).
+  void prefetch(std::uint32_t id) const noexcept {
+    if (id < count_) __builtin_prefetch(records_ + id);
+  }
 
   /// As intersect(), but when the line passes beside triangle `start`, steps to the
   /// neighbour across the edge it passes (the most negative barycentric coordinate), at most
