@@ -47,6 +47,10 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   codec_->addItem(tr("none (8-byte samples)"), QStringLiteral("none"));
   codec_->addItem(tr("block (ours, ~8:1 at 0.05% of the diagonal)"), QStringLiteral("block"));
   codec_->addItem(tr("haar (the paper's wavelet)"), QStringLiteral("haar"));
+  refine_ = new QCheckBox(tr("Refine exactly on the mesh's triangles"));
+  refine_->setToolTip(tr("Store the triangle each sample hit: a query then intersects the line with the few "
+                         "triangles its samples name (and their neighbours) and answers exactly where it "
+                         "finds the surface. 4 bytes more per sample; slower queries."));
   cache_ = new QCheckBox(tr("Cache baked boxes next to the model"));
   size_ = new QLabel;
   const auto showSize = [this] {
@@ -79,6 +83,7 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   form->addRow(tr("Pieces"), pieces_);
   form->addRow(tr("Piece file"), fileRow);
   form->addRow(tr("Codec"), codec_);
+  form->addRow(refine_);
   form->addRow(tr("Size"), size_);
   form->addRow(cache_);
   auto* buttons = new QHBoxLayout;
@@ -119,6 +124,7 @@ void BakePanel::showSettings() {
   piecesFile_->setText(s.piecesFile);
   const int c = codec_->findData(s.codec);
   codec_->setCurrentIndex(c < 0 ? 0 : c);
+  refine_->setChecked(s.refine);
   cache_->setChecked(s.useCache);
 }
 
@@ -130,6 +136,7 @@ void BakePanel::applySettings() {
   s.pieces = static_cast<BakeSettings::Pieces>(pieces_->currentData().toInt());
   s.piecesFile = piecesFile_->text();
   s.codec = codec_->currentData().toString();
+  s.refine = refine_->isChecked();
   s.useCache = cache_->isChecked();
   session_->setBakeSettings(s);
 }
