@@ -106,7 +106,7 @@ HapticBox bake_one(const TriangleMesh& mesh, const std::vector<std::uint32_t>& t
               if (hit.hit && hit.normal.dot(dir) < 0.f) {
                 s.t = hit.t;
                 s.normal = encode_octahedral32(hit.normal);
-                if (ids) (*ids)[index] = hit.triangle;
+                if (ids) (*ids)[index] = surface->slot(hit.triangle);
                 ++local_hits;
               } else {
                 s.t = kMissT;

@@ -84,8 +84,8 @@ bool handle_inside(const HapticBox& box, const Segment& segment, const ForceLaw&
   const float margin = 1e-3f * box.obb().diagonal();
   Contact c;
   float along = 0.f;
-  if (!box.query_into({segment.start + (hit.t_enter - margin) * l, segment.start}, law, c, along)) return false;
-  if (!box.query_into({segment.start + (hit.t_exit + margin) * l, segment.start}, law, c, along)) return false;
+  if (!box.query_into({segment.start + (hit.t_enter - margin) * l, segment.start}, law, c, along, Refine::misses)) return false;
+  if (!box.query_into({segment.start + (hit.t_exit + margin) * l, segment.start}, law, c, along, Refine::misses)) return false;
   const float far_surface = hit.t_exit + margin - along;  // from the handle along l
   return far_surface < contact_along;
 }

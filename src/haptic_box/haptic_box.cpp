@@ -330,6 +330,13 @@ void HapticBox::attach_surface(const std::uint32_t* triangle_ids, std::size_t co
   refine_tolerance_ = 2.f * 2.f * obb_.half.maxCoeff() / float(params_.m - 1);
 }
 
+// Most edges a refinement walk crosses. Measured (eval and bench, 20,000 probes): on the
+// 31-box armadillo (52K triangles, cells 1.6% of the diagonal) 3 steps give p95 13.8%, 6 give
+// 0.0033%, 12 give 0.0032%; on one m=32 box of armadillo subdivided twice (832K triangles,
+// far smaller than a cell) 3 / 6 / 12 steps give median error 18.7% / 0.0044% / 0.0019% at
+// 1.26 / 1.52 / 1.98 us a query. A walk is bounded, so the query cost stays bounded.
+constexpr int kWalkSteps = 8;
+
 // Step 6: the triangles the 16 blended samples hit are the candidates for the true contact.
 // The line from P1 along l is tested against each (distinct) one exactly; the nearest hit,
 // when it is a front face and agrees with the blend within the tolerance, replaces the blend.
@@ -377,7 +384,7 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
   if (!accepted(best, best_front)) {
     // No candidate is crossed: the line passes between them. Walk from the candidate it
     // passes nearest, across the edges it passes, to the triangle it crosses.
-    if (start == kNoTriangle || !surface_->walk(start, p1, l, 0.f, 6, best, best_normal, best_front) ||
+    if (start == kNoTriangle || !surface_->walk(start, p1, l, 0.f, kWalkSteps, best, best_normal, best_front) ||
         !accepted(best, best_front))
       return false;
   }

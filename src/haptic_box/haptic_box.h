@@ -36,9 +36,9 @@ public:
   HapticBox(const Obb& obb, const BoxParams& params, CodecId codec, const std::uint8_t* payload,
             std::size_t bytes, std::shared_ptr<const void> owner, const CodecStats& stats);
 
-  /// Exact refinement (step 6 of the query, see the .cpp overview): `triangle_ids` holds,
-  /// per sample in the layout of sample_index(), the mesh triangle the sample's ray hit
-  /// (kNoTriangle for a miss), `surface` those triangles. Both are kept alive by the box.
+  /// Exact refinement (step 7 of the query, see the .cpp overview): `triangle_ids` holds,
+  /// per sample in the layout of sample_index(), the surface slot of the triangle the
+  /// sample's ray hit (kNoTriangle for a miss), `surface` those triangles. Both are kept alive by the box.
   /// Throws hb::InvalidInput when the id count is not params().sample_count() or an id is
   /// beyond `surface` (checked when `validate`; a mapped file checks its own bounds).
   void attach_surface(const std::uint32_t* triangle_ids, std::size_t count, std::shared_ptr<const void> ids_owner,

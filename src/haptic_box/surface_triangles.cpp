@@ -12,13 +12,38 @@ SurfaceTriangles::SurfaceTriangles(const TriangleMesh& mesh) {
   if (mesh.normals.size() != mesh.positions.size())
     throw InvalidInput("SurfaceTriangles: mesh has no vertex normals (call compute_vertex_normals)");
   if (mesh.triangle_count() == 0) throw InvalidInput("SurfaceTriangles: mesh has no triangles");
-  auto owned = std::make_shared<std::vector<Record>>(mesh.triangle_count());
+  const std::size_t count = mesh.triangle_count();
+  // Slots in Morton order of the triangle centroids: neighbours on the surface are close in
+  // memory, so the candidates of one query and the steps of a walk share cache lines and pages
+  // (whatever order the mesh file lists its triangles in).
+  const Bounds bounds = mesh.bounds();
+  const Vec3 extent = (bounds.max - bounds.min).cwiseMax(Vec3::Constant(1e-30f));
+  const auto spread = [](std::uint32_t v) {  // 10 bits to every third of 30
+    std::uint32_t x = v & 0x3ffu;
+    x = (x | (x << 16)) & 0x030000ffu;
+    x = (x | (x << 8)) & 0x0300f00fu;
+    x = (x | (x << 4)) & 0x030c30c3u;
+    x = (x | (x << 2)) & 0x09249249u;
+    return x;
+  };
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> keyed(count);
+  for (std::uint32_t t = 0; t < count; ++t) {
+    const Triangle& tri = mesh.triangles[t];
+    const Vec3 c = (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3.f;
+    const Vec3 q = ((c - bounds.min).cwiseQuotient(extent) * 1023.f).cwiseMax(Vec3::Zero()).cwiseMin(Vec3::Constant(1023.f));
+    keyed[t] = {spread(std::uint32_t(q.x())) | (spread(std::uint32_t(q.y())) << 1) | (spread(std::uint32_t(q.z())) << 2), t};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  slot_of_.resize(count);
+  for (std::uint32_t s = 0; s < count; ++s) slot_of_[keyed[s].second] = s;
+
+  auto owned = std::make_shared<std::vector<Record>>(count);
   std::vector<Record>& records = *owned;
-  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+  for (std::size_t t = 0; t < count; ++t) {
     const Triangle& tri = mesh.triangles[t];
     const Vec3& a = mesh.positions[tri[0]];
     const Vec3 e1 = mesh.positions[tri[1]] - a, e2 = mesh.positions[tri[2]] - a;
-    Record& r = records[t];
+    Record& r = records[slot_of_[t]];
     for (int k = 0; k < 3; ++k) {
       r.a[k] = a[k];
       r.e1[k] = e1[k];
@@ -40,7 +65,7 @@ SurfaceTriangles::SurfaceTriangles(const TriangleMesh& mesh) {
         const bool has0 = other[0] == e0 || other[1] == e0 || other[2] == e0;
         const bool has1 = other[0] == e1 || other[1] == e1 || other[2] == e1;
         if (has0 && has1) {
-          records[t].neighbour[k] = *nb;
+          records[slot_of_[t]].neighbour[k] = slot_of_[*nb];
           break;
         }
       }
@@ -114,6 +139,7 @@ bool SurfaceTriangles::walk(std::uint32_t start, const float o[3], const float d
   for (int step = 0; step <= max_steps; ++step) {
     if (id >= count_) return false;
     const Record& r = records_[id];
+    for (std::uint32_t next : r.neighbour) prefetch(next);  // the next step's record is one of these
     float u, v, hit;
     if (!plane_hit(r, o, d, u, v, hit)) return false;
     const float w[3] = {1.f - u - v, u, v};

@@ -14,7 +14,7 @@ namespace hb {
 /// Marks a sample that has no triangle (a miss), or a missing neighbour.
 constexpr std::uint32_t kNoTriangle = 0xffffffffu;
 
-/// Triangle records indexed by the mesh's triangle ids. Immutable once built; shared by the
+/// Triangle records, indexed by slot (see slot()); ids stored in boxes are slots. Immutable once built; shared by the
 /// boxes of a scene.
 class SurfaceTriangles {
 public:
@@ -36,6 +36,12 @@ public:
   SurfaceTriangles(const Record* records, std::size_t count, std::shared_ptr<const void> owner);
 
   std::size_t size() const { return count_; }
+  /// The slot (record index) of mesh triangle `triangle`: records are stored in Morton order
+  /// of the triangle centroids, not in the mesh's order. Only for surfaces built from a mesh
+  /// (kNoTriangle otherwise, or for an unknown triangle).
+  std::uint32_t slot(std::uint32_t triangle) const noexcept {
+    return triangle < slot_of_.size() ? slot_of_[triangle] : kNoTriangle;
+  }
   const Record* records() const { return records_; }
   /// Bytes of the records.
   std::size_t bytes() const { return count_ * sizeof(Record); }
@@ -69,6 +75,7 @@ private:
   const Record* records_ = nullptr;
   std::size_t count_ = 0;
   std::shared_ptr<const void> owner_;
+  std::vector<std::uint32_t> slot_of_;  // mesh triangle -> slot (built from a mesh only)
 };
 
 } // namespace hb
