@@ -58,12 +58,17 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
     p.m = m_->value();
     p.n = n_->value();
     const double mb = static_cast<double>(p.sample_count() * sizeof(hb::Sample)) / 1048576.0;
-    size_->setText(tr("%1 MB of tables per box, %2 M rays per box").arg(mb, 0, 'f', 1)
-                       .arg(static_cast<double>(p.sample_count()) / 1e6, 0, 'f', 1));
+    const double ids = refine_->isChecked() ? static_cast<double>(p.sample_count() * 4u) / 1048576.0 : 0.0;
+    QString text = tr("%1 MB of tables per box, %2 M rays per box")
+                       .arg(mb, 0, 'f', 1)
+                       .arg(static_cast<double>(p.sample_count()) / 1e6, 0, 'f', 1);
+    if (ids > 0.0) text += tr(", + %1 MB of triangle ids").arg(ids, 0, 'f', 1);
+    size_->setText(text);
     size_->setStyleSheet(mb > 1024.0 ? QStringLiteral("color: #c00000;") : QString());
   };
   connect(m_, QOverload<int>::of(&QSpinBox::valueChanged), this, showSize);
   connect(n_, QOverload<int>::of(&QSpinBox::valueChanged), this, showSize);
+  connect(refine_, &QCheckBox::toggled, this, showSize);
 
   bake_ = new QPushButton(tr("Bake"));
   bake_->setDefault(true);
