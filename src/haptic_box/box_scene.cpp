@@ -105,17 +105,29 @@ Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexc
   Contact c;
   constexpr std::size_t kChunk = 64;
   std::uint32_t candidates[kChunk];
+  std::size_t best_box = 0;
   for (std::size_t first = 0; first < count; first += kChunk) {
     const std::size_t met = cull(segment, first, std::min(count, first + kChunk), candidates);
     for (std::size_t i = 0; i < met; ++i) {
       float along = 0.f;
-      if (boxes_[candidates[i]].query_into(segment, law, c, along) && (!best.contact || along < best_along)) {
+      // Blended answers (refined only where they are no contact) pick the box; the winner
+      // alone is refined fully below.
+      if (boxes_[candidates[i]].query_into(segment, law, c, along, Refine::misses) && (!best.contact || along < best_along)) {
         best = c;
         best_along = along;
+        best_box = candidates[i];
       }
     }
   }
   if (!best.contact) return best;
+  if (boxes_[best_box].refines()) {
+    // The winner's samples are in cache now: its refined answer costs the refinement only.
+    float along = 0.f;
+    if (boxes_[best_box].query_into(segment, law, c, along)) {
+      best = c;
+      best_along = along;
+    }
+  }
   // With several boxes, a handle inside another piece (the first surface from the handle is
   // that piece's inside: no contact by definition) is invisible to the box that found the
   // contact ahead; ask the boxes whose PBB holds the handle.

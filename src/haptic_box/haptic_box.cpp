@@ -594,21 +594,27 @@ bool HapticBox::query_with(const Fetch& fetch, const Segment& segment, const For
     const float inv_nlen = 1.f / nlen;
     nx = nsx * inv_nlen, ny = nsy * inv_nlen, nz = nsz * inv_nlen;
   }
-  bool hit = blended_hit;
-  if (surface_ && (refine_hit == Refine::all || (refine_hit == Refine::misses && !blended_hit)) &&
+  // 6. Contact test (after the refinement of step 7 where it runs).
+  const auto in_contact = [&](float t, float x, float y, float z) {
+    return t_enter + t >= 0.f && t <= d && x * lx + y * ly + z * lz < 0.f;
+  };
+  bool contact = blended_hit && in_contact(t0, nx, ny, nz);
+  // Refine::misses: only answers the refinement could turn into a contact (an accepted
+  // refinement stays within refine_tolerance_ of a blended hit).
+  const bool could_flip = !contact && (!blended_hit || (t0 <= d + refine_tolerance_ && t_enter + t0 >= -refine_tolerance_));
+  if (surface_ && (refine_hit == Refine::all || (refine_hit == Refine::misses && could_flip)) &&
       _mm_movemask_ps(_mm_cmpgt_ps(W, zero)) != 0) {
     const float p1[3] = {p1x, p1y, p1z}, l[3] = {lx, ly, lz};
     Vec3 refined_normal;
-    if (refine(p00, a0, b0, sf, p1, l, t0, t0, refined_normal)) {
+    float refined_t = 0.f;
+    if (refine(p00, a0, b0, sf, p1, l, blended_hit ? t0 : -1.f, refined_t, refined_normal)) {
+      t0 = refined_t;
       nx = refined_normal.x(), ny = refined_normal.y(), nz = refined_normal.z();
-      hit = true;
+      contact = in_contact(t0, nx, ny, nz);
     }
   }
-  if (!hit) return false;
-
-  // 6. Contact test.
+  if (!contact) return false;
   const float along = t_enter + t0;  // handle to surface point
-  if (along < 0.f || t0 > d || nx * lx + ny * ly + nz * lz >= 0.f) return false;
   out.contact = true;
   out.depth = d - t0;
   out.point = Vec3(sx + along * lx, sy + along * ly, sz + along * lz);

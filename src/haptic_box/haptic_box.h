@@ -15,7 +15,7 @@ namespace hb {
 /// Which answers of a refining box a query refines exactly (HapticBox::attach_surface).
 enum class Refine {
   off,     ///< none: the blended answer only.
-  misses,  ///< only where the blend found no surface but some samples hit (silhouettes).
+  misses,  ///< only where the blended answer is no contact but some samples hit.
   all,     ///< every answer (the default).
 };
 
