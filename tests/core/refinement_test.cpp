@@ -1,5 +1,7 @@
 // Exact refinement of haptic-box answers: triangle ids per sample, candidate triangles, the
 // edge walk, and how refining boxes travel through compression and box files.
+#include "decomposition/auto_decomposition.h"
+#include "decomposition/seam_overlap.h"
 #include "errors.h"
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
@@ -45,6 +47,28 @@ TEST(RefinementTest, CoarseBoxesGiveTheExactAnswerWhereTheyRefine) {
   EXPECT_LT(refined.force_error_p95, 0.1 * blended.force_error_p95);
   EXPECT_GE(refined.contact_agreement, blended.contact_agreement);
   EXPECT_LT(refined.angle_error_median_deg, 0.05);
+}
+
+TEST(RefinementTest, ASceneOfSeveralRefinedBoxesAnswersExactlyAndKeepsItsAgreement) {
+  // A torus needs pieces; the scene refines the winning box and rescues misses in the others.
+  const TriangleMesh torus = make_torus(1.f, 0.3f, 64, 20);
+  const Decomposition d = decompose_auto(torus);
+  ASSERT_GT(d.piece_count, 1u);
+  BakeOptions options;
+  options.params = {10, 6};
+  const SourceInfo source{"torus", 0, torus.triangle_count(), torus.bounds().diagonal()};
+  const auto lists = piece_triangle_lists(torus, d.piece_of_triangle);
+  const BoxScene blended = bake_scene_from_lists(torus, lists, options, source);
+  options.refine = true;
+  const BoxScene refined = bake_scene_from_lists(torus, lists, options, source);
+  const ExactQuery exact(torus);
+  const auto probes = sample_probes(torus, 3000);
+  const float diagonal = torus.bounds().diagonal();
+  const ComparisonStats b = compare_queries(blended, exact, probes, kLaw, diagonal);
+  const ComparisonStats r = compare_queries(refined, exact, probes, kLaw, diagonal);
+  EXPECT_LT(r.force_error_median, 1e-4);
+  EXPECT_LT(r.force_error_p95, 0.1 * b.force_error_p95);
+  EXPECT_GE(r.contact_agreement, b.contact_agreement);
 }
 
 TEST(RefinementTest, TheWalkFindsTheCrossedTriangleFromANeighbourOfANeighbour) {
