@@ -121,7 +121,11 @@ HapticBox bake_one(const TriangleMesh& mesh, const std::vector<std::uint32_t>& t
   if (progress.cancelled) throw Cancelled("bake cancelled");
   hits += hit_count;
   HapticBox box(obb, p, std::move(table));
-  if (ids) box.attach_surface(ids->data(), ids->size(), ids, surface, false);
+  if (ids) {
+    std::shared_ptr<const void> owner;
+    const TriangleIds packed = pack_triangle_ids(*ids, owner);
+    box.attach_surface(packed, ids->size(), std::move(owner), surface, false);
+  }
   return box;
 }
 

@@ -5,12 +5,13 @@
 //     half[3], u64 table offset, u64 table bytes, u64 table hash (xxHash3 64); version 2 adds
 //     the codec statistics: f32 error bound, mean and max t error (relative to the box
 //     diagonal), mean and max normal angle (degrees), u64 hit/miss flips; version 3 adds
-//     the box's triangle ids (u64 offset, u64 bytes, 0 without refinement, u64 hash) and,
+//     the box's triangle ids (u64 offset, u64 bytes: 0 without refinement, 2 or 4 a sample;
+//     u64 hash; u32 base added to 2-byte ids, see TriangleIds) and,
 //     after the boxes, the scene's surface triangles (u64 offset, u64 bytes, u64 hash); then
 //     u64 hash of all header bytes before it.
 //  2. Tables at 64-byte aligned offsets: raw records in HapticBox::sample_index order, or a
-//     compressed payload (codec/table_payload.h); then each refined box's u32 triangle ids
-//     (same order), then the SurfaceTriangles records.
+//     compressed payload (codec/table_payload.h); then each refined box's triangle ids
+//     (same order; u16 offsets or u32 slots), then the SurfaceTriangles records.
 //  3. Loading maps the file read-only (mmap); boxes point into the mapping, which stays
 //     alive while any box of the scene does. Always checked: the header hash, sizes and
 //     offsets, and each compressed payload's own header (one page). Table hashes only with
@@ -114,7 +115,7 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
   const std::uint64_t surface_hash = surface ? XXH3_64bits(surface->records(), surface->bytes()) : 0;
   std::vector<std::uint64_t> id_hashes;
   for (const HapticBox& box : boxes)
-    id_hashes.push_back(box.refines() ? XXH3_64bits(box.triangle_ids(), box.triangle_id_bytes()) : 0);
+    id_hashes.push_back(box.refines() ? XXH3_64bits(box.triangle_ids().data, box.triangle_id_bytes()) : 0);
   // offsets: the tables, then the ids of each box, then the surface (zeros while sizing).
   auto write_header = [&](const std::vector<std::uint64_t>& offsets) {
     Writer w;
@@ -148,6 +149,7 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
       w.put(std::uint64_t(offsets.empty() || !box.refines() ? 0 : offsets[boxes.size() + b]));
       w.put(std::uint64_t(box.triangle_id_bytes()));
       w.put(id_hashes[b]);
+      w.put(std::uint32_t(box.refines() ? box.triangle_ids().base : 0));
     }
     w.put(std::uint64_t(offsets.empty() || !surface ? 0 : offsets[2 * boxes.size()]));
     w.put(std::uint64_t(surface ? surface->bytes() : 0));
@@ -159,7 +161,7 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
   // Every block of the file in order: the tables, each box's ids, the surface.
   std::vector<std::pair<const void*, std::size_t>> blocks;
   for (const HapticBox& box : boxes) blocks.emplace_back(box.samples().data(), box.table_bytes());
-  for (const HapticBox& box : boxes) blocks.emplace_back(box.triangle_ids(), box.triangle_id_bytes());
+  for (const HapticBox& box : boxes) blocks.emplace_back(box.triangle_ids().data, box.triangle_id_bytes());
   blocks.emplace_back(surface ? static_cast<const void*>(surface->records()) : nullptr, surface ? surface->bytes() : 0);
   std::vector<std::uint64_t> offsets;
   std::size_t pos = align_up(write_header({}).size());
@@ -237,6 +239,7 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
     CodecId codec;
     CodecStats stats;
     std::uint64_t ids_offset = 0, ids_bytes = 0, ids_hash = 0;
+    std::uint32_t ids_base = 0;
   };
   std::vector<Entry> entries(count);
   for (auto& e : entries) {
@@ -265,6 +268,7 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
       e.ids_offset = r.get<std::uint64_t>();
       e.ids_bytes = r.get<std::uint64_t>();
       e.ids_hash = r.get<std::uint64_t>();
+      e.ids_base = r.get<std::uint32_t>();
     }
   }
   std::uint64_t surface_offset = 0, surface_bytes = 0, surface_hash = 0;
@@ -323,7 +327,8 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
     if (options.verify && XXH3_64bits(data + e.offset, e.bytes) != e.hash)
       throw InvalidInput(path + ": corrupt box file (box " + std::to_string(b) + " table checksum mismatch)");
     if (e.ids_bytes > 0) {
-      if (!surface || e.ids_bytes != e.params.sample_count() * 4u || e.ids_offset % 4u != 0)
+      const std::uint64_t samples = e.params.sample_count();
+      if (!surface || (e.ids_bytes != samples * 4u && e.ids_bytes != samples * 2u) || e.ids_offset % 4u != 0)
         throw InvalidInput(path + ": corrupt box file (box " + std::to_string(b) + " triangle ids have inconsistent sizes)");
       if (e.ids_offset > map->size || e.ids_bytes > map->size - e.ids_offset)
         throw InvalidInput(path + ": truncated box file (box " + std::to_string(b) + " triangle ids are cut short)");
@@ -342,9 +347,11 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
       }
     }
     // Ids are bounds-checked at query time (lazy opening reads no id here).
-    if (e.ids_bytes > 0)
-      boxes.back().attach_surface(reinterpret_cast<const std::uint32_t*>(data + e.ids_offset),
-                                  std::size_t(e.ids_bytes / 4u), keep, surface, options.verify);
+    if (e.ids_bytes > 0) {
+      const std::size_t samples = e.params.sample_count();
+      const TriangleIds ids{data + e.ids_offset, int(e.ids_bytes / samples), e.ids_base};
+      boxes.back().attach_surface(ids, samples, keep, surface, options.verify);
+    }
   }
   return BoxScene(std::move(boxes), src);
 }

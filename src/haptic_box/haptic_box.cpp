@@ -310,18 +310,20 @@ HapticBox HapticBox::compressed(const CodecOptions& options) const {
   return box;
 }
 
-void HapticBox::attach_surface(const std::uint32_t* triangle_ids, std::size_t count,
+void HapticBox::attach_surface(const TriangleIds& triangle_ids, std::size_t count,
                                std::shared_ptr<const void> ids_owner, std::shared_ptr<const SurfaceTriangles> surface,
                                bool validate) {
-  if (!triangle_ids || !surface) throw InvalidInput("HapticBox: refinement needs triangle ids and a surface");
+  if (!triangle_ids.data || !surface) throw InvalidInput("HapticBox: refinement needs triangle ids and a surface");
+  if (triangle_ids.width != 2 && triangle_ids.width != 4)
+    throw InvalidInput("HapticBox: triangle ids of " + std::to_string(triangle_ids.width) + " bytes (2 or 4)");
   if (count != params_.sample_count())
     throw InvalidInput("HapticBox: " + std::to_string(count) + " triangle ids, expected " +
                        std::to_string(params_.sample_count()));
   if (validate)
     for (std::size_t k = 0; k < count; ++k)
-      if (triangle_ids[k] != kNoTriangle && triangle_ids[k] >= surface->size())
+      if (triangle_ids.at(k) != kNoTriangle && triangle_ids.at(k) >= surface->size())
         throw InvalidInput("HapticBox: sample " + std::to_string(k) + " names triangle " +
-                           std::to_string(triangle_ids[k]) + ", the surface has " + std::to_string(surface->size()));
+                           std::to_string(triangle_ids.at(k)) + ", the surface has " + std::to_string(surface->size()));
   triangle_ids_ = triangle_ids;
   ids_owner_ = std::move(ids_owner);
   surface_ = std::move(surface);
@@ -347,8 +349,9 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
   std::uint32_t candidates[16];
   int count = 0;
   for (std::size_t position : positions) {
-    const std::uint32_t* ids = triangle_ids_ + (position * 12u + sf) * n * n + std::size_t(a0) * n + std::size_t(b0);
-    const std::uint32_t quad[4] = {ids[0], ids[1], ids[n], ids[n + 1]};
+    const std::size_t first = (position * 12u + sf) * n * n + std::size_t(a0) * n + std::size_t(b0);
+    const std::uint32_t quad[4] = {triangle_ids_.at(first), triangle_ids_.at(first + 1), triangle_ids_.at(first + n),
+                                   triangle_ids_.at(first + n + 1)};
     for (std::uint32_t id : quad) {
       if (id == kNoTriangle) continue;
       bool seen = false;
@@ -527,14 +530,14 @@ bool HapticBox::query_with(const Fetch& fetch, const Segment& segment, const For
   // (memory-level parallelism instead of four serial misses).
   const std::size_t m = std::size_t(params_.m);
   const std::size_t p00 = std::size_t(face) * m * m + std::size_t(i0) * m + std::size_t(j0);
-  if (refine_hit != Refine::off && triangle_ids_) {
+  if (refine_hit != Refine::off && triangle_ids_.data) {
     // The triangle ids of the four quads, loaded now so they arrive with the samples.
     const std::size_t n = std::size_t(params_.n);
     const std::size_t corner_positions[4] = {p00, p00 + m, p00 + m + 1, p00 + 1};
     for (std::size_t position : corner_positions) {
-      const std::uint32_t* ids = triangle_ids_ + (position * 12u + sf) * n * n + std::size_t(a0) * n + std::size_t(b0);
-      __builtin_prefetch(ids);
-      __builtin_prefetch(ids + n + 1);
+      const std::size_t first = (position * 12u + sf) * n * n + std::size_t(a0) * n + std::size_t(b0);
+      __builtin_prefetch(triangle_ids_.address(first));
+      __builtin_prefetch(triangle_ids_.address(first + n + 1));
     }
   }
   typename Fetch::Corner corners[4];

@@ -38,18 +38,21 @@ public:
 
   /// Exact refinement (step 7 of the query, see the .cpp overview): `triangle_ids` holds,
   /// per sample in the layout of sample_index(), the surface slot of the triangle the
-  /// sample's ray hit (kNoTriangle for a miss), `surface` those triangles. Both are kept alive by the box.
-  /// Throws hb::InvalidInput when the id count is not params().sample_count() or an id is
-  /// beyond `surface` (checked when `validate`; a mapped file checks its own bounds).
-  void attach_surface(const std::uint32_t* triangle_ids, std::size_t count, std::shared_ptr<const void> ids_owner,
+  /// sample's ray hit (kNoTriangle for a miss), `surface` those triangles. Both are kept
+  /// alive by the box (`ids_owner`, the shared surface). Throws hb::InvalidInput when the id
+  /// count is not params().sample_count(), the width is not 2 or 4, or (when `validate`) an id
+  /// is beyond `surface`; unvalidated ids (lazily mapped files) are bounds-checked per query.
+  void attach_surface(const TriangleIds& triangle_ids, std::size_t count, std::shared_ptr<const void> ids_owner,
                       std::shared_ptr<const SurfaceTriangles> surface, bool validate = true);
   /// Whether queries refine with the exact triangles (attach_surface was called).
   bool refines() const { return surface_ != nullptr; }
-  const std::uint32_t* triangle_ids() const { return triangle_ids_; }
+  const TriangleIds& triangle_ids() const { return triangle_ids_; }
   const std::shared_ptr<const SurfaceTriangles>& surface() const { return surface_; }
   /// Bytes of the triangle ids (0 without refinement); the shared surface is counted once
   /// per scene (BoxScene::surface_bytes).
-  std::size_t triangle_id_bytes() const { return triangle_ids_ ? params_.sample_count() * 4u : 0u; }
+  std::size_t triangle_id_bytes() const {
+    return triangle_ids_.data ? params_.sample_count() * std::size_t(triangle_ids_.width) : 0u;
+  }
 
   /// A copy of this (raw) box with its table compressed; throws hb::InvalidInput when this
   /// box is already compressed or the options are out of range.
@@ -119,7 +122,7 @@ private:
   SampleTable samples_;
   CodecStats stats_;
   std::shared_ptr<const void> owner_;  // keeps the table alive; shared by copies
-  const std::uint32_t* triangle_ids_ = nullptr;
+  TriangleIds triangle_ids_;
   std::shared_ptr<const void> ids_owner_;
   std::shared_ptr<const SurfaceTriangles> surface_;
   float refine_tolerance_ = 0.f;  // largest |refined t - blended t| accepted (attach_surface)

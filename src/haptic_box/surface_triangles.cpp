@@ -76,6 +76,29 @@ SurfaceTriangles::SurfaceTriangles(const TriangleMesh& mesh) {
   owner_ = std::move(owned);
 }
 
+TriangleIds pack_triangle_ids(const std::vector<std::uint32_t>& ids, std::shared_ptr<const void>& owner) {
+  std::uint32_t lo = kNoTriangle, hi = 0;
+  for (std::uint32_t id : ids)
+    if (id != kNoTriangle) {
+      lo = std::min(lo, id);
+      hi = std::max(hi, id);
+    }
+  TriangleIds out;
+  if (lo == kNoTriangle) lo = hi = 0;
+  if (hi - lo < 0xffffu) {
+    auto narrow = std::make_shared<std::vector<std::uint16_t>>(ids.size());
+    for (std::size_t k = 0; k < ids.size(); ++k)
+      (*narrow)[k] = ids[k] == kNoTriangle ? std::uint16_t(0xffffu) : std::uint16_t(ids[k] - lo);
+    out = {narrow->data(), 2, lo};
+    owner = std::move(narrow);
+  } else {
+    auto wide = std::make_shared<std::vector<std::uint32_t>>(ids);
+    out = {wide->data(), 4, 0};
+    owner = std::move(wide);
+  }
+  return out;
+}
+
 SurfaceTriangles::SurfaceTriangles(const Record* records, std::size_t count, std::shared_ptr<const void> owner)
     : records_(records), count_(count), owner_(std::move(owner)) {
   if (!records_ || count_ == 0) throw InvalidInput("SurfaceTriangles: no triangles");

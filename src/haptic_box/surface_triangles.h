@@ -14,6 +14,25 @@ namespace hb {
 /// Marks a sample that has no triangle (a miss), or a missing neighbour.
 constexpr std::uint32_t kNoTriangle = 0xffffffffu;
 
+/// A box's triangle ids, one per sample: 32-bit surface slots, or 16-bit offsets from `base`
+/// (0xffff: a miss) when the box's slots span fewer than 65535 (half the memory; slots of one
+/// piece are close in the surface's Morton order).
+struct TriangleIds {
+  const void* data = nullptr;
+  int width = 4;             ///< bytes per id: 4 or 2.
+  std::uint32_t base = 0;    ///< added to 16-bit ids.
+  std::uint32_t at(std::size_t k) const noexcept {
+    if (width == 4) return static_cast<const std::uint32_t*>(data)[k];
+    const std::uint16_t v = static_cast<const std::uint16_t*>(data)[k];
+    return v == 0xffffu ? 0xffffffffu : base + v;
+  }
+  const char* address(std::size_t k) const noexcept { return static_cast<const char*>(data) + k * std::size_t(width); }
+};
+
+/// Packs 32-bit ids (kNoTriangle for a miss) into the narrowest TriangleIds; `owner` receives
+/// the storage.
+TriangleIds pack_triangle_ids(const std::vector<std::uint32_t>& ids, std::shared_ptr<const void>& owner);
+
 /// Triangle records, indexed by slot (see slot()); ids stored in boxes are slots. Immutable once built; shared by the
 /// boxes of a scene.
 class SurfaceTriangles {

@@ -79,7 +79,8 @@ TEST_F(CliTest, RefinedBakeIsShownByInfoAndAgreesWithTheExactAnswer) {
   EXPECT_TRUE(nlohmann::json::parse(bake.out)["refine"].get<bool>());
   const auto info = nlohmann::json::parse(run("info " + box + " --json --verify").out);
   EXPECT_EQ(info["refine"], "yes");
-  EXPECT_EQ(info["triangle_id_bytes"].get<double>(), 6.0 * 36 * 12 * 16 * 4);
+  // 5,120 triangles: 16-bit ids.
+  EXPECT_EQ(info["triangle_id_bytes"].get<double>(), 6.0 * 36 * 12 * 16 * 2);
   EXPECT_GT(info["surface_bytes"].get<double>(), 0.0);
   const Result eval = run("eval " + box + " " + path("sphere.off") + " --samples 2000 --json");
   ASSERT_EQ(eval.code, 0) << eval.err;

@@ -122,15 +122,28 @@ TEST(RefinementTest, CompressionKeepsTheRefinement) {
   EXPECT_GT(refined_equal, contacts * 95 / 100);
 }
 
+TEST(RefinementTest, IdsAreSixteenBitWhenThePieceSpansFewSlots) {
+  std::vector<std::uint32_t> ids = {70000u, kNoTriangle, 70010u, 135000u};
+  std::shared_ptr<const void> owner;
+  TriangleIds narrow = pack_triangle_ids(ids, owner);
+  EXPECT_EQ(narrow.width, 2);
+  for (std::size_t k = 0; k < ids.size(); ++k) EXPECT_EQ(narrow.at(k), ids[k]) << k;
+  ids.push_back(70000u + 0xffffu);
+  const TriangleIds wide = pack_triangle_ids(ids, owner);
+  EXPECT_EQ(wide.width, 4);
+  for (std::size_t k = 0; k < ids.size(); ++k) EXPECT_EQ(wide.at(k), ids[k]) << k;
+}
+
 TEST(RefinementTest, WrongIdCountOrUnknownTriangleIsInvalidInput) {
   BoxScene scene = bake_bumpy(true, 4, 3);
   HapticBox box = scene.boxes()[0];
   std::vector<std::uint32_t> ids(box.params().sample_count() - 1, kNoTriangle);
-  EXPECT_THROW(box.attach_surface(ids.data(), ids.size(), nullptr, box.surface()), InvalidInput);
+  EXPECT_THROW(box.attach_surface({ids.data(), 4, 0}, ids.size(), nullptr, box.surface()), InvalidInput);
+  EXPECT_THROW(box.attach_surface({ids.data(), 3, 0}, ids.size() + 1, nullptr, box.surface()), InvalidInput);
   ids.assign(box.params().sample_count(), kNoTriangle);
   ids[7] = std::uint32_t(box.surface()->size());
   try {
-    box.attach_surface(ids.data(), ids.size(), nullptr, box.surface());
+    box.attach_surface({ids.data(), 4, 0}, ids.size(), nullptr, box.surface());
     FAIL() << "no error for an unknown triangle";
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("sample 7"), std::string::npos) << e.what();
