@@ -39,7 +39,7 @@ void add_bake_command(CLI::App& app) {
   auto* max_error = hb::cli::add_codec_bound_options(*cmd, opts->codec_options);
   cmd->add_flag("--refine", opts->bake.refine,
                 "Store the triangle each sample hit and the mesh's triangles: queries then refine the blend exactly "
-                "(4 bytes more per sample, 64 per triangle)");
+                "(2 or 4 bytes more per sample, 64 per triangle)");
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
   cmd->callback([opts, max_error] {
     opts->codec_options.codec = hb::parse_codec(opts->codec);

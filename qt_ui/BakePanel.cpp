@@ -50,7 +50,7 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   refine_ = new QCheckBox(tr("Refine exactly on the mesh's triangles"));
   refine_->setToolTip(tr("Store the triangle each sample hit: a query then intersects the line with the few "
                          "triangles its samples name (and their neighbours) and answers exactly where it "
-                         "finds the surface. 4 bytes more per sample; slower queries."));
+                         "finds the surface. 2-4 bytes more per sample; slower queries."));
   cache_ = new QCheckBox(tr("Cache baked boxes next to the model"));
   size_ = new QLabel;
   const auto showSize = [this] {
@@ -58,7 +58,7 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
     p.m = m_->value();
     p.n = n_->value();
     const double mb = static_cast<double>(p.sample_count() * sizeof(hb::Sample)) / 1048576.0;
-    const double ids = refine_->isChecked() ? static_cast<double>(p.sample_count() * 4u) / 1048576.0 : 0.0;
+    const double ids = refine_->isChecked() ? static_cast<double>(p.sample_count() * 2u) / 1048576.0 : 0.0;  // 16-bit unless a piece spans > 65,535 triangles
     QString text = tr("%1 MB of tables per box, %2 M rays per box")
                        .arg(mb, 0, 'f', 1)
                        .arg(static_cast<double>(p.sample_count()) / 1e6, 0, 'f', 1);

@@ -14,7 +14,7 @@ struct BakeOptions {
   PositionDensity density;
   ObbOptions obb;             ///< PBB fitting (padding).
   /// Also store, per sample, the triangle its ray hit, and the mesh's triangles, so queries
-  /// refine the blended answer exactly (HapticBox::attach_surface): 4 bytes more per sample
+  /// refine the blended answer exactly (HapticBox::attach_surface): 2 or 4 bytes more per sample
   /// and 64 bytes per triangle.
   bool refine = false;
   /// Progress in [0, 1]; return false to cancel (the bake then throws hb::Cancelled, even
