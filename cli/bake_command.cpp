@@ -1,4 +1,4 @@
-// hapticbox bake MESH -o BOX.hbox [-m 32] [-n 16] [--cell C [--max-m 64]] [--pieces auto|FILE|none] [--codec none|haar|block] [--max-error E | --ratio R] [--json]
+// hapticbox bake MESH -o BOX.hbox [-m 32] [-n 16] [--refine] [--cell C [--max-m 64]] [--pieces auto|FILE|none] [--codec none|haar|block] [--max-error E | --ratio R] [--json]
 #include "cli_support.h"
 #include "commands.h"
 #include "haptic_box/bake.h"
@@ -37,6 +37,9 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--codec", opts->codec, "Table codec: none, haar (the paper's) or block (ours)")
       ->check(CLI::IsMember({"none", "haar", "block"}))->capture_default_str();
   auto* max_error = hb::cli::add_codec_bound_options(*cmd, opts->codec_options);
+  cmd->add_flag("--refine", opts->bake.refine,
+                "Store the triangle each sample hit and the mesh's triangles: queries then refine the blend exactly "
+                "(2 or 4 bytes more per sample, 64 per triangle)");
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
   cmd->callback([opts, max_error] {
     opts->codec_options.codec = hb::parse_codec(opts->codec);
@@ -78,6 +81,7 @@ void add_bake_command(CLI::App& app) {
                               {"rays_per_second", stats.rays_per_second},
                               {"hit_fraction", stats.rays ? double(stats.hits) / double(stats.rays) : 0.0},
                               {"bytes", bytes},
+                              {"refine", opts->bake.refine},
                               {"codec", opts->codec},
                               {"table_bytes", table_bytes},
                               {"raw_table_bytes", raw_bytes},
@@ -95,7 +99,8 @@ void add_bake_command(CLI::App& app) {
                                                          std::to_string(*std::max_element(box_m.begin(), box_m.end()))
                                                    : std::to_string(opts->bake.params.m))
                 << " n=" << opts->bake.params.n << ", " << stats.rays << " rays in " << stats.seconds << " s ("
-                << stats.rays_per_second / 1e6 << " M rays/s), " << bytes / 1e6 << " MB\n";
+                << stats.rays_per_second / 1e6 << " M rays/s), " << bytes / 1e6 << " MB"
+                << (opts->bake.refine ? " (with triangle ids and surface for exact refinement)" : "") << "\n";
       if (opts->codec_options.codec != hb::CodecId::none)
         std::cout << "codec " << opts->codec << ": ratio " << double(raw_bytes) / double(table_bytes)
                   << ":1, bound " << bound << " of the box diagonal; t error mean " << t_mean << ", max " << t_max

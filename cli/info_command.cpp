@@ -38,7 +38,14 @@ nlohmann::json box_info(const std::string& path, bool verify) {
   std::uint64_t raw_bytes = 0;
   double t_mean = 0, t_max = 0, a_mean = 0, a_max = 0, bound = 0;
   std::string codec;
+  std::uint64_t id_bytes = 0, surface_bytes = 0;
+  std::size_t refined = 0;
   for (const hb::HapticBox& box : scene.boxes()) {
+    id_bytes += box.triangle_id_bytes();
+    if (box.refines()) {
+      ++refined;
+      surface_bytes = box.surface()->bytes();
+    }
     const hb::Obb& o = box.obb();
     const hb::CodecStats& cs = box.codec_stats();
     raw_bytes += box.raw_table_bytes();
@@ -63,6 +70,7 @@ nlohmann::json box_info(const std::string& path, bool verify) {
                      {"normal_error_mean_deg", cs.normal_error_mean_deg},
                      {"normal_error_max_deg", cs.normal_error_max_deg},
                      {"hit_miss_flips", cs.hit_miss_flips},
+                     {"refine", box.refines()},
                      {"center", {o.center.x(), o.center.y(), o.center.z()}},
                      {"half_extents", {o.half.x(), o.half.y(), o.half.z()}}});
   }
@@ -83,6 +91,9 @@ nlohmann::json box_info(const std::string& path, bool verify) {
           {"t_error_max", t_max},
           {"normal_error_mean_deg", raw_bytes ? a_mean / double(raw_bytes) : 0.0},
           {"normal_error_max_deg", a_max},
+          {"refine", refined == scene.boxes().size() ? "yes" : refined == 0 ? "no" : "some boxes"},
+          {"triangle_id_bytes", id_bytes},
+          {"surface_bytes", surface_bytes},
           {"verified", verify},
           {"source_mesh", scene.source().mesh_path},
           {"source_mesh_hash", scene.source().mesh_hash},

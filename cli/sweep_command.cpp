@@ -1,4 +1,4 @@
-// hapticbox sweep MESH [--m 8,16,32,64] [--n 4,8,16] [--codec none] [--samples N] [--json]
+// hapticbox sweep MESH [--m 8,16,32,64] [--n 4,8,16] [--codec none] [--refine] [--samples N] [--json]
 // Speed against accuracy: every configuration baked (or taken from the cache), evaluated and
 // timed on the same probes next to exact Embree and VTK's vtkStaticCellLocator.
 #include "cli_support.h"
@@ -19,16 +19,17 @@ namespace {
 void print_row(const hb::SweepRow& r, bool pareto_known) {
   char line[256];
   const bool box = r.method == "haptic_box";
-  std::snprintf(line, sizeof line, "%-24s %4s %4s %-6s %10.1f %12.2f %9.3f%s %9.2f %9.2f %9.2f %s",
+  const std::string codec = r.codec + (r.refine ? "+ref" : "");
+  std::snprintf(line, sizeof line, "%-24s %4s %4s %-10s %10.1f %12.2f %9.3f%s %9.2f %9.2f %9.2f %s",
                 r.method.c_str(), box ? std::to_string(r.m).c_str() : "-", box ? std::to_string(r.n).c_str() : "-",
-                box ? r.codec.c_str() : "-", r.query_ns, double(r.memory_bytes) / (1024.0 * 1024.0), r.bake_seconds,
+                box ? codec.c_str() : "-", r.query_ns, double(r.memory_bytes) / (1024.0 * 1024.0), r.bake_seconds,
                 r.from_cache ? "c" : " ", 100.0 * r.force_error_median, 100.0 * r.force_error_p95,
                 100.0 * r.contact_agreement, pareto_known ? (r.pareto ? "*" : "") : "");
   std::cout << line << std::endl;
 }
 
 void print_header() {
-  std::cout << "method                      m    n codec    query_ns   memory_MiB   bake_s  median_%    p95_%  agree_% pareto\n";
+  std::cout << "method                      m    n codec        query_ns   memory_MiB   bake_s  median_%    p95_%  agree_% pareto\n";
 }
 
 } // namespace
@@ -40,6 +41,7 @@ void add_sweep_command(CLI::App& app) {
     std::vector<int> m{8, 16, 32, 64};
     std::vector<int> n{4, 8, 16};
     std::vector<std::string> codecs{"none"};
+    bool refine = false;
     std::string cache = hb::cli::default_cache_dir();
     bool no_cache = false;
     std::string chart;
@@ -51,6 +53,8 @@ void add_sweep_command(CLI::App& app) {
   cmd->add_option("-m,--m", opts->m, "Position densities m (comma separated)")->delimiter(',')->check(CLI::Range(2, 4096))->capture_default_str();
   cmd->add_option("-n,--n", opts->n, "Directional densities n (comma separated)")->delimiter(',')->check(CLI::Range(2, 1024))->capture_default_str();
   cmd->add_option("--codec", opts->codecs, "Table codecs (comma separated: none, and haar, block when the codec layer is built)")->delimiter(',')->capture_default_str();
+  cmd->add_flag("--refine", opts->refine,
+                "Also measure every configuration refined exactly on the mesh's triangles (codec+ref rows)");
   cmd->add_option("--samples", opts->sweep.samples, "Probes per method")->check(CLI::Range(std::size_t(1), std::size_t(10000000)))->capture_default_str();
   cmd->add_option("--rounds", opts->sweep.timing_rounds, "Timing passes")->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--seed", opts->sweep.probes.seed, "Probe seed")->capture_default_str();
@@ -76,7 +80,8 @@ void add_sweep_command(CLI::App& app) {
     source.diagonal = mesh.bounds().diagonal();
     const vtkHapticBoxReferenceQueries refs(mesh);
     hb::SweepOptions& so = opts->sweep;
-    so.configs = hb::sweep_grid(opts->m, opts->n, opts->codecs);
+    so.configs = hb::sweep_grid(opts->m, opts->n, opts->codecs,
+                                opts->refine ? std::vector<bool>{false, true} : std::vector<bool>{false});
     so.cache_dir = opts->no_cache ? "" : opts->cache;
     so.progress = hb::cli::terminal_progress("sweep");
     if (!opts->json) {
@@ -92,7 +97,7 @@ void add_sweep_command(CLI::App& app) {
                           {"seed", so.probes.seed}, {"rows", nlohmann::json::array()}};
       for (const hb::SweepRow& r : rows)
         j["rows"].push_back({{"method", r.method}, {"m", r.m}, {"n", r.n}, {"codec", r.codec},
-                             {"query_ns", r.query_ns}, {"memory_bytes", r.memory_bytes},
+                             {"refine", r.refine}, {"query_ns", r.query_ns}, {"memory_bytes", r.memory_bytes},
                              {"bake_seconds", r.bake_seconds}, {"from_cache", r.from_cache},
                              {"force_error_median", r.force_error_median}, {"force_error_p95", r.force_error_p95},
                              {"contact_agreement", r.contact_agreement}, {"pareto", r.pareto}});

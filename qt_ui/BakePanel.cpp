@@ -47,6 +47,10 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   codec_->addItem(tr("none (8-byte samples)"), QStringLiteral("none"));
   codec_->addItem(tr("block (ours, ~8:1 at 0.05% of the diagonal)"), QStringLiteral("block"));
   codec_->addItem(tr("haar (the paper's wavelet)"), QStringLiteral("haar"));
+  refine_ = new QCheckBox(tr("Refine exactly on the mesh's triangles"));
+  refine_->setToolTip(tr("Store the triangle each sample hit: a query then intersects the line with the few "
+                         "triangles its samples name (and their neighbours) and answers exactly where it "
+                         "finds the surface. 2-4 bytes more per sample; slower queries."));
   cache_ = new QCheckBox(tr("Cache baked boxes next to the model"));
   size_ = new QLabel;
   const auto showSize = [this] {
@@ -54,12 +58,17 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
     p.m = m_->value();
     p.n = n_->value();
     const double mb = static_cast<double>(p.sample_count() * sizeof(hb::Sample)) / 1048576.0;
-    size_->setText(tr("%1 MB of tables per box, %2 M rays per box").arg(mb, 0, 'f', 1)
-                       .arg(static_cast<double>(p.sample_count()) / 1e6, 0, 'f', 1));
+    const double ids = refine_->isChecked() ? static_cast<double>(p.sample_count() * 2u) / 1048576.0 : 0.0;  // 16-bit unless a piece spans > 65,535 triangles
+    QString text = tr("%1 MB of tables per box, %2 M rays per box")
+                       .arg(mb, 0, 'f', 1)
+                       .arg(static_cast<double>(p.sample_count()) / 1e6, 0, 'f', 1);
+    if (ids > 0.0) text += tr(", + %1 MB of triangle ids").arg(ids, 0, 'f', 1);
+    size_->setText(text);
     size_->setStyleSheet(mb > 1024.0 ? QStringLiteral("color: #c00000;") : QString());
   };
   connect(m_, QOverload<int>::of(&QSpinBox::valueChanged), this, showSize);
   connect(n_, QOverload<int>::of(&QSpinBox::valueChanged), this, showSize);
+  connect(refine_, &QCheckBox::toggled, this, showSize);
 
   bake_ = new QPushButton(tr("Bake"));
   bake_->setDefault(true);
@@ -79,6 +88,7 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   form->addRow(tr("Pieces"), pieces_);
   form->addRow(tr("Piece file"), fileRow);
   form->addRow(tr("Codec"), codec_);
+  form->addRow(refine_);
   form->addRow(tr("Size"), size_);
   form->addRow(cache_);
   auto* buttons = new QHBoxLayout;
@@ -119,6 +129,7 @@ void BakePanel::showSettings() {
   piecesFile_->setText(s.piecesFile);
   const int c = codec_->findData(s.codec);
   codec_->setCurrentIndex(c < 0 ? 0 : c);
+  refine_->setChecked(s.refine);
   cache_->setChecked(s.useCache);
 }
 
@@ -130,6 +141,7 @@ void BakePanel::applySettings() {
   s.pieces = static_cast<BakeSettings::Pieces>(pieces_->currentData().toInt());
   s.piecesFile = piecesFile_->text();
   s.codec = codec_->currentData().toString();
+  s.refine = refine_->isChecked();
   s.useCache = cache_->isChecked();
   session_->setBakeSettings(s);
 }

@@ -41,6 +41,7 @@ private:
   QLineEdit* piecesFile_;
   QPushButton* browse_;
   QComboBox* codec_;
+  QCheckBox* refine_ = nullptr;
   QCheckBox* cache_;
   QLabel* size_;
   QPushButton* bake_;

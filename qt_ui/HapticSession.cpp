@@ -230,6 +230,7 @@ QString HapticSession::cachePath() const {
   // Padding and pieces change the boxes too: encode them in the name.
   QString suffix = QStringLiteral("_p%1").arg(static_cast<int>(std::lround(bake_.padding * 10000)));
   if (bake_.pieces == BakeSettings::Pieces::Automatic) suffix += QStringLiteral("_auto");
+  if (bake_.refine) suffix += QStringLiteral("_refine");
   if (bake_.pieces == BakeSettings::Pieces::File) {
     try {
       suffix += QStringLiteral("_pieces%1").arg(QString::fromStdString(
@@ -284,6 +285,7 @@ bool HapticSession::startBake(QString* error) {
     o.params.m = settings.m;
     o.params.n = settings.n;
     o.obb.padding = settings.padding;
+    o.refine = settings.refine;
     o.progress = progress;
     hb::BakeStats stats;
     // Pieces share their seam triangles (see hb::piece_triangle_lists), as the CLI bakes them.

@@ -38,6 +38,7 @@ struct BakeSettings {
   Pieces pieces = Pieces::None;
   QString piecesFile;             ///< text: one integer piece id per triangle.
   QString codec = QStringLiteral("none");
+  bool refine = false;            ///< store triangle ids: queries refine exactly (hb::BakeOptions::refine).
   bool useCache = true;           ///< load/save baked boxes next to the model.
 };
 

@@ -23,6 +23,7 @@ void saveSessionFile(const SessionState& s, const QString& path) {
                                                                         : "auto"},
                {"pieces_file", s.bake.piecesFile.toStdString()},
                {"codec", s.bake.codec.toStdString()},
+               {"refine", s.bake.refine},
                {"cache", s.bake.useCache},
                {"baked", s.baked}};
   j["probe"] = {{"depth_fraction", s.depthFraction},
@@ -63,6 +64,7 @@ SessionState loadSessionFile(const QString& path) {
     const std::string pf = b.value("pieces_file", "");
     if (!pf.empty()) s.bake.piecesFile = QDir::cleanPath(base.absoluteFilePath(QString::fromStdString(pf)));
     s.bake.codec = QString::fromStdString(b.value("codec", "none"));
+    s.bake.refine = b.value("refine", false);
     s.bake.useCache = b.value("cache", true);
     s.baked = b.value("baked", false);
     if (j.contains("probe")) {

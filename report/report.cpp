@@ -122,6 +122,7 @@ nlohmann::json row_json(const SweepRow& r) {
           {"m", r.m},
           {"n", r.n},
           {"codec", r.codec},
+          {"refine", r.refine},
           {"query_ns", r.query_ns},
           {"memory_bytes", r.memory_bytes},
           {"bake_seconds", r.bake_seconds},
@@ -250,7 +251,7 @@ std::string report_json(const ReportData& d) {
                      {"compression_codec", o.compression_codec},
                      {"sweep_configs", nlohmann::json::array()}};
   for (const SweepConfig& c : o.sweep_configs)
-    j["parameters"]["sweep_configs"].push_back({{"m", c.m}, {"n", c.n}, {"codec", c.codec}});
+    j["parameters"]["sweep_configs"].push_back({{"m", c.m}, {"n", c.n}, {"codec", c.codec}, {"refine", c.refine}});
   // The keys of `hapticbox eval --json`, with the same values for the same input and seed.
   j["eval"] = eval_json(s, d.box_path, d.mesh_path, o.probes.seed);
   nlohmann::json timing = {{"box_ns", d.box_ns}};

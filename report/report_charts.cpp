@@ -79,7 +79,9 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
       pls->ssym(0, box ? 1.2 : 1.6);
       pls->poin(1, &x, &y, box ? 17 : 16);
       char label[96];
-      if (box) std::snprintf(label, sizeof label, "m%d n%d%s", r.m, r.n, r.codec != "none" && !r.codec.empty() ? (" " + r.codec).c_str() : "");
+      if (box)
+        std::snprintf(label, sizeof label, "m%d n%d%s%s", r.m, r.n,
+                      r.codec != "none" && !r.codec.empty() ? (" " + r.codec).c_str() : "", r.refine ? " ref" : "");
       else std::snprintf(label, sizeof label, "%s", r.method.c_str());
       pls->ptex(x + 0.02 * (lx1 - lx0), y + 0.02 * ymax, 1.0, 0.0, 0.0, label);
     }

@@ -33,11 +33,12 @@ void check_sweep_config(const SweepConfig& config) {
 }
 
 std::vector<SweepConfig> sweep_grid(const std::vector<int>& ms, const std::vector<int>& ns,
-                                    const std::vector<std::string>& codecs) {
+                                    const std::vector<std::string>& codecs, const std::vector<bool>& refines) {
   std::vector<SweepConfig> grid;
   for (int m : ms)
     for (int n : ns)
-      for (const std::string& c : codecs) grid.push_back({m, n, c});
+      for (const std::string& c : codecs)
+        for (bool r : refines) grid.push_back({m, n, c, r});
   return grid;
 }
 
@@ -45,7 +46,8 @@ std::string sweep_cache_path(const std::string& dir, std::uint64_t mesh_hash, co
   char name[96];
   std::snprintf(name, sizeof name, "%016llx_m%d_n%d_", static_cast<unsigned long long>(mesh_hash), config.m,
                 config.n);
-  return (std::filesystem::path(dir) / (std::string(name) + config.codec + ".hbox")).string();
+  return (std::filesystem::path(dir) / (std::string(name) + config.codec + (config.refine ? "_refine" : "") + ".hbox"))
+      .string();
 }
 
 void mark_pareto_front(std::vector<SweepRow>& rows) {
@@ -109,16 +111,18 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const std::vector<std:
     row.m = config.m;
     row.n = config.n;
     row.codec = config.codec;
+    row.refine = config.refine;
     BoxScene scene;
     // The cache holds raw boxes; a codec is applied in memory after loading or baking.
-    const SweepConfig raw_config{config.m, config.n, "none"};
+    const SweepConfig raw_config{config.m, config.n, "none", config.refine};
     const std::string cached = use_cache ? sweep_cache_path(options.cache_dir, source.mesh_hash, raw_config) : "";
     bool loaded = false;
     if (use_cache && std::filesystem::exists(cached)) {
       try {
         scene = load_box_file(cached);
         loaded = scene.source().mesh_hash == source.mesh_hash && !scene.boxes().empty() &&
-                 scene.boxes().front().params().m == config.m && scene.boxes().front().params().n == config.n;
+                 scene.boxes().front().params().m == config.m && scene.boxes().front().params().n == config.n &&
+                 scene.boxes().front().refines() == config.refine;
       } catch (const Error&) {
         loaded = false;  // a corrupt cache entry is rebaked and overwritten
       }
@@ -128,6 +132,7 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const std::vector<std:
       bake.params.m = config.m;
       bake.params.n = config.n;
       bake.obb = options.obb;
+      bake.refine = config.refine;
       const double base = done;
       bake.progress = [&](double f) {
         return !options.progress || options.progress(std::min(1.0, (base + f) / steps));
@@ -140,6 +145,9 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const std::vector<std:
     row.from_cache = loaded;
     if (config.codec != "none") scene = compress_scene(scene, config.codec);
     row.memory_bytes = scene.table_bytes();
+    for (const HapticBox& box : scene.boxes()) row.memory_bytes += box.triangle_id_bytes();
+    if (!scene.boxes().empty() && scene.boxes().front().refines())
+      row.memory_bytes += scene.boxes().front().surface()->bytes();
     step(1.0);
     measure(row, scene);
     step(1.0);

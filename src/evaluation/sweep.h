@@ -19,14 +19,16 @@ struct SweepConfig {
   int m = 32;
   int n = 16;
   std::string codec = "none";
+  bool refine = false;  ///< bake with triangle ids: queries refine exactly (BakeOptions::refine).
 };
 
 /// Throws hb::InvalidInput when m or n is below 2 or the codec is unknown to this build.
 void check_sweep_config(const SweepConfig& config);
 
-/// The grid ms x ns x codecs, in that nesting order (m slowest).
+/// The grid ms x ns x codecs x refines, in that nesting order (m slowest).
 std::vector<SweepConfig> sweep_grid(const std::vector<int>& ms, const std::vector<int>& ns,
-                                    const std::vector<std::string>& codecs = {"none"});
+                                    const std::vector<std::string>& codecs = {"none"},
+                                    const std::vector<bool>& refines = {false});
 
 /// A method measured by the sweep that is not a box: the exact reference (Embree), VTK's
 /// locator, ... `query` must outlive the sweep.
@@ -42,8 +44,9 @@ struct SweepRow {
   std::string method;              ///< "haptic_box" or a reference's name.
   int m = 0, n = 0;                ///< 0 for references.
   std::string codec;               ///< empty for references.
+  bool refine = false;             ///< the box refines exactly (SweepConfig::refine).
   double query_ns = 0.0;           ///< median ns per query, one core (hb::median_query_ns).
-  std::size_t memory_bytes = 0;    ///< tables for boxes; the reference's figure otherwise.
+  std::size_t memory_bytes = 0;    ///< tables (+ triangle ids and surface when refining) for boxes; the reference's figure otherwise.
   double bake_seconds = 0.0;       ///< bake (or build) time; 0 when the box came from the cache.
   bool from_cache = false;         ///< the box was loaded from the cache directory.
   double force_error_median = 0.0; ///< against the exact reference, both-contact probes.

@@ -70,11 +70,13 @@ BoxPlan plan_box(const TriangleMesh& mesh, const std::vector<std::uint32_t>& tri
 }
 
 HapticBox bake_one(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, const BoxPlan& plan,
-                   ProgressState& progress, std::uint64_t& hits) {
+                   const std::shared_ptr<const SurfaceTriangles>& surface, ProgressState& progress,
+                   std::uint64_t& hits) {
   const BoxParams& p = plan.params;
   const Obb& obb = plan.obb;
   const EmbreeScene scene(mesh, triangles);
   std::vector<Sample> table(p.sample_count());
+  auto ids = surface ? std::make_shared<std::vector<std::uint32_t>>(p.sample_count(), kNoTriangle) : nullptr;
   // A view of the table being filled, for the layout and geometry helpers.
   const HapticBox geometry(obb, p, table.data(), nullptr);
 
@@ -96,13 +98,15 @@ HapticBox bake_one(const TriangleMesh& mesh, const std::vector<std::uint32_t>& t
             for (int b = 0; b < p.n; ++b) {
               const Vec3 dir = geometry.sample_direction(face, sub, sface, a, b);
               const RayHit hit = scene.intersect(origin, dir, 0.f, t_far);
-              Sample& s = table[geometry.sample_index(face, i, j, sub, sface, a, b)];
+              const std::size_t index = geometry.sample_index(face, i, j, sub, sface, a, b);
+              Sample& s = table[index];
               // A back face first (the ray entered the piece through a seam cut) is stored as a
               // miss: the contact there belongs to the neighbouring piece's box, and a miss
               // lets that box answer instead of blending an inside surface into this one.
               if (hit.hit && hit.normal.dot(dir) < 0.f) {
                 s.t = hit.t;
                 s.normal = encode_octahedral32(hit.normal);
+                if (ids) (*ids)[index] = surface->slot(hit.triangle);
                 ++local_hits;
               } else {
                 s.t = kMissT;
@@ -116,7 +120,13 @@ HapticBox bake_one(const TriangleMesh& mesh, const std::vector<std::uint32_t>& t
   progress.report();
   if (progress.cancelled) throw Cancelled("bake cancelled");
   hits += hit_count;
-  return HapticBox(obb, p, std::move(table));
+  HapticBox box(obb, p, std::move(table));
+  if (ids) {
+    std::shared_ptr<const void> owner;
+    const TriangleIds packed = pack_triangle_ids(*ids, owner);
+    box.attach_surface(packed, ids->size(), std::move(owner), surface, false);
+  }
+  return box;
 }
 
 } // namespace
@@ -130,7 +140,8 @@ HapticBox bake_box(const TriangleMesh& mesh, const std::vector<std::uint32_t>& t
   progress.callback = &options.progress;
   progress.total = plan.params.sample_count();
   std::uint64_t hits = 0;
-  HapticBox box = bake_one(mesh, triangles, plan, progress, hits);
+  const auto surface = options.refine ? std::make_shared<const SurfaceTriangles>(mesh) : nullptr;
+  HapticBox box = bake_one(mesh, triangles, plan, surface, progress, hits);
   if (stats) {
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     stats->rays = plan.params.sample_count();
@@ -184,8 +195,9 @@ BoxScene bake_scene_from_lists(const TriangleMesh& mesh, const std::vector<std::
   std::uint64_t hits = 0;
   std::vector<HapticBox> boxes;
   boxes.reserve(pieces.size());
+  const auto surface = options.refine ? std::make_shared<const SurfaceTriangles>(mesh) : nullptr;
   for (std::size_t p = 0; p < pieces.size(); ++p)
-    boxes.push_back(bake_one(mesh, pieces[p], plans[p], progress, hits));
+    boxes.push_back(bake_one(mesh, pieces[p], plans[p], surface, progress, hits));
   if (stats) {
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     stats->rays = rays;

@@ -13,6 +13,10 @@ struct BakeOptions {
   /// (PositionDensity::m_for) instead of params.m; n is params.n for all boxes.
   PositionDensity density;
   ObbOptions obb;             ///< PBB fitting (padding).
+  /// Also store, per sample, the triangle its ray hit, and the mesh's triangles, so queries
+  /// refine the blended answer exactly (HapticBox::attach_surface): 2 or 4 bytes more per sample
+  /// and 64 bytes per triangle.
+  bool refine = false;
   /// Progress in [0, 1]; return false to cancel (the bake then throws hb::Cancelled, even
   /// when the cancel comes with the last call). Called on the calling thread only, about
   /// every 50 ms and at the end of each box.

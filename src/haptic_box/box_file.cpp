@@ -1,13 +1,17 @@
-// The .hbox file format, version 2 (little-endian; version 1 is still read):
+// The .hbox file format, version 3 (little-endian; versions 1 and 2 are still read):
 //  1. Header: magic "HBOXFILE", u32 version, u32 box count, u64 mesh hash, u64 triangles,
 //     f32 diagonal, u32 path length + path bytes; then per box: u32 codec (CodecId: 0 raw
 //     8-byte samples, 1 Haar, 2 block), i32 m, i32 n, f32 centre[3], axes[9] (columns),
 //     half[3], u64 table offset, u64 table bytes, u64 table hash (xxHash3 64); version 2 adds
 //     the codec statistics: f32 error bound, mean and max t error (relative to the box
-//     diagonal), mean and max normal angle (degrees), u64 hit/miss flips; then u64 hash of
-//     all header bytes before it.
+//     diagonal), mean and max normal angle (degrees), u64 hit/miss flips; version 3 adds
+//     the box's triangle ids (u64 offset, u64 bytes: 0 without refinement, 2 or 4 a sample;
+//     u64 hash; u32 base added to 2-byte ids, see TriangleIds) and,
+//     after the boxes, the scene's surface triangles (u64 offset, u64 bytes, u64 hash); then
+//     u64 hash of all header bytes before it.
 //  2. Tables at 64-byte aligned offsets: raw records in HapticBox::sample_index order, or a
-//     compressed payload (codec/table_payload.h).
+//     compressed payload (codec/table_payload.h); then each refined box's triangle ids
+//     (same order; u16 offsets or u32 slots), then the SurfaceTriangles records.
 //  3. Loading maps the file read-only (mmap); boxes point into the mapping, which stays
 //     alive while any box of the scene does. Always checked: the header hash, sizes and
 //     offsets, and each compressed payload's own header (one page). Table hashes only with
@@ -27,7 +31,7 @@ namespace hb {
 namespace {
 
 constexpr char kMagic[8] = {'H', 'B', 'O', 'X', 'F', 'I', 'L', 'E'};
-constexpr std::uint32_t kVersion = 2;
+constexpr std::uint32_t kVersion = 3;
 constexpr std::size_t kAlign = 64;
 
 class Writer {
@@ -100,6 +104,19 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
   const auto& boxes = scene.boxes();
   const SourceInfo& src = scene.source();
   // Header size is known once written with placeholder offsets; compute offsets after.
+  // The surface shared by the refined boxes (a scene has one, or none).
+  const SurfaceTriangles* surface = nullptr;
+  for (const HapticBox& box : boxes)
+    if (box.refines()) {
+      if (surface && surface != box.surface().get())
+        throw InvalidInput(path + ": cannot save boxes refining against different surfaces");
+      surface = box.surface().get();
+    }
+  const std::uint64_t surface_hash = surface ? XXH3_64bits(surface->records(), surface->bytes()) : 0;
+  std::vector<std::uint64_t> id_hashes;
+  for (const HapticBox& box : boxes)
+    id_hashes.push_back(box.refines() ? XXH3_64bits(box.triangle_ids().data, box.triangle_id_bytes()) : 0);
+  // offsets: the tables, then the ids of each box, then the surface (zeros while sizing).
   auto write_header = [&](const std::vector<std::uint64_t>& offsets) {
     Writer w;
     w.put_bytes(kMagic, sizeof(kMagic));
@@ -129,16 +146,28 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
       w.put(cs.normal_error_mean_deg);
       w.put(cs.normal_error_max_deg);
       w.put(std::uint64_t(cs.hit_miss_flips));
+      w.put(std::uint64_t(offsets.empty() || !box.refines() ? 0 : offsets[boxes.size() + b]));
+      w.put(std::uint64_t(box.triangle_id_bytes()));
+      w.put(id_hashes[b]);
+      w.put(std::uint32_t(box.refines() ? box.triangle_ids().base : 0));
     }
+    w.put(std::uint64_t(offsets.empty() || !surface ? 0 : offsets[2 * boxes.size()]));
+    w.put(std::uint64_t(surface ? surface->bytes() : 0));
+    w.put(surface_hash);
     const std::uint64_t header_hash = XXH3_64bits(w.bytes().data(), w.bytes().size());
     w.put(header_hash);
     return std::move(w.bytes());
   };
+  // Every block of the file in order: the tables, each box's ids, the surface.
+  std::vector<std::pair<const void*, std::size_t>> blocks;
+  for (const HapticBox& box : boxes) blocks.emplace_back(box.samples().data(), box.table_bytes());
+  for (const HapticBox& box : boxes) blocks.emplace_back(box.triangle_ids().data, box.triangle_id_bytes());
+  blocks.emplace_back(surface ? static_cast<const void*>(surface->records()) : nullptr, surface ? surface->bytes() : 0);
   std::vector<std::uint64_t> offsets;
   std::size_t pos = align_up(write_header({}).size());
-  for (const HapticBox& box : boxes) {
+  for (const auto& block : blocks) {
     offsets.push_back(pos);
-    pos = align_up(pos + box.table_bytes());
+    pos = align_up(pos + block.second);
   }
   const std::vector<char> header = write_header(offsets);
 
@@ -149,12 +178,17 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
     out.write(header.data(), std::streamsize(header.size()));
     std::size_t written = header.size();
     const char zeros[kAlign] = {};
-    for (std::size_t b = 0; b < boxes.size(); ++b) {
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+      if (blocks[b].second == 0) continue;
       out.write(zeros, std::streamsize(offsets[b] - written));
-      out.write(static_cast<const char*>(boxes[b].samples().data()), std::streamsize(boxes[b].table_bytes()));
-      written = offsets[b] + boxes[b].table_bytes();
+      out.write(static_cast<const char*>(blocks[b].first), std::streamsize(blocks[b].second));
+      written = offsets[b] + blocks[b].second;
     }
-    if (!out) throw IoError(path + ": write failed (disk full?)");
+    if (!out) {
+      out.close();
+      std::remove(tmp.c_str());
+      throw IoError(path + ": write failed (disk full?)");
+    }
   }
   // Write to a temporary file and rename, so an interrupted save never leaves a half file.
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
@@ -187,7 +221,7 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
   Reader r(data, map->size, path);
   r.get_string(sizeof(kMagic));
   const auto version = r.get<std::uint32_t>();
-  if (version != kVersion && version != 1)
+  if (version < 1 || version > kVersion)
     throw InvalidInput(path + ": unsupported box file version " + std::to_string(version) +
                        " (this build reads version " + std::to_string(kVersion) + ")");
   const auto count = r.get<std::uint32_t>();
@@ -204,6 +238,8 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
     std::uint64_t offset, bytes, hash;
     CodecId codec;
     CodecStats stats;
+    std::uint64_t ids_offset = 0, ids_bytes = 0, ids_hash = 0;
+    std::uint32_t ids_base = 0;
   };
   std::vector<Entry> entries(count);
   for (auto& e : entries) {
@@ -228,6 +264,18 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
       e.stats.normal_error_max_deg = r.get<float>();
       e.stats.hit_miss_flips = r.get<std::uint64_t>();
     }
+    if (version >= 3) {
+      e.ids_offset = r.get<std::uint64_t>();
+      e.ids_bytes = r.get<std::uint64_t>();
+      e.ids_hash = r.get<std::uint64_t>();
+      e.ids_base = r.get<std::uint32_t>();
+    }
+  }
+  std::uint64_t surface_offset = 0, surface_bytes = 0, surface_hash = 0;
+  if (version >= 3) {
+    surface_offset = r.get<std::uint64_t>();
+    surface_bytes = r.get<std::uint64_t>();
+    surface_hash = r.get<std::uint64_t>();
   }
   const std::size_t header_end = r.pos();
   const auto stored_hash = r.get<std::uint64_t>();
@@ -253,6 +301,19 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
     keep = std::shared_ptr<const void>(copy, copy->data);
   }
 
+  std::shared_ptr<const SurfaceTriangles> surface;
+  if (surface_bytes > 0) {
+    if (surface_bytes % sizeof(SurfaceTriangles::Record) != 0 || surface_offset % kAlign != 0)
+      throw InvalidInput(path + ": corrupt box file (surface triangles have inconsistent sizes)");
+    if (surface_offset > map->size || surface_bytes > map->size - surface_offset)
+      throw InvalidInput(path + ": truncated box file (the surface triangles are cut short)");
+    if (options.verify && XXH3_64bits(data + surface_offset, surface_bytes) != surface_hash)
+      throw InvalidInput(path + ": corrupt box file (surface triangles checksum mismatch)");
+    surface = std::make_shared<const SurfaceTriangles>(
+        reinterpret_cast<const SurfaceTriangles::Record*>(data + surface_offset),
+        std::size_t(surface_bytes / sizeof(SurfaceTriangles::Record)), keep);
+  }
+
   std::vector<HapticBox> boxes;
   boxes.reserve(count);
   for (std::size_t b = 0; b < entries.size(); ++b) {
@@ -265,16 +326,31 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
       throw InvalidInput(path + ": truncated box file (box " + std::to_string(b) + " table is cut short)");
     if (options.verify && XXH3_64bits(data + e.offset, e.bytes) != e.hash)
       throw InvalidInput(path + ": corrupt box file (box " + std::to_string(b) + " table checksum mismatch)");
+    if (e.ids_bytes > 0) {
+      const std::uint64_t samples = e.params.sample_count();
+      if (!surface || (e.ids_bytes != samples * 4u && e.ids_bytes != samples * 2u) || e.ids_offset % 4u != 0)
+        throw InvalidInput(path + ": corrupt box file (box " + std::to_string(b) + " triangle ids have inconsistent sizes)");
+      if (e.ids_offset > map->size || e.ids_bytes > map->size - e.ids_offset)
+        throw InvalidInput(path + ": truncated box file (box " + std::to_string(b) + " triangle ids are cut short)");
+      if (options.verify && XXH3_64bits(data + e.ids_offset, e.ids_bytes) != e.ids_hash)
+        throw InvalidInput(path + ": corrupt box file (box " + std::to_string(b) + " triangle ids checksum mismatch)");
+    }
     if (e.codec == CodecId::none) {
       boxes.emplace_back(e.obb, e.params, reinterpret_cast<const Sample*>(data + e.offset),
                          keep);
-      continue;
+    } else {
+      try {
+        boxes.emplace_back(e.obb, e.params, e.codec, reinterpret_cast<const std::uint8_t*>(data + e.offset),
+                           std::size_t(e.bytes), keep, e.stats);
+      } catch (const InvalidInput& err) {
+        throw InvalidInput(path + ": corrupt box file (box " + std::to_string(b) + " " + err.what() + ")");
+      }
     }
-    try {
-      boxes.emplace_back(e.obb, e.params, e.codec, reinterpret_cast<const std::uint8_t*>(data + e.offset),
-                         std::size_t(e.bytes), keep, e.stats);
-    } catch (const InvalidInput& err) {
-      throw InvalidInput(path + ": corrupt box file (box " + std::to_string(b) + " " + err.what() + ")");
+    // Ids are bounds-checked at query time (lazy opening reads no id here).
+    if (e.ids_bytes > 0) {
+      const std::size_t samples = e.params.sample_count();
+      const TriangleIds ids{data + e.ids_offset, int(e.ids_bytes / samples), e.ids_base};
+      boxes.back().attach_surface(ids, samples, keep, surface, options.verify);
     }
   }
   return BoxScene(std::move(boxes), src);

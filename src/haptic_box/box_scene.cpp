@@ -2,7 +2,8 @@
 //  1. Cull: the segment against the axis-aligned bounds of every PBB (flat loop).
 //  2. Each surviving box runs its query (which starts with its exact PBB slab test).
 //  3. The valid contact nearest the handle wins (contact definition: the first outside
-//     surface met walking from the handle).
+//     surface met walking from the handle). Boxes that refine (HapticBox::attach_surface)
+//     compete with their refined answers.
 //  4. With several boxes, a contact is dropped when the handle lies inside any met box's
 //     piece along the line and that piece ends before the contact (handle_inside): the first
 //     surface from the handle is then an inside one, which the box that found the contact
@@ -83,8 +84,8 @@ bool handle_inside(const HapticBox& box, const Segment& segment, const ForceLaw&
   const float margin = 1e-3f * box.obb().diagonal();
   Contact c;
   float along = 0.f;
-  if (!box.query_into({segment.start + (hit.t_enter - margin) * l, segment.start}, law, c, along)) return false;
-  if (!box.query_into({segment.start + (hit.t_exit + margin) * l, segment.start}, law, c, along)) return false;
+  if (!box.query_into({segment.start + (hit.t_enter - margin) * l, segment.start}, law, c, along, Refine::misses)) return false;
+  if (!box.query_into({segment.start + (hit.t_exit + margin) * l, segment.start}, law, c, along, Refine::misses)) return false;
   const float far_surface = hit.t_exit + margin - along;  // from the handle along l
   return far_surface < contact_along;
 }
@@ -104,17 +105,29 @@ Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexc
   Contact c;
   constexpr std::size_t kChunk = 64;
   std::uint32_t candidates[kChunk];
+  std::size_t best_box = 0;
   for (std::size_t first = 0; first < count; first += kChunk) {
     const std::size_t met = cull(segment, first, std::min(count, first + kChunk), candidates);
     for (std::size_t i = 0; i < met; ++i) {
       float along = 0.f;
-      if (boxes_[candidates[i]].query_into(segment, law, c, along) && (!best.contact || along < best_along)) {
+      // Blended answers (refined only where they are no contact) pick the box; the winner
+      // alone is refined fully below.
+      if (boxes_[candidates[i]].query_into(segment, law, c, along, Refine::misses) && (!best.contact || along < best_along)) {
         best = c;
         best_along = along;
+        best_box = candidates[i];
       }
     }
   }
-  if (!best.contact || count < 2) return best;
+  if (!best.contact) return best;
+  if (boxes_[best_box].refines()) {
+    // The winner's samples are in cache now: its refined answer costs the refinement only.
+    float along = 0.f;
+    if (boxes_[best_box].query_into(segment, law, c, along)) {
+      best = c;
+      best_along = along;
+    }
+  }
   // With several boxes, a handle inside another piece (the first surface from the handle is
   // that piece's inside: no contact by definition) is invisible to the box that found the
   // contact ahead; ask the boxes whose PBB holds the handle.

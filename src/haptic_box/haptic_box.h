@@ -5,11 +5,19 @@
 #include "codec/sample_table.h"
 #include "haptic_box/contact.h"
 #include "haptic_box/sample.h"
+#include "haptic_box/surface_triangles.h"
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 namespace hb {
+
+/// Which answers of a refining box a query refines exactly (HapticBox::attach_surface).
+enum class Refine {
+  off,     ///< none: the blended answer only.
+  misses,  ///< only where the blended answer is no contact but some samples hit.
+  all,     ///< every answer (the default).
+};
 
 /// A baked box. Built once (by bake_box or by loading a file), then queried many times
 /// through the const, noexcept, allocation-free query(), safe from many threads.
@@ -28,6 +36,24 @@ public:
   HapticBox(const Obb& obb, const BoxParams& params, CodecId codec, const std::uint8_t* payload,
             std::size_t bytes, std::shared_ptr<const void> owner, const CodecStats& stats);
 
+  /// Exact refinement (step 7 of the query, see the .cpp overview): `triangle_ids` holds,
+  /// per sample in the layout of sample_index(), the surface slot of the triangle the
+  /// sample's ray hit (kNoTriangle for a miss), `surface` those triangles. Both are kept
+  /// alive by the box (`ids_owner`, the shared surface). Throws hb::InvalidInput when the id
+  /// count is not params().sample_count(), the width is not 2 or 4, or (when `validate`) an id
+  /// is beyond `surface`; unvalidated ids (lazily mapped files) are bounds-checked per query.
+  void attach_surface(const TriangleIds& triangle_ids, std::size_t count, std::shared_ptr<const void> ids_owner,
+                      std::shared_ptr<const SurfaceTriangles> surface, bool validate = true);
+  /// Whether queries refine with the exact triangles (attach_surface was called).
+  bool refines() const { return surface_ != nullptr; }
+  const TriangleIds& triangle_ids() const { return triangle_ids_; }
+  const std::shared_ptr<const SurfaceTriangles>& surface() const { return surface_; }
+  /// Bytes of the triangle ids (0 without refinement); the shared surface is counted once
+  /// per scene (BoxScene::surface_bytes).
+  std::size_t triangle_id_bytes() const {
+    return triangle_ids_.data ? params_.sample_count() * std::size_t(triangle_ids_.width) : 0u;
+  }
+
   /// A copy of this (raw) box with its table compressed; throws hb::InvalidInput when this
   /// box is already compressed or the options are out of range.
   HapticBox compressed(const CodecOptions& options) const;
@@ -45,9 +71,10 @@ public:
 
   /// As query(), and also the distance from the handle to the surface point along the
   /// segment (for scenes: the contact nearest the handle wins). Returns false and leaves
-  /// `out.contact` false when there is no contact.
+  /// `out.contact` false when there is no contact. `refine` limits the exact
+  /// refinement (for callers that need only whether and roughly where a surface is).
   bool query_into(const Segment& segment, const ForceLaw& law, Contact& out,
-                  float& distance_from_handle) const noexcept;
+                  float& distance_from_handle, Refine refine = Refine::all) const noexcept;
 
   const Obb& obb() const { return obb_; }
   const BoxParams& params() const { return params_; }
@@ -82,19 +109,21 @@ public:
 private:
   void init_faces() noexcept;
   // The query in two phases (see the .cpp): locate() runs the geometry and starts the
-  // sample fetches, finish() blends the samples and tests the contact.
+  // sample fetches, finish() blends the samples, refines and tests the contact.
   template <class Fetch> struct Located;
   template <class Fetch>
   bool locate(const Fetch& fetch, const Segment& segment, Located<Fetch>& q) const noexcept;
   template <class Fetch>
   bool finish(const Fetch& fetch, const Located<Fetch>& q, const ForceLaw& law, Contact& out,
-              float& distance_from_handle) const noexcept;
+              float& distance_from_handle, Refine refine) const noexcept;
   template <class Fetch>
   void query_many_with(const Fetch& fetch, const Segment* segments, std::size_t count, const ForceLaw& law,
                        Contact* out) const noexcept;
+  bool refine(std::size_t p00, int a0, int b0, std::size_t sf, const float p1[3], const float l[3], float t_blend,
+              float& t0, Vec3& normal) const noexcept;
   template <class Fetch>
   bool query_with(const Fetch& fetch, const Segment& segment, const ForceLaw& law, Contact& out,
-                  float& distance_from_handle) const noexcept;
+                  float& distance_from_handle, Refine refine) const noexcept;
 
   // Per face: world position of position point (0, 0) and the steps to (1, 0) and (0, 1).
   struct FaceFrame {
@@ -111,6 +140,10 @@ private:
   SampleTable samples_;
   CodecStats stats_;
   std::shared_ptr<const void> owner_;  // keeps the table alive; shared by copies
+  TriangleIds triangle_ids_;
+  std::shared_ptr<const void> ids_owner_;
+  std::shared_ptr<const SurfaceTriangles> surface_;
+  float refine_tolerance_ = 0.f;  // largest |refined t - blended t| accepted (attach_surface)
 };
 
 } // namespace hb

@@ -73,6 +73,24 @@ TEST_F(CliTest, BakeInfoEvalBenchProduceDocumentedJson) {
     EXPECT_TRUE(k.contains(key)) << key;
 }
 
+TEST_F(CliTest, RefinedBakeIsShownByInfoAndAgreesWithTheExactAnswer) {
+  const std::string box = path("sphere_refined.hbox");
+  const Result bake = run("bake " + path("sphere.off") + " -o " + box + " -m 6 -n 4 --refine --codec block --json");
+  ASSERT_EQ(bake.code, 0) << bake.err;
+  EXPECT_TRUE(nlohmann::json::parse(bake.out)["refine"].get<bool>());
+  const auto info = nlohmann::json::parse(run("info " + box + " --json --verify").out);
+  EXPECT_EQ(info["refine"], "yes");
+  // 5,120 triangles: 16-bit ids.
+  EXPECT_EQ(info["triangle_id_bytes"].get<double>(), 6.0 * 36 * 12 * 16 * 2);
+  EXPECT_GT(info["surface_bytes"].get<double>(), 0.0);
+  const Result eval = run("eval " + box + " " + path("sphere.off") + " --samples 2000 --json");
+  ASSERT_EQ(eval.code, 0) << eval.err;
+  const auto e = nlohmann::json::parse(eval.out);
+  // So coarse a box blends errors of several percent; refined, it answers exactly.
+  EXPECT_LT(e["force_error_median"].get<double>(), 1e-3);
+  EXPECT_GT(e["contact_agreement"].get<double>(), 0.99);
+}
+
 TEST_F(CliTest, QueryCsvKeepsRowOrderAndAddsExactColumns) {
   bake_once();
   const std::string in = write("segs.csv", "sx,sy,sz,ex,ey,ez\n0,0.1,30,0,0.1,9\n30,30,30,31,31,31\n0,25,0.2,0,9.5,0.2\n");

@@ -375,6 +375,7 @@ TEST(MainWindowTest, AutomaticPiecesAndTheBlockCodecBakeACompressedSceneOfSevera
   b.n = 4;
   b.pieces = BakeSettings::Pieces::Automatic;
   b.codec = QStringLiteral("block");
+  b.refine = true;
   b.useCache = false;
   w.session()->setBakeSettings(b);
   w.bakePanel()->showSettings();
@@ -382,5 +383,8 @@ TEST(MainWindowTest, AutomaticPiecesAndTheBlockCodecBakeACompressedSceneOfSevera
   ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }));
   ASSERT_TRUE(w.session()->hasBoxes());
   EXPECT_GT(w.session()->boxes()->boxes().size(), 1u);
-  for (const hb::HapticBox& box : w.session()->boxes()->boxes()) EXPECT_EQ(box.codec(), hb::CodecId::block);
+  for (const hb::HapticBox& box : w.session()->boxes()->boxes()) {
+    EXPECT_EQ(box.codec(), hb::CodecId::block);
+    EXPECT_TRUE(box.refines());  // the panel's "Refine exactly" reached the bake
+  }
 }

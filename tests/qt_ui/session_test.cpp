@@ -15,6 +15,7 @@ TEST(SessionFileTest, RoundTripsEveryField) {
   s.bake.m = 24;
   s.bake.n = 6;
   s.bake.padding = 0.02f;
+  s.bake.refine = true;
   s.baked = true;
   s.depthFraction = 0.03;
   s.tiltDegrees = 30;
@@ -28,6 +29,7 @@ TEST(SessionFileTest, RoundTripsEveryField) {
   EXPECT_EQ(t.bake.m, 24);
   EXPECT_EQ(t.bake.n, 6);
   EXPECT_FLOAT_EQ(t.bake.padding, 0.02f);
+  EXPECT_TRUE(t.bake.refine);
   EXPECT_TRUE(t.baked);
   EXPECT_DOUBLE_EQ(t.tiltDegrees, 30);
   EXPECT_TRUE(t.outlines);

@@ -1,0 +1,100 @@
+#pragma once
+// The mesh's triangles in a query-ready form, for the exact refinement of a haptic-box
+// answer (see HapticBox::query, step 6). One 64-byte record (a cache line) per triangle:
+// a vertex, the two edges from it, and the three vertex normals in 32-bit octahedral code,
+// so testing a triangle costs one memory line and no index chase, plus its three edge
+// neighbours for walking from a candidate to the triangle the line actually crosses.
+#include "mesh/triangle_mesh.h"
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace hb {
+
+/// Marks a sample that has no triangle (a miss), or a missing neighbour.
+constexpr std::uint32_t kNoTriangle = 0xffffffffu;
+
+/// A box's triangle ids, one per sample: 32-bit surface slots, or 16-bit offsets from `base`
+/// (0xffff: a miss) when the box's slots span fewer than 65535 (half the memory; slots of one
+/// piece are close in the surface's Morton order).
+struct TriangleIds {
+  const void* data = nullptr;
+  int width = 4;             ///< bytes per id: 4 or 2.
+  std::uint32_t base = 0;    ///< added to 16-bit ids.
+  std::uint32_t at(std::size_t k) const noexcept {
+    if (width == 4) return static_cast<const std::uint32_t*>(data)[k];
+    const std::uint16_t v = static_cast<const std::uint16_t*>(data)[k];
+    return v == 0xffffu ? 0xffffffffu : base + v;
+  }
+  const char* address(std::size_t k) const noexcept { return static_cast<const char*>(data) + k * std::size_t(width); }
+};
+
+/// Packs 32-bit ids (kNoTriangle for a miss) into the narrowest TriangleIds; `owner` receives
+/// the storage.
+TriangleIds pack_triangle_ids(const std::vector<std::uint32_t>& ids, std::shared_ptr<const void>& owner);
+
+/// Triangle records, indexed by slot (see slot()); ids stored in boxes are slots. Immutable once built; shared by the
+/// boxes of a scene.
+class SurfaceTriangles {
+public:
+  struct alignas(64) Record {
+    float a[3], e1[3], e2[3];   // vertex 0, vertex 1 - vertex 0, vertex 2 - vertex 0
+    std::uint32_t normal[3];    // vertex normals, octahedral32
+    std::uint32_t neighbour[3]; // across the edge opposite vertex k (kNoTriangle: none)
+    std::uint32_t pad;
+  };
+  static_assert(sizeof(Record) == 64, "one cache line per triangle");
+
+  SurfaceTriangles() = default;
+  /// Records of every triangle of `mesh` (which needs vertex normals). Throws
+  /// hb::InvalidInput when the mesh has none.
+  explicit SurfaceTriangles(const TriangleMesh& mesh);
+  /// Refers to `count` records stored elsewhere (a mapped box file kept alive by `owner`).
+  /// Ids read from them are bounds-checked at query time, so corrupt records cannot make a
+  /// query read out of bounds. Throws hb::InvalidInput on a null pointer or zero count.
+  SurfaceTriangles(const Record* records, std::size_t count, std::shared_ptr<const void> owner);
+
+  std::size_t size() const { return count_; }
+  /// The slot (record index) of mesh triangle `triangle`: records are stored in Morton order
+  /// of the triangle centroids, not in the mesh's order. Only for surfaces built from a mesh
+  /// (kNoTriangle otherwise, or for an unknown triangle).
+  std::uint32_t slot(std::uint32_t triangle) const noexcept {
+    return triangle < slot_of_.size() ? slot_of_[triangle] : kNoTriangle;
+  }
+  const Record* records() const { return records_; }
+  /// Bytes of the records.
+  std::size_t bytes() const { return count_ * sizeof(Record); }
+
+  /// Ray origin + s dir (dir need not be unit; s in units of |dir|) against triangle `id`
+  /// (Moller-Trumbore, both sides): true with the parameter `s` >= s_min, the shaded normal
+  /// (unit, oriented like the geometric normal) and whether the ray meets the front face.
+  /// When the line passes beside the triangle, `outside` (if given) receives how far: minus
+  /// the most negative barycentric coordinate of its plane crossing (infinity: parallel).
+  bool intersect(std::uint32_t id, const float origin[3], const float dir[3], float s_min, float& s,
+                 Vec3& normal, bool& front, float* outside = nullptr) const noexcept;
+
+  /// Starts loading triangle `id`'s record (no effect when out of range).
+  void prefetch(std::uint32_t id) const noexcept {
+    if (id < count_) __builtin_prefetch(records_ + id);
+  }
+
+  /// As intersect(), but when the line passes beside triangle `start`, steps to the
+  /// neighbour across the edge it passes (the most negative barycentric coordinate), at most
+  /// `max_steps` times: finds the triangle the line crosses near a candidate that missed.
+  bool walk(std::uint32_t start, const float origin[3], const float dir[3], float s_min, int max_steps, float& s,
+            Vec3& normal, bool& front) const noexcept;
+
+private:
+  // Line against one record: barycentrics (u, v) and the line parameter of the plane hit;
+  // false for a line parallel to the plane.
+  static bool plane_hit(const Record& r, const float o[3], const float d[3], float& u, float& v, float& s) noexcept;
+  static bool finish(const Record& r, const float d[3], float u, float v, float s, float s_min, float& s_out,
+                     Vec3& normal, bool& front) noexcept;
+
+  const Record* records_ = nullptr;
+  std::size_t count_ = 0;
+  std::shared_ptr<const void> owner_;
+  std::vector<std::uint32_t> slot_of_;  // mesh triangle -> slot (built from a mesh only)
+};
+
+} // namespace hb

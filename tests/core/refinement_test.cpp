@@ -1,0 +1,220 @@
+// Exact refinement of haptic-box answers: triangle ids per sample, candidate triangles, the
+// edge walk, and how refining boxes travel through compression and box files.
+#include "decomposition/auto_decomposition.h"
+#include "decomposition/seam_overlap.h"
+#include "errors.h"
+#include "evaluation/comparison.h"
+#include "evaluation/probe_sampling.h"
+#include "exact/exact_query.h"
+#include "haptic_box/bake.h"
+#include "haptic_box/box_file.h"
+#include "mesh/generators.h"
+#include <gtest/gtest.h>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+namespace hb {
+namespace {
+
+namespace fs = std::filesystem;
+const ForceLaw kLaw{1000.f, 1.f};
+
+BoxScene bake_bumpy(bool refine, int m = 10, int n = 6) {
+  static const TriangleMesh mesh = make_bumpy_sphere({1.f, 0.06f, 6, 4});
+  BakeOptions options;
+  options.params = {m, n};
+  options.refine = refine;
+  return bake_scene(mesh, {}, options, {"bumpy", 0, mesh.triangle_count(), mesh.bounds().diagonal()});
+}
+
+const TriangleMesh& bumpy_mesh() {
+  static const TriangleMesh mesh = make_bumpy_sphere({1.f, 0.06f, 6, 4});
+  return mesh;
+}
+
+TEST(RefinementTest, CoarseBoxesGiveTheExactAnswerWhereTheyRefine) {
+  const TriangleMesh& mesh = bumpy_mesh();
+  const ExactQuery exact(mesh);
+  const auto probes = sample_probes(mesh, 3000);
+  const float diagonal = mesh.bounds().diagonal();
+  const ComparisonStats blended = compare_queries(bake_bumpy(false), exact, probes, kLaw, diagonal);
+  const ComparisonStats refined = compare_queries(bake_bumpy(true), exact, probes, kLaw, diagonal);
+  // A coarse box (m 10, n 6) blends visibly; refined, it lands on the exact triangles.
+  EXPECT_GT(blended.force_error_median, 1e-3);
+  EXPECT_LT(refined.force_error_median, 1e-4);
+  EXPECT_LT(refined.force_error_p95, 0.1 * blended.force_error_p95);
+  EXPECT_GE(refined.contact_agreement, blended.contact_agreement);
+  EXPECT_LT(refined.angle_error_median_deg, 0.05);
+}
+
+TEST(RefinementTest, ASceneOfSeveralRefinedBoxesAnswersExactlyAndKeepsItsAgreement) {
+  // A torus needs pieces; the scene refines the winning box and rescues misses in the others.
+  const TriangleMesh torus = make_torus(1.f, 0.3f, 64, 20);
+  const Decomposition d = decompose_auto(torus);
+  ASSERT_GT(d.piece_count, 1u);
+  BakeOptions options;
+  options.params = {10, 6};
+  const SourceInfo source{"torus", 0, torus.triangle_count(), torus.bounds().diagonal()};
+  const auto lists = piece_triangle_lists(torus, d.piece_of_triangle);
+  const BoxScene blended = bake_scene_from_lists(torus, lists, options, source);
+  options.refine = true;
+  const BoxScene refined = bake_scene_from_lists(torus, lists, options, source);
+  const ExactQuery exact(torus);
+  const auto probes = sample_probes(torus, 3000);
+  const float diagonal = torus.bounds().diagonal();
+  const ComparisonStats b = compare_queries(blended, exact, probes, kLaw, diagonal);
+  const ComparisonStats r = compare_queries(refined, exact, probes, kLaw, diagonal);
+  EXPECT_LT(r.force_error_median, 1e-4);
+  EXPECT_LT(r.force_error_p95, 0.1 * b.force_error_p95);
+  EXPECT_GE(r.contact_agreement, b.contact_agreement);
+}
+
+TEST(RefinementTest, TheWalkFindsTheCrossedTriangleFromANeighbourOfANeighbour) {
+  // A cube whose +Z face (z = 1) is an 8 x 8 grid of quads, two triangles each.
+  const TriangleMesh grid = make_cube(Vec3(1.f, 1.f, 1.f), 8);
+  const SurfaceTriangles surface(grid);
+  // Find a triangle on the +Z face and aim a ray two cells away from it.
+  const float origin[3] = {0.31f, -0.27f, 2.f}, dir[3] = {0.f, 0.f, -1.f};
+  std::uint32_t crossed = kNoTriangle, start = kNoTriangle;
+  for (std::uint32_t t = 0; t < surface.size(); ++t) {
+    float s = 0.f;
+    Vec3 n;
+    bool front = false;
+    if (surface.intersect(t, origin, dir, 0.f, s, n, front)) crossed = t;
+    const auto& r = surface.records()[t];
+    const bool top = r.a[2] > 0.99f && std::fabs(r.e1[2]) < 1e-6f && std::fabs(r.e2[2]) < 1e-6f;
+    if (top && std::fabs(r.a[0] - 0.f) < 1e-4f && std::fabs(r.a[1] - 0.f) < 1e-4f) start = t;
+  }
+  ASSERT_NE(crossed, kNoTriangle);
+  ASSERT_NE(start, kNoTriangle);
+  float s = 0.f, outside = 0.f;
+  Vec3 n;
+  bool front = false;
+  if (start != crossed) {
+    EXPECT_FALSE(surface.intersect(start, origin, dir, 0.f, s, n, front, &outside));
+    EXPECT_GT(outside, 0.f);
+  }
+  ASSERT_TRUE(surface.walk(start, origin, dir, 0.f, 6, s, n, front));
+  EXPECT_NEAR(s, 1.f, 1e-5f);
+  EXPECT_TRUE(front);
+  EXPECT_NEAR(n.z(), 1.f, 1e-4f);
+  // Too few steps: no answer rather than a wrong one.
+  EXPECT_FALSE(surface.walk(start, origin, dir, 0.f, 0, s, n, front) && start != crossed);
+}
+
+TEST(RefinementTest, CompressionKeepsTheRefinement) {
+  const BoxScene raw = bake_bumpy(true);
+  CodecOptions codec;
+  codec.codec = CodecId::block;
+  const BoxScene block = raw.compressed(codec);
+  ASSERT_TRUE(block.boxes()[0].refines());
+  const auto probes = sample_probes(bumpy_mesh(), 500);
+  int refined_equal = 0, contacts = 0;
+  for (const Segment& s : probes) {
+    const Contact a = raw.query(s, kLaw), b = block.query(s, kLaw);
+    if (!a.contact || !b.contact) continue;
+    ++contacts;
+    refined_equal += std::fabs(a.depth - b.depth) < 1e-5f;
+  }
+  // Both land on the same exact triangles almost everywhere.
+  EXPECT_GT(refined_equal, contacts * 95 / 100);
+}
+
+TEST(RefinementTest, IdsAreSixteenBitWhenThePieceSpansFewSlots) {
+  std::vector<std::uint32_t> ids = {70000u, kNoTriangle, 70010u, 135000u};
+  std::shared_ptr<const void> owner;
+  TriangleIds narrow = pack_triangle_ids(ids, owner);
+  EXPECT_EQ(narrow.width, 2);
+  for (std::size_t k = 0; k < ids.size(); ++k) EXPECT_EQ(narrow.at(k), ids[k]) << k;
+  ids.push_back(70000u + 0xffffu);
+  const TriangleIds wide = pack_triangle_ids(ids, owner);
+  EXPECT_EQ(wide.width, 4);
+  for (std::size_t k = 0; k < ids.size(); ++k) EXPECT_EQ(wide.at(k), ids[k]) << k;
+}
+
+TEST(RefinementTest, WrongIdCountOrUnknownTriangleIsInvalidInput) {
+  BoxScene scene = bake_bumpy(true, 4, 3);
+  HapticBox box = scene.boxes()[0];
+  std::vector<std::uint32_t> ids(box.params().sample_count() - 1, kNoTriangle);
+  EXPECT_THROW(box.attach_surface({ids.data(), 4, 0}, ids.size(), nullptr, box.surface()), InvalidInput);
+  EXPECT_THROW(box.attach_surface({ids.data(), 3, 0}, ids.size() + 1, nullptr, box.surface()), InvalidInput);
+  ids.assign(box.params().sample_count(), kNoTriangle);
+  ids[7] = std::uint32_t(box.surface()->size());
+  try {
+    box.attach_surface({ids.data(), 4, 0}, ids.size(), nullptr, box.surface());
+    FAIL() << "no error for an unknown triangle";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("sample 7"), std::string::npos) << e.what();
+  }
+}
+
+class RefinedBoxFileTest : public ::testing::Test {
+protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("hb_refined_box_file_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    scene_ = bake_bumpy(true, 6, 4);
+    path_ = (dir_ / "bumpy.hbox").string();
+    save_box_file(scene_, path_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path dir_;
+  BoxScene scene_;
+  std::string path_;
+};
+
+TEST_F(RefinedBoxFileTest, RoundTripKeepsTheRefinementAndTheAnswers) {
+  for (const bool huge : {false, true}) {
+    LoadOptions options;
+    options.verify = true;
+    options.huge_pages = huge;
+    const BoxScene loaded = load_box_file(path_, options);
+    ASSERT_TRUE(loaded.boxes()[0].refines());
+    EXPECT_EQ(loaded.boxes()[0].surface()->size(), bumpy_mesh().triangle_count());
+    for (const Segment& s : sample_probes(bumpy_mesh(), 300)) {
+      const Contact a = scene_.query(s, kLaw), b = loaded.query(s, kLaw);
+      ASSERT_EQ(a.contact, b.contact);
+      EXPECT_EQ(a.depth, b.depth);
+      EXPECT_EQ(a.normal, b.normal);
+    }
+  }
+}
+
+TEST_F(RefinedBoxFileTest, CorruptTriangleIdsAreCaughtByVerifyAndNeverReadOutOfBounds) {
+  std::vector<char> data;
+  {
+    std::ifstream in(path_, std::ios::binary);
+    data.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  // The ids follow the table: overwrite every id word after the table with huge values.
+  const HapticBox& box = scene_.boxes()[0];
+  const std::size_t id_bytes = box.triangle_id_bytes();
+  const std::size_t surface_bytes = box.surface()->bytes();
+  const std::size_t ids_at = data.size() - surface_bytes - id_bytes;  // both end 64-aligned
+  for (std::size_t k = ids_at; k + 4 <= ids_at + id_bytes; k += 4) {
+    const std::uint32_t bad = 0xfffffff0u - std::uint32_t(k);
+    std::memcpy(&data[k], &bad, 4);
+  }
+  const std::string bad_path = (dir_ / "bad.hbox").string();
+  std::ofstream(bad_path, std::ios::binary).write(data.data(), std::streamsize(data.size()));
+  try {
+    load_box_file(bad_path, LoadOptions{true});
+    FAIL() << "no error for corrupt ids";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("triangle ids"), std::string::npos) << e.what();
+  }
+  // Lazily opened, the corrupt ids are bounds-checked: queries fall back to the blend.
+  const BoxScene lazy = load_box_file(bad_path);
+  const HapticBox blended_box(box.obb(), box.params(), std::vector<Sample>(box.table(), box.table() + box.params().sample_count()));
+  for (const Segment& s : sample_probes(bumpy_mesh(), 300)) {
+    const Contact a = lazy.query(s, kLaw), b = blended_box.query(s, kLaw);
+    ASSERT_EQ(a.contact, b.contact);
+    EXPECT_EQ(a.depth, b.depth);
+  }
+}
+
+} // namespace
+} // namespace hb
