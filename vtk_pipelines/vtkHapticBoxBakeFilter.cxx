@@ -91,6 +91,7 @@ int vtkHapticBoxBakeFilter::RequestData(vtkInformation*, vtkInformationVector** 
     options.params.m = this->M;
     options.params.n = this->N;
     options.obb.padding = float(this->Padding);
+    options.refine = this->Refine;
     options.progress = vtkHapticBoxUtilities::MakeProgressCallback(this, 0.02, 0.98);
     hb::SourceInfo source;
     source.triangles = mesh.triangle_count();

@@ -44,6 +44,14 @@ public:
   ///@}
 
   ///@{
+  /// Store the triangle each sample hit so queries refine exactly (hb::BakeOptions::refine,
+  /// docs/refinement.md); default off.
+  vtkSetMacro(Refine, bool);
+  vtkGetMacro(Refine, bool);
+  vtkBooleanMacro(Refine, bool);
+  ///@}
+
+  ///@{
   /// Name of the integer cell array holding a piece id per triangle (default "PieceId").
   vtkSetStringMacro(PieceArrayName);
   vtkGetStringMacro(PieceArrayName);
@@ -64,6 +72,7 @@ protected:
   int M = 32;
   int N = 16;
   double Padding = 0.01;
+  bool Refine = false;
   char* PieceArrayName = nullptr;
   double BakeSeconds = 0.0;
 

@@ -34,6 +34,23 @@ TEST(BakeFilterTest, OneBoxWithOutlinesAndPositionPoints) {
   EXPECT_GE(b[1], 1.0);
 }
 
+TEST(BakeFilterTest, RefineOnGivesBoxesThatRefineExactly) {
+  vtkNew<vtkHapticBoxBakeFilter> bake;
+  bake->SetInputData(hb::test::SpherePolyData(2));
+  bake->SetM(4);
+  bake->SetN(3);
+  bake->RefineOn();
+  bake->Update();
+  const std::shared_ptr<const hb::BoxScene> scene = bake->GetBoxSet()->GetScene();
+  ASSERT_NE(scene, nullptr);
+  ASSERT_TRUE(scene->boxes()[0].refines());
+  // A probe straight down onto the sphere's pole answers with the mesh's own surface.
+  const hb::Contact c = scene->query({hb::Vec3(0.f, 0.f, 2.f), hb::Vec3(0.f, 0.f, 0.9f)}, hb::ForceLaw{});
+  ASSERT_TRUE(c.contact);
+  EXPECT_GT(c.depth, 0.f);
+  EXPECT_GT(c.normal.z(), 0.9f);
+}
+
 TEST(BakeFilterTest, PieceIdArrayGivesOneBoxPerPiece) {
   vtkSmartPointer<vtkPolyData> sphere = hb::test::SpherePolyData(2);
   vtkNew<vtkIntArray> piece;
