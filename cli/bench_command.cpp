@@ -46,6 +46,14 @@ void add_bench_command(CLI::App& app) {
     const double exact_many_ns = hb::median_query_many_ns(exact, probes, opts->law, opts->rounds);
     const double box_coherent_ns = hb::median_query_ns(scene, probes_coherent, opts->law, opts->rounds);
     const double exact_coherent_ns = hb::median_query_ns(exact, probes_coherent, opts->law, opts->rounds);
+    // Strokes: what a 1 kHz loop sees of a hand gliding over the model (consecutive probes
+    // 1 ms apart, about 15-30 mm/s on a 200 mm model), one query at a time.
+    constexpr std::size_t kStrokeSteps = 1000;
+    constexpr float kStrokeRadius = 0.02f;
+    const auto strokes = hb::sample_strokes(mesh, std::max<std::size_t>(1, opts->samples / kStrokeSteps), kStrokeSteps,
+                                            kStrokeRadius, opts->probes);
+    const double box_stroke_ns = hb::median_query_ns(scene, strokes, opts->law, opts->rounds);
+    const double exact_stroke_ns = hb::median_query_ns(exact, strokes, opts->law, opts->rounds);
     // Boxes met per query, and the box time of the queries that meet exactly 1, 2, 3+ boxes.
     std::vector<std::vector<hb::Segment>> by_met(4);
     double met_sum = 0.0;
@@ -78,6 +86,9 @@ void add_bench_command(CLI::App& app) {
                               {"box_coherent_ns", box_coherent_ns},
                               {"exact_coherent_ns", exact_coherent_ns},
                               {"speedup_coherent", box_coherent_ns > 0 ? exact_coherent_ns / box_coherent_ns : 0.0},
+                              {"box_stroke_ns", box_stroke_ns},
+                              {"exact_stroke_ns", exact_stroke_ns},
+                              {"speedup_stroke", box_stroke_ns > 0 ? exact_stroke_ns / box_stroke_ns : 0.0},
                               {"boxes", scene.boxes().size()},
                               {"mean_boxes_met", mean_met},
                               {"by_boxes_met", met_json}};
@@ -97,7 +108,11 @@ void add_bench_command(CLI::App& app) {
               << std::setprecision(1) << "coherent order (probes sorted along a space-filling curve, as a trajectory):\n"
               << "  haptic box  " << box_coherent_ns << " ns/query, exact " << exact_coherent_ns << " ns/query, speedup "
               << std::setprecision(2) << exact_coherent_ns / box_coherent_ns << "x\n"
-              << "  boxes       " << scene.boxes().size() << ", met per query " << mean_met << " on average\n";
+              << std::setprecision(1) << "strokes (" << strokes.size() / kStrokeSteps
+              << " hand-like strokes: circles of 2% of the diagonal, 1000 probes 1 ms apart, as a 1 kHz loop):\n"
+              << "  haptic box  " << box_stroke_ns << " ns/query, exact " << exact_stroke_ns << " ns/query, speedup "
+              << std::setprecision(2) << exact_stroke_ns / box_stroke_ns << "x\n"
+              << std::setprecision(1) << "  boxes       " << scene.boxes().size() << ", met per query " << mean_met << " on average\n";
     for (const auto& m : met_json)
       std::cout << "    meeting " << m["boxes_met"].get<std::string>() << " box(es): " << std::setprecision(1)
                 << m["box_ns"].get<double>() << " ns/query (" << m["queries"].get<std::size_t>() << " queries)\n";

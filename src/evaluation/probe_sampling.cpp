@@ -60,6 +60,26 @@ std::vector<Segment> sample_probes(const TriangleMesh& mesh, std::size_t count, 
   return probes;
 }
 
+std::vector<Segment> sample_strokes(const TriangleMesh& mesh, std::size_t strokes, std::size_t steps,
+                                    float radius_fraction, const ProbeOptions& options) {
+  if (steps < 1) throw InvalidInput("sample_strokes: a stroke needs at least one step");
+  const float radius = radius_fraction * mesh.bounds().diagonal();
+  std::vector<Segment> out;
+  out.reserve(strokes * steps);
+  for (const Segment& anchor : sample_probes(mesh, strokes, options)) {
+    const Vec3 l = (anchor.end - anchor.start).normalized();
+    const Vec3 helper = std::fabs(l.x()) < 0.9f ? Vec3::UnitX() : Vec3::UnitY();
+    const Vec3 e1 = l.cross(helper).normalized();
+    const Vec3 e2 = l.cross(e1);
+    for (std::size_t i = 0; i < steps; ++i) {
+      const float phase = float(2.0 * M_PI * double(i) / double(steps));
+      const Vec3 offset = radius * (std::cos(phase) * e1 + std::sin(phase) * e2);
+      out.push_back({anchor.start + offset, anchor.end + offset});
+    }
+  }
+  return out;
+}
+
 namespace {
 std::uint64_t spread_bits(std::uint64_t v) {  // 21 bits -> every third bit
   v &= 0x1fffff;

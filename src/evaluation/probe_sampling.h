@@ -20,6 +20,15 @@ struct ProbeOptions {
 /// Deterministic for a given seed. Throws hb::InvalidInput on an empty mesh.
 std::vector<Segment> sample_probes(const TriangleMesh& mesh, std::size_t count, const ProbeOptions& options = {});
 
+/// Hand-like strokes, the probe sequence a 1 kHz servo loop sees: for each of `strokes`
+/// probes of sample_probes (the anchors), `steps` probes with the anchor's direction whose
+/// handle and tip move once around a circle of radius `radius_fraction` x the mesh diagonal,
+/// perpendicular to the direction (the tip glides over the surface at constant depth below the
+/// anchor's plane). In stroke order, `steps` consecutive probes per stroke. Throws
+/// hb::InvalidInput on an empty mesh or steps < 1.
+std::vector<Segment> sample_strokes(const TriangleMesh& mesh, std::size_t strokes, std::size_t steps,
+                                    float radius_fraction, const ProbeOptions& options = {});
+
 /// Reorders probes along a space-filling (Morton) curve through their tips, so consecutive
 /// probes are close in space, as along a hand's trajectory: the coherent case of `bench`.
 void sort_probes_coherently(std::vector<Segment>& probes);
