@@ -20,21 +20,22 @@ void add_pieces_options(CLI::App& cmd, PiecesChoice& choice) {
       ->check(CLI::Range(0.0, 64.0))->capture_default_str();
 }
 
+std::vector<std::uint32_t> resolve_piece_ids(const TriangleMesh& mesh, const PiecesChoice& choice) {
+  if (choice.spec == "none" || choice.spec.empty()) return {};
+  if (choice.spec != "auto") return read_piece_file(choice.spec, mesh.triangle_count());
+  AutoDecompositionOptions options = choice.automatic;
+  options.progress = terminal_progress("decomposing");
+  const auto start = std::chrono::steady_clock::now();
+  const Decomposition d = decompose_auto(mesh, options);
+  std::cerr << "decomposed into " << d.piece_count << " pieces in "
+            << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s\n";
+  return d.piece_of_triangle;
+}
+
 std::vector<std::vector<std::uint32_t>> resolve_pieces(const TriangleMesh& mesh, const PiecesChoice& choice, int m,
                                                        const PositionDensity& density) {
-  if (choice.spec == "none" || choice.spec.empty()) return piece_triangle_lists(mesh, {});
-  std::vector<std::uint32_t> ids;
-  if (choice.spec == "auto") {
-    AutoDecompositionOptions options = choice.automatic;
-    options.progress = terminal_progress("decomposing");
-    const auto start = std::chrono::steady_clock::now();
-    const Decomposition d = decompose_auto(mesh, options);
-    std::cerr << "decomposed into " << d.piece_count << " pieces in "
-              << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s\n";
-    ids = d.piece_of_triangle;
-  } else {
-    ids = read_piece_file(choice.spec, mesh.triangle_count());
-  }
+  const std::vector<std::uint32_t> ids = resolve_piece_ids(mesh, choice);
+  if (ids.empty()) return piece_triangle_lists(mesh, {});
   SeamOptions seams = choice.seams;
   seams.m = m;
   seams.density = density;

@@ -19,6 +19,10 @@ struct PiecesChoice {
 /// Adds --pieces, --threshold, --max-pieces, --seam-rings and --seam-cells to a command.
 void add_pieces_options(CLI::App& cmd, PiecesChoice& choice);
 
+/// A piece id per triangle per `choice` (empty for "none": one piece). Prints a one-line
+/// summary of an automatic decomposition to stderr.
+std::vector<std::uint32_t> resolve_piece_ids(const TriangleMesh& mesh, const PiecesChoice& choice);
+
 /// The triangle lists to bake (one per piece, seams shared). Prints a one-line summary of an
 /// automatic decomposition to stderr. Throws what the reader or the decomposition throws.
 /// `m` is the bake's position density (seam widths are in its cells).

@@ -1,4 +1,4 @@
-// hapticbox sweep MESH [--m 8,16,32,64] [--n 4,8,16] [--codec none] [--refine] [--samples N] [--json]
+// hapticbox sweep MESH [--m 8,16,32,64] [--n 4,8,16] [--codec none] [--refine] [--pieces none|auto|FILE] [--samples N] [--json]
 // Speed against accuracy: every configuration baked (or taken from the cache), evaluated and
 // timed on the same probes next to exact Embree and VTK's vtkStaticCellLocator.
 #include "cli_support.h"
@@ -7,6 +7,7 @@
 #include "evaluation/sweep.h"
 #include "exact/exact_query.h"
 #include "mesh/mesh_io.h"
+#include "pieces_option.h"
 #include "report_charts.h"
 #include "vtkHapticBoxReferenceQueries.h"
 #include <algorithm>
@@ -42,6 +43,7 @@ void add_sweep_command(CLI::App& app) {
     std::vector<int> n{4, 8, 16};
     std::vector<std::string> codecs{"none"};
     bool refine = false;
+    hb::cli::PiecesChoice pieces;
     std::string cache = hb::cli::default_cache_dir();
     bool no_cache = false;
     std::string chart;
@@ -53,6 +55,7 @@ void add_sweep_command(CLI::App& app) {
   cmd->add_option("-m,--m", opts->m, "Position densities m (comma separated)")->delimiter(',')->check(CLI::Range(2, 4096))->capture_default_str();
   cmd->add_option("-n,--n", opts->n, "Directional densities n (comma separated)")->delimiter(',')->check(CLI::Range(2, 1024))->capture_default_str();
   cmd->add_option("--codec", opts->codecs, "Table codecs (comma separated: none, and haar, block when the codec layer is built)")->delimiter(',')->capture_default_str();
+  hb::cli::add_pieces_options(*cmd, opts->pieces);
   cmd->add_flag("--refine", opts->refine,
                 "Also measure every configuration refined exactly on the mesh's triangles (codec+ref rows)");
   cmd->add_option("--samples", opts->sweep.samples, "Probes per method")->check(CLI::Range(std::size_t(1), std::size_t(10000000)))->capture_default_str();
@@ -90,7 +93,9 @@ void add_sweep_command(CLI::App& app) {
       print_header();
       so.on_row = [](const hb::SweepRow& r) { print_row(r, false); };
     }
-    std::vector<hb::SweepRow> rows = hb::run_sweep(mesh, {}, source, refs.References(), so);
+    so.seams = opts->pieces.seams;
+    const std::vector<std::uint32_t> pieces = hb::cli::resolve_piece_ids(mesh, opts->pieces);
+    std::vector<hb::SweepRow> rows = hb::run_sweep(mesh, pieces, source, refs.References(), so);
     if (!opts->chart.empty()) hb::plot_speed_accuracy(rows, opts->chart);
     if (opts->json) {
       nlohmann::json j = {{"mesh", opts->mesh}, {"triangles", mesh.triangle_count()}, {"samples", so.samples},

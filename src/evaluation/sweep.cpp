@@ -9,10 +9,12 @@
 #include "evaluation/query_timing.h"
 #include "haptic_box/bake.h"
 #include "haptic_box/box_file.h"
+#include "codec/codec.h"
+#include <xxhash.h>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include "codec/codec.h"
 
 namespace hb {
 namespace {
@@ -115,7 +117,15 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const std::vector<std:
     BoxScene scene;
     // The cache holds raw boxes; a codec is applied in memory after loading or baking.
     const SweepConfig raw_config{config.m, config.n, "none", config.refine};
-    const std::string cached = use_cache ? sweep_cache_path(options.cache_dir, source.mesh_hash, raw_config) : "";
+    std::string cached = use_cache ? sweep_cache_path(options.cache_dir, source.mesh_hash, raw_config) : "";
+    if (use_cache && !piece_of_triangle.empty()) {
+      // Pieces (and their seams) change the boxes: key the cache by them too.
+      char tag[64];
+      std::snprintf(tag, sizeof tag, "_pieces%016llx_r%d_c%d.hbox",
+                    static_cast<unsigned long long>(XXH3_64bits(piece_of_triangle.data(), piece_of_triangle.size() * 4u)),
+                    options.seams.rings, int(std::lround(options.seams.cells * 100.f)));
+      cached = cached.substr(0, cached.size() - 5) + tag;
+    }
     bool loaded = false;
     if (use_cache && std::filesystem::exists(cached)) {
       try {
@@ -138,7 +148,15 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const std::vector<std:
         return !options.progress || options.progress(std::min(1.0, (base + f) / steps));
       };
       BakeStats stats;
-      scene = bake_scene(mesh, piece_of_triangle, bake, source, &stats);
+      if (piece_of_triangle.empty()) {
+        scene = bake_scene(mesh, piece_of_triangle, bake, source, &stats);
+      } else {
+        SeamOptions seams = options.seams;
+        seams.m = config.m;
+        seams.density = bake.density;
+        seams.obb = options.obb;
+        scene = bake_scene_from_lists(mesh, piece_triangle_lists(mesh, piece_of_triangle, seams), bake, source, &stats);
+      }
       row.bake_seconds = stats.seconds;
       if (use_cache) save_box_file(scene, cached);
     }

@@ -2,6 +2,7 @@
 // Speed against accuracy: bake, evaluate and time a grid of box configurations next to
 // reference methods measured in the same run on the same probe segments.
 #include "evaluation/comparison.h"
+#include "decomposition/seam_overlap.h"
 #include "evaluation/probe_sampling.h"
 #include "geometry/obb.h"
 #include "haptic_box/box_scene.h"
@@ -64,6 +65,9 @@ struct SweepOptions {
   ProbeOptions probes;             ///< the default probe distribution.
   ForceLaw law;
   ObbOptions obb;
+  /// With pieces: how far neighbouring pieces share their seams (`m`, `density` and `obb` are
+  /// taken from each configuration and `obb` above).
+  SeamOptions seams;
   /// Directory of cached (raw) boxes, named by mesh hash and densities; empty: no cache.
   /// A cached box is used only when its recorded mesh hash matches `source.mesh_hash` (!= 0).
   std::string cache_dir;
@@ -75,7 +79,9 @@ struct SweepOptions {
 
 /// Runs the sweep: the references first (the first one is the ground truth, normally exact
 /// Embree; its own row has zero error), then each configuration: bake (or load from the
-/// cache, saving new bakes to it), evaluate on the same probes, time on one core. Only one
+/// cache, saving new bakes to it), evaluate on the same probes, time on one core.
+/// `piece_of_triangle` (empty: one box) gives one box per piece, the pieces sharing their
+/// seams per options.seams as `hapticbox bake` does; cached scenes are keyed by the pieces. Only one
 /// box is held in memory at a time. Returns the rows with the Pareto front marked.
 /// Throws hb::InvalidInput (no reference, bad configuration or codec), hb::IoError (cache),
 /// hb::Cancelled.

@@ -44,3 +44,36 @@ TEST(SweepTest, RunsReferencesAndConfigurationsAndReusesTheCache) {
   options.configs = {{8, 3, "nonsense"}};
   EXPECT_THROW(hb::run_sweep(mesh, {}, source, {{"exact_embree", &exact, 0, 0.0}}, options), hb::InvalidInput);
 }
+
+TEST(SweepTest, PiecesAndRefinementAreSweptAndCachedApart) {
+  // A torus split in two by a plane through its axis: one box per half, seams shared.
+  const hb::TriangleMesh torus = hb::make_torus(1.f, 0.3f, 48, 16);
+  std::vector<std::uint32_t> pieces(torus.triangle_count());
+  for (std::uint32_t t = 0; t < pieces.size(); ++t) {
+    const auto& tri = torus.triangles[t];
+    pieces[t] = torus.positions[tri[0]].x() + torus.positions[tri[1]].x() + torus.positions[tri[2]].x() > 0.f ? 1u : 0u;
+  }
+  const hb::ExactQuery exact(torus);
+  const std::string cache = "/tmp/hb_sweep_pieces_test_" + std::to_string(::getpid());
+  hb::SweepOptions options;
+  options.configs = hb::sweep_grid({8}, {4}, {"none"}, {false, true});
+  options.samples = 1500;
+  options.timing_rounds = 1;
+  options.cache_dir = cache;
+  const hb::SourceInfo source{"torus", 0x77, torus.triangle_count(), torus.bounds().diagonal()};
+  const auto one = hb::run_sweep(torus, {}, source, {{"exact_embree", &exact, 0, 0.0}}, options);
+  const auto two = hb::run_sweep(torus, pieces, source, {{"exact_embree", &exact, 0, 0.0}}, options);
+  ASSERT_EQ(two.size(), 3u);
+  EXPECT_FALSE(two[1].from_cache);  // not the one-box scene of the same densities
+  EXPECT_FALSE(two[1].refine);
+  EXPECT_TRUE(two[2].refine);
+  // Two halves remove the pocket of the hole; refinement makes the answers exact.
+  EXPECT_GT(two[1].contact_agreement, one[1].contact_agreement);
+  EXPECT_LT(two[2].force_error_median, 1e-4);
+  EXPECT_GT(two[2].memory_bytes, two[1].memory_bytes);
+  const auto again = hb::run_sweep(torus, pieces, source, {{"exact_embree", &exact, 0, 0.0}}, options);
+  EXPECT_TRUE(again[1].from_cache);
+  EXPECT_TRUE(again[2].from_cache);
+  EXPECT_EQ(again[2].force_error_median, two[2].force_error_median);
+  std::filesystem::remove_all(cache);
+}
