@@ -17,17 +17,20 @@
 //     blends a far exit distance into t0.
 //  6. Contact test (Figure 7): the surface point P1 + t0 l must lie between the handle and
 //     the tip, on the outside of the surface (n . l < 0); depth = d - t0; F = k depth n.
-//  7. Exact refinement (optional, boxes baked with triangle ids): the triangles hit by the 16
-//     samples of step 4 are candidates; the line is intersected with each exactly, and the
-//     nearest front-face hit, when it lies within two position cells of the blended t0 (or
-//     the blend was a miss), gives t0 and the shaded normal instead of the blend. The cost
-//     stays constant (at most 16 triangle tests), independent of the triangle count.
+//  7. Exact refinement (optional, boxes baked with triangle ids; before the contact test of
+//     step 6): the triangles hit by the 16 samples of step 4 are candidates; the line is
+//     intersected with each exactly (when it crosses none, a walk from the candidate it
+//     passes nearest follows at most kWalkSteps edges), and the nearest front-face hit, when
+//     it lies within two position cells of the blended t0 (or the blend was a miss), gives t0
+//     and the shaded normal instead of the blend. Refine::misses limits this to answers that
+//     could become contacts (scenes, see box_scene.cpp). The cost stays bounded whatever the
+//     triangle count; docs/refinement.md has the measurements.
 //  8. The samples are read through a fetch policy (raw records, block or Haar codec): the
 //     codec is switched on once per query and the query body is instantiated per codec.
 //     Every codec keeps hit/miss exact, so step 5 sees the same silhouettes on a compressed
 //     table as on the raw one; only t and the normals move, within the codec's bound.
-//  8. The body is split in two: locate() (steps 1-3 and the start of the fetches) and
-//     finish() (the blends and step 6). query() runs them back to back; query_many() runs
+//  9. The body is split in two: locate() (steps 1-3 and the start of the fetches) and
+//     finish() (the blends, steps 6 and 7). query() runs them back to back; query_many() runs
 //     locate() for a group of queries before finishing any, so their DRAM misses overlap.
 #include "haptic_box/haptic_box.h"
 #include "errors.h"
