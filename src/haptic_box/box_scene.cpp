@@ -3,11 +3,14 @@
 //  2. Each surviving box runs its query (which starts with its exact PBB slab test).
 //  3. The valid contact nearest the handle wins (contact definition: the first outside
 //     surface met walking from the handle). Boxes that refine (HapticBox::attach_surface)
-//     compete with their refined answers.
+//     compete with their blended answers, refined only where the blend is no contact but
+//     could become one (Refine::misses: silhouettes, a tip near the surface); the winner is
+//     then refined fully. Measured on the 31-box armadillo: the same agreement as refining
+//     every box (99.60% against 99.62%), one full refinement per query.
 //  4. With several boxes, a contact is dropped when the handle lies inside any met box's
 //     piece along the line and that piece ends before the contact (handle_inside): the first
 //     surface from the handle is then an inside one, which the box that found the contact
-//     ahead cannot see.
+//     ahead cannot see. Its box queries refine with Refine::misses too.
 #include "haptic_box/box_scene.h"
 #include <algorithm>
 #include <cmath>
