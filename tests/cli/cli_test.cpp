@@ -69,7 +69,8 @@ TEST_F(CliTest, BakeInfoEvalBenchProduceDocumentedJson) {
   const Result bench = run("bench " + path("sphere.hbox") + " " + path("sphere.off") + " --samples 2000 --rounds 1 --json");
   ASSERT_EQ(bench.code, 0) << bench.err;
   const auto k = nlohmann::json::parse(bench.out);
-  for (const char* key : {"box_ns", "exact_ns", "speedup", "box_batched_ns", "exact_batched_ns", "speedup_batched", "triangles"})
+  for (const char* key : {"box_ns", "exact_ns", "speedup", "box_batched_ns", "exact_batched_ns", "speedup_batched", "box_stroke_ns",
+                          "exact_stroke_ns", "speedup_stroke", "triangles"})
     EXPECT_TRUE(k.contains(key)) << key;
 }
 
