@@ -3,6 +3,7 @@
 #include "haptic_box/bake.h"
 #include "haptic_box/box_scene.h"
 #include "mesh/generators.h"
+#include "two_spheres.h"
 #include <gtest/gtest.h>
 #include <cstring>
 #include <random>
@@ -74,18 +75,11 @@ TEST(QueryManyTest, CompressedBoxesGiveTheSameAnswersAsSingleQueries) {
 }
 
 TEST(QueryManyTest, SceneOfSeveralBoxesGivesTheSameAnswersAsSingleQueries) {
-  TriangleMesh a = make_sphere(1.f, 4), b = make_sphere(1.f, 4);
-  for (auto& p : b.positions) p.x() += 1.5f;  // overlapping pieces: handle_inside matters
-  TriangleMesh both = a;
-  const auto offset = std::uint32_t(both.positions.size());
-  both.positions.insert(both.positions.end(), b.positions.begin(), b.positions.end());
-  both.normals.insert(both.normals.end(), b.normals.begin(), b.normals.end());
-  for (auto t : b.triangles) both.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
-  std::vector<std::uint32_t> piece(both.triangle_count(), 0);
-  for (std::size_t t = a.triangle_count(); t < both.triangle_count(); ++t) piece[t] = 1;
+  const test::TwoSpheres two = test::two_spheres(1.5f);  // overlapping pieces: handle_inside matters
+  const TriangleMesh& both = two.mesh;
   BakeOptions options;
   options.params = {8, 6};
-  const BoxScene scene = bake_scene(both, piece, options, {});
+  const BoxScene scene = bake_scene(both, two.piece, options, {});
   ASSERT_EQ(scene.boxes().size(), 2u);
   const std::vector<Segment> probes = mixed_probes(both);
   EXPECT_GT(expect_same_as_single(scene, probes), 0u);
