@@ -84,7 +84,7 @@ TEST(QueryManyTest, SceneOfSeveralBoxesGivesTheSameAnswersAsSingleQueries) {
   const std::vector<Segment> probes = mixed_probes(both);
   EXPECT_GT(expect_same_as_single(scene, probes), 0u);
   const BoxScene one(std::vector<HapticBox>{scene.boxes()[0]});
-  expect_same_as_single(one, mixed_probes(a));
+  expect_same_as_single(one, mixed_probes(make_sphere(1.f, 4)));
 }
 
 } // namespace
