@@ -38,14 +38,11 @@ nlohmann::json box_info(const std::string& path, bool verify) {
   std::uint64_t raw_bytes = 0;
   double t_mean = 0, t_max = 0, a_mean = 0, a_max = 0, bound = 0;
   std::string codec;
-  std::uint64_t id_bytes = 0, surface_bytes = 0;
+  std::uint64_t id_bytes = 0;
   std::size_t refined = 0;
   for (const hb::HapticBox& box : scene.boxes()) {
     id_bytes += box.triangle_id_bytes();
-    if (box.refines()) {
-      ++refined;
-      surface_bytes = box.surface()->bytes();
-    }
+    refined += box.refines() ? 1 : 0;
     const hb::Obb& o = box.obb();
     const hb::CodecStats& cs = box.codec_stats();
     raw_bytes += box.raw_table_bytes();
@@ -93,7 +90,7 @@ nlohmann::json box_info(const std::string& path, bool verify) {
           {"normal_error_max_deg", a_max},
           {"refine", refined == scene.boxes().size() ? "yes" : refined == 0 ? "no" : "some boxes"},
           {"triangle_id_bytes", id_bytes},
-          {"surface_bytes", surface_bytes},
+          {"surface_bytes", scene.refinement_bytes() - id_bytes},
           {"verified", verify},
           {"source_mesh", scene.source().mesh_path},
           {"source_mesh_hash", scene.source().mesh_hash},

@@ -184,9 +184,7 @@ void BakePanel::updateState() {
   if (!busy) progress_->setValue(1000);
   const hb::BoxScene& s = *session_->boxes();
   const auto& p = s.boxes().front().params();
-  std::size_t refineBytes = 0;
-  for (const hb::HapticBox& box : s.boxes()) refineBytes += box.triangle_id_bytes();
-  if (s.boxes().front().refines()) refineBytes += s.boxes().front().surface()->bytes();
+  const std::size_t refineBytes = s.refinement_bytes();
   const QString tables = tr("%1 MB of tables").arg(static_cast<double>(s.table_bytes()) / 1048576.0, 0, 'f', 1);
   info_->setText(tr("%1 box(es), m %2, n %3, %4, %5")
                      .arg(s.boxes().size())

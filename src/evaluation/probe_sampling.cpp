@@ -5,6 +5,14 @@
 #include <random>
 
 namespace hb {
+namespace {
+// Two unit vectors completing unit `axis` to an orthonormal basis.
+void perpendicular_basis(const Vec3& axis, Vec3& e1, Vec3& e2) {
+  const Vec3 helper = std::fabs(axis.x()) < 0.9f ? Vec3::UnitX() : Vec3::UnitY();
+  e1 = axis.cross(helper).normalized();
+  e2 = axis.cross(e1);
+}
+} // namespace
 
 std::vector<Segment> sample_probes(const TriangleMesh& mesh, std::size_t count, const ProbeOptions& options) {
   if (mesh.triangle_count() == 0) throw InvalidInput("sample_probes: mesh has no triangles");
@@ -47,9 +55,8 @@ std::vector<Segment> sample_probes(const TriangleMesh& mesh, std::size_t count, 
     const float cos_theta = 1.f - float(uni(rng)) * (1.f - cos_max);
     const float sin_theta = std::sqrt(std::max(0.f, 1.f - cos_theta * cos_theta));
     const float phi = float(2.0 * M_PI * uni(rng));
-    const Vec3 helper = std::fabs(inward.x()) < 0.9f ? Vec3::UnitX() : Vec3::UnitY();
-    const Vec3 e1 = inward.cross(helper).normalized();
-    const Vec3 e2 = inward.cross(e1);
+    Vec3 e1, e2;
+    perpendicular_basis(inward, e1, e2);
     const Vec3 dir = cos_theta * inward + sin_theta * (std::cos(phi) * e1 + std::sin(phi) * e2);
     const float depth = float(uni(rng)) * max_depth;
     Segment s;
@@ -68,9 +75,8 @@ std::vector<Segment> sample_strokes(const TriangleMesh& mesh, std::size_t stroke
   out.reserve(strokes * steps);
   for (const Segment& anchor : sample_probes(mesh, strokes, options)) {
     const Vec3 l = (anchor.end - anchor.start).normalized();
-    const Vec3 helper = std::fabs(l.x()) < 0.9f ? Vec3::UnitX() : Vec3::UnitY();
-    const Vec3 e1 = l.cross(helper).normalized();
-    const Vec3 e2 = l.cross(e1);
+    Vec3 e1, e2;
+    perpendicular_basis(l, e1, e2);
     for (std::size_t i = 0; i < steps; ++i) {
       const float phase = float(2.0 * M_PI * double(i) / double(steps));
       const Vec3 offset = radius * (std::cos(phase) * e1 + std::sin(phase) * e2);

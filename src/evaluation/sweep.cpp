@@ -162,10 +162,7 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const std::vector<std:
     }
     row.from_cache = loaded;
     if (config.codec != "none") scene = compress_scene(scene, config.codec);
-    row.memory_bytes = scene.table_bytes();
-    for (const HapticBox& box : scene.boxes()) row.memory_bytes += box.triangle_id_bytes();
-    if (!scene.boxes().empty() && scene.boxes().front().refines())
-      row.memory_bytes += scene.boxes().front().surface()->bytes();
+    row.memory_bytes = scene.table_bytes() + scene.refinement_bytes();
     step(1.0);
     measure(row, scene);
     step(1.0);

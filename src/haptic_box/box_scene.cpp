@@ -154,6 +154,19 @@ std::size_t BoxScene::table_bytes() const {
   return sum;
 }
 
+std::size_t BoxScene::refinement_bytes() const {
+  std::size_t sum = 0;
+  const SurfaceTriangles* surface = nullptr;
+  for (const HapticBox& box : boxes_) {
+    sum += box.triangle_id_bytes();
+    if (box.refines() && box.surface().get() != surface) {
+      surface = box.surface().get();
+      sum += surface->bytes();
+    }
+  }
+  return sum;
+}
+
 BoxScene BoxScene::compressed(const CodecOptions& options) const {
   std::vector<HapticBox> boxes;
   boxes.reserve(boxes_.size());

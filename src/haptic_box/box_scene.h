@@ -41,6 +41,9 @@ public:
   const std::vector<HapticBox>& boxes() const { return boxes_; }
   const SourceInfo& source() const { return source_; }
   std::size_t table_bytes() const;
+  /// Bytes the exact refinement adds (0 without it): every box's triangle ids and the
+  /// surface the boxes share (once).
+  std::size_t refinement_bytes() const;
 
 private:
   // Boxes in [first, last) whose axis-aligned bounds the segment meets, written into `out`.

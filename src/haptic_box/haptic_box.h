@@ -48,8 +48,8 @@ public:
   bool refines() const { return surface_ != nullptr; }
   const TriangleIds& triangle_ids() const { return triangle_ids_; }
   const std::shared_ptr<const SurfaceTriangles>& surface() const { return surface_; }
-  /// Bytes of the triangle ids (0 without refinement); the shared surface is counted once
-  /// per scene (BoxScene::surface_bytes).
+  /// Bytes of the triangle ids (0 without refinement); with the shared surface, per scene:
+  /// BoxScene::refinement_bytes.
   std::size_t triangle_id_bytes() const {
     return triangle_ids_.data ? params_.sample_count() * std::size_t(triangle_ids_.width) : 0u;
   }
