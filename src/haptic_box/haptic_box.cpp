@@ -707,6 +707,7 @@ void HapticBox::query_many(const Segment* segments, std::size_t count, const For
   case CodecId::haar:
     return query_many_with(CodecFetch<HaarTable>{samples_.haar()}, segments, count, law, out);
   default:
+    if (!surface_) return query_many_lanes(segments, count, law, out);
     return query_many_with(RawFetch{table_, std::size_t(params_.n), params_.samples_per_position()}, segments, count,
                            law, out);
   }
