@@ -124,6 +124,8 @@ private:
   struct Lanes;
   void locate_lanes(const Segment* segments, int count, Lanes& q) const noexcept;
   void finish_lanes(const Lanes& q, const ForceLaw& law, Contact* out) const noexcept;
+  void run_lanes(const Segment* segments, std::size_t count, const ForceLaw& law, Contact* out) const noexcept;
+  void run_lanes_avx(const Segment* segments, std::size_t count, const ForceLaw& law, Contact* out) const noexcept;
   void query_many_lanes(const Segment* segments, std::size_t count, const ForceLaw& law, Contact* out) const noexcept;
   bool refine(std::size_t p00, int a0, int b0, std::size_t sf, const float p1[3], const float l[3], float t_blend,
               float& t0, Vec3& normal) const noexcept;

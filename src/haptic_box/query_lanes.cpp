@@ -22,19 +22,23 @@
 #include <emmintrin.h>  // SSE2: the x86-64 baseline
 
 namespace hb {
+
+// Inlined into both the SSE2 and the AVX entry points below.
+#define HB_LANES_INLINE __attribute__((always_inline)) inline
+
 namespace {
 
-inline __m128 select(__m128 mask, __m128 a, __m128 b) noexcept {
+HB_LANES_INLINE __m128 select(__m128 mask, __m128 a, __m128 b) noexcept {
   return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
 }
-inline __m128i select(__m128i mask, __m128i a, __m128i b) noexcept {
+HB_LANES_INLINE __m128i select(__m128i mask, __m128i a, __m128i b) noexcept {
   return _mm_or_si128(_mm_and_si128(mask, a), _mm_andnot_si128(mask, b));
 }
-inline __m128 abs_ps(__m128 x) noexcept { return _mm_andnot_ps(_mm_set1_ps(-0.f), x); }
+HB_LANES_INLINE __m128 abs_ps(__m128 x) noexcept { return _mm_andnot_ps(_mm_set1_ps(-0.f), x); }
 
 // split_cell of haptic_box.cpp per lane: f clamped to [0, cells], i0 = min(int(f), cells - 1),
 // w = f - i0 (std::max(f, 0) is (0 > f ? 0 : f), std::min(x, cells) is (cells < x ? cells : x)).
-inline void split_cells(__m128 f, int cells, __m128i& i0, __m128& w) noexcept {
+HB_LANES_INLINE void split_cells(__m128 f, int cells, __m128i& i0, __m128& w) noexcept {
   f = _mm_min_ps(_mm_set1_ps(float(cells)), _mm_max_ps(_mm_setzero_ps(), f));
   const __m128i last = _mm_set1_epi32(cells - 1);
   const __m128i i = _mm_cvttps_epi32(f);
@@ -47,7 +51,7 @@ inline void split_cells(__m128 f, int cells, __m128i& i0, __m128& w) noexcept {
 struct SampleLanes {
   __m128 w, t, nx, ny, nz;
 };
-inline SampleLanes sample_lanes(__m128 t, __m128 code_bits, __m128 w) noexcept {
+HB_LANES_INLINE SampleLanes sample_lanes(__m128 t, __m128 code_bits, __m128 w) noexcept {
   const __m128i codes = _mm_castps_si128(code_bits);
   w = _mm_and_ps(w, _mm_cmpge_ps(t, _mm_setzero_ps()));
   const __m128 scale = _mm_set1_ps(1.f / 32767.f);
@@ -62,7 +66,7 @@ inline SampleLanes sample_lanes(__m128 t, __m128 code_bits, __m128 w) noexcept {
 }
 
 // (a + b) + (c + d): the association of lane_sums in haptic_box.cpp.
-inline __m128 sum4(__m128 a, __m128 b, __m128 c, __m128 d) noexcept {
+HB_LANES_INLINE __m128 sum4(__m128 a, __m128 b, __m128 c, __m128 d) noexcept {
   return _mm_add_ps(_mm_add_ps(a, b), _mm_add_ps(c, d));
 }
 
@@ -79,7 +83,7 @@ struct HapticBox::Lanes {
   const Sample* corner[4][4];     // [corner][lane]: the first sample of the corner's quad
 };
 
-void HapticBox::locate_lanes(const Segment* segments, int count, Lanes& q) const noexcept {
+HB_LANES_INLINE void HapticBox::locate_lanes(const Segment* segments, int count, Lanes& q) const noexcept {
   q.count = count;
   alignas(16) float S[3][4], E[3][4];
   for (int k = 0; k < 4; ++k) {
@@ -208,7 +212,7 @@ void HapticBox::locate_lanes(const Segment* segments, int count, Lanes& q) const
   }
 }
 
-void HapticBox::finish_lanes(const Lanes& q, const ForceLaw& law, Contact* out) const noexcept {
+HB_LANES_INLINE void HapticBox::finish_lanes(const Lanes& q, const ForceLaw& law, Contact* out) const noexcept {
   const std::size_t n = std::size_t(params_.n);
   const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.f);
   // Steps 4-5 per corner c (finish(), whose SSE lanes are the corners, lane by lane here).
@@ -269,48 +273,72 @@ void HapticBox::finish_lanes(const Lanes& q, const ForceLaw& law, Contact* out) 
   }
   // The positional blend: finish() sums corners as (c0 + c1) + (c2 + c3), and nz as
   // (c0 + c2) + (c1 + c3).
-  alignas(16) float weight[4], tsum[4], nsx[4], nsy[4], nsz[4], t_enter[4], d[4], s[3][4], l[3][4];
-  _mm_store_ps(weight, sum4(PWv[0], PWv[1], PWv[2], PWv[3]));
-  _mm_store_ps(tsum, sum4(PT[0], PT[1], PT[2], PT[3]));
-  _mm_store_ps(nsx, sum4(PNX[0], PNX[1], PNX[2], PNX[3]));
-  _mm_store_ps(nsy, sum4(PNY[0], PNY[1], PNY[2], PNY[3]));
-  _mm_store_ps(nsz, sum4(PNZ[0], PNZ[2], PNZ[1], PNZ[3]));
-  _mm_store_ps(t_enter, q.t_enter);
-  _mm_store_ps(d, q.d);
-  _mm_store_ps(s[0], q.sx), _mm_store_ps(s[1], q.sy), _mm_store_ps(s[2], q.sz);
-  _mm_store_ps(l[0], q.lx), _mm_store_ps(l[1], q.ly), _mm_store_ps(l[2], q.lz);
-  // Step 6 per lane, as finish() (scalar, the same expressions).
+  const __m128 weight = sum4(PWv[0], PWv[1], PWv[2], PWv[3]);
+  const __m128 nsx = sum4(PNX[0], PNX[1], PNX[2], PNX[3]), nsy = sum4(PNY[0], PNY[1], PNY[2], PNY[3]);
+  const __m128 nsz = sum4(PNZ[0], PNZ[2], PNZ[1], PNZ[3]);
+  // Step 6, as finish(): blended hit, t0, unit normal, contact test, depth, point, force.
+  const __m128 nlen = _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(nsx, nsx), _mm_mul_ps(nsy, nsy)), _mm_mul_ps(nsz, nsz)));
+  const __m128 t0 = _mm_div_ps(sum4(PT[0], PT[1], PT[2], PT[3]), weight);
+  const __m128 inv_nlen = _mm_div_ps(one, nlen);
+  const __m128 nx = _mm_mul_ps(nsx, inv_nlen), ny = _mm_mul_ps(nsy, inv_nlen), nz = _mm_mul_ps(nsz, inv_nlen);
+  __m128 contact = _mm_and_ps(_mm_cmpge_ps(weight, _mm_set1_ps(0.5f)), _mm_cmpgt_ps(nlen, zero));
+  contact = _mm_and_ps(contact, _mm_cmpge_ps(_mm_add_ps(q.t_enter, t0), zero));
+  contact = _mm_and_ps(contact, _mm_cmple_ps(t0, q.d));
+  const __m128 ln = _mm_add_ps(_mm_add_ps(_mm_mul_ps(nx, q.lx), _mm_mul_ps(ny, q.ly)), _mm_mul_ps(nz, q.lz));
+  contact = _mm_and_ps(contact, _mm_cmplt_ps(ln, zero));
+  const int contacts = _mm_movemask_ps(contact) & q.located;
+  const __m128 along = _mm_add_ps(q.t_enter, t0);
+  const __m128 depth = _mm_sub_ps(q.d, t0);
+  // apply_force_law: normal * ((k * depth) * metres_per_unit).
+  const __m128 f = _mm_mul_ps(_mm_mul_ps(_mm_set1_ps(law.stiffness_n_per_m), depth), _mm_set1_ps(law.metres_per_unit));
+  alignas(16) float v[10][4];
+  _mm_store_ps(v[0], depth);
+  _mm_store_ps(v[1], _mm_add_ps(q.sx, _mm_mul_ps(along, q.lx)));
+  _mm_store_ps(v[2], _mm_add_ps(q.sy, _mm_mul_ps(along, q.ly)));
+  _mm_store_ps(v[3], _mm_add_ps(q.sz, _mm_mul_ps(along, q.lz)));
+  _mm_store_ps(v[4], nx), _mm_store_ps(v[5], ny), _mm_store_ps(v[6], nz);
+  _mm_store_ps(v[7], _mm_mul_ps(nx, f)), _mm_store_ps(v[8], _mm_mul_ps(ny, f)), _mm_store_ps(v[9], _mm_mul_ps(nz, f));
   for (int k = 0; k < q.count; ++k) {
     Contact& c = out[k];
-    c = Contact{};
-    if (!(q.located >> k & 1)) continue;
-    const float nlen = std::sqrt(nsx[k] * nsx[k] + nsy[k] * nsy[k] + nsz[k] * nsz[k]);
-    if (!(weight[k] >= 0.5f && nlen > 0.f)) continue;
-    const float t0 = tsum[k] / weight[k];
-    const float inv_nlen = 1.f / nlen;
-    const float nx = nsx[k] * inv_nlen, ny = nsy[k] * inv_nlen, nz = nsz[k] * inv_nlen;
-    const float lx = l[0][k], ly = l[1][k], lz = l[2][k];
-    if (!(t_enter[k] + t0 >= 0.f && t0 <= d[k] && nx * lx + ny * ly + nz * lz < 0.f)) continue;
-    const float along = t_enter[k] + t0;
+    if (!(contacts >> k & 1)) {
+      c = Contact{};
+      continue;
+    }
     c.contact = true;
-    c.depth = d[k] - t0;
-    c.point = Vec3(s[0][k] + along * lx, s[1][k] + along * ly, s[2][k] + along * lz);
-    c.normal = Vec3(nx, ny, nz);
-    apply_force_law(c, law);
+    c.depth = v[0][k];
+    c.point = Vec3(v[1][k], v[2][k], v[3][k]);
+    c.normal = Vec3(v[4][k], v[5][k], v[6][k]);
+    c.force = Vec3(v[7][k], v[8][k], v[9][k]);
   }
+}
+
+HB_LANES_INLINE void HapticBox::run_lanes(const Segment* segments, std::size_t count, const ForceLaw& law,
+                                          Contact* out) const noexcept {
+  // Software pipeline: group g + kAhead is located (its fetches start) before group g is
+  // blended, so each group's samples have kAhead groups' compute to arrive from DRAM.
+  constexpr std::size_t kAhead = 3;
+  Lanes ring[kAhead + 1];
+  const std::size_t groups = (count + 3) / 4;
+  for (std::size_t g = 0; g < groups + kAhead; ++g) {
+    if (g < groups) locate_lanes(segments + 4 * g, int(std::min<std::size_t>(4, count - 4 * g)), ring[g % (kAhead + 1)]);
+    if (g >= kAhead) finish_lanes(ring[(g - kAhead) % (kAhead + 1)], law, out + 4 * (g - kAhead));
+  }
+}
+
+// The same code compiled twice: for the SSE2 baseline, and with AVX's three-operand (VEX)
+// encoding, which spares the register copies SSE's two-operand forms need (AVX has no fused
+// multiply-add, and the file is built with -ffp-contract=off, so the arithmetic and the
+// answers stay the same).
+__attribute__((target("avx"))) void HapticBox::run_lanes_avx(const Segment* segments, std::size_t count,
+                                                              const ForceLaw& law, Contact* out) const noexcept {
+  run_lanes(segments, count, law, out);
 }
 
 void HapticBox::query_many_lanes(const Segment* segments, std::size_t count, const ForceLaw& law,
                                  Contact* out) const noexcept {
-  // Two groups of four: the second group's fetches start before the first is blended.
-  Lanes q[2];
-  for (std::size_t first = 0; first < count; first += 8) {
-    const std::size_t size = std::min<std::size_t>(8, count - first);
-    const int groups = size > 4 ? 2 : 1;
-    for (int g = 0; g < groups; ++g)
-      locate_lanes(segments + first + 4 * g, int(std::min<std::size_t>(4, size - 4 * std::size_t(g))), q[g]);
-    for (int g = 0; g < groups; ++g) finish_lanes(q[g], law, out + first + 4 * g);
-  }
+  static const bool avx = __builtin_cpu_supports("avx");
+  if (avx) return run_lanes_avx(segments, count, law, out);
+  run_lanes(segments, count, law, out);
 }
 
 } // namespace hb
