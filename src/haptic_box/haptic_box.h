@@ -19,6 +19,15 @@ enum class Refine {
   all,     ///< every answer (the default).
 };
 
+/// Instruction sets of query_many's batched path on raw tables (query_lanes.cpp), lowest
+/// first. Every level gives the same answers, bit for bit.
+enum class LaneIsa { sse2, avx, avx512 };
+/// The level query_many uses: the best the CPU supports, at most the cap.
+LaneIsa lane_isa() noexcept;
+/// Caps the level process-wide (tests check every level against query(); benchmarks compare
+/// them). The default cap is the highest level.
+void set_lane_isa_cap(LaneIsa cap) noexcept;
+
 /// A baked box. Built once (by bake_box or by loading a file), then queried many times
 /// through the const, noexcept, allocation-free query(), safe from many threads.
 class HapticBox final : public ContactQuery {
@@ -126,6 +135,7 @@ private:
   void finish_lanes(const Lanes& q, const ForceLaw& law, Contact* out) const noexcept;
   void run_lanes(const Segment* segments, std::size_t count, const ForceLaw& law, Contact* out) const noexcept;
   void run_lanes_avx(const Segment* segments, std::size_t count, const ForceLaw& law, Contact* out) const noexcept;
+  void run_lanes_avx512(const Segment* segments, std::size_t count, const ForceLaw& law, Contact* out) const noexcept;
   void query_many_lanes(const Segment* segments, std::size_t count, const ForceLaw& law, Contact* out) const noexcept;
   bool refine(std::size_t p00, int a0, int b0, std::size_t sf, const float p1[3], const float l[3], float t_blend,
               float& t0, Vec3& normal) const noexcept;

@@ -17,6 +17,7 @@
 // answered "no contact".
 #include "haptic_box/haptic_box.h"
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <emmintrin.h>  // SSE2: the x86-64 baseline
@@ -316,7 +317,7 @@ HB_LANES_INLINE void HapticBox::run_lanes(const Segment* segments, std::size_t c
                                           Contact* out) const noexcept {
   // Software pipeline: group g + kAhead is located (its fetches start) before group g is
   // blended, so each group's samples have kAhead groups' compute to arrive from DRAM.
-  constexpr std::size_t kAhead = 3;
+  constexpr std::size_t kAhead = 2;
   Lanes ring[kAhead + 1];
   const std::size_t groups = (count + 3) / 4;
   for (std::size_t g = 0; g < groups + kAhead; ++g) {
@@ -325,20 +326,46 @@ HB_LANES_INLINE void HapticBox::run_lanes(const Segment* segments, std::size_t c
   }
 }
 
-// The same code compiled twice: for the SSE2 baseline, and with AVX's three-operand (VEX)
-// encoding, which spares the register copies SSE's two-operand forms need (AVX has no fused
-// multiply-add, and the file is built with -ffp-contract=off, so the arithmetic and the
-// answers stay the same).
+// The same code compiled three times: for the SSE2 baseline; with AVX's three-operand (VEX)
+// encoding, which spares the register copies of SSE's two-operand forms; and with AVX-512VL,
+// whose 32 vector registers spare most spills (still 128-bit vectors). None of them fuses a
+// multiply and an add (the file is built with -ffp-contract=off), so all three compute what
+// query() computes, bit for bit.
 __attribute__((target("avx"))) void HapticBox::run_lanes_avx(const Segment* segments, std::size_t count,
                                                               const ForceLaw& law, Contact* out) const noexcept {
   run_lanes(segments, count, law, out);
 }
+__attribute__((target("avx512f,avx512vl"))) void HapticBox::run_lanes_avx512(const Segment* segments, std::size_t count,
+                                                                             const ForceLaw& law,
+                                                                             Contact* out) const noexcept {
+  run_lanes(segments, count, law, out);
+}
+
+namespace {
+std::atomic<int> lane_isa_cap{int(LaneIsa::avx512)};
+LaneIsa best_lane_isa() noexcept {
+  static const LaneIsa best = __builtin_cpu_supports("avx512vl") ? LaneIsa::avx512
+                              : __builtin_cpu_supports("avx")    ? LaneIsa::avx
+                                                                 : LaneIsa::sse2;
+  return best;
+}
+} // namespace
+
+LaneIsa lane_isa() noexcept {
+  return LaneIsa(std::min(int(best_lane_isa()), lane_isa_cap.load(std::memory_order_relaxed)));
+}
+void set_lane_isa_cap(LaneIsa cap) noexcept { lane_isa_cap.store(int(cap), std::memory_order_relaxed); }
 
 void HapticBox::query_many_lanes(const Segment* segments, std::size_t count, const ForceLaw& law,
                                  Contact* out) const noexcept {
-  static const bool avx = __builtin_cpu_supports("avx");
-  if (avx) return run_lanes_avx(segments, count, law, out);
-  run_lanes(segments, count, law, out);
+  switch (lane_isa()) {
+  case LaneIsa::avx512:
+    return run_lanes_avx512(segments, count, law, out);
+  case LaneIsa::avx:
+    return run_lanes_avx(segments, count, law, out);
+  default:
+    return run_lanes(segments, count, law, out);
+  }
 }
 
 } // namespace hb

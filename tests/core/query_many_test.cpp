@@ -60,6 +60,40 @@ TEST(QueryManyTest, RawBoxGivesTheSameAnswersAsSingleQueries) {
   box.query_many(probes.data(), 0, kLaw, out.data());
 }
 
+// The batched path of raw boxes runs four queries in SIMD lanes, compiled for several
+// instruction sets (the best the CPU has is used); each level the CPU runs must give
+// query()'s answers. Probes of another mesh add handles far outside and boxes met edge-on.
+TEST(QueryManyTest, EveryInstructionSetLevelGivesTheSameAnswersAsSingleQueries) {
+  BumpySphereOptions bumpy;
+  bumpy.subdivisions = 3;
+  const TriangleMesh mesh = make_bumpy_sphere(bumpy);
+  BakeOptions options;
+  options.params = {9, 5};
+  const HapticBox box = bake_box(mesh, {}, options);
+  std::vector<Segment> probes = mixed_probes(mesh);
+  // Segments along the box's axes and through its edges and corners (parallel slabs, ties).
+  const Obb& obb = box.obb();
+  for (int a = 0; a < 3; ++a)
+    for (float offset : {0.f, 0.5f, 1.f, 1.2f}) {
+      Vec3 side = Vec3::Zero();
+      side[(a + 1) % 3] = offset * obb.half[(a + 1) % 3];
+      Vec3 along = Vec3::Zero();
+      along[a] = 2.f * obb.half[a];
+      const Vec3 start = obb.to_world(side - along), end = obb.to_world(side);
+      probes.push_back({start, end});
+      probes.push_back({obb.to_world(obb.half * -1.5f), obb.to_world(obb.half * 0.1f)});
+    }
+  const LaneIsa best = lane_isa();
+  for (LaneIsa level : {LaneIsa::sse2, LaneIsa::avx, LaneIsa::avx512}) {
+    set_lane_isa_cap(level);
+    if (int(lane_isa()) < int(level)) continue;  // the CPU lacks it
+    SCOPED_TRACE(int(level));
+    EXPECT_GT(expect_same_as_single(box, probes), probes.size() / 2);
+  }
+  set_lane_isa_cap(LaneIsa::avx512);
+  EXPECT_EQ(lane_isa(), best);
+}
+
 TEST(QueryManyTest, CompressedBoxesGiveTheSameAnswersAsSingleQueries) {
   const TriangleMesh mesh = make_torus(1.f, 0.35f, 48, 24);
   BakeOptions options;
