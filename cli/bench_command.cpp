@@ -71,6 +71,7 @@ void add_bench_command(CLI::App& app) {
                           {"box_ns", ns},
                           {"box_queries_per_second", ns > 0 ? 1e9 / ns : 0.0}});
     }
+    const char* isa_name = hb::lane_isa_name(hb::lane_isa());
     const double mean_met = probes.empty() ? 0.0 : met_sum / double(probes.size());
     const nlohmann::json j = {{"box", opts->box},
                               {"mesh", opts->mesh},
@@ -83,6 +84,7 @@ void add_bench_command(CLI::App& app) {
                               {"box_batched_ns", box_many_ns},
                               {"exact_batched_ns", exact_many_ns},
                               {"speedup_batched", box_many_ns > 0 ? exact_many_ns / box_many_ns : 0.0},
+                              {"batched_isa", isa_name},
                               {"box_coherent_ns", box_coherent_ns},
                               {"exact_coherent_ns", exact_coherent_ns},
                               {"speedup_coherent", box_coherent_ns > 0 ? exact_coherent_ns / box_coherent_ns : 0.0},
@@ -101,7 +103,8 @@ void add_bench_command(CLI::App& app) {
               << "  haptic box  " << box_ns << " ns/query (" << 1e9 / box_ns / 1e6 << " M queries/s)\n"
               << "  exact       " << exact_ns << " ns/query\n"
               << "  speedup     " << std::setprecision(2) << exact_ns / box_ns << "x\n"
-              << std::setprecision(1) << "batched (query_many, 1000 probes a call, random order):\n"
+              << std::setprecision(1) << "batched (query_many, 1000 probes a call, random order; raw boxes: four queries in "
+              << isa_name << " lanes):\n"
               << "  haptic box  " << box_many_ns << " ns/query, exact " << exact_many_ns
               << " ns/query (single rays: Embree packets were slower here), speedup " << std::setprecision(2)
               << exact_many_ns / box_many_ns << "x\n"

@@ -24,6 +24,8 @@ enum class Refine {
 enum class LaneIsa { sse2, avx, avx512 };
 /// The level query_many uses: the best the CPU supports, at most the cap.
 LaneIsa lane_isa() noexcept;
+/// "sse2", "avx" or "avx512".
+const char* lane_isa_name(LaneIsa isa) noexcept;
 /// Caps the level process-wide (tests check every level against query(); benchmarks compare
 /// them). The default cap is the highest level.
 void set_lane_isa_cap(LaneIsa cap) noexcept;

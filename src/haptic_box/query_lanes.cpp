@@ -354,6 +354,9 @@ LaneIsa best_lane_isa() noexcept {
 LaneIsa lane_isa() noexcept {
   return LaneIsa(std::min(int(best_lane_isa()), lane_isa_cap.load(std::memory_order_relaxed)));
 }
+const char* lane_isa_name(LaneIsa isa) noexcept {
+  return isa == LaneIsa::avx512 ? "avx512" : isa == LaneIsa::avx ? "avx" : "sse2";
+}
 void set_lane_isa_cap(LaneIsa cap) noexcept { lane_isa_cap.store(int(cap), std::memory_order_relaxed); }
 
 void HapticBox::query_many_lanes(const Segment* segments, std::size_t count, const ForceLaw& law,
