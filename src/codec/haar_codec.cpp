@@ -213,6 +213,130 @@ HaarTable::HaarTable(const std::uint8_t* payload, std::size_t bytes, const BoxPa
   max_section_bits_ = std::uint32_t(8u * 2u * (bitmap_bytes_ + std::size_t(N) * std::size_t(N) * 4u));
 }
 
+namespace {
+
+// Quad fetch: bitmaps of up to 64 words (N <= 64) keep their prefix ranks on the stack.
+constexpr std::size_t kQuadMaxWords = 64;
+
+// One channel section of a record, with the rank of the first bit of each bitmap word.
+struct QuadChannel {
+  const std::uint8_t* bitmap;
+  const std::uint8_t* values;
+  unsigned k;
+  std::uint32_t prefix[kQuadMaxWords];
+
+  void init(const std::uint8_t* section, std::size_t bitmap_bytes, unsigned width) noexcept {
+    bitmap = section;
+    values = section + bitmap_bytes;
+    k = width;
+    std::uint32_t rank = 0;
+    for (std::size_t w = 0; w < bitmap_bytes / 8; ++w) {
+      prefix[w] = rank;
+      rank += popcount64(get_pod<std::uint64_t>(section + w * 8));
+    }
+  }
+  // Coefficient idx (0 when its bitmap bit is clear). Branch-free: whether a coefficient
+  // was thresholded away is data, unpredictable, and the read at the rank of a clear bit
+  // stays inside the record (rank <= idx < N^2, the bound fetch() relies on too).
+  std::int64_t term(unsigned idx) const noexcept {
+    const std::uint64_t word = get_pod<std::uint64_t>(bitmap + (idx >> 6) * 8);
+    const unsigned bit = idx & 63u;
+    const unsigned rank = prefix[idx >> 6] + popcount64(word & ((std::uint64_t(1) << bit) - 1u));
+    const std::uint64_t z = read_bits(values, std::uint64_t(rank) * k, k);
+    const std::int64_t present = -std::int64_t((word >> bit) & 1u);
+    return (std::int64_t(z >> 1) ^ -std::int64_t(z & 1u)) & present;
+  }
+};
+
+// The three coefficients (H, V, D) of one group at one level, in each channel.
+struct QuadGroup {
+  std::int64_t h[3], v[3], d[3];
+};
+
+inline std::int64_t negate_if(std::int64_t x, std::int64_t mask) noexcept { return (x ^ mask) - mask; }
+
+} // namespace
+
+unsigned HaarTable::fetch_quad(std::size_t tile, int a0, int b0, float* t, float* u, float* v) const noexcept {
+  for (int k = 0; k < 4; ++k) t[k] = kMissT, u[k] = 0.f, v[k] = 0.f;
+  std::uint32_t offset;
+  std::memcpy(&offset, index_ + tile, 4);
+  if (offset >= data_bytes_) return 0;
+  const std::uint8_t* rec = data_ + offset;
+  const unsigned mode = rec[0];
+  if (mode == 0) return 0;
+  const int a1 = a0 + 1, b1 = b0 + 1;
+  const unsigned N = unsigned(N_);
+  const unsigned sample[4] = {unsigned(a0) * N + unsigned(b0), unsigned(a1) * N + unsigned(b0),
+                              unsigned(a1) * N + unsigned(b1), unsigned(a0) * N + unsigned(b1)};
+  const std::uint8_t* bits = rec + kHeaderBytes;
+  unsigned hits = 15u;
+  if (mode == 2) {
+    hits = 0;
+    for (int k = 0; k < 4; ++k) hits |= ((bits[sample[k] >> 3] >> (sample[k] & 7u)) & 1u) << k;
+    bits += mask_bytes_;
+  }
+  if (hits == 0) return 0;
+  const auto off_u = get_pod<std::uint32_t>(rec + 8), off_v = get_pod<std::uint32_t>(rec + 12);
+  if (off_u > max_section_bits_ || off_v > max_section_bits_) return 0;
+  if (bitmap_bytes_ / 8 > kQuadMaxWords) {
+    // Tiles above 64 x 64 (n > 64): sample by sample.
+    const int qa[4] = {a0, a1, a1, a0}, qb[4] = {b0, b0, b1, b1};
+    for (int k = 0; k < 4; ++k)
+      if ((hits >> k) & 1u) fetch(tile, qa[k], qb[k], t[k], u[k], v[k]);
+    return hits;
+  }
+  QuadChannel ch[3];
+  ch[0].init(bits, bitmap_bytes_, rec[1] & 31u);
+  ch[1].init(bits + off_u / 8, bitmap_bytes_, rec[2] & 31u);
+  ch[2].init(bits + off_v / 8, bitmap_bytes_, rec[3] & 31u);
+  auto group = [&](unsigned first, unsigned v_offset, unsigned d_offset) {
+    QuadGroup g;
+    for (int c = 0; c < 3; ++c) {
+      g.h[c] = ch[c].term(first);
+      g.v[c] = ch[c].term(first + v_offset);
+      g.d[c] = ch[c].term(first + d_offset);
+    }
+    return g;
+  };
+  // sum[c][k]: channel c of sample k. Every sample of the quad starts from the DC term.
+  std::int64_t sum[3][4];
+  for (int c = 0; c < 3; ++c) {
+    const std::int64_t dc = ch[c].term(0);
+    for (int k = 0; k < 4; ++k) sum[c][k] = dc;
+  }
+  // Per level, a0 and a0 + 1 lie in one group or two (two only up to the level of the
+  // carry out of a0), likewise b0 and b0 + 1; only distinct groups are read.
+  for (unsigned h = N / 2, l = 0; h >= 1; h /= 2, ++l) {
+    const unsigned ga0 = unsigned(a0) >> (l + 1), ga1 = unsigned(a1) >> (l + 1);
+    const unsigned gb0 = unsigned(b0) >> (l + 1), gb1 = unsigned(b1) >> (l + 1);
+    const bool split_a = ga0 != ga1, split_b = gb0 != gb1;
+    // H of group (ga, gb) at ga * N + h + gb; V at (h + ga) * N + gb; D at (h + ga) * N + h + gb.
+    const unsigned v_offset = h * N - h, d_offset = h * N;
+    const QuadGroup g00 = group(ga0 * N + h + gb0, v_offset, d_offset);
+    const QuadGroup g10 = split_a ? group(ga1 * N + h + gb0, v_offset, d_offset) : g00;
+    const QuadGroup g01 = split_b ? group(ga0 * N + h + gb1, v_offset, d_offset) : g00;
+    const QuadGroup g11 = split_a ? (split_b ? group(ga1 * N + h + gb1, v_offset, d_offset) : g10) : g01;
+    // Sign masks (all ones: subtract) of the samples' positions inside their groups.
+    const std::int64_t sa0 = -std::int64_t((unsigned(a0) >> l) & 1u), sa1 = -std::int64_t((unsigned(a1) >> l) & 1u);
+    const std::int64_t sb0 = -std::int64_t((unsigned(b0) >> l) & 1u), sb1 = -std::int64_t((unsigned(b1) >> l) & 1u);
+    const QuadGroup* g[4] = {&g00, &g10, &g11, &g01};
+    const std::int64_t sa[4] = {sa0, sa1, sa1, sa0}, sb[4] = {sb0, sb0, sb1, sb1};
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 4; ++k)
+        sum[c][k] += negate_if(g[k]->h[c], sb[k]) + negate_if(g[k]->v[c], sa[k]) + negate_if(g[k]->d[c], sa[k] ^ sb[k]);
+  }
+  const float qt = step(t_step_, rec[4]), qu = step(n_step_, rec[5]), qv = step(n_step_, rec[6]);
+  for (int k = 0; k < 4; ++k) {
+    if (!((hits >> k) & 1u)) continue;
+    // As fetch(): std::min / max on values that are never NaN or -0.
+    t[k] = std::max(0.f, float(sum[0][k]) * qt);
+    u[k] = std::min(1.f, std::max(-1.f, float(sum[1][k]) * qu));
+    v[k] = std::min(1.f, std::max(-1.f, float(sum[2][k]) * qv));
+  }
+  return hits;
+}
+
 void HaarTable::decode_tile(std::size_t tile, DecodedSample* out) const {
   for (int i = 0; i < n_ * n_; ++i) out[i] = {kMissT, 0.f, 0.f};
   std::uint32_t offset;

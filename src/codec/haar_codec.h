@@ -60,6 +60,15 @@ public:
     return true;
   }
 
+  /// The 2 x 2 quad at (a0, b0) of one tile, in the query's order (a0, b0), (a0 + 1, b0),
+  /// (a0 + 1, b0 + 1), (a0, b0 + 1): t[k], u[k], v[k] equal fetch()'s values bit for bit;
+  /// a miss gets {kMissT, 0, 0}. Returns the hit mask (bit k: sample k is a hit). Faster than
+  /// four fetch() calls: the header is read once, the coefficients the four paths share (all
+  /// levels above the one where a0 and a0 + 1, or b0 and b0 + 1, part) are read once, and
+  /// bitmap ranks come from per-word prefix counts made once per quad. Precondition:
+  /// 0 <= a0, b0 <= n - 2. Corrupt records read as misses, never out of bounds.
+  unsigned fetch_quad(std::size_t tile, int a0, int b0, float* t, float* u, float* v) const noexcept;
+
   DecodedSample decode(std::size_t tile, int a, int b) const noexcept {
     DecodedSample s{kMissT, 0.f, 0.f};
     if (!fetch(tile, a, b, s.t, s.u, s.v)) s = {kMissT, 0.f, 0.f};
