@@ -223,12 +223,14 @@ struct QuadChannel {
   const std::uint8_t* bitmap;
   const std::uint8_t* values;
   unsigned k;
+  std::uint64_t value_mask;
   std::uint32_t prefix[kQuadMaxWords];
 
   void init(const std::uint8_t* section, std::size_t bitmap_bytes, unsigned width) noexcept {
     bitmap = section;
     values = section + bitmap_bytes;
     k = width;
+    value_mask = (std::uint64_t(1) << width) - 1u;
     std::uint32_t rank = 0;
     for (std::size_t w = 0; w < bitmap_bytes / 8; ++w) {
       prefix[w] = rank;
@@ -241,19 +243,67 @@ struct QuadChannel {
   std::int64_t term(unsigned idx) const noexcept {
     const std::uint64_t word = get_pod<std::uint64_t>(bitmap + (idx >> 6) * 8);
     const unsigned bit = idx & 63u;
-    const unsigned rank = prefix[idx >> 6] + popcount64(word & ((std::uint64_t(1) << bit) - 1u));
-    const std::uint64_t z = read_bits(values, std::uint64_t(rank) * k, k);
+    const std::uint64_t pos = std::uint64_t(prefix[idx >> 6] + popcount64(word & ((std::uint64_t(1) << bit) - 1u))) * k;
+    const std::uint64_t z = (get_pod<std::uint64_t>(values + (pos >> 3)) >> (pos & 7u)) & value_mask;
     const std::int64_t present = -std::int64_t((word >> bit) & 1u);
     return (std::int64_t(z >> 1) ^ -std::int64_t(z & 1u)) & present;
   }
 };
 
-// The three coefficients (H, V, D) of one group at one level, in each channel.
-struct QuadGroup {
-  std::int64_t h[3], v[3], d[3];
-};
-
 inline std::int64_t negate_if(std::int64_t x, std::int64_t mask) noexcept { return (x ^ mask) - mask; }
+
+// Signed sum of one group's H, V and D for a value whose bits at this level are sa, sb
+// (masks: all ones for 1), as in HaarTable::path_sum.
+inline std::int64_t group_term(std::int64_t H, std::int64_t V, std::int64_t D, std::int64_t sa, std::int64_t sb) noexcept {
+  return negate_if(H, sb) + negate_if(V, sa) + negate_if(D, sa ^ sb);
+}
+
+// One channel's sums of the quad (a0, b0), (a1, b0), (a1, b1), (a0, b1), a1 = a0 + 1,
+// b1 = b0 + 1. Above level `cut` (the highest level where a0 and a1, or b0 and b1, differ
+// in their bit) the four paths share group and signs: one sum. At and below it, only the
+// distinct groups are read (a0 and a1 fall in two groups below the level of a0's carry).
+inline void quad_channel_sums(const QuadChannel& ch, unsigned N, unsigned a0, unsigned b0, unsigned cut,
+                              std::int64_t* s) noexcept {
+  const unsigned a1 = a0 + 1, b1 = b0 + 1;
+  std::int64_t common = ch.term(0);
+  s[0] = s[1] = s[2] = s[3] = 0;
+  for (unsigned h = N / 2, l = 0; h >= 1; h /= 2, ++l) {
+    // H of group (ga, gb) at ga * N + h + gb; V at (h + ga) * N + gb; D at (h + ga) * N + h + gb.
+    const unsigned v_offset = h * N - h, d_offset = h * N;
+    const unsigned ga0 = a0 >> (l + 1), gb0 = b0 >> (l + 1);
+    const unsigned first = ga0 * N + h + gb0;
+    const std::int64_t H = ch.term(first), V = ch.term(first + v_offset), D = ch.term(first + d_offset);
+    const std::int64_t sa0 = -std::int64_t((a0 >> l) & 1u), sb0 = -std::int64_t((b0 >> l) & 1u);
+    if (l > cut) {
+      common += group_term(H, V, D, sa0, sb0);
+      continue;
+    }
+    const std::int64_t sa1 = -std::int64_t((a1 >> l) & 1u), sb1 = -std::int64_t((b1 >> l) & 1u);
+    const unsigned ga1 = a1 >> (l + 1), gb1 = b1 >> (l + 1);
+    s[0] += group_term(H, V, D, sa0, sb0);
+    std::int64_t Ha = H, Va = V, Da = D;  // group (ga1, gb0)
+    if (ga1 != ga0) {
+      const unsigned f = ga1 * N + h + gb0;
+      Ha = ch.term(f), Va = ch.term(f + v_offset), Da = ch.term(f + d_offset);
+    }
+    s[1] += group_term(Ha, Va, Da, sa1, sb0);
+    std::int64_t Hb = H, Vb = V, Db = D;  // group (ga0, gb1)
+    if (gb1 != gb0) {
+      const unsigned f = ga0 * N + h + gb1;
+      Hb = ch.term(f), Vb = ch.term(f + v_offset), Db = ch.term(f + d_offset);
+    }
+    s[3] += group_term(Hb, Vb, Db, sa0, sb1);
+    if (ga1 != ga0 && gb1 != gb0) {  // group (ga1, gb1)
+      const unsigned f = ga1 * N + h + gb1;
+      s[2] += group_term(ch.term(f), ch.term(f + v_offset), ch.term(f + d_offset), sa1, sb1);
+    } else if (ga1 != ga0) {
+      s[2] += group_term(Ha, Va, Da, sa1, sb1);
+    } else {
+      s[2] += group_term(Hb, Vb, Db, sa1, sb1);
+    }
+  }
+  for (int k = 0; k < 4; ++k) s[k] += common;
+}
 
 } // namespace
 
@@ -265,10 +315,8 @@ unsigned HaarTable::fetch_quad(std::size_t tile, int a0, int b0, float* t, float
   const std::uint8_t* rec = data_ + offset;
   const unsigned mode = rec[0];
   if (mode == 0) return 0;
-  const int a1 = a0 + 1, b1 = b0 + 1;
-  const unsigned N = unsigned(N_);
-  const unsigned sample[4] = {unsigned(a0) * N + unsigned(b0), unsigned(a1) * N + unsigned(b0),
-                              unsigned(a1) * N + unsigned(b1), unsigned(a0) * N + unsigned(b1)};
+  const unsigned A0 = unsigned(a0), B0 = unsigned(b0), N = unsigned(N_);
+  const unsigned sample[4] = {A0 * N + B0, (A0 + 1) * N + B0, (A0 + 1) * N + B0 + 1, A0 * N + B0 + 1};
   const std::uint8_t* bits = rec + kHeaderBytes;
   unsigned hits = 15u;
   if (mode == 2) {
@@ -281,50 +329,19 @@ unsigned HaarTable::fetch_quad(std::size_t tile, int a0, int b0, float* t, float
   if (off_u > max_section_bits_ || off_v > max_section_bits_) return 0;
   if (bitmap_bytes_ / 8 > kQuadMaxWords) {
     // Tiles above 64 x 64 (n > 64): sample by sample.
-    const int qa[4] = {a0, a1, a1, a0}, qb[4] = {b0, b0, b1, b1};
+    const int qa[4] = {a0, a0 + 1, a0 + 1, a0}, qb[4] = {b0, b0, b0 + 1, b0 + 1};
     for (int k = 0; k < 4; ++k)
       if ((hits >> k) & 1u) fetch(tile, qa[k], qb[k], t[k], u[k], v[k]);
     return hits;
   }
-  QuadChannel ch[3];
-  ch[0].init(bits, bitmap_bytes_, rec[1] & 31u);
-  ch[1].init(bits + off_u / 8, bitmap_bytes_, rec[2] & 31u);
-  ch[2].init(bits + off_v / 8, bitmap_bytes_, rec[3] & 31u);
-  auto group = [&](unsigned first, unsigned v_offset, unsigned d_offset) {
-    QuadGroup g;
-    for (int c = 0; c < 3; ++c) {
-      g.h[c] = ch[c].term(first);
-      g.v[c] = ch[c].term(first + v_offset);
-      g.d[c] = ch[c].term(first + d_offset);
-    }
-    return g;
-  };
-  // sum[c][k]: channel c of sample k. Every sample of the quad starts from the DC term.
+  // The level where a0 and a0 + 1 part is the count of a0's trailing ones (a0 <= N - 2).
+  const unsigned cut = unsigned(std::max(__builtin_ctz(~A0), __builtin_ctz(~B0)));
+  const std::uint8_t* sections[3] = {bits, bits + off_u / 8, bits + off_v / 8};
   std::int64_t sum[3][4];
   for (int c = 0; c < 3; ++c) {
-    const std::int64_t dc = ch[c].term(0);
-    for (int k = 0; k < 4; ++k) sum[c][k] = dc;
-  }
-  // Per level, a0 and a0 + 1 lie in one group or two (two only up to the level of the
-  // carry out of a0), likewise b0 and b0 + 1; only distinct groups are read.
-  for (unsigned h = N / 2, l = 0; h >= 1; h /= 2, ++l) {
-    const unsigned ga0 = unsigned(a0) >> (l + 1), ga1 = unsigned(a1) >> (l + 1);
-    const unsigned gb0 = unsigned(b0) >> (l + 1), gb1 = unsigned(b1) >> (l + 1);
-    const bool split_a = ga0 != ga1, split_b = gb0 != gb1;
-    // H of group (ga, gb) at ga * N + h + gb; V at (h + ga) * N + gb; D at (h + ga) * N + h + gb.
-    const unsigned v_offset = h * N - h, d_offset = h * N;
-    const QuadGroup g00 = group(ga0 * N + h + gb0, v_offset, d_offset);
-    const QuadGroup g10 = split_a ? group(ga1 * N + h + gb0, v_offset, d_offset) : g00;
-    const QuadGroup g01 = split_b ? group(ga0 * N + h + gb1, v_offset, d_offset) : g00;
-    const QuadGroup g11 = split_a ? (split_b ? group(ga1 * N + h + gb1, v_offset, d_offset) : g10) : g01;
-    // Sign masks (all ones: subtract) of the samples' positions inside their groups.
-    const std::int64_t sa0 = -std::int64_t((unsigned(a0) >> l) & 1u), sa1 = -std::int64_t((unsigned(a1) >> l) & 1u);
-    const std::int64_t sb0 = -std::int64_t((unsigned(b0) >> l) & 1u), sb1 = -std::int64_t((unsigned(b1) >> l) & 1u);
-    const QuadGroup* g[4] = {&g00, &g10, &g11, &g01};
-    const std::int64_t sa[4] = {sa0, sa1, sa1, sa0}, sb[4] = {sb0, sb0, sb1, sb1};
-    for (int c = 0; c < 3; ++c)
-      for (int k = 0; k < 4; ++k)
-        sum[c][k] += negate_if(g[k]->h[c], sb[k]) + negate_if(g[k]->v[c], sa[k]) + negate_if(g[k]->d[c], sa[k] ^ sb[k]);
+    QuadChannel ch;
+    ch.init(sections[c], bitmap_bytes_, rec[1 + c] & 31u);
+    quad_channel_sums(ch, N, A0, B0, cut, sum[c]);
   }
   const float qt = step(t_step_, rec[4]), qu = step(n_step_, rec[5]), qv = step(n_step_, rec[6]);
   for (int k = 0; k < 4; ++k) {
