@@ -211,6 +211,7 @@ HaarTable::HaarTable(const std::uint8_t* payload, std::size_t bytes, const BoxPa
   mask_bytes_ = bitmap_bytes_for(N);
   bitmap_bytes_ = bitmap_bytes_for(N);
   max_section_bits_ = std::uint32_t(8u * 2u * (bitmap_bytes_ + std::size_t(N) * std::size_t(N) * 4u));
+  use_hardware_popcount(true);
 }
 
 namespace {
@@ -218,15 +219,28 @@ namespace {
 // Quad fetch: bitmaps of up to 64 words (N <= 64) keep their prefix ranks on the stack.
 constexpr std::size_t kQuadMaxWords = 64;
 
+// The quad fetch is compiled twice: with the popcnt instruction (a function of target
+// "popcnt", chosen at run time when the CPU has it) and with the portable SWAR count (the
+// build targets baseline x86-64). Its helpers are always inlined so that they take the
+// target of the function they are inlined into.
+#define HB_QUAD_INLINE inline __attribute__((always_inline))
+
+template <bool kHardware> HB_QUAD_INLINE unsigned quad_popcount(std::uint64_t x) noexcept {
+  if constexpr (kHardware)
+    return unsigned(__builtin_popcountll(x));
+  else
+    return popcount64(x);
+}
+
 // One channel section of a record, with the rank of the first bit of each bitmap word.
-struct QuadChannel {
+template <bool kHardware> struct QuadChannel {
   const std::uint8_t* bitmap;
   const std::uint8_t* values;
   unsigned k;
   std::uint64_t value_mask;
   std::uint32_t prefix[kQuadMaxWords];
 
-  void init(const std::uint8_t* section, std::size_t bitmap_bytes, unsigned width) noexcept {
+  HB_QUAD_INLINE void init(const std::uint8_t* section, std::size_t bitmap_bytes, unsigned width) noexcept {
     bitmap = section;
     values = section + bitmap_bytes;
     k = width;
@@ -234,27 +248,27 @@ struct QuadChannel {
     std::uint32_t rank = 0;
     for (std::size_t w = 0; w < bitmap_bytes / 8; ++w) {
       prefix[w] = rank;
-      rank += popcount64(get_pod<std::uint64_t>(section + w * 8));
+      rank += quad_popcount<kHardware>(get_pod<std::uint64_t>(section + w * 8));
     }
   }
   // Coefficient idx (0 when its bitmap bit is clear). Branch-free: whether a coefficient
   // was thresholded away is data, unpredictable, and the read at the rank of a clear bit
   // stays inside the record (rank <= idx < N^2, the bound fetch() relies on too).
-  std::int64_t term(unsigned idx) const noexcept {
+  HB_QUAD_INLINE std::int64_t term(unsigned idx) const noexcept {
     const std::uint64_t word = get_pod<std::uint64_t>(bitmap + (idx >> 6) * 8);
     const unsigned bit = idx & 63u;
-    const std::uint64_t pos = std::uint64_t(prefix[idx >> 6] + popcount64(word & ((std::uint64_t(1) << bit) - 1u))) * k;
+    const std::uint64_t pos = std::uint64_t(prefix[idx >> 6] + quad_popcount<kHardware>(word & ((std::uint64_t(1) << bit) - 1u))) * k;
     const std::uint64_t z = (get_pod<std::uint64_t>(values + (pos >> 3)) >> (pos & 7u)) & value_mask;
     const std::int64_t present = -std::int64_t((word >> bit) & 1u);
     return (std::int64_t(z >> 1) ^ -std::int64_t(z & 1u)) & present;
   }
 };
 
-inline std::int64_t negate_if(std::int64_t x, std::int64_t mask) noexcept { return (x ^ mask) - mask; }
+HB_QUAD_INLINE std::int64_t negate_if(std::int64_t x, std::int64_t mask) noexcept { return (x ^ mask) - mask; }
 
 // Signed sum of one group's H, V and D for a value whose bits at this level are sa, sb
 // (masks: all ones for 1), as in HaarTable::path_sum.
-inline std::int64_t group_term(std::int64_t H, std::int64_t V, std::int64_t D, std::int64_t sa, std::int64_t sb) noexcept {
+HB_QUAD_INLINE std::int64_t group_term(std::int64_t H, std::int64_t V, std::int64_t D, std::int64_t sa, std::int64_t sb) noexcept {
   return negate_if(H, sb) + negate_if(V, sa) + negate_if(D, sa ^ sb);
 }
 
@@ -262,7 +276,8 @@ inline std::int64_t group_term(std::int64_t H, std::int64_t V, std::int64_t D, s
 // b1 = b0 + 1. Above level `cut` (the highest level where a0 and a1, or b0 and b1, differ
 // in their bit) the four paths share group and signs: one sum. At and below it, only the
 // distinct groups are read (a0 and a1 fall in two groups below the level of a0's carry).
-inline void quad_channel_sums(const QuadChannel& ch, unsigned N, unsigned a0, unsigned b0, unsigned cut,
+template <bool kHardware>
+HB_QUAD_INLINE void quad_channel_sums(const QuadChannel<kHardware>& ch, unsigned N, unsigned a0, unsigned b0, unsigned cut,
                               std::int64_t* s) noexcept {
   const unsigned a1 = a0 + 1, b1 = b0 + 1;
   std::int64_t common = ch.term(0);
@@ -307,7 +322,8 @@ inline void quad_channel_sums(const QuadChannel& ch, unsigned N, unsigned a0, un
 
 } // namespace
 
-unsigned HaarTable::fetch_quad(std::size_t tile, int a0, int b0, float* t, float* u, float* v) const noexcept {
+template <bool kHardware>
+HB_QUAD_INLINE unsigned HaarTable::fetch_quad_with(std::size_t tile, int a0, int b0, float* t, float* u, float* v) const noexcept {
   for (int k = 0; k < 4; ++k) t[k] = kMissT, u[k] = 0.f, v[k] = 0.f;
   std::uint32_t offset;
   std::memcpy(&offset, index_ + tile, 4);
@@ -339,7 +355,7 @@ unsigned HaarTable::fetch_quad(std::size_t tile, int a0, int b0, float* t, float
   const std::uint8_t* sections[3] = {bits, bits + off_u / 8, bits + off_v / 8};
   std::int64_t sum[3][4];
   for (int c = 0; c < 3; ++c) {
-    QuadChannel ch;
+    QuadChannel<kHardware> ch;
     ch.init(sections[c], bitmap_bytes_, rec[1 + c] & 31u);
     quad_channel_sums(ch, N, A0, B0, cut, sum[c]);
   }
@@ -353,6 +369,20 @@ unsigned HaarTable::fetch_quad(std::size_t tile, int a0, int b0, float* t, float
   }
   return hits;
 }
+
+__attribute__((target("popcnt"))) unsigned HaarTable::fetch_quad_popcnt(std::size_t tile, int a0, int b0, float* t,
+                                                                       float* u, float* v) const noexcept {
+  return fetch_quad_with<true>(tile, a0, b0, t, u, v);
+}
+
+unsigned HaarTable::fetch_quad(std::size_t tile, int a0, int b0, float* t, float* u, float* v) const noexcept {
+  if (hardware_popcount_) return fetch_quad_popcnt(tile, a0, b0, t, u, v);
+  return fetch_quad_with<false>(tile, a0, b0, t, u, v);
+}
+
+void HaarTable::use_hardware_popcount(bool on) noexcept { hardware_popcount_ = on && __builtin_cpu_supports("popcnt"); }
+
+#undef HB_QUAD_INLINE
 
 void HaarTable::decode_tile(std::size_t tile, DecodedSample* out) const {
   for (int i = 0; i < n_ * n_; ++i) out[i] = {kMissT, 0.f, 0.f};

@@ -123,11 +123,20 @@ TEST(HaarCodecTest, RandomAccessEqualsFullDecode) {
 
 // fetch_quad() against four fetch() calls, bit for bit: every quad (all a0, b0 up to the
 // tile's last row and column) of every sub-block face of some positions, then random quads
-// of random tiles.
-void expect_quad_equals_fetch(const HapticBox& c, std::size_t random_quads) {
+// of random tiles; with the portable bitmap ranks, then with popcnt where the CPU has it.
+void expect_quad_equals_fetch(const HaarTable& view, const BoxParams& p, std::size_t all_quad_positions,
+                              std::size_t random_quads);
+void expect_quad_equals_fetch(const HapticBox& c, std::size_t all_quad_positions, std::size_t random_quads) {
   ASSERT_EQ(c.samples().codec(), CodecId::haar);
-  const HaarTable& view = c.samples().haar();
-  const BoxParams& p = c.params();
+  for (bool hardware : {false, true}) {
+    SCOPED_TRACE(hardware ? "popcnt" : "portable popcount");
+    HaarTable view = c.samples().haar();
+    view.use_hardware_popcount(hardware);
+    expect_quad_equals_fetch(view, c.params(), all_quad_positions, random_quads);
+  }
+}
+void expect_quad_equals_fetch(const HaarTable& view, const BoxParams& p, std::size_t all_quad_positions,
+                              std::size_t random_quads) {
   const auto bits = [](float x) {
     std::uint32_t b;
     std::memcpy(&b, &x, 4);
@@ -150,7 +159,7 @@ void expect_quad_equals_fetch(const HapticBox& c, std::size_t random_quads) {
     ++quads;
   };
   const std::size_t positions = p.position_count();
-  for (std::size_t position = 0; position < positions; position += 1 + positions / 40)
+  for (std::size_t position = 0; position < positions; position += 1 + positions / all_quad_positions)
     for (std::size_t sf = 0; sf < 12; ++sf)
       for (int a0 = 0; a0 + 1 < p.n; ++a0)
         for (int b0 = 0; b0 + 1 < p.n; ++b0) {
@@ -167,8 +176,8 @@ void expect_quad_equals_fetch(const HapticBox& c, std::size_t random_quads) {
 }
 
 TEST(HaarCodecTest, QuadFetchEqualsPerSampleFetch) {
-  expect_quad_equals_fetch(boxes().torus.compressed(options(CodecId::haar, 1e-3f)), 20000);
-  expect_quad_equals_fetch(boxes().bumpy.compressed(options(CodecId::haar, 1e-4f)), 20000);
+  expect_quad_equals_fetch(boxes().torus.compressed(options(CodecId::haar, 1e-3f)), 40, 20000);
+  expect_quad_equals_fetch(boxes().bumpy.compressed(options(CodecId::haar, 1e-4f)), 40, 20000);
 }
 
 // Tile sizes: N = 2, 8 (padded), 16 (unpadded), 64 (padded, the largest on the stack path)
@@ -179,7 +188,8 @@ TEST(HaarCodecTest, QuadFetchEqualsPerSampleFetchAtEveryTileSize) {
     SCOPED_TRACE("n = " + std::to_string(params.n));
     BakeOptions o;
     o.params = params;
-    expect_quad_equals_fetch(bake_box(torus, {}, o).compressed(options(CodecId::haar, 1e-3f)), 5000);
+    expect_quad_equals_fetch(bake_box(torus, {}, o).compressed(options(CodecId::haar, 1e-3f)), params.n > 16 ? 3 : 40,
+                             5000);
   }
 }
 
@@ -190,7 +200,7 @@ TEST(HaarCodecTest, QuadFetchEqualsPerSampleFetchOnArmadillo) {
   BakeOptions o;
   o.params = {4, 16};
   const HapticBox box = bake_box(read_mesh(mesh.string()), {}, o);
-  expect_quad_equals_fetch(box.compressed(options(CodecId::haar, 1e-3f)), 50000);
+  expect_quad_equals_fetch(box.compressed(options(CodecId::haar, 1e-3f)), 40, 50000);
 }
 
 TEST(CodecTest, HitMissIsPreservedExactlyEvenAtLooseBounds) {
@@ -284,13 +294,17 @@ TEST(CodecTest, CorruptRecordsNeverReadOutOfBounds) {
     for (std::size_t tile = 0; tile < p.tile_count(); ++tile)
       for (int a = 0; a < p.n; ++a)
         for (int b = 0; b < p.n; ++b) sum += view.decode(tile, a, b).t;
-    if (codec == CodecId::haar)
+    for (bool hardware : {false, true}) {
+      if (codec != CodecId::haar) break;
+      HaarTable haar = view.haar();
+      haar.use_hardware_popcount(hardware);
       for (std::size_t tile = 0; tile < p.tile_count(); ++tile)
         for (int a0 = 0; a0 + 1 < p.n; a0 += 3)
           for (int b0 = 0; b0 + 1 < p.n; ++b0) {
             float t[4], u[4], v[4];
-            if (view.haar().fetch_quad(tile, a0, b0, t, u, v)) sum += t[0] + t[1] + t[2] + t[3];
+            if (haar.fetch_quad(tile, a0, b0, t, u, v)) sum += t[0] + t[1] + t[2] + t[3];
           }
+    }
     benchmark_sink(sum);
   }
 }
