@@ -211,7 +211,178 @@ HaarTable::HaarTable(const std::uint8_t* payload, std::size_t bytes, const BoxPa
   mask_bytes_ = bitmap_bytes_for(N);
   bitmap_bytes_ = bitmap_bytes_for(N);
   max_section_bits_ = std::uint32_t(8u * 2u * (bitmap_bytes_ + std::size_t(N) * std::size_t(N) * 4u));
+  use_hardware_popcount(true);
 }
+
+namespace {
+
+// Quad fetch: bitmaps of up to 64 words (N <= 64) keep their prefix ranks on the stack.
+constexpr std::size_t kQuadMaxWords = 64;
+
+// The quad fetch is compiled twice: with the popcnt instruction (a function of target
+// "popcnt", chosen at run time when the CPU has it) and with the portable SWAR count (the
+// build targets baseline x86-64). Its helpers are always inlined so that they take the
+// target of the function they are inlined into.
+#define HB_QUAD_INLINE inline __attribute__((always_inline))
+
+template <bool kHardware> HB_QUAD_INLINE unsigned quad_popcount(std::uint64_t x) noexcept {
+  if constexpr (kHardware)
+    return unsigned(__builtin_popcountll(x));
+  else
+    return popcount64(x);
+}
+
+// One channel section of a record, with the rank of the first bit of each bitmap word.
+template <bool kHardware> struct QuadChannel {
+  const std::uint8_t* bitmap;
+  const std::uint8_t* values;
+  unsigned k;
+  std::uint64_t value_mask;
+  std::uint32_t prefix[kQuadMaxWords];
+
+  HB_QUAD_INLINE void init(const std::uint8_t* section, std::size_t bitmap_bytes, unsigned width) noexcept {
+    bitmap = section;
+    values = section + bitmap_bytes;
+    k = width;
+    value_mask = (std::uint64_t(1) << width) - 1u;
+    std::uint32_t rank = 0;
+    for (std::size_t w = 0; w < bitmap_bytes / 8; ++w) {
+      prefix[w] = rank;
+      rank += quad_popcount<kHardware>(get_pod<std::uint64_t>(section + w * 8));
+    }
+  }
+  // Coefficient idx (0 when its bitmap bit is clear). Branch-free: whether a coefficient
+  // was thresholded away is data, unpredictable, and the read at the rank of a clear bit
+  // stays inside the record (rank <= idx < N^2, the bound fetch() relies on too).
+  HB_QUAD_INLINE std::int64_t term(unsigned idx) const noexcept {
+    const std::uint64_t word = get_pod<std::uint64_t>(bitmap + (idx >> 6) * 8);
+    const unsigned bit = idx & 63u;
+    const std::uint64_t pos = std::uint64_t(prefix[idx >> 6] + quad_popcount<kHardware>(word & ((std::uint64_t(1) << bit) - 1u))) * k;
+    const std::uint64_t z = (get_pod<std::uint64_t>(values + (pos >> 3)) >> (pos & 7u)) & value_mask;
+    const std::int64_t present = -std::int64_t((word >> bit) & 1u);
+    return (std::int64_t(z >> 1) ^ -std::int64_t(z & 1u)) & present;
+  }
+};
+
+HB_QUAD_INLINE std::int64_t negate_if(std::int64_t x, std::int64_t mask) noexcept { return (x ^ mask) - mask; }
+
+// Signed sum of one group's H, V and D for a value whose bits at this level are sa, sb
+// (masks: all ones for 1), as in HaarTable::path_sum.
+HB_QUAD_INLINE std::int64_t group_term(std::int64_t H, std::int64_t V, std::int64_t D, std::int64_t sa, std::int64_t sb) noexcept {
+  return negate_if(H, sb) + negate_if(V, sa) + negate_if(D, sa ^ sb);
+}
+
+// One channel's sums of the quad (a0, b0), (a1, b0), (a1, b1), (a0, b1), a1 = a0 + 1,
+// b1 = b0 + 1. Above level `cut` (the highest level where a0 and a1, or b0 and b1, differ
+// in their bit) the four paths share group and signs: one sum. At and below it, only the
+// distinct groups are read (a0 and a1 fall in two groups below the level of a0's carry).
+template <bool kHardware>
+HB_QUAD_INLINE void quad_channel_sums(const QuadChannel<kHardware>& ch, unsigned N, unsigned a0, unsigned b0, unsigned cut,
+                              std::int64_t* s) noexcept {
+  const unsigned a1 = a0 + 1, b1 = b0 + 1;
+  std::int64_t common = ch.term(0);
+  s[0] = s[1] = s[2] = s[3] = 0;
+  for (unsigned h = N / 2, l = 0; h >= 1; h /= 2, ++l) {
+    // H of group (ga, gb) at ga * N + h + gb; V at (h + ga) * N + gb; D at (h + ga) * N + h + gb.
+    const unsigned v_offset = h * N - h, d_offset = h * N;
+    const unsigned ga0 = a0 >> (l + 1), gb0 = b0 >> (l + 1);
+    const unsigned first = ga0 * N + h + gb0;
+    const std::int64_t H = ch.term(first), V = ch.term(first + v_offset), D = ch.term(first + d_offset);
+    const std::int64_t sa0 = -std::int64_t((a0 >> l) & 1u), sb0 = -std::int64_t((b0 >> l) & 1u);
+    if (l > cut) {
+      common += group_term(H, V, D, sa0, sb0);
+      continue;
+    }
+    const std::int64_t sa1 = -std::int64_t((a1 >> l) & 1u), sb1 = -std::int64_t((b1 >> l) & 1u);
+    const unsigned ga1 = a1 >> (l + 1), gb1 = b1 >> (l + 1);
+    s[0] += group_term(H, V, D, sa0, sb0);
+    std::int64_t Ha = H, Va = V, Da = D;  // group (ga1, gb0)
+    if (ga1 != ga0) {
+      const unsigned f = ga1 * N + h + gb0;
+      Ha = ch.term(f), Va = ch.term(f + v_offset), Da = ch.term(f + d_offset);
+    }
+    s[1] += group_term(Ha, Va, Da, sa1, sb0);
+    std::int64_t Hb = H, Vb = V, Db = D;  // group (ga0, gb1)
+    if (gb1 != gb0) {
+      const unsigned f = ga0 * N + h + gb1;
+      Hb = ch.term(f), Vb = ch.term(f + v_offset), Db = ch.term(f + d_offset);
+    }
+    s[3] += group_term(Hb, Vb, Db, sa0, sb1);
+    if (ga1 != ga0 && gb1 != gb0) {  // group (ga1, gb1)
+      const unsigned f = ga1 * N + h + gb1;
+      s[2] += group_term(ch.term(f), ch.term(f + v_offset), ch.term(f + d_offset), sa1, sb1);
+    } else if (ga1 != ga0) {
+      s[2] += group_term(Ha, Va, Da, sa1, sb1);
+    } else {
+      s[2] += group_term(Hb, Vb, Db, sa1, sb1);
+    }
+  }
+  for (int k = 0; k < 4; ++k) s[k] += common;
+}
+
+} // namespace
+
+template <bool kHardware>
+HB_QUAD_INLINE unsigned HaarTable::fetch_quad_with(std::size_t tile, int a0, int b0, float* t, float* u, float* v) const noexcept {
+  for (int k = 0; k < 4; ++k) t[k] = kMissT, u[k] = 0.f, v[k] = 0.f;
+  std::uint32_t offset;
+  std::memcpy(&offset, index_ + tile, 4);
+  if (offset >= data_bytes_) return 0;
+  const std::uint8_t* rec = data_ + offset;
+  const unsigned mode = rec[0];
+  if (mode == 0) return 0;
+  const unsigned A0 = unsigned(a0), B0 = unsigned(b0), N = unsigned(N_);
+  const unsigned sample[4] = {A0 * N + B0, (A0 + 1) * N + B0, (A0 + 1) * N + B0 + 1, A0 * N + B0 + 1};
+  const std::uint8_t* bits = rec + kHeaderBytes;
+  unsigned hits = 15u;
+  if (mode == 2) {
+    hits = 0;
+    for (int k = 0; k < 4; ++k) hits |= ((bits[sample[k] >> 3] >> (sample[k] & 7u)) & 1u) << k;
+    bits += mask_bytes_;
+  }
+  if (hits == 0) return 0;
+  const auto off_u = get_pod<std::uint32_t>(rec + 8), off_v = get_pod<std::uint32_t>(rec + 12);
+  if (off_u > max_section_bits_ || off_v > max_section_bits_) return 0;
+  if (bitmap_bytes_ / 8 > kQuadMaxWords) {
+    // Tiles above 64 x 64 (n > 64): sample by sample.
+    const int qa[4] = {a0, a0 + 1, a0 + 1, a0}, qb[4] = {b0, b0, b0 + 1, b0 + 1};
+    for (int k = 0; k < 4; ++k)
+      if ((hits >> k) & 1u) fetch(tile, qa[k], qb[k], t[k], u[k], v[k]);
+    return hits;
+  }
+  // The level where a0 and a0 + 1 part is the count of a0's trailing ones (a0 <= N - 2).
+  const unsigned cut = unsigned(std::max(__builtin_ctz(~A0), __builtin_ctz(~B0)));
+  const std::uint8_t* sections[3] = {bits, bits + off_u / 8, bits + off_v / 8};
+  std::int64_t sum[3][4];
+  for (int c = 0; c < 3; ++c) {
+    QuadChannel<kHardware> ch;
+    ch.init(sections[c], bitmap_bytes_, rec[1 + c] & 31u);
+    quad_channel_sums(ch, N, A0, B0, cut, sum[c]);
+  }
+  const float qt = step(t_step_, rec[4]), qu = step(n_step_, rec[5]), qv = step(n_step_, rec[6]);
+  for (int k = 0; k < 4; ++k) {
+    if (!((hits >> k) & 1u)) continue;
+    // As fetch(): std::min / max on values that are never NaN or -0.
+    t[k] = std::max(0.f, float(sum[0][k]) * qt);
+    u[k] = std::min(1.f, std::max(-1.f, float(sum[1][k]) * qu));
+    v[k] = std::min(1.f, std::max(-1.f, float(sum[2][k]) * qv));
+  }
+  return hits;
+}
+
+__attribute__((target("popcnt"))) unsigned HaarTable::fetch_quad_popcnt(std::size_t tile, int a0, int b0, float* t,
+                                                                       float* u, float* v) const noexcept {
+  return fetch_quad_with<true>(tile, a0, b0, t, u, v);
+}
+
+unsigned HaarTable::fetch_quad(std::size_t tile, int a0, int b0, float* t, float* u, float* v) const noexcept {
+  if (hardware_popcount_) return fetch_quad_popcnt(tile, a0, b0, t, u, v);
+  return fetch_quad_with<false>(tile, a0, b0, t, u, v);
+}
+
+void HaarTable::use_hardware_popcount(bool on) noexcept { hardware_popcount_ = on && __builtin_cpu_supports("popcnt"); }
+
+#undef HB_QUAD_INLINE
 
 void HaarTable::decode_tile(std::size_t tile, DecodedSample* out) const {
   for (int i = 0; i < n_ * n_; ++i) out[i] = {kMissT, 0.f, 0.f};

@@ -60,6 +60,19 @@ public:
     return true;
   }
 
+  /// The 2 x 2 quad at (a0, b0) of one tile, in the query's order (a0, b0), (a0 + 1, b0),
+  /// (a0 + 1, b0 + 1), (a0, b0 + 1): t[k], u[k], v[k] equal fetch()'s values bit for bit;
+  /// a miss gets {kMissT, 0, 0}. Returns the hit mask (bit k: sample k is a hit). Faster than
+  /// four fetch() calls: the header is read once, the coefficients the four paths share (all
+  /// levels above the one where a0 and a0 + 1, or b0 and b0 + 1, part) are read once, and
+  /// bitmap ranks come from per-word prefix counts made once per quad. Precondition:
+  /// 0 <= a0, b0 <= n - 2. Corrupt records read as misses, never out of bounds.
+  unsigned fetch_quad(std::size_t tile, int a0, int b0, float* t, float* u, float* v) const noexcept;
+  /// fetch_quad() counts bitmap ranks with the popcnt instruction when the CPU has it (the
+  /// default), else portably; `false` forces the portable count (tests, benchmarks). The
+  /// values are the same either way.
+  void use_hardware_popcount(bool on) noexcept;
+
   DecodedSample decode(std::size_t tile, int a, int b) const noexcept {
     DecodedSample s{kMissT, 0.f, 0.f};
     if (!fetch(tile, a, b, s.t, s.u, s.v)) s = {kMissT, 0.f, 0.f};
@@ -125,6 +138,10 @@ private:
     return sum;
   }
 
+  template <bool kHardwarePopcount>
+  unsigned fetch_quad_with(std::size_t tile, int a0, int b0, float* t, float* u, float* v) const noexcept;
+  unsigned fetch_quad_popcnt(std::size_t tile, int a0, int b0, float* t, float* u, float* v) const noexcept;
+
   const std::uint32_t* index_ = nullptr;
   const std::uint8_t* data_ = nullptr;
   std::size_t data_bytes_ = 0;
@@ -132,6 +149,7 @@ private:
   int n_ = 2, N_ = 2;
   std::size_t mask_bytes_ = 0, bitmap_bytes_ = 0;
   std::uint32_t max_section_bits_ = 0;
+  bool hardware_popcount_ = false;
 };
 
 } // namespace hb

@@ -228,6 +228,38 @@ template <class View> struct CodecFetch {
   Corners4 blend4(const Corner* c, const float w[4]) const noexcept { return blend_each(*this, c, w); }
 };
 
+// The Haar codec: a corner's quad in one fetch_quad() (header, shared coarse coefficients
+// and bitmap ranks read once, not per sample); blended in blend_by_load()'s order, so the
+// sums are the same bit for bit.
+template <> struct CodecFetch<HaarTable> {
+  const HaarTable& view;
+  struct Corner {
+    std::size_t tile;
+    int a0, b0;
+  };
+  void begin(std::size_t position, std::size_t sf, int a0, int b0, Corner& c) const noexcept {
+    c = {position * 12u + sf, a0, b0};
+    view.prefetch(c.tile, a0, b0);
+  }
+  void resolve(Corner&) const noexcept {}
+  CornerBlend blend(const Corner& c, const float w[4]) const noexcept {
+    float t[4], u[4], v[4];
+    const unsigned hits = view.fetch_quad(c.tile, c.a0, c.b0, t, u, v);
+    CornerBlend b{0.f, 0.f, 0.f, 0.f, 0.f};
+    for (int k = 0; k < 4; ++k) {
+      if (w[k] <= 0.f || !((hits >> k) & 1u)) continue;
+      const Vec3 ns = oct_decode_unnormalized(u[k], v[k]);
+      b.weight += w[k];
+      b.t += w[k] * t[k];
+      b.nx += w[k] * ns.x();
+      b.ny += w[k] * ns.y();
+      b.nz += w[k] * ns.z();
+    }
+    return b;
+  }
+  Corners4 blend4(const Corner* c, const float w[4]) const noexcept { return blend_each(*this, c, w); }
+};
+
 // The block codec in two phases: begin() prefetches the index entries of the quad's blocks,
 // resolve() (after all corners began) reads them and prefetches the records, so the two
 // dependent loads of the four corners overlap instead of running in series.

@@ -5,6 +5,7 @@
 #include "geometry/octahedral.h"
 #include "haptic_box/bake.h"
 #include "haptic_box/box_file.h"
+#include "mesh/mesh_io.h"
 #include "mesh/generators.h"
 #include <gtest/gtest.h>
 #include <cstring>
@@ -120,6 +121,88 @@ TEST(HaarCodecTest, RandomAccessEqualsFullDecode) {
   expect_random_access_equals_full_decode(boxes().bumpy.compressed(options(CodecId::haar, 1e-4f)));
 }
 
+// fetch_quad() against four fetch() calls, bit for bit: every quad (all a0, b0 up to the
+// tile's last row and column) of every sub-block face of some positions, then random quads
+// of random tiles; with the portable bitmap ranks, then with popcnt where the CPU has it.
+void expect_quad_equals_fetch(const HaarTable& view, const BoxParams& p, std::size_t all_quad_positions,
+                              std::size_t random_quads);
+void expect_quad_equals_fetch(const HapticBox& c, std::size_t all_quad_positions, std::size_t random_quads) {
+  ASSERT_EQ(c.samples().codec(), CodecId::haar);
+  for (bool hardware : {false, true}) {
+    SCOPED_TRACE(hardware ? "popcnt" : "portable popcount");
+    HaarTable view = c.samples().haar();
+    view.use_hardware_popcount(hardware);
+    expect_quad_equals_fetch(view, c.params(), all_quad_positions, random_quads);
+  }
+}
+void expect_quad_equals_fetch(const HaarTable& view, const BoxParams& p, std::size_t all_quad_positions,
+                              std::size_t random_quads) {
+  const auto bits = [](float x) {
+    std::uint32_t b;
+    std::memcpy(&b, &x, 4);
+    return b;
+  };
+  std::size_t hits = 0, quads = 0;
+  const auto check = [&](std::size_t tile, int a0, int b0) {
+    float t[4], u[4], v[4];
+    const unsigned mask = view.fetch_quad(tile, a0, b0, t, u, v);
+    const int qa[4] = {a0, a0 + 1, a0 + 1, a0}, qb[4] = {b0, b0, b0 + 1, b0 + 1};
+    for (int k = 0; k < 4; ++k) {
+      float t1 = kMissT, u1 = 0.f, v1 = 0.f;
+      const bool hit = view.fetch(tile, qa[k], qb[k], t1, u1, v1);
+      ASSERT_EQ(hit, bool((mask >> k) & 1u)) << "tile " << tile << " (" << qa[k] << ", " << qb[k] << ")";
+      ASSERT_EQ(bits(t[k]), bits(t1)) << "tile " << tile << " (" << qa[k] << ", " << qb[k] << ")";
+      ASSERT_EQ(bits(u[k]), bits(u1)) << "tile " << tile << " (" << qa[k] << ", " << qb[k] << ")";
+      ASSERT_EQ(bits(v[k]), bits(v1)) << "tile " << tile << " (" << qa[k] << ", " << qb[k] << ")";
+      hits += hit;
+    }
+    ++quads;
+  };
+  const std::size_t positions = p.position_count();
+  for (std::size_t position = 0; position < positions; position += 1 + positions / all_quad_positions)
+    for (std::size_t sf = 0; sf < 12; ++sf)
+      for (int a0 = 0; a0 + 1 < p.n; ++a0)
+        for (int b0 = 0; b0 + 1 < p.n; ++b0) {
+          check(position * 12u + sf, a0, b0);
+          if (::testing::Test::HasFatalFailure()) return;
+        }
+  std::mt19937 rng(5);
+  for (std::size_t i = 0; i < random_quads; ++i) {
+    check(rng() % p.tile_count(), int(rng() % unsigned(p.n - 1)), int(rng() % unsigned(p.n - 1)));
+    if (::testing::Test::HasFatalFailure()) return;
+  }
+  EXPECT_GT(hits, 0u);
+  EXPECT_LT(hits, 4 * quads);  // mixed tiles were met
+}
+
+TEST(HaarCodecTest, QuadFetchEqualsPerSampleFetch) {
+  expect_quad_equals_fetch(boxes().torus.compressed(options(CodecId::haar, 1e-3f)), 40, 20000);
+  expect_quad_equals_fetch(boxes().bumpy.compressed(options(CodecId::haar, 1e-4f)), 40, 20000);
+}
+
+// Tile sizes: N = 2, 8 (padded), 16 (unpadded), 64 (padded, the largest on the stack path)
+// and 128 (n > 64: the sample-by-sample path).
+TEST(HaarCodecTest, QuadFetchEqualsPerSampleFetchAtEveryTileSize) {
+  const TriangleMesh torus = make_torus(1.f, 0.35f, 48, 24);
+  for (const BoxParams params : {BoxParams{4, 2}, BoxParams{4, 5}, BoxParams{4, 16}, BoxParams{2, 33}, BoxParams{2, 65}}) {
+    SCOPED_TRACE("n = " + std::to_string(params.n));
+    BakeOptions o;
+    o.params = params;
+    expect_quad_equals_fetch(bake_box(torus, {}, o).compressed(options(CodecId::haar, 1e-3f)), params.n > 16 ? 3 : 40,
+                             5000);
+  }
+}
+
+// The real armadillo (datasets/fetch.sh), one box, m = 4, n = 16: the query's tile size.
+TEST(HaarCodecTest, QuadFetchEqualsPerSampleFetchOnArmadillo) {
+  const fs::path mesh = fs::path(HB_DATASETS_DIR) / "meshes" / "armadillo.off";
+  if (!fs::exists(mesh)) GTEST_SKIP() << mesh << " is absent: run datasets/fetch.sh";
+  BakeOptions o;
+  o.params = {4, 16};
+  const HapticBox box = bake_box(read_mesh(mesh.string()), {}, o);
+  expect_quad_equals_fetch(box.compressed(options(CodecId::haar, 1e-3f)), 40, 50000);
+}
+
 TEST(CodecTest, HitMissIsPreservedExactlyEvenAtLooseBounds) {
   for (CodecId codec : {CodecId::block, CodecId::haar}) {
     const HapticBox c = boxes().torus.compressed(options(codec, 0.1f));
@@ -211,6 +294,17 @@ TEST(CodecTest, CorruptRecordsNeverReadOutOfBounds) {
     for (std::size_t tile = 0; tile < p.tile_count(); ++tile)
       for (int a = 0; a < p.n; ++a)
         for (int b = 0; b < p.n; ++b) sum += view.decode(tile, a, b).t;
+    for (bool hardware : {false, true}) {
+      if (codec != CodecId::haar) break;
+      HaarTable haar = view.haar();
+      haar.use_hardware_popcount(hardware);
+      for (std::size_t tile = 0; tile < p.tile_count(); ++tile)
+        for (int a0 = 0; a0 + 1 < p.n; a0 += 3)
+          for (int b0 = 0; b0 + 1 < p.n; ++b0) {
+            float t[4], u[4], v[4];
+            if (haar.fetch_quad(tile, a0, b0, t, u, v)) sum += t[0] + t[1] + t[2] + t[3];
+          }
+    }
     benchmark_sink(sum);
   }
 }
