@@ -21,10 +21,10 @@ enum class Refine {
 
 /// Instruction sets of query_many's batched path on raw tables (query_lanes.cpp), lowest
 /// first. Every level gives the same answers, bit for bit.
-enum class LaneIsa { sse2, avx, avx512 };
+enum class LaneIsa { sse2, avx, avx2, avx512 };
 /// The level query_many uses: the best the CPU supports, at most the cap.
 LaneIsa lane_isa() noexcept;
-/// "sse2", "avx" or "avx512".
+/// "sse2", "avx", "avx2" or "avx512".
 const char* lane_isa_name(LaneIsa isa) noexcept;
 /// Caps the level process-wide (tests check every level against query(); benchmarks compare
 /// them). The default cap is the highest level.
@@ -130,14 +130,8 @@ private:
   template <class Fetch>
   void query_many_with(const Fetch& fetch, const Segment* segments, std::size_t count, const ForceLaw& law,
                        Contact* out) const noexcept;
-  // query_many's path for raw tables without refinement: four queries side by side in SSE
-  // lanes, the same arithmetic as query() (query_lanes.cpp).
-  struct Lanes;
-  void locate_lanes(const Segment* segments, int count, Lanes& q) const noexcept;
-  void finish_lanes(const Lanes& q, const ForceLaw& law, Contact* out) const noexcept;
-  void run_lanes(const Segment* segments, std::size_t count, const ForceLaw& law, Contact* out) const noexcept;
-  void run_lanes_avx(const Segment* segments, std::size_t count, const ForceLaw& law, Contact* out) const noexcept;
-  void run_lanes_avx512(const Segment* segments, std::size_t count, const ForceLaw& law, Contact* out) const noexcept;
+  // query_many's path for raw tables without refinement: several queries side by side in
+  // SIMD lanes, the same arithmetic as query() (query_lanes.cpp).
   void query_many_lanes(const Segment* segments, std::size_t count, const ForceLaw& law, Contact* out) const noexcept;
   bool refine(std::size_t p00, int a0, int b0, std::size_t sf, const float p1[3], const float l[3], float t_blend,
               float& t0, Vec3& normal) const noexcept;

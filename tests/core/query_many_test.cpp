@@ -84,7 +84,7 @@ TEST(QueryManyTest, EveryInstructionSetLevelGivesTheSameAnswersAsSingleQueries) 
       probes.push_back({obb.to_world(obb.half * -1.5f), obb.to_world(obb.half * 0.1f)});
     }
   const LaneIsa best = lane_isa();
-  for (LaneIsa level : {LaneIsa::sse2, LaneIsa::avx, LaneIsa::avx512}) {
+  for (LaneIsa level : {LaneIsa::sse2, LaneIsa::avx, LaneIsa::avx2, LaneIsa::avx512}) {
     set_lane_isa_cap(level);
     if (int(lane_isa()) < int(level)) continue;  // the CPU lacks it
     SCOPED_TRACE(int(level));
