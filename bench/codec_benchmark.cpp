@@ -1,4 +1,5 @@
-// hb_bench_codec: single-value decode and query time, raw against compressed tables.
+// hb_bench_codec: single-value decode and query time, raw against compressed tables, and the
+// batched raw query at each SIMD level.
 // The box: $HB_BENCH_BOX (an uncompressed .hbox; probes from its source mesh), or a bumpy
 // sphere (20,480 triangles) baked at m=32 n=16. Both codecs at $HB_BENCH_ERROR (default
 // 1e-3 of the box diagonal). Decode: random samples over the whole table (DRAM-bound) and
@@ -131,6 +132,29 @@ void query_bench(benchmark::State& state, hb::CodecId codec) {
   benchmark::DoNotOptimize(acc);
 }
 
+// Batched queries of the raw box at one instruction-set level of query_many's lanes
+// (query_lanes.cpp), 1000 probes a call: time per query = 1 / items_per_second.
+void query_many_bench(benchmark::State& state, hb::LaneIsa isa) {
+  const Setup& s = setup();
+  hb::set_lane_isa_cap(isa);
+  if (hb::lane_isa() != isa) {
+    hb::set_lane_isa_cap(hb::LaneIsa::avx512);
+    state.SkipWithError("this CPU lacks the instruction set");
+    return;
+  }
+  constexpr std::size_t kBatch = 1000;
+  std::vector<hb::Contact> out(kBatch);
+  const hb::ForceLaw law;
+  std::size_t first = 0;
+  for (auto _ : state) {
+    s.raw->query_many(s.probes.data() + first, kBatch, law, out.data());
+    benchmark::DoNotOptimize(out.data());
+    first = first + 2 * kBatch <= s.probes.size() ? first + kBatch : 0;
+  }
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  hb::set_lane_isa_cap(hb::LaneIsa::avx512);
+}
+
 } // namespace
 
 BENCHMARK_CAPTURE(decode_bench, raw_random, hb::CodecId::none, false);
@@ -142,5 +166,9 @@ BENCHMARK_CAPTURE(decode_bench, haar_cached, hb::CodecId::haar, true);
 BENCHMARK_CAPTURE(query_bench, raw, hb::CodecId::none);
 BENCHMARK_CAPTURE(query_bench, block, hb::CodecId::block);
 BENCHMARK_CAPTURE(query_bench, haar, hb::CodecId::haar);
+BENCHMARK_CAPTURE(query_many_bench, raw_sse2, hb::LaneIsa::sse2);
+BENCHMARK_CAPTURE(query_many_bench, raw_avx, hb::LaneIsa::avx);
+BENCHMARK_CAPTURE(query_many_bench, raw_avx2, hb::LaneIsa::avx2);
+BENCHMARK_CAPTURE(query_many_bench, raw_avx512, hb::LaneIsa::avx512);
 
 BENCHMARK_MAIN();

@@ -32,6 +32,8 @@
 //  9. The body is split in two: locate() (steps 1-3 and the start of the fetches) and
 //     finish() (the blends, steps 6 and 7). query() runs them back to back; query_many() runs
 //     locate() for a group of queries before finishing any, so their DRAM misses overlap.
+// 10. query_many() on a raw table without refinement runs 4 or 8 queries side by side in SIMD
+//     lanes instead, with the same arithmetic bit for bit (query_lanes.cpp, docs/speed.md).
 #include "haptic_box/haptic_box.h"
 #include "errors.h"
 #include "geometry/octahedral.h"
