@@ -154,6 +154,13 @@ inline void split_cell(float f, int cells, int& i0, float& w) noexcept {
 
 // Directional interpolation at one corner through a policy's load(): missed samples are
 // dropped, weights summed (the caller applies the miss rule and normalises).
+inline void add_sample(CornerBlend& b, float w, float t, const Vec3& n) noexcept {
+  b.weight += w;
+  b.t += w * t;
+  b.nx += w * n.x();
+  b.ny += w * n.y();
+  b.nz += w * n.z();
+}
 template <class Fetch>
 inline CornerBlend blend_by_load(const Fetch& fetch, const typename Fetch::Corner& corner, const float w[4]) noexcept {
   CornerBlend b{0.f, 0.f, 0.f, 0.f, 0.f};
@@ -161,12 +168,7 @@ inline CornerBlend blend_by_load(const Fetch& fetch, const typename Fetch::Corne
     if (w[k] <= 0.f) continue;
     float ts;
     Vec3 ns;
-    if (!fetch.load(corner, k, ts, ns)) continue;
-    b.weight += w[k];
-    b.t += w[k] * ts;
-    b.nx += w[k] * ns.x();
-    b.ny += w[k] * ns.y();
-    b.nz += w[k] * ns.z();
+    if (fetch.load(corner, k, ts, ns)) add_sample(b, w[k], ts, ns);
   }
   return b;
 }
@@ -209,26 +211,8 @@ struct RawFetch {
   }
 };
 
-template <class View> struct CodecFetch {
-  const View& view;
-  struct Corner {
-    std::size_t tile;
-    int a0, b0;
-  };
-  void begin(std::size_t position, std::size_t sf, int a0, int b0, Corner& c) const noexcept {
-    c = {position * 12u + sf, a0, b0};
-    view.prefetch(c.tile, a0, b0);
-  }
-  void resolve(Corner&) const noexcept {}
-  bool load(const Corner& c, int k, float& t, Vec3& nrm) const noexcept {
-    float u, v;
-    if (!view.fetch(c.tile, c.a0 + (k == 1 || k == 2), c.b0 + (k >= 2), t, u, v)) return false;
-    nrm = oct_decode_unnormalized(u, v);
-    return true;
-  }
-  CornerBlend blend(const Corner& c, const float w[4]) const noexcept { return blend_by_load(*this, c, w); }
-  Corners4 blend4(const Corner* c, const float w[4]) const noexcept { return blend_each(*this, c, w); }
-};
+// Sample fetch for a codec's view (RawFetch's interface), one specialisation per codec.
+template <class View> struct CodecFetch;
 
 // The Haar codec: a corner's quad in one fetch_quad() (header, shared coarse coefficients
 // and bitmap ranks read once, not per sample); blended in blend_by_load()'s order, so the
@@ -248,15 +232,8 @@ template <> struct CodecFetch<HaarTable> {
     float t[4], u[4], v[4];
     const unsigned hits = view.fetch_quad(c.tile, c.a0, c.b0, t, u, v);
     CornerBlend b{0.f, 0.f, 0.f, 0.f, 0.f};
-    for (int k = 0; k < 4; ++k) {
-      if (w[k] <= 0.f || !((hits >> k) & 1u)) continue;
-      const Vec3 ns = oct_decode_unnormalized(u[k], v[k]);
-      b.weight += w[k];
-      b.t += w[k] * t[k];
-      b.nx += w[k] * ns.x();
-      b.ny += w[k] * ns.y();
-      b.nz += w[k] * ns.z();
-    }
+    for (int k = 0; k < 4; ++k)
+      if (w[k] > 0.f && ((hits >> k) & 1u)) add_sample(b, w[k], t[k], oct_decode_unnormalized(u[k], v[k]));
     return b;
   }
   Corners4 blend4(const Corner* c, const float w[4]) const noexcept { return blend_each(*this, c, w); }
