@@ -44,13 +44,21 @@ std::size_t expect_same_as_single(const ContactQuery& q, const std::vector<Segme
   return contacts;
 }
 
-TEST(QueryManyTest, RawBoxGivesTheSameAnswersAsSingleQueries) {
+TriangleMesh bumpy_sphere(int subdivisions) {
   BumpySphereOptions bumpy;
-  bumpy.subdivisions = 4;
-  const TriangleMesh mesh = make_bumpy_sphere(bumpy);
+  bumpy.subdivisions = subdivisions;
+  return make_bumpy_sphere(bumpy);
+}
+
+HapticBox raw_box(const TriangleMesh& mesh, BoxParams params) {
   BakeOptions options;
-  options.params = {12, 8};
-  const HapticBox box = bake_box(mesh, {}, options);
+  options.params = params;
+  return bake_box(mesh, {}, options);
+}
+
+TEST(QueryManyTest, RawBoxGivesTheSameAnswersAsSingleQueries) {
+  const TriangleMesh mesh = bumpy_sphere(4);
+  const HapticBox box = raw_box(mesh, {12, 8});
   const std::vector<Segment> probes = mixed_probes(mesh);
   EXPECT_GT(expect_same_as_single(box, probes), probes.size() / 2);
   // Sub-ranges and an empty batch.
@@ -60,16 +68,12 @@ TEST(QueryManyTest, RawBoxGivesTheSameAnswersAsSingleQueries) {
   box.query_many(probes.data(), 0, kLaw, out.data());
 }
 
-// The batched path of raw boxes runs four queries in SIMD lanes, compiled for several
+// The batched path of raw boxes runs 4 or 8 queries in SIMD lanes, compiled for several
 // instruction sets (the best the CPU has is used); each level the CPU runs must give
-// query()'s answers. Probes of another mesh add handles far outside and boxes met edge-on.
+// query()'s answers, also for segments along the box's faces and through its corners.
 TEST(QueryManyTest, EveryInstructionSetLevelGivesTheSameAnswersAsSingleQueries) {
-  BumpySphereOptions bumpy;
-  bumpy.subdivisions = 3;
-  const TriangleMesh mesh = make_bumpy_sphere(bumpy);
-  BakeOptions options;
-  options.params = {9, 5};
-  const HapticBox box = bake_box(mesh, {}, options);
+  const TriangleMesh mesh = bumpy_sphere(3);
+  const HapticBox box = raw_box(mesh, {9, 5});
   std::vector<Segment> probes = mixed_probes(mesh);
   // Segments along the box's axes and through its edges and corners (parallel slabs, ties).
   const Obb& obb = box.obb();
