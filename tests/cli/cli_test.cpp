@@ -70,7 +70,7 @@ TEST_F(CliTest, BakeInfoEvalBenchProduceDocumentedJson) {
   ASSERT_EQ(bench.code, 0) << bench.err;
   const auto k = nlohmann::json::parse(bench.out);
   for (const char* key : {"box_ns", "exact_ns", "speedup", "box_batched_ns", "exact_batched_ns", "speedup_batched", "box_stroke_ns",
-                          "exact_stroke_ns", "speedup_stroke", "triangles", "batched_isa"})
+                          "exact_stroke_ns", "speedup_stroke", "triangles", "batched_isa", "batched_lanes"})
     EXPECT_TRUE(k.contains(key)) << key;
   const std::string isa = k["batched_isa"].get<std::string>();
   EXPECT_TRUE(isa == "sse2" || isa == "avx" || isa == "avx2" || isa == "avx512") << isa;
