@@ -6,6 +6,7 @@
 #include "two_spheres.h"
 #include <gtest/gtest.h>
 #include <cstring>
+#include <limits>
 #include <random>
 
 namespace hb {
@@ -87,6 +88,13 @@ TEST(QueryManyTest, EveryInstructionSetLevelGivesTheSameAnswersAsSingleQueries) 
       probes.push_back({start, end});
       probes.push_back({obb.to_world(obb.half * -1.5f), obb.to_world(obb.half * 0.1f)});
     }
+  // Non-finite input: no contact from either path.
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  probes.push_back({Vec3(nan, 0.f, 0.f), Vec3(0.f, 0.f, 0.f)});
+  probes.push_back({Vec3(0.f, 0.f, 2.f), Vec3(0.f, inf, 0.f)});
+  probes.push_back({Vec3(-inf, 0.f, 0.f), Vec3(inf, 0.f, 0.f)});
+  for (std::size_t i = probes.size() - 3; i < probes.size(); ++i) EXPECT_FALSE(box.query(probes[i], kLaw).contact);
+  probes.push_back({Vec3(1e30f, 0.f, 0.f), Vec3(-1e30f, 0.f, 0.f)});  // finite, far beyond the box
   const LaneIsa best = lane_isa();
   for (LaneIsa level : {LaneIsa::sse2, LaneIsa::avx, LaneIsa::avx2, LaneIsa::avx512}) {
     set_lane_isa_cap(level);
