@@ -14,6 +14,7 @@
 #include "codec/bit_io.h"
 #include "codec/table_payload.h"
 #include <algorithm>
+#include <emmintrin.h>
 #include <cmath>
 
 namespace hb {
@@ -146,27 +147,38 @@ public:
     const std::int32_t u_base = get_pod<std::int16_t>(r + 12), v_base = get_pod<std::int16_t>(r + 14);
     const std::int32_t u_ga = std::int8_t(r[16]), u_gb = std::int8_t(r[17]);
     const std::int32_t v_ga = std::int8_t(r[18]), v_gb = std::int8_t(r[19]);
+    // The four samples side by side in SSE2 lanes (lane k: sample k), with fetch_from()'s
+    // operations: integer sums (wrapping, as the scalar ones), cvtdq2ps = float(int), mulps,
+    // maxps / minps = std::max / std::min in fetch_from()'s operand order (NaN included).
+    const auto word = [&](unsigned rank) {  // the sample's residuals from bit 0 (masked below)
+      const std::uint64_t pos = std::uint64_t(rank) * width;
+      return std::int64_t(get_pod<std::uint64_t>(bits + (pos >> 3)) >> (pos & 7u));
+    };
+    const __m128i w01 = _mm_set_epi64x(word(rank[1]), word(rank[0]));
+    const __m128i w23 = _mm_set_epi64x(word(rank[3]), word(rank[2]));
+    const auto low32 = [](__m128i x, __m128i y) {  // the low halves of the 64-bit lanes of x, y
+      return _mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(x), _mm_castsi128_ps(y), _MM_SHUFFLE(2, 0, 2, 0)));
+    };
+    const __m128i cu = _mm_cvtsi32_si128(int(kt)), cv = _mm_cvtsi32_si128(int(kt + ku));
+    const __m128i rt = _mm_and_si128(low32(w01, w23), _mm_set1_epi32(int((std::uint64_t(1) << kt) - 1u)));
+    const __m128i ru = _mm_and_si128(low32(_mm_srl_epi64(w01, cu), _mm_srl_epi64(w23, cu)), _mm_set1_epi32((1 << ku) - 1));
+    const __m128i rv = _mm_and_si128(low32(_mm_srl_epi64(w01, cv), _mm_srl_epi64(w23, cv)), _mm_set1_epi32((1 << kv) - 1));
     // predict(g_a, g_b, la + da, lb + db) = (g_a * la + g_b * lb + g_a * da + g_b * db) >> 2.
-    const std::int32_t st = t_ga * la + t_gb * lb, su = u_ga * la + u_gb * lb, sv = v_ga * la + v_gb * lb;
-    const std::int32_t dt[4] = {0, t_ga, t_ga + t_gb, t_gb}, du[4] = {0, u_ga, u_ga + u_gb, u_gb},
-                       dv[4] = {0, v_ga, v_ga + v_gb, v_gb};
-    const std::uint64_t mt = (std::uint64_t(1) << kt) - 1u, mu = (std::uint64_t(1) << ku) - 1u,
-                        mv = (std::uint64_t(1) << kv) - 1u;
-    unsigned out = 0;
-    for (int k = 0; k < 4; ++k) {
-      const std::uint64_t word = read_bits(bits, std::uint64_t(rank[k]) * width, width);
-      const auto rt = std::int32_t(word & mt), ru = std::int32_t((word >> kt) & mu),
-                 rv = std::int32_t((word >> (kt + ku)) & mv);
-      const float tk = float(t_base + ((st + dt[k]) >> 2) + rt) * t_step_;
-      const float uk = std::min(1.f, std::max(-1.f, float(u_base + ((su + du[k]) >> 2) + ru) * n_step_));
-      const float vk = std::min(1.f, std::max(-1.f, float(v_base + ((sv + dv[k]) >> 2) + rv) * n_step_));
-      const bool hit = ((hits >> k) & 1u) && tk >= 0.f;
-      t[k] = hit ? tk : kMissT;
-      u[k] = hit ? uk : 0.f;
-      v[k] = hit ? vk : 0.f;
-      out |= unsigned(hit) << k;
-    }
-    return out;
+    const auto channel = [&](std::int32_t base, std::int32_t ga, std::int32_t gb, __m128i res) {
+      const __m128i p = _mm_srai_epi32(_mm_add_epi32(_mm_set1_epi32(ga * la + gb * lb), _mm_setr_epi32(0, ga, ga + gb, gb)), 2);
+      return _mm_cvtepi32_ps(_mm_add_epi32(_mm_add_epi32(_mm_set1_epi32(base), p), res));
+    };
+    const __m128 one = _mm_set1_ps(1.f), minus_one = _mm_set1_ps(-1.f);
+    const __m128 tv = _mm_mul_ps(channel(t_base, t_ga, t_gb, rt), _mm_set1_ps(t_step_));
+    const __m128 uv = _mm_min_ps(_mm_max_ps(_mm_mul_ps(channel(u_base, u_ga, u_gb, ru), _mm_set1_ps(n_step_)), minus_one), one);
+    const __m128 vv = _mm_min_ps(_mm_max_ps(_mm_mul_ps(channel(v_base, v_ga, v_gb, rv), _mm_set1_ps(n_step_)), minus_one), one);
+    const __m128i lane_bit = _mm_setr_epi32(1, 2, 4, 8);
+    const __m128 in_mask = _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(int(hits)), lane_bit), lane_bit));
+    const __m128 hit = _mm_and_ps(in_mask, _mm_cmpge_ps(tv, _mm_setzero_ps()));
+    _mm_storeu_ps(t, _mm_or_ps(_mm_and_ps(hit, tv), _mm_andnot_ps(hit, _mm_set1_ps(kMissT))));
+    _mm_storeu_ps(u, _mm_and_ps(hit, uv));
+    _mm_storeu_ps(v, _mm_and_ps(hit, vv));
+    return unsigned(_mm_movemask_ps(hit));
   }
   /// fetch_quad_from() on the quad's records.
   unsigned fetch_quad(std::size_t tile, int a0, int b0, float* t, float* u, float* v) const noexcept {
