@@ -44,6 +44,14 @@ inline unsigned popcount64(std::uint64_t x) noexcept {
   return unsigned((x * 0x0101010101010101ull) >> 56);
 }
 
+/// Population count of the low 8 bits (SWAR, as popcount64()).
+inline unsigned popcount8(unsigned x) noexcept {
+  x &= 0xffu;
+  x = x - ((x >> 1) & 0x55u);
+  x = (x & 0x33u) + ((x >> 2) & 0x33u);
+  return (x + (x >> 4)) & 0x0fu;
+}
+
 /// Number of bits needed to store values 0..v.
 inline unsigned bits_for(std::uint64_t v) noexcept {
   unsigned b = 0;

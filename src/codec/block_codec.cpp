@@ -171,6 +171,20 @@ BlockTable::BlockTable(const std::uint8_t* payload, std::size_t bytes, const Box
   nb_ = nb;
 }
 
+unsigned BlockTable::fetch_quad_split(const std::uint8_t* const rec[4], int a0, int b0, float* t, float* u,
+                                      float* v) const noexcept {
+  unsigned hits = 0;
+  for (int k = 0; k < 4; ++k) {
+    float tk = kMissT, uk = 0.f, vk = 0.f;
+    const bool hit = fetch_from(rec[k], a0 + (k == 1 || k == 2), b0 + (k >= 2), tk, uk, vk);
+    t[k] = hit ? tk : kMissT;
+    u[k] = hit ? uk : 0.f;
+    v[k] = hit ? vk : 0.f;
+    hits |= unsigned(hit) << k;
+  }
+  return hits;
+}
+
 void BlockTable::decode_tile(std::size_t tile, DecodedSample* out) const noexcept {
   // Sequential: walk each block's residual stream in order instead of ranking each sample.
   for (int i = 0; i < n_ * n_; ++i) out[i] = {kMissT, 0.f, 0.f};

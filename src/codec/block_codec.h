@@ -14,6 +14,7 @@
 #include "codec/bit_io.h"
 #include "codec/table_payload.h"
 #include <algorithm>
+#include <emmintrin.h>
 #include <cmath>
 
 namespace hb {
@@ -93,6 +94,99 @@ public:
     return t >= 0.f;
   }
 
+  /// The records of the 2 x 2 quad at (a0, b0) of `tile`, in the query's order (a0, b0),
+  /// (a0 + 1, b0), (a0 + 1, b0 + 1), (a0, b0 + 1): rec[k] = record(block_of(tile, a_k, b_k)).
+  /// Precondition: 0 <= a0, b0 <= n - 2.
+  void quad_records(std::size_t tile, int a0, int b0, const std::uint8_t* rec[4]) const noexcept {
+    // a0 and a0 + 1 (b0 and b0 + 1) share a block unless a0 (b0) ends one.
+    const std::size_t block = block_of(tile, a0, b0);
+    const std::size_t da = (a0 & (kBlock - 1)) == kBlock - 1 ? std::size_t(nb_) : 0u;
+    const std::size_t db = (b0 & (kBlock - 1)) == kBlock - 1 ? 1u : 0u;
+    rec[0] = record(block);
+    rec[1] = record(block + da);
+    rec[2] = record(block + da + db);
+    rec[3] = record(block + db);
+  }
+
+  /// The 2 x 2 quad at (a0, b0) from its records (quad_records(); found early by a caller that
+  /// overlaps the loads of several quads): t[k], u[k], v[k] equal fetch_from()'s values bit for
+  /// bit; a miss gets {kMissT, 0, 0}. Returns the hit mask (bit k: sample k is a hit). When the
+  /// quad lies in one 8 x 8 block (49 quads in 64) the record's header is read once, the
+  /// four ranks come from one prefix count plus one 8-bit count, and the plane predictors
+  /// step by their gradients; a quad across blocks reads each block's header once.
+  /// Precondition: 0 <= a0, b0 <= n - 2. Corrupt records read as misses or garbage values,
+  /// never out of bounds.
+  unsigned fetch_quad_from(const std::uint8_t* const rec[4], int a0, int b0, float* t, float* u,
+                           float* v) const noexcept {
+    const int la = a0 & (kBlock - 1), lb = b0 & (kBlock - 1);
+    if (__builtin_expect(la == kBlock - 1 || lb == kBlock - 1, 0)) return fetch_quad_split(rec, a0, b0, t, u, v);
+    const std::uint8_t* r = rec[0];
+    const unsigned mode = r[0];
+    if (mode == 0) return quad_misses(t, u, v);
+    unsigned rank0, rank1, hits;
+    const std::uint8_t* bits = r + kHeaderBytes;
+    if (mode == 2) {
+      const auto mask = get_pod<std::uint64_t>(bits);
+      bits += 8;
+      const unsigned li = unsigned(la * kBlock + lb);  // <= 54: the quad's bits are li, li + 1, li + 8, li + 9
+      const auto row = unsigned(mask >> li) & 0x3ffu;
+      rank0 = popcount64(mask & ((std::uint64_t(1) << li) - 1u));
+      rank1 = rank0 + popcount8(row & 0xffu);
+      hits = (row & 1u) | ((row >> 7) & 2u) | ((row >> 7) & 4u) | ((row << 2) & 8u);
+    } else {
+      const int bw = std::min(kBlock, n_ - (b0 & ~(kBlock - 1)));
+      rank0 = unsigned(la * bw + lb);
+      rank1 = rank0 + unsigned(bw);
+      hits = 15u;
+    }
+    const unsigned rank[4] = {rank0, rank1, rank1 + ((hits >> 1) & 1u), rank0 + (hits & 1u)};
+    const unsigned kt = r[1] & 31u, ku = r[2] & 15u, kv = r[2] >> 4;
+    const unsigned width = kt + ku + kv;
+    const auto t_base = get_pod<std::int32_t>(r + 4);
+    const std::int32_t t_ga = get_pod<std::int16_t>(r + 8), t_gb = get_pod<std::int16_t>(r + 10);
+    const std::int32_t u_base = get_pod<std::int16_t>(r + 12), v_base = get_pod<std::int16_t>(r + 14);
+    const std::int32_t u_ga = std::int8_t(r[16]), u_gb = std::int8_t(r[17]);
+    const std::int32_t v_ga = std::int8_t(r[18]), v_gb = std::int8_t(r[19]);
+    // The four samples side by side in SSE2 lanes (lane k: sample k), with fetch_from()'s
+    // operations: integer sums (wrapping, as the scalar ones), cvtdq2ps = float(int), mulps,
+    // maxps / minps = std::max / std::min in fetch_from()'s operand order (NaN included).
+    const auto word = [&](unsigned rank) {  // the sample's residuals from bit 0 (masked below)
+      const std::uint64_t pos = std::uint64_t(rank) * width;
+      return std::int64_t(get_pod<std::uint64_t>(bits + (pos >> 3)) >> (pos & 7u));
+    };
+    const __m128i w01 = _mm_set_epi64x(word(rank[1]), word(rank[0]));
+    const __m128i w23 = _mm_set_epi64x(word(rank[3]), word(rank[2]));
+    const auto low32 = [](__m128i x, __m128i y) {  // the low halves of the 64-bit lanes of x, y
+      return _mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(x), _mm_castsi128_ps(y), _MM_SHUFFLE(2, 0, 2, 0)));
+    };
+    const __m128i cu = _mm_cvtsi32_si128(int(kt)), cv = _mm_cvtsi32_si128(int(kt + ku));
+    const __m128i rt = _mm_and_si128(low32(w01, w23), _mm_set1_epi32(int((std::uint64_t(1) << kt) - 1u)));
+    const __m128i ru = _mm_and_si128(low32(_mm_srl_epi64(w01, cu), _mm_srl_epi64(w23, cu)), _mm_set1_epi32((1 << ku) - 1));
+    const __m128i rv = _mm_and_si128(low32(_mm_srl_epi64(w01, cv), _mm_srl_epi64(w23, cv)), _mm_set1_epi32((1 << kv) - 1));
+    // predict(g_a, g_b, la + da, lb + db) = (g_a * la + g_b * lb + g_a * da + g_b * db) >> 2.
+    const auto channel = [&](std::int32_t base, std::int32_t ga, std::int32_t gb, __m128i res) {
+      const __m128i p = _mm_srai_epi32(_mm_add_epi32(_mm_set1_epi32(ga * la + gb * lb), _mm_setr_epi32(0, ga, ga + gb, gb)), 2);
+      return _mm_cvtepi32_ps(_mm_add_epi32(_mm_add_epi32(_mm_set1_epi32(base), p), res));
+    };
+    const __m128 one = _mm_set1_ps(1.f), minus_one = _mm_set1_ps(-1.f);
+    const __m128 tv = _mm_mul_ps(channel(t_base, t_ga, t_gb, rt), _mm_set1_ps(t_step_));
+    const __m128 uv = _mm_min_ps(_mm_max_ps(_mm_mul_ps(channel(u_base, u_ga, u_gb, ru), _mm_set1_ps(n_step_)), minus_one), one);
+    const __m128 vv = _mm_min_ps(_mm_max_ps(_mm_mul_ps(channel(v_base, v_ga, v_gb, rv), _mm_set1_ps(n_step_)), minus_one), one);
+    const __m128i lane_bit = _mm_setr_epi32(1, 2, 4, 8);
+    const __m128 in_mask = _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(int(hits)), lane_bit), lane_bit));
+    const __m128 hit = _mm_and_ps(in_mask, _mm_cmpge_ps(tv, _mm_setzero_ps()));
+    _mm_storeu_ps(t, _mm_or_ps(_mm_and_ps(hit, tv), _mm_andnot_ps(hit, _mm_set1_ps(kMissT))));
+    _mm_storeu_ps(u, _mm_and_ps(hit, uv));
+    _mm_storeu_ps(v, _mm_and_ps(hit, vv));
+    return unsigned(_mm_movemask_ps(hit));
+  }
+  /// fetch_quad_from() on the quad's records.
+  unsigned fetch_quad(std::size_t tile, int a0, int b0, float* t, float* u, float* v) const noexcept {
+    const std::uint8_t* rec[4];
+    quad_records(tile, a0, b0, rec);
+    return fetch_quad_from(rec, a0, b0, t, u, v);
+  }
+
   DecodedSample decode(std::size_t tile, int a, int b) const noexcept {
     DecodedSample s{kMissT, 0.f, 0.f};
     if (!fetch(tile, a, b, s.t, s.u, s.v)) s = {kMissT, 0.f, 0.f};
@@ -110,6 +204,13 @@ public:
   }
 
 private:
+  static unsigned quad_misses(float* t, float* u, float* v) noexcept {
+    for (int k = 0; k < 4; ++k) t[k] = kMissT, u[k] = v[k] = 0.f;
+    return 0u;
+  }
+  // fetch_quad_from() for a quad across blocks (a0 or b0 ends a block).
+  unsigned fetch_quad_split(const std::uint8_t* const rec[4], int a0, int b0, float* t, float* u, float* v) const noexcept;
+
   const std::uint32_t* index_ = nullptr;
   const std::uint8_t* data_ = nullptr;
   std::size_t data_bytes_ = 0;

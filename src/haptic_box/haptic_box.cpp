@@ -152,8 +152,10 @@ inline void split_cell(float f, int cells, int& i0, float& w) noexcept {
   w = f - float(i0);
 }
 
-// Directional interpolation at one corner through a policy's load(): missed samples are
-// dropped, weights summed (the caller applies the miss rule and normalises).
+// Directional interpolation at one corner over its decoded quad (hit mask and values in the
+// quad order, as a codec's fetch_quad gives them): missed samples and zero weights are
+// dropped, weights summed (the caller applies the miss rule and normalises). Samples are
+// added in k order 0..3 by add_sample(), so every codec's sums follow the same float ops.
 inline void add_sample(CornerBlend& b, float w, float t, const Vec3& n) noexcept {
   b.weight += w;
   b.t += w * t;
@@ -161,14 +163,12 @@ inline void add_sample(CornerBlend& b, float w, float t, const Vec3& n) noexcept
   b.ny += w * n.y();
   b.nz += w * n.z();
 }
-template <class Fetch>
-inline CornerBlend blend_by_load(const Fetch& fetch, const typename Fetch::Corner& corner, const float w[4]) noexcept {
+inline CornerBlend blend_quad(unsigned hits, const float t[4], const float u[4], const float v[4],
+                              const float w[4]) noexcept {
   CornerBlend b{0.f, 0.f, 0.f, 0.f, 0.f};
   for (int k = 0; k < 4; ++k) {
-    if (w[k] <= 0.f) continue;
-    float ts;
-    Vec3 ns;
-    if (fetch.load(corner, k, ts, ns)) add_sample(b, w[k], ts, ns);
+    if (w[k] <= 0.f || !((hits >> k) & 1u)) continue;
+    add_sample(b, w[k], t[k], oct_decode_unnormalized(u[k], v[k]));
   }
   return b;
 }
@@ -215,8 +215,7 @@ struct RawFetch {
 template <class View> struct CodecFetch;
 
 // The Haar codec: a corner's quad in one fetch_quad() (header, shared coarse coefficients
-// and bitmap ranks read once, not per sample); blended in blend_by_load()'s order, so the
-// sums are the same bit for bit.
+// and bitmap ranks read once, not per sample), blended by blend_quad().
 template <> struct CodecFetch<HaarTable> {
   const HaarTable& view;
   struct Corner {
@@ -231,10 +230,7 @@ template <> struct CodecFetch<HaarTable> {
   CornerBlend blend(const Corner& c, const float w[4]) const noexcept {
     float t[4], u[4], v[4];
     const unsigned hits = view.fetch_quad(c.tile, c.a0, c.b0, t, u, v);
-    CornerBlend b{0.f, 0.f, 0.f, 0.f, 0.f};
-    for (int k = 0; k < 4; ++k)
-      if (w[k] > 0.f && ((hits >> k) & 1u)) add_sample(b, w[k], t[k], oct_decode_unnormalized(u[k], v[k]));
-    return b;
+    return blend_quad(hits, t, u, v, w);
   }
   Corners4 blend4(const Corner* c, const float w[4]) const noexcept { return blend_each(*this, c, w); }
 };
@@ -257,19 +253,18 @@ template <> struct CodecFetch<BlockTable> {
     view.prefetch(c.tile, a0 + 1, b0 + 1);
   }
   void resolve(Corner& c) const noexcept {
+    view.quad_records(c.tile, c.a0, c.b0, c.rec);
     for (int k = 0; k < 4; ++k) {
-      c.rec[k] = view.record(view.block_of(c.tile, c.a0 + (k == 1 || k == 2), c.b0 + (k >= 2)));
       __builtin_prefetch(c.rec[k]);
       __builtin_prefetch(c.rec[k] + 64);
     }
   }
-  bool load(const Corner& c, int k, float& t, Vec3& nrm) const noexcept {
-    float u, v;
-    if (!view.fetch_from(c.rec[k], c.a0 + (k == 1 || k == 2), c.b0 + (k >= 2), t, u, v)) return false;
-    nrm = oct_decode_unnormalized(u, v);
-    return true;
+  // The quad in one fetch_quad_from() (each block's header read once), blended by blend_quad().
+  CornerBlend blend(const Corner& c, const float w[4]) const noexcept {
+    float t[4], u[4], v[4];
+    const unsigned hits = view.fetch_quad_from(c.rec, c.a0, c.b0, t, u, v);
+    return blend_quad(hits, t, u, v, w);
   }
-  CornerBlend blend(const Corner& c, const float w[4]) const noexcept { return blend_by_load(*this, c, w); }
   Corners4 blend4(const Corner* c, const float w[4]) const noexcept { return blend_each(*this, c, w); }
 };
 

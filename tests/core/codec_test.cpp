@@ -124,9 +124,16 @@ TEST(HaarCodecTest, RandomAccessEqualsFullDecode) {
 // fetch_quad() against four fetch() calls, bit for bit: every quad (all a0, b0 up to the
 // tile's last row and column) of every sub-block face of some positions, then random quads
 // of random tiles; with the portable bitmap ranks, then with popcnt where the CPU has it.
-void expect_quad_equals_fetch(const HaarTable& view, const BoxParams& p, std::size_t all_quad_positions,
+// A miss is compared as {kMissT, 0, 0} (decode()'s form; fetch() leaves a miss's values
+// unspecified). The block codec's quads are checked the same way (one view, no popcnt switch).
+template <class View>
+void expect_quad_equals_fetch(const View& view, const BoxParams& p, std::size_t all_quad_positions,
                               std::size_t random_quads);
 void expect_quad_equals_fetch(const HapticBox& c, std::size_t all_quad_positions, std::size_t random_quads) {
+  if (c.samples().codec() == CodecId::block) {
+    expect_quad_equals_fetch(c.samples().block(), c.params(), all_quad_positions, random_quads);
+    return;
+  }
   ASSERT_EQ(c.samples().codec(), CodecId::haar);
   for (bool hardware : {false, true}) {
     SCOPED_TRACE(hardware ? "popcnt" : "portable popcount");
@@ -135,7 +142,8 @@ void expect_quad_equals_fetch(const HapticBox& c, std::size_t all_quad_positions
     expect_quad_equals_fetch(view, c.params(), all_quad_positions, random_quads);
   }
 }
-void expect_quad_equals_fetch(const HaarTable& view, const BoxParams& p, std::size_t all_quad_positions,
+template <class View>
+void expect_quad_equals_fetch(const View& view, const BoxParams& p, std::size_t all_quad_positions,
                               std::size_t random_quads) {
   const auto bits = [](float x) {
     std::uint32_t b;
@@ -150,6 +158,7 @@ void expect_quad_equals_fetch(const HaarTable& view, const BoxParams& p, std::si
     for (int k = 0; k < 4; ++k) {
       float t1 = kMissT, u1 = 0.f, v1 = 0.f;
       const bool hit = view.fetch(tile, qa[k], qb[k], t1, u1, v1);
+      if (!hit) t1 = kMissT, u1 = v1 = 0.f;
       ASSERT_EQ(hit, bool((mask >> k) & 1u)) << "tile " << tile << " (" << qa[k] << ", " << qb[k] << ")";
       ASSERT_EQ(bits(t[k]), bits(t1)) << "tile " << tile << " (" << qa[k] << ", " << qb[k] << ")";
       ASSERT_EQ(bits(u[k]), bits(u1)) << "tile " << tile << " (" << qa[k] << ", " << qb[k] << ")";
@@ -201,6 +210,60 @@ TEST(HaarCodecTest, QuadFetchEqualsPerSampleFetchOnArmadillo) {
   o.params = {4, 16};
   const HapticBox box = bake_box(read_mesh(mesh.string()), {}, o);
   expect_quad_equals_fetch(box.compressed(options(CodecId::haar, 1e-3f)), 40, 50000);
+}
+
+TEST(BlockCodecTest, QuadFetchEqualsPerSampleFetch) {
+  // n = 12: the last row and column of 8 x 8 blocks are partial; quads across blocks too.
+  expect_quad_equals_fetch(boxes().torus.compressed(options(CodecId::block, 1e-3f)), 40, 20000);
+  expect_quad_equals_fetch(boxes().bumpy.compressed(options(CodecId::block, 1e-4f)), 40, 20000);
+}
+
+// Synthetic tables, every quad of every tile: per tile one pattern (all miss, all hit and
+// smooth: mode 1 blocks with plane predictors, scattered misses and a silhouette: mode 2
+// blocks, noise: wide residuals), at tile sizes with no, partial and one-sample-wide blocks.
+TEST(BlockCodecTest, QuadFetchEqualsPerSampleFetchOnSyntheticTables) {
+  for (int n : {2, 5, 8, 9, 12, 16, 17, 24}) {
+    SCOPED_TRACE("n = " + std::to_string(n));
+    const BoxParams p{2, n};
+    std::vector<Sample> raw(p.sample_count());
+    std::mt19937 rng(std::uint32_t(7 + n));
+    std::uniform_real_distribution<float> unit(0.f, 1.f);
+    const auto oct = [](float u, float v) {
+      return std::uint32_t(std::uint16_t(std::int16_t(std::lround(u * 32767.f)))) |
+             (std::uint32_t(std::uint16_t(std::int16_t(std::lround(v * 32767.f)))) << 16);
+    };
+    const std::size_t per_tile = std::size_t(n) * std::size_t(n);
+    for (std::size_t tile = 0; tile < p.tile_count(); ++tile) {
+      const unsigned pattern = unsigned(tile % 5);
+      const float t0 = 5.f * unit(rng), ga = unit(rng) - 0.5f, gb = unit(rng) - 0.5f;
+      for (int a = 0; a < n; ++a)
+        for (int b = 0; b < n; ++b) {
+          Sample& s = raw[tile * per_tile + std::size_t(a * n + b)];
+          const float fa = float(a) / float(n), fb = float(b) / float(n);
+          bool hit = true;
+          float t = t0 + ga * float(a) + gb * float(b), u = 0.8f * fa - 0.4f, v = 0.5f - 0.9f * fb;
+          if (pattern == 0) hit = false;
+          if (pattern == 2) hit = unit(rng) < 0.7f;
+          if (pattern == 3) hit = a + 2 * b < n + 3;
+          if (pattern == 4) t = 8.f * unit(rng), u = 2.f * unit(rng) - 1.f, v = 2.f * unit(rng) - 1.f;
+          s = hit ? Sample{std::max(t, 0.f), oct(u, v)} : Sample{kMissT, 0u};
+        }
+    }
+    const std::vector<std::uint8_t> payload = encode_block_table(raw.data(), p, 2e-3f, 1.f / 1023.f);
+    const BlockTable view(payload.data(), payload.size(), p);
+    expect_quad_equals_fetch(view, p, p.position_count(), 20000);
+    if (::testing::Test::HasFatalFailure()) return;
+  }
+}
+
+// The real armadillo (datasets/fetch.sh), one box, m = 4, n = 16: the query's tile size.
+TEST(BlockCodecTest, QuadFetchEqualsPerSampleFetchOnArmadillo) {
+  const fs::path mesh = fs::path(HB_DATASETS_DIR) / "meshes" / "armadillo.off";
+  if (!fs::exists(mesh)) GTEST_SKIP() << mesh << " is absent: run datasets/fetch.sh";
+  BakeOptions o;
+  o.params = {4, 16};
+  const HapticBox box = bake_box(read_mesh(mesh.string()), {}, o);
+  for (float bound : {1e-4f, 1e-3f}) expect_quad_equals_fetch(box.compressed(options(CodecId::block, bound)), 40, 50000);
 }
 
 TEST(CodecTest, HitMissIsPreservedExactlyEvenAtLooseBounds) {
@@ -294,6 +357,13 @@ TEST(CodecTest, CorruptRecordsNeverReadOutOfBounds) {
     for (std::size_t tile = 0; tile < p.tile_count(); ++tile)
       for (int a = 0; a < p.n; ++a)
         for (int b = 0; b < p.n; ++b) sum += view.decode(tile, a, b).t;
+    if (codec == CodecId::block)
+      for (std::size_t tile = 0; tile < p.tile_count(); ++tile)
+        for (int a0 = 0; a0 + 1 < p.n; ++a0)
+          for (int b0 = 0; b0 + 1 < p.n; ++b0) {
+            float t[4], u[4], v[4];
+            if (view.block().fetch_quad(tile, a0, b0, t, u, v)) sum += t[0] + t[1] + t[2] + t[3];
+          }
     for (bool hardware : {false, true}) {
       if (codec != CodecId::haar) break;
       HaarTable haar = view.haar();
