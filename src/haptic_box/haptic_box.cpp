@@ -122,14 +122,6 @@ inline __m128 lane_sums(__m128 x0, __m128 x1, __m128 x2, __m128 x3) noexcept {
 struct CornerBlend {
   float weight, t, nx, ny, nz;
 };
-inline CornerBlend blend_corner(const Sample* base, std::size_t row, __m128 w) noexcept {
-  const CornerLanes l = corner_lanes(base, row, w);
-  float sums[4];
-  _mm_storeu_ps(sums, lane_sums(l.w, l.t, l.nx, l.ny));
-  __m128 wz = _mm_add_ps(l.nz, _mm_movehl_ps(l.nz, l.nz));
-  wz = _mm_add_ss(wz, _mm_shuffle_ps(wz, wz, 1));
-  return {sums[0], sums[1], sums[2], sums[3], _mm_cvtss_f32(wz)};
-}
 
 // The four corners' blends side by side (lane c: corner c), through any policy's blend().
 struct Corners4 {
@@ -174,8 +166,9 @@ inline CornerBlend blend_quad(unsigned hits, const float t[4], const float u[4],
 }
 
 // Sample fetch policies: begin() locates (and prefetches) the 2 x 2 directional quad at
-// (a0, b0) of one corner's tile; load(k) reads its k-th sample in the order (0,0), (1,0),
-// (1,1), (0,1), returning false for a miss; blend() is the corner's directional interpolation.
+// (a0, b0) of one corner's tile, resolve() runs a codec's second, dependent fetch, and
+// blend4() blends the four corners' quads (directional interpolation, samples in the order
+// (0,0), (1,0), (1,1), (0,1) of the directional weights).
 struct RawFetch {
   const Sample* table;
   std::size_t n, per_position;
@@ -188,20 +181,9 @@ struct RawFetch {
     __builtin_prefetch(c.base + n);
   }
   void resolve(Corner&) const noexcept {}
-  bool load(const Corner& c, int k, float& t, Vec3& nrm) const noexcept {
-    const std::size_t offset[4] = {0, n, n + 1, 1};
-    const Sample& s = c.base[offset[k]];
-    if (s.t < 0.f) return false;
-    t = s.t;
-    nrm = decode_octahedral32_unnormalized(s.normal);
-    return true;
-  }
-  // Raw samples: the quad is two 16-byte loads, blended with SSE2 (weights reordered to the
-  // memory order (0,0), (0,1), (1,0), (1,1)).
-  CornerBlend blend(const Corner& c, const float w[4]) const noexcept {
-    return blend_corner(c.base, n, _mm_setr_ps(w[0], w[3], w[1], w[2]));
-  }
-  // All four corners: per-sample lanes, then one transpose per quantity sums them.
+  // Raw samples: each quad is two 16-byte loads, blended with SSE2 (weights reordered to the
+  // memory order (0,0), (0,1), (1,0), (1,1)); per-sample lanes for all four corners, then
+  // one transpose per quantity sums them.
   Corners4 blend4(const Corner* c, const float w[4]) const noexcept {
     const __m128 wv = _mm_setr_ps(w[0], w[3], w[1], w[2]);
     const CornerLanes a = corner_lanes(c[0].base, n, wv), b = corner_lanes(c[1].base, n, wv);
