@@ -192,7 +192,7 @@ void BlockTable::decode_tile(std::size_t tile, DecodedSample* out) const noexcep
     for (int bb = 0; bb < nb_; ++bb) {
       std::uint32_t offset;
       std::memcpy(&offset, index_ + (tile * std::size_t(nb_) + std::size_t(ba)) * std::size_t(nb_) + std::size_t(bb), 4);
-      if (offset >= data_bytes_) continue;
+      if (!has_record(offset)) continue;
       const std::uint8_t* rec = data_ + offset;
       if (rec[0] == 0) continue;
       const std::uint8_t* bits = rec + kHeaderBytes;

@@ -30,6 +30,7 @@ class BlockTable {
 public:
   static constexpr int kBlock = 8;
   static constexpr std::size_t kHeaderBytes = 20;
+  static constexpr std::uint8_t kAllMissRecord[1] = {0};
 
   BlockTable() = default;
   /// Validates the payload's header (O(1)); throws hb::InvalidInput.
@@ -51,11 +52,17 @@ public:
   std::size_t block_of(std::size_t tile, int a, int b) const noexcept {
     return (tile * std::size_t(nb_) + std::size_t(a >> 3)) * std::size_t(nb_) + std::size_t(b >> 3);
   }
-  /// A block's record (a corrupt offset gives the shared all-miss record).
+  /// A block's record. Offset 0 (the shared all-miss record) and a corrupt offset, one whose
+  /// record header would not fit in the data, give a static all-miss record: every record
+  /// handed out then has its header in the data, and the longest record a header can
+  /// describe (20 + 8 + 488 bytes) ends inside the padding that follows the data.
   const std::uint8_t* record(std::size_t block) const noexcept {
     std::uint32_t offset;
     std::memcpy(&offset, index_ + block, 4);
-    return data_ + (offset < data_bytes_ ? offset : 0u);
+    return has_record(offset) ? data_ + offset : kAllMissRecord;
+  }
+  bool has_record(std::uint32_t offset) const noexcept {
+    return offset != 0 && std::size_t(offset) + kHeaderBytes <= data_bytes_;
   }
   /// fetch() from a record found with record(block_of(tile, a, b)): lets a caller start
   /// the record's load early (two-phase prefetch).

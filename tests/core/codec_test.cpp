@@ -379,6 +379,38 @@ TEST(CodecTest, CorruptRecordsNeverReadOutOfBounds) {
   }
 }
 
+// A block record whose header would run past the data (the padding after the data covers
+// only records with their header inside it) reads as a miss, however its bytes look.
+TEST(CodecTest, BlockRecordTooCloseToTheEndOfTheDataReadsAsAMiss) {
+  CompressedTable t = compress_table(boxes().torus.table(), boxes().torus.params(), boxes().torus.obb().diagonal(),
+                                     options(CodecId::block, 1e-3f));
+  PayloadHeader h;
+  std::memcpy(&h, t.payload.data(), sizeof(h));
+  const BoxParams& p = boxes().torus.params();
+  // The first tile with a hit at (0, 0): its block 0 is tile * nb * nb.
+  const SampleTable intact(CodecId::block, t.payload.data(), t.payload.size(), p);
+  std::size_t tile = 0;
+  while (tile < p.tile_count() && intact.decode(tile, 0, 0).t < 0.f) ++tile;
+  ASSERT_LT(tile, p.tile_count());
+  const std::size_t nb = std::size_t((p.n + BlockTable::kBlock - 1) / BlockTable::kBlock);
+  const std::uint32_t late = std::uint32_t(h.data_bytes - BlockTable::kHeaderBytes + 1);
+  std::memcpy(t.payload.data() + h.index_offset + 4 * tile * nb * nb, &late, 4);
+  // A mixed-mode header with the widest residuals, a positive t base and a full hit mask (in
+  // the padding) at that offset: read as a record, sample (0, 0) would be a hit.
+  std::uint8_t* rec = t.payload.data() + h.data_offset + late;
+  rec[0] = 2, rec[1] = 31, rec[2] = 0xff;
+  const std::int32_t t_base = 1 << 20;
+  std::memcpy(rec + 4, &t_base, 4);
+  std::memset(rec + BlockTable::kHeaderBytes, 0xff, 8);
+  const SampleTable view(CodecId::block, t.payload.data(), t.payload.size(), p);
+  EXPECT_LT(view.decode(tile, 0, 0).t, 0.f);
+  float qt[4], qu[4], qv[4];
+  EXPECT_EQ(view.block().fetch_quad(tile, 0, 0, qt, qu, qv) & 1u, 0u);
+  std::vector<DecodedSample> all(std::size_t(p.n) * std::size_t(p.n));
+  view.decode_tile(tile, all.data());
+  EXPECT_LT(all[0].t, 0.f);
+}
+
 class CodecFileTest : public ::testing::Test {
 protected:
   void SetUp() override {
