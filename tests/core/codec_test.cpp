@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <fstream>
 #include <random>
 #include <unistd.h>
@@ -202,14 +203,23 @@ TEST(HaarCodecTest, QuadFetchEqualsPerSampleFetchAtEveryTileSize) {
   }
 }
 
-// The real armadillo (datasets/fetch.sh), one box, m = 4, n = 16: the query's tile size.
+// The real armadillo (datasets/fetch.sh), one raw box, m = 4, n = 16 (the query's tile
+// size), baked once for the codecs' quad tests; nullptr when the datasets are absent.
+const HapticBox* armadillo_box() {
+  static const std::unique_ptr<HapticBox> box = [] {
+    const fs::path mesh = fs::path(HB_DATASETS_DIR) / "meshes" / "armadillo.off";
+    if (!fs::exists(mesh)) return std::unique_ptr<HapticBox>();
+    BakeOptions o;
+    o.params = {4, 16};
+    return std::make_unique<HapticBox>(bake_box(read_mesh(mesh.string()), {}, o));
+  }();
+  return box.get();
+}
+
 TEST(HaarCodecTest, QuadFetchEqualsPerSampleFetchOnArmadillo) {
-  const fs::path mesh = fs::path(HB_DATASETS_DIR) / "meshes" / "armadillo.off";
-  if (!fs::exists(mesh)) GTEST_SKIP() << mesh << " is absent: run datasets/fetch.sh";
-  BakeOptions o;
-  o.params = {4, 16};
-  const HapticBox box = bake_box(read_mesh(mesh.string()), {}, o);
-  expect_quad_equals_fetch(box.compressed(options(CodecId::haar, 1e-3f)), 40, 50000);
+  const HapticBox* box = armadillo_box();
+  if (!box) GTEST_SKIP() << "datasets/data is absent: run datasets/fetch.sh";
+  expect_quad_equals_fetch(box->compressed(options(CodecId::haar, 1e-3f)), 40, 50000);
 }
 
 TEST(BlockCodecTest, QuadFetchEqualsPerSampleFetch) {
@@ -256,14 +266,10 @@ TEST(BlockCodecTest, QuadFetchEqualsPerSampleFetchOnSyntheticTables) {
   }
 }
 
-// The real armadillo (datasets/fetch.sh), one box, m = 4, n = 16: the query's tile size.
 TEST(BlockCodecTest, QuadFetchEqualsPerSampleFetchOnArmadillo) {
-  const fs::path mesh = fs::path(HB_DATASETS_DIR) / "meshes" / "armadillo.off";
-  if (!fs::exists(mesh)) GTEST_SKIP() << mesh << " is absent: run datasets/fetch.sh";
-  BakeOptions o;
-  o.params = {4, 16};
-  const HapticBox box = bake_box(read_mesh(mesh.string()), {}, o);
-  for (float bound : {1e-4f, 1e-3f}) expect_quad_equals_fetch(box.compressed(options(CodecId::block, bound)), 40, 50000);
+  const HapticBox* box = armadillo_box();
+  if (!box) GTEST_SKIP() << "datasets/data is absent: run datasets/fetch.sh";
+  for (float bound : {1e-4f, 1e-3f}) expect_quad_equals_fetch(box->compressed(options(CodecId::block, bound)), 40, 50000);
 }
 
 TEST(CodecTest, HitMissIsPreservedExactlyEvenAtLooseBounds) {
