@@ -25,9 +25,13 @@ echo "   block codec (0.05% of each box's diagonal), exact refinement on the mes
   --codec block --refine
 "$HB" info out/default.hbox | grep -E '^(boxes|bytes|codec|compression_ratio|table_bytes|refine|triangle_id_bytes|surface_bytes):'
 echo "== eval against the exact Embree answer"
-"$HB" eval out/default.hbox "$MODEL" --samples 20000 --seed 1
+"$HB" eval out/default.hbox "$MODEL" --samples 20000 --seed 1 | tee out/eval.txt
 echo "== bench (one core)"
-"$HB" bench out/default.hbox "$MODEL"
+"$HB" bench out/default.hbox "$MODEL" | tee out/bench.txt
 echo "== report (report.html, summary.json, samples.csv)"
 "$HB" report out/default.hbox "$MODEL" -o out/report --no-sweep
+echo "== summary"
+grep -E '^ *(contact agreement|force error|direction error)' out/eval.txt || true
+grep -E '^verdict:' out/bench.txt || true
+grep -E 'p99: ' out/bench.txt | sed 's/^ */single-query tail, /' || true
 echo "run.sh: the report is in out/report/report.html"

@@ -1,5 +1,7 @@
 // hapticbox bench BOX MESH [--samples N] [--json]: box and exact query time on the same probes
-// (one query at a time, and batched through query_many), and how many boxes a query meets (with the time of queries meeting 1, 2, 3+ boxes).
+// (one query at a time, and batched through query_many), the tail of single queries (p99,
+// p99.9, max), a verdict per order (faster or slower than exact, by how much), and how many
+// boxes a query meets (with the time of queries meeting 1, 2, 3+ boxes).
 #include "cli_support.h"
 #include "commands.h"
 #include "evaluation/probe_sampling.h"
@@ -9,6 +11,7 @@
 #include <algorithm>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 #include <string>
 
 void add_bench_command(CLI::App& app) {
@@ -55,6 +58,9 @@ void add_bench_command(CLI::App& app) {
                                             kStrokeRadius, opts->probes);
     const double box_stroke_ns = hb::median_query_ns(scene, strokes, opts->law, opts->rounds);
     const double exact_stroke_ns = hb::median_query_ns(exact, strokes, opts->law, opts->rounds);
+    // The tail of single queries (random order), each query timed on its own.
+    const hb::QueryLatency box_tail = hb::single_query_latency(scene, probes, opts->law, opts->rounds);
+    const hb::QueryLatency exact_tail = hb::single_query_latency(exact, probes, opts->law, opts->rounds);
     // Boxes met per query, and the box time of the queries that meet exactly 1, 2, 3+ boxes.
     std::vector<std::vector<hb::Segment>> by_met(4);
     double met_sum = 0.0;
@@ -77,6 +83,25 @@ void add_bench_command(CLI::App& app) {
     const auto& boxes = scene.boxes();
     const bool lanes = boxes.size() == 1 && boxes[0].codec() == hb::CodecId::none && !boxes[0].refines();
     const double mean_met = probes.empty() ? 0.0 : met_sum / double(probes.size());
+    auto tail_json = [](const hb::QueryLatency& t) {
+      return nlohmann::json{{"p50_ns", t.p50_ns}, {"p99_ns", t.p99_ns}, {"p999_ns", t.p999_ns},
+                            {"max_ns", t.max_ns}, {"queries", t.queries}, {"clock_ns", t.clock_ns}};
+    };
+    // The verdict of each order: faster or slower than exact, and by how much.
+    auto verdict = [](double box, double exact) {
+      if (!(box > 0.0) || !(exact > 0.0)) return std::string("not measured");
+      std::ostringstream v;
+      v << std::fixed << std::setprecision(2);
+      if (exact >= box) v << "faster than exact, " << exact / box << "x";
+      else v << "SLOWER than exact, " << box / exact << "x";
+      return v.str();
+    };
+    const nlohmann::json verdicts = {{"random", verdict(box_ns, exact_ns)},
+                                     {"batched", verdict(box_many_ns, exact_many_ns)},
+                                     {"coherent", verdict(box_coherent_ns, exact_coherent_ns)},
+                                     {"strokes", verdict(box_stroke_ns, exact_stroke_ns)},
+                                     {"p99", verdict(box_tail.p99_ns, exact_tail.p99_ns)},
+                                     {"p999", verdict(box_tail.p999_ns, exact_tail.p999_ns)}};
     const nlohmann::json j = {{"box", opts->box},
                               {"mesh", opts->mesh},
                               {"triangles", mesh.triangle_count()},
@@ -96,6 +121,9 @@ void add_bench_command(CLI::App& app) {
                               {"box_stroke_ns", box_stroke_ns},
                               {"exact_stroke_ns", exact_stroke_ns},
                               {"speedup_stroke", box_stroke_ns > 0 ? exact_stroke_ns / box_stroke_ns : 0.0},
+                              {"box_single_tail", tail_json(box_tail)},
+                              {"exact_single_tail", tail_json(exact_tail)},
+                              {"verdict", verdicts},
                               {"boxes", scene.boxes().size()},
                               {"mean_boxes_met", mean_met},
                               {"by_boxes_met", met_json}};
@@ -107,24 +135,42 @@ void add_bench_command(CLI::App& app) {
               << " triangles, " << probes.size() << " probes, one core, random order)\n"
               << "  haptic box  " << box_ns << " ns/query (" << 1e9 / box_ns / 1e6 << " M queries/s)\n"
               << "  exact       " << exact_ns << " ns/query\n"
-              << "  speedup     " << std::setprecision(2) << exact_ns / box_ns << "x\n"
+              << "  speedup     " << std::setprecision(2) << exact_ns / box_ns << "x: "
+              << verdicts["random"].get<std::string>() << "\n"
+              << std::setprecision(0) << "  single-query tail (" << box_tail.queries
+              << " queries each timed alone, clock pair " << box_tail.clock_ns << " ns subtracted):\n"
+              << "    haptic box  p50 " << box_tail.p50_ns << "  p99 " << box_tail.p99_ns << "  p99.9 "
+              << box_tail.p999_ns << "  max " << box_tail.max_ns << " ns\n"
+              << "    exact       p50 " << exact_tail.p50_ns << "  p99 " << exact_tail.p99_ns << "  p99.9 "
+              << exact_tail.p999_ns << "  max " << exact_tail.max_ns << " ns\n"
+              << "    p99: " << verdicts["p99"].get<std::string>() << "; p99.9: " << verdicts["p999"].get<std::string>()
+              << "\n"
               << std::setprecision(1) << "batched (query_many, 1000 probes a call, random order; "
               << (lanes ? std::string("queries side by side in ") + isa_name + " lanes"
                         : std::string("one query at a time: SIMD lanes serve one raw unrefined box"))
               << "):\n"
               << "  haptic box  " << box_many_ns << " ns/query, exact " << exact_many_ns
               << " ns/query (single rays: Embree packets were slower here), speedup " << std::setprecision(2)
-              << exact_many_ns / box_many_ns << "x\n"
+              << exact_many_ns / box_many_ns << "x: " << verdicts["batched"].get<std::string>() << "\n"
               << std::setprecision(1) << "coherent order (probes sorted along a space-filling curve, as a trajectory):\n"
               << "  haptic box  " << box_coherent_ns << " ns/query, exact " << exact_coherent_ns << " ns/query, speedup "
-              << std::setprecision(2) << exact_coherent_ns / box_coherent_ns << "x\n"
+              << std::setprecision(2) << exact_coherent_ns / box_coherent_ns << "x: "
+              << verdicts["coherent"].get<std::string>() << "\n"
               << std::setprecision(1) << "strokes (" << strokes.size() / kStrokeSteps
               << " hand-like strokes: circles of 2% of the diagonal, 1000 probes 1 ms apart, as a 1 kHz loop):\n"
               << "  haptic box  " << box_stroke_ns << " ns/query, exact " << exact_stroke_ns << " ns/query, speedup "
-              << std::setprecision(2) << exact_stroke_ns / box_stroke_ns << "x\n"
+              << std::setprecision(2) << exact_stroke_ns / box_stroke_ns << "x: "
+              << verdicts["strokes"].get<std::string>() << "\n"
               << std::setprecision(1) << "  boxes       " << scene.boxes().size() << ", met per query " << mean_met << " on average\n";
     for (const auto& m : met_json)
       std::cout << "    meeting " << m["boxes_met"].get<std::string>() << " box(es): " << std::setprecision(1)
                 << m["box_ns"].get<double>() << " ns/query (" << m["queries"].get<std::size_t>() << " queries)\n";
+    int faster = 0;
+    for (const char* order : {"random", "batched", "coherent", "strokes"})
+      faster += verdicts[order].get<std::string>().rfind("faster", 0) == 0 ? 1 : 0;
+    std::cout << "verdict: the haptic box is faster than exact in " << faster << " of 4 orders (random "
+              << std::setprecision(2) << exact_ns / box_ns << "x, batched " << exact_many_ns / box_many_ns
+              << "x, coherent " << exact_coherent_ns / box_coherent_ns << "x, strokes "
+              << exact_stroke_ns / box_stroke_ns << "x; above 1 is faster)\n";
   });
 }

@@ -257,6 +257,11 @@ std::string report_json(const ReportData& d) {
   nlohmann::json timing = {{"box_ns", d.box_ns}};
   for (const SweepRow& r : d.rows)
     if (r.method != "haptic_box") timing[r.method + "_ns"] = r.query_ns;
+  if (timing.contains("exact_embree_ns") && d.box_ns > 0) {
+    const double exact_ns = timing["exact_embree_ns"].get<double>();
+    timing["speedup_vs_exact"] = exact_ns / d.box_ns;
+    timing["verdict"] = exact_ns >= d.box_ns ? "faster than exact" : "slower than exact";
+  }
   j["timing"] = timing;
   j["tolerances"] = {{"force_error_median", o.tolerances.force_error_median},
                      {"force_error_p95", o.tolerances.force_error_p95},
@@ -359,6 +364,10 @@ void write_report(const ReportData& d, const std::string& dir_name) {
   tr("bake time", d.bake_seconds > 0 ? fmt(d.bake_seconds) + " s" : "loaded from a box file");
   tr("query time, haptic box", fmt(d.box_ns, 1) + " ns");
   if (exact) tr("query time, exact Embree", fmt(exact->query_ns, 1) + " ns");
+  if (exact && d.box_ns > 0 && exact->query_ns > 0)
+    tr("speed against exact (same probes, one at a time)",
+       exact->query_ns >= d.box_ns ? "<span class=pass>faster than exact, " + fmt(exact->query_ns / d.box_ns) + "x</span>"
+                                   : "<span class=fail>slower than exact, " + fmt(d.box_ns / exact->query_ns) + "x</span>");
   if (vtk) tr("query time, VTK vtkStaticCellLocator", fmt(vtk->query_ns, 1) + " ns");
   h << "</table>\n<h2>Accuracy against the exact answer</h2>\n<table>\n"
     << "<tr><th>figure</th><th>value</th><th>tolerance</th><th>verdict</th></tr>\n"

@@ -1,5 +1,6 @@
 #include "evaluation/query_timing.h"
 #include "evaluation/comparison.h"
+#include <algorithm>
 #include <chrono>
 
 namespace hb {
@@ -42,6 +43,37 @@ double median_query_many_ns(const ContactQuery& query, const std::vector<Segment
     }
   }
   return quantile(per_batch, 0.5);
+}
+
+QueryLatency single_query_latency(const ContactQuery& query, const std::vector<Segment>& probes,
+                                  const ForceLaw& law, int rounds) {
+  QueryLatency out;
+  if (probes.empty() || rounds < 1) return out;
+  using clock = std::chrono::steady_clock;
+  std::vector<double> clock_pairs(1001);
+  for (double& c : clock_pairs) {
+    const auto t0 = clock::now();
+    const auto t1 = clock::now();
+    c = std::chrono::duration<double, std::nano>(t1 - t0).count();
+  }
+  out.clock_ns = quantile(clock_pairs, 0.5);
+  std::vector<double> ns;
+  ns.reserve(probes.size() * std::size_t(rounds));
+  volatile float sink = 0.f;
+  for (int r = 0; r < rounds; ++r)
+    for (const Segment& s : probes) {
+      const auto t0 = clock::now();
+      const float depth = query.query(s, law).depth;
+      const auto t1 = clock::now();
+      sink = sink + depth;
+      ns.push_back(std::max(0.0, std::chrono::duration<double, std::nano>(t1 - t0).count() - out.clock_ns));
+    }
+  out.queries = ns.size();
+  out.p50_ns = quantile(ns, 0.5);
+  out.p99_ns = quantile(ns, 0.99);
+  out.p999_ns = quantile(ns, 0.999);
+  out.max_ns = *std::max_element(ns.begin(), ns.end());
+  return out;
 }
 
 } // namespace hb

@@ -17,4 +17,15 @@ double median_query_ns(const ContactQuery& query, const std::vector<Segment>& pr
 double median_query_many_ns(const ContactQuery& query, const std::vector<Segment>& probes,
                             const ForceLaw& law, int rounds = 5, std::size_t batch = 1000);
 
+/// Latency of single queries: every query of every round timed on its own (a steady-clock
+/// read on each side, the clock's own median cost subtracted), then quantiles over all of
+/// them. What a 1 kHz loop must budget for is the tail, not the median.
+struct QueryLatency {
+  double p50_ns = 0.0, p99_ns = 0.0, p999_ns = 0.0, max_ns = 0.0;
+  double clock_ns = 0.0;        ///< median cost of one clock read pair (subtracted above).
+  std::size_t queries = 0;      ///< timed queries (probes x rounds).
+};
+QueryLatency single_query_latency(const ContactQuery& query, const std::vector<Segment>& probes,
+                                  const ForceLaw& law, int rounds = 5);
+
 } // namespace hb

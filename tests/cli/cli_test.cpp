@@ -72,6 +72,19 @@ TEST_F(CliTest, BakeInfoEvalBenchProduceDocumentedJson) {
   for (const char* key : {"box_ns", "exact_ns", "speedup", "box_batched_ns", "exact_batched_ns", "speedup_batched", "box_stroke_ns",
                           "exact_stroke_ns", "speedup_stroke", "triangles", "batched_isa", "batched_lanes"})
     EXPECT_TRUE(k.contains(key)) << key;
+  // The tail of single queries, ordered, and a verdict per order.
+  for (const char* tail : {"box_single_tail", "exact_single_tail"}) {
+    ASSERT_TRUE(k.contains(tail)) << tail;
+    const auto& t = k[tail];
+    EXPECT_EQ(t["queries"].get<std::size_t>(), 2000u);
+    EXPECT_LE(t["p50_ns"].get<double>(), t["p99_ns"].get<double>());
+    EXPECT_LE(t["p99_ns"].get<double>(), t["p999_ns"].get<double>());
+    EXPECT_LE(t["p999_ns"].get<double>(), t["max_ns"].get<double>());
+  }
+  for (const char* order : {"random", "batched", "coherent", "strokes", "p99", "p999"}) {
+    const std::string v = k["verdict"][order].get<std::string>();
+    EXPECT_TRUE(v.rfind("faster than exact, ", 0) == 0 || v.rfind("SLOWER than exact, ", 0) == 0) << order << ": " << v;
+  }
   const std::string isa = k["batched_isa"].get<std::string>();
   EXPECT_TRUE(isa == "sse2" || isa == "avx" || isa == "avx2" || isa == "avx512") << isa;
 }
