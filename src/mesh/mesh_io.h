@@ -1,5 +1,6 @@
 #pragma once
-// Reading and writing meshes through OpenMesh (OFF, OBJ, PLY, STL, OM).
+// Reading and writing meshes (OFF, OBJ, PLY, STL, OM): one reader per format under src/mesh/.
+#include "mesh/file_hash.h"  // hash_file, declared here before it had its own file
 #include "mesh/triangle_mesh.h"
 #include <string>
 #include <vector>
@@ -33,8 +34,5 @@ TriangleMesh read_mesh(const std::string& path, MeshReadReport* report = nullptr
 
 /// Writes a mesh (format from the extension, as read_mesh). Throws hb::IoError.
 void write_mesh(const TriangleMesh& mesh, const std::string& path);
-
-/// 64-bit hash (xxHash) of a file's bytes, for box files and reports. Throws hb::IoError.
-std::uint64_t hash_file(const std::string& path);
 
 } // namespace hb

@@ -1,0 +1,24 @@
+#pragma once
+// One reader per mesh format, each returning the raw polygon soup and filling the report's
+// input counts; read_mesh (mesh_io.cpp) picks one by extension, then validates
+// (mesh_validation.h). Internal to src/mesh: callers use mesh_io.h.
+// Each throws hb::IoError or hb::InvalidInput naming the file (and line) and the cause.
+#include "mesh/mesh_io.h"
+#include "mesh/polygon_soup.h"
+
+#include <string>
+
+namespace hb::detail {
+
+/// OFF, strict parser of our own (off_reader.cpp). `text`: the whole file.
+PolygonSoup read_off(const std::string& path, const std::string& text, MeshReadReport& report);
+/// Wavefront OBJ (obj_reader.cpp).
+PolygonSoup read_obj(const std::string& path, MeshReadReport& report);
+/// PLY, ASCII or binary (ply_reader.cpp).
+PolygonSoup read_ply(const std::string& path, MeshReadReport& report);
+/// STL, ASCII or binary (stl_reader.cpp).
+PolygonSoup read_stl(const std::string& path, MeshReadReport& report);
+/// OpenMesh's own OM format (openmesh_reader.cpp).
+PolygonSoup read_om(const std::string& path, MeshReadReport& report);
+
+} // namespace hb::detail
