@@ -1,7 +1,7 @@
 // hapticbox bake MESH -o BOX.hbox [-m 32] [-n 16] [--refine] [--cell C [--max-m 64]] [--pieces auto|FILE|none] [--codec none|haar|block] [--max-error E | --ratio R] [--json]
 #include "cli_support.h"
 #include "commands.h"
-#include "haptic_box/bake.h"
+#include "haptic_box/bake_recipe.h"
 #include "haptic_box/box_file.h"
 #include "mesh/mesh_io.h"
 #include "pieces_option.h"
@@ -13,46 +13,46 @@ void add_bake_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("bake", "Bake a haptic box file from a mesh");
   struct Opts {
     std::string mesh, out;
-    hb::BakeOptions bake;
-    hb::cli::PiecesChoice pieces;
+    hb::BakeRecipe recipe;
+    std::string pieces;
     std::string codec = "none";
-    hb::CodecOptions codec_options;
     bool json = false;
   };
   auto opts = std::make_shared<Opts>();
   cmd->add_option("MESH", opts->mesh, "Input mesh")->required();
   cmd->add_option("-o,--output", opts->out, "Output box file (.hbox)")->required();
-  cmd->add_option("-m", opts->bake.params.m, "Position points per PBB face edge")
+  cmd->add_option("-m", opts->recipe.options.params.m, "Position points per PBB face edge")
       ->check(CLI::Range(2, 1024))->capture_default_str();
-  cmd->add_option("-n", opts->bake.params.n, "Directional points per sub-block face edge")
+  cmd->add_option("-n", opts->recipe.options.params.n, "Directional points per sub-block face edge")
       ->check(CLI::Range(2, 256))->capture_default_str();
-  cmd->add_option("--cell", opts->bake.density.cell,
+  cmd->add_option("--cell", opts->recipe.options.density.cell,
                   "Per-box m: target position-cell size, fraction of the mesh diagonal (0: -m for every box)")
       ->check(CLI::Range(0.0, 1.0))->capture_default_str();
-  cmd->add_option("--max-m", opts->bake.density.max_m, "Largest per-box m with --cell")
+  cmd->add_option("--max-m", opts->recipe.options.density.max_m, "Largest per-box m with --cell")
       ->check(CLI::Range(2, 1024))->capture_default_str();
-  cmd->add_option("--padding", opts->bake.obb.padding, "PBB padding, fraction of its diagonal")
+  cmd->add_option("--padding", opts->recipe.options.obb.padding, "PBB padding, fraction of its diagonal")
       ->check(CLI::Range(0.0, 1.0))->capture_default_str();
-  hb::cli::add_pieces_options(*cmd, opts->pieces);
+  hb::cli::add_pieces_options(*cmd, opts->pieces, opts->recipe);
   cmd->add_option("--codec", opts->codec, "Table codec: none, haar (the paper's) or block (ours)")
       ->check(CLI::IsMember({"none", "haar", "block"}))->capture_default_str();
-  auto* max_error = hb::cli::add_codec_bound_options(*cmd, opts->codec_options);
-  cmd->add_flag("--refine", opts->bake.refine,
+  auto* max_error = hb::cli::add_codec_bound_options(*cmd, opts->recipe.codec);
+  cmd->add_flag("--refine", opts->recipe.options.refine,
                 "Store the triangle each sample hit and the mesh's triangles: queries then refine the blend exactly "
                 "(2 or 4 bytes more per sample, 64 per triangle)");
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
   cmd->callback([opts, max_error] {
-    opts->codec_options.codec = hb::parse_codec(opts->codec);
-    if (opts->codec_options.codec == hb::CodecId::none && (*max_error || opts->codec_options.ratio > 0.f))
+    opts->recipe.codec.codec = hb::parse_codec(opts->codec);
+    if (opts->recipe.codec.codec == hb::CodecId::none && (*max_error || opts->recipe.codec.ratio > 0.f))
       throw hb::cli::UsageError("bake: --max-error and --ratio need --codec haar or block");
     const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh);
     hb::SourceInfo source{opts->mesh, hb::hash_file(opts->mesh), mesh.triangle_count(), mesh.bounds().diagonal()};
-    opts->bake.progress = hb::cli::terminal_progress("baking");
-    hb::BakeStats stats;
-    opts->bake.density.min_m = std::min(opts->bake.density.min_m, opts->bake.density.max_m);
-    const auto pieces = hb::cli::resolve_pieces(mesh, opts->pieces, opts->bake.params.m, opts->bake.density);
-    hb::BoxScene scene = hb::bake_scene_from_lists(mesh, pieces, opts->bake, source, &stats);
-    if (opts->codec_options.codec != hb::CodecId::none) scene = scene.compressed(opts->codec_options);
+    opts->recipe.options.progress = hb::cli::terminal_progress("baking");
+    opts->recipe.options.density.min_m = std::min(opts->recipe.options.density.min_m, opts->recipe.options.density.max_m);
+    hb::cli::apply_pieces_spec(opts->pieces, opts->recipe);
+    const hb::BakeResult baked = hb::bake(mesh, opts->recipe, source);
+    hb::cli::print_decomposition(opts->recipe, baked);
+    const hb::BoxScene& scene = baked.scene;
+    const hb::BakeStats& stats = baked.stats;
     hb::save_box_file(scene, opts->out);
     std::uint64_t raw_bytes = 0, table_bytes = 0;
     double t_mean = 0, t_max = 0, a_mean = 0, a_max = 0, bound = 0;
@@ -73,15 +73,15 @@ void add_bake_command(CLI::App& app) {
                               {"output", opts->out},
                               {"triangles", mesh.triangle_count()},
                               {"boxes", scene.boxes().size()},
-                              {"m", opts->bake.params.m},
+                              {"m", opts->recipe.options.params.m},
                               {"box_m", box_m},
-                              {"n", opts->bake.params.n},
+                              {"n", opts->recipe.options.params.n},
                               {"seconds", stats.seconds},
                               {"rays", stats.rays},
                               {"rays_per_second", stats.rays_per_second},
                               {"hit_fraction", stats.rays ? double(stats.hits) / double(stats.rays) : 0.0},
                               {"bytes", bytes},
-                              {"refine", opts->bake.refine},
+                              {"refine", opts->recipe.options.refine},
                               {"codec", opts->codec},
                               {"table_bytes", table_bytes},
                               {"raw_table_bytes", raw_bytes},
@@ -95,13 +95,13 @@ void add_bake_command(CLI::App& app) {
       hb::cli::print_json(j);
     } else {
       std::cout << "baked " << opts->out << ": " << scene.boxes().size() << " box(es), m="
-                << (opts->bake.density.cell > 0.f ? std::to_string(*std::min_element(box_m.begin(), box_m.end())) + ".." +
+                << (opts->recipe.options.density.cell > 0.f ? std::to_string(*std::min_element(box_m.begin(), box_m.end())) + ".." +
                                                          std::to_string(*std::max_element(box_m.begin(), box_m.end()))
-                                                   : std::to_string(opts->bake.params.m))
-                << " n=" << opts->bake.params.n << ", " << stats.rays << " rays in " << stats.seconds << " s ("
+                                                   : std::to_string(opts->recipe.options.params.m))
+                << " n=" << opts->recipe.options.params.n << ", " << stats.rays << " rays in " << stats.seconds << " s ("
                 << stats.rays_per_second / 1e6 << " M rays/s), " << bytes / 1e6 << " MB"
-                << (opts->bake.refine ? " (with triangle ids and surface for exact refinement)" : "") << "\n";
-      if (opts->codec_options.codec != hb::CodecId::none)
+                << (opts->recipe.options.refine ? " (with triangle ids and surface for exact refinement)" : "") << "\n";
+      if (opts->recipe.codec.codec != hb::CodecId::none)
         std::cout << "codec " << opts->codec << ": ratio " << double(raw_bytes) / double(table_bytes)
                   << ":1, bound " << bound << " of the box diagonal; t error mean " << t_mean << ", max " << t_max
                   << "; normal error mean " << a_mean << " deg, max " << a_max << " deg\n";

@@ -1,32 +1,21 @@
 #pragma once
-// The `--pieces auto|FILE|none` option shared by the commands that bake: how a mesh is cut
-// into pieces before one box per piece is baked.
-#include "decomposition/auto_decomposition.h"
-#include "decomposition/seam_overlap.h"
+// The `--pieces auto|FILE|none` options shared by the commands that bake: they fill the
+// pieces and seams of a hb::BakeRecipe (the cutting itself is hb::bake's).
+#include "haptic_box/bake_recipe.h"
 #include <CLI/CLI.hpp>
 #include <string>
-#include <vector>
 
 namespace hb::cli {
 
-/// Options behind --pieces.
-struct PiecesChoice {
-  std::string spec = "none";       ///< "none" (one box), "auto", or a piece file (.txt or .ply).
-  AutoDecompositionOptions automatic;
-  SeamOptions seams;               ///< how far neighbouring pieces share their seams.
-};
+/// Adds --pieces (into `spec`), --threshold, --max-pieces (into recipe.pieces.automatic),
+/// --seam-rings and --seam-cells (into recipe.seams) to a command.
+void add_pieces_options(CLI::App& cmd, std::string& spec, BakeRecipe& recipe);
 
-/// Adds --pieces, --threshold, --max-pieces, --seam-rings and --seam-cells to a command.
-void add_pieces_options(CLI::App& cmd, PiecesChoice& choice);
+/// Sets recipe.pieces from `spec` (hb::pieces_from_spec), keeping the automatic options,
+/// with a terminal progress bar for an automatic decomposition.
+void apply_pieces_spec(const std::string& spec, BakeRecipe& recipe);
 
-/// A piece id per triangle per `choice` (empty for "none": one piece). Prints a one-line
-/// summary of an automatic decomposition to stderr.
-std::vector<std::uint32_t> resolve_piece_ids(const TriangleMesh& mesh, const PiecesChoice& choice);
-
-/// The triangle lists to bake (one per piece, seams shared). Prints a one-line summary of an
-/// automatic decomposition to stderr. Throws what the reader or the decomposition throws.
-/// `m` is the bake's position density (seam widths are in its cells).
-std::vector<std::vector<std::uint32_t>> resolve_pieces(const TriangleMesh& mesh, const PiecesChoice& choice, int m,
-                                                       const PositionDensity& density = {});
+/// Prints "decomposed into K pieces in S s" to stderr after an automatic decomposition.
+void print_decomposition(const BakeRecipe& recipe, const BakeResult& result);
 
 } // namespace hb::cli

@@ -4,7 +4,7 @@
 #include "cli_support.h"
 #include "commands.h"
 #include "errors.h"
-#include "haptic_box/bake.h"
+#include "haptic_box/bake_recipe.h"
 #include "haptic_box/box_file.h"
 #include "mesh/mesh_io.h"
 #include "report.h"
@@ -95,13 +95,13 @@ void add_report_command(CLI::App& app) {
       if (scene.source().mesh_hash != 0 && scene.source().mesh_hash != mesh_hash)
         std::cerr << "hapticbox: warning: " << box_path << " was baked from a different file than " << mesh_path << "\n";
     } else {
-      hb::BakeOptions bake;
-      bake.params = opts->params;
-      bake.progress = hb::cli::terminal_progress("bake");
+      hb::BakeRecipe recipe;
+      recipe.options.params = opts->params;
+      recipe.options.progress = hb::cli::terminal_progress("bake");
       hb::SourceInfo source{mesh_path, mesh_hash, mesh.triangle_count(), mesh.bounds().diagonal()};
-      hb::BakeStats stats;
-      scene = hb::bake_scene(mesh, {}, bake, source, &stats);
-      bake_seconds = stats.seconds;
+      hb::BakeResult baked = hb::bake(mesh, recipe, source);
+      scene = std::move(baked.scene);
+      bake_seconds = baked.stats.seconds;
       if (!opts->save_box.empty()) {
         hb::save_box_file(scene, opts->save_box);
         box_path = opts->save_box;

@@ -43,7 +43,7 @@ void add_sweep_command(CLI::App& app) {
     std::vector<int> n{4, 8, 16};
     std::vector<std::string> codecs{"none"};
     bool refine = false;
-    hb::cli::PiecesChoice pieces;
+    std::string pieces;
     std::string cache = hb::cli::default_cache_dir();
     bool no_cache = false;
     std::string chart;
@@ -55,7 +55,7 @@ void add_sweep_command(CLI::App& app) {
   cmd->add_option("-m,--m", opts->m, "Position densities m (comma separated)")->delimiter(',')->check(CLI::Range(2, 4096))->capture_default_str();
   cmd->add_option("-n,--n", opts->n, "Directional densities n (comma separated)")->delimiter(',')->check(CLI::Range(2, 1024))->capture_default_str();
   cmd->add_option("--codec", opts->codecs, "Table codecs (comma separated: none, and haar, block when the codec layer is built)")->delimiter(',')->capture_default_str();
-  hb::cli::add_pieces_options(*cmd, opts->pieces);
+  hb::cli::add_pieces_options(*cmd, opts->pieces, opts->sweep.recipe);
   cmd->add_flag("--refine", opts->refine,
                 "Also measure every configuration refined exactly on the mesh's triangles (codec+ref rows)");
   cmd->add_option("--samples", opts->sweep.samples, "Probes per method")->check(CLI::Range(std::size_t(1), std::size_t(10000000)))->capture_default_str();
@@ -93,9 +93,8 @@ void add_sweep_command(CLI::App& app) {
       print_header();
       so.on_row = [](const hb::SweepRow& r) { print_row(r, false); };
     }
-    so.seams = opts->pieces.seams;
-    const std::vector<std::uint32_t> pieces = hb::cli::resolve_piece_ids(mesh, opts->pieces);
-    std::vector<hb::SweepRow> rows = hb::run_sweep(mesh, pieces, source, refs.References(), so);
+    hb::cli::apply_pieces_spec(opts->pieces, so.recipe);
+    std::vector<hb::SweepRow> rows = hb::run_sweep(mesh, source, refs.References(), so);
     if (!opts->chart.empty()) hb::plot_speed_accuracy(rows, opts->chart);
     if (opts->json) {
       nlohmann::json j = {{"mesh", opts->mesh}, {"triangles", mesh.triangle_count()}, {"samples", so.samples},

@@ -1,7 +1,7 @@
 // HapticSession: the window's logic.
 //  1. openMesh reads the mesh (hb::read_mesh), hashes the file, builds the exact query
 //     (Embree) and the surface polydata, then tries the bake cache for the current settings.
-//  2. startBake runs hb::bake_scene on the worker (progress/cancel); the result is installed
+//  2. startBake runs hb::bake on the worker (progress/cancel); the result is installed
 //     on the GUI thread and saved to the cache.
 //  3. With boxes, the servo thread (hb::ServoLoop) runs the chosen device against them at 1 kHz;
 //     a ServoRateMonitor between the loop and the boxes measures the live rate.
@@ -15,13 +15,9 @@
 #include "device/falcon/falcon_usb_transport.h"
 #include "device/servo_log.h"
 #include "device/virtual_device.h"
-#include "decomposition/auto_decomposition.h"
-#include "decomposition/piece_file.h"
-#include "decomposition/seam_overlap.h"
 #include "errors.h"
 #include "evaluation/comparison.h"
 #include "evaluation/sweep.h"
-#include "haptic_box/bake.h"
 #include "haptic_box/box_file.h"
 #include "mesh/mesh_io.h"
 #include "report.h"
@@ -50,17 +46,6 @@ double elapsedNs(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
 }
 
-/// Renumbers piece ids to 0..K-1 in increasing order (the colouring by piece expects
-/// contiguous ids; a piece file may skip some).
-std::vector<std::uint32_t> compactPieceIds(std::vector<std::uint32_t> ids) {
-  std::vector<std::uint32_t> sorted(ids);
-  std::sort(sorted.begin(), sorted.end());
-  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
-  for (auto& id : ids)
-    id = static_cast<std::uint32_t>(std::lower_bound(sorted.begin(), sorted.end(), id) - sorted.begin());
-  return ids;
-}
-
 std::string hex64(std::uint64_t v) {
   char buf[17];
   std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
@@ -74,7 +59,6 @@ HapticSession::HapticSession(QObject* parent) : QObject(parent), job_(new Backgr
   connect(job_, &BackgroundJob::finished, this, [this](bool ok, bool cancelled, const QString& message) {
     const QString name = job_->name();
     if (ok && pendingBoxes_) {
-      boxPieces_ = std::move(pendingPieces_);
       installBoxes(std::move(pendingBoxes_), pendingSeconds_, false);
       if (!pendingCacheWarning_.isEmpty()) emit statusMessage(pendingCacheWarning_);
     }
@@ -205,15 +189,22 @@ hb::SourceInfo HapticSession::sourceInfo() const {
 
 // --- bake ------------------------------------------------------------------------------
 
-std::vector<std::uint32_t> HapticSession::piecesFor(const hb::TriangleMesh& mesh, const BakeSettings& settings) {
-  switch (settings.pieces) {
-  case BakeSettings::Pieces::None: return {};
-  case BakeSettings::Pieces::File:
-    return compactPieceIds(hb::read_piece_file(QFile::encodeName(settings.piecesFile).toStdString(), mesh.triangle_count()));
-  case BakeSettings::Pieces::Automatic:
-    return hb::decompose_auto(mesh).piece_of_triangle;
+hb::BakeRecipe BakeSettings::recipe() const {
+  hb::BakeRecipe r;
+  r.options.params.m = m;
+  r.options.params.n = n;
+  r.options.obb.padding = padding;
+  r.options.refine = refine;
+  switch (pieces) {
+  case Pieces::None: break;
+  case Pieces::File:
+    r.pieces.kind = hb::PiecesRecipe::Kind::file;
+    r.pieces.file = QFile::encodeName(piecesFile).toStdString();
+    break;
+  case Pieces::Automatic: r.pieces.kind = hb::PiecesRecipe::Kind::automatic; break;
   }
-  return {};
+  r.codec.codec = hb::parse_codec(codec.toStdString());  // at the codec's default error bound
+  return r;
 }
 
 QString HapticSession::cachePath() const {
@@ -252,7 +243,6 @@ bool HapticSession::loadCachedBoxes() {
   try {
     auto scene = std::make_shared<hb::BoxScene>(hb::load_box_file(QFile::encodeName(path).toStdString()));
     if (scene->source().mesh_hash != meshHash_) return false;
-    boxPieces_ = piecesFor(*mesh_, bake_);
     installBoxes(std::move(scene), 0.0, true);
     emit statusMessage(tr("Loaded cached boxes %1").arg(path));
     return true;
@@ -268,33 +258,26 @@ bool HapticSession::startBake(QString* error) {
     return false;
   }
   if (busy(error)) return false;
-  hb::CodecOptions codec;
+  hb::BakeRecipe recipe;
   try {
-    codec.codec = hb::parse_codec(bake_.codec.toStdString());
+    recipe = bake_.recipe();
   } catch (const std::exception& e) {
     if (error) *error = QString::fromStdString(e.what());
     return false;
   }
   auto mesh = mesh_;
-  const BakeSettings settings = bake_;
   const hb::SourceInfo source = sourceInfo();
-  const QString cache = settings.useCache ? cachePath() : QString();
-  return job_->start(tr("Bake"), [this, mesh, settings, source, cache, codec](const auto& progress) {
-    const std::vector<std::uint32_t> pieces = piecesFor(*mesh, settings);
-    hb::BakeOptions o;
-    o.params.m = settings.m;
-    o.params.n = settings.n;
-    o.obb.padding = settings.padding;
-    o.refine = settings.refine;
-    o.progress = progress;
-    hb::BakeStats stats;
-    // Pieces share their seam triangles (see hb::piece_triangle_lists), as the CLI bakes them.
-    hb::SeamOptions seams;
-    seams.m = settings.m;
-    seams.obb = o.obb;
-    auto scene = std::make_shared<hb::BoxScene>(
-        hb::bake_scene_from_lists(*mesh, hb::piece_triangle_lists(*mesh, pieces, seams), o, source, &stats));
-    if (codec.codec != hb::CodecId::none) *scene = scene->compressed(codec);  // default error bound
+  const QString cache = bake_.useCache ? cachePath() : QString();
+  return job_->start(tr("Bake"), [this, mesh, recipe, source, cache](const auto& progress) mutable {
+    if (recipe.pieces.kind == hb::PiecesRecipe::Kind::automatic) {
+      // The decomposition takes the first third of the bar, the rays the rest.
+      recipe.pieces.automatic.progress = [progress](double f) { return progress(f / 3.0); };
+      recipe.options.progress = [progress](double f) { return progress((1.0 + 2.0 * f) / 3.0); };
+    } else {
+      recipe.options.progress = progress;
+    }
+    hb::BakeResult baked = hb::bake(*mesh, recipe, source);
+    auto scene = std::make_shared<hb::BoxScene>(std::move(baked.scene));
     if (!cache.isEmpty()) {
       try {
         QDir().mkpath(QFileInfo(cache).absolutePath());
@@ -303,8 +286,7 @@ bool HapticSession::startBake(QString* error) {
         pendingCacheWarning_ = tr("Baked, but not cached: %1").arg(QString::fromStdString(e.what()));
       }
     }
-    pendingPieces_ = pieces;
-    pendingSeconds_ = stats.seconds;
+    pendingSeconds_ = baked.stats.seconds;
     pendingBoxes_ = std::move(scene);
   });
 }
@@ -320,7 +302,6 @@ bool HapticSession::openBoxFile(const QString& path, QString* error) {
     if (scene->source().mesh_hash != 0 && scene->source().mesh_hash != meshHash_)
       throw hb::InvalidInput(QFile::encodeName(path).toStdString() + ": baked from another mesh (" +
                              scene->source().mesh_path + ")");
-    boxPieces_.clear();
     installBoxes(std::move(scene), 0.0, true);
     return true;
   } catch (const std::exception& e) {
@@ -343,6 +324,7 @@ bool HapticSession::saveBoxFile(const QString& path, QString* error) const {
 void HapticSession::installBoxes(std::shared_ptr<const hb::BoxScene> boxes, double seconds, bool fromCache) {
   stopServo();
   boxes_ = std::move(boxes);
+  boxPieces_ = boxes_->piece_of_triangle();
   bakeSeconds_ = seconds;
   boxesFromCache_ = fromCache;
   errorField_.reset();
@@ -356,36 +338,7 @@ void HapticSession::installBoxes(std::shared_ptr<const hb::BoxScene> boxes, doub
   emit errorFieldChanged();
 }
 
-void HapticSession::rebuildOutlines() {
-  // 12 edges per PBB, corners in the box frame.
-  auto points = vtkSmartPointer<vtkPoints>::New();
-  auto lines = vtkSmartPointer<vtkCellArray>::New();
-  auto ids = vtkSmartPointer<vtkIntArray>::New();
-  ids->SetName("BoxId");
-  static const int edges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
-                                   {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
-  int boxId = 0;
-  for (const auto& box : boxes_->boxes()) {
-    const hb::Obb& o = box.obb();
-    const vtkIdType base = points->GetNumberOfPoints();
-    for (int c = 0; c < 8; ++c) {
-      const hb::Vec3 p = o.to_world(hb::Vec3((c & 1) ? o.half.x() : -o.half.x(),
-                                             (c & 2) ? o.half.y() : -o.half.y(),
-                                             (c & 4) ? o.half.z() : -o.half.z()));
-      points->InsertNextPoint(p.x(), p.y(), p.z());
-    }
-    for (const auto& e : edges) {
-      const vtkIdType line[2] = {base + e[0], base + e[1]};
-      lines->InsertNextCell(2, line);
-      ids->InsertNextValue(boxId);
-    }
-    ++boxId;
-  }
-  outlines_ = vtkSmartPointer<vtkPolyData>::New();
-  outlines_->SetPoints(points);
-  outlines_->SetLines(lines);
-  outlines_->GetCellData()->AddArray(ids);
-}
+void HapticSession::rebuildOutlines() { outlines_ = vtkHapticBoxUtilities::BoxOutlines(*boxes_); }
 
 // --- error field -----------------------------------------------------------------------
 
@@ -651,7 +604,7 @@ bool HapticSession::startSweep(const std::vector<int>& ms, const std::vector<int
     o.law = law_;
     o.cache_dir = QFile::encodeName(cache).toStdString();
     o.progress = progress;
-    pendingRows_ = hb::run_sweep(*mesh, {}, source, refs, o);
+    pendingRows_ = hb::run_sweep(*mesh, source, refs, o);
     pendingCompression_.clear();
     pendingRowsReady_ = true;
   });

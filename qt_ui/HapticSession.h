@@ -7,6 +7,7 @@
 #include "device/servo_loop.h"
 #include "evaluation/error_field.h"
 #include "evaluation/sweep.h"
+#include "haptic_box/bake_recipe.h"
 #include "haptic_box/box_scene.h"
 #include "mesh/triangle_mesh.h"
 #include <QObject>
@@ -40,6 +41,9 @@ struct BakeSettings {
   QString codec = QStringLiteral("none");
   bool refine = false;            ///< store triangle ids: queries refine exactly (hb::BakeOptions::refine).
   bool useCache = true;           ///< load/save baked boxes next to the model.
+  /// The bake these settings ask for (seams and decomposition at their defaults, the codec at
+  /// its default error bound). Throws hb::InvalidInput for an unknown codec.
+  hb::BakeRecipe recipe() const;
 };
 
 /// The surface metric the error-field view colours by.
@@ -167,8 +171,6 @@ signals:
   void statusMessage(const QString& message);
 
 private:
-  /// Piece id per triangle for `settings` (empty: one piece). Pure: safe on the worker.
-  static std::vector<std::uint32_t> piecesFor(const hb::TriangleMesh& mesh, const BakeSettings& settings);
   void installBoxes(std::shared_ptr<const hb::BoxScene> boxes, double seconds, bool fromCache);
   void rebuildOutlines();
   void updatePieceArray(const std::vector<std::uint32_t>& pieces);
@@ -197,7 +199,6 @@ private:
 
   // Results handed from the worker to the GUI thread on finished().
   std::shared_ptr<const hb::BoxScene> pendingBoxes_;
-  std::vector<std::uint32_t> pendingPieces_;
   std::unique_ptr<hb::ErrorField> pendingField_;
   double pendingSeconds_ = 0.0;
   QString pendingCacheWarning_;

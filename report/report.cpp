@@ -168,7 +168,11 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   so.law = options.law;
   so.cache_dir = options.cache_dir;
   so.progress = sub_range(options.progress, 0.05, 0.85);
-  d.rows = run_sweep(mesh, pieces, scene.source(), references, so);
+  if (!pieces.empty()) {
+    so.recipe.pieces.kind = PiecesRecipe::Kind::given;
+    so.recipe.pieces.given = pieces;
+  }
+  d.rows = run_sweep(mesh, scene.source(), references, so);
   d.box_ns = median_query_ns(scene, probes, options.law, options.timing_rounds);
   SweepRow own;
   own.method = "haptic_box";

@@ -1,9 +1,9 @@
-// 1. convert the surface, read the piece ids (numbered compactly) if any;
-// 2. hb::bake_scene with a progress callback that also honours AbortExecute;
+// 1. convert the surface, read the piece ids if any (hb::bake numbers them compactly);
+// 2. hb::bake with the recipe and a progress callback that also honours AbortExecute;
 // 3. outputs: the scene, the PBB outlines and the position points for display.
 #include "vtkHapticBoxBakeFilter.h"
 #include "errors.h"
-#include "haptic_box/bake.h"
+#include <algorithm>
 #include "vtkHapticBoxSet.h"
 #include "vtkHapticBoxUtilities.h"
 #include <vtkCellArray.h>
@@ -19,7 +19,6 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
-#include <map>
 
 vtkStandardNewMacro(vtkHapticBoxBakeFilter);
 
@@ -29,6 +28,38 @@ vtkHapticBoxBakeFilter::vtkHapticBoxBakeFilter() {
 }
 
 vtkHapticBoxBakeFilter::~vtkHapticBoxBakeFilter() { this->SetPieceArrayName(nullptr); }
+
+void vtkHapticBoxBakeFilter::SetRecipe(const hb::BakeRecipe& recipe) {
+  this->Recipe = recipe;
+  this->Modified();
+}
+
+void vtkHapticBoxBakeFilter::SetM(int m) {
+  m = std::clamp(m, 2, 1024);
+  if (m == this->Recipe.options.params.m) return;
+  this->Recipe.options.params.m = m;
+  this->Modified();
+}
+
+void vtkHapticBoxBakeFilter::SetN(int n) {
+  n = std::clamp(n, 2, 256);
+  if (n == this->Recipe.options.params.n) return;
+  this->Recipe.options.params.n = n;
+  this->Modified();
+}
+
+void vtkHapticBoxBakeFilter::SetPadding(double padding) {
+  const float p = float(std::clamp(padding, 0.0, 1.0));
+  if (p == this->Recipe.options.obb.padding) return;
+  this->Recipe.options.obb.padding = p;
+  this->Modified();
+}
+
+void vtkHapticBoxBakeFilter::SetRefine(bool refine) {
+  if (refine == this->Recipe.options.refine) return;
+  this->Recipe.options.refine = refine;
+  this->Modified();
+}
 
 vtkHapticBoxSet* vtkHapticBoxBakeFilter::GetBoxSet() {
   return vtkHapticBoxSet::SafeDownCast(this->GetOutputDataObject(0));
@@ -69,8 +100,8 @@ int vtkHapticBoxBakeFilter::RequestData(vtkInformation*, vtkInformationVector** 
     this->UpdateProgress(0.0);
     const hb::TriangleMesh mesh = vtkHapticBoxUtilities::ToTriangleMesh(input);
 
+    hb::BakeRecipe recipe = this->Recipe;
     // Piece ids: only meaningful when no triangle was dropped or split by the conversion.
-    std::vector<std::uint32_t> pieces;
     vtkDataArray* ids = (this->PieceArrayName && input->GetCellData())
         ? input->GetCellData()->GetArray(this->PieceArrayName) : nullptr;
     if (ids) {
@@ -78,36 +109,29 @@ int vtkHapticBoxBakeFilter::RequestData(vtkInformation*, vtkInformationVector** 
           input->GetNumberOfPolys() != vtkIdType(mesh.triangle_count()))
         throw hb::InvalidInput(std::string("the cell array ") + this->PieceArrayName +
                                " needs a surface of triangles only (one id per triangle)");
-      std::map<long long, std::uint32_t> number;
-      for (vtkIdType c = 0; c < ids->GetNumberOfTuples(); ++c) number.emplace((long long)ids->GetComponent(c, 0), 0u);
-      std::uint32_t next = 0;
-      for (auto& kv : number) kv.second = next++;
-      pieces.resize(mesh.triangle_count());
-      for (vtkIdType c = 0; c < ids->GetNumberOfTuples(); ++c)
-        pieces[std::size_t(c)] = number[(long long)ids->GetComponent(c, 0)];
+      recipe.pieces.kind = hb::PiecesRecipe::Kind::given;
+      recipe.pieces.given.resize(mesh.triangle_count());
+      for (vtkIdType c = 0; c < ids->GetNumberOfTuples(); ++c) {
+        const double v = ids->GetComponent(c, 0);
+        if (!(v >= 0.0 && v < 4294967296.0))
+          throw hb::InvalidInput(std::string("the cell array ") + this->PieceArrayName + " holds " +
+                                 std::to_string(v) + " (piece ids are integers >= 0)");
+        recipe.pieces.given[std::size_t(c)] = std::uint32_t(v);
+      }
     }
-
-    hb::BakeOptions options;
-    options.params.m = this->M;
-    options.params.n = this->N;
-    options.obb.padding = float(this->Padding);
-    options.refine = this->Refine;
-    options.progress = vtkHapticBoxUtilities::MakeProgressCallback(this, 0.02, 0.98);
+    const bool decompose = recipe.pieces.kind == hb::PiecesRecipe::Kind::automatic;
+    if (decompose) recipe.pieces.automatic.progress = vtkHapticBoxUtilities::MakeProgressCallback(this, 0.02, 0.3);
+    recipe.options.progress = vtkHapticBoxUtilities::MakeProgressCallback(this, decompose ? 0.3 : 0.02, 0.98);
     hb::SourceInfo source;
     source.triangles = mesh.triangle_count();
     source.diagonal = mesh.bounds().diagonal();
-    hb::BakeStats stats;
-    auto scene = std::make_shared<const hb::BoxScene>(hb::bake_scene(mesh, pieces, options, source, &stats));
+    hb::BakeResult baked = hb::bake(mesh, recipe, source);
+    const hb::BakeStats stats = baked.stats;
+    auto scene = std::make_shared<const hb::BoxScene>(std::move(baked.scene));
     this->BakeSeconds = stats.seconds;
     boxes->SetScene(scene);
 
-    // PBB outlines: 8 corners, 12 edges per box.
-    vtkNew<vtkPoints> corners;
-    vtkNew<vtkCellArray> lines;
-    vtkNew<vtkIntArray> lineBox;
-    lineBox->SetName("BoxId");
-    static const int edges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
-                                     {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+    outlines->ShallowCopy(vtkHapticBoxUtilities::BoxOutlines(*scene));
     // Position points with their box and face.
     vtkNew<vtkPoints> pts;
     vtkNew<vtkCellArray> verts;
@@ -116,19 +140,6 @@ int vtkHapticBoxBakeFilter::RequestData(vtkInformation*, vtkInformationVector** 
     ptFace->SetName("Face");
     for (std::size_t b = 0; b < scene->boxes().size(); ++b) {
       const hb::HapticBox& box = scene->boxes()[b];
-      const vtkIdType base = corners->GetNumberOfPoints();
-      for (int k = 0; k < 8; ++k) {
-        const hb::Vec3 q((k & 1) ? box.obb().half.x() : -box.obb().half.x(),
-                         (k & 2) ? box.obb().half.y() : -box.obb().half.y(),
-                         (k & 4) ? box.obb().half.z() : -box.obb().half.z());
-        const hb::Vec3 w = box.obb().to_world(q);
-        corners->InsertNextPoint(w.x(), w.y(), w.z());
-      }
-      for (const auto& e : edges) {
-        const vtkIdType line[2] = {base + e[0], base + e[1]};
-        lines->InsertNextCell(2, line);
-        lineBox->InsertNextValue(int(b));
-      }
       const int m = box.params().m;
       for (int face = 0; face < 6; ++face)
         for (int i = 0; i < m; ++i)
@@ -140,9 +151,6 @@ int vtkHapticBoxBakeFilter::RequestData(vtkInformation*, vtkInformationVector** 
             ptFace->InsertNextValue(face);
           }
     }
-    outlines->SetPoints(corners);
-    outlines->SetLines(lines);
-    outlines->GetCellData()->AddArray(lineBox);
     vtkNew<vtkDoubleArray> seconds, bytes;
     seconds->SetName("BakeSeconds");
     seconds->InsertNextValue(stats.seconds);
@@ -164,8 +172,10 @@ int vtkHapticBoxBakeFilter::RequestData(vtkInformation*, vtkInformationVector** 
 
 void vtkHapticBoxBakeFilter::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "M: " << this->M << "\n"
-     << indent << "N: " << this->N << "\n"
-     << indent << "Padding: " << this->Padding << "\n"
+  os << indent << "M: " << this->GetM() << "\n"
+     << indent << "N: " << this->GetN() << "\n"
+     << indent << "Padding: " << this->GetPadding() << "\n"
+     << indent << "Refine: " << this->GetRefine() << "\n"
+     << indent << "Pieces: " << hb::pieces_spec(this->Recipe.pieces) << "\n"
      << indent << "PieceArrayName: " << (this->PieceArrayName ? this->PieceArrayName : "(none)") << "\n";
 }

@@ -1,10 +1,13 @@
 /**
  * @class   vtkHapticBoxBakeFilter
- * @brief   Bakes haptic boxes for a surface (a thin adapter over hb::bake_scene).
+ * @brief   Bakes haptic boxes for a surface (a thin adapter over hb::bake with a
+ *          hb::BakeRecipe: the same bake as `hapticbox bake` and the window).
  *
  * Input: a triangle surface; when it carries an integer cell array named PieceArrayName
  * (default "PieceId", e.g. from the decomposition filter), one box is baked per piece
- * (distinct values are numbered 0..K-1 in increasing order), otherwise one box in all.
+ * (distinct values are numbered 0..K-1 in increasing order; neighbouring pieces share their
+ * seams per the recipe), otherwise one box in all, or the recipe's own pieces (automatic or
+ * a piece file) when it names some.
  * Outputs:
  *  0: vtkHapticBoxSet, the boxes (an hb::BoxScene), for vtkHapticBoxErrorFieldFilter;
  *  1: vtkPolyData, the PBB outlines (12 lines per box, cell data "BoxId");
@@ -15,6 +18,7 @@
 #ifndef vtkHapticBoxBakeFilter_h
 #define vtkHapticBoxBakeFilter_h
 
+#include "haptic_box/bake_recipe.h"
 #include <vtkPolyDataAlgorithm.h>
 
 class vtkHapticBoxSet;
@@ -26,28 +30,35 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /// Position points per PBB face edge (m, default 32, >= 2).
-  vtkSetClampMacro(M, int, 2, 4096);
-  vtkGetMacro(M, int);
+  /// The whole recipe (densities, padding, refinement, pieces, seams, codec); the setters
+  /// below change single fields of it. Its progress callbacks are the filter's own.
+  void SetRecipe(const hb::BakeRecipe& recipe);
+  const hb::BakeRecipe& GetRecipe() const { return this->Recipe; }
   ///@}
 
   ///@{
-  /// Directional points per sub-block face edge (n, default 16, >= 2).
-  vtkSetClampMacro(N, int, 2, 1024);
-  vtkGetMacro(N, int);
+  /// Position points per PBB face edge (m, default 32, in [2, 1024]).
+  void SetM(int m);
+  int GetM() const { return this->Recipe.options.params.m; }
+  ///@}
+
+  ///@{
+  /// Directional points per sub-block face edge (n, default 16, in [2, 256]).
+  void SetN(int n);
+  int GetN() const { return this->Recipe.options.params.n; }
   ///@}
 
   ///@{
   /// PBB padding, fraction of the fitted box's diagonal (default 0.01).
-  vtkSetClampMacro(Padding, double, 0.0, 1.0);
-  vtkGetMacro(Padding, double);
+  void SetPadding(double padding);
+  double GetPadding() const { return this->Recipe.options.obb.padding; }
   ///@}
 
   ///@{
   /// Store the triangle each sample hit so queries refine exactly (hb::BakeOptions::refine,
   /// docs/refinement.md); default off.
-  vtkSetMacro(Refine, bool);
-  vtkGetMacro(Refine, bool);
+  void SetRefine(bool refine);
+  bool GetRefine() const { return this->Recipe.options.refine; }
   vtkBooleanMacro(Refine, bool);
   ///@}
 
@@ -69,10 +80,7 @@ protected:
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  int M = 32;
-  int N = 16;
-  double Padding = 0.01;
-  bool Refine = false;
+  hb::BakeRecipe Recipe;
   char* PieceArrayName = nullptr;
   double BakeSeconds = 0.0;
 

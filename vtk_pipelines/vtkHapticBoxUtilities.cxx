@@ -1,5 +1,8 @@
 #include "vtkHapticBoxUtilities.h"
 #include "errors.h"
+#include "haptic_box/box_scene.h"
+#include <vtkCellData.h>
+#include <vtkIntArray.h>
 #include <vtkAlgorithm.h>
 #include <vtkCellArray.h>
 #include <vtkDataArray.h>
@@ -56,6 +59,34 @@ hb::TriangleMesh vtkHapticBoxUtilities::ToTriangleMesh(vtkPolyData* polyData) {
     mesh.compute_vertex_normals();
   }
   return mesh;
+}
+
+vtkSmartPointer<vtkPolyData> vtkHapticBoxUtilities::BoxOutlines(const hb::BoxScene& scene) {
+  auto corners = vtkSmartPointer<vtkPoints>::New();
+  auto lines = vtkSmartPointer<vtkCellArray>::New();
+  auto lineBox = vtkSmartPointer<vtkIntArray>::New();
+  lineBox->SetName("BoxId");
+  static const int edges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
+                                   {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  for (std::size_t b = 0; b < scene.boxes().size(); ++b) {
+    const hb::Obb& o = scene.boxes()[b].obb();
+    const vtkIdType base = corners->GetNumberOfPoints();
+    for (int k = 0; k < 8; ++k) {
+      const hb::Vec3 w = o.to_world(hb::Vec3((k & 1) ? o.half.x() : -o.half.x(), (k & 2) ? o.half.y() : -o.half.y(),
+                                             (k & 4) ? o.half.z() : -o.half.z()));
+      corners->InsertNextPoint(w.x(), w.y(), w.z());
+    }
+    for (const auto& e : edges) {
+      const vtkIdType line[2] = {base + e[0], base + e[1]};
+      lines->InsertNextCell(2, line);
+      lineBox->InsertNextValue(int(b));
+    }
+  }
+  auto outlines = vtkSmartPointer<vtkPolyData>::New();
+  outlines->SetPoints(corners);
+  outlines->SetLines(lines);
+  outlines->GetCellData()->AddArray(lineBox);
+  return outlines;
 }
 
 vtkSmartPointer<vtkPolyData> vtkHapticBoxUtilities::ToPolyData(const hb::TriangleMesh& mesh) {

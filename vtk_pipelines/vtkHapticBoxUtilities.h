@@ -15,6 +15,9 @@
 #include <string>
 #include <vector>
 
+namespace hb {
+class BoxScene;
+}
 class vtkAlgorithm;
 class vtkFloatArray;
 class vtkPolyData;
@@ -32,6 +35,9 @@ public:
 
   /// A triangle polydata (cell i = triangle i) with the vertex normals as point "Normals".
   static vtkSmartPointer<vtkPolyData> ToPolyData(const hb::TriangleMesh& mesh);
+
+  /// The PBB outlines of a scene: 8 corners and 12 lines per box, cell data "BoxId".
+  static vtkSmartPointer<vtkPolyData> BoxOutlines(const hb::BoxScene& scene);
 
   /// A float array of 3-component tuples named `name`.
   static vtkSmartPointer<vtkFloatArray> ToVectorArray(const char* name, const std::vector<hb::Vec3>& values);

@@ -1,6 +1,6 @@
 // Seam overlap, per piece:
-//  1. Fit the piece's PBB and take its cell size h = largest edge / (m - 1), with the piece's
-//     own m when the bake picks m per box (SeamOptions::density).
+//  1. The piece's cell size h = largest PBB edge / (m - 1) of the box the bake fits to it
+//     (PieceGridOf: the piece's own m when the bake picks m per box).
 //  2. Breadth-first growth over edge adjacency; every grown triangle remembers the centroid
 //     of the piece triangle its growth started from. A neighbour joins when it is within the
 //     minimum ring count, or its centroid is within cells * h of that origin.
@@ -13,7 +13,8 @@ namespace hb {
 
 std::vector<std::vector<std::uint32_t>> piece_triangle_lists(const TriangleMesh& mesh,
                                                              const std::vector<std::uint32_t>& piece_of_triangle,
-                                                             const SeamOptions& options) {
+                                                             const SeamOptions& options,
+                                                             const PieceGridOf& grid_of) {
   const std::size_t count = mesh.triangle_count();
   if (piece_of_triangle.empty()) {
     std::vector<std::uint32_t> all(count);
@@ -23,13 +24,14 @@ std::vector<std::vector<std::uint32_t>> piece_triangle_lists(const TriangleMesh&
   if (piece_of_triangle.size() != count)
     throw InvalidInput("piece list has " + std::to_string(piece_of_triangle.size()) + " entries, the mesh has " +
                        std::to_string(count) + " triangles");
-  if (options.rings < 0 || !(options.cells >= 0.f) || options.m < 2)
-    throw InvalidInput("seam options: rings and cells must be >= 0, m >= 2");
+  if (options.rings < 0 || !(options.cells >= 0.f))
+    throw InvalidInput("seam options: rings and cells must be >= 0");
   const std::uint32_t max_id = *std::max_element(piece_of_triangle.begin(), piece_of_triangle.end());
   std::vector<std::vector<std::uint32_t>> pieces(std::size_t(max_id) + 1);
   for (std::uint32_t t = 0; t < count; ++t) pieces[piece_of_triangle[t]].push_back(t);
   pieces.erase(std::remove_if(pieces.begin(), pieces.end(), [](const auto& p) { return p.empty(); }), pieces.end());
   if ((options.rings == 0 && options.cells == 0.f) || pieces.size() == 1) return pieces;
+  if (options.cells > 0.f && !grid_of) throw InvalidInput("seam options: cells > 0 needs each piece's grid");
   const TriangleAdjacency adj = triangle_adjacency(mesh);
   std::vector<Vec3> centroid(count);
   for (std::size_t t = 0; t < count; ++t) {
@@ -41,9 +43,9 @@ std::vector<std::vector<std::uint32_t>> piece_triangle_lists(const TriangleMesh&
     auto& list = pieces[p];
     float width = 0.f;
     if (options.cells > 0.f) {
-      const Obb box = fit_obb(mesh, list, options.obb);
-      const float edge = 2.f * box.half.maxCoeff();
-      width = options.cells * edge / float(options.density.m_for(options.m, edge, mesh.bounds().diagonal()) - 1);
+      const PieceGrid grid = grid_of(list);
+      if (grid.m < 2) throw InvalidInput("seam options: a piece's m must be >= 2");
+      width = options.cells * grid.largest_edge / float(grid.m - 1);
     }
     const float width_sq = width * width;
     for (std::uint32_t t : list) {

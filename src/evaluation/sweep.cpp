@@ -7,7 +7,7 @@
 #include "evaluation/sweep.h"
 #include "errors.h"
 #include "evaluation/query_timing.h"
-#include "haptic_box/bake.h"
+#include "haptic_box/bake_recipe.h"
 #include "haptic_box/box_file.h"
 #include "codec/codec.h"
 #include <xxhash.h>
@@ -66,8 +66,7 @@ void mark_pareto_front(std::vector<SweepRow>& rows) {
   }
 }
 
-std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const std::vector<std::uint32_t>& piece_of_triangle,
-                                const SourceInfo& source, const std::vector<SweepReference>& references,
+std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& source, const std::vector<SweepReference>& references,
                                 const SweepOptions& options) {
   if (references.empty() || !references.front().query)
     throw InvalidInput("run_sweep: needs the exact reference first");
@@ -75,6 +74,8 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const std::vector<std:
   const bool use_cache = !options.cache_dir.empty() && source.mesh_hash != 0;
   if (use_cache) std::filesystem::create_directories(options.cache_dir);
 
+  // The pieces are cut once; every configuration bakes the same ones.
+  const std::vector<std::uint32_t> piece_of_triangle = resolve_piece_ids(mesh, options.recipe.pieces);
   const std::vector<Segment> probes = sample_probes(mesh, options.samples, options.probes);
   const float diagonal = mesh.bounds().diagonal();
   const ContactQuery& exact = *references.front().query;
@@ -123,7 +124,7 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const std::vector<std:
       char tag[64];
       std::snprintf(tag, sizeof tag, "_pieces%016llx_r%d_c%d.hbox",
                     static_cast<unsigned long long>(XXH3_64bits(piece_of_triangle.data(), piece_of_triangle.size() * 4u)),
-                    options.seams.rings, int(std::lround(options.seams.cells * 100.f)));
+                    options.recipe.seams.rings, int(std::lround(options.recipe.seams.cells * 100.f)));
       cached = cached.substr(0, cached.size() - 5) + tag;
     }
     bool loaded = false;
@@ -138,25 +139,23 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const std::vector<std:
       }
     }
     if (!loaded) {
-      BakeOptions bake;
-      bake.params.m = config.m;
-      bake.params.n = config.n;
-      bake.obb = options.obb;
-      bake.refine = config.refine;
+      BakeRecipe recipe = options.recipe;
+      recipe.pieces = {};
+      if (!piece_of_triangle.empty()) {
+        recipe.pieces.kind = PiecesRecipe::Kind::given;
+        recipe.pieces.given = piece_of_triangle;
+      }
+      recipe.options.params.m = config.m;
+      recipe.options.params.n = config.n;
+      recipe.options.refine = config.refine;
+      recipe.codec.codec = CodecId::none;  // the cache holds raw boxes
       const double base = done;
-      bake.progress = [&](double f) {
+      recipe.options.progress = [&](double f) {
         return !options.progress || options.progress(std::min(1.0, (base + f) / steps));
       };
-      BakeStats stats;
-      if (piece_of_triangle.empty()) {
-        scene = bake_scene(mesh, piece_of_triangle, bake, source, &stats);
-      } else {
-        SeamOptions seams = options.seams;
-        seams.m = config.m;
-        seams.density = bake.density;
-        seams.obb = options.obb;
-        scene = bake_scene_from_lists(mesh, piece_triangle_lists(mesh, piece_of_triangle, seams), bake, source, &stats);
-      }
+      BakeResult baked = bake(mesh, recipe, source);
+      scene = std::move(baked.scene);
+      const BakeStats& stats = baked.stats;
       row.bake_seconds = stats.seconds;
       if (use_cache) save_box_file(scene, cached);
     }

@@ -2,10 +2,8 @@
 // Speed against accuracy: bake, evaluate and time a grid of box configurations next to
 // reference methods measured in the same run on the same probe segments.
 #include "evaluation/comparison.h"
-#include "decomposition/seam_overlap.h"
 #include "evaluation/probe_sampling.h"
-#include "geometry/obb.h"
-#include "haptic_box/box_scene.h"
+#include "haptic_box/bake_recipe.h"
 #include "progress.h"
 #include <functional>
 #include <string>
@@ -64,10 +62,10 @@ struct SweepOptions {
   int timing_rounds = 5;           ///< passes of median_query_ns.
   ProbeOptions probes;             ///< the default probe distribution.
   ForceLaw law;
-  ObbOptions obb;
-  /// With pieces: how far neighbouring pieces share their seams (`m`, `density` and `obb` are
-  /// taken from each configuration and `obb` above).
-  SeamOptions seams;
+  /// The bake every configuration starts from: pieces (cut once for the whole sweep), seams,
+  /// padding; each configuration sets m, n and refinement, and its codec is applied to the
+  /// raw scene in memory. Its progress callbacks are replaced by `progress`.
+  BakeRecipe recipe;
   /// Directory of cached (raw) boxes, named by mesh hash and densities; empty: no cache.
   /// A cached box is used only when its recorded mesh hash matches `source.mesh_hash` (!= 0).
   std::string cache_dir;
@@ -80,13 +78,12 @@ struct SweepOptions {
 /// Runs the sweep: the references first (the first one is the ground truth, normally exact
 /// Embree; its own row has zero error), then each configuration: bake (or load from the
 /// cache, saving new bakes to it), evaluate on the same probes, time on one core.
-/// `piece_of_triangle` (empty: one box) gives one box per piece, the pieces sharing their
-/// seams per options.seams as `hapticbox bake` does; cached scenes are keyed by the pieces. Only one
-/// box is held in memory at a time. Returns the rows with the Pareto front marked.
+/// Pieces (options.recipe.pieces) give one box per piece, the pieces sharing their seams as
+/// `hapticbox bake` does (hb::bake); cached scenes are keyed by the pieces. Only one
+/// configuration is held in memory at a time. Returns the rows with the Pareto front marked.
 /// Throws hb::InvalidInput (no reference, bad configuration or codec), hb::IoError (cache),
 /// hb::Cancelled.
-std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const std::vector<std::uint32_t>& piece_of_triangle,
-                                const SourceInfo& source, const std::vector<SweepReference>& references,
+std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& source, const std::vector<SweepReference>& references,
                                 const SweepOptions& options);
 
 /// Marks the Pareto front over (query_ns, force_error_median): a row is on it when no

@@ -1,4 +1,4 @@
-// The .hbox file format, version 3 (little-endian; versions 1 and 2 are still read):
+// The .hbox file format, version 4 (little-endian; versions 1 to 3 are still read):
 //  1. Header: magic "HBOXFILE", u32 version, u32 box count, u64 mesh hash, u64 triangles,
 //     f32 diagonal, u32 path length + path bytes; then per box: u32 codec (CodecId: 0 raw
 //     8-byte samples, 1 Haar, 2 block), i32 m, i32 n, f32 centre[3], axes[9] (columns),
@@ -7,11 +7,14 @@
 //     diagonal), mean and max normal angle (degrees), u64 hit/miss flips; version 3 adds
 //     the box's triangle ids (u64 offset, u64 bytes: 0 without refinement, 2 or 4 a sample;
 //     u64 hash; u32 base added to 2-byte ids, see TriangleIds) and,
-//     after the boxes, the scene's surface triangles (u64 offset, u64 bytes, u64 hash); then
-//     u64 hash of all header bytes before it.
+//     after the boxes, the scene's surface triangles (u64 offset, u64 bytes, u64 hash);
+//     version 4 adds the scene's piece ids (u64 offset, u64 bytes: 0 or 4 a triangle of the
+//     source mesh, u64 hash; BoxScene::piece_of_triangle); then u64 hash of all header bytes
+//     before it.
 //  2. Tables at 64-byte aligned offsets: raw records in HapticBox::sample_index order, or a
 //     compressed payload (codec/table_payload.h); then each refined box's triangle ids
-//     (same order; u16 offsets or u32 slots), then the SurfaceTriangles records.
+//     (same order; u16 offsets or u32 slots), then the SurfaceTriangles records, then the
+//     piece ids (u32 per triangle).
 //  3. Loading maps the file read-only (mmap); boxes point into the mapping, which stays
 //     alive while any box of the scene does. Always checked: the header hash, sizes and
 //     offsets, and each compressed payload's own header (one page). Table hashes only with
@@ -31,7 +34,7 @@ namespace hb {
 namespace {
 
 constexpr char kMagic[8] = {'H', 'B', 'O', 'X', 'F', 'I', 'L', 'E'};
-constexpr std::uint32_t kVersion = 3;
+constexpr std::uint32_t kVersion = 4;
 constexpr std::size_t kAlign = 64;
 
 class Writer {
@@ -113,6 +116,12 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
       surface = box.surface().get();
     }
   const std::uint64_t surface_hash = surface ? XXH3_64bits(surface->records(), surface->bytes()) : 0;
+  // Piece ids are written when they match the recorded triangle count (always after hb::bake).
+  static const std::vector<std::uint32_t> no_pieces;
+  const std::vector<std::uint32_t>& pieces =
+      scene.piece_of_triangle().size() == src.triangles ? scene.piece_of_triangle() : no_pieces;
+  const std::size_t piece_bytes = pieces.size() * sizeof(std::uint32_t);
+  const std::uint64_t piece_hash = pieces.empty() ? 0 : XXH3_64bits(pieces.data(), piece_bytes);
   std::vector<std::uint64_t> id_hashes;
   for (const HapticBox& box : boxes)
     id_hashes.push_back(box.refines() ? XXH3_64bits(box.triangle_ids().data, box.triangle_id_bytes()) : 0);
@@ -154,15 +163,19 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
     w.put(std::uint64_t(offsets.empty() || !surface ? 0 : offsets[2 * boxes.size()]));
     w.put(std::uint64_t(surface ? surface->bytes() : 0));
     w.put(surface_hash);
+    w.put(std::uint64_t(offsets.empty() || pieces.empty() ? 0 : offsets[2 * boxes.size() + 1]));
+    w.put(std::uint64_t(piece_bytes));
+    w.put(piece_hash);
     const std::uint64_t header_hash = XXH3_64bits(w.bytes().data(), w.bytes().size());
     w.put(header_hash);
     return std::move(w.bytes());
   };
-  // Every block of the file in order: the tables, each box's ids, the surface.
+  // Every block of the file in order: the tables, each box's ids, the surface, the piece ids.
   std::vector<std::pair<const void*, std::size_t>> blocks;
   for (const HapticBox& box : boxes) blocks.emplace_back(box.samples().data(), box.table_bytes());
   for (const HapticBox& box : boxes) blocks.emplace_back(box.triangle_ids().data, box.triangle_id_bytes());
   blocks.emplace_back(surface ? static_cast<const void*>(surface->records()) : nullptr, surface ? surface->bytes() : 0);
+  blocks.emplace_back(pieces.data(), piece_bytes);
   std::vector<std::uint64_t> offsets;
   std::size_t pos = align_up(write_header({}).size());
   for (const auto& block : blocks) {
@@ -277,6 +290,12 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
     surface_bytes = r.get<std::uint64_t>();
     surface_hash = r.get<std::uint64_t>();
   }
+  std::uint64_t pieces_offset = 0, pieces_bytes = 0, pieces_hash = 0;
+  if (version >= 4) {
+    pieces_offset = r.get<std::uint64_t>();
+    pieces_bytes = r.get<std::uint64_t>();
+    pieces_hash = r.get<std::uint64_t>();
+  }
   const std::size_t header_end = r.pos();
   const auto stored_hash = r.get<std::uint64_t>();
   if (XXH3_64bits(data, header_end) != stored_hash)
@@ -312,6 +331,22 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
     surface = std::make_shared<const SurfaceTriangles>(
         reinterpret_cast<const SurfaceTriangles::Record*>(data + surface_offset),
         std::size_t(surface_bytes / sizeof(SurfaceTriangles::Record)), keep);
+  }
+
+  // Piece ids: small (4 bytes a triangle), copied and always checked.
+  std::vector<std::uint32_t> pieces;
+  if (pieces_bytes > 0) {
+    if (pieces_bytes != src.triangles * sizeof(std::uint32_t) || pieces_offset % kAlign != 0)
+      throw InvalidInput(path + ": corrupt box file (piece ids have inconsistent sizes)");
+    if (pieces_offset > map->size || pieces_bytes > map->size - pieces_offset)
+      throw InvalidInput(path + ": truncated box file (the piece ids are cut short)");
+    if (XXH3_64bits(data + pieces_offset, pieces_bytes) != pieces_hash)
+      throw InvalidInput(path + ": corrupt box file (piece ids checksum mismatch)");
+    pieces.resize(std::size_t(src.triangles));
+    std::memcpy(pieces.data(), data + pieces_offset, pieces_bytes);
+    for (std::uint32_t id : pieces)
+      if (id >= count) throw InvalidInput(path + ": corrupt box file (piece id " + std::to_string(id) + " of " +
+                                          std::to_string(count) + " boxes)");
   }
 
   std::vector<HapticBox> boxes;
@@ -353,7 +388,7 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
       boxes.back().attach_surface(ids, samples, keep, surface, options.verify);
     }
   }
-  return BoxScene(std::move(boxes), src);
+  return BoxScene(std::move(boxes), src, std::move(pieces));
 }
 
 } // namespace hb

@@ -1,6 +1,6 @@
 #pragma once
-// The .hbox file: versioned, checksummed, holds the parameters, the PBBs, the tables and the
-// source mesh's hash.
+// The .hbox file: versioned, checksummed, holds the parameters, the PBBs, the tables, the
+// triangle ids and surface of refined boxes, the piece ids and the source mesh's hash.
 #include "haptic_box/box_scene.h"
 #include <string>
 
@@ -26,9 +26,10 @@ struct LoadOptions {
   bool huge_pages = false;
 };
 
-/// Loads a box file (versions 1 and 2). Throws hb::IoError (missing, unreadable) or
-/// hb::InvalidInput (truncated, corrupt checksum, corrupt compressed payload header, wrong
-/// version, not a box file); messages name the file and the cause.
+/// Loads a box file (versions 1 to 4; the format is described at the top of box_file.cpp).
+/// Throws hb::IoError (missing, unreadable) or hb::InvalidInput (truncated, corrupt checksum,
+/// corrupt compressed payload header, wrong version, not a box file); messages name the file
+/// and the cause.
 BoxScene load_box_file(const std::string& path, const LoadOptions& options = {});
 
 } // namespace hb

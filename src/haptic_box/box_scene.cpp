@@ -12,13 +12,15 @@
 //     surface from the handle is then an inside one, which the box that found the contact
 //     ahead cannot see. Its box queries refine with Refine::misses too.
 #include "haptic_box/box_scene.h"
+#include "errors.h"
 #include <algorithm>
 #include <cmath>
 
 namespace hb {
 
-BoxScene::BoxScene(std::vector<HapticBox> boxes, SourceInfo source)
+BoxScene::BoxScene(std::vector<HapticBox> boxes, SourceInfo source, std::vector<std::uint32_t> piece_of_triangle)
     : boxes_(std::move(boxes)), source_(std::move(source)) {
+  set_piece_of_triangle(std::move(piece_of_triangle));
   for (auto& b : bounds_) b.reserve(boxes_.size());
   for (const HapticBox& box : boxes_) {
     const Obb& o = box.obb();
@@ -148,6 +150,14 @@ void BoxScene::query_many(const Segment* segments, std::size_t count, const Forc
   for (std::size_t i = 0; i < count; ++i) out[i] = query(segments[i], law);
 }
 
+void BoxScene::set_piece_of_triangle(std::vector<std::uint32_t> piece_of_triangle) {
+  for (std::uint32_t id : piece_of_triangle)
+    if (id >= boxes_.size())
+      throw InvalidInput("box scene: piece id " + std::to_string(id) + " but " + std::to_string(boxes_.size()) +
+                         " boxes");
+  piece_of_triangle_ = std::move(piece_of_triangle);
+}
+
 std::size_t BoxScene::table_bytes() const {
   std::size_t sum = 0;
   for (const HapticBox& box : boxes_) sum += box.table_bytes();
@@ -171,7 +181,7 @@ BoxScene BoxScene::compressed(const CodecOptions& options) const {
   std::vector<HapticBox> boxes;
   boxes.reserve(boxes_.size());
   for (const HapticBox& box : boxes_) boxes.push_back(box.compressed(options));
-  return BoxScene(std::move(boxes), source_);
+  return BoxScene(std::move(boxes), source_, piece_of_triangle_);
 }
 
 } // namespace hb

@@ -23,7 +23,10 @@ struct SourceInfo {
 class BoxScene final : public ContactQuery {
 public:
   BoxScene() = default;
-  explicit BoxScene(std::vector<HapticBox> boxes, SourceInfo source = {});
+  /// `piece_of_triangle`: see piece_of_triangle(); empty when unknown or one box. Throws
+  /// hb::InvalidInput when it names a box the scene does not have.
+  explicit BoxScene(std::vector<HapticBox> boxes, SourceInfo source = {},
+                    std::vector<std::uint32_t> piece_of_triangle = {});
 
   Contact query(const Segment& segment, const ForceLaw& law) const noexcept override;
   /// The same answers as query() one by one. A one-box scene runs HapticBox::query_many
@@ -40,6 +43,12 @@ public:
 
   const std::vector<HapticBox>& boxes() const { return boxes_; }
   const SourceInfo& source() const { return source_; }
+  /// The piece (box index) of each triangle of the source mesh before the seams were shared,
+  /// as the bake cut it (stored in the .hbox file since version 4); empty for one box, or when
+  /// the file predates version 4.
+  const std::vector<std::uint32_t>& piece_of_triangle() const { return piece_of_triangle_; }
+  /// Replaces the piece ids (same checks as the constructor).
+  void set_piece_of_triangle(std::vector<std::uint32_t> piece_of_triangle);
   std::size_t table_bytes() const;
   /// Bytes the exact refinement adds (0 without it): every box's triangle ids and the
   /// surface the boxes share (once).
@@ -51,6 +60,7 @@ private:
 
   std::vector<HapticBox> boxes_;
   SourceInfo source_;
+  std::vector<std::uint32_t> piece_of_triangle_;
   // Axis-aligned bounds of each PBB, structure of arrays: lo x, y, z then hi x, y, z.
   std::vector<float> bounds_[6];
 };

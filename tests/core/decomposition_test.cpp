@@ -8,7 +8,7 @@
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
-#include "haptic_box/bake.h"
+#include "haptic_box/bake_recipe.h"
 #include "mesh/generators.h"
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
@@ -29,12 +29,15 @@ BoxScene bake_lists(const TriangleMesh& mesh, const std::vector<std::vector<std:
   return bake_scene_from_lists(mesh, lists, options, {});
 }
 
-SeamOptions seams(int rings, float cells, int m = 32) {
+// The pieces grown past their seams by `rings` and `cells` cells of an m-box's grid.
+std::vector<std::vector<std::uint32_t>> seamed(const TriangleMesh& mesh, const std::vector<std::uint32_t>& ids,
+                                               int rings, float cells, int m = 32) {
   SeamOptions s;
   s.rings = rings;
   s.cells = cells;
-  s.m = m;
-  return s;
+  BakeOptions options;
+  options.params.m = m;
+  return seamed_piece_lists(mesh, ids, s, options);
 }
 
 std::size_t count_pieces(const std::vector<std::uint32_t>& ids) {
@@ -82,7 +85,7 @@ TEST(AutoDecompositionTest, TorusSplitsAndPocketErrorsVanish) {
   ASSERT_GE(d.piece_count, 2u);
   EXPECT_LE(d.piece_count, 12u);
   const double whole = measure_pockets(torus).probability;
-  for (const auto& piece : piece_triangle_lists(torus, d.piece_of_triangle, seams(0, 0.f)))
+  for (const auto& piece : seamed(torus, d.piece_of_triangle, 0, 0.f))
     EXPECT_LT(measure_pockets(torus, piece).probability, 0.25 * whole);
 
   // Probes from the hole to the inner wall of the ring: a single box stores the far side of
@@ -100,7 +103,7 @@ TEST(AutoDecompositionTest, TorusSplitsAndPocketErrorsVanish) {
   const ExactQuery exact(torus);
   const int m = 12, n = 8;
   const BoxScene single = bake_lists(torus, piece_triangle_lists(torus, {}), m, n);
-  const BoxScene split = bake_lists(torus, piece_triangle_lists(torus, d.piece_of_triangle, seams(1, 1.5f, m)), m, n);
+  const BoxScene split = bake_lists(torus, seamed(torus, d.piece_of_triangle, 1, 1.5f, m), m, n);
   int exact_contacts = 0, single_missed = 0, split_missed = 0;
   for (const Segment& s : probes) {
     if (!exact.query(s, kLaw).contact) continue;
@@ -158,8 +161,8 @@ TEST(AutoDecompositionTest, RejectsBadOptions) {
 TEST(SeamOverlapTest, RingsShareSeamTriangles) {
   const TriangleMesh sphere = make_sphere(1.f, 3);
   const auto ids = split_by_planes(sphere, {{Vec3::Zero(), Vec3::UnitZ()}});
-  const auto disjoint = piece_triangle_lists(sphere, ids, seams(0, 0.f));
-  const auto shared = piece_triangle_lists(sphere, ids, seams(1, 0.f));
+  const auto disjoint = seamed(sphere, ids, 0, 0.f);
+  const auto shared = seamed(sphere, ids, 1, 0.f);
   ASSERT_EQ(disjoint.size(), 2u);
   ASSERT_EQ(shared.size(), 2u);
   EXPECT_EQ(disjoint[0].size() + disjoint[1].size(), sphere.triangle_count());
@@ -173,7 +176,7 @@ TEST(SeamOverlapTest, SeamCrossingKeepsContact) {
   const float r = 1.f;
   const TriangleMesh sphere = make_sphere(r, 5);
   const auto ids = split_by_planes(sphere, {{Vec3::Zero(), Vec3::UnitZ()}});
-  const BoxScene scene = bake_lists(sphere, piece_triangle_lists(sphere, ids, seams(1, 1.5f, 16)), 16, 8);
+  const BoxScene scene = bake_lists(sphere, seamed(sphere, ids, 1, 1.5f, 16), 16, 8);
   ASSERT_EQ(scene.boxes().size(), 2u);
   const ExactQuery exact(sphere);
   int checked = 0;
@@ -208,7 +211,7 @@ TEST(BoxSceneTest, NearestValidContactWinsAndBoxesMetCount) {
   two.compute_vertex_normals();
   std::vector<std::uint32_t> ids(two.triangle_count(), 0);
   for (std::size_t t = two.triangle_count() / 2; t < two.triangle_count(); ++t) ids[t] = 1;
-  const BoxScene scene = bake_lists(two, piece_triangle_lists(two, ids, seams(0, 0.f)), 12, 8);
+  const BoxScene scene = bake_lists(two, seamed(two, ids, 0, 0.f), 12, 8);
   const Segment through{Vec3(-2.f, 0.01f, 0.f), Vec3(1.2f, 0.01f, 0.f)};
   EXPECT_EQ(scene.boxes_met(through), 2u);
   const Contact c = scene.query(through, kLaw);

@@ -1,7 +1,7 @@
 // Exact refinement of haptic-box answers: triangle ids per sample, candidate triangles, the
 // edge walk, and how refining boxes travel through compression and box files.
 #include "decomposition/auto_decomposition.h"
-#include "decomposition/seam_overlap.h"
+#include "haptic_box/bake_recipe.h"
 #include "errors.h"
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
@@ -57,7 +57,7 @@ TEST(RefinementTest, ASceneOfSeveralRefinedBoxesAnswersExactlyAndKeepsItsAgreeme
   BakeOptions options;
   options.params = {10, 6};
   const SourceInfo source{"torus", 0, torus.triangle_count(), torus.bounds().diagonal()};
-  const auto lists = piece_triangle_lists(torus, d.piece_of_triangle);
+  const auto lists = seamed_piece_lists(torus, d.piece_of_triangle, {}, BakeOptions{});  // seams in m=32 cells
   const BoxScene blended = bake_scene_from_lists(torus, lists, options, source);
   options.refine = true;
   const BoxScene refined = bake_scene_from_lists(torus, lists, options, source);

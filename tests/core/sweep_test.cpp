@@ -29,7 +29,7 @@ TEST(SweepTest, RunsReferencesAndConfigurationsAndReusesTheCache) {
   options.timing_rounds = 1;
   options.cache_dir = cache;
   const hb::SourceInfo source{"sphere", 0x1234, mesh.triangle_count(), mesh.bounds().diagonal()};
-  const auto rows = hb::run_sweep(mesh, {}, source, {{"exact_embree", &exact, 0, 0.0}}, options);
+  const auto rows = hb::run_sweep(mesh, source, {{"exact_embree", &exact, 0, 0.0}}, options);
   ASSERT_EQ(rows.size(), 3u);
   EXPECT_EQ(rows[0].method, "exact_embree");
   EXPECT_EQ(rows[0].force_error_median, 0.0);
@@ -37,12 +37,12 @@ TEST(SweepTest, RunsReferencesAndConfigurationsAndReusesTheCache) {
   EXPECT_EQ(rows[2].m, 8);
   EXPECT_FALSE(rows[2].from_cache);
   EXPECT_TRUE(std::filesystem::exists(hb::sweep_cache_path(cache, 0x1234, options.configs[1])));
-  const auto again = hb::run_sweep(mesh, {}, source, {{"exact_embree", &exact, 0, 0.0}}, options);
+  const auto again = hb::run_sweep(mesh, source, {{"exact_embree", &exact, 0, 0.0}}, options);
   EXPECT_TRUE(again[2].from_cache);
   EXPECT_EQ(again[2].force_error_median, rows[2].force_error_median);
   std::filesystem::remove_all(cache);
   options.configs = {{8, 3, "nonsense"}};
-  EXPECT_THROW(hb::run_sweep(mesh, {}, source, {{"exact_embree", &exact, 0, 0.0}}, options), hb::InvalidInput);
+  EXPECT_THROW(hb::run_sweep(mesh, source, {{"exact_embree", &exact, 0, 0.0}}, options), hb::InvalidInput);
 }
 
 TEST(SweepTest, PiecesAndRefinementAreSweptAndCachedApart) {
@@ -61,8 +61,10 @@ TEST(SweepTest, PiecesAndRefinementAreSweptAndCachedApart) {
   options.timing_rounds = 1;
   options.cache_dir = cache;
   const hb::SourceInfo source{"torus", 0x77, torus.triangle_count(), torus.bounds().diagonal()};
-  const auto one = hb::run_sweep(torus, {}, source, {{"exact_embree", &exact, 0, 0.0}}, options);
-  const auto two = hb::run_sweep(torus, pieces, source, {{"exact_embree", &exact, 0, 0.0}}, options);
+  const auto one = hb::run_sweep(torus, source, {{"exact_embree", &exact, 0, 0.0}}, options);
+  options.recipe.pieces.kind = hb::PiecesRecipe::Kind::given;
+  options.recipe.pieces.given = pieces;
+  const auto two = hb::run_sweep(torus, source, {{"exact_embree", &exact, 0, 0.0}}, options);
   ASSERT_EQ(two.size(), 3u);
   EXPECT_FALSE(two[1].from_cache);  // not the one-box scene of the same densities
   EXPECT_FALSE(two[1].refine);
@@ -71,7 +73,7 @@ TEST(SweepTest, PiecesAndRefinementAreSweptAndCachedApart) {
   EXPECT_GT(two[1].contact_agreement, one[1].contact_agreement);
   EXPECT_LT(two[2].force_error_median, 1e-4);
   EXPECT_GT(two[2].memory_bytes, two[1].memory_bytes);
-  const auto again = hb::run_sweep(torus, pieces, source, {{"exact_embree", &exact, 0, 0.0}}, options);
+  const auto again = hb::run_sweep(torus, source, {{"exact_embree", &exact, 0, 0.0}}, options);
   EXPECT_TRUE(again[1].from_cache);
   EXPECT_TRUE(again[2].from_cache);
   EXPECT_EQ(again[2].force_error_median, two[2].force_error_median);

@@ -1,6 +1,8 @@
 #include "test_meshes.h"
 #include "vtkHapticBoxBakeFilter.h"
 #include "vtkHapticBoxSet.h"
+#include "vtkHapticBoxUtilities.h"
+#include <cstring>
 #include <gtest/gtest.h>
 #include <vtkCallbackCommand.h>
 #include <vtkCellData.h>
@@ -71,6 +73,49 @@ TEST(BakeFilterTest, PieceIdArrayGivesOneBoxPerPiece) {
   bake->Update();
   EXPECT_EQ(bake->GetBoxSet()->GetNumberOfBoxes(), 2);
   EXPECT_EQ(vtkPolyData::SafeDownCast(bake->GetOutputDataObject(1))->GetNumberOfLines(), 24);
+}
+
+TEST(BakeFilterTest, PiecesShareTheirSeamsAsEveryFrontEndBakesThem) {
+  // The filter bakes through hb::bake: the same boxes as the command line for the same ids.
+  vtkSmartPointer<vtkPolyData> sphere = hb::test::SpherePolyData(3);
+  vtkNew<vtkIntArray> piece;
+  piece->SetName("PieceId");
+  std::vector<std::uint32_t> ids;
+  for (vtkIdType c = 0; c < sphere->GetNumberOfCells(); ++c) {
+    double p[3];
+    sphere->GetPoint(sphere->GetCell(c)->GetPointId(0), p);
+    ids.push_back(p[2] > 0 ? 1u : 0u);
+    piece->InsertNextValue(int(ids.back()));
+  }
+  sphere->GetCellData()->AddArray(piece);
+  vtkNew<vtkHapticBoxBakeFilter> bake;
+  bake->SetInputData(sphere);
+  bake->SetM(6);
+  bake->SetN(3);
+  bake->Update();
+  const std::shared_ptr<const hb::BoxScene> filtered = bake->GetBoxSet()->GetScene();
+  ASSERT_NE(filtered, nullptr);
+  ASSERT_EQ(filtered->boxes().size(), 2u);
+  EXPECT_EQ(filtered->piece_of_triangle(), ids);
+
+  hb::BakeRecipe recipe = bake->GetRecipe();
+  recipe.pieces.kind = hb::PiecesRecipe::Kind::given;
+  recipe.pieces.given = ids;
+  const hb::TriangleMesh mesh = vtkHapticBoxUtilities::ToTriangleMesh(sphere);
+  const hb::BoxScene direct = hb::bake(mesh, recipe).scene;
+  recipe.seams.rings = 0;
+  recipe.seams.cells = 0.f;
+  const hb::BoxScene no_seams = hb::bake(mesh, recipe).scene;
+  for (std::size_t b = 0; b < 2; ++b) {
+    const hb::HapticBox& f = filtered->boxes()[b];
+    const hb::HapticBox& d = direct.boxes()[b];
+    EXPECT_EQ(f.obb().center, d.obb().center);
+    EXPECT_EQ(f.obb().half, d.obb().half);
+    ASSERT_EQ(f.table_bytes(), d.table_bytes());
+    EXPECT_EQ(std::memcmp(f.samples().data(), d.samples().data(), f.table_bytes()), 0);
+    // The shared seam triangles make each half's box reach past the equator.
+    EXPECT_NE(f.obb().half, no_seams.boxes()[b].obb().half);
+  }
 }
 
 TEST(BakeFilterTest, AbortStopsTheBakeAndReportsProgress) {

@@ -1,0 +1,72 @@
+#pragma once
+// The bake recipe: everything that decides what a bake produces (densities, padding,
+// refinement, pieces, seams, codec), and the one bake(mesh, recipe) that every front end,
+// the VTK bake filter and the sweep call. Add a field here (and to the box cache's key,
+// box_cache.cpp) rather than assembling a bake by hand.
+#include "codec/codec.h"
+#include "decomposition/auto_decomposition.h"
+#include "decomposition/seam_overlap.h"
+#include "haptic_box/bake.h"
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace hb {
+
+/// How the mesh is cut into pieces before one box per piece is baked.
+struct PiecesRecipe {
+  enum class Kind {
+    none,       ///< one box of all triangles.
+    automatic,  ///< hb::decompose_auto with `automatic`.
+    file,       ///< a piece id per triangle read from `file` (hb::read_piece_file).
+    given,      ///< the ids in `given` (a piece id per triangle, e.g. a VTK cell array).
+  };
+  Kind kind = Kind::none;
+  std::string file;                       ///< Kind::file: .txt or .ply piece file.
+  AutoDecompositionOptions automatic;     ///< Kind::automatic (its progress is the decomposition's).
+  std::vector<std::uint32_t> given;       ///< Kind::given: one id per triangle, any values.
+};
+
+/// "none" (or empty): one box; "auto": automatic; anything else: a piece file path.
+PiecesRecipe pieces_from_spec(const std::string& spec);
+/// The inverse of pieces_from_spec ("given" for given ids).
+std::string pieces_spec(const PiecesRecipe& pieces);
+
+/// Everything a bake needs besides the mesh. Defaults: one m=32 n=16 raw box.
+struct BakeRecipe {
+  /// Densities (params, per-box density), PBB padding (obb), refinement and progress of the
+  /// ray casting (see BakeOptions).
+  BakeOptions options;
+  PiecesRecipe pieces;
+  /// How far neighbouring pieces share their seams (widths in each box's own position cells,
+  /// so with options.density they follow each box's m).
+  SeamOptions seams;
+  /// The table codec, applied after the bake; CodecId::none keeps raw 8-byte samples.
+  CodecOptions codec{CodecId::none};
+};
+
+/// A bake's result.
+struct BakeResult {
+  BoxScene scene;                  ///< carries the piece ids (BoxScene::piece_of_triangle).
+  BakeStats stats;                 ///< of the ray casting.
+  double decompose_seconds = 0.0;  ///< automatic pieces only.
+  double compress_seconds = 0.0;   ///< with a codec only.
+};
+
+/// A piece id per triangle for `pieces`, numbered 0..K-1 in increasing order of the original
+/// ids (empty for Kind::none: one piece). Throws what the piece reader or the decomposition
+/// throws, hb::InvalidInput when given ids do not match the triangle count.
+std::vector<std::uint32_t> resolve_piece_ids(const TriangleMesh& mesh, const PiecesRecipe& pieces);
+
+/// The triangle lists to bake, one per piece (compact ids 0..K-1, empty: one piece), each grown
+/// past its seams by `seams` measured in the cells of the box `options` would bake for it.
+std::vector<std::vector<std::uint32_t>> seamed_piece_lists(const TriangleMesh& mesh,
+                                                           const std::vector<std::uint32_t>& piece_ids,
+                                                           const SeamOptions& seams, const BakeOptions& options);
+
+/// Bakes `mesh` per `recipe`: pieces (resolve_piece_ids), seams (seamed_piece_lists), one box
+/// per piece (bake_scene_from_lists), then the codec. The scene records `source` and the
+/// piece ids. Throws hb::InvalidInput, hb::IoError (piece file), hb::Cancelled, hb::LibraryError.
+BakeResult bake(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source = {});
+
+} // namespace hb

@@ -1,0 +1,101 @@
+// The bake recipe: one bake(mesh, recipe) for every front end; the scene keeps its piece ids.
+#include "decomposition/piece_file.h"
+#include "decomposition/plane_split.h"
+#include "errors.h"
+#include "haptic_box/bake_recipe.h"
+#include "haptic_box/box_file.h"
+#include "mesh/generators.h"
+#include <gtest/gtest.h>
+#include <cstring>
+#include <filesystem>
+
+namespace hb {
+namespace {
+
+std::string temp_path(const std::string& name) { return testing::TempDir() + "hb_recipe_" + name; }
+
+bool same_tables(const BoxScene& a, const BoxScene& b) {
+  if (a.boxes().size() != b.boxes().size()) return false;
+  for (std::size_t k = 0; k < a.boxes().size(); ++k) {
+    const HapticBox& x = a.boxes()[k];
+    const HapticBox& y = b.boxes()[k];
+    if (x.table_bytes() != y.table_bytes() || x.codec() != y.codec() ||
+        std::memcmp(x.samples().data(), y.samples().data(), x.table_bytes()) != 0)
+      return false;
+  }
+  return true;
+}
+
+TEST(BakeRecipeTest, BakeIsTheSeamedPiecesBakedAndCompressed) {
+  const TriangleMesh sphere = make_sphere(1.f, 3);
+  const std::vector<std::uint32_t> ids = split_by_planes(sphere, {{Vec3::Zero(), Vec3::UnitZ()}});
+  BakeRecipe recipe;
+  recipe.options.params = {6, 3};
+  recipe.options.obb.padding = 0.03f;
+  recipe.pieces.kind = PiecesRecipe::Kind::given;
+  recipe.pieces.given = ids;
+  recipe.codec.codec = CodecId::block;
+  const BakeResult baked = bake(sphere, recipe);
+  ASSERT_EQ(baked.scene.boxes().size(), 2u);
+  EXPECT_EQ(baked.scene.boxes()[0].codec(), CodecId::block);
+  EXPECT_EQ(baked.scene.piece_of_triangle(), ids);
+  EXPECT_GT(baked.stats.rays, 0u);
+  // By hand: seams in the cells of the boxes the bake fits (the recipe's padding), then the codec.
+  const auto lists = seamed_piece_lists(sphere, ids, recipe.seams, recipe.options);
+  EXPECT_GT(lists[0].size() + lists[1].size(), sphere.triangle_count());
+  const BoxScene by_hand = bake_scene_from_lists(sphere, lists, recipe.options, {}).compressed(recipe.codec);
+  EXPECT_TRUE(same_tables(baked.scene, by_hand));
+}
+
+TEST(BakeRecipeTest, PieceFileIdsAreNumberedCompactlyLikeGivenOnes) {
+  const TriangleMesh sphere = make_sphere(1.f, 2);
+  std::vector<std::uint32_t> sparse = split_by_planes(sphere, {{Vec3::Zero(), Vec3::UnitX()}});
+  for (auto& id : sparse) id = id * 5 + 2;  // 2 and 7
+  const std::string file = temp_path("sparse.txt");
+  write_piece_file(file, sphere, sparse);
+  PiecesRecipe from_file = pieces_from_spec(file);
+  EXPECT_EQ(from_file.kind, PiecesRecipe::Kind::file);
+  PiecesRecipe given;
+  given.kind = PiecesRecipe::Kind::given;
+  given.given = sparse;
+  const auto a = resolve_piece_ids(sphere, from_file);
+  EXPECT_EQ(a, resolve_piece_ids(sphere, given));
+  EXPECT_EQ(*std::max_element(a.begin(), a.end()), 1u);
+  EXPECT_EQ(pieces_from_spec("auto").kind, PiecesRecipe::Kind::automatic);
+  EXPECT_EQ(pieces_from_spec("none").kind, PiecesRecipe::Kind::none);
+  EXPECT_TRUE(resolve_piece_ids(sphere, pieces_from_spec("")).empty());
+  given.given.pop_back();
+  EXPECT_THROW(resolve_piece_ids(sphere, given), InvalidInput);
+  std::filesystem::remove(file);
+}
+
+TEST(BakeRecipeTest, BoxFileKeepsThePieceIds) {
+  const TriangleMesh sphere = make_sphere(1.f, 2);
+  BakeRecipe recipe;
+  recipe.options.params = {4, 2};
+  recipe.pieces.kind = PiecesRecipe::Kind::given;
+  recipe.pieces.given = split_by_planes(sphere, {{Vec3::Zero(), Vec3::UnitY()}});
+  const BakeResult baked = bake(sphere, recipe, {"sphere", 42, 0, 0.f});
+  EXPECT_EQ(baked.scene.source().triangles, sphere.triangle_count());
+  const std::string path = temp_path("pieces.hbox");
+  save_box_file(baked.scene, path);
+  const BoxScene loaded = load_box_file(path, {true, false});
+  EXPECT_EQ(loaded.piece_of_triangle(), recipe.pieces.given);
+  EXPECT_TRUE(same_tables(loaded, baked.scene));
+  // One piece: no ids stored.
+  recipe.pieces = {};
+  save_box_file(bake(sphere, recipe).scene, path);
+  EXPECT_TRUE(load_box_file(path).piece_of_triangle().empty());
+  std::filesystem::remove(path);
+}
+
+TEST(BakeRecipeTest, SceneRejectsPieceIdsNamingMissingBoxes) {
+  const TriangleMesh sphere = make_sphere(1.f, 1);
+  BakeRecipe recipe;
+  recipe.options.params = {3, 2};
+  BoxScene scene = bake(sphere, recipe).scene;
+  EXPECT_THROW(scene.set_piece_of_triangle(std::vector<std::uint32_t>(sphere.triangle_count(), 1u)), InvalidInput);
+}
+
+} // namespace
+} // namespace hb
