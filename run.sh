@@ -23,7 +23,7 @@ echo "== bake: automatic quasi-convex pieces (threshold 0.001), position cells o
 echo "   block codec (0.05% of each box's diagonal), exact refinement on the mesh's triangles"
 "$HB" bake "$MODEL" -o out/default.hbox -n 8 --cell 0.016 --max-m 128 --pieces auto --threshold 0.001 \
   --codec block --refine
-"$HB" info out/default.hbox | grep -E '^(boxes|bytes|codec|compression_ratio|table_bytes|refine|triangle_id_bytes|surface_bytes):'
+"$HB" info out/default.hbox | grep -E '^(boxes|bytes|codec|compression_ratio|table_bytes|refine|triangle_id_bytes|surface_bytes|scene_grid_bytes):'
 echo "== eval against the exact Embree answer"
 "$HB" eval out/default.hbox "$MODEL" --samples 20000 --seed 1 | tee out/eval.txt
 echo "== bench (one core)"

@@ -24,6 +24,7 @@ void add_bench_command(CLI::App& app) {
     hb::ForceLaw law;
     bool json = false;
     bool no_huge_pages = false;
+    bool no_grid = false;
   };
   auto opts = std::make_shared<Opts>();
   cmd->add_option("BOX", opts->box, "Box file (.hbox)")->required();
@@ -34,10 +35,13 @@ void add_bench_command(CLI::App& app) {
   cmd->add_flag("--json", opts->json, "Print JSON");
   cmd->add_flag("--no-huge-pages", opts->no_huge_pages,
                 "Query the file mapping instead of a copy of the tables in huge pages");
+  cmd->add_flag("--no-grid", opts->no_grid,
+                "Query without the scene grid (every box the segment meets; for before/after figures)");
   cmd->callback([opts] {
     hb::LoadOptions load;
     load.huge_pages = !opts->no_huge_pages;
-    const hb::BoxScene scene = hb::load_box_file(opts->box, load);
+    const hb::BoxScene loaded = hb::load_box_file(opts->box, load);
+    const hb::BoxScene scene = opts->no_grid ? loaded.without_grid() : loaded;
     const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh);
     const hb::ExactQuery exact(mesh);
     const auto probes = hb::sample_probes(mesh, opts->samples, opts->probes);
@@ -63,8 +67,14 @@ void add_bench_command(CLI::App& app) {
     const hb::QueryLatency exact_tail = hb::single_query_latency(exact, probes, opts->law, opts->rounds);
     // Boxes met per query, and the box time of the queries that meet exactly 1, 2, 3+ boxes.
     std::vector<std::vector<hb::Segment>> by_met(4);
-    double met_sum = 0.0;
+    double met_sum = 0.0, asked_sum = 0.0;
+    std::size_t asked_max = 0, asked_one = 0, asked_hist[5] = {0, 0, 0, 0, 0};
     for (const hb::Segment& s : probes) {
+      const std::size_t asked = scene.box_queries(s, opts->law);
+      asked_sum += double(asked);
+      asked_max = std::max(asked_max, asked);
+      asked_one += asked <= 1 ? 1 : 0;
+      ++asked_hist[std::min<std::size_t>(asked, 4)];
       const std::size_t met = scene.boxes_met(s);
       met_sum += double(met);
       by_met[std::min<std::size_t>(met, 3)].push_back(s);
@@ -83,6 +93,8 @@ void add_bench_command(CLI::App& app) {
     const auto& boxes = scene.boxes();
     const bool lanes = boxes.size() == 1 && boxes[0].codec() == hb::CodecId::none && !boxes[0].refines();
     const double mean_met = probes.empty() ? 0.0 : met_sum / double(probes.size());
+    const double mean_asked = probes.empty() ? 0.0 : asked_sum / double(probes.size());
+    const double share_one = probes.empty() ? 0.0 : double(asked_one) / double(probes.size());
     auto tail_json = [](const hb::QueryLatency& t) {
       return nlohmann::json{{"p50_ns", t.p50_ns}, {"p99_ns", t.p99_ns}, {"p999_ns", t.p999_ns},
                             {"max_ns", t.max_ns}, {"queries", t.queries}, {"clock_ns", t.clock_ns}};
@@ -126,6 +138,11 @@ void add_bench_command(CLI::App& app) {
                               {"verdict", verdicts},
                               {"boxes", scene.boxes().size()},
                               {"mean_boxes_met", mean_met},
+                              {"scene_grid", scene.grid() != nullptr},
+                              {"mean_box_queries", mean_asked},
+                              {"max_box_queries", asked_max},
+                              {"share_at_most_one_box_query", share_one},
+                              {"probes_by_box_queries", {asked_hist[0], asked_hist[1], asked_hist[2], asked_hist[3], asked_hist[4]}},
                               {"by_boxes_met", met_json}};
     if (opts->json) {
       hb::cli::print_json(j);
@@ -161,7 +178,12 @@ void add_bench_command(CLI::App& app) {
               << "  haptic box  " << box_stroke_ns << " ns/query, exact " << exact_stroke_ns << " ns/query, speedup "
               << std::setprecision(2) << exact_stroke_ns / box_stroke_ns << "x: "
               << verdicts["strokes"].get<std::string>() << "\n"
-              << std::setprecision(1) << "  boxes       " << scene.boxes().size() << ", met per query " << mean_met << " on average\n";
+              << std::setprecision(1) << "  boxes       " << scene.boxes().size() << ", met per query " << mean_met
+              << " on average; box queries per probe " << std::setprecision(2) << mean_asked << " on average (max "
+              << asked_max << ", " << std::setprecision(1) << 100.0 * share_one << "% of probes at most one), "
+              << (scene.grid() ? "routed by the scene grid" : "no scene grid") << "\n"
+              << "    probes by box queries: 0: " << asked_hist[0] << ", 1: " << asked_hist[1] << ", 2: " << asked_hist[2]
+              << ", 3: " << asked_hist[3] << ", 4+: " << asked_hist[4] << "\n";
     for (const auto& m : met_json)
       std::cout << "    meeting " << m["boxes_met"].get<std::string>() << " box(es): " << std::setprecision(1)
                 << m["box_ns"].get<double>() << " ns/query (" << m["queries"].get<std::size_t>() << " queries)\n";

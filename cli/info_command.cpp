@@ -91,6 +91,8 @@ nlohmann::json box_info(const std::string& path, bool verify) {
           {"refine", refined == scene.boxes().size() ? "yes" : refined == 0 ? "no" : "some boxes"},
           {"triangle_id_bytes", id_bytes},
           {"surface_bytes", scene.refinement_bytes() - id_bytes},
+          {"scene_grid_bytes", scene.grid() ? scene.grid()->bytes() : 0},
+          {"scene_grid_cells", scene.grid() ? scene.grid()->codes().size() : 0},
           {"verified", verify},
           {"source_mesh", scene.source().mesh_path},
           {"source_mesh_hash", scene.source().mesh_hash},

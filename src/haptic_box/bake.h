@@ -17,6 +17,11 @@ struct BakeOptions {
   /// refine the blended answer exactly (HapticBox::attach_surface): 2 or 4 bytes more per sample
   /// and 64 bytes per triangle.
   bool refine = false;
+  /// Scenes of several boxes: also bake a scene grid (scene_grid.h), which routes each
+  /// probe to the boxes whose pieces it can meet and answers whether the handle is inside
+  /// the object in O(1).
+  bool scene_grid = true;
+  SceneGridOptions grid;
   /// Progress in [0, 1]; return false to cancel (the bake then throws hb::Cancelled, even
   /// when the cancel comes with the last call). Called on the calling thread only, about
   /// every 50 ms and at the end of each box.

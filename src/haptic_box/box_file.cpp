@@ -1,4 +1,4 @@
-// The .hbox file format, version 4 (little-endian; versions 1 to 3 are still read):
+// The .hbox file format, version 5 (little-endian; versions 1 to 4 are still read):
 //  1. Header: magic "HBOXFILE", u32 version, u32 box count, u64 mesh hash, u64 triangles,
 //     f32 diagonal, u32 path length + path bytes; then per box: u32 codec (CodecId: 0 raw
 //     8-byte samples, 1 Haar, 2 block), i32 m, i32 n, f32 centre[3], axes[9] (columns),
@@ -9,16 +9,18 @@
 //     u64 hash; u32 base added to 2-byte ids, see TriangleIds) and,
 //     after the boxes, the scene's surface triangles (u64 offset, u64 bytes, u64 hash);
 //     version 4 adds the scene's piece ids (u64 offset, u64 bytes: 0 or 4 a triangle of the
-//     source mesh, u64 hash; BoxScene::piece_of_triangle); then u64 hash of all header bytes
-//     before it.
+//     source mesh, u64 hash; BoxScene::piece_of_triangle); version 5 adds the scene grid (u64
+//     offset, u64 bytes: 0 without one, u64 hash; its bytes: SceneGrid::serialize); then u64
+//     hash of all header bytes before it.
 //  2. Tables at 64-byte aligned offsets: raw records in HapticBox::sample_index order, or a
 //     compressed payload (codec/table_payload.h); then each refined box's triangle ids
 //     (same order; u16 offsets or u32 slots), then the SurfaceTriangles records, then the
-//     piece ids (u32 per triangle).
+//     piece ids (u32 per triangle), then the scene grid.
 //  3. Loading maps the file read-only (mmap); boxes point into the mapping, which stays
 //     alive while any box of the scene does. Always checked: the header hash, sizes and
 //     offsets, and each compressed payload's own header (one page). Table hashes only with
-//     LoadOptions::verify (they read every page; lazy opening is the default).
+//     LoadOptions::verify (they read every page; lazy opening is the default). The scene grid
+//     (a few MB at most) is always hashed, validated and copied.
 #include "haptic_box/box_file.h"
 #include "errors.h"
 #include <xxhash.h>
@@ -34,7 +36,7 @@ namespace hb {
 namespace {
 
 constexpr char kMagic[8] = {'H', 'B', 'O', 'X', 'F', 'I', 'L', 'E'};
-constexpr std::uint32_t kVersion = 4;
+constexpr std::uint32_t kVersion = 5;
 constexpr std::size_t kAlign = 64;
 
 class Writer {
@@ -125,7 +127,10 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
   std::vector<std::uint64_t> id_hashes;
   for (const HapticBox& box : boxes)
     id_hashes.push_back(box.refines() ? XXH3_64bits(box.triangle_ids().data, box.triangle_id_bytes()) : 0);
-  // offsets: the tables, then the ids of each box, then the surface (zeros while sizing).
+  const std::vector<std::uint8_t> grid_bytes = scene.grid() ? scene.grid()->serialize() : std::vector<std::uint8_t>{};
+  const std::uint64_t grid_hash = grid_bytes.empty() ? 0 : XXH3_64bits(grid_bytes.data(), grid_bytes.size());
+  // offsets: the tables, then the ids of each box, then the surface, then the grid (zeros
+  // while sizing).
   auto write_header = [&](const std::vector<std::uint64_t>& offsets) {
     Writer w;
     w.put_bytes(kMagic, sizeof(kMagic));
@@ -166,16 +171,21 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
     w.put(std::uint64_t(offsets.empty() || pieces.empty() ? 0 : offsets[2 * boxes.size() + 1]));
     w.put(std::uint64_t(piece_bytes));
     w.put(piece_hash);
+    w.put(std::uint64_t(offsets.empty() || grid_bytes.empty() ? 0 : offsets[2 * boxes.size() + 2]));
+    w.put(std::uint64_t(grid_bytes.size()));
+    w.put(grid_hash);
     const std::uint64_t header_hash = XXH3_64bits(w.bytes().data(), w.bytes().size());
     w.put(header_hash);
     return std::move(w.bytes());
   };
-  // Every block of the file in order: the tables, each box's ids, the surface, the piece ids.
+  // Every block of the file in order: the tables, each box's ids, the surface, the piece ids,
+  // the scene grid.
   std::vector<std::pair<const void*, std::size_t>> blocks;
   for (const HapticBox& box : boxes) blocks.emplace_back(box.samples().data(), box.table_bytes());
   for (const HapticBox& box : boxes) blocks.emplace_back(box.triangle_ids().data, box.triangle_id_bytes());
   blocks.emplace_back(surface ? static_cast<const void*>(surface->records()) : nullptr, surface ? surface->bytes() : 0);
   blocks.emplace_back(pieces.data(), piece_bytes);
+  blocks.emplace_back(grid_bytes.empty() ? nullptr : grid_bytes.data(), grid_bytes.size());
   std::vector<std::uint64_t> offsets;
   std::size_t pos = align_up(write_header({}).size());
   for (const auto& block : blocks) {
@@ -296,6 +306,12 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
     pieces_bytes = r.get<std::uint64_t>();
     pieces_hash = r.get<std::uint64_t>();
   }
+  std::uint64_t grid_offset = 0, grid_bytes = 0, grid_hash = 0;
+  if (version >= 5) {
+    grid_offset = r.get<std::uint64_t>();
+    grid_bytes = r.get<std::uint64_t>();
+    grid_hash = r.get<std::uint64_t>();
+  }
   const std::size_t header_end = r.pos();
   const auto stored_hash = r.get<std::uint64_t>();
   if (XXH3_64bits(data, header_end) != stored_hash)
@@ -388,7 +404,23 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
       boxes.back().attach_surface(ids, samples, keep, surface, options.verify);
     }
   }
-  return BoxScene(std::move(boxes), src, std::move(pieces));
+  std::shared_ptr<const SceneGrid> grid;
+  if (grid_bytes > 0) {
+    if (grid_offset > map->size || grid_bytes > map->size - grid_offset)
+      throw InvalidInput(path + ": truncated box file (the scene grid is cut short)");
+    const auto* g = reinterpret_cast<const std::uint8_t*>(data + grid_offset);
+    if (XXH3_64bits(g, grid_bytes) != grid_hash) throw InvalidInput(path + ": corrupt box file (scene grid checksum mismatch)");
+    try {
+      grid = std::make_shared<const SceneGrid>(SceneGrid::deserialize(g, std::size_t(grid_bytes)));
+    } catch (const InvalidInput& err) {
+      throw InvalidInput(path + ": corrupt box file (" + err.what() + ")");
+    }
+  }
+  try {
+    return BoxScene(std::move(boxes), src, std::move(pieces), std::move(grid));
+  } catch (const InvalidInput& err) {
+    throw InvalidInput(path + ": corrupt box file (" + err.what() + ")");
+  }
 }
 
 } // namespace hb

@@ -11,6 +11,17 @@
 //     piece along the line and that piece ends before the contact (handle_inside): the first
 //     surface from the handle is then an inside one, which the box that found the contact
 //     ahead cannot see. Its box queries refine with Refine::misses too.
+//  5. With a scene grid (scene_grid.h) steps 1-4 run only for a handle in a cell with surface
+//     or of unknown state. A handle in an inside cell has no contact (the exact rule: the
+//     first crossing leaves the object), with no box query. From an outside cell the query
+//     walks the cells from the handle to the tip and asks (refined fully) each box listed by
+//     a surface cell it crosses, once, until a cell begins beyond the nearest contact found;
+//     that contact wins. The exact first crossing lies in a surface cell the segment
+//     crosses, which lists a box holding its triangle (the one deepest in its piece there),
+//     so a box that sees it is always asked; boxes whose pieces have no surface near the
+//     segment are not (their contacts could only be blends of surface elsewhere). No inside
+//     test is needed: the handle is outside. More than 8 boxes to ask, or no contact from the
+//     boxes asked although the segment crossed surface, falls back to steps 1-4.
 #include "haptic_box/box_scene.h"
 #include "errors.h"
 #include <algorithm>
@@ -18,9 +29,14 @@
 
 namespace hb {
 
-BoxScene::BoxScene(std::vector<HapticBox> boxes, SourceInfo source, std::vector<std::uint32_t> piece_of_triangle)
-    : boxes_(std::move(boxes)), source_(std::move(source)) {
+BoxScene::BoxScene(std::vector<HapticBox> boxes, SourceInfo source, std::vector<std::uint32_t> piece_of_triangle,
+                   std::shared_ptr<const SceneGrid> grid)
+    : boxes_(std::move(boxes)), source_(std::move(source)), grid_(std::move(grid)) {
   set_piece_of_triangle(std::move(piece_of_triangle));
+  if (grid_ && grid_->empty()) grid_.reset();
+  if (grid_ && grid_->list_count() > 0 && grid_->max_box() >= boxes_.size())
+    throw InvalidInput("box scene: the scene grid names box " + std::to_string(grid_->max_box()) + ", the scene has " +
+                       std::to_string(boxes_.size()));
   for (auto& b : bounds_) b.reserve(boxes_.size());
   for (const HapticBox& box : boxes_) {
     const Obb& o = box.obb();
@@ -78,7 +94,8 @@ namespace {
 // The piece's far surface must also come before the contact found ahead (`contact_along`
 // from the handle): otherwise the line leaves the piece, and the handle sits in a pocket of
 // it, not inside it.
-bool handle_inside(const HapticBox& box, const Segment& segment, const ForceLaw& law, float contact_along) noexcept {
+bool handle_inside(const HapticBox& box, const Segment& segment, const ForceLaw& law, float contact_along,
+                   std::size_t* asked) noexcept {
   const Vec3 delta = segment.end - segment.start;
   const float length = delta.norm();
   if (!(length > 0.f)) return false;
@@ -87,6 +104,7 @@ bool handle_inside(const HapticBox& box, const Segment& segment, const ForceLaw&
   if (!intersect_line_obb(box.obb(), segment.start, l, hit) || hit.t_enter >= 0.f || hit.t_exit <= 0.f)
     return false;
   const float margin = 1e-3f * box.obb().diagonal();
+  if (asked) *asked += 2;
   Contact c;
   float along = 0.f;
   if (!box.query_into({segment.start + (hit.t_enter - margin) * l, segment.start}, law, c, along, Refine::misses)) return false;
@@ -98,12 +116,71 @@ bool handle_inside(const HapticBox& box, const Segment& segment, const ForceLaw&
 } // namespace
 
 Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexcept {
+  Contact routed;
+  if (grid_ && query_routed(segment, law, routed, nullptr)) return routed;
+  return query_met(segment, law, nullptr);
+}
+
+std::size_t BoxScene::box_queries(const Segment& segment, const ForceLaw& law) const noexcept {
+  std::size_t asked = 0;
+  Contact c;
+  if (grid_ && query_routed(segment, law, c, &asked)) return asked;
+  query_met(segment, law, &asked);  // after the boxes the grid asked, if any
+  return asked;
+}
+
+bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact& out,
+                            std::size_t* asked_count) const noexcept {
+  const SceneGrid& grid = *grid_;
+  const std::uint16_t handle = grid.code_at(segment.start);
+  if (handle == SceneGrid::kInside) {
+    out = Contact{};
+    return true;
+  }
+  if (handle != SceneGrid::kOutside) return false;
+  const float length = (segment.end - segment.start).norm();
+  if (!(length > 0.f) || !std::isfinite(length)) return false;
+  constexpr int kMaxAsked = 8;
+  std::uint32_t asked[kMaxAsked];
+  int n_asked = 0;
+  bool overflow = false;
+  Contact best, c;
+  float best_along = 0.f;
+  grid.walk(segment.start, segment.end, [&](std::uint16_t code, float s) {
+    // A cell that begins beyond the nearest contact cannot hold a nearer one.
+    if (best.contact && s * length > best_along) return false;
+    if (code < SceneGrid::kFirstSurface) return true;
+    for (const std::uint32_t* b = grid.boxes_begin(code); b != grid.boxes_end(code); ++b) {
+      if (std::find(asked, asked + n_asked, *b) != asked + n_asked) continue;
+      if (n_asked == kMaxAsked) {
+        overflow = true;
+        return false;
+      }
+      asked[n_asked++] = *b;
+      float along = 0.f;
+      if (boxes_[*b].query_into(segment, law, c, along) && (!best.contact || along < best_along)) {
+        best = c;
+        best_along = along;
+      }
+    }
+    return true;
+  });
+  // No contact although the segment crossed surface: every box it meets decides (the few
+  // probes whose owner box loses the surface at a silhouette, or that only graze it).
+  if (asked_count) *asked_count += std::size_t(n_asked);
+  if (overflow || (n_asked > 0 && !best.contact)) return false;
+  out = best;
+  return true;
+}
+
+Contact BoxScene::query_met(const Segment& segment, const ForceLaw& law, std::size_t* asked) const noexcept {
   Contact best;
   float best_along = 0.f;
   const std::size_t count = boxes_.size();
   // One box: its own exact slab test replaces the bounds cull (which only ever rejects
   // segments that miss the PBB), and no other piece can hide the handle.
   if (count == 1) {
+    if (asked) ++*asked;
     boxes_[0].query_into(segment, law, best, best_along);
     return best;
   }
@@ -113,6 +190,7 @@ Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexc
   std::size_t best_box = 0;
   for (std::size_t first = 0; first < count; first += kChunk) {
     const std::size_t met = cull(segment, first, std::min(count, first + kChunk), candidates);
+    if (asked) *asked += met;
     for (std::size_t i = 0; i < met; ++i) {
       float along = 0.f;
       // Blended answers (refined only where they are no contact) pick the box; the winner
@@ -128,6 +206,7 @@ Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexc
   if (boxes_[best_box].refines()) {
     // The winner's samples are in cache now: its refined answer costs the refinement only.
     float along = 0.f;
+    if (asked) ++*asked;
     if (boxes_[best_box].query_into(segment, law, c, along)) {
       best = c;
       best_along = along;
@@ -139,7 +218,7 @@ Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexc
   for (std::size_t first = 0; first < count; first += kChunk) {
     const std::size_t met = cull(segment, first, std::min(count, first + kChunk), candidates);
     for (std::size_t i = 0; i < met; ++i)
-      if (handle_inside(boxes_[candidates[i]], segment, law, best_along)) return Contact{};
+      if (handle_inside(boxes_[candidates[i]], segment, law, best_along, asked)) return Contact{};
   }
   return best;
 }
@@ -181,7 +260,7 @@ BoxScene BoxScene::compressed(const CodecOptions& options) const {
   std::vector<HapticBox> boxes;
   boxes.reserve(boxes_.size());
   for (const HapticBox& box : boxes_) boxes.push_back(box.compressed(options));
-  return BoxScene(std::move(boxes), source_, piece_of_triangle_);
+  return BoxScene(std::move(boxes), source_, piece_of_triangle_, grid_);
 }
 
 } // namespace hb

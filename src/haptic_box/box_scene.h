@@ -1,5 +1,7 @@
 #pragma once
 #include "haptic_box/haptic_box.h"
+#include "haptic_box/scene_grid.h"
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,13 +22,22 @@ struct SourceInfo {
 /// slab test first). Measured with 5, 20 and 100 boxes (random segments, half meeting no
 /// box) this was 3-6x cheaper per query than letting every box run its OBB slab test; a
 /// tree over the bounds was not needed at these counts (the boxes met dominate the cost).
+///
+/// With a scene grid (baked with the boxes, see scene_grid.h) a query first looks up the
+/// handle's cell: inside the object, no contact (the first crossing leaves the object)
+/// without a box query; outside, it walks the cells from the handle to the tip and asks
+/// only the boxes whose pieces have surface in the cells it crosses, stopping one cell past
+/// the nearest contact found: one box query in the common case. A handle in a cell with
+/// surface (or of unknown state) takes the path without the grid.
 class BoxScene final : public ContactQuery {
 public:
   BoxScene() = default;
-  /// `piece_of_triangle`: see piece_of_triangle(); empty when unknown or one box. Throws
-  /// hb::InvalidInput when it names a box the scene does not have.
+  /// `piece_of_triangle`: see piece_of_triangle(); empty when unknown or one box. `grid`,
+  /// when given, must name only boxes of `boxes`. Throws hb::InvalidInput when either names a
+  /// box the scene does not have.
   explicit BoxScene(std::vector<HapticBox> boxes, SourceInfo source = {},
-                    std::vector<std::uint32_t> piece_of_triangle = {});
+                    std::vector<std::uint32_t> piece_of_triangle = {},
+                    std::shared_ptr<const SceneGrid> grid = nullptr);
 
   Contact query(const Segment& segment, const ForceLaw& law) const noexcept override;
   /// The same answers as query() one by one. A one-box scene runs HapticBox::query_many
@@ -34,8 +45,17 @@ public:
   void query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
                   Contact* out) const noexcept override;
 
-  /// How many boxes' PBBs the segment meets (the boxes whose tables a query reads).
+  /// How many boxes' PBBs the segment meets.
   std::size_t boxes_met(const Segment& segment) const noexcept;
+  /// How many box queries query() runs for this segment (HapticBox::query_into calls,
+  /// backward inside tests included): what its cost is made of.
+  std::size_t box_queries(const Segment& segment, const ForceLaw& law) const noexcept;
+
+  /// The scene grid, or nullptr (one box, or a file from before version 5).
+  const std::shared_ptr<const SceneGrid>& grid() const { return grid_; }
+  /// The same boxes without the grid (every query takes the path without it; for
+  /// before/after measurements).
+  BoxScene without_grid() const { return BoxScene(boxes_, source_, piece_of_triangle_); }
 
   /// A copy with every box's table compressed (see HapticBox::compressed); throws
   /// hb::InvalidInput when a box is already compressed or the options are out of range.
@@ -55,6 +75,10 @@ public:
   std::size_t refinement_bytes() const;
 
 private:
+  // The query through the grid; false when the handle's cell leaves it to query_met().
+  bool query_routed(const Segment& segment, const ForceLaw& law, Contact& out, std::size_t* asked) const noexcept;
+  // The query without the grid: every box whose PBB the segment meets.
+  Contact query_met(const Segment& segment, const ForceLaw& law, std::size_t* asked) const noexcept;
   // Boxes in [first, last) whose axis-aligned bounds the segment meets, written into `out`.
   std::size_t cull(const Segment& segment, std::size_t first, std::size_t last, std::uint32_t* out) const noexcept;
 
@@ -63,6 +87,7 @@ private:
   std::vector<std::uint32_t> piece_of_triangle_;
   // Axis-aligned bounds of each PBB, structure of arrays: lo x, y, z then hi x, y, z.
   std::vector<float> bounds_[6];
+  std::shared_ptr<const SceneGrid> grid_;
 };
 
 } // namespace hb

@@ -1,0 +1,351 @@
+// Scene grid (see scene_grid.h).
+//  1. Cells: cubes of SceneGridOptions::cell x the mesh diagonal over the mesh bounds plus
+//     one cell on every side (the padding keeps the outside connected).
+//  2. Surface cells: each triangle is tested against the cells its bounds cover with the
+//     separating-axis triangle-box test (13 axes); a cell counts the triangles that meet it
+//     and, per box, how many of them the box's list holds (chunks of triangles over all
+//     cores, TBB). A cell is routed to one box: of the boxes holding all its triangles, the
+//     one holding the largest share of the triangles around it (3 x 3 x 3 cells), i.e. the
+//     box whose piece goes on furthest around the cell, away from the cut it was baked with
+//     (pieces overlap at seams, so at a seam both boxes hold the cell). When no box holds
+//     all of a cell's triangles, the cell lists every box holding one. Equal lists share
+//     one code.
+//  3. Cells without surface: 6-connected regions of them are labelled by flood fill; one
+//     cell centre of each region (at least half a cell from any triangle) casts 6 axis rays
+//     against the whole mesh (Embree). A point is inside a closed mesh exactly when a ray's
+//     first hit is a back face, so all 6 agreeing gives the region's state; disagreeing rays
+//     (open meshes, holes) leave it kUnknown, and the scene then asks its boxes instead.
+#include "haptic_box/scene_grid.h"
+#include "errors.h"
+#include "exact/embree_scene.h"
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <cstring>
+#include <map>
+#include <mutex>
+
+namespace hb {
+namespace {
+
+// Separating-axis test of a triangle against an axis-aligned box (centre c, half extent h).
+bool triangle_meets_box(const Vec3& a, const Vec3& b, const Vec3& c3, const Vec3& c, float h) {
+  const Vec3 v0 = a - c, v1 = b - c, v2 = c3 - c;
+  for (int k = 0; k < 3; ++k) {
+    const float lo = std::min({v0[k], v1[k], v2[k]}), hi = std::max({v0[k], v1[k], v2[k]});
+    if (lo > h || hi < -h) return false;
+  }
+  const Vec3 e[3] = {v1 - v0, v2 - v1, v0 - v2};
+  const Vec3 n = e[0].cross(e[1]);
+  {
+    const float r = h * (std::fabs(n.x()) + std::fabs(n.y()) + std::fabs(n.z()));
+    const float s = n.dot(v0);
+    if (s > r || s < -r) return false;
+  }
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) {
+      Vec3 axis = Vec3::Zero();
+      axis[k] = 1.f;
+      const Vec3 ax = axis.cross(e[i]);
+      const float p0 = ax.dot(v0), p1 = ax.dot(v1), p2 = ax.dot(v2);
+      const float r = h * (std::fabs(ax.x()) + std::fabs(ax.y()) + std::fabs(ax.z()));
+      if (std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r) return false;
+    }
+  return true;
+}
+
+} // namespace
+
+SceneGrid::SceneGrid(const Vec3& origin, float cell, const std::array<int, 3>& dims, std::vector<std::uint16_t> codes,
+                     std::vector<std::uint32_t> list_offsets, std::vector<std::uint32_t> list_boxes)
+    : origin_(origin), cell_(cell), inv_cell_(cell > 0.f ? 1.f / cell : 0.f), dims_(dims), codes_(std::move(codes)),
+      list_offsets_(std::move(list_offsets)), list_boxes_(std::move(list_boxes)) {
+  if (!origin_.allFinite() || !(cell_ > 0.f) || !std::isfinite(cell_) || !std::isfinite(inv_cell_))
+    throw InvalidInput("scene grid: origin and cell must be finite, cell > 0");
+  std::size_t cells = 1;
+  for (int k = 0; k < 3; ++k) {
+    if (dims_[k] < 1 || dims_[k] > (1 << 16)) throw InvalidInput("scene grid: dimension " + std::to_string(dims_[k]) + " out of range");
+    cells *= std::size_t(dims_[k]);
+  }
+  if (cells > (std::size_t(1) << 30) || codes_.size() != cells)
+    throw InvalidInput("scene grid: " + std::to_string(codes_.size()) + " codes for " + std::to_string(cells) + " cells");
+  if (list_offsets_.empty() || list_offsets_.front() != 0 || list_offsets_.back() != list_boxes_.size() ||
+      list_offsets_.size() - 1 > kMaxLists)
+    throw InvalidInput("scene grid: inconsistent box lists");
+  for (std::size_t i = 1; i < list_offsets_.size(); ++i)
+    if (list_offsets_[i] < list_offsets_[i - 1]) throw InvalidInput("scene grid: inconsistent box lists");
+  const std::size_t lists = list_offsets_.size() - 1;
+  for (std::uint16_t code : codes_)
+    if (code >= kFirstSurface + lists)
+      throw InvalidInput("scene grid: cell code " + std::to_string(code) + " names no box list");
+}
+
+std::uint32_t SceneGrid::max_box() const {
+  std::uint32_t m = 0;
+  for (std::uint32_t b : list_boxes_) m = std::max(m, b);
+  return m;
+}
+
+namespace {
+constexpr std::uint32_t kGridMagic = 0x52474248;  // "HBGR"
+constexpr std::uint32_t kGridVersion = 1;
+template <class T> void put(std::vector<std::uint8_t>& out, const T& v) {
+  const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
+  out.insert(out.end(), p, p + sizeof(T));
+}
+} // namespace
+
+std::vector<std::uint8_t> SceneGrid::serialize() const {
+  std::vector<std::uint8_t> out;
+  put(out, kGridMagic);
+  put(out, kGridVersion);
+  for (int k = 0; k < 3; ++k) put(out, origin_[k]);
+  put(out, cell_);
+  for (int k = 0; k < 3; ++k) put(out, std::int32_t(dims_[k]));
+  put(out, std::uint32_t(list_offsets_.size()));
+  put(out, std::uint32_t(list_boxes_.size()));
+  const auto* c = reinterpret_cast<const std::uint8_t*>(codes_.data());
+  out.insert(out.end(), c, c + codes_.size() * 2);
+  const auto* o = reinterpret_cast<const std::uint8_t*>(list_offsets_.data());
+  out.insert(out.end(), o, o + list_offsets_.size() * 4);
+  const auto* b = reinterpret_cast<const std::uint8_t*>(list_boxes_.data());
+  out.insert(out.end(), b, b + list_boxes_.size() * 4);
+  return out;
+}
+
+SceneGrid SceneGrid::deserialize(const std::uint8_t* data, std::size_t bytes) {
+  std::size_t pos = 0;
+  auto get = [&](auto& v) {
+    if (bytes - pos < sizeof(v)) throw InvalidInput("scene grid: truncated");
+    std::memcpy(&v, data + pos, sizeof(v));
+    pos += sizeof(v);
+  };
+  std::uint32_t magic = 0, version = 0, offsets = 0, boxes = 0;
+  get(magic);
+  get(version);
+  if (magic != kGridMagic) throw InvalidInput("scene grid: bad magic");
+  if (version != kGridVersion) throw InvalidInput("scene grid: unsupported version " + std::to_string(version));
+  Vec3 origin;
+  float cell = 0.f;
+  std::array<int, 3> dims{};
+  for (int k = 0; k < 3; ++k) get(origin[k]);
+  get(cell);
+  for (int k = 0; k < 3; ++k) {
+    std::int32_t d = 0;
+    get(d);
+    if (d < 1 || d > (1 << 16)) throw InvalidInput("scene grid: dimension " + std::to_string(d) + " out of range");
+    dims[k] = d;
+  }
+  get(offsets);
+  get(boxes);
+  const std::size_t cells = std::size_t(dims[0]) * std::size_t(dims[1]) * std::size_t(dims[2]);
+  if (cells > (std::size_t(1) << 30) || (bytes - pos) / 2 < cells) throw InvalidInput("scene grid: truncated");
+  const std::size_t need = cells * 2 + (std::size_t(offsets) + std::size_t(boxes)) * 4;
+  if (bytes - pos != need) throw InvalidInput("scene grid: " + std::to_string(bytes) + " bytes, expected " + std::to_string(pos + need));
+  std::vector<std::uint16_t> codes(cells);
+  std::memcpy(codes.data(), data + pos, cells * 2);
+  pos += cells * 2;
+  std::vector<std::uint32_t> list_offsets(offsets), list_boxes(boxes);
+  if (offsets) std::memcpy(list_offsets.data(), data + pos, std::size_t(offsets) * 4);
+  pos += std::size_t(offsets) * 4;
+  if (boxes) std::memcpy(list_boxes.data(), data + pos, std::size_t(boxes) * 4);
+  return SceneGrid(origin, cell, dims, std::move(codes), std::move(list_offsets), std::move(list_boxes));
+}
+
+SceneGrid build_scene_grid(const TriangleMesh& mesh, const std::vector<std::vector<std::uint32_t>>& box_triangles,
+                           const SceneGridOptions& options) {
+  if (mesh.triangle_count() == 0) throw InvalidInput("scene grid: mesh has no triangles");
+  if (box_triangles.empty()) throw InvalidInput("scene grid: no boxes");
+  if (!(options.cell > 0.f && options.cell <= 1.f)) throw InvalidInput("scene grid: cell must be in (0, 1]");
+  if (options.max_cells < 1) throw InvalidInput("scene grid: max_cells must be >= 1");
+  const std::size_t tcount = mesh.triangle_count();
+  // Boxes holding each triangle (CSR).
+  std::vector<std::uint32_t> start(tcount + 1, 0);
+  for (const auto& list : box_triangles) {
+    if (list.empty()) {
+      for (std::size_t t = 0; t < tcount; ++t) ++start[t + 1];
+      continue;
+    }
+    for (std::uint32_t t : list) {
+      if (t >= tcount) throw InvalidInput("scene grid: triangle " + std::to_string(t) + " beyond the mesh's " + std::to_string(tcount));
+      ++start[t + 1];
+    }
+  }
+  for (std::size_t t = 0; t < tcount; ++t) start[t + 1] += start[t];
+  std::vector<std::uint32_t> holders(start.back()), fill(start.begin(), start.end() - 1);
+  for (std::uint32_t b = 0; b < box_triangles.size(); ++b) {
+    if (box_triangles[b].empty()) {
+      for (std::size_t t = 0; t < tcount; ++t) holders[fill[t]++] = b;
+      continue;
+    }
+    for (std::uint32_t t : box_triangles[b]) holders[fill[t]++] = b;
+  }
+
+  // 1. Cells.
+  const Bounds bounds = mesh.bounds();
+  const float diagonal = std::max(bounds.diagonal(), 1e-20f);
+  float cell = options.cell * diagonal;
+  std::array<int, 3> dims{};
+  for (;;) {
+    std::size_t cells = 1;
+    for (int k = 0; k < 3; ++k) {
+      dims[k] = int(std::ceil((bounds.max[k] - bounds.min[k]) / cell)) + 2;
+      cells *= std::size_t(dims[k]);
+    }
+    if (cells <= options.max_cells && dims[0] <= (1 << 16) && dims[1] <= (1 << 16) && dims[2] <= (1 << 16)) break;
+    cell *= 1.25f;
+  }
+  const Vec3 origin = bounds.min - Vec3::Constant(cell);
+  const std::size_t nx = std::size_t(dims[0]), ny = std::size_t(dims[1]), nz = std::size_t(dims[2]);
+  const std::size_t cells = nx * ny * nz;
+  auto cell_index = [&](int x, int y, int z) { return (std::size_t(z) * ny + std::size_t(y)) * nx + std::size_t(x); };
+
+  // 2. Surface cells: per cell the number of triangles meeting it, and per box how many of
+  //    them it holds (keys cell << 32 | box, and cell << 32 | kTotal for the count).
+  constexpr std::uint32_t kTotal = 0xffffffffu;
+  struct Count {
+    std::uint64_t key;
+    std::uint32_t count;
+  };
+  std::vector<Count> counts;
+  std::mutex counts_mutex;
+  const float half = 0.5f * cell * (1.f + 1e-4f);  // a hair larger: a triangle on a cell face counts for both
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tcount, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+    std::vector<std::uint64_t> local;
+    for (std::size_t t = r.begin(); t != r.end(); ++t) {
+      const Triangle& tri = mesh.triangles[t];
+      const Vec3& a = mesh.positions[tri[0]];
+      const Vec3& b = mesh.positions[tri[1]];
+      const Vec3& c = mesh.positions[tri[2]];
+      int lo[3], hi[3];
+      for (int k = 0; k < 3; ++k) {
+        const float mn = std::min({a[k], b[k], c[k]}), mx = std::max({a[k], b[k], c[k]});
+        lo[k] = std::max(0, int(std::floor((mn - origin[k]) / cell - 1e-3f)));
+        hi[k] = std::min(dims[k] - 1, int(std::floor((mx - origin[k]) / cell + 1e-3f)));
+      }
+      for (int z = lo[2]; z <= hi[2]; ++z)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+          for (int x = lo[0]; x <= hi[0]; ++x) {
+            const Vec3 centre = origin + cell * Vec3(float(x) + 0.5f, float(y) + 0.5f, float(z) + 0.5f);
+            if (!triangle_meets_box(a, b, c, centre, half)) continue;
+            const std::uint64_t ci = cell_index(x, y, z);
+            local.push_back(ci << 32 | kTotal);
+            for (std::uint32_t h = start[t]; h < start[t + 1]; ++h) local.push_back(ci << 32 | holders[h]);
+          }
+    }
+    std::sort(local.begin(), local.end());
+    std::vector<Count> runs;
+    for (std::size_t i = 0; i < local.size();) {
+      std::size_t j = i;
+      while (j < local.size() && local[j] == local[i]) ++j;
+      runs.push_back({local[i], std::uint32_t(j - i)});
+      i = j;
+    }
+    std::lock_guard<std::mutex> lock(counts_mutex);
+    counts.insert(counts.end(), runs.begin(), runs.end());
+  });
+  std::sort(counts.begin(), counts.end(), [](const Count& x, const Count& y) { return x.key < y.key; });
+  {
+    std::size_t w = 0;
+    for (std::size_t i = 0; i < counts.size(); ++i) {
+      if (w > 0 && counts[w - 1].key == counts[i].key) counts[w - 1].count += counts[i].count;
+      else counts[w++] = counts[i];
+    }
+    counts.resize(w);
+  }
+  // Per surface cell its run in `counts` (boxes ascending, the total last).
+  std::vector<std::uint32_t> run_of(cells, kTotal);
+  std::vector<std::uint32_t> run_start;
+  for (std::size_t i = 0; i < counts.size(); ++i)
+    if (i == 0 || (counts[i].key >> 32) != (counts[i - 1].key >> 32)) {
+      run_of[counts[i].key >> 32] = std::uint32_t(run_start.size());
+      run_start.push_back(std::uint32_t(i));
+    }
+  run_start.push_back(std::uint32_t(counts.size()));
+  auto run_begin = [&](std::size_t ci) { return counts.begin() + run_start[run_of[ci]]; };
+  auto run_end = [&](std::size_t ci) { return counts.begin() + run_start[run_of[ci] + 1]; };
+  // The box a surface cell is routed to: among the boxes holding every triangle that meets
+  // the cell, the one holding the largest share of the triangle-cell overlaps in the 3 x 3 x
+  // 3 cells around it (deepest inside its piece, farthest from its cut: a box sees its own
+  // surface best away from the seams it was cut at). No such box: every box with a triangle
+  // there.
+  std::vector<std::uint16_t> codes(cells, SceneGrid::kUnknown);
+  std::vector<std::uint32_t> list_offsets{0}, list_boxes;
+  std::map<std::vector<std::uint32_t>, std::uint16_t> list_code;
+  std::vector<std::uint32_t> list;
+  for (std::size_t r = 0; r + 1 < run_start.size(); ++r) {
+    const auto first = counts.begin() + run_start[r], last = counts.begin() + run_start[r + 1];
+    const std::size_t ci = first->key >> 32;
+    const std::uint32_t total = (last - 1)->count;
+    list.clear();
+    const int x = int(ci % nx), y = int((ci / nx) % ny), z = int(ci / (nx * ny));
+    double best_score = -1.0;
+    std::uint32_t best_box = 0;
+    for (auto it = first; it + 1 < last; ++it) {
+      if (it->count != total) continue;
+      const std::uint32_t box = std::uint32_t(it->key);
+      double held = 0.0, all = 0.0;
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int qx = x + dx, qy = y + dy, qz = z + dz;
+            if (qx < 0 || qy < 0 || qz < 0 || qx >= dims[0] || qy >= dims[1] || qz >= dims[2]) continue;
+            const std::size_t qi = cell_index(qx, qy, qz);
+            if (run_of[qi] == kTotal) continue;
+            const auto qlast = run_end(qi);
+            all += double((qlast - 1)->count);
+            for (auto q = run_begin(qi); q + 1 < qlast; ++q)
+              if (std::uint32_t(q->key) == box) held += double(q->count);
+          }
+      const double score = all > 0.0 ? held / all : 0.0;
+      if (score > best_score) best_score = score, best_box = box;
+    }
+    if (best_score >= 0.0) list.push_back(best_box);
+    else
+      for (auto it = first; it + 1 < last; ++it) list.push_back(std::uint32_t(it->key));
+    auto found = list_code.find(list);
+    if (found == list_code.end()) {
+      if (list_code.size() >= SceneGrid::kMaxLists) return SceneGrid{};
+      found = list_code.emplace(list, std::uint16_t(SceneGrid::kFirstSurface + list_code.size())).first;
+      list_boxes.insert(list_boxes.end(), list.begin(), list.end());
+      list_offsets.push_back(std::uint32_t(list_boxes.size()));
+    }
+    codes[ci] = found->second;
+  }
+
+  // 3. Regions without surface, one state each.
+  const EmbreeScene scene(mesh);
+  const Vec3 dirs[6] = {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)};
+  std::vector<std::uint8_t> seen(cells, 0);
+  std::vector<std::size_t> stack;
+  const float far = 4.f * diagonal;
+  for (std::size_t seed = 0; seed < cells; ++seed) {
+    if (seen[seed] || codes[seed] >= SceneGrid::kFirstSurface) continue;
+    const int sx = int(seed % nx), sy = int((seed / nx) % ny), sz = int(seed / (nx * ny));
+    const Vec3 p = origin + cell * Vec3(float(sx) + 0.5f, float(sy) + 0.5f, float(sz) + 0.5f);
+    int back = 0, other = 0;
+    for (const Vec3& d : dirs) {
+      const RayHit hit = scene.intersect(p, d, 0.f, far);
+      (hit.hit && hit.back_face ? back : other) += 1;
+    }
+    const std::uint16_t state = back == 6 ? SceneGrid::kInside : other == 6 ? SceneGrid::kOutside : SceneGrid::kUnknown;
+    stack.assign(1, seed);
+    seen[seed] = 1;
+    while (!stack.empty()) {
+      const std::size_t c = stack.back();
+      stack.pop_back();
+      codes[c] = state;
+      const int x = int(c % nx), y = int((c / nx) % ny), z = int(c / (nx * ny));
+      const int nb[6][3] = {{x - 1, y, z}, {x + 1, y, z}, {x, y - 1, z}, {x, y + 1, z}, {x, y, z - 1}, {x, y, z + 1}};
+      for (const auto& q : nb) {
+        if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= dims[0] || q[1] >= dims[1] || q[2] >= dims[2]) continue;
+        const std::size_t qi = cell_index(q[0], q[1], q[2]);
+        if (seen[qi] || codes[qi] >= SceneGrid::kFirstSurface) continue;
+        seen[qi] = 1;
+        stack.push_back(qi);
+      }
+    }
+  }
+  return SceneGrid(origin, cell, dims, std::move(codes), std::move(list_offsets), std::move(list_boxes));
+}
+
+} // namespace hb

@@ -1,0 +1,152 @@
+#pragma once
+// The scene grid: a uniform grid baked with a scene of several boxes, which routes a probe to
+// the boxes whose pieces it can meet and answers "is the handle inside the object" in O(1).
+#include "mesh/triangle_mesh.h"
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace hb {
+
+/// Options of build_scene_grid.
+struct SceneGridOptions {
+  /// Cell edge as a fraction of the mesh's bounding-box diagonal, in (0, 1].
+  float cell = 1.f / 128.f;
+  /// Most cells the grid may have (the cell grows by 25% steps until it fits), >= 1.
+  std::size_t max_cells = std::size_t(1) << 24;
+};
+
+/// A uniform grid of cubic cells over a scene's mesh (1 cell of padding on every side).
+/// Each cell holds one code:
+/// - a surface cell (code >= kFirstSurface) lists the boxes to ask about the surface in it
+///   (triangles meeting the cell by the exact triangle-box overlap test): the one box that
+///   holds all of them and whose piece goes on furthest around the cell (seams are in two
+///   boxes), or, when no box holds them all, every box holding one;
+/// - a cell without surface is all inside or all outside the object (no triangle separates
+///   its points). Its state comes from Embree rays cast from one cell of each connected
+///   region of such cells: inside when the first hits of all 6 axis rays are back faces,
+///   outside when none is; otherwise (an open mesh) kUnknown.
+/// Built once (build_scene_grid or from file bytes), then queried through const noexcept
+/// methods, safe from many threads.
+class SceneGrid {
+public:
+  enum : std::uint16_t { kOutside = 0, kInside = 1, kUnknown = 2, kFirstSurface = 3 };
+  /// Most distinct box lists (codes are 16 bits).
+  static constexpr std::size_t kMaxLists = 65535 - kFirstSurface;
+
+  SceneGrid() = default;
+  /// Validates and takes the parts; throws hb::InvalidInput naming the inconsistency.
+  SceneGrid(const Vec3& origin, float cell, const std::array<int, 3>& dims, std::vector<std::uint16_t> codes,
+            std::vector<std::uint32_t> list_offsets, std::vector<std::uint32_t> list_boxes);
+
+  /// The code of the cell holding p (kOutside beyond the grid, which covers the mesh).
+  std::uint16_t code_at(const Vec3& p) const noexcept {
+    const Vec3 f = (p - origin_) * inv_cell_;
+    if (!(f.x() >= 0.f && f.y() >= 0.f && f.z() >= 0.f)) return kOutside;  // also NaN
+    const int x = int(f.x()), y = int(f.y()), z = int(f.z());
+    if (x >= dims_[0] || y >= dims_[1] || z >= dims_[2]) return kOutside;
+    return codes_[(std::size_t(z) * std::size_t(dims_[1]) + std::size_t(y)) * std::size_t(dims_[0]) + std::size_t(x)];
+  }
+  /// The boxes of surface code `code` (>= kFirstSurface): [first, last).
+  const std::uint32_t* boxes_begin(std::uint16_t code) const noexcept {
+    return list_boxes_.data() + list_offsets_[code - kFirstSurface];
+  }
+  const std::uint32_t* boxes_end(std::uint16_t code) const noexcept {
+    return list_boxes_.data() + list_offsets_[code - kFirstSurface + 1];
+  }
+
+  /// Visits the cells the segment a -> b crosses, in order from a: visit(code, s) with s in
+  /// [0, 1] the segment parameter where the segment enters the cell (0 for a's cell); stops
+  /// when visit returns false, after b's cell, or at the grid's end. Bounded by the sum of
+  /// the dimensions. Cells beyond the grid are outside and not visited.
+  template <class Visit>
+  void walk(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept;
+
+  bool empty() const { return codes_.empty(); }
+  const Vec3& origin() const { return origin_; }
+  float cell() const { return cell_; }
+  const std::array<int, 3>& dims() const { return dims_; }
+  const std::vector<std::uint16_t>& codes() const { return codes_; }
+  std::size_t list_count() const { return list_offsets_.empty() ? 0 : list_offsets_.size() - 1; }
+  /// The largest box index named (for checking against a scene), 0 when none.
+  std::uint32_t max_box() const;
+  /// Bytes in memory (and, to within 48, in a file).
+  std::size_t bytes() const {
+    return codes_.size() * 2 + (list_offsets_.size() + list_boxes_.size()) * 4;
+  }
+
+  /// The file form (box_file.cpp): a small header, the codes, the lists.
+  std::vector<std::uint8_t> serialize() const;
+  /// Reads serialize()'s bytes; throws hb::InvalidInput (truncated, inconsistent).
+  static SceneGrid deserialize(const std::uint8_t* data, std::size_t bytes);
+
+private:
+  Vec3 origin_{Vec3::Zero()};
+  float cell_ = 0.f, inv_cell_ = 0.f;
+  std::array<int, 3> dims_{{0, 0, 0}};
+  std::vector<std::uint16_t> codes_;
+  std::vector<std::uint32_t> list_offsets_, list_boxes_;
+};
+
+/// Builds the grid of a scene whose box b was baked from `box_triangles[b]` (ids into
+/// `mesh`; an empty list stands for all triangles). Throws hb::InvalidInput (no triangles,
+/// out-of-range ids, options out of range); returns an empty grid when the scene needs more
+/// than kMaxLists distinct box lists (the scene then queries every box it meets).
+SceneGrid build_scene_grid(const TriangleMesh& mesh, const std::vector<std::vector<std::uint32_t>>& box_triangles,
+                           const SceneGridOptions& options = {});
+
+template <class Visit>
+void SceneGrid::walk(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept {
+  if (codes_.empty()) return;
+  const Vec3 d = b - a;
+  float s0 = 0.f, s1 = 1.f;
+  for (int k = 0; k < 3; ++k) {
+    const float lo = origin_[k], hi = origin_[k] + cell_ * float(dims_[k]);
+    if (std::fabs(d[k]) < 1e-30f) {
+      if (!(a[k] >= lo && a[k] <= hi)) return;
+      continue;
+    }
+    float u = (lo - a[k]) / d[k], v = (hi - a[k]) / d[k];
+    if (u > v) std::swap(u, v);
+    s0 = std::max(s0, u);
+    s1 = std::min(s1, v);
+  }
+  if (!(s0 <= s1)) return;
+  int i[3], step[3];
+  float next[3], delta[3];
+  const Vec3 p = a + s0 * d;
+  for (int k = 0; k < 3; ++k) {
+    const float f = (p[k] - origin_[k]) * inv_cell_;
+    i[k] = std::min(std::max(int(std::floor(f)), 0), dims_[k] - 1);
+    if (d[k] > 1e-30f) {
+      step[k] = 1;
+      next[k] = (origin_[k] + cell_ * float(i[k] + 1) - a[k]) / d[k];
+      delta[k] = cell_ / d[k];
+    } else if (d[k] < -1e-30f) {
+      step[k] = -1;
+      next[k] = (origin_[k] + cell_ * float(i[k]) - a[k]) / d[k];
+      delta[k] = -cell_ / d[k];
+    } else {
+      step[k] = 0;
+      next[k] = 2.f;  // never
+      delta[k] = 0.f;
+    }
+  }
+  float s = s0;
+  const int limit = dims_[0] + dims_[1] + dims_[2];
+  for (int it = 0; it < limit; ++it) {
+    const std::size_t index =
+        (std::size_t(i[2]) * std::size_t(dims_[1]) + std::size_t(i[1])) * std::size_t(dims_[0]) + std::size_t(i[0]);
+    if (!visit(codes_[index], s)) return;
+    const int k = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
+    s = next[k];
+    if (s > s1) return;
+    i[k] += step[k];
+    if (i[k] < 0 || i[k] >= dims_[k]) return;
+    next[k] += delta[k];
+  }
+}
+
+} // namespace hb

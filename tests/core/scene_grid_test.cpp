@@ -1,0 +1,207 @@
+// The scene grid: cell states and box lists, the walk, its bytes, and the routed scene query.
+#include "errors.h"
+#include "evaluation/comparison.h"
+#include "evaluation/probe_sampling.h"
+#include "exact/exact_query.h"
+#include "haptic_box/bake.h"
+#include "haptic_box/box_file.h"
+#include "haptic_box/scene_grid.h"
+#include "two_spheres.h"
+#include <gtest/gtest.h>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <unistd.h>
+
+namespace hb {
+namespace {
+
+const ForceLaw kLaw{};
+
+std::vector<std::vector<std::uint32_t>> lists_of(const test::TwoSpheres& two) {
+  std::vector<std::vector<std::uint32_t>> lists(2);
+  for (std::uint32_t t = 0; t < two.piece.size(); ++t) lists[two.piece[t]].push_back(t);
+  return lists;
+}
+
+std::vector<std::uint32_t> boxes_at(const SceneGrid& grid, const Vec3& p) {
+  const std::uint16_t code = grid.code_at(p);
+  if (code < SceneGrid::kFirstSurface) return {};
+  return {grid.boxes_begin(code), grid.boxes_end(code)};
+}
+
+TEST(SceneGridTest, CellsOfTwoSpheresAreInsideOutsideOrListTheirBox) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  const SceneGrid grid = build_scene_grid(two.mesh, lists_of(two));
+  ASSERT_FALSE(grid.empty());
+  EXPECT_EQ(grid.code_at(Vec3(0.f, 0.f, 0.f)), SceneGrid::kInside);
+  EXPECT_EQ(grid.code_at(Vec3(3.f, 0.1f, 0.f)), SceneGrid::kInside);
+  EXPECT_EQ(grid.code_at(Vec3(1.5f, 0.f, 0.f)), SceneGrid::kOutside);
+  EXPECT_EQ(grid.code_at(Vec3(100.f, 0.f, 0.f)), SceneGrid::kOutside);
+  EXPECT_EQ(grid.code_at(Vec3(std::nanf(""), 0.f, 0.f)), SceneGrid::kOutside);
+  EXPECT_EQ(boxes_at(grid, Vec3(-1.f, 0.f, 0.f)), std::vector<std::uint32_t>{0});
+  EXPECT_EQ(boxes_at(grid, Vec3(4.f, 0.f, 0.f)), std::vector<std::uint32_t>{1});
+  EXPECT_EQ(grid.max_box(), 1u);
+}
+
+TEST(SceneGridTest, EveryCellWithoutSurfaceHasTheStateOfItsPoints) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  const SceneGrid grid = build_scene_grid(two.mesh, lists_of(two), SceneGridOptions{1.f / 40.f});
+  const auto& d = grid.dims();
+  std::size_t inside = 0, outside = 0, surface = 0;
+  for (int z = 0; z < d[2]; ++z)
+    for (int y = 0; y < d[1]; ++y)
+      for (int x = 0; x < d[0]; ++x) {
+        const Vec3 p = grid.origin() + grid.cell() * Vec3(float(x) + 0.5f, float(y) + 0.5f, float(z) + 0.5f);
+        const std::uint16_t code = grid.code_at(p);
+        if (code >= SceneGrid::kFirstSurface) {
+          ++surface;
+          continue;
+        }
+        // The mesh is a polyhedron inscribed in the unit spheres: a point clear of the surface
+        // by half a cell is inside it when it is well inside a sphere.
+        const float r = std::min(p.norm(), (p - Vec3(3.f, 0.f, 0.f)).norm());
+        ASSERT_NE(code, SceneGrid::kUnknown) << x << " " << y << " " << z;
+        EXPECT_EQ(code == SceneGrid::kInside, r < 1.f) << x << " " << y << " " << z << " r " << r;
+        (code == SceneGrid::kInside ? inside : outside) += 1;
+      }
+  EXPECT_GT(inside, 0u);
+  EXPECT_GT(outside, inside);
+  EXPECT_GT(surface, 0u);
+}
+
+TEST(SceneGridTest, WalkVisitsTheCrossedCellsInOrder) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  const SceneGrid grid = build_scene_grid(two.mesh, lists_of(two));
+  std::mt19937 rng(5);
+  // Ends inside the grid (the spheres' bounds plus a cell), and some beyond it for b.
+  std::uniform_real_distribution<float> ux(-0.95f, 3.95f), uyz(-0.95f, 0.95f), far(-3.f, 6.f);
+  for (int k = 0; k < 200; ++k) {
+    const Vec3 a(ux(rng), uyz(rng), uyz(rng));
+    const Vec3 b = k % 2 ? Vec3(ux(rng), uyz(rng), uyz(rng)) : Vec3(far(rng), far(rng), far(rng));
+    std::vector<std::pair<std::uint16_t, float>> cells;
+    grid.walk(a, b, [&](std::uint16_t code, float s) {
+      cells.emplace_back(code, s);
+      return true;
+    });
+    ASSERT_FALSE(cells.empty());
+    EXPECT_EQ(cells.front().second, 0.f);  // a is inside the grid
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const float s_end = i + 1 < cells.size() ? cells[i + 1].second : 1.f;
+      ASSERT_LE(cells[i].second, s_end);
+      if (s_end - cells[i].second < 1e-4f || i + 1 == cells.size()) continue;  // a corner grazed; the last may leave the grid
+      EXPECT_EQ(grid.code_at(a + 0.5f * (cells[i].second + s_end) * (b - a)), cells[i].first) << k << " " << i;
+    }
+  }
+  // Stops when told to, and never visits beyond the grid.
+  int visited = 0;
+  grid.walk(Vec3(-2.f, 0.f, 0.f), Vec3(5.f, 0.f, 0.f), [&](std::uint16_t, float) { return ++visited < 3; });
+  EXPECT_EQ(visited, 3);
+  visited = 0;
+  grid.walk(Vec3(100.f, 0.f, 0.f), Vec3(200.f, 0.f, 0.f), [&](std::uint16_t, float) { return ++visited > 0; });
+  EXPECT_EQ(visited, 0);
+}
+
+TEST(SceneGridTest, BytesRoundTripAndBadBytesThrow) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  const SceneGrid grid = build_scene_grid(two.mesh, lists_of(two));
+  const std::vector<std::uint8_t> bytes = grid.serialize();
+  const SceneGrid back = SceneGrid::deserialize(bytes.data(), bytes.size());
+  EXPECT_EQ(back.codes(), grid.codes());
+  EXPECT_EQ(back.dims(), grid.dims());
+  EXPECT_EQ(back.cell(), grid.cell());
+  EXPECT_EQ(back.list_count(), grid.list_count());
+  EXPECT_THROW(SceneGrid::deserialize(bytes.data(), bytes.size() - 1), InvalidInput);
+  EXPECT_THROW(SceneGrid::deserialize(bytes.data(), 10), InvalidInput);
+  std::vector<std::uint8_t> bad = bytes;
+  bad[0] ^= 1;  // magic
+  EXPECT_THROW(SceneGrid::deserialize(bad.data(), bad.size()), InvalidInput);
+  bad = bytes;
+  const std::size_t first_code = 11 * 4;  // after the header: 11 four-byte fields
+  bad[first_code] = 0xff, bad[first_code + 1] = 0xff;  // a code naming no list
+  EXPECT_THROW(SceneGrid::deserialize(bad.data(), bad.size()), InvalidInput);
+  EXPECT_THROW(build_scene_grid(two.mesh, {}), InvalidInput);
+  EXPECT_THROW(build_scene_grid(two.mesh, {{0u, 999999u}}), InvalidInput);
+  EXPECT_THROW(build_scene_grid(two.mesh, lists_of(two), SceneGridOptions{0.f}), InvalidInput);
+}
+
+TEST(BoxSceneGridTest, RoutedQueriesAskOneBoxAndAgreeWithExactAsWellAsAllBoxes) {
+  const test::TwoSpheres two = test::two_spheres(2.5f);
+  BakeOptions options;
+  options.params = {12, 6};
+  options.refine = true;
+  const BoxScene scene = bake_scene(two.mesh, two.piece, options, {});
+  ASSERT_NE(scene.grid(), nullptr);
+  const BoxScene plain = scene.without_grid();
+  ASSERT_EQ(plain.grid(), nullptr);
+  const ExactQuery exact(two.mesh);
+  const auto probes = sample_probes(two.mesh, 3000, ProbeOptions{});
+  const float diagonal = two.mesh.bounds().diagonal();
+  const ComparisonStats routed = compare_queries(scene, exact, probes, kLaw, diagonal);
+  const ComparisonStats all = compare_queries(plain, exact, probes, kLaw, diagonal);
+  EXPECT_GE(routed.contact_agreement, all.contact_agreement - 0.002);
+  EXPECT_GT(routed.contact_agreement, 0.99);
+  EXPECT_LT(routed.force_error_median, 1e-3);
+  double asked_routed = 0, asked_all = 0;
+  for (const Segment& s : probes) {
+    asked_routed += double(scene.box_queries(s, kLaw));
+    asked_all += double(plain.box_queries(s, kLaw));
+  }
+  EXPECT_LT(asked_routed / double(probes.size()), 1.2);
+  EXPECT_LT(asked_routed, asked_all);
+  // A handle inside a sphere: no contact, no box query.
+  const Segment inside{Vec3(0.f, 0.f, 0.f), Vec3(-1.5f, 0.f, 0.f)};
+  EXPECT_FALSE(scene.query(inside, kLaw).contact);
+  EXPECT_EQ(scene.box_queries(inside, kLaw), 0u);
+  // query_many answers as query() one by one.
+  std::vector<Contact> many(probes.size());
+  scene.query_many(probes.data(), probes.size(), kLaw, many.data());
+  for (std::size_t i = 0; i < probes.size(); ++i) {
+    const Contact one = scene.query(probes[i], kLaw);
+    ASSERT_EQ(one.contact, many[i].contact) << i;
+    EXPECT_EQ(one.depth, many[i].depth) << i;
+  }
+  // The compressed scene keeps the grid.
+  EXPECT_EQ(scene.compressed(CodecOptions{}).grid(), scene.grid());
+}
+
+TEST(BoxSceneGridTest, TheGridSurvivesTheBoxFileAndACorruptGridFailsToLoad) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("hb_scene_grid_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  BakeOptions options;
+  options.params = {8, 4};
+  const BoxScene scene = bake_scene(two.mesh, two.piece, options, {});
+  const std::string path = (dir / "two.hbox").string();
+  save_box_file(scene, path);
+  const BoxScene loaded = load_box_file(path);
+  ASSERT_NE(loaded.grid(), nullptr);
+  EXPECT_EQ(loaded.grid()->codes(), scene.grid()->codes());
+  const auto probes = sample_probes(two.mesh, 500, ProbeOptions{});
+  for (const Segment& s : probes) {
+    const Contact a = scene.query(s, kLaw), b = loaded.query(s, kLaw);
+    ASSERT_EQ(a.contact, b.contact);
+    EXPECT_EQ(a.depth, b.depth);
+  }
+  // Flip a byte in the grid, the last block of the file.
+  std::vector<char> bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  bytes[bytes.size() - 10] ^= 0x5a;
+  const std::string bad = (dir / "bad.hbox").string();
+  std::ofstream(bad, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+  try {
+    load_box_file(bad);
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("scene grid checksum"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
+} // namespace
+} // namespace hb
