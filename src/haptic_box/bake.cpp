@@ -208,7 +208,7 @@ BoxScene bake_scene_from_lists(const TriangleMesh& mesh, const std::vector<std::
     stats->hits = hits;
     stats->rays_per_second = stats->seconds > 0 ? double(stats->rays) / stats->seconds : 0.0;
   }
-  return BoxScene(std::move(boxes), source, std::move(grid));
+  return BoxScene(std::move(boxes), source, {}, std::move(grid));
 }
 
 } // namespace hb

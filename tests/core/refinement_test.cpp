@@ -194,8 +194,13 @@ TEST_F(RefinedBoxFileTest, CorruptTriangleIdsAreCaughtByVerifyAndNeverReadOutOfB
   const std::size_t id_bytes = box.triangle_id_bytes();
   const std::size_t surface_bytes = box.surface()->bytes();
   const std::size_t ids_at = data.size() - surface_bytes - id_bytes;  // both end 64-aligned
+  // Values beyond every slot whatever the file offset (16-bit ids: base + offset past the
+  // surface's count; a pattern from the offset alone could land inside it).
+  ASSERT_LT(box.surface()->size() + box.triangle_ids().base, 0xfb00u);
   for (std::size_t k = ids_at; k + 4 <= ids_at + id_bytes; k += 4) {
-    const std::uint32_t bad = 0xfffffff0u - std::uint32_t(k);
+    const std::uint32_t bad = box.triangle_ids().width == 2
+                                  ? (0xfff0u - std::uint32_t((k / 2) & 1023u)) * 0x10001u
+                                  : 0xfffffff0u - std::uint32_t(k);
     std::memcpy(&data[k], &bad, 4);
   }
   const std::string bad_path = (dir_ / "bad.hbox").string();
