@@ -46,12 +46,6 @@ void add_force_law_options(CLI::App& cmd, ForceLaw& law) {
 
 void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << std::endl; }
 
-std::string default_cache_dir() {
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::string(xdg) + "/hapticbox/boxes";
-  if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/hapticbox/boxes";
-  return "/tmp/hapticbox-boxes";
-}
-
 bool is_box_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   char magic[8] = {};

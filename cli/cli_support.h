@@ -30,10 +30,6 @@ void add_force_law_options(CLI::App& cmd, ForceLaw& law);
 /// Prints JSON to stdout (indented).
 void print_json(const nlohmann::json& j);
 
-/// Where sweeps and reports cache boxes: $XDG_CACHE_HOME/hapticbox/boxes, else
-/// ~/.cache/hapticbox/boxes, else /tmp/hapticbox-boxes.
-std::string default_cache_dir();
-
 /// True when `path` names a box file (by its magic bytes, not its extension).
 bool is_box_file(const std::string& path);
 

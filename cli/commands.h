@@ -16,3 +16,4 @@ void add_report_command(CLI::App& app);
 void add_field_command(CLI::App& app);
 void add_compress_sweep_command(CLI::App& app);
 void add_compress_command(CLI::App& app);
+void add_cache_command(CLI::App& app);

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
 #endif
   add_compress_command(app);
   add_compress_sweep_command(app);
+  add_cache_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

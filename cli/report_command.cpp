@@ -2,6 +2,7 @@
 // Writes DIR/report.html (self-contained), DIR/summary.json and DIR/samples.csv. Runs with no
 // display: the error-field image is rendered only when an X display opens (noted otherwise).
 #include "cli_support.h"
+#include "haptic_box/box_cache.h"
 #include "commands.h"
 #include "errors.h"
 #include "haptic_box/bake_recipe.h"
@@ -44,7 +45,7 @@ void add_report_command(CLI::App& app) {
     hb::ReportOptions report;
     std::vector<int> sweep_m, sweep_n;
     bool no_sweep = false;
-    std::string cache = hb::cli::default_cache_dir();
+    std::string cache = hb::default_box_cache_dir();
     bool no_cache = false;
     bool no_image = false;
     std::string save_box;

@@ -2,6 +2,7 @@
 // Speed against accuracy: every configuration baked (or taken from the cache), evaluated and
 // timed on the same probes next to exact Embree and VTK's vtkStaticCellLocator.
 #include "cli_support.h"
+#include "haptic_box/box_cache.h"
 #include "commands.h"
 #include "errors.h"
 #include "evaluation/sweep.h"
@@ -44,7 +45,7 @@ void add_sweep_command(CLI::App& app) {
     std::vector<std::string> codecs{"none"};
     bool refine = false;
     std::string pieces;
-    std::string cache = hb::cli::default_cache_dir();
+    std::string cache = hb::default_box_cache_dir();
     bool no_cache = false;
     std::string chart;
     hb::SweepOptions sweep;

@@ -51,7 +51,15 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   refine_->setToolTip(tr("Store the triangle each sample hit: a query then intersects the line with the few "
                          "triangles its samples name (and their neighbours) and answers exactly where it "
                          "finds the surface. 2-4 bytes more per sample; slower queries."));
-  cache_ = new QCheckBox(tr("Cache baked boxes next to the model"));
+  cache_ = new QCheckBox(tr("Use the box cache"));
+  cacheInfo_ = new QLabel;
+  cacheInfo_->setWordWrap(true);
+  clearCache_ = new QPushButton(tr("Clear"));
+  clearCache_->setToolTip(tr("Remove every cached box file (the boxes in use stay loaded)"));
+  auto* cacheRow = new QHBoxLayout;
+  cacheRow->setContentsMargins(0, 0, 0, 0);
+  cacheRow->addWidget(cacheInfo_, 1);
+  cacheRow->addWidget(clearCache_);
   size_ = new QLabel;
   const auto showSize = [this] {
     hb::BoxParams p;
@@ -91,6 +99,7 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   form->addRow(refine_);
   form->addRow(tr("Size"), size_);
   form->addRow(cache_);
+  form->addRow(tr("Cache"), cacheRow);
   auto* buttons = new QHBoxLayout;
   buttons->addWidget(bake_);
   buttons->addWidget(cancel_);
@@ -116,6 +125,12 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
     updateState();
   });
   connect(session_, &HapticSession::boxesChanged, this, &BakePanel::updateState);
+  connect(session_, &HapticSession::cacheChanged, this, &BakePanel::showCacheUsage);
+  connect(clearCache_, &QPushButton::clicked, this, [this] {
+    QString error;
+    if (!session_->clearCache(&error)) emit message(error);
+  });
+  showCacheUsage();
   connect(session_, &HapticSession::meshChanged, this, &BakePanel::updateState);
   updateState();
 }
@@ -151,7 +166,7 @@ void BakePanel::bake() {
   // Reopening with the same settings is instant: use the cache when it holds this bake.
   if (session_->bakeSettings().useCache && session_->loadCachedBoxes()) {
     progress_->setValue(1000);
-    emit message(tr("Loaded the cached bake %1").arg(session_->cachePath()));
+    emit message(tr("Loaded the cached bake from %1").arg(session_->cacheDir()));
     return;
   }
   QString error;
@@ -162,6 +177,13 @@ void BakePanel::bake() {
   bakeRunning_ = true;
   progress_->setValue(0);
   updateState();
+}
+
+void BakePanel::showCacheUsage() {
+  const hb::BoxCacheUsage u = session_->cacheUsage();
+  cacheInfo_->setText(tr("%1 box file(s), %2 MB").arg(u.files).arg(static_cast<double>(u.bytes) / 1e6, 0, 'f', 1));
+  cacheInfo_->setToolTip(session_->cacheDir());
+  clearCache_->setEnabled(u.files > 0);
 }
 
 void BakePanel::browsePieces() {

@@ -24,6 +24,8 @@ public:
   QPushButton* bakeButton() const { return bake_; }
   QPushButton* cancelButton() const { return cancel_; }
   QProgressBar* progressBar() const { return progress_; }
+  QPushButton* clearCacheButton() const { return clearCache_; }
+  QLabel* cacheLabel() const { return cacheInfo_; }
 
 signals:
   void message(const QString& text);
@@ -32,6 +34,7 @@ private:
   void bake();
   void updateState();
   void browsePieces();
+  void showCacheUsage();
 
   HapticSession* session_;
   QSpinBox* m_;
@@ -43,6 +46,8 @@ private:
   QComboBox* codec_;
   QCheckBox* refine_ = nullptr;
   QCheckBox* cache_;
+  QLabel* cacheInfo_;
+  QPushButton* clearCache_;
   QLabel* size_;
   QPushButton* bake_;
   QPushButton* cancel_;

@@ -26,7 +26,6 @@
 #include "vtkHapticBoxUtilities.h"
 #include <QDir>
 #include <QFileInfo>
-#include <QStandardPaths>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkFloatArray.h>
@@ -46,11 +45,7 @@ double elapsedNs(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::string hex64(std::uint64_t v) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
-  return buf;
-}
+
 
 }  // namespace
 
@@ -59,8 +54,9 @@ HapticSession::HapticSession(QObject* parent) : QObject(parent), job_(new Backgr
   connect(job_, &BackgroundJob::finished, this, [this](bool ok, bool cancelled, const QString& message) {
     const QString name = job_->name();
     if (ok && pendingBoxes_) {
-      installBoxes(std::move(pendingBoxes_), pendingSeconds_, false);
+      installBoxes(std::move(pendingBoxes_), pendingSeconds_, pendingFromCache_);
       if (!pendingCacheWarning_.isEmpty()) emit statusMessage(pendingCacheWarning_);
+      emit cacheChanged();
     }
     if (ok && pendingField_) {
       errorField_ = std::move(pendingField_);
@@ -207,44 +203,29 @@ hb::BakeRecipe BakeSettings::recipe() const {
   return r;
 }
 
-QString HapticSession::cachePath() const {
-  if (!mesh_) return {};
-  hb::SweepConfig config;
-  config.m = bake_.m;
-  config.n = bake_.n;
-  config.codec = bake_.codec.toStdString();
-  const QFileInfo model(meshPath_);
-  QString dir = model.absolutePath() + QStringLiteral("/.hapticbox-cache");
-  if (!QFileInfo(model.absolutePath()).isWritable() && !QFileInfo(dir).isWritable())
-    dir = QStandardPaths::writableLocation(QStandardPaths::GenericCacheLocation) + QStringLiteral("/hapticbox");
-  QString file = QString::fromStdString(hb::sweep_cache_path(dir.toStdString(), meshHash_, config));
-  // Padding and pieces change the boxes too: encode them in the name.
-  QString suffix = QStringLiteral("_p%1").arg(static_cast<int>(std::lround(bake_.padding * 10000)));
-  if (bake_.pieces == BakeSettings::Pieces::Automatic) suffix += QStringLiteral("_auto");
-  if (bake_.refine) suffix += QStringLiteral("_refine");
-  if (bake_.pieces == BakeSettings::Pieces::File) {
-    try {
-      suffix += QStringLiteral("_pieces%1").arg(QString::fromStdString(
-          hex64(hb::hash_file(QFile::encodeName(bake_.piecesFile).toStdString()))));
-    } catch (const std::exception&) {
-      suffix += QStringLiteral("_pieces-missing");
-    }
-  } else if (bake_.pieces == BakeSettings::Pieces::Automatic) {
-    suffix += QStringLiteral("_auto");
+bool HapticSession::clearCache(QString* error) {
+  try {
+    const hb::BoxCacheUsage removed = cache_.clear();
+    emit cacheChanged();
+    emit statusMessage(tr("Removed %1 cached box file(s), %2 MB")
+                           .arg(removed.files)
+                           .arg(static_cast<double>(removed.bytes) / 1e6, 0, 'f', 1));
+    return true;
+  } catch (const std::exception& e) {
+    if (error) *error = QString::fromStdString(e.what());
+    return false;
   }
-  file.insert(file.size() - 5, suffix);  // before ".hbox"
-  return file;
 }
 
 bool HapticSession::loadCachedBoxes() {
   if (!mesh_ || !bake_.useCache) return false;
-  const QString path = cachePath();
-  if (!QFileInfo::exists(path)) return false;
   try {
-    auto scene = std::make_shared<hb::BoxScene>(hb::load_box_file(QFile::encodeName(path).toStdString()));
-    if (scene->source().mesh_hash != meshHash_) return false;
-    installBoxes(std::move(scene), 0.0, true);
-    emit statusMessage(tr("Loaded cached boxes %1").arg(path));
+    const hb::BakeRecipe recipe = bake_.recipe();
+    std::optional<hb::BoxScene> scene = cache_.load(meshHash_, recipe);
+    if (!scene) return false;
+    installBoxes(std::make_shared<hb::BoxScene>(std::move(*scene)), 0.0, true);
+    emit statusMessage(tr("Loaded cached boxes %1")
+                           .arg(QString::fromStdString(cache_.path_for(meshHash_, recipe))));
     return true;
   } catch (const std::exception& e) {
     emit statusMessage(tr("Ignoring the cached boxes: %1").arg(QString::fromStdString(e.what())));
@@ -267,7 +248,7 @@ bool HapticSession::startBake(QString* error) {
   }
   auto mesh = mesh_;
   const hb::SourceInfo source = sourceInfo();
-  const QString cache = bake_.useCache ? cachePath() : QString();
+  const std::optional<hb::BoxCache> cache = bake_.useCache ? std::optional<hb::BoxCache>(cache_) : std::nullopt;
   return job_->start(tr("Bake"), [this, mesh, recipe, source, cache](const auto& progress) mutable {
     if (recipe.pieces.kind == hb::PiecesRecipe::Kind::automatic) {
       // The decomposition takes the first third of the bar, the rays the rest.
@@ -276,18 +257,11 @@ bool HapticSession::startBake(QString* error) {
     } else {
       recipe.options.progress = progress;
     }
-    hb::BakeResult baked = hb::bake(*mesh, recipe, source);
-    auto scene = std::make_shared<hb::BoxScene>(std::move(baked.scene));
-    if (!cache.isEmpty()) {
-      try {
-        QDir().mkpath(QFileInfo(cache).absolutePath());
-        hb::save_box_file(*scene, QFile::encodeName(cache).toStdString());
-      } catch (const std::exception& e) {
-        pendingCacheWarning_ = tr("Baked, but not cached: %1").arg(QString::fromStdString(e.what()));
-      }
-    }
-    pendingSeconds_ = baked.stats.seconds;
-    pendingBoxes_ = std::move(scene);
+    hb::CachedBake baked = hb::bake_cached(*mesh, recipe, source, cache ? &*cache : nullptr);
+    if (!baked.warning.empty()) pendingCacheWarning_ = QString::fromStdString(baked.warning);
+    pendingSeconds_ = baked.result.stats.seconds;
+    pendingFromCache_ = baked.from_cache;
+    pendingBoxes_ = std::make_shared<hb::BoxScene>(std::move(baked.result.scene));
   });
 }
 
@@ -590,7 +564,7 @@ bool HapticSession::startSweep(const std::vector<int>& ms, const std::vector<int
   auto mesh = mesh_;
   const auto exactFuture = exact_;
   const hb::SourceInfo source = sourceInfo();
-  const QString cache = bake_.useCache ? QFileInfo(cachePath()).absolutePath() : QString();
+  const std::string cache = bake_.useCache ? cache_.dir() : std::string();
   return job_->start(tr("Sweep"), [=](const auto& progress) {
     const std::shared_ptr<const hb::ExactQuery> exact = exactFuture.get();
     vtkHapticBoxCellLocatorQuery locator(*mesh);
@@ -602,7 +576,7 @@ bool HapticSession::startSweep(const std::vector<int>& ms, const std::vector<int
     o.samples = samples;
     o.timing_rounds = 3;
     o.law = law_;
-    o.cache_dir = QFile::encodeName(cache).toStdString();
+    o.cache_dir = cache;
     o.progress = progress;
     pendingRows_ = hb::run_sweep(*mesh, source, refs, o);
     pendingCompression_.clear();

@@ -8,6 +8,7 @@
 #include "evaluation/error_field.h"
 #include "evaluation/sweep.h"
 #include "haptic_box/bake_recipe.h"
+#include "haptic_box/box_cache.h"
 #include "haptic_box/box_scene.h"
 #include "mesh/triangle_mesh.h"
 #include <QObject>
@@ -40,7 +41,7 @@ struct BakeSettings {
   QString piecesFile;             ///< text: one integer piece id per triangle.
   QString codec = QStringLiteral("none");
   bool refine = false;            ///< store triangle ids: queries refine exactly (hb::BakeOptions::refine).
-  bool useCache = true;           ///< load/save baked boxes next to the model.
+  bool useCache = true;           ///< load/save baked boxes in the box cache (hb::BoxCache).
   /// The bake these settings ask for (seams and decomposition at their defaults, the codec at
   /// its default error bound). Throws hb::InvalidInput for an unknown codec.
   hb::BakeRecipe recipe() const;
@@ -95,11 +96,14 @@ public:
   // --- bake ----------------------------------------------------------------------------
   void setBakeSettings(const BakeSettings& s) { bake_ = s; }
   const BakeSettings& bakeSettings() const { return bake_; }
-  /// Cache file of the current mesh and settings (next to the model when writable, else
-  /// under the user cache directory).
-  QString cachePath() const;
   /// Loads the cached bake for the current settings; false when there is none or it is stale.
   bool loadCachedBoxes();
+  /// The box cache shared with the command line (hb::BoxCache at hb::default_box_cache_dir(),
+  /// read when the session is made).
+  QString cacheDir() const { return QString::fromStdString(cache_.dir()); }
+  hb::BoxCacheUsage cacheUsage() const { return cache_.usage(); }
+  /// Removes every cached box (the boxes in use stay loaded); false with `error` on failure.
+  bool clearCache(QString* error = nullptr);
   /// Starts the bake on the worker thread (progress and cancel through job()).
   bool startBake(QString* error = nullptr);
   bool hasBoxes() const { return boxes_ != nullptr; }
@@ -164,6 +168,7 @@ public:
 signals:
   void meshChanged();
   void boxesChanged();
+  void cacheChanged();
   void errorFieldChanged();
   void sweepChanged();
   void deviceChanged(const QString& description);
@@ -180,6 +185,7 @@ private:
   hb::SourceInfo sourceInfo() const;
 
   BakeSettings bake_;
+  hb::BoxCache cache_;
   QString meshPath_;
   QStringList warnings_;
   std::shared_ptr<hb::TriangleMesh> mesh_;
@@ -201,6 +207,7 @@ private:
   std::shared_ptr<const hb::BoxScene> pendingBoxes_;
   std::unique_ptr<hb::ErrorField> pendingField_;
   double pendingSeconds_ = 0.0;
+  bool pendingFromCache_ = false;
   QString pendingCacheWarning_;
 
   hb::ForceLaw law_;

@@ -7,14 +7,11 @@
 #include "evaluation/sweep.h"
 #include "errors.h"
 #include "evaluation/query_timing.h"
-#include "haptic_box/bake_recipe.h"
-#include "haptic_box/box_file.h"
+#include "haptic_box/box_cache.h"
 #include "codec/codec.h"
-#include <xxhash.h>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <filesystem>
+#include <optional>
 
 namespace hb {
 namespace {
@@ -44,14 +41,6 @@ std::vector<SweepConfig> sweep_grid(const std::vector<int>& ms, const std::vecto
   return grid;
 }
 
-std::string sweep_cache_path(const std::string& dir, std::uint64_t mesh_hash, const SweepConfig& config) {
-  char name[96];
-  std::snprintf(name, sizeof name, "%016llx_m%d_n%d_", static_cast<unsigned long long>(mesh_hash), config.m,
-                config.n);
-  return (std::filesystem::path(dir) / (std::string(name) + config.codec + (config.refine ? "_refine" : "") + ".hbox"))
-      .string();
-}
-
 void mark_pareto_front(std::vector<SweepRow>& rows) {
   for (SweepRow& r : rows) {
     r.pareto = true;
@@ -71,8 +60,8 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& sour
   if (references.empty() || !references.front().query)
     throw InvalidInput("run_sweep: needs the exact reference first");
   for (const SweepConfig& c : options.configs) check_sweep_config(c);
-  const bool use_cache = !options.cache_dir.empty() && source.mesh_hash != 0;
-  if (use_cache) std::filesystem::create_directories(options.cache_dir);
+  const std::optional<BoxCache> cache =
+      options.cache_dir.empty() ? std::nullopt : std::optional<BoxCache>(BoxCache(options.cache_dir));
 
   // The pieces are cut once; every configuration bakes the same ones.
   const std::vector<std::uint32_t> piece_of_triangle = resolve_piece_ids(mesh, options.recipe.pieces);
@@ -115,50 +104,26 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& sour
     row.n = config.n;
     row.codec = config.codec;
     row.refine = config.refine;
-    BoxScene scene;
-    // The cache holds raw boxes; a codec is applied in memory after loading or baking.
-    const SweepConfig raw_config{config.m, config.n, "none", config.refine};
-    std::string cached = use_cache ? sweep_cache_path(options.cache_dir, source.mesh_hash, raw_config) : "";
-    if (use_cache && !piece_of_triangle.empty()) {
-      // Pieces (and their seams) change the boxes: key the cache by them too.
-      char tag[64];
-      std::snprintf(tag, sizeof tag, "_pieces%016llx_r%d_c%d.hbox",
-                    static_cast<unsigned long long>(XXH3_64bits(piece_of_triangle.data(), piece_of_triangle.size() * 4u)),
-                    options.recipe.seams.rings, int(std::lround(options.recipe.seams.cells * 100.f)));
-      cached = cached.substr(0, cached.size() - 5) + tag;
+    // The cache holds raw scenes; a codec is applied in memory after loading or baking.
+    BakeRecipe recipe = options.recipe;
+    recipe.pieces = {};
+    if (!piece_of_triangle.empty()) {
+      recipe.pieces.kind = PiecesRecipe::Kind::given;
+      recipe.pieces.given = piece_of_triangle;
     }
-    bool loaded = false;
-    if (use_cache && std::filesystem::exists(cached)) {
-      try {
-        scene = load_box_file(cached);
-        loaded = scene.source().mesh_hash == source.mesh_hash && !scene.boxes().empty() &&
-                 scene.boxes().front().params().m == config.m && scene.boxes().front().params().n == config.n &&
-                 scene.boxes().front().refines() == config.refine;
-      } catch (const Error&) {
-        loaded = false;  // a corrupt cache entry is rebaked and overwritten
-      }
-    }
-    if (!loaded) {
-      BakeRecipe recipe = options.recipe;
-      recipe.pieces = {};
-      if (!piece_of_triangle.empty()) {
-        recipe.pieces.kind = PiecesRecipe::Kind::given;
-        recipe.pieces.given = piece_of_triangle;
-      }
-      recipe.options.params.m = config.m;
-      recipe.options.params.n = config.n;
-      recipe.options.refine = config.refine;
-      recipe.codec.codec = CodecId::none;  // the cache holds raw boxes
-      const double base = done;
-      recipe.options.progress = [&](double f) {
-        return !options.progress || options.progress(std::min(1.0, (base + f) / steps));
-      };
-      BakeResult baked = bake(mesh, recipe, source);
-      scene = std::move(baked.scene);
-      const BakeStats& stats = baked.stats;
-      row.bake_seconds = stats.seconds;
-      if (use_cache) save_box_file(scene, cached);
-    }
+    recipe.options.params.m = config.m;
+    recipe.options.params.n = config.n;
+    recipe.options.refine = config.refine;
+    recipe.codec.codec = CodecId::none;
+    const double base = done;
+    recipe.options.progress = [&](double f) {
+      return !options.progress || options.progress(std::min(1.0, (base + f) / steps));
+    };
+    CachedBake baked = bake_cached(mesh, recipe, source, cache ? &*cache : nullptr);
+    BoxScene scene = std::move(baked.result.scene);
+    row.bake_seconds = baked.result.stats.seconds;
+    const bool loaded = baked.from_cache;
+    if (!baked.warning.empty()) throw IoError(baked.path + ": " + baked.warning);
     row.from_cache = loaded;
     if (config.codec != "none") scene = compress_scene(scene, config.codec);
     row.memory_bytes = scene.table_bytes() + scene.refinement_bytes();

@@ -66,8 +66,8 @@ struct SweepOptions {
   /// padding; each configuration sets m, n and refinement, and its codec is applied to the
   /// raw scene in memory. Its progress callbacks are replaced by `progress`.
   BakeRecipe recipe;
-  /// Directory of cached (raw) boxes, named by mesh hash and densities; empty: no cache.
-  /// A cached box is used only when its recorded mesh hash matches `source.mesh_hash` (!= 0).
+  /// Box cache directory (hb::BoxCache; raw scenes keyed by the mesh hash and each
+  /// configuration's whole recipe); empty: no cache. Used only with `source.mesh_hash` != 0.
   std::string cache_dir;
   /// Progress in [0, 1] from the calling thread; false cancels (throws hb::Cancelled).
   ProgressCallback progress;
@@ -89,8 +89,5 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& sour
 /// Marks the Pareto front over (query_ns, force_error_median): a row is on it when no
 /// other row is at least as fast and at least as accurate, and strictly better in one.
 void mark_pareto_front(std::vector<SweepRow>& rows);
-
-/// The cache file of a configuration: DIR/<mesh hash hex>_m<M>_n<N>_<codec>.hbox.
-std::string sweep_cache_path(const std::string& dir, std::uint64_t mesh_hash, const SweepConfig& config);
 
 } // namespace hb

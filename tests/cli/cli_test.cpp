@@ -124,6 +124,32 @@ TEST_F(CliTest, QueryCsvKeepsRowOrderAndAddsExactColumns) {
   EXPECT_EQ(row3.rfind("1,", 0), 0u);
 }
 
+TEST_F(CliTest, CacheCommandShowsAndClearsTheSharedBoxCache) {
+  // The cache lives under $XDG_CACHE_HOME (shared with sweep, report and the window).
+  bake_once();
+  const fs::path boxes = dir_ / "xdg" / "hapticbox" / "boxes";
+  fs::create_directories(boxes);
+  fs::copy_file(path("sphere.hbox"), boxes / "0000000000000001_0000000000000002.hbox",
+                fs::copy_options::overwrite_existing);
+  const auto cache = [&](const std::string& args) {
+    const std::string cmd = "env XDG_CACHE_HOME=" + path("xdg") + " " + HB_CLI_PATH + " cache " + args;
+    std::string out;
+    FILE* p = popen(cmd.c_str(), "r");
+    if (!p) return nlohmann::json();
+    for (int c; (c = fgetc(p)) != EOF;) out += char(c);
+    pclose(p);
+    return nlohmann::json::parse(out);
+  };
+  const auto shown = cache("--json");
+  EXPECT_EQ(shown["dir"], boxes.string());
+  EXPECT_EQ(shown["files"], 1);
+  EXPECT_EQ(shown["bytes"].get<std::uint64_t>(), fs::file_size(path("sphere.hbox")));
+  const auto cleared = cache("--clear --json");
+  EXPECT_EQ(cleared["files"], 0);
+  EXPECT_EQ(cleared["removed"]["files"], 1);
+  EXPECT_TRUE(fs::is_empty(boxes));
+}
+
 TEST_F(CliTest, MissingMeshFailsWithExitOneAndNamesTheFile) {
   const Result r = run("bake " + path("nope.off") + " -o " + path("x.hbox"));
   EXPECT_EQ(r.code, 1);

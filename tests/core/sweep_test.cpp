@@ -1,4 +1,5 @@
 #include "evaluation/sweep.h"
+#include "haptic_box/box_cache.h"
 #include "exact/exact_query.h"
 #include "errors.h"
 #include "mesh/generators.h"
@@ -36,7 +37,7 @@ TEST(SweepTest, RunsReferencesAndConfigurationsAndReusesTheCache) {
   EXPECT_EQ(rows[0].contact_agreement, 1.0);
   EXPECT_EQ(rows[2].m, 8);
   EXPECT_FALSE(rows[2].from_cache);
-  EXPECT_TRUE(std::filesystem::exists(hb::sweep_cache_path(cache, 0x1234, options.configs[1])));
+  EXPECT_EQ(hb::BoxCache(cache).usage().files, 2u);
   const auto again = hb::run_sweep(mesh, source, {{"exact_embree", &exact, 0, 0.0}}, options);
   EXPECT_TRUE(again[2].from_cache);
   EXPECT_EQ(again[2].force_error_median, rows[2].force_error_median);

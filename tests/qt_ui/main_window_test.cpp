@@ -12,6 +12,7 @@
 #include <QFile>
 #include <QFileInfo>
 #include <QImage>
+#include <QLabel>
 #include <QPushButton>
 #include <QDropEvent>
 #include <QStatusBar>
@@ -169,6 +170,17 @@ TEST(MainWindowTest, ReopeningUsesTheCachedBake) {
   EXPECT_TRUE(w.session()->hasBoxes());
   EXPECT_TRUE(w.session()->boxesFromCache());
   EXPECT_LT(s, 5.0);  // generous: the figure itself belongs in a benchmark
+  // The cache is the shared one (XDG), shown and clearable in the bake panel; nothing is
+  // written next to the model.
+  EXPECT_FALSE(QFileInfo::exists(data.dir.filePath(QStringLiteral(".hapticbox-cache"))));
+  EXPECT_TRUE(w.session()->cacheDir().startsWith(data.dir.filePath(QStringLiteral("xdg-cache"))));
+  EXPECT_EQ(w.session()->cacheUsage().files, 1u);
+  EXPECT_TRUE(w.bakePanel()->cacheLabel()->text().startsWith(QStringLiteral("1 box file")));
+  ASSERT_TRUE(w.bakePanel()->clearCacheButton()->isEnabled());
+  w.bakePanel()->clearCacheButton()->click();
+  EXPECT_EQ(w.session()->cacheUsage().files, 0u);
+  EXPECT_TRUE(w.session()->hasBoxes());  // the boxes in use stay
+  EXPECT_TRUE(w.bakePanel()->cacheLabel()->text().startsWith(QStringLiteral("0 box file")));
 }
 
 TEST(MainWindowTest, CancellingABakeLeavesNoBoxes) {

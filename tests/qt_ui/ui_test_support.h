@@ -37,6 +37,9 @@ struct MeshDir {
     hb::TriangleMesh m = hb::make_bumpy_sphere(o);
     mesh = dir.filePath(QStringLiteral("bumpy.off"));
     hb::write_mesh(m, QFile::encodeName(mesh).toStdString());
+    // The box cache (XDG convention) of the windows made while this directory lives: its own,
+    // so no test sees another's bakes.
+    qputenv("XDG_CACHE_HOME", QFile::encodeName(dir.filePath(QStringLiteral("xdg-cache"))));
   }
 };
 

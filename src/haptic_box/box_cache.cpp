@@ -1,0 +1,158 @@
+// The box cache:
+//  1. the key: xxHash3 of a canonical text of the recipe (every field that changes the
+//     scene, floats in hexadecimal so no two values print alike; a piece file by the hash of
+//     its bytes, given ids by the hash of their values);
+//  2. the entry: DIR/<mesh hash>_<key>.hbox, written through save_box_file (temporary file
+//     and rename, so a reader never sees half a file);
+//  3. a load checks the recorded mesh hash; an unreadable entry is removed and rebaked.
+#include "haptic_box/box_cache.h"
+#include "errors.h"
+#include "haptic_box/box_file.h"
+#include "mesh/file_hash.h"
+#include <xxhash.h>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+namespace hb {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string hex64(std::uint64_t v) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
+  return buf;
+}
+
+std::string hexfloat(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%a", v);
+  return buf;
+}
+
+bool is_box_entry(const fs::directory_entry& e) {
+  std::error_code ec;
+  return e.is_regular_file(ec) && e.path().extension() == ".hbox";
+}
+
+} // namespace
+
+std::string default_box_cache_dir() {
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && xdg[0] == '/') return std::string(xdg) + "/hapticbox/boxes";
+  if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/hapticbox/boxes";
+  return "/tmp/hapticbox-boxes";
+}
+
+std::uint64_t recipe_key(const BakeRecipe& r) {
+  std::ostringstream k;
+  const BakeOptions& o = r.options;
+  k << "hbcache1 m " << o.params.m << " n " << o.params.n << " cell " << hexfloat(o.density.cell) << " min_m "
+    << o.density.min_m << " max_m " << o.density.max_m << " padding " << hexfloat(o.obb.padding) << " obb_iter "
+    << o.obb.refine_iterations << " refine " << o.refine;
+  const PiecesRecipe& p = r.pieces;
+  switch (p.kind) {
+  case PiecesRecipe::Kind::none: k << " pieces none"; break;
+  case PiecesRecipe::Kind::file: k << " pieces file " << hex64(hash_file(p.file)); break;
+  case PiecesRecipe::Kind::given:
+    k << " pieces given " << hex64(XXH3_64bits(p.given.data(), p.given.size() * sizeof(std::uint32_t)));
+    break;
+  case PiecesRecipe::Kind::automatic: {
+    const AutoDecompositionOptions& a = p.automatic;
+    k << " pieces auto " << hexfloat(a.threshold) << ' ' << hexfloat(a.min_area_fraction) << ' ' << a.max_pieces << ' '
+      << a.leaves << ' ' << a.lines << ' ' << a.seed;
+    break;
+  }
+  }
+  // Seams change nothing with one piece, but the key need not know that.
+  k << " seams " << r.seams.rings << ' ' << hexfloat(r.seams.cells);
+  k << " codec " << codec_name(r.codec.codec);
+  if (r.codec.codec != CodecId::none)
+    k << ' ' << hexfloat(r.codec.max_error) << ' ' << hexfloat(r.codec.ratio) << ' ' << r.codec.normal_bits;
+  const std::string text = k.str();
+  return XXH3_64bits(text.data(), text.size());
+}
+
+BoxCache::BoxCache(std::string dir) : dir_(std::move(dir)) {
+  if (dir_.empty()) throw InvalidInput("box cache: empty directory name");
+}
+
+std::string BoxCache::path_for(std::uint64_t mesh_hash, const BakeRecipe& recipe) const {
+  return (fs::path(dir_) / (hex64(mesh_hash) + "_" + hex64(recipe_key(recipe)) + ".hbox")).string();
+}
+
+std::optional<BoxScene> BoxCache::load(std::uint64_t mesh_hash, const BakeRecipe& recipe) const {
+  const std::string path = path_for(mesh_hash, recipe);
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return std::nullopt;
+  try {
+    BoxScene scene = load_box_file(path);
+    if (scene.source().mesh_hash == mesh_hash && !scene.boxes().empty()) return scene;
+    return std::nullopt;
+  } catch (const Error&) {
+    fs::remove(path, ec);  // corrupt or truncated: rebaked and replaced
+    return std::nullopt;
+  }
+}
+
+void BoxCache::store(const BoxScene& scene, const BakeRecipe& recipe) const {
+  std::error_code ec;
+  fs::create_directories(dir_, ec);
+  if (ec) throw IoError(dir_ + ": cannot create the box cache directory (" + ec.message() + ")");
+  save_box_file(scene, path_for(scene.source().mesh_hash, recipe));
+}
+
+BoxCacheUsage BoxCache::usage() const {
+  BoxCacheUsage u;
+  std::error_code ec;
+  if (!fs::is_directory(dir_, ec)) return u;
+  for (const auto& e : fs::directory_iterator(dir_, ec)) {
+    if (!is_box_entry(e)) continue;
+    ++u.files;
+    u.bytes += e.file_size(ec);
+  }
+  return u;
+}
+
+BoxCacheUsage BoxCache::clear() const {
+  BoxCacheUsage removed;
+  std::error_code ec;
+  if (!fs::is_directory(dir_, ec)) return removed;
+  std::vector<fs::directory_entry> entries;
+  for (const auto& e : fs::directory_iterator(dir_, ec))
+    if (is_box_entry(e)) entries.push_back(e);
+  for (const auto& e : entries) {
+    const std::uint64_t bytes = e.file_size(ec);
+    if (!fs::remove(e.path(), ec) && ec)
+      throw IoError(e.path().string() + ": cannot remove from the box cache (" + ec.message() + ")");
+    ++removed.files;
+    removed.bytes += bytes;
+  }
+  return removed;
+}
+
+CachedBake bake_cached(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source,
+                       const BoxCache* cache) {
+  CachedBake out;
+  const bool cached = cache && source.mesh_hash != 0;
+  if (cached) {
+    out.path = cache->path_for(source.mesh_hash, recipe);
+    if (std::optional<BoxScene> scene = cache->load(source.mesh_hash, recipe)) {
+      out.result.scene = std::move(*scene);
+      out.from_cache = true;
+      return out;
+    }
+  }
+  out.result = bake(mesh, recipe, source);
+  if (cached) {
+    try {
+      cache->store(out.result.scene, recipe);
+    } catch (const Error& e) {
+      out.warning = std::string("baked, but not cached: ") + e.what();
+    }
+  }
+  return out;
+}
+
+} // namespace hb
