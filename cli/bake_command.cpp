@@ -48,8 +48,11 @@ void add_bake_command(CLI::App& app) {
     hb::SourceInfo source{opts->mesh, hb::hash_file(opts->mesh), mesh.triangle_count(), mesh.bounds().diagonal()};
     opts->recipe.options.progress = hb::cli::terminal_progress("baking");
     opts->recipe.options.density.min_m = std::min(opts->recipe.options.density.min_m, opts->recipe.options.density.max_m);
+    hb::Communicator& comm = hb::cli::communicator();
+    opts->recipe.options.communicator = &comm;  // position points dealt across the ranks of an MPI job
     hb::cli::apply_pieces_spec(opts->pieces, opts->recipe);
     const hb::BakeResult baked = hb::bake(mesh, opts->recipe, source);
+    if (!comm.is_root()) return;  // rank 0 holds the tables and writes the file
     hb::cli::print_decomposition(opts->recipe, baked);
     const hb::BoxScene& scene = baked.scene;
     const hb::BakeStats& stats = baked.stats;
@@ -69,7 +72,7 @@ void add_bake_command(CLI::App& app) {
     const auto bytes = std::filesystem::file_size(opts->out);
     std::vector<int> box_m;
     for (const hb::HapticBox& box : scene.boxes()) box_m.push_back(box.params().m);
-    const nlohmann::json j = {{"mesh", opts->mesh},
+    const nlohmann::json jj = {{"mesh", opts->mesh},
                               {"output", opts->out},
                               {"triangles", mesh.triangle_count()},
                               {"boxes", scene.boxes().size()},
@@ -91,6 +94,29 @@ void add_bake_command(CLI::App& app) {
                               {"t_error_max", t_max},
                               {"normal_error_mean_deg", a_mean},
                               {"normal_error_max_deg", a_max}};
+    nlohmann::json j = jj;
+    // How the work was shared: per rank the rays cast, the seconds its share took and the
+    // bytes it sent; the busiest rank against the mean; the bytes sent against the tables.
+    {
+      nlohmann::json per_rank = nlohmann::json::array();
+      double busiest = 0, mean = 0;
+      std::uint64_t sent = 0;
+      for (const hb::RankWork& w : stats.ranks) {
+        per_rank.push_back({{"rank", w.rank}, {"rays", w.work}, {"seconds", w.seconds}, {"bytes_sent", w.bytes_sent}});
+        busiest = std::max(busiest, w.seconds);
+        mean += w.seconds / double(stats.ranks.size());
+        sent += w.bytes_sent;
+      }
+      // Rank 0 keeps its own share: the others' shares are what must travel.
+      std::uint64_t others_rays = 0;
+      for (const hb::RankWork& w : stats.ranks)
+        if (w.rank != 0) others_rays += w.work;
+      const double expected = stats.rays ? double(stats.table_bytes) * double(others_rays) / double(stats.rays) : 0.0;
+      j["rank_work"] = per_rank;
+      j["load_balance"] = mean > 0 ? busiest / mean : 1.0;
+      j["bytes_sent"] = sent;
+      j["bytes_sent_over_tables"] = expected > 0 ? double(sent) / expected : 0.0;
+    }
     if (opts->json) {
       hb::cli::print_json(j);
     } else {
@@ -101,6 +127,10 @@ void add_bake_command(CLI::App& app) {
                 << " n=" << opts->recipe.options.params.n << ", " << stats.rays << " rays in " << stats.seconds << " s ("
                 << stats.rays_per_second / 1e6 << " M rays/s), " << bytes / 1e6 << " MB"
                 << (opts->recipe.options.refine ? " (with triangle ids and surface for exact refinement)" : "") << "\n";
+      if (comm.size() > 1)
+        std::cout << comm.size() << " ranks: busiest " << j["load_balance"].get<double>() << " x the mean; sent "
+                  << j["bytes_sent"].get<std::uint64_t>() / 1e6 << " MB, " << j["bytes_sent_over_tables"].get<double>()
+                  << " x their tables\n";
       if (opts->recipe.codec.codec != hb::CodecId::none)
         std::cout << "codec " << opts->codec << ": ratio " << double(raw_bytes) / double(table_bytes)
                   << ":1, bound " << bound << " of the box diagonal; t error mean " << t_mean << ", max " << t_max

@@ -6,9 +6,16 @@
 #include <unistd.h>
 
 namespace hb::cli {
+namespace {
+Communicator* the_communicator = nullptr;
+}
+
+Communicator& communicator() { return communicator_or_serial(the_communicator); }
+
+void set_communicator(Communicator* communicator) { the_communicator = communicator; }
 
 ProgressCallback terminal_progress(const std::string& label) {
-  if (!isatty(STDERR_FILENO)) return {};
+  if (!isatty(STDERR_FILENO) || !communicator().is_root()) return {};
   return [label](double fraction) {
     const int width = 40;
     const int filled = int(fraction * width + 0.5);
@@ -44,7 +51,11 @@ void add_force_law_options(CLI::App& cmd, ForceLaw& law) {
       ->capture_default_str();
 }
 
-void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << std::endl; }
+void print_json(const nlohmann::json& j) {
+  nlohmann::json out = j;
+  if (out.is_object() && !out.contains("ranks")) out["ranks"] = communicator().size();
+  if (communicator().is_root()) std::cout << out.dump(2) << std::endl;
+}
 
 bool is_box_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

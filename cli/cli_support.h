@@ -3,6 +3,7 @@
 // terminal progress bar, the force-law options and JSON output.
 #include "codec/codec.h"
 #include "haptic_box/contact.h"
+#include "parallel/communicator.h"
 #include "progress.h"
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -17,7 +18,13 @@ public:
   explicit UsageError(const std::string& what) : std::runtime_error(what) {}
 };
 
-/// A progress callback drawing a bar on stderr when it is a terminal (silent otherwise).
+/// The ranks sharing this run: set by main (an MPI communicator under mpirun or srun, a
+/// serial one otherwise). Commands pass it to the core functions that split their work.
+Communicator& communicator();
+void set_communicator(Communicator* communicator);
+
+/// A progress callback drawing a bar on stderr when it is a terminal (silent otherwise, and
+/// on every rank but 0: rank 0 reports for the whole job).
 ProgressCallback terminal_progress(const std::string& label);
 
 /// Adds --max-error, --ratio (mutually exclusive) and --normal-bits to a command; returns the
@@ -27,7 +34,8 @@ CLI::Option* add_codec_bound_options(CLI::App& cmd, CodecOptions& options);
 /// Adds --stiffness and --metres-per-unit to a command.
 void add_force_law_options(CLI::App& cmd, ForceLaw& law);
 
-/// Prints JSON to stdout (indented).
+/// Prints JSON to stdout (indented), with `ranks`: how many ranks shared the work (only rank
+/// 0 prints: the other ranks' standard output is discarded by main).
 void print_json(const nlohmann::json& j);
 
 /// True when `path` names a box file (by its magic bytes, not its extension).

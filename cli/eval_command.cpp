@@ -29,12 +29,15 @@ void add_eval_command(CLI::App& app) {
   cmd->callback([opts] {
     const hb::BoxScene scene = hb::load_box_file(opts->box);
     const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh);
-    if (scene.source().mesh_hash != 0 && scene.source().mesh_hash != hb::hash_file(opts->mesh))
+    if (hb::cli::communicator().is_root() && scene.source().mesh_hash != 0 &&
+        scene.source().mesh_hash != hb::hash_file(opts->mesh))
       std::cerr << "hapticbox: warning: " << opts->box << " was baked from a different file than " << opts->mesh << "\n";
     const hb::ExactQuery exact(mesh);
     const auto probes = hb::sample_probes(mesh, opts->samples, opts->probes);
     const float diag = mesh.bounds().diagonal();
-    const hb::ComparisonStats s = hb::compare_queries(scene, exact, probes, opts->law, diag);
+    // Probes dealt across the ranks of an MPI job; the figures are one process's.
+    const hb::ComparisonStats s = hb::compare_queries(scene, exact, probes, opts->law, diag, nullptr,
+                                                      &hb::cli::communicator());
     const nlohmann::json j = hb::eval_json(s, opts->box, opts->mesh, opts->probes.seed);
     if (opts->json) {
       hb::cli::print_json(j);

@@ -1,15 +1,72 @@
 // hapticbox: the command-line front end. Parses arguments and calls the layers; holds no
 // algorithm. Exit codes: 0 success, 2 usage, 1 failure (message on stderr names the file
 // and the cause). Runs with no display.
+//
+// One binary, with or without MPI: started by mpirun/mpiexec/srun it joins the job's ranks
+// (hb::mpi), and the commands that split their work (bake, sweep, eval, field, report) share
+// it; alone it is a plain process. Under MPI only rank 0 prints to standard output and writes
+// files, and a rank that fails ends the whole job with a message naming the rank.
 #include "cli_support.h"
 #include "commands.h"
 #include "errors.h"
+#include "mpi_communicator.h"
+#include "parallel/thread_limit.h"
+#include <algorithm>
+#include <cstring>
 #include <iostream>
+#include <memory>
+#include <optional>
+#include <set>
+#include <thread>
+
+namespace {
+
+// The sub-commands whose work is split across ranks; the others refuse to run on several
+// ranks (each rank would do the whole job and write the same files).
+const std::set<std::string> kDistributed = {"bake", "sweep", "eval", "field", "report", "stability"};
+
+// The first argument naming a sub-command (main's options come before it).
+std::string subcommand_of(const CLI::App& app, int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+      if (sub->get_name() == argv[i]) return argv[i];
+  return "";
+}
+
+} // namespace
 
 int main(int argc, char** argv) {
+  std::unique_ptr<hb::Communicator> comm;
+  try {
+    comm = hb::mpi::start(&argc, &argv);
+  } catch (const std::exception& e) {
+    std::cerr << "hapticbox: error: cannot join the MPI job: " << e.what() << "\n";
+    return 1;
+  }
+  hb::cli::set_communicator(comm.get());
+  const int rank = comm->rank(), ranks = comm->size();
+  // Only rank 0 speaks on standard output (progress and --json included).
+  if (rank != 0) std::cout.rdbuf(nullptr);
+  auto fail = [&](const std::string& what, int code) {
+    if (ranks == 1) {
+      std::cerr << "hapticbox: " << what << "\n";
+      return code;
+    }
+    comm->abort("hapticbox: rank " + std::to_string(rank) + " of " + std::to_string(ranks) + ": " + what, code);
+  };
+
   CLI::App app{"HapticBox: haptic rendering via directional sampling"};
   app.set_version_flag("--version", std::string("hapticbox ") + HB_VERSION);
   app.require_subcommand(1);
+  // Threads per process: by default all cores, shared among the ranks on one node.
+  std::optional<hb::ThreadLimit> threads;
+  int local_ranks = 1;
+  if (const auto* mpi = dynamic_cast<const hb::mpi::MpiCommunicator*>(comm.get())) local_ranks = mpi->local_size();
+  if (local_ranks > 1) threads.emplace(std::max(1, int(std::thread::hardware_concurrency()) / local_ranks));
+  app.add_option_function<int>(
+         "--threads", [&](int t) { threads.emplace(t); },
+         "Threads per process (default: the cores, divided among the MPI ranks of a node)")
+      ->check(CLI::Range(1, 4096));
   add_info_command(app);
   add_bake_command(app);
   add_query_command(app);
@@ -27,17 +84,24 @@ int main(int argc, char** argv) {
   add_compress_command(app);
   add_compress_sweep_command(app);
   add_cache_command(app);
+  if (ranks > 1) {
+    const std::string sub = subcommand_of(app, argc, argv);
+    if (!sub.empty() && !kDistributed.count(sub))
+      return fail("`" + sub + "` does not split its work across MPI ranks; run it without mpirun (" +
+                      std::to_string(ranks) + " ranks)",
+                  2);
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
+    // Every rank parses the same arguments and fails alike: rank 0 tells, all exit.
+    std::ostream null_stream(nullptr);
+    const int code = rank == 0 ? app.exit(e) : app.exit(e, null_stream, null_stream);
     return code == 0 ? 0 : 2;
   } catch (const hb::cli::UsageError& e) {
-    std::cerr << "hapticbox: " << e.what() << "\n";
-    return 2;
+    return fail(e.what(), 2);
   } catch (const std::exception& e) {
-    std::cerr << "hapticbox: error: " << e.what() << "\n";
-    return 1;
+    return fail(std::string("error: ") + e.what(), 1);
   }
   return 0;
 }

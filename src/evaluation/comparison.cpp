@@ -1,7 +1,10 @@
 #include "evaluation/comparison.h"
+#include "parallel/byte_buffer.h"
+#include "parallel/work_split.h"
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 namespace hb {
@@ -57,13 +60,14 @@ ComparisonStats summarize(const std::vector<ProbeRecord>& records, float diagona
   return s;
 }
 
-ComparisonStats compare_queries(const ContactQuery& approx, const ContactQuery& exact,
-                                const std::vector<Segment>& probes, const ForceLaw& law,
-                                float diagonal, std::vector<ProbeRecord>* records) {
-  std::vector<ProbeRecord> local(probes.size());
-  // The approximation answers runs of probes through query_many (the same answers as
-  // query(), with the table fetches of a group of probes overlapped).
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, probes.size(), 256),
+namespace {
+
+// Answers probes [first, last) into local[first, last): the approximation through query_many
+// in runs (the same answers as query(), with the table fetches of a group of probes
+// overlapped), the exact reference one by one.
+void answer_range(const ContactQuery& approx, const ContactQuery& exact, const std::vector<Segment>& probes,
+                  const ForceLaw& law, std::size_t first_probe, std::size_t last_probe, std::vector<ProbeRecord>& local) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(first_probe, last_probe, 256),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       constexpr std::size_t kRun = 64;
                       Contact approx_out[kRun];
@@ -78,9 +82,125 @@ ComparisonStats compare_queries(const ContactQuery& approx, const ContactQuery& 
                         }
                       }
                     });
-  ComparisonStats s = summarize(local, diagonal);
-  if (records) *records = std::move(local);
+}
+
+void put_contact(ByteWriter& w, const Contact& c) {
+  w.put(std::uint8_t(c.contact));
+  w.put(c.depth);
+  w.put(c.point);
+  w.put(c.normal);
+  w.put(c.force);
+}
+Contact get_contact(ByteReader& r) {
+  Contact c;
+  c.contact = r.get<std::uint8_t>() != 0;
+  c.depth = r.get<float>();
+  c.point = r.get<Vec3>();
+  c.normal = r.get<Vec3>();
+  c.force = r.get<Vec3>();
+  return c;
+}
+
+Bytes pack_stats(const ComparisonStats& s) {
+  ByteWriter w;
+  w.put(std::uint64_t(s.samples));
+  w.put(std::uint64_t(s.exact_contacts));
+  w.put(std::uint64_t(s.both_contacts));
+  w.put(s.contact_agreement);
+  w.put(std::uint64_t(s.false_contacts));
+  w.put(std::uint64_t(s.missed_contacts));
+  w.put(s.force_error_median);
+  w.put(s.force_error_p95);
+  w.put(s.force_error_max);
+  w.put(s.angle_error_median_deg);
+  w.put(s.angle_error_p99_deg);
+  w.put(s.depth_rms_over_diag);
+  w.put_vector(s.force_errors);
+  return std::move(w.bytes());
+}
+ComparisonStats unpack_stats(const Bytes& b) {
+  ByteReader r(b, "compare_queries");
+  ComparisonStats s;
+  s.samples = r.get<std::uint64_t>();
+  s.exact_contacts = r.get<std::uint64_t>();
+  s.both_contacts = r.get<std::uint64_t>();
+  s.contact_agreement = r.get<double>();
+  s.false_contacts = r.get<std::uint64_t>();
+  s.missed_contacts = r.get<std::uint64_t>();
+  s.force_error_median = r.get<double>();
+  s.force_error_p95 = r.get<double>();
+  s.force_error_max = r.get<double>();
+  s.angle_error_median_deg = r.get<double>();
+  s.angle_error_p99_deg = r.get<double>();
+  s.depth_rms_over_diag = r.get<double>();
+  s.force_errors = r.get_vector<double>();
   return s;
+}
+
+} // namespace
+
+ComparisonStats compare_queries(const ContactQuery& approx, const ContactQuery& exact,
+                                const std::vector<Segment>& probes, const ForceLaw& law,
+                                float diagonal, std::vector<ProbeRecord>* records,
+                                Communicator* communicator, std::vector<RankWork>* work) {
+  Communicator& comm = communicator_or_serial(communicator);
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<ProbeRecord> local(probes.size());
+  if (comm.size() == 1) {
+    answer_range(approx, exact, probes, law, 0, probes.size(), local);
+    ComparisonStats s = summarize(local, diagonal);
+    if (records) *records = std::move(local);
+    if (work)
+      *work = {{0, probes.size(), std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0}};
+    return s;
+  }
+  // 1. This rank's chunks of probes, answered on all its cores.
+  const DealtChunks deal{probes.size(), deal_chunk_size(probes.size(), comm.size(), 64, 64), comm.size()};
+  ByteWriter w;
+  w.reserve(deal.items_of(comm.rank()) * 2 * (1 + 4 + 36) + 64);
+  deal.for_each_of(comm.rank(), [&](std::size_t first, std::size_t last) {
+    answer_range(approx, exact, probes, law, first, last, local);
+    for (std::size_t i = first; i < last; ++i) {
+      put_contact(w, local[i].exact);
+      put_contact(w, local[i].approx);
+    }
+  });
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::uint64_t bytes = comm.rank() == 0 ? 0 : w.bytes().size();
+  // 2. Rank 0 places every rank's answers at their probes, in probe order.
+  const std::vector<Bytes> parts = comm.gather(w.bytes());
+  ByteWriter mine;
+  mine.put(RankWork{comm.rank(), deal.items_of(comm.rank()), seconds, bytes});
+  const std::vector<Bytes> works = comm.gather(mine.bytes());
+  Bytes summary;
+  if (comm.is_root()) {
+    for (int r = 1; r < comm.size(); ++r) {
+      ByteReader reader(parts[std::size_t(r)], "compare_queries: rank " + std::to_string(r));
+      deal.for_each_of(r, [&](std::size_t first, std::size_t last) {
+        for (std::size_t i = first; i < last; ++i) {
+          local[i].segment = probes[i];
+          local[i].exact = get_contact(reader);
+          local[i].approx = get_contact(reader);
+        }
+      });
+    }
+    if (work) {
+      work->clear();
+      for (const Bytes& b : works) {
+        ByteReader reader(b, "compare_queries");
+        work->push_back(reader.get<RankWork>());
+      }
+    }
+    ComparisonStats s = summarize(local, diagonal);
+    summary = pack_stats(s);
+  }
+  // 3. The statistics on every rank.
+  comm.broadcast(summary);
+  if (records) {
+    if (comm.is_root()) *records = std::move(local);
+    else records->clear();
+  }
+  return unpack_stats(summary);
 }
 
 } // namespace hb

@@ -1,6 +1,7 @@
 #pragma once
 // Comparing an approximated answer with the exact one over a set of probes (paper 6.1.2).
 #include "haptic_box/contact.h"
+#include "parallel/communicator.h"
 #include <vector>
 
 namespace hb {
@@ -37,9 +38,16 @@ double relative_force_error(const Contact& exact, const Contact& approx) noexcep
 double angle_error_degrees(const Contact& exact, const Contact& approx) noexcept;
 
 /// Runs both queries on every probe (in parallel) and fills `records` when given.
+/// With a `communicator` of several ranks (every rank calls this with the same probes and
+/// queries answering alike), the probes are dealt to the ranks in chunks (hb::DealtChunks),
+/// both answers of each probe travel to rank 0 (41 bytes a probe, gathered once), which
+/// assembles them in probe order and summarizes: the figures are those of one process. Every
+/// rank returns the statistics; `records` is filled on rank 0 only (left empty elsewhere).
+/// `work`, when given, receives on rank 0 what each rank did (probes, seconds, bytes sent).
 ComparisonStats compare_queries(const ContactQuery& approx, const ContactQuery& exact,
                                 const std::vector<Segment>& probes, const ForceLaw& law,
-                                float diagonal, std::vector<ProbeRecord>* records = nullptr);
+                                float diagonal, std::vector<ProbeRecord>* records = nullptr,
+                                Communicator* communicator = nullptr, std::vector<RankWork>* work = nullptr);
 
 /// Statistics of given records (the same figures as compare_queries).
 ComparisonStats summarize(const std::vector<ProbeRecord>& records, float diagonal);

@@ -6,9 +6,14 @@
 //  3. answer each probe exactly and approximately and reduce per point (means over the probes,
 //     errors over the both-in-contact probes only).
 // Points are processed in blocks so progress and cancellation stay on the calling thread.
+// With several ranks (ErrorFieldOptions::communicator), the points are dealt to the ranks in
+// chunks, each rank computes its chunks, and rank 0 gathers every point's figures in point
+// order; a point's figures depend on (seed, point index) only, so the field is one process's.
 #include "evaluation/error_field.h"
 #include "errors.h"
 #include "evaluation/comparison.h"
+#include "parallel/byte_buffer.h"
+#include "parallel/work_split.h"
 #include <tbb/parallel_for.h>
 #include <algorithm>
 #include <chrono>
@@ -146,13 +151,54 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
     field.exact_contact_fraction[i] = float(exact_in) / float(k);
   };
 
-  // Blocks of about 1% of the work, at least 2048 points: progress stays cheap and prompt.
-  const std::size_t block = std::max<std::size_t>(2048, count / 100);
-  for (std::size_t begin = 0; begin < count; begin += block) {
-    const std::size_t end = std::min(count, begin + block);
-    tbb::parallel_for(begin, end, one_point);
-    if (options.progress && !options.progress(double(end) / double(count)))
-      throw Cancelled("compute_error_field: cancelled");
+  Communicator& comm = communicator_or_serial(options.communicator);
+  if (comm.size() == 1) {
+    // Blocks of about 1% of the work, at least 2048 points: progress stays cheap and prompt.
+    const std::size_t block = std::max<std::size_t>(2048, count / 100);
+    for (std::size_t begin = 0; begin < count; begin += block) {
+      const std::size_t end = std::min(count, begin + block);
+      tbb::parallel_for(begin, end, one_point);
+      if (options.progress && !options.progress(double(end) / double(count)))
+        throw Cancelled("compute_error_field: cancelled");
+    }
+  } else {
+    const DealtChunks deal{count, deal_chunk_size(count, comm.size(), 64, 256), comm.size()};
+    const std::size_t mine = deal.items_of(comm.rank());
+    std::size_t done = 0;
+    ByteWriter w;
+    w.reserve(mine * 40);
+    deal.for_each_of(comm.rank(), [&](std::size_t begin, std::size_t end) {
+      tbb::parallel_for(begin, end, one_point);
+      for (std::size_t i = begin; i < end; ++i) {
+        w.put(field.exact_force[i]);
+        w.put(field.approx_force[i]);
+        w.put(field.force_error[i]);
+        w.put(field.direction_error[i]);
+        w.put(field.contact_disagreement[i]);
+        w.put(field.exact_contact_fraction[i]);
+      }
+      done += end - begin;
+      if (options.progress && !options.progress(double(done) / double(std::max<std::size_t>(mine, 1))))
+        throw Cancelled("compute_error_field: cancelled");
+    });
+    const std::vector<Bytes> parts = comm.gather(w.bytes());
+    if (comm.is_root()) {
+      for (int r = 1; r < comm.size(); ++r) {
+        ByteReader reader(parts[std::size_t(r)], "compute_error_field: rank " + std::to_string(r));
+        deal.for_each_of(r, [&](std::size_t begin, std::size_t end) {
+          for (std::size_t i = begin; i < end; ++i) {
+            field.exact_force[i] = reader.get<Vec3>();
+            field.approx_force[i] = reader.get<Vec3>();
+            field.force_error[i] = reader.get<float>();
+            field.direction_error[i] = reader.get<float>();
+            field.contact_disagreement[i] = reader.get<float>();
+            field.exact_contact_fraction[i] = reader.get<float>();
+          }
+        });
+      }
+    } else {
+      field = ErrorField{};  // the whole field lives on rank 0
+    }
   }
   field.probes = count * std::size_t(k);
   field.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

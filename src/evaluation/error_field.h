@@ -3,6 +3,7 @@
 // the surface from a cone of directions; the exact and approximated answers are compared per
 // point (paper 6.1.2's relative force error, mapped over the surface).
 #include "haptic_box/contact.h"
+#include "parallel/communicator.h"
 #include "progress.h"
 #include <cstdint>
 #include <vector>
@@ -35,7 +36,13 @@ struct ErrorFieldOptions {
   std::uint64_t seed = 1;           ///< probes of point i depend on (seed, i) only.
   ForceLaw law;                     ///< the same force law for both answers.
   /// Progress in [0, 1] from the calling thread; return false to cancel (throws hb::Cancelled).
+  /// With several ranks, each rank reports its own share (rank 0's stands for the job).
   ProgressCallback progress;
+  /// The ranks sharing the field (nullptr: this process alone). Every rank calls with the same
+  /// points and queries; points are dealt to the ranks in chunks and each point's figures
+  /// (40 bytes) travel once, to rank 0, which holds the whole field: the same numbers as one
+  /// process. The other ranks return a field of size 0 (with `probes` and `seconds` set).
+  Communicator* communicator = nullptr;
 };
 
 /// Per-point statistics over the probes aimed at that point. Force and direction errors are

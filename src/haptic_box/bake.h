@@ -1,6 +1,7 @@
 #pragma once
 // Baking haptic boxes: casting the directional samples with Embree.
 #include "haptic_box/box_scene.h"
+#include "parallel/communicator.h"
 #include "progress.h"
 #include <vector>
 
@@ -24,8 +25,18 @@ struct BakeOptions {
   SceneGridOptions grid;
   /// Progress in [0, 1]; return false to cancel (the bake then throws hb::Cancelled, even
   /// when the cancel comes with the last call). Called on the calling thread only, about
-  /// every 50 ms and at the end of each box.
+  /// every 50 ms and at the end of each box. With several ranks, each rank reports its own
+  /// share (rank 0's stands for the job: the shares are even).
   ProgressCallback progress;
+  /// The ranks sharing a scene bake (nullptr: this process alone). Every rank calls
+  /// bake_scene / bake_scene_from_lists with the same mesh, pieces and options. The position
+  /// points of all boxes are cut into chunks dealt to the ranks in turn; each rank casts its
+  /// chunks' rays; the tables (and triangle ids) travel once, to rank 0, which assembles the
+  /// scene: the same bytes as one process. The other ranks return a scene with no boxes,
+  /// unless `scene_on_every_rank` (then every rank receives every table: for a job that
+  /// queries the scene on all ranks next, e.g. a report or a sweep).
+  Communicator* communicator = nullptr;
+  bool scene_on_every_rank = false;
 };
 
 /// Statistics of a bake.
@@ -34,6 +45,13 @@ struct BakeStats {
   std::uint64_t rays = 0;
   double rays_per_second = 0.0;
   std::uint64_t hits = 0;
+  /// With several ranks, on rank 0 (the ranks that receive the scene): per rank, the rays it
+  /// cast (`work`), the seconds its share took (scene builds and rays, before the gather) and
+  /// the bytes it sent; one entry (rank 0) for a one-process bake.
+  std::vector<RankWork> ranks;
+  /// Bytes of the tables and triangle ids as held in memory (before any codec): what the
+  /// gather moves, less rank 0's own share.
+  std::uint64_t table_bytes = 0;
 };
 
 /// Bakes one box around the given triangles of `mesh` (all when empty): fits the PBB, then

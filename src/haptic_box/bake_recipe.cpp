@@ -86,8 +86,11 @@ BakeResult bake(const TriangleMesh& mesh, const BakeRecipe& recipe, const Source
   if (src.triangles == 0) src.triangles = mesh.triangle_count();
   if (!(src.diagonal > 0.f)) src.diagonal = mesh.bounds().diagonal();
   result.scene = bake_scene_from_lists(mesh, lists, recipe.options, src, &result.stats);
-  if (lists.size() > 1) result.scene.set_piece_of_triangle(std::move(ids));
-  if (recipe.codec.codec != CodecId::none) {
+  // With several ranks (BakeOptions::communicator) only the ranks that receive the tables
+  // have boxes; the others have nothing to record or compress.
+  const bool has_boxes = !result.scene.boxes().empty();
+  if (lists.size() > 1 && has_boxes) result.scene.set_piece_of_triangle(std::move(ids));
+  if (recipe.codec.codec != CodecId::none && has_boxes) {
     const auto tc = std::chrono::steady_clock::now();
     result.scene = result.scene.compressed(recipe.codec);
     result.compress_seconds = seconds_since(tc);
