@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 
 void add_field_command(CLI::App& app) {
@@ -64,6 +65,8 @@ void add_field_command(CLI::App& app) {
       bake_seconds = bake->GetBakeSeconds();
       field->SetBoxSetConnection(bake->GetOutputPort(0));
     }
+    // The points are dealt across the ranks of an MPI job; rank 0 gets the whole field.
+    field->SetCommunicator(&hb::cli::communicator());
     field->SetProbesPerPoint(opts->probes);
     field->SetSeed(opts->seed);
     field->SetStiffness(opts->law.stiffness_n_per_m);
@@ -75,14 +78,24 @@ void add_field_command(CLI::App& app) {
     const auto t0 = std::chrono::steady_clock::now();
     field->Update();
     const double filter_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!hb::cli::communicator().is_root()) return;  // rank 0 holds the field and writes it
     vtkPolyData* out = field->GetOutput();
     if (!out->GetPointData()->GetArray("RelativeForceError")) throw hb::Error("the error field failed");
     vtkNew<vtkXMLPolyDataWriter> writer;
     writer->SetInputData(out);
-    writer->SetFileName(opts->out.c_str());
+    // Written under a temporary name and renamed: the file appears whole or not at all.
+    const std::string tmp = opts->out + ".tmp";
+    writer->SetFileName(tmp.c_str());
     writer->SetDataModeToAppended();
     writer->EncodeAppendedDataOff();
-    if (writer->Write() != 1) throw hb::IoError(opts->out + ": cannot write");
+    if (writer->Write() != 1) {
+      std::remove(tmp.c_str());
+      throw hb::IoError(opts->out + ": cannot write");
+    }
+    if (std::rename(tmp.c_str(), opts->out.c_str()) != 0) {
+      std::remove(tmp.c_str());
+      throw hb::IoError(opts->out + ": cannot rename the written file into place");
+    }
     std::vector<double> errors;
     vtkDataArray* err = out->GetPointData()->GetArray("RelativeForceError");
     for (vtkIdType i = 0; i < err->GetNumberOfTuples(); ++i)

@@ -93,18 +93,21 @@ void add_report_command(CLI::App& app) {
     const std::uint64_t mesh_hash = hb::hash_file(mesh_path);
     double bake_seconds = 0.0;
     if (first_is_box) {
-      if (scene.source().mesh_hash != 0 && scene.source().mesh_hash != mesh_hash)
+      if (hb::cli::communicator().is_root() && scene.source().mesh_hash != 0 && scene.source().mesh_hash != mesh_hash)
         std::cerr << "hapticbox: warning: " << box_path << " was baked from a different file than " << mesh_path << "\n";
     } else {
       hb::BakeRecipe recipe;
       recipe.options.params = opts->params;
       recipe.options.progress = hb::cli::terminal_progress("bake");
+      // Baked across the ranks of an MPI job; every rank needs the scene for the evaluation.
+      recipe.options.communicator = &hb::cli::communicator();
+      recipe.options.scene_on_every_rank = true;
       hb::SourceInfo source{mesh_path, mesh_hash, mesh.triangle_count(), mesh.bounds().diagonal()};
       hb::BakeResult baked = hb::bake(mesh, recipe, source);
       scene = std::move(baked.scene);
       bake_seconds = baked.stats.seconds;
       if (!opts->save_box.empty()) {
-        hb::save_box_file(scene, opts->save_box);
+        if (hb::cli::communicator().is_root()) hb::save_box_file(scene, opts->save_box);
         box_path = opts->save_box;
       }
     }
@@ -113,7 +116,7 @@ void add_report_command(CLI::App& app) {
     // Sweep configurations are baked as one box: with a multi-box scene they would not compare
     // like with like, so the default sweep is skipped then (explicit --sweep-m/-n still run).
     const bool explicit_sweep = !opts->sweep_m.empty() || !opts->sweep_n.empty();
-    if (scene.boxes().size() > 1 && !explicit_sweep && !opts->no_sweep)
+    if (scene.boxes().size() > 1 && !explicit_sweep && !opts->no_sweep && hb::cli::communicator().is_root())
       std::cerr << "hapticbox: note: " << scene.boxes().size()
                 << " boxes: the default sweep (one box per configuration) is skipped\n";
     if (!opts->no_sweep && (scene.boxes().size() == 1 || explicit_sweep)) {
@@ -128,9 +131,11 @@ void add_report_command(CLI::App& app) {
     }
     ro.cache_dir = opts->no_cache ? "" : opts->cache;
     ro.progress = hb::cli::terminal_progress("report");
+    ro.communicator = &hb::cli::communicator();
 
     const vtkHapticBoxReferenceQueries refs(mesh);
     hb::ReportData data = hb::compute_report(mesh, {}, scene, bake_seconds, refs.References(), ro);
+    if (!hb::cli::communicator().is_root()) return;  // rank 0 holds the figures and writes the report
     data.product_version = HB_VERSION;
     data.mesh_path = mesh_path;
     data.mesh_hash = mesh_hash;

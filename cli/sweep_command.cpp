@@ -95,11 +95,24 @@ void add_sweep_command(CLI::App& app) {
       so.on_row = [](const hb::SweepRow& r) { print_row(r, false); };
     }
     hb::cli::apply_pieces_spec(opts->pieces, so.recipe);
+    hb::Communicator& comm = hb::cli::communicator();
+    std::vector<hb::RankWork> work;
+    so.communicator = &comm;  // every configuration's bake and evaluation shared by the ranks
+    so.rank_work = &work;
     std::vector<hb::SweepRow> rows = hb::run_sweep(mesh, source, refs.References(), so);
+    if (!comm.is_root()) return;
     if (!opts->chart.empty()) hb::plot_speed_accuracy(rows, opts->chart);
+    double busiest = 0, mean = 0;
+    for (const hb::RankWork& w : work) {
+      busiest = std::max(busiest, w.seconds);
+      mean += w.seconds / double(work.size());
+    }
     if (opts->json) {
       nlohmann::json j = {{"mesh", opts->mesh}, {"triangles", mesh.triangle_count()}, {"samples", so.samples},
-                          {"seed", so.probes.seed}, {"rows", nlohmann::json::array()}};
+                          {"seed", so.probes.seed}, {"rows", nlohmann::json::array()},
+                          {"load_balance", mean > 0 ? busiest / mean : 1.0}, {"rank_work", nlohmann::json::array()}};
+      for (const hb::RankWork& w : work)
+        j["rank_work"].push_back({{"rank", w.rank}, {"work", w.work}, {"seconds", w.seconds}, {"bytes_sent", w.bytes_sent}});
       for (const hb::SweepRow& r : rows)
         j["rows"].push_back({{"method", r.method}, {"m", r.m}, {"n", r.n}, {"codec", r.codec},
                              {"refine", r.refine}, {"query_ns", r.query_ns}, {"memory_bytes", r.memory_bytes},
@@ -117,5 +130,10 @@ void add_sweep_command(CLI::App& app) {
     std::sort(front.begin(), front.end(), [](const hb::SweepRow& a, const hb::SweepRow& b) { return a.query_ns < b.query_ns; });
     for (const hb::SweepRow& r : front) print_row(r, true);
     std::cout << "(c: box from the cache; memory of references: mesh arrays and index, not Embree's BVH)\n";
+    if (comm.size() > 1) {
+      std::cout << comm.size() << " ranks, busy seconds per rank:";
+      for (const hb::RankWork& w : work) std::cout << " " << w.seconds;
+      std::cout << " (busiest " << busiest / mean << " x the mean)\n";
+    }
   });
 }

@@ -77,11 +77,27 @@ std::string read_bytes(const std::string& path) {
   return ss.str();
 }
 
+// A written file appears whole or not at all: written under a temporary name, renamed.
+void move_into_place(const fs::path& tmp, const fs::path& path) {
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw IoError(path.string() + ": cannot rename the written file into place");
+  }
+}
+
 void write_text(const fs::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
+  const fs::path tmp = path.string() + ".tmp";
+  std::ofstream out(tmp, std::ios::binary);
   out << text;
   out.close();
-  if (!out) throw IoError(path.string() + ": cannot write");
+  if (!out) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw IoError(path.string() + ": cannot write");
+  }
+  move_into_place(tmp, path);
 }
 
 std::string html_escape(const std::string& s) {
@@ -156,7 +172,9 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
 
   // 1. Accuracy on eval's probes.
   const std::vector<Segment> probes = sample_probes(mesh, options.samples, options.probes);
-  d.stats = compare_queries(scene, exact, probes, options.law, d.diagonal, &d.records);
+  Communicator& comm = communicator_or_serial(options.communicator);
+  d.ranks = comm.size();
+  d.stats = compare_queries(scene, exact, probes, options.law, d.diagonal, &d.records, &comm);
   report_progress(options.progress, 0.05);
 
   // 2. References, sweep configurations, the box's own row.
@@ -172,8 +190,10 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
     so.recipe.pieces.kind = PiecesRecipe::Kind::given;
     so.recipe.pieces.given = pieces;
   }
+  so.communicator = &comm;
   d.rows = run_sweep(mesh, scene.source(), references, so);
-  d.box_ns = median_query_ns(scene, probes, options.law, options.timing_rounds);
+  // Timing and the compression curve are rank 0's: only its ReportData is written.
+  if (comm.is_root()) d.box_ns = median_query_ns(scene, probes, options.law, options.timing_rounds);
   SweepRow own;
   own.method = "haptic_box";
   own.m = d.params.m;
@@ -196,7 +216,7 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   d.pass_agreement = d.stats.contact_agreement >= tol.contact_agreement;
 
   // Compression curve of one codec over its error bounds.
-  if (!options.compression_codec.empty() && options.compression_codec != "none") {
+  if (comm.is_root() && !options.compression_codec.empty() && options.compression_codec != "none") {
     CompressionSweepOptions co;
     co.codecs = {parse_codec(options.compression_codec)};
     co.probes = probes;
@@ -216,6 +236,7 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
     fo.seed = options.probes.seed;
     fo.law = options.law;
     fo.progress = sub_range(options.progress, 0.9, 1.0);
+    fo.communicator = &comm;
     d.error_field = compute_error_field(scene, exact, surface_points_at_vertices(mesh), d.diagonal, fo);
     std::vector<double> e;
     for (float v : d.error_field.force_error)
@@ -258,6 +279,8 @@ std::string report_json(const ReportData& d) {
     j["parameters"]["sweep_configs"].push_back({{"m", c.m}, {"n", c.n}, {"codec", c.codec}, {"refine", c.refine}});
   // The keys of `hapticbox eval --json`, with the same values for the same input and seed.
   j["eval"] = eval_json(s, d.box_path, d.mesh_path, o.probes.seed);
+  j["eval"]["ranks"] = d.ranks;  // as `eval --json` states it
+  j["ranks"] = d.ranks;
   nlohmann::json timing = {{"box_ns", d.box_ns}};
   for (const SweepRow& r : d.rows)
     if (r.method != "haptic_box") timing[r.method + "_ns"] = r.query_ns;
@@ -307,7 +330,8 @@ void write_report(const ReportData& d, const std::string& dir_name) {
 
   // samples.csv: one row per probe, both answers.
   {
-    std::ofstream csv(dir / "samples.csv");
+    const fs::path csv_tmp = dir / "samples.csv.tmp";
+    std::ofstream csv(csv_tmp);
     csv << "probe,start_x,start_y,start_z,end_x,end_y,end_z,"
            "exact_contact,exact_depth,exact_fx,exact_fy,exact_fz,exact_nx,exact_ny,exact_nz,"
            "approx_contact,approx_depth,approx_fx,approx_fy,approx_fz,approx_nx,approx_ny,approx_nz,"
@@ -332,7 +356,12 @@ void write_report(const ReportData& d, const std::string& dir_name) {
       csv << '\n';
     }
     csv.close();
-    if (!csv) throw IoError((dir / "samples.csv").string() + ": cannot write");
+    if (!csv) {
+      std::error_code ec;
+      fs::remove(csv_tmp, ec);
+      throw IoError((dir / "samples.csv").string() + ": cannot write");
+    }
+    move_into_place(csv_tmp, dir / "samples.csv");
   }
 
   // report.html.

@@ -37,6 +37,12 @@ struct ReportOptions {
   /// codec layer is built (otherwise hb::InvalidInput). Needs a raw (uncompressed) scene.
   std::string compression_codec;
   ProgressCallback progress;         ///< [0, 1], calling thread; false cancels.
+  /// The ranks sharing the report (nullptr: this process alone). Every rank calls
+  /// compute_report with the same arguments (and the whole scene); the evaluation, the sweep
+  /// and the error field split their probes and bakes across the ranks (see compare_queries,
+  /// SweepOptions::communicator, ErrorFieldOptions::communicator). The ReportData is complete
+  /// on rank 0 only, which writes the report; the figures are one process's, timings aside.
+  Communicator* communicator = nullptr;
 };
 
 /// Everything a report shows.
@@ -62,6 +68,7 @@ struct ReportData {
   std::vector<std::pair<double, double>> compression_curve; ///< empty when no codec.
   ReportOptions options;
   double compute_seconds = 0.0;
+  int ranks = 1;                         ///< ranks that shared the computation.
   bool pass() const { return pass_median && pass_p95 && pass_agreement; }
 };
 

@@ -65,6 +65,7 @@ int vtkHapticBoxErrorFieldFilter::RequestData(vtkInformation*, vtkInformationVec
     options.law.stiffness_n_per_m = float(this->Stiffness);
     options.law.metres_per_unit = float(this->MetresPerUnit);
     options.progress = vtkHapticBoxUtilities::MakeProgressCallback(this, 0.05, 0.95);
+    options.communicator = this->Communicator;
     const hb::ErrorField field = hb::compute_error_field(*boxes->GetScene(), exact, points, diagonal, options);
 
     if (this->SampleMode == EVEN) {
@@ -87,6 +88,10 @@ int vtkHapticBoxErrorFieldFilter::RequestData(vtkInformation*, vtkInformationVec
       output->ShallowCopy(vtkHapticBoxUtilities::ToPolyData(mesh));
     }
     vtkPointData* pd = output->GetPointData();
+    if (field.size() != points.size()) {  // a rank other than 0 of a shared field
+      this->UpdateProgress(1.0);
+      return 1;
+    }
     pd->AddArray(vtkHapticBoxUtilities::ToVectorArray("ExactForce", field.exact_force));
     pd->AddArray(vtkHapticBoxUtilities::ToVectorArray("ApproxForce", field.approx_force));
     pd->AddArray(vtkHapticBoxUtilities::ToScalarArray("RelativeForceError", field.force_error));

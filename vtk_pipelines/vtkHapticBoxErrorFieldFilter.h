@@ -23,6 +23,10 @@
 #include <vtkPolyDataAlgorithm.h>
 #include <cstdint>
 
+namespace hb {
+class Communicator;
+}
+
 class vtkHapticBoxSet;
 
 class vtkHapticBoxErrorFieldFilter : public vtkPolyDataAlgorithm {
@@ -85,6 +89,15 @@ public:
   vtkGetMacro(MetresPerUnit, double);
   ///@}
 
+  ///@{
+  /// The ranks sharing the field, as VTK's parallel filters take a controller (default null:
+  /// this process alone; not owned). With several ranks every rank runs the filter on the same
+  /// input; the points are shared out and only rank 0's output carries the arrays (the other
+  /// ranks output the points alone).
+  void SetCommunicator(hb::Communicator* communicator) { this->Communicator = communicator; }
+  hb::Communicator* GetCommunicator() const { return this->Communicator; }
+  ///@}
+
 protected:
   vtkHapticBoxErrorFieldFilter();
   ~vtkHapticBoxErrorFieldFilter() override;
@@ -100,6 +113,7 @@ protected:
   vtkTypeUInt64 Seed = 1;
   double Stiffness = 500.0;
   double MetresPerUnit = 0.001;
+  hb::Communicator* Communicator = nullptr;
 
 private:
   vtkHapticBoxErrorFieldFilter(const vtkHapticBoxErrorFieldFilter&) = delete;

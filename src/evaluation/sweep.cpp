@@ -4,12 +4,17 @@
 //  3. for each configuration: load the cached box or bake it (and cache it), measure it the
 //     same way, drop it before the next one (tables of m=64 n=16 are 600 MB);
 //  4. mark the Pareto front.
+// Across ranks (SweepOptions::communicator) every step is shared: bakes and evaluations split
+// their work over all ranks, each configuration's timing runs on one rank (they take turns)
+// and is broadcast; rank 0 keeps the tally of what each rank did.
 #include "evaluation/sweep.h"
 #include "errors.h"
 #include "evaluation/query_timing.h"
 #include "haptic_box/box_cache.h"
 #include "codec/codec.h"
+#include "parallel/byte_buffer.h"
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <optional>
 
@@ -75,15 +80,47 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& sour
     if (options.progress && !options.progress(std::min(1.0, done / steps))) throw Cancelled("run_sweep: cancelled");
   };
 
+  Communicator& comm = communicator_or_serial(options.communicator);
+  const std::uint64_t sent_before = comm.bytes_sent();
+  std::vector<RankWork> tally(std::size_t(comm.size()));
+  for (int r = 0; r < comm.size(); ++r) tally[std::size_t(r)].rank = r;
+  auto add_work = [&](const std::vector<RankWork>& shares) {
+    for (const RankWork& w : shares) {
+      tally[std::size_t(w.rank)].work += w.work;
+      tally[std::size_t(w.rank)].seconds += w.seconds;
+    }
+  };
+
   std::vector<SweepRow> rows;
+  std::size_t measured = 0;
   auto measure = [&](SweepRow row, const ContactQuery& q) {
-    const ComparisonStats s = compare_queries(q, exact, probes, options.law, diagonal);
+    std::vector<RankWork> shares;
+    const ComparisonStats s = compare_queries(q, exact, probes, options.law, diagonal, nullptr, &comm, &shares);
+    add_work(shares);
     row.force_error_median = s.force_error_median;
     row.force_error_p95 = s.force_error_p95;
     row.contact_agreement = s.contact_agreement;
     row.angle_error_median_deg = s.angle_error_median_deg;
-    row.query_ns = median_query_ns(q, probes, options.law, options.timing_rounds);
-    if (options.on_row) options.on_row(row);
+    // One core of one rank times the method; the ranks take turns.
+    const int owner = int(measured++ % std::size_t(comm.size()));
+    double timing_seconds = 0.0;
+    if (comm.rank() == owner) {
+      const auto t0 = std::chrono::steady_clock::now();
+      row.query_ns = median_query_ns(q, probes, options.law, options.timing_rounds);
+      timing_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+    if (comm.size() > 1) {
+      ByteWriter w;
+      w.put(row.query_ns);
+      w.put(timing_seconds);
+      comm.broadcast(w.bytes(), owner);
+      ByteReader r(w.bytes(), "run_sweep: timing");
+      row.query_ns = r.get<double>();
+      timing_seconds = r.get<double>();
+    }
+    tally[std::size_t(owner)].work += probes.size() * std::size_t(options.timing_rounds);
+    tally[std::size_t(owner)].seconds += timing_seconds;
+    if (options.on_row && comm.is_root()) options.on_row(row);
     rows.push_back(row);
   };
 
@@ -119,9 +156,12 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& sour
     recipe.options.progress = [&](double f) {
       return !options.progress || options.progress(std::min(1.0, (base + f) / steps));
     };
+    recipe.options.communicator = &comm;  // every rank bakes its share and receives the scene
+    recipe.options.scene_on_every_rank = true;
     CachedBake baked = bake_cached(mesh, recipe, source, cache ? &*cache : nullptr);
     BoxScene scene = std::move(baked.result.scene);
     row.bake_seconds = baked.result.stats.seconds;
+    add_work(baked.result.stats.ranks);
     const bool loaded = baked.from_cache;
     if (!baked.warning.empty()) throw IoError(baked.path + ": " + baked.warning);
     row.from_cache = loaded;
@@ -132,6 +172,20 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& sour
     step(1.0);
   }
   mark_pareto_front(rows);
+  if (options.rank_work) {
+    tally[std::size_t(comm.rank())].bytes_sent = comm.bytes_sent() - sent_before;
+    if (comm.size() > 1) {
+      // Every rank's own byte count, to rank 0.
+      ByteWriter w;
+      w.put(tally[std::size_t(comm.rank())].bytes_sent);
+      const std::vector<Bytes> all = comm.gather(w.bytes());
+      for (std::size_t r = 0; r < all.size(); ++r) {
+        ByteReader reader(all[r], "run_sweep: bytes");
+        tally[r].bytes_sent = reader.get<std::uint64_t>();
+      }
+    }
+    *options.rank_work = tally;
+  }
   return rows;
 }
 

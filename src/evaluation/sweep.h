@@ -71,8 +71,21 @@ struct SweepOptions {
   std::string cache_dir;
   /// Progress in [0, 1] from the calling thread; false cancels (throws hb::Cancelled).
   ProgressCallback progress;
-  /// Called with each row as soon as it is measured (e.g. to print it).
+  /// Called with each row as soon as it is measured (e.g. to print it); on rank 0 only.
   std::function<void(const SweepRow&)> on_row;
+  /// The ranks sharing the sweep (nullptr: this process alone). Every rank calls run_sweep
+  /// with the same arguments. Each configuration is baked across all ranks (its position
+  /// points dealt, the tables gathered on every rank, BakeOptions::scene_on_every_rank),
+  /// evaluated across all ranks (the probes dealt, the answers gathered on rank 0,
+  /// compare_queries) and timed on one core of one rank (configuration k on rank k % ranks),
+  /// so every rank has its share of every configuration, however unequal the configurations
+  /// (m = 64 alone is half the rays of the default grid). The rows are one process's, timings
+  /// aside; rank 0 saves the cache files.
+  Communicator* communicator = nullptr;
+  /// When given, receives on rank 0 each rank's share: `work` rays cast plus probes answered
+  /// plus queries timed, `seconds` busy (its bake and evaluation shares and its timings),
+  /// `bytes_sent`.
+  std::vector<RankWork>* rank_work = nullptr;
 };
 
 /// Runs the sweep: the references first (the first one is the ground truth, normally exact

@@ -136,16 +136,21 @@ CachedBake bake_cached(const TriangleMesh& mesh, const BakeRecipe& recipe, const
                        const BoxCache* cache) {
   CachedBake out;
   const bool cached = cache && source.mesh_hash != 0;
+  // With several ranks (recipe.options.communicator) all ranks load, or all bake; rank 0 stores.
+  Communicator& comm = communicator_or_serial(recipe.options.communicator);
   if (cached) {
     out.path = cache->path_for(source.mesh_hash, recipe);
-    if (std::optional<BoxScene> scene = cache->load(source.mesh_hash, recipe)) {
+    std::optional<BoxScene> scene = cache->load(source.mesh_hash, recipe);
+    const bool everywhere =
+        comm.size() == 1 || comm.sum(std::uint64_t(scene.has_value())) == std::uint64_t(comm.size());
+    if (scene && everywhere) {
       out.result.scene = std::move(*scene);
       out.from_cache = true;
       return out;
     }
   }
   out.result = bake(mesh, recipe, source);
-  if (cached) {
+  if (cached && comm.is_root()) {
     try {
       cache->store(out.result.scene, recipe);
     } catch (const Error& e) {
