@@ -11,6 +11,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev libfmt-dev libxxhash-dev libzstd-dev
   libplplot-dev plplot-driver-cairo
+  libopenmpi-dev openmpi-bin
   xvfb xauth
 )
 
