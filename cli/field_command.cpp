@@ -58,8 +58,13 @@ void add_field_command(CLI::App& app) {
       field->SetBoxSetData(loaded);
     } else {
       bake->SetInputConnection(reader->GetOutputPort());
-      bake->SetM(opts->m);
-      bake->SetN(opts->n);
+      hb::BakeRecipe recipe = bake->GetRecipe();
+      recipe.options.params.m = opts->m;
+      recipe.options.params.n = opts->n;
+      // Baked across the ranks of an MPI job; every rank queries the boxes for its points.
+      recipe.options.communicator = &hb::cli::communicator();
+      recipe.options.scene_on_every_rank = true;
+      bake->SetRecipe(recipe);
       bake->Update();
       if (!bake->GetBoxSet() || bake->GetBoxSet()->GetNumberOfBoxes() == 0) throw hb::Error("the bake failed");
       bake_seconds = bake->GetBakeSeconds();

@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
       return code;
     }
     comm->abort("hapticbox: rank " + std::to_string(rank) + " of " + std::to_string(ranks) + ": " + what, code);
+    return code;  // not reached: abort ends the job
   };
 
   CLI::App app{"HapticBox: haptic rendering via directional sampling"};

@@ -34,18 +34,6 @@ const char* env(const char* name) {
 
 int instances = 0;
 
-// Concatenated buffers of all ranks with their sizes, moved in slices of at most kSlice bytes
-// per rank per round (all ranks run the same rounds).
-std::vector<Bytes> split(const Bytes& all, const std::vector<std::uint64_t>& sizes) {
-  std::vector<Bytes> out(sizes.size());
-  std::size_t pos = 0;
-  for (std::size_t r = 0; r < sizes.size(); ++r) {
-    out[r].assign(all.begin() + std::ptrdiff_t(pos), all.begin() + std::ptrdiff_t(pos + sizes[r]));
-    pos += sizes[r];
-  }
-  return out;
-}
-
 } // namespace
 
 bool launched_by_mpi() {
