@@ -2,12 +2,12 @@
 // runs the servo loop over a box file (or the built-in analytic scene `plane`) and prints the
 // timing histogram and the safety events.
 #include "commands.h"
-#include "device/falcon/falcon_device.h"
-#include "device/falcon/falcon_usb_transport.h"
+#include "device/device_choice.h"
 #include "device/plane_scene.h"
 #include "device/servo_log.h"
 #include "device/servo_loop.h"
 #include "device/virtual_device.h"
+#include "errors.h"
 #include "haptic_box/box_file.h"
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -63,17 +63,22 @@ Scene load_scene(const std::string& box) {
   return s;
 }
 
-std::unique_ptr<hb::HapticDevice> make_device(const ServoArgs& a, double dt) {
-  if (a.device == "virtual")
-    return std::make_unique<hb::VirtualDevice>(hb::circle_probe_trajectory(0.02f, 0.01f, 4.0), dt);
-  if (a.device.rfind("replay:", 0) == 0)
-    return std::make_unique<hb::ReplayDevice>(a.device.substr(7));
-  if (a.device == "falcon") {
-    hb::FalconOptions o;
-    o.firmware_path = a.firmware;
-    return std::make_unique<hb::FalconDevice>(hb::open_falcon_usb(0), o);
+hb::OpenedDevice open_chosen_device(const ServoArgs& a, double dt) {
+  hb::DeviceChoice choice;
+  try {
+    choice = hb::parse_device_choice(a.device);
+  } catch (const hb::InvalidInput& e) {
+    throw CLI::ValidationError("--device", e.what());
   }
-  throw CLI::ValidationError("--device", "'" + a.device + "' is not one of virtual, replay:LOG, falcon");
+  choice.falcon_firmware = a.firmware;
+  hb::DeviceOpenOptions open;
+  open.virtual_trajectory = hb::circle_probe_trajectory(0.02f, 0.01f, 4.0);
+  open.dt_s = dt;
+  open.on_hotplug = [](bool arrived, int bus, int address) {
+    std::cerr << "hotplug: Falcon " << (arrived ? "plugged in" : "unplugged") << " (bus " << bus << " address "
+              << address << ")\n";
+  };
+  return hb::open_device(choice, open);
 }
 
 void print_stats(const char* name, const hb::TimingStats& s) {
@@ -83,7 +88,8 @@ void print_stats(const char* name, const hb::TimingStats& s) {
 
 void run_servo(const ServoArgs& a) {
   Scene scene = load_scene(a.box);
-  auto device = make_device(a, 1.0 / a.rate_hz);
+  hb::OpenedDevice opened = open_chosen_device(a, 1.0 / a.rate_hz);
+  hb::HapticDevice* device = opened.device.get();
   hb::ServoOptions o;
   o.rate_hz = a.rate_hz;
   o.request_realtime = !a.no_realtime;
@@ -91,20 +97,11 @@ void run_servo(const ServoArgs& a) {
   o.mapping = hb::fit_workspace(scene.min, scene.max, device->spec());
   if (a.units_per_metre > 0) o.mapping.model_units_per_metre = a.units_per_metre;
   o.law.stiffness_n_per_m = a.stiffness;
-  if (a.device.rfind("replay:", 0) == 0) {
-    const auto* replay = static_cast<const hb::ReplayDevice*>(device.get());
-    o.rate_hz = replay->log().rate_hz;  // same dt, same safety ramps: same forces
-  }
+  if (opened.rate_hz > 0) o.rate_hz = opened.rate_hz;  // a replay: same dt, same safety ramps, same forces
 
   std::unique_ptr<hb::LogRecorder> recorder;
   if (!a.record.empty())
     recorder = std::make_unique<hb::LogRecorder>(a.record, o.rate_hz, device->spec());
-  std::unique_ptr<hb::FalconHotplugMonitor> monitor;
-  if (a.device == "falcon")
-    monitor = std::make_unique<hb::FalconHotplugMonitor>([](bool arrived, const hb::FalconUsbInfo& i) {
-      std::cerr << "hotplug: Falcon " << (arrived ? "plugged in" : "unplugged") << " (bus " << i.bus
-                << " address " << i.address << ")\n";
-    });
 
   hb::ServoLoop loop(*device, *scene.query, o);
   loop.set_recorder(recorder.get());

@@ -90,7 +90,8 @@ ServoLoop::ServoLoop(HapticDevice& device, const ContactQuery& scene, ServoOptio
       period_hist_(1000, 20000),        // 1 us bins up to 20 ms
       period_error_hist_(1000, 20000),
       compute_hist_(10, 100000),        // 10 ns bins up to 1 ms
-      query_hist_(10, 100000) {}
+      query_hist_(10, 100000),
+      window_hist_(10000, 2000) {}      // 10 us bins up to 20 ms: the live rate window
 
 ServoLoop::~ServoLoop() {
   try {
@@ -170,6 +171,10 @@ void ServoLoop::run() noexcept {
   LogRecord rec;
   std::int64_t deadline = now_ns() + period;
   std::int64_t prev_wake = -1, first_wake = -1;
+  // The live window (snapshot rate_hz and period_p99_us): about half a second of ticks.
+  const std::uint64_t window_ticks = std::max<std::uint64_t>(1, std::uint64_t(options_.rate_hz / 2.0));
+  std::int64_t window_start = -1;
+  window_hist_.clear();
   std::uint64_t tick = 0;
   bool estop_applied = false;
   rep.exit = ServoExit::stopped;
@@ -186,6 +191,15 @@ void ServoLoop::run() noexcept {
       const std::int64_t p = wake - prev_wake;
       period_hist_.add(p);
       period_error_hist_.add(p > period ? p - period : period - p);
+      window_hist_.add(p);
+      if (window_hist_.count() >= window_ticks) {
+        snap.rate_hz = static_cast<float>(static_cast<double>(window_hist_.count()) / ((wake - window_start) * 1e-9));
+        snap.period_p99_us = static_cast<float>(window_hist_.percentile_ns(0.99) * 1e-3);
+        window_hist_.clear();
+        window_start = wake;
+      }
+    } else {
+      window_start = wake;
     }
     prev_wake = wake;
     const double lateness_s = (wake - deadline) * 1e-9;

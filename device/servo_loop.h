@@ -63,6 +63,10 @@ struct ServoSnapshot {
   std::uint32_t safety_flags = 0;
   std::uint32_t query_ns = 0;
   std::uint32_t compute_ns = 0;
+  /// Measured over the last window of about half a second of ticks (0 until the first ends):
+  /// the tick rate, Hz, and the 99th percentile of the wake-to-wake period, us.
+  float rate_hz = 0;
+  float period_p99_us = 0;
   std::uint8_t contact = 0;
   std::uint8_t running = 0;
   std::uint8_t emergency_stopped = 0;
@@ -142,6 +146,7 @@ private:
   LogRecorder* recorder_ = nullptr;
   SafetyFilter safety_;
   TimingHistogram period_hist_, period_error_hist_, compute_hist_, query_hist_;
+  TimingHistogram window_hist_;  ///< periods of the current live window (snapshot rate, p99).
   Seqlock<ServoSnapshot> snapshot_;
   ServoReport report_;
   std::atomic<bool> stop_{false};

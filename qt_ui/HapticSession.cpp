@@ -3,18 +3,14 @@
 //     (Embree) and the surface polydata, then tries the bake cache for the current settings.
 //  2. startBake runs hb::bake on the worker (progress/cancel); the result is installed
 //     on the GUI thread and saved to the cache.
-//  3. With boxes, the servo thread (hb::ServoLoop) runs the chosen device against them at 1 kHz;
-//     a ServoRateMonitor between the loop and the boxes measures the live rate.
+//  3. With boxes, the servo thread (hb::ServoLoop) runs the chosen device (hb::open_device)
+//     against them at 1 kHz; its snapshot carries the live rate and p99 period.
 //  4. reading() is called at display rate: the latest servo snapshot (lock-free) gives the tip
 //     and the box's answer; the exact answer is computed here on the same segment.
 #include "HapticSession.h"
 #include "BackgroundJob.h"
-#include "ServoRateMonitor.h"
 #include "device/device_error.h"
-#include "device/falcon/falcon_device.h"
-#include "device/falcon/falcon_usb_transport.h"
-#include "device/servo_log.h"
-#include "device/virtual_device.h"
+#include "device/device_choice.h"
 #include "errors.h"
 #include "evaluation/comparison.h"
 #include "evaluation/sweep.h"
@@ -360,9 +356,9 @@ bool HapticSession::startErrorField(int probesPerPoint, QString* error) {
 
 void HapticSession::setProbeTarget(const hb::Vec3& surfacePoint) {
   picked_ = surfacePoint;
-  if (virtual_) {
+  if (opened_.virtual_device) {
     const hb::Vec3 tip = surfacePoint + probeDirection_ * static_cast<float>(depthFraction_ * diagonal_);
-    virtual_->set_target((tip - mapping_.model_origin) / mapping_.model_units_per_metre);
+    opened_.virtual_device->set_target((tip - mapping_.model_origin) / mapping_.model_units_per_metre);
   }
 }
 
@@ -396,7 +392,7 @@ ProbeReading HapticSession::reading() {
     const hb::ServoSnapshot s = loop_->snapshot();
     law = loop_->options().law;
     tip = hb::Vec3(s.tip_model[0], s.tip_model[1], s.tip_model[2]);
-    r.placed = virtual_ ? picked_.has_value() : s.tick > 0;
+    r.placed = opened_.virtual_device ? picked_.has_value() : s.tick > 0;
     r.segment = hb::Segment{tip - probeDirection_ * mapping_.probe_length, tip};
     r.approx.contact = s.contact != 0;
     r.approx.depth = s.depth;
@@ -404,17 +400,8 @@ ProbeReading HapticSession::reading() {
     r.approx.point = tip - probeDirection_ * s.depth;
     r.approx.force = hb::Vec3(s.desired_force_n[0], s.desired_force_n[1], s.desired_force_n[2]);
     r.approxQueryNs = s.query_ns;
-    const auto now = std::chrono::steady_clock::now();
-    if (now - lastWindow_ > std::chrono::milliseconds(500)) {
-      const ServoRateMonitor::Window w = monitor_->takeWindow();
-      if (w.ticks > 0) {
-        rateHz_ = w.rate_hz;
-        p99Us_ = w.p99_period_us;
-      }
-      lastWindow_ = now;
-    }
-    r.rateHz = rateHz_;
-    r.p99PeriodUs = p99Us_;
+    r.rateHz = s.rate_hz;  // the servo loop's own live window (about 0.5 s)
+    r.p99PeriodUs = s.period_p99_us;
   } else {
     if (!picked_) return r;
     r.placed = true;
@@ -441,31 +428,38 @@ ProbeReading HapticSession::reading() {
 
 // --- device ----------------------------------------------------------------------------
 
-bool HapticSession::setDevice(DeviceKind kind, const QString& replayPath, QString* message) {
+bool HapticSession::setDevice(DeviceKind kind, const QString& replayPath, QString* message,
+                              const QString& falconFirmware) {
   stopServo();
-  device_.reset();
-  virtual_ = nullptr;
+  opened_ = hb::OpenedDevice();
   bool ok = true;
   QString note;
+  hb::DeviceChoice choice;
+  if (kind == DeviceKind::Replay) {
+    choice.kind = hb::DeviceChoice::Kind::replay;
+    choice.replay_log = QFile::encodeName(replayPath).toStdString();
+  } else if (kind == DeviceKind::Falcon) {
+    choice.kind = hb::DeviceChoice::Kind::falcon;
+    choice.falcon_firmware = QFile::encodeName(falconFirmware).toStdString();
+  }
+  hb::DeviceOpenOptions open;
+  open.on_hotplug = [this](bool arrived, int bus, int address) {  // the monitor's thread
+    QMetaObject::invokeMethod(this, [this, arrived, bus, address] {
+      emit statusMessage(tr("Falcon %1 (USB bus %2 address %3)")
+                             .arg(arrived ? tr("plugged in") : tr("unplugged"))
+                             .arg(bus)
+                             .arg(address));
+    }, Qt::QueuedConnection);
+  };
   try {
-    if (kind == DeviceKind::Replay) {
-      device_ = std::make_unique<hb::ReplayDevice>(QFile::encodeName(replayPath).toStdString());
-      deviceName_ = tr("Replay: %1").arg(QFileInfo(replayPath).fileName());
-    } else if (kind == DeviceKind::Falcon) {
-      device_ = std::make_unique<hb::FalconDevice>(hb::open_falcon_usb(0), hb::FalconOptions{});
-      deviceName_ = tr("Novint Falcon");
-    }
+    opened_ = hb::open_device(choice, open);
   } catch (const std::exception& e) {
     ok = false;
     note = tr("%1; using the virtual (mouse) device").arg(QString::fromStdString(e.what()));
     kind = DeviceKind::Virtual;
+    opened_ = hb::open_device(hb::DeviceChoice{});
   }
-  if (kind == DeviceKind::Virtual) {
-    auto v = std::make_unique<hb::VirtualDevice>();
-    virtual_ = v.get();
-    device_ = std::move(v);
-    deviceName_ = tr("Virtual (mouse)");
-  }
+  deviceName_ = QString::fromStdString(opened_.description);
   deviceKind_ = kind;
   if (picked_) setProbeTarget(*picked_);
   startServo();
@@ -478,13 +472,10 @@ bool HapticSession::servoRunning() const { return loop_ && loop_->running(); }
 
 void HapticSession::startServo() {
   if (!boxes_ || !mesh_) return;
-  if (!device_) {
-    auto v = std::make_unique<hb::VirtualDevice>();
-    virtual_ = v.get();
-    device_ = std::move(v);
-    deviceName_ = tr("Virtual (mouse)");
+  if (!opened_.device) {
+    opened_ = hb::open_device(hb::DeviceChoice{});
+    deviceName_ = QString::fromStdString(opened_.description);
   }
-  monitor_ = std::make_unique<ServoRateMonitor>(*boxes_);
   hb::ServoOptions o;
   o.law = law_;
   o.mapping = mapping_;
@@ -493,13 +484,10 @@ void HapticSession::startServo() {
   // uses every core), and a real-time thread spinning 50 us per tick halves its frame rate
   // while sleeping to the deadline keeps the p99 period within a few tens of us.
   o.spin_s = qEnvironmentVariableIntValue("HB_GUI_SPIN_US") * 1e-6;
-  if (auto* replay = dynamic_cast<hb::ReplayDevice*>(device_.get())) o.rate_hz = replay->log().rate_hz;
+  if (opened_.rate_hz > 0.0) o.rate_hz = opened_.rate_hz;  // a replay runs at its recorded rate
   try {
-    loop_ = std::make_unique<hb::ServoLoop>(*device_, *monitor_, o);
+    loop_ = std::make_unique<hb::ServoLoop>(*opened_.device, *boxes_, o);
     loop_->start();
-    rateHz_ = p99Us_ = 0.0;
-    lastWindow_ = std::chrono::steady_clock::now();
-    monitor_->takeWindow();
   } catch (const std::exception& e) {
     loop_.reset();
     emit statusMessage(tr("Device thread not started: %1").arg(QString::fromStdString(e.what())));
@@ -509,7 +497,6 @@ void HapticSession::startServo() {
 void HapticSession::stopServo() {
   if (loop_) loop_->stop();
   loop_.reset();
-  monitor_.reset();
 }
 
 // --- export ----------------------------------------------------------------------------

@@ -3,7 +3,7 @@
 // the exact query, the device and its servo thread, and the long jobs. Widgets call it and
 // listen to its signals; it holds no widget and renders nothing.
 #include "exact/exact_query.h"
-#include "device/haptic_device.h"
+#include "device/device_choice.h"
 #include "device/servo_loop.h"
 #include "evaluation/error_field.h"
 #include "evaluation/sweep.h"
@@ -22,12 +22,7 @@
 #include <optional>
 
 class BackgroundJob;
-class ServoRateMonitor;
-class VirtualDeviceHandle;
 class vtkHapticBoxCellLocatorQuery;
-namespace hb {
-class VirtualDevice;
-}
 
 /// What the bake panel sets: densities, padding, pieces (none: one box, a piece file, or
 /// automatic: hb::decompose_auto) and the table codec ("none", "block", "haar"; compressed at
@@ -155,7 +150,10 @@ public:
   // --- device --------------------------------------------------------------------------
   /// Chooses the device. Falcon without hardware: false, `message` says so, and the
   /// virtual device is used instead. The servo thread runs while there are boxes.
-  bool setDevice(DeviceKind kind, const QString& replayPath = {}, QString* message = nullptr);
+  /// `falconFirmware`: a firmware file for the Falcon (empty: the device's own), as
+  /// `hapticbox servo --firmware`; a hotplug monitor reports plugging in the status bar.
+  bool setDevice(DeviceKind kind, const QString& replayPath = {}, QString* message = nullptr,
+                 const QString& falconFirmware = {});
   DeviceKind deviceKind() const { return deviceKind_; }
   bool servoRunning() const;
 
@@ -221,14 +219,9 @@ private:
   std::optional<hb::Vec3> picked_;
 
   DeviceKind deviceKind_ = DeviceKind::Virtual;
-  std::unique_ptr<hb::HapticDevice> device_;
-  hb::VirtualDevice* virtual_ = nullptr;   ///< device_ when it is the virtual device.
+  hb::OpenedDevice opened_;   ///< the device (hb::open_device) and its hotplug monitor.
   QString deviceName_;
-  std::unique_ptr<ServoRateMonitor> monitor_;
   std::unique_ptr<hb::ServoLoop> loop_;
-  ServoRateMonitor* windowSource_ = nullptr;
-  double rateHz_ = 0.0, p99Us_ = 0.0;
-  std::chrono::steady_clock::time_point lastWindow_{};
 
   BackgroundJob* job_ = nullptr;
 };

@@ -1,5 +1,7 @@
 #include "analytic_scene.h"
+#include "device/device_choice.h"
 #include "device/servo_loop.h"
+#include "errors.h"
 #include "device/virtual_device.h"
 #include <gtest/gtest.h>
 #include <chrono>
@@ -45,6 +47,36 @@ TEST(ServoLoopTest, RunsWithTheVirtualDeviceAndStopsCleanly) {
   EXPECT_FALSE(r.realtime_granted);
   EXPECT_EQ(dev.last_force(), Vec3::Zero());
   loop.stop();  // idempotent
+}
+
+TEST(ServoLoopTest, SnapshotCarriesTheLiveRateAndP99Period) {
+  VirtualDevice dev;
+  test::HalfSpaceScene scene(-100.f);
+  ServoOptions o = test_options();
+  o.rate_hz = 500.0;  // windows of 250 ticks
+  ServoLoop loop(dev, scene, o);
+  loop.start();
+  wait_ticks(loop, 600);
+  const ServoSnapshot s = loop.snapshot();
+  loop.stop();
+  EXPECT_GT(s.rate_hz, 100.f);  // loose: the machine is shared; timing belongs in benchmarks
+  EXPECT_LT(s.rate_hz, 600.f);
+  EXPECT_GE(s.period_p99_us, 1900.f);  // at least the nominal 2 ms period
+}
+
+TEST(ServoLoopTest, DeviceChoiceParsesWhatTheCommandLineAndTheWindowName) {
+  EXPECT_EQ(parse_device_choice("virtual").kind, DeviceChoice::Kind::virtual_device);
+  EXPECT_EQ(parse_device_choice("falcon").kind, DeviceChoice::Kind::falcon);
+  const DeviceChoice replay = parse_device_choice("replay:run.hblog");
+  EXPECT_EQ(replay.kind, DeviceChoice::Kind::replay);
+  EXPECT_EQ(replay.replay_log, "run.hblog");
+  EXPECT_EQ(device_choice_spec(replay), "replay:run.hblog");
+  EXPECT_THROW(parse_device_choice("replay:"), InvalidInput);
+  EXPECT_THROW(parse_device_choice("mouse"), InvalidInput);
+  const OpenedDevice v = open_device(DeviceChoice{});
+  ASSERT_NE(v.virtual_device, nullptr);
+  EXPECT_EQ(v.device.get(), v.virtual_device);
+  EXPECT_THROW(open_device(parse_device_choice("replay:/nonexistent/run.hblog")), Error);
 }
 
 TEST(ServoLoopTest, PressingIntoTheSurfacePushesBackOut) {

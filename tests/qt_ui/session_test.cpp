@@ -1,6 +1,5 @@
 // The logic without widgets: session files, the background job, the servo rate monitor.
 #include "BackgroundJob.h"
-#include "ServoRateMonitor.h"
 #include "SessionFile.h"
 #include "errors.h"
 #include "ui_test_support.h"
@@ -67,19 +66,3 @@ TEST(BackgroundJobTest, CancelStopsTheWorkAndReportsCancelled) {
   EXPECT_FALSE(job.isRunning());
 }
 
-TEST(ServoRateMonitorTest, MeasuresTheQueryRate) {
-  struct Nothing final : hb::ContactQuery {
-    hb::Contact query(const hb::Segment&, const hb::ForceLaw&) const noexcept override { return {}; }
-  } nothing;
-  ServoRateMonitor m(nothing);
-  m.takeWindow();
-  for (int i = 0; i < 50; ++i) {
-    m.query(hb::Segment{}, hb::ForceLaw{});
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  const ServoRateMonitor::Window w = m.takeWindow();
-  EXPECT_EQ(w.ticks, 49u);
-  EXPECT_GT(w.rate_hz, 100.0);
-  EXPECT_LT(w.rate_hz, 600.0);
-  EXPECT_GE(w.p99_period_us, 2000.0);
-}
