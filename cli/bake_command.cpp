@@ -12,6 +12,7 @@
 void add_bake_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("bake", "Bake a haptic box file from a mesh");
   struct Opts {
+    hb::cli::ModelArgs model;
     std::string mesh, out;
     hb::BakeRecipe recipe;
     std::string pieces;
@@ -19,6 +20,7 @@ void add_bake_command(CLI::App& app) {
     bool json = false;
   };
   auto opts = std::make_shared<Opts>();
+  hb::cli::add_model_options(*cmd, opts->model);
   cmd->add_option("MESH", opts->mesh, "Input mesh")->required();
   cmd->add_option("-o,--output", opts->out, "Output box file (.hbox)")->required();
   cmd->add_option("-m", opts->recipe.options.params.m, "Position points per PBB face edge")
@@ -44,13 +46,13 @@ void add_bake_command(CLI::App& app) {
     opts->recipe.codec.codec = hb::parse_codec(opts->codec);
     if (opts->recipe.codec.codec == hb::CodecId::none && (*max_error || opts->recipe.codec.ratio > 0.f))
       throw hb::cli::UsageError("bake: --max-error and --ratio need --codec haar or block");
-    const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh);
-    hb::SourceInfo source{opts->mesh, hb::hash_file(opts->mesh), mesh.triangle_count(), mesh.bounds().diagonal()};
+    const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh, opts->model);
+    hb::SourceInfo source{opts->mesh, hb::cli::hash_model(opts->mesh, opts->model), mesh.triangle_count(), mesh.bounds().diagonal()};
     opts->recipe.options.progress = hb::cli::terminal_progress("baking");
     opts->recipe.options.density.min_m = std::min(opts->recipe.options.density.min_m, opts->recipe.options.density.max_m);
     hb::Communicator& comm = hb::cli::communicator();
     opts->recipe.options.communicator = &comm;  // position points dealt across the ranks of an MPI job
-    hb::cli::apply_pieces_spec(opts->pieces, opts->recipe);
+    hb::cli::apply_pieces_spec(opts->pieces, opts->recipe, opts->model.face_ids);
     const hb::BakeResult baked = hb::bake(mesh, opts->recipe, source);
     if (!comm.is_root()) return;  // rank 0 holds the tables and writes the file
     hb::cli::print_decomposition(opts->recipe, baked);

@@ -17,6 +17,7 @@
 void add_bench_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("bench", "Time box queries against exact Embree queries (one core)");
   struct Opts {
+    hb::cli::ModelArgs model;
     std::string box, mesh;
     std::size_t samples = 20000;
     int rounds = 5;
@@ -27,6 +28,7 @@ void add_bench_command(CLI::App& app) {
     bool no_grid = false;
   };
   auto opts = std::make_shared<Opts>();
+  hb::cli::add_model_options(*cmd, opts->model);
   cmd->add_option("BOX", opts->box, "Box file (.hbox)")->required();
   cmd->add_option("MESH", opts->mesh, "The mesh the box was baked from")->required();
   cmd->add_option("--samples", opts->samples, "Number of probes")->check(CLI::Range(std::size_t(1), std::size_t(10000000)))->capture_default_str();
@@ -42,7 +44,7 @@ void add_bench_command(CLI::App& app) {
     load.huge_pages = !opts->no_huge_pages;
     const hb::BoxScene loaded = hb::load_box_file(opts->box, load);
     const hb::BoxScene scene = opts->no_grid ? loaded.without_grid() : loaded;
-    const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh);
+    const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh, opts->model);
     const hb::ExactQuery exact(mesh);
     const auto probes = hb::sample_probes(mesh, opts->samples, opts->probes);
     // Interleave the two measurements so machine noise hits both alike.

@@ -66,16 +66,112 @@ bool is_box_file(const std::string& path) {
 
 } // namespace hb::cli
 
+#include "errors.h"
 #include "mesh/mesh_io.h"
+#include <algorithm>
+#include <filesystem>
+#include <sstream>
+#ifdef HB_WITH_VTK
+#include "model_loader.h"
+#endif
 
 namespace hb::cli {
 
-TriangleMesh load_mesh(const std::string& path, MeshReadReport* report) {
+void add_model_options(CLI::App& cmd, ModelArgs& args) {
+  auto* iso = cmd.add_option("--iso", args.iso,
+                             "Volumes: iso-value of the surface, in the file's calibrated units (HU for CT); "
+                             "default: Otsu threshold (see `info`)");
+  auto* label = cmd.add_option("--label", args.label, "Volumes (label maps): the surface of the voxels with this label");
+  iso->excludes(label);
+  cmd.add_option("--unit", args.unit,
+                 "Length of one model unit: mm, cm, m, um, in, ft (default: the file's unit, else mm); the model is "
+                 "scaled to mm");
+  cmd.add_option("--smooth", args.smooth, "Volumes: windowed-sinc smoothing iterations (0: none)")
+      ->check(CLI::Range(0, 1000));
+  cmd.add_option("--target-triangles", args.target_triangles, "Volumes: decimate to about this many triangles (0: keep all)");
+  cmd.add_option("--chordal-mm", args.chordal_mm,
+                 "CAD: chordal deviation of the tessellation in mm (default: --force-tolerance / stiffness 500 N/m)")
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--force-tolerance", args.force_tolerance_n,
+                 "CAD: force error in N the tessellation may cause; sets the chordal deviation")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+}
+
+namespace {
+bool has_model_args(const ModelArgs& a) {
+  return a.iso || a.label || !a.unit.empty() || a.smooth || a.target_triangles || a.chordal_mm > 0;
+}
+std::string args_text(const ModelArgs& a) {
+  std::ostringstream o;
+  o << "iso=" << (a.iso ? std::to_string(*a.iso) : "-") << " label=" << (a.label ? std::to_string(*a.label) : "-")
+    << " unit=" << a.unit << " smooth=" << a.smooth << " target=" << a.target_triangles << " chordal=" << a.chordal_mm
+    << " ftol=" << a.force_tolerance_n;
+  return o.str();
+}
+} // namespace
+
+TriangleMesh load_mesh(const std::string& path, MeshReadReport* report) { return load_mesh(path, ModelArgs{}, report); }
+
+#ifdef HB_WITH_VTK
+hb::vtk::ModelOptions to_model_options(const ModelArgs& args) {
+  hb::vtk::ModelOptions options;
+  options.unit = args.unit;
+  options.volume.iso = args.iso;
+  options.volume.label = args.label;
+  options.volume.smooth_iterations = args.smooth;
+  options.volume.target_triangles = args.target_triangles;
+  options.cad.chordal_deviation_mm = args.chordal_mm;
+  options.cad.force_tolerance_n = args.force_tolerance_n;
+  return options;
+}
+#endif
+
+TriangleMesh load_mesh(const std::string& path, const ModelArgs& args, MeshReadReport* report) {
+#ifdef HB_WITH_VTK
+  hb::vtk::LoadedModel model = hb::vtk::load_model(path, to_model_options(args));
+  for (const std::string& w : model.report.warnings) std::cerr << "hapticbox: warning: " << w << "\n";
+  if (model.kind == hb::vtk::ModelKind::Volume) {
+    std::cerr << "hapticbox: " << path << ": " << model.format << " "
+              << model.facts["dimensions"].dump() << " voxels, spacing " << model.facts["spacing_mm"].dump() << " mm, ";
+    if (model.facts.contains("label")) std::cerr << "label " << model.facts["label"].dump();
+    else std::cerr << "iso " << model.facts["iso"].dump() << (args.iso ? "" : " (automatic; set --iso)");
+    std::cerr << ": " << model.mesh.triangle_count() << " triangles in mm\n";
+  } else if (model.kind == hb::vtk::ModelKind::Cad) {
+    std::cerr << "hapticbox: " << path << ": " << model.format << ", " << model.facts.value("faces", 0) << " faces, chordal deviation "
+              << model.facts.value("chordal_deviation_mm", 0.0) << " mm: " << model.mesh.triangle_count() << " triangles in mm\n";
+  } else if (model.unit_source != "default (the format has no unit)") {
+    std::cerr << "hapticbox: " << path << ": " << model.format << ", unit " << model.unit << " (" << model.unit_source
+              << "), scaled to mm\n";
+  }
+  args.facts = model.facts;
+  args.face_ids = model.face_ids;
+  if (report) *report = model.report;
+  return std::move(model.mesh);
+#else
+  if (has_model_args(args)) throw UsageError("--iso, --label, --unit and the CAD options need the VTK pipelines (HB_BUILD_VTK)");
   MeshReadReport local;
   TriangleMesh mesh = read_mesh(path, &local);
   for (const std::string& w : local.warnings) std::cerr << "hapticbox: warning: " << w << "\n";
   if (report) *report = local;
   return mesh;
+#endif
+}
+
+std::uint64_t hash_model(const std::string& path, const ModelArgs& args) {
+  namespace fs = std::filesystem;
+  std::uint64_t h = 0;
+  if (fs::is_directory(path)) {
+    std::vector<std::string> files;
+    for (const auto& e : fs::directory_iterator(path))
+      if (e.is_regular_file()) files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());
+    for (const std::string& f : files) h = h * 1099511628211ull ^ hash_file(f);
+  } else {
+    h = hash_file(path);
+  }
+  if (has_model_args(args)) h ^= std::hash<std::string>{}(args_text(args)) * 0x9E3779B97F4A7C15ull;
+  return h;
 }
 
 } // namespace hb::cli

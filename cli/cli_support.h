@@ -7,7 +7,10 @@
 #include "progress.h"
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+#include <cstdint>
+#include <optional>
 #include <stdexcept>
+#include <vector>
 #include <string>
 
 namespace hb::cli {
@@ -48,7 +51,46 @@ struct TriangleMesh;
 struct MeshReadReport;
 }
 
+#ifdef HB_WITH_VTK
+#include "model_loader.h"
+#endif
+
 namespace hb::cli {
-/// Reads a mesh, printing the reader's warnings to stderr.
-TriangleMesh load_mesh(const std::string& path, MeshReadReport* report = nullptr);
+
+/// How a model file becomes a mesh (--iso, --label, --unit, ...; see hb::vtk::ModelOptions).
+/// Every command that takes a mesh takes these, so it also takes a volume, a CAD solid or a
+/// glTF/3MF/FBX/Collada scene.
+struct ModelArgs {
+  std::optional<double> iso;
+  std::optional<long> label;
+  std::string unit;
+  int smooth = 0;
+  std::size_t target_triangles = 0;
+  double chordal_mm = 0.0;
+  double force_tolerance_n = 0.01;
+  /// Filled by load_mesh: what the loader found (format, unit, volume/CAD facts) and, for CAD
+  /// solids, the face of each triangle (used by --pieces faces).
+  mutable nlohmann::json facts;
+  mutable std::vector<std::uint32_t> face_ids;
+};
+
+#ifdef HB_WITH_VTK
+/// The loader's options for `args` (for the commands that run vtkHapticBoxMeshReader).
+hb::vtk::ModelOptions to_model_options(const ModelArgs& args);
+#endif
+
+/// Adds --iso, --label, --unit, --smooth, --target-triangles, --chordal-mm, --force-tolerance.
+void add_model_options(CLI::App& cmd, ModelArgs& args);
+
+/// Reads a model (mesh, volume, CAD, scene; in millimetres), printing the reader's warnings to
+/// stderr, and on stderr one line saying how a volume or CAD file became triangles.
+TriangleMesh load_mesh(const std::string& path, const ModelArgs& args = {}, MeshReadReport* report = nullptr);
+/// Reads a mesh with the default model options.
+TriangleMesh load_mesh(const std::string& path, MeshReadReport* report);
+
+/// The hash a box file records for its source: the file's bytes (a directory's files, in name
+/// order, for a DICOM series), mixed with the options that shaped the surface for volumes and
+/// CAD (so a box baked at another iso-value is noticed).
+std::uint64_t hash_model(const std::string& path, const ModelArgs& args = {});
+
 }

@@ -41,6 +41,7 @@ nlohmann::json point_json(const hb::CompressionSweepPoint& p, bool exact) {
 void add_compress_sweep_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("compress-sweep", "Compression ratio against error for each codec (paper Figure 11)");
   struct Opts {
+    hb::cli::ModelArgs model;
     std::string box, mesh, csv, json_out;
     std::vector<std::string> codecs{"haar", "block"};
     std::vector<float> errors;
@@ -51,6 +52,7 @@ void add_compress_sweep_command(CLI::App& app) {
     bool json = false;
   };
   auto opts = std::make_shared<Opts>();
+  hb::cli::add_model_options(*cmd, opts->model);
   cmd->add_option("BOX", opts->box, "Box file with uncompressed tables (bake --codec none)")->required();
   cmd->add_option("MESH", opts->mesh, "The mesh it was baked from, for force errors against the exact answer "
                                       "(default: the source mesh named in the box file, when it exists)");
@@ -83,7 +85,7 @@ void add_compress_sweep_command(CLI::App& app) {
     hb::TriangleMesh mesh;
     std::unique_ptr<hb::ExactQuery> exact;
     if (!mesh_path.empty() && opts->samples > 0) {
-      mesh = hb::cli::load_mesh(mesh_path);
+      mesh = hb::cli::load_mesh(mesh_path, opts->model);
       exact = std::make_unique<hb::ExactQuery>(mesh);
       o.probes = hb::sample_probes(mesh, opts->samples, opts->probes);
       o.exact = exact.get();

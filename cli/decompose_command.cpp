@@ -37,6 +37,7 @@ hb::CutPlane parse_plane(const std::string& text) {
 void add_decompose_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("decompose", "Cut a mesh into quasi-convex pieces (a piece id per triangle)");
   struct Opts {
+    hb::cli::ModelArgs model;
     std::string mesh, out;
     hb::AutoDecompositionOptions automatic;
     std::vector<std::string> planes;
@@ -44,6 +45,7 @@ void add_decompose_command(CLI::App& app) {
     bool json = false;
   };
   auto opts = std::make_shared<Opts>();
+  hb::cli::add_model_options(*cmd, opts->model);
   cmd->add_option("MESH", opts->mesh, "Input mesh")->required();
   cmd->add_option("-o,--output", opts->out, "Piece file: .txt (one id per line) or .ply (face property 'piece')")
       ->required();
@@ -66,7 +68,7 @@ void add_decompose_command(CLI::App& app) {
   cmd->callback([opts] {
     std::vector<hb::CutPlane> planes;
     for (const auto& p : opts->planes) planes.push_back(parse_plane(p));
-    const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh);
+    const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh, opts->model);
     const auto start = std::chrono::steady_clock::now();
     std::vector<std::uint32_t> ids;
     std::size_t count = 0;

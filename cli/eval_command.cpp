@@ -13,6 +13,7 @@
 void add_eval_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("eval", "Compare a box file against the exact answer on its mesh");
   struct Opts {
+    hb::cli::ModelArgs model;
     std::string box, mesh;
     std::size_t samples = 20000;
     hb::ProbeOptions probes;
@@ -20,6 +21,7 @@ void add_eval_command(CLI::App& app) {
     bool json = false;
   };
   auto opts = std::make_shared<Opts>();
+  hb::cli::add_model_options(*cmd, opts->model);
   cmd->add_option("BOX", opts->box, "Box file (.hbox)")->required();
   cmd->add_option("MESH", opts->mesh, "The mesh the box was baked from")->required();
   cmd->add_option("--samples", opts->samples, "Number of probes")->check(CLI::Range(std::size_t(1), std::size_t(100000000)))->capture_default_str();
@@ -28,9 +30,9 @@ void add_eval_command(CLI::App& app) {
   cmd->add_flag("--json", opts->json, "Print JSON");
   cmd->callback([opts] {
     const hb::BoxScene scene = hb::load_box_file(opts->box);
-    const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh);
+    const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh, opts->model);
     if (hb::cli::communicator().is_root() && scene.source().mesh_hash != 0 &&
-        scene.source().mesh_hash != hb::hash_file(opts->mesh))
+        scene.source().mesh_hash != hb::cli::hash_model(opts->mesh, opts->model))
       std::cerr << "hapticbox: warning: " << opts->box << " was baked from a different file than " << opts->mesh << "\n";
     const hb::ExactQuery exact(mesh);
     const auto probes = hb::sample_probes(mesh, opts->samples, opts->probes);

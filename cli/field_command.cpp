@@ -23,6 +23,7 @@
 void add_field_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("field", "Compute the error field over a surface and write it as VTP");
   struct Opts {
+    hb::cli::ModelArgs model;
     std::vector<std::string> inputs;
     std::string out;
     int m = 32, n = 16, probes = 1;
@@ -31,6 +32,7 @@ void add_field_command(CLI::App& app) {
     hb::ForceLaw law;
   };
   auto opts = std::make_shared<Opts>();
+  hb::cli::add_model_options(*cmd, opts->model);
   cmd->add_option("INPUT", opts->inputs, "MESH (baked here), or BOX MESH")->required()->expected(1, 2);
   cmd->add_option("-o,--output", opts->out, "Output .vtp file")->required();
   cmd->add_option("-m,--m", opts->m, "Position density m when baking")->check(CLI::Range(2, 4096))->capture_default_str();
@@ -46,6 +48,7 @@ void add_field_command(CLI::App& app) {
     const std::string mesh_path = with_box ? opts->inputs[1] : opts->inputs[0];
     vtkNew<vtkHapticBoxMeshReader> reader;
     reader->SetFileName(mesh_path.c_str());
+    reader->SetModelOptions(hb::cli::to_model_options(opts->model));
     reader->Update();
     if (reader->GetOutput()->GetNumberOfPoints() == 0) throw hb::InvalidInput(mesh_path + ": could not read the mesh");
     vtkNew<vtkHapticBoxErrorFieldFilter> field;

@@ -11,11 +11,11 @@
 
 namespace {
 
-nlohmann::json mesh_info(const std::string& path) {
+nlohmann::json mesh_info(const std::string& path, const hb::cli::ModelArgs& args) {
   hb::MeshReadReport report;
-  const hb::TriangleMesh mesh = hb::cli::load_mesh(path, &report);
+  const hb::TriangleMesh mesh = hb::cli::load_mesh(path, args, &report);
   const hb::Bounds b = mesh.bounds();
-  return {{"kind", "mesh"},
+  nlohmann::json j = {{"kind", "mesh"},
           {"file", path},
           {"vertices", mesh.vertex_count()},
           {"triangles", mesh.triangle_count()},
@@ -30,6 +30,11 @@ nlohmann::json mesh_info(const std::string& path) {
           {"diagonal", b.diagonal()},
           {"area", mesh.area()},
           {"warnings", report.warnings}};
+  // Volumes, CAD solids and scenes: what the loader read (dimensions, spacing, value range,
+  // labels, iso-value; solids, faces, chordal deviation; unit), after the mesh's own facts.
+  for (auto it = args.facts.begin(); it != args.facts.end(); ++it)
+    if (it.key() != "model_bounds_mm") j[it.key()] = *it;
+  return j;
 }
 
 nlohmann::json box_info(const std::string& path, bool verify) {
@@ -109,14 +114,16 @@ void add_info_command(CLI::App& app) {
     std::string file;
     bool json = false;
     bool verify = false;
+    hb::cli::ModelArgs model;
   };
   auto opts = std::make_shared<Opts>();
-  cmd->add_option("FILE", opts->file, "Mesh (.off .obj .ply .stl .om) or box file (.hbox)")->required();
+  hb::cli::add_model_options(*cmd, opts->model);
+  cmd->add_option("FILE", opts->file, "Model (mesh, volume, DICOM directory, CAD, scene) or box file (.hbox)")->required();
   cmd->add_flag("--json", opts->json, "Print JSON");
   cmd->add_flag("--verify", opts->verify, "Box files: check every table's checksum (reads the whole file)");
   cmd->callback([opts] {
     if (!std::filesystem::exists(opts->file)) throw hb::IoError(opts->file + ": no such file");
-    const nlohmann::json j = hb::cli::is_box_file(opts->file) ? box_info(opts->file, opts->verify) : mesh_info(opts->file);
+    const nlohmann::json j = hb::cli::is_box_file(opts->file) ? box_info(opts->file, opts->verify) : mesh_info(opts->file, opts->model);
     if (opts->json) {
       hb::cli::print_json(j);
       return;

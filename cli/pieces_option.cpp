@@ -6,7 +6,7 @@ namespace hb::cli {
 
 void add_pieces_options(CLI::App& cmd, std::string& spec, BakeRecipe& recipe) {
   spec = "none";
-  cmd.add_option("--pieces", spec, "Pieces: none (one box), auto, or a piece file (.txt, .ply)")
+  cmd.add_option("--pieces", spec, "Pieces: none (one box), auto, faces (a CAD solid's faces), or a piece file (.txt, .ply)")
       ->capture_default_str();
   cmd.add_option("--threshold", recipe.pieces.automatic.threshold, "Auto pieces: largest pocket probability of a piece")
       ->check(CLI::Range(0.0, 1.0))->capture_default_str();
@@ -18,7 +18,13 @@ void add_pieces_options(CLI::App& cmd, std::string& spec, BakeRecipe& recipe) {
       ->check(CLI::Range(0.0, 64.0))->capture_default_str();
 }
 
-void apply_pieces_spec(const std::string& spec, BakeRecipe& recipe) {
+void apply_pieces_spec(const std::string& spec, BakeRecipe& recipe, const std::vector<std::uint32_t>& face_ids) {
+  if (spec == "faces") {
+    if (face_ids.empty()) throw UsageError("--pieces faces needs a CAD model (STEP or IGES): this model has no faces");
+    recipe.pieces.kind = PiecesRecipe::Kind::given;
+    recipe.pieces.given = face_ids;
+    return;
+  }
   PiecesRecipe p = pieces_from_spec(spec);
   p.automatic = recipe.pieces.automatic;
   if (p.kind == PiecesRecipe::Kind::automatic) p.automatic.progress = terminal_progress("decomposing");

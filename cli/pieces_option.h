@@ -3,7 +3,9 @@
 // pieces and seams of a hb::BakeRecipe (the cutting itself is hb::bake's).
 #include "haptic_box/bake_recipe.h"
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 namespace hb::cli {
 
@@ -12,8 +14,9 @@ namespace hb::cli {
 void add_pieces_options(CLI::App& cmd, std::string& spec, BakeRecipe& recipe);
 
 /// Sets recipe.pieces from `spec` (hb::pieces_from_spec), keeping the automatic options,
-/// with a terminal progress bar for an automatic decomposition.
-void apply_pieces_spec(const std::string& spec, BakeRecipe& recipe);
+/// with a terminal progress bar for an automatic decomposition. "faces" gives a CAD model's
+/// faces as the pieces (`face_ids`, one per triangle; UsageError when empty: not a CAD model).
+void apply_pieces_spec(const std::string& spec, BakeRecipe& recipe, const std::vector<std::uint32_t>& face_ids = {});
 
 /// Prints "decomposed into K pieces in S s" to stderr after an automatic decomposition.
 void print_decomposition(const BakeRecipe& recipe, const BakeResult& result);

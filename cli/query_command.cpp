@@ -67,11 +67,13 @@ void write_contact(std::ostream& out, const hb::Contact& c) {
 void add_query_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("query", "Answer probe segments with a box file (and the exact method)");
   struct Opts {
+    hb::cli::ModelArgs model;
     std::string box, segments_csv, out_csv, exact_mesh;
     std::vector<float> segment;
     hb::ForceLaw law;
   };
   auto opts = std::make_shared<Opts>();
+  hb::cli::add_model_options(*cmd, opts->model);
   cmd->add_option("BOX", opts->box, "Box file (.hbox)")->required();
   auto* seg = cmd->add_option("--segment", opts->segment, "One segment: sx sy sz ex ey ez")->expected(6);
   auto* segs = cmd->add_option("--segments", opts->segments_csv, "CSV with header sx,sy,sz,ex,ey,ez");
@@ -95,7 +97,7 @@ void add_query_command(CLI::App& app) {
     hb::TriangleMesh mesh;
     std::unique_ptr<hb::ExactQuery> exact;
     if (!opts->exact_mesh.empty()) {
-      mesh = hb::cli::load_mesh(opts->exact_mesh);
+      mesh = hb::cli::load_mesh(opts->exact_mesh, opts->model);
       exact = std::make_unique<hb::ExactQuery>(mesh);
     }
     std::ofstream file;

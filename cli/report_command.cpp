@@ -39,6 +39,7 @@ std::vector<hb::SweepConfig> default_sweep(int m, int n) {
 void add_report_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("report", "Write an error report (report.html, summary.json, samples.csv)");
   struct Opts {
+    hb::cli::ModelArgs model;
     std::vector<std::string> inputs;
     std::string out;
     hb::BoxParams params;
@@ -51,6 +52,7 @@ void add_report_command(CLI::App& app) {
     std::string save_box;
   };
   auto opts = std::make_shared<Opts>();
+  hb::cli::add_model_options(*cmd, opts->model);
   cmd->add_option("INPUT", opts->inputs, "MESH (baked for the report), or BOX [MESH] (MESH defaults to the box's source)")
       ->required()
       ->expected(1, 2);
@@ -89,8 +91,8 @@ void add_report_command(CLI::App& app) {
       if (opts->inputs.size() > 1) throw hb::cli::UsageError("give MESH alone, or BOX then MESH");
       mesh_path = opts->inputs[0];
     }
-    const hb::TriangleMesh mesh = hb::cli::load_mesh(mesh_path);
-    const std::uint64_t mesh_hash = hb::hash_file(mesh_path);
+    const hb::TriangleMesh mesh = hb::cli::load_mesh(mesh_path, opts->model);
+    const std::uint64_t mesh_hash = hb::cli::hash_model(mesh_path, opts->model);
     double bake_seconds = 0.0;
     if (first_is_box) {
       if (hb::cli::communicator().is_root() && scene.source().mesh_hash != 0 && scene.source().mesh_hash != mesh_hash)

@@ -39,6 +39,7 @@ void print_header() {
 void add_sweep_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("sweep", "Speed against accuracy over box configurations, with exact and VTK references");
   struct Opts {
+    hb::cli::ModelArgs model;
     std::string mesh;
     std::vector<int> m{8, 16, 32, 64};
     std::vector<int> n{4, 8, 16};
@@ -52,6 +53,7 @@ void add_sweep_command(CLI::App& app) {
     bool json = false;
   };
   auto opts = std::make_shared<Opts>();
+  hb::cli::add_model_options(*cmd, opts->model);
   cmd->add_option("MESH", opts->mesh, "Mesh file")->required();
   cmd->add_option("-m,--m", opts->m, "Position densities m (comma separated)")->delimiter(',')->check(CLI::Range(2, 4096))->capture_default_str();
   cmd->add_option("-n,--n", opts->n, "Directional densities n (comma separated)")->delimiter(',')->check(CLI::Range(2, 1024))->capture_default_str();
@@ -76,10 +78,10 @@ void add_sweep_command(CLI::App& app) {
       }
     }
     hb::MeshReadReport read;
-    const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh, &read);
+    const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh, opts->model, &read);
     hb::SourceInfo source;
     source.mesh_path = opts->mesh;
-    source.mesh_hash = hb::hash_file(opts->mesh);
+    source.mesh_hash = hb::cli::hash_model(opts->mesh, opts->model);
     source.triangles = mesh.triangle_count();
     source.diagonal = mesh.bounds().diagonal();
     const vtkHapticBoxReferenceQueries refs(mesh);

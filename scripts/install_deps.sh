@@ -13,6 +13,9 @@ PACKAGES=(
   libplplot-dev plplot-driver-cairo
   libopenmpi-dev openmpi-bin
   xvfb xauth
+  libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev libocct-foundation-dev
+  libassimp-dev zlib1g-dev
+  python3-nibabel python3-pydicom
 )
 
 missing=()

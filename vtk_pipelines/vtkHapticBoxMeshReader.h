@@ -2,6 +2,9 @@
  * @class   vtkHapticBoxMeshReader
  * @brief   Reads a surface mesh in any format HapticBox handles, as triangle polydata.
  *
+ * Everything goes through hb::vtk::load_model (model_loader.h), which also opens volumes
+ * (NIfTI, MetaImage, NRRD, DICOM series), CAD solids (STEP, IGES) and Assimp scenes (glTF,
+ * 3MF, FBX, Collada), all in millimetres.
  * Formats: everything the core reads (.off, .obj, .ply, .stl, .om, through hb::read_mesh:
  * the same triangles and normals as the hapticbox command, OFF included, which VTK 9.1
  * lacks) plus VTK's own .vtp (XML) and .vtk (legacy polydata). With UseVTKReaders on,
@@ -17,6 +20,7 @@
 #ifndef vtkHapticBoxMeshReader_h
 #define vtkHapticBoxMeshReader_h
 
+#include "model_loader.h"
 #include <vtkPolyDataAlgorithm.h>
 
 class vtkHapticBoxMeshReader : public vtkPolyDataAlgorithm {
@@ -38,6 +42,20 @@ public:
   vtkBooleanMacro(UseVTKReaders, bool);
   ///@}
 
+  ///@{
+  /// How volumes, CAD solids and units are handled (iso-value or label, smoothing,
+  /// decimation, chordal deviation, unit); see hb::vtk::ModelOptions.
+  void SetModelOptions(const hb::vtk::ModelOptions& options) {
+    this->Options = options;
+    this->Modified();
+  }
+  const hb::vtk::ModelOptions& GetModelOptions() const { return this->Options; }
+  ///@}
+
+  /// The model of the last successful read: its format, unit, facts (volume dimensions,
+  /// spacing, value range, iso-value used; CAD solids and faces) and CAD face ids.
+  const hb::vtk::LoadedModel& GetLoadedModel() const { return this->Model; }
+
   /// True when the extension of `fileName` is one this reader handles.
   static bool CanReadFile(const char* fileName);
 
@@ -48,6 +66,8 @@ protected:
 
   char* FileName = nullptr;
   bool UseVTKReaders = false;
+  hb::vtk::ModelOptions Options;
+  hb::vtk::LoadedModel Model;
 
 private:
   vtkHapticBoxMeshReader(const vtkHapticBoxMeshReader&) = delete;

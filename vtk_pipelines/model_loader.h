@@ -1,0 +1,77 @@
+#pragma once
+// One function that opens every model HapticBox takes (meshes, medical volumes, CAD solids,
+// everyday interchange formats) as the core's triangle mesh in millimetres. The CLI, the
+// window and vtkHapticBoxMeshReader all go through it, so they see the same triangles.
+#include "mesh/mesh_io.h"
+#include "mesh/triangle_mesh.h"
+#include "volume_reader.h"
+#include <nlohmann/json.hpp>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace hb::vtk {
+
+/// How a CAD solid (STEP, IGES) is tessellated.
+struct CadOptions {
+  /// Chordal deviation in mm (largest distance from a triangle to the exact surface). 0: derived
+  /// from the force budget, d = force_tolerance_n / stiffness_n_per_m (in metres, then mm),
+  /// clamped to [1e-4, 1e-2] x the solid's bounding-box diagonal: a deviation d moves the
+  /// surface by at most d, so the spring force by at most k d, and a finer mesh would only
+  /// cost triangles the force cannot feel.
+  double chordal_deviation_mm = 0.0;
+  double force_tolerance_n = 0.01;   ///< force error the tessellation may cause, N (> 0).
+  double stiffness_n_per_m = 500.0;  ///< the force law's k, N/m (> 0).
+  double angular_deviation_deg = 20.0;  ///< largest angle between neighbouring facets' normals.
+};
+
+/// How a file becomes a model.
+struct ModelOptions {
+  /// The length of one unit of the file: "mm", "cm", "m", "um", "in" (or "inch"), "ft". Empty:
+  /// the file's own unit where the format has one (NIfTI, DICOM, STEP, IGES, glTF, 3MF,
+  /// Collada, FBX), else millimetres. The model is scaled to millimetres either way, which the
+  /// force law's default (0.001 m per unit) then turns into metres.
+  std::string unit;
+  VolumeSurfaceOptions volume;
+  CadOptions cad;
+  /// Meshes: read .stl/.obj/.ply with VTK's readers rather than the core's.
+  bool use_vtk_readers = false;
+};
+
+enum class ModelKind { Mesh, Volume, Cad, Scene };
+
+/// A model as loaded, with where it came from.
+struct LoadedModel {
+  TriangleMesh mesh;             ///< in millimetres.
+  MeshReadReport report;         ///< the mesh reader's report (meshes); warnings for all kinds.
+  ModelKind kind = ModelKind::Mesh;
+  std::string format;            ///< "OFF", "NIfTI", "DICOM series", "STEP", "glTF", ...
+  std::string unit = "mm";       ///< the file's unit.
+  std::string unit_source;       ///< "--unit", "file", or "default (the format has no unit)".
+  double mm_per_unit = 1.0;      ///< the scale applied to the file's coordinates.
+  /// CAD: the solid face each triangle comes from (a natural decomposition; empty otherwise).
+  std::vector<std::uint32_t> face_ids;
+  /// What `info` prints: volume dimensions, spacing, value range, labels, iso-value used;
+  /// CAD solids, faces, bounding box, chordal deviation; scene meshes; units.
+  nlohmann::json facts;
+};
+
+/// Millimetres per unit for a unit name (see ModelOptions::unit). Throws hb::InvalidInput for
+/// an unknown name.
+double mm_per_unit(const std::string& unit);
+
+/// True when load_model would take the file as a volume, a CAD solid or an Assimp scene
+/// rather than a plain mesh (by extension; a directory is a DICOM series).
+bool is_volume_or_cad(const std::string& path);
+
+/// The extensions load_model reads (for help texts and file dialogs), e.g. "*.off *.obj ...".
+std::string model_file_patterns();
+
+/// Reads any model. Meshes (.off .obj .ply .stl .om) go through hb::read_mesh, .vtp/.vtk
+/// through VTK's readers, volumes through read_volume + volume_surface, STEP/IGES through
+/// OpenCASCADE, glTF/GLB/3MF/FBX/Collada through Assimp. Throws hb::IoError / hb::InvalidInput
+/// naming the file and the cause (missing, garbage, no solid, no voxel at the iso-value, absurd
+/// size: coordinates beyond 100 m once in millimetres).
+LoadedModel load_model(const std::string& path, const ModelOptions& options = {});
+
+} // namespace hb::vtk
