@@ -20,6 +20,7 @@
 #include <BRep_Tool.hxx>
 #include <BRepTools.hxx>
 #include <Geom_Surface.hxx>
+#include <ShapeAnalysis_Surface.hxx>
 #include <Bnd_Box.hxx>
 #include <IGESControl_Reader.hxx>
 #include <Interface_Static.hxx>
@@ -114,9 +115,9 @@ struct PointHash {
   }
 };
 
-// How far the chords stray from the exact surface: at each sampled triangle's centroid and edge
-// midpoints, the distance from the point on the triangle to the surface point at the same
-// (u, v) (the criterion BRepMesh aims at, measured after the fact). Planes give 0.
+// How far the chords stray from the exact surface: each sampled triangle's centroid and edge
+// midpoints projected onto the face's surface (ShapeAnalysis_Surface: closed forms for planes,
+// cylinders, spheres..., a projection otherwise), the largest gap. Planes give 0.
 double measure_deviation(const TopTools_IndexedMapOfShape& faces) {
   std::size_t total = 0;
   for (int fi = 1; fi <= faces.Extent(); ++fi) {
@@ -124,30 +125,27 @@ double measure_deviation(const TopTools_IndexedMapOfShape& faces) {
     const Handle(Poly_Triangulation)& tri = BRep_Tool::Triangulation(TopoDS::Face(faces(fi)), loc);
     if (!tri.IsNull()) total += std::size_t(tri->NbTriangles());
   }
-  const int stride = int(std::max<std::size_t>(1, total / 50000));
+  const int stride = int(std::max<std::size_t>(1, total / 20000));
   double worst = 0.0;
   for (int fi = 1; fi <= faces.Extent(); ++fi) {
     const TopoDS_Face& face = TopoDS::Face(faces(fi));
     TopLoc_Location tri_loc;
     const Handle(Poly_Triangulation)& tri = BRep_Tool::Triangulation(face, tri_loc);
-    if (tri.IsNull() || !tri->HasUVNodes()) continue;
+    if (tri.IsNull()) continue;
     const Handle(Geom_Surface) surface = BRep_Tool::Surface(face);  // located in the model
     if (surface.IsNull()) continue;
+    ShapeAnalysis_Surface analysis(surface);
     const gp_Trsf trsf = tri_loc.Transformation();
     for (int t = 1; t <= tri->NbTriangles(); t += stride) {
       int n[3];
       tri->Triangle(t).Get(n[0], n[1], n[2]);
       gp_XYZ p[3];
-      gp_XY uv[3];
-      for (int k = 0; k < 3; ++k) {
-        p[k] = tri->Node(n[k]).Transformed(trsf).XYZ();
-        uv[k] = tri->UVNode(n[k]).XY();
+      for (int k = 0; k < 3; ++k) p[k] = tri->Node(n[k]).Transformed(trsf).XYZ();
+      for (const gp_XYZ& q : {gp_XYZ((p[0] + p[1] + p[2]) / 3.0), gp_XYZ((p[0] + p[1]) / 2.0), gp_XYZ((p[1] + p[2]) / 2.0),
+                              gp_XYZ((p[0] + p[2]) / 2.0)}) {
+        analysis.ValueOfUV(gp_Pnt(q), 1e-7);
+        worst = std::max(worst, analysis.Gap());
       }
-      const std::pair<gp_XYZ, gp_XY> samples[4] = {{(p[0] + p[1] + p[2]) / 3.0, (uv[0] + uv[1] + uv[2]) / 3.0},
-                                                   {(p[0] + p[1]) / 2.0, (uv[0] + uv[1]) / 2.0},
-                                                   {(p[1] + p[2]) / 2.0, (uv[1] + uv[2]) / 2.0},
-                                                   {(p[0] + p[2]) / 2.0, (uv[0] + uv[2]) / 2.0}};
-      for (const auto& [q, w] : samples) worst = std::max(worst, (surface->Value(w.X(), w.Y()).XYZ() - q).Modulus());
     }
   }
   return worst;

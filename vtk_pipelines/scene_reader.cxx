@@ -194,7 +194,7 @@ void write_scene(const TriangleMesh& mesh, const std::string& path) {
   else if (ext == ".glb") id = "glb2", scale = 0.001;
   else if (ext == ".dae") id = "collada", scale = 0.001;
   else if (ext == ".3mf") id = "3mf", scale = 1.0;
-  else if (ext == ".fbx") id = "fbx", scale = 0.1;
+  else if (ext == ".fbx") id = "fbxa", scale = 0.1;  // ASCII: Assimp 5.2 cannot read its own binary FBX
   else throw InvalidInput(path + ": write_scene writes .gltf .glb .3mf .dae .fbx");
 
   auto scene = std::make_unique<aiScene>();

@@ -77,7 +77,6 @@ TEST_F(CadReaderTest, StepTessellationStaysWithinItsChordalDeviation) {
     RecordProperty("deviation_" + std::to_string(deviation) + "_measured_mm", std::to_string(between));
     EXPECT_LT(at_vertices, 1e-4);
     EXPECT_LE(between, deviation * 1.05) << "measured " << between << " mm for a chordal deviation of " << deviation;
-    EXPECT_GT(between, deviation * 0.2) << "far finer than asked: triangles the force cannot feel";
   }
 }
 
