@@ -106,19 +106,28 @@ bool HapticSession::openMesh(const QString& path, QString* error) {
     const std::string ext = vtkHapticBoxUtilities::Extension(p);
     hb::MeshReadReport report;
     std::shared_ptr<hb::TriangleMesh> mesh;
-    if (ext == ".vtp" || ext == ".vtk") {
-      // VTK's own formats go through the pipeline's reader.
+    QString modelNote;
+    if (ext == ".vtp" || ext == ".vtk" || hb::vtk::is_volume_or_cad(p)) {
+      // VTK's own formats, volumes, CAD and scenes go through the pipeline's reader
+      // (hb::vtk::load_model: the same surface as the hapticbox command with default options).
       auto reader = vtkSmartPointer<vtkHapticBoxMeshReader>::New();
       reader->SetFileName(p.c_str());
       reader->Update();
       vtkPolyData* out = reader->GetOutput();
-      if (!out || out->GetNumberOfCells() == 0) throw hb::InvalidInput(p + ": no triangles could be read");
+      if (!out || out->GetNumberOfCells() == 0) throw hb::InvalidInput(p + ": no triangles could be read (see the console)");
       mesh = std::make_shared<hb::TriangleMesh>(vtkHapticBoxUtilities::ToTriangleMesh(out));
+      const nlohmann::json& f = reader->GetLoadedModel().facts;
+      if (f.contains("iso")) modelNote = QStringLiteral(", iso-value %1").arg(f["iso"].get<double>());
+      if (f.contains("label")) modelNote = QStringLiteral(", label %1").arg(f["label"].get<long>());
+      if (f.contains("chordal_deviation_mm"))
+        modelNote = QStringLiteral(", chordal deviation %1 mm").arg(f["chordal_deviation_mm"].get<double>());
+      if (!modelNote.isEmpty())
+        modelNote = QStringLiteral(" (%1%2, mm)").arg(QString::fromStdString(reader->GetLoadedModel().format), modelNote);
     } else {
       mesh = std::make_shared<hb::TriangleMesh>(hb::read_mesh(p, &report));
     }
     const auto tRead = std::chrono::steady_clock::now();
-    const std::uint64_t hash = hb::hash_file(p);
+    const std::uint64_t hash = QFileInfo(path).isDir() ? std::hash<std::string>{}(p) : hb::hash_file(p);
     const auto tHash = std::chrono::steady_clock::now();
     std::shared_future<std::shared_ptr<const hb::ExactQuery>> exact =
         std::async(std::launch::async, [mesh] { return std::make_shared<const hb::ExactQuery>(*mesh); }).share();
@@ -145,6 +154,7 @@ bool HapticSession::openMesh(const QString& path, QString* error) {
     picked_.reset();
     const auto tSurface = std::chrono::steady_clock::now();
     emit meshChanged();
+    if (!modelNote.isEmpty()) emit statusMessage(tr("Opened %1%2").arg(QFileInfo(path).fileName(), modelNote));
     const auto tView = std::chrono::steady_clock::now();
     loadCachedBoxes();
     if (qEnvironmentVariableIsSet("HB_GUI_TIMING")) {
