@@ -446,5 +446,21 @@ TEST_F(MeshReadTest, PlyVariantsRead) {
   EXPECT_EQ(mesh.positions[2], Vec3(0, 2, 0));
 }
 
+// OpenMesh's OBJ reader opened whatever a "mtllib" line names (a device file: a read without
+// end) and skipped unparsable vertex lines; ours opens nothing else and names the line.
+TEST_F(MeshReadTest, ObjNeverOpensTheFilesItNames) {
+  const TriangleMesh m = read_mesh(write("mtl.obj", "mtllib /dev/zero\nmtllib ../../../../dev/urandom\nusemtl x\n"
+                                                    "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\ng a\ns 1\n"
+                                                    "f 1/1/1 2/1/1 3/1/1\nf -3 -1 -2\n"));
+  EXPECT_EQ(m.triangle_count(), 2u);
+}
+
+TEST_F(MeshReadTest, ObjBadStatementIsRejectedWithItsLine) {
+  expect_read_error<InvalidInput>(write("v.obj", "v 0 0 0\nv 1 abc 0\nv 0 1 0\nf 1 2 3\n"), ":2: vertex 1");
+  expect_read_error<InvalidInput>(write("f.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n"), ":4: face 0");
+  expect_read_error<InvalidInput>(write("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"), ":4: face 0");
+  expect_read_error<InvalidInput>(write("big.obj", "v 0 0 0\nv 1 1e39 0\nv 0 1 0\nf 1 2 3\n"), "non-finite");
+}
+
 } // namespace
 } // namespace hb
