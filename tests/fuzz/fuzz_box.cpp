@@ -4,7 +4,8 @@
 //     the file. Random bytes almost never pass the header checksum, which would leave every
 //     field behind it untested, so the target re-signs the header (and, in verify mode, the
 //     table, id and surface hashes) where the layout parses: what is fuzzed is every value
-//     the checksums protect, as a file corrupted before it was signed would carry them.
+//     the checksums protect, as a file corrupted before it was signed would carry them
+//     (the piece ids' hash, checked on every load, is always re-signed).
 //  2. A rejected file must give an hb::Error naming the file.
 //  3. An accepted file is queried, every box and the scene, with segments through each box
 //     (along its axes and between pseudo-random points from the input), long, tiny, huge and
@@ -51,6 +52,7 @@ void resign(std::string& f, bool tables) {
   struct Hashed {
     std::uint64_t offset, bytes;
     std::size_t hash_at;
+    bool always = false;  // checked on every load (the piece ids), not only with verify
   };
   std::vector<Hashed> sections;
   for (std::uint32_t b = 0; b < count; ++b) {
@@ -75,13 +77,20 @@ void resign(std::string& f, bool tables) {
     if (!u64(ignored)) return;
     sections.push_back(surface);
   }
+  if (version >= 4) {
+    Hashed pieces{};
+    if (!u64(pieces.offset) || !u64(pieces.bytes)) return;
+    pieces.hash_at = pos;
+    pieces.always = true;
+    if (!u64(ignored)) return;
+    sections.push_back(pieces);
+  }
   if (8 > f.size() - pos) return;
-  if (tables)
-    for (const Hashed& s : sections)
-      if (s.offset <= f.size() && s.bytes <= f.size() - s.offset) {
-        const std::uint64_t h = XXH3_64bits(f.data() + s.offset, s.bytes);
-        std::memcpy(&f[s.hash_at], &h, 8);
-      }
+  for (const Hashed& s : sections)
+    if ((tables || s.always) && s.offset <= f.size() && s.bytes <= f.size() - s.offset) {
+      const std::uint64_t h = XXH3_64bits(f.data() + s.offset, s.bytes);
+      std::memcpy(&f[s.hash_at], &h, 8);
+    }
   const std::uint64_t h = XXH3_64bits(f.data(), pos);
   std::memcpy(&f[pos], &h, 8);
 }
