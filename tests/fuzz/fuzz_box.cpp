@@ -5,7 +5,7 @@
 //     field behind it untested, so the target re-signs the header (and, in verify mode, the
 //     table, id and surface hashes) where the layout parses: what is fuzzed is every value
 //     the checksums protect, as a file corrupted before it was signed would carry them
-//     (the piece ids' hash, checked on every load, is always re-signed).
+//     (the piece ids' and scene grid's hashes, checked on every load, are always re-signed).
 //  2. A rejected file must give an hb::Error naming the file.
 //  3. An accepted file is queried, every box and the scene, with segments through each box
 //     (along its axes and between pseudo-random points from the input), long, tiny, huge and
@@ -52,7 +52,7 @@ void resign(std::string& f, bool tables) {
   struct Hashed {
     std::uint64_t offset, bytes;
     std::size_t hash_at;
-    bool always = false;  // checked on every load (the piece ids), not only with verify
+    bool always = false;  // checked on every load (piece ids, scene grid), not only with verify
   };
   std::vector<Hashed> sections;
   for (std::uint32_t b = 0; b < count; ++b) {
@@ -84,6 +84,14 @@ void resign(std::string& f, bool tables) {
     pieces.always = true;
     if (!u64(ignored)) return;
     sections.push_back(pieces);
+  }
+  if (version >= 5) {
+    Hashed grid{};
+    if (!u64(grid.offset) || !u64(grid.bytes)) return;
+    grid.hash_at = pos;
+    grid.always = true;
+    if (!u64(ignored)) return;
+    sections.push_back(grid);
   }
   if (8 > f.size() - pos) return;
   for (const Hashed& s : sections)
