@@ -29,11 +29,11 @@ void add_bake_command(CLI::App& app) {
       ->check(CLI::Range(2, 256))->capture_default_str();
   cmd->add_option("--cell", opts->recipe.options.density.cell,
                   "Per-box m: target position-cell size, fraction of the mesh diagonal (0: -m for every box)")
-      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+      ->check(hb::cli::finite_range(0.0, 1.0))->capture_default_str();
   cmd->add_option("--max-m", opts->recipe.options.density.max_m, "Largest per-box m with --cell")
       ->check(CLI::Range(2, 1024))->capture_default_str();
   cmd->add_option("--padding", opts->recipe.options.obb.padding, "PBB padding, fraction of its diagonal")
-      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+      ->check(hb::cli::finite_range(0.0, 1.0))->capture_default_str();
   hb::cli::add_pieces_options(*cmd, opts->pieces, opts->recipe);
   cmd->add_option("--codec", opts->codec, "Table codec: none, haar (the paper's) or block (ours)")
       ->check(CLI::IsMember({"none", "haar", "block"}))->capture_default_str();

@@ -1,4 +1,5 @@
 #include "cli_support.h"
+#include "evaluation/segments_csv.h"
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -27,14 +28,31 @@ ProgressCallback terminal_progress(const std::string& label) {
   };
 }
 
+CLI::Validator finite_range(double lo, double hi) {
+  const auto show = [](double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return std::string(text);
+  };
+  const std::string range = "[" + show(lo) + ", " + show(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, range](std::string& text) -> std::string {
+        float v = 0.f;
+        if (!parse_finite_float(text, v)) return "'" + text + "' is not a finite number";
+        if (!(double(v) >= lo && double(v) <= hi)) return "'" + text + "' is outside " + range;
+        return {};
+      },
+      "FINITE in " + range);
+}
+
 CLI::Option* add_codec_bound_options(CLI::App& cmd, CodecOptions& options) {
   auto* max_error = cmd.add_option("--max-error", options.max_error,
                                    "Bound on |t1 - t0| / box diagonal for every hit sample")
-                        ->check(CLI::Range(1e-5, 0.1))
+                        ->check(finite_range(1e-5, 0.1))
                         ->capture_default_str();
   auto* ratio = cmd.add_option("--ratio", options.ratio,
                                "Target compression ratio (finds the tightest bound reaching it)")
-                    ->check(CLI::Range(1.0, 1e6));
+                    ->check(finite_range(1.0, 1e6));
   max_error->excludes(ratio);
   cmd.add_option("--normal-bits", options.normal_bits, "Octahedral normal bits per coordinate")
       ->check(CLI::Range(6, 14))
@@ -43,11 +61,13 @@ CLI::Option* add_codec_bound_options(CLI::App& cmd, CodecOptions& options) {
 }
 
 void add_force_law_options(CLI::App& cmd, ForceLaw& law) {
+  // Bounded so that k x depth x metres per unit stays finite for any model within
+  // kMaxCoordinate (1e7 x 4e15 x 1e6 < 3.4e38).
   cmd.add_option("--stiffness", law.stiffness_n_per_m, "Spring stiffness k in N/m")
-      ->check(CLI::PositiveNumber)
+      ->check(finite_range(1e-6, 1e7))
       ->capture_default_str();
   cmd.add_option("--metres-per-unit", law.metres_per_unit, "Model units to metres")
-      ->check(CLI::PositiveNumber)
+      ->check(finite_range(1e-12, 1e6))
       ->capture_default_str();
 }
 

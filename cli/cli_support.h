@@ -21,6 +21,10 @@ public:
   explicit UsageError(const std::string& what) : std::runtime_error(what) {}
 };
 
+/// Validator of a numeric option: a finite number in [lo, hi] (CLI::Range lets "nan" through,
+/// since no comparison with NaN fails). The message names the value and the range.
+CLI::Validator finite_range(double lo, double hi);
+
 /// The ranks sharing this run: set by main (an MPI communicator under mpirun or srun, a
 /// serial one otherwise). Commands pass it to the core functions that split their work.
 Communicator& communicator();

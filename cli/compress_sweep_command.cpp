@@ -59,7 +59,7 @@ void add_compress_sweep_command(CLI::App& app) {
   cmd->add_option("--codecs", opts->codecs, "Codecs to sweep")->delimiter(',')
       ->check(CLI::IsMember({"haar", "block"}))->capture_default_str();
   cmd->add_option("--errors", opts->errors, "Error bounds, relative to the box diagonal")->delimiter(',')
-      ->check(CLI::Range(1e-5, 0.1));
+      ->check(hb::cli::finite_range(1e-5, 0.1));
   cmd->add_option("--normal-bits", opts->normal_bits, "Octahedral normal bits per coordinate")
       ->check(CLI::Range(6, 14))->capture_default_str();
   cmd->add_option("--samples", opts->samples, "Probes for the force errors (0: none)")

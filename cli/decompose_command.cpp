@@ -50,11 +50,11 @@ void add_decompose_command(CLI::App& app) {
   cmd->add_option("-o,--output", opts->out, "Piece file: .txt (one id per line) or .ply (face property 'piece')")
       ->required();
   cmd->add_option("--threshold", opts->automatic.threshold, "Largest pocket probability of a piece")
-      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+      ->check(hb::cli::finite_range(0.0, 1.0))->capture_default_str();
   cmd->add_option("--max-pieces", opts->automatic.max_pieces, "Most pieces")
       ->check(CLI::Range(1, 4096))->capture_default_str();
   cmd->add_option("--min-area", opts->automatic.min_area_fraction, "Smallest piece, fraction of the surface area")
-      ->check(CLI::Range(0.0, 0.99))->capture_default_str();
+      ->check(hb::cli::finite_range(0.0, 0.99))->capture_default_str();
   cmd->add_option("--leaves", opts->automatic.leaves, "Leaf clusters of the initial tree")
       ->check(CLI::Range(1, 1000000))->capture_default_str();
   cmd->add_option("--lines", opts->automatic.lines, "Random lines of the pocket estimate")

@@ -1,4 +1,5 @@
 // `hapticbox devices`: lists what is connected; --watch S reports plugging in and out.
+#include "cli_support.h"
 #include "commands.h"
 #include "device/device_error.h"
 #include "device/falcon/falcon_usb_transport.h"
@@ -66,6 +67,6 @@ void add_devices_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("devices", "List connected haptic devices");
   cmd->add_flag("--json", args->json, "Print JSON");
   cmd->add_option("--watch", args->watch_s, "Then report Falcons plugged in or out for S seconds")
-      ->check(CLI::NonNegativeNumber);
+      ->check(hb::cli::finite_range(0.0, 1e6));
   cmd->callback([args] { run_devices(*args); });
 }

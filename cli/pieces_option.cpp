@@ -9,13 +9,13 @@ void add_pieces_options(CLI::App& cmd, std::string& spec, BakeRecipe& recipe) {
   cmd.add_option("--pieces", spec, "Pieces: none (one box), auto, faces (a CAD solid's faces), or a piece file (.txt, .ply)")
       ->capture_default_str();
   cmd.add_option("--threshold", recipe.pieces.automatic.threshold, "Auto pieces: largest pocket probability of a piece")
-      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+      ->check(hb::cli::finite_range(0.0, 1.0))->capture_default_str();
   cmd.add_option("--max-pieces", recipe.pieces.automatic.max_pieces, "Auto pieces: most pieces")
       ->check(CLI::Range(1, 4096))->capture_default_str();
   cmd.add_option("--seam-rings", recipe.seams.rings, "Least rings of seam triangles neighbouring pieces share")
       ->check(CLI::Range(0, 64))->capture_default_str();
   cmd.add_option("--seam-cells", recipe.seams.cells, "Seam overlap width, in position cells of each box")
-      ->check(CLI::Range(0.0, 64.0))->capture_default_str();
+      ->check(hb::cli::finite_range(0.0, 64.0))->capture_default_str();
 }
 
 void apply_pieces_spec(const std::string& spec, BakeRecipe& recipe, const std::vector<std::uint32_t>& face_ids) {

@@ -2,6 +2,7 @@
 #include "cli_support.h"
 #include "commands.h"
 #include "errors.h"
+#include "evaluation/segments_csv.h"
 #include "exact/exact_query.h"
 #include "haptic_box/box_file.h"
 #include "mesh/mesh_io.h"
@@ -12,50 +13,6 @@
 #include <sstream>
 
 namespace {
-
-std::vector<hb::Segment> read_segments_csv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw hb::IoError(path + ": cannot open segments file");
-  std::string line;
-  std::vector<hb::Segment> out;
-  std::size_t line_no = 0;
-  bool header_seen = false;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.find_first_not_of(" \t") == std::string::npos) continue;
-    if (!header_seen) {
-      header_seen = true;
-      std::string compact;
-      for (char c : line)
-        if (c != ' ' && c != '\t') compact += c;
-      if (compact != "sx,sy,sz,ex,ey,ez")
-        throw hb::InvalidInput(path + ":" + std::to_string(line_no) + ": expected the header sx,sy,sz,ex,ey,ez");
-      continue;
-    }
-    std::stringstream ss(line);
-    std::string cell;
-    float v[6];
-    int k = 0;
-    while (std::getline(ss, cell, ',')) {
-      if (k >= 6) throw hb::InvalidInput(path + ":" + std::to_string(line_no) + ": more than 6 values");
-      try {
-        std::size_t used = 0;
-        v[k] = std::stof(cell, &used);
-        if (cell.find_first_not_of(" \t", used) != std::string::npos) throw std::invalid_argument(cell);
-      } catch (const std::exception&) {
-        throw hb::InvalidInput(path + ":" + std::to_string(line_no) + ": not a number: '" + cell + "'");
-      }
-      if (!std::isfinite(v[k]))
-        throw hb::InvalidInput(path + ":" + std::to_string(line_no) + ": value is not finite: '" + cell + "'");
-      ++k;
-    }
-    if (k != 6) throw hb::InvalidInput(path + ":" + std::to_string(line_no) + ": expected 6 values, got " + std::to_string(k));
-    out.push_back({hb::Vec3(v[0], v[1], v[2]), hb::Vec3(v[3], v[4], v[5])});
-  }
-  if (!header_seen) throw hb::InvalidInput(path + ": empty segments file (expected the header sx,sy,sz,ex,ey,ez)");
-  return out;
-}
 
 void write_contact(std::ostream& out, const hb::Contact& c) {
   out << (c.contact ? 1 : 0) << ',' << c.depth << ',' << c.normal.x() << ',' << c.normal.y() << ','
@@ -69,7 +26,7 @@ void add_query_command(CLI::App& app) {
   struct Opts {
     hb::cli::ModelArgs model;
     std::string box, segments_csv, out_csv, exact_mesh;
-    std::vector<float> segment;
+    std::vector<std::string> segment;
     hb::ForceLaw law;
   };
   auto opts = std::make_shared<Opts>();
@@ -84,12 +41,14 @@ void add_query_command(CLI::App& app) {
   cmd->callback([opts] {
     std::vector<hb::Segment> segments;
     if (!opts->segment.empty()) {
-      const auto& v = opts->segment;
-      for (float x : v)
-        if (!std::isfinite(x)) throw hb::cli::UsageError("--segment: values must be finite");
+      float v[6];
+      for (std::size_t k = 0; k < 6; ++k)
+        if (!hb::parse_finite_float(opts->segment[k], v[k]) || std::fabs(v[k]) > hb::kMaxSegmentCoordinate)
+          throw hb::cli::UsageError("--segment: value " + std::to_string(k + 1) + " '" + opts->segment[k] +
+                                    "' is not a finite number within 4e15");
       segments.push_back({hb::Vec3(v[0], v[1], v[2]), hb::Vec3(v[3], v[4], v[5])});
     } else if (!opts->segments_csv.empty()) {
-      segments = read_segments_csv(opts->segments_csv);
+      segments = hb::read_segments_csv(opts->segments_csv);
     } else {
       throw hb::cli::UsageError("query: give --segment sx sy sz ex ey ez or --segments IN.csv");
     }

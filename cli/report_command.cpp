@@ -70,9 +70,9 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--field-probes", opts->report.error_field_probes_per_vertex, "Error-field probes per vertex (0: none)")
       ->check(CLI::Range(0, 10000))->capture_default_str();
   cmd->add_flag("--no-image", opts->no_image, "Do not render the error field even with a display");
-  cmd->add_option("--tol-median", opts->report.tolerances.force_error_median, "Tolerance: median force error (fraction)")->capture_default_str();
-  cmd->add_option("--tol-p95", opts->report.tolerances.force_error_p95, "Tolerance: p95 force error (fraction)")->capture_default_str();
-  cmd->add_option("--tol-agreement", opts->report.tolerances.contact_agreement, "Tolerance: min contact agreement")->capture_default_str();
+  cmd->add_option("--tol-median", opts->report.tolerances.force_error_median, "Tolerance: median force error (fraction)")->check(hb::cli::finite_range(0.0, 1e6))->capture_default_str();
+  cmd->add_option("--tol-p95", opts->report.tolerances.force_error_p95, "Tolerance: p95 force error (fraction)")->check(hb::cli::finite_range(0.0, 1e6))->capture_default_str();
+  cmd->add_option("--tol-agreement", opts->report.tolerances.contact_agreement, "Tolerance: min contact agreement")->check(hb::cli::finite_range(0.0, 1e6))->capture_default_str();
   cmd->add_option("--compression-curve", opts->report.compression_codec,
                   "Also draw this codec's compression curve (haar, block; needs the codec layer)");
   cmd->add_option("--save-box", opts->save_box, "When baking, also save the box file here");

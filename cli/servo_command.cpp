@@ -1,6 +1,7 @@
 // `hapticbox servo BOX --device virtual|replay:LOG|falcon --seconds S [--record LOG] [--json]`:
 // runs the servo loop over a box file (or the built-in analytic scene `plane`) and prints the
 // timing histogram and the safety events.
+#include "cli_support.h"
 #include "commands.h"
 #include "device/device_choice.h"
 #include "device/plane_scene.h"
@@ -181,17 +182,18 @@ void add_servo_command(CLI::App& app) {
   cmd->add_option("BOX", a->box, "Box file (.hbox), or `plane` for the built-in analytic scene")
       ->required();
   cmd->add_option("--device", a->device, "virtual | replay:LOG | falcon")->capture_default_str();
-  cmd->add_option("--seconds", a->seconds, "Run time, s")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--seconds", a->seconds, "Run time, s")->check(hb::cli::finite_range(1e-3, 1e6))->capture_default_str();
   cmd->add_option("--record", a->record, "Write a full-rate binary log here");
   cmd->add_flag("--json", a->json, "Print the report as JSON");
-  cmd->add_option("--rate", a->rate_hz, "Servo rate, Hz")->check(CLI::Range(1.0, 20000.0))->capture_default_str();
+  cmd->add_option("--rate", a->rate_hz, "Servo rate, Hz")->check(hb::cli::finite_range(1.0, 20000.0))->capture_default_str();
   cmd->add_flag("--no-realtime", a->no_realtime, "Do not ask for SCHED_FIFO");
   cmd->add_option("--spin-us", a->spin_us, "Busy-wait the last N us before each deadline")
-      ->check(CLI::Range(0.0, 1000.0))->capture_default_str();
+      ->check(hb::cli::finite_range(0.0, 1000.0))->capture_default_str();
   cmd->add_option("--stiffness", a->stiffness, "Force-law stiffness, N/m (limited to the device's)")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(hb::cli::finite_range(1e-6, 1e7))->capture_default_str();
   cmd->add_option("--units-per-metre", a->units_per_metre,
-                  "Model units per device metre (default: fit the workspace to the scene)");
+                  "Model units per device metre (default: fit the workspace to the scene)")
+      ->check(hb::cli::finite_range(0.0, 1e12));
   cmd->add_option("--firmware", a->firmware, "Falcon firmware file (supplied by you; not shipped)");
   cmd->callback([a] { run_servo(*a); });
 }

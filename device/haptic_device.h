@@ -19,6 +19,21 @@ struct DeviceSpec {
   float max_damping_n_s_per_m = 10.f;     ///< largest stable damping, N s/m.
 };
 
+/// Bounds no haptic device exceeds (desktop devices: 0.04-0.2 m, 3-40 N, up to a few
+/// thousand N/m; large industrial arms stay well inside these). A spec outside them is corrupt.
+constexpr double kMaxWorkspaceRadiusM = 2.0;
+constexpr double kMaxDeviceForceN = 500.0;
+constexpr double kMaxDeviceStiffnessNPerM = 1e5;
+constexpr double kMaxDeviceDampingNsPerM = 1e4;
+/// Servo rates a device can run at, Hz (ServoLoop and servo logs).
+constexpr double kMinServoRateHz = 1.0;
+constexpr double kMaxServoRateHz = 20000.0;
+
+/// Why `spec` describes no possible device, or an empty string when it is plausible: every
+/// value finite; workspace radius in (0, 2] m; maximum force in (0, 500] N; continuous force
+/// in (0, maximum force]; maximum stiffness in (0, 1e5] N/m; damping in [0, 1e4] N s/m.
+std::string device_spec_problem(const DeviceSpec& spec);
+
 /// One sample of device state. `position_m` is in the device frame (origin at the workspace
 /// centre, metres); `time_s` is the device's own clock (monotonic, from open()).
 struct DeviceState {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 
@@ -40,6 +41,12 @@ ServoLog read_servo_log(const std::string& path) {
   if (h.record_size != sizeof(LogRecord))
     throw InvalidInput(path + ": servo log record size " + std::to_string(h.record_size) +
                        " (expected 64)");
+  if (!(h.rate_hz >= kMinServoRateHz && h.rate_hz <= kMaxServoRateHz)) {
+    char rate[32];
+    std::snprintf(rate, sizeof rate, "%g", h.rate_hz);
+    throw InvalidInput(path + ": servo log rate " + rate + " Hz is outside [" + std::to_string(int(kMinServoRateHz)) +
+                       ", " + std::to_string(int(kMaxServoRateHz)) + "] (corrupt header)");
+  }
   ServoLog log;
   log.rate_hz = h.rate_hz;
   log.spec.name = "replay of " + path;
@@ -48,6 +55,10 @@ ServoLog read_servo_log(const std::string& path) {
   log.spec.max_continuous_force_n = h.spec[2];
   log.spec.max_stiffness_n_per_m = h.spec[3];
   log.spec.max_damping_n_s_per_m = h.spec[4];
+  // The replay's safety limits are these: a spec no device can have (a negative stiffness
+  // would reverse every force, an infinite maximum disable the clamp) is refused.
+  if (const std::string why = device_spec_problem(log.spec); !why.empty())
+    throw InvalidInput(path + ": servo log device spec: " + why + " (corrupt header)");
   in.seekg(0, std::ios::end);
   const auto bytes = static_cast<std::uint64_t>(in.tellg()) - sizeof h;
   if (bytes % sizeof(LogRecord) != 0)

@@ -41,7 +41,8 @@ struct ServoLog {
 };
 
 /// Reads a whole log. Throws IoError (missing, unreadable) or InvalidInput (not a servo log,
-/// wrong version, truncated); messages name the file.
+/// wrong version, truncated, a rate outside [1, 20000] Hz or a device spec no device can have,
+/// see device_spec_problem); messages name the file.
 ServoLog read_servo_log(const std::string& path);
 
 /// Writes records to a log file from the servo thread without blocking it: push() copies into

@@ -102,10 +102,15 @@ ServoLoop::~ServoLoop() {
 
 void ServoLoop::start() {
   if (thread_.joinable()) throw std::logic_error("servo loop: already started");
-  if (!(options_.rate_hz > 0 && options_.rate_hz <= 20000))
-    throw InvalidInput("servo loop: rate " + std::to_string(options_.rate_hz) +
-                       " Hz is outside (0, 20000]");
-  if (!(options_.mapping.model_units_per_metre > 0) || !(options_.mapping.probe_length > 0) ||
+  if (!(options_.rate_hz >= kMinServoRateHz && options_.rate_hz <= kMaxServoRateHz))
+    throw InvalidInput("servo loop: rate " + std::to_string(options_.rate_hz) + " Hz is outside [1, 20000]");
+  if (const std::string why = device_spec_problem(device_.spec()); !why.empty())
+    throw InvalidInput("servo loop: " + device_.spec().name + ": " + why);
+  if (!(std::isfinite(options_.law.stiffness_n_per_m) && options_.law.stiffness_n_per_m > 0.f &&
+        std::isfinite(options_.law.metres_per_unit) && options_.law.metres_per_unit > 0.f))
+    throw InvalidInput("servo loop: the force law needs a finite positive stiffness and metres per unit");
+  if (!(options_.mapping.model_units_per_metre > 0) || !std::isfinite(options_.mapping.model_units_per_metre) ||
+      !(options_.mapping.probe_length > 0) || !std::isfinite(options_.mapping.probe_length) ||
       !options_.mapping.probe_direction.allFinite() ||
       options_.mapping.probe_direction.norm() < 1e-6f)
     throw InvalidInput("servo loop: workspace mapping needs a positive scale, a positive probe "
@@ -117,6 +122,9 @@ void ServoLoop::start() {
   const DeviceSpec& spec = device_.spec();
   const float felt = options_.law.stiffness_n_per_m * options_.law.metres_per_unit *
                      options_.mapping.model_units_per_metre;
+  if (!std::isfinite(felt))
+    throw InvalidInput("servo loop: the stiffness felt at the device (stiffness x metres per unit x model units "
+                       "per metre) overflows");
   if (options_.limit_stiffness && felt > spec.max_stiffness_n_per_m && felt > 0) {
     options_.law.stiffness_n_per_m *= spec.max_stiffness_n_per_m / felt;
     report_.stiffness_limited = true;

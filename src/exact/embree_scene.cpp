@@ -3,7 +3,7 @@
 //     callback stores the last error, which the wrapper turns into hb::LibraryError.
 //  2. A scene holds one triangle geometry: the mesh's vertices and the selected triangles;
 //     a primitive id maps back to the mesh's triangle id.
-//  3. intersect() uses rtcIntersect1 (single rays were faster than packets here) and
+//  3. intersect() refuses (misses) rays outside Embree's valid range, uses rtcIntersect1 (single rays were faster than packets here) and
 //     interpolates the vertex normals at the hit's barycentric coordinates.
 #include "exact/embree_scene.h"
 #include "errors.h"
@@ -71,6 +71,10 @@ EmbreeScene::EmbreeScene(const TriangleMesh& mesh, const std::vector<std::uint32
   if (mesh.normals.size() != mesh.positions.size())
     throw InvalidInput("EmbreeScene: mesh has no vertex normals (call compute_vertex_normals)");
 
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+    if (!(mesh.positions[v].cwiseAbs().maxCoeff() <= kMaxCoordinate))
+      throw InvalidInput("EmbreeScene: vertex " + std::to_string(v) +
+                         " is non-finite or beyond the supported range (|x| <= 1e15)");
   impl_->scene = rtcNewScene(device);
   rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
   RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -97,6 +101,12 @@ EmbreeScene::~EmbreeScene() = default;
 
 RayHit EmbreeScene::intersect(const Vec3& origin, const Vec3& dir, float t_near,
                               float t_far) const noexcept {
+  // Embree asserts (aborts the process) on a ray outside its valid range: such a ray, which
+  // no mesh within kMaxCoordinate can need, misses.
+  constexpr float kLarge = 1e18f;
+  if (!(origin.cwiseAbs().maxCoeff() <= kLarge && dir.cwiseAbs().maxCoeff() <= kLarge && t_near >= 0.f &&
+        t_near <= t_far && !std::isnan(t_far)))
+    return RayHit{};
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh;

@@ -4,11 +4,13 @@
 //  2. Local search: rotate about each axis by +-step, keep a rotation when the box volume
 //     drops, halve the step when no rotation helps; the volume never grows.
 //  3. Pad every half extent by options.padding * diagonal.
+// obb_problem() checks a box from elsewhere (a file) before any query uses it.
 #include "geometry/obb.h"
 #include "errors.h"
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace hb {
@@ -139,6 +141,28 @@ bool intersect_line_obb(const Obb& box, const Vec3& p, const Vec3& dir, LineBoxH
   hit.t_exit = t_exit;
   hit.enter_face = face;
   return true;
+}
+
+std::string obb_problem(const Obb& box) {
+  const float limit = 4.f * kMaxCoordinate;
+  const auto show = [](float v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", double(v));
+    return std::string(text);
+  };
+  for (int c = 0; c < 3; ++c) {
+    if (!(std::fabs(box.center[c]) <= limit))
+      return "centre " + show(box.center[c]) + " is not finite or beyond 4e15";
+    if (!(box.half[c] >= 1e-30f && box.half[c] <= limit))
+      return "half extent " + show(box.half[c]) + " is not a finite positive size (1e-30 to 4e15)";
+    for (int r = 0; r < 3; ++r)
+      if (!std::isfinite(box.axes(r, c))) return "axis value " + show(box.axes(r, c)) + " is not finite";
+  }
+  const Eigen::Matrix3f gram = box.axes.transpose() * box.axes - Eigen::Matrix3f::Identity();
+  if (!(gram.cwiseAbs().maxCoeff() <= 1e-3f))
+    return "axes are not orthonormal (|A^T A - I| = " + show(gram.cwiseAbs().maxCoeff()) + ")";
+  if (!(box.axes.determinant() > 0.f)) return "axes are not right-handed";
+  return {};
 }
 
 } // namespace hb

@@ -3,6 +3,7 @@
 #include "mesh/triangle_mesh.h"
 #include <Eigen/Core>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace hb {
@@ -19,6 +20,12 @@ struct Obb {
   float diagonal() const { return 2.f * half.norm(); }
   float volume() const { return 8.f * half.x() * half.y() * half.z(); }
 };
+
+/// Why `box` cannot be queried, or an empty string when it can: every value finite, half
+/// extents in [1e-30, 4 kMaxCoordinate], |centre| <= 4 kMaxCoordinate, axes orthonormal and
+/// right-handed within 1e-3 (|A^T A - I| per entry, det > 0). Box files are checked with it
+/// at load; a box that fails it would make the query's cell arithmetic meaningless.
+std::string obb_problem(const Obb& box);
 
 /// Options of fit_obb.
 struct ObbOptions {

@@ -18,13 +18,17 @@
 //     piece ids (u32 per triangle), then the scene grid.
 //  3. Loading maps the file read-only (mmap); boxes point into the mapping, which stays
 //     alive while any box of the scene does. Always checked: the header hash, sizes and
-//     offsets, and each compressed payload's own header (one page). Table hashes only with
-//     LoadOptions::verify (they read every page; lazy opening is the default). The scene grid
-//     (a few MB at most) is always hashed, validated and copied.
+//     offsets, every OBB (finite, positive half extents, orthonormal right-handed axes: see
+//     obb_problem) and codec statistic, and each compressed payload's own header (one page).
+//     Table hashes and "no bytes after the last section" only with LoadOptions::verify (they
+//     read every page; lazy opening is the default). The scene grid (a few MB at most) is
+//     always hashed, validated and copied.
 #include "haptic_box/box_file.h"
 #include "errors.h"
 #include <xxhash.h>
+#include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
@@ -349,10 +353,42 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
         std::size_t(surface_bytes / sizeof(SurfaceTriangles::Record)), keep);
   }
 
+  // Every value the query trusts, before any box is built: the OBB (a NaN or an unbounded
+  // axis would turn the cell arithmetic into a far index), the diagonal, the codec stats.
+  if (!(std::isfinite(src.diagonal) && src.diagonal >= 0.f))
+    throw InvalidInput(path + ": corrupt box file (mesh diagonal " + std::to_string(src.diagonal) + ")");
+  std::uint64_t end_of_data = header_end + sizeof(std::uint64_t);
+  const auto section_end = [&](std::uint64_t offset, std::uint64_t bytes) {
+    if (bytes > 0 && offset < header_end + sizeof(std::uint64_t))
+      throw InvalidInput(path + ": corrupt box file (a section starts inside the header)");
+    if (bytes > 0 && offset <= map->size && bytes <= map->size - offset) end_of_data = std::max(end_of_data, offset + bytes);
+  };
+  for (std::size_t b = 0; b < entries.size(); ++b) {
+    const Entry& e = entries[b];
+    if (const std::string why = obb_problem(e.obb); !why.empty())
+      throw InvalidInput(path + ": corrupt box file (box " + std::to_string(b) + ": " + why + ")");
+    const CodecStats& cs = e.stats;
+    for (float v : {cs.max_error_bound, cs.t_error_mean, cs.t_error_max, cs.normal_error_mean_deg, cs.normal_error_max_deg})
+      if (!(std::isfinite(v) && v >= 0.f))
+        throw InvalidInput(path + ": corrupt box file (box " + std::to_string(b) + " codec statistics hold " +
+                           std::to_string(v) + ")");
+    section_end(e.offset, e.bytes);
+    section_end(e.ids_offset, e.ids_bytes);
+  }
+  section_end(surface_offset, surface_bytes);
+  section_end(pieces_offset, pieces_bytes);
+  section_end(grid_offset, grid_bytes);
+  // Bytes after the last section are no part of any box file this program writes.
+  if (options.verify && map->size > end_of_data)
+    throw InvalidInput(path + ": corrupt box file (" + std::to_string(map->size - end_of_data) +
+                       " bytes after the last section)");
+
   // Piece ids: small (4 bytes a triangle), copied and always checked.
   std::vector<std::uint32_t> pieces;
   if (pieces_bytes > 0) {
-    if (pieces_bytes != src.triangles * sizeof(std::uint32_t) || pieces_offset % kAlign != 0)
+    // Divided, not multiplied: a recorded triangle count near 2^64 must not wrap into a match.
+    if (pieces_bytes % sizeof(std::uint32_t) != 0 || pieces_bytes / sizeof(std::uint32_t) != src.triangles ||
+        pieces_offset % kAlign != 0)
       throw InvalidInput(path + ": corrupt box file (piece ids have inconsistent sizes)");
     if (pieces_offset > map->size || pieces_bytes > map->size - pieces_offset)
       throw InvalidInput(path + ": truncated box file (the piece ids are cut short)");

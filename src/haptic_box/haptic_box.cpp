@@ -138,8 +138,10 @@ inline Corners4 blend_each(const Fetch& fetch, const typename Fetch::Corner* cor
 }
 
 inline void split_cell(float f, int cells, int& i0, float& w) noexcept {
-  // f in [0, cells]; i0 in [0, cells - 1], w in [0, 1].
-  f = std::min(std::max(f, 0.f), float(cells));
+  // f in [0, cells] (NaN: 0); i0 in [0, cells - 1], w in [0, 1].
+  // f >= 0 ? f : 0 is std::max(f, 0.f) for every number (-0 kept) and maps NaN to 0, so no
+  // input, finite or not, makes an index outside the grid (query_lanes_kernel.inc: the same).
+  f = std::min(f >= 0.f ? f : 0.f, float(cells));
   i0 = std::min(int(f), cells - 1);
   w = f - float(i0);
 }
@@ -265,6 +267,7 @@ HapticBox::HapticBox(const Obb& obb, const BoxParams& params, std::vector<Sample
   owner_ = std::move(owned);
   samples_ = SampleTable(table_, params_);
   stats_.raw_bytes = stats_.bytes = raw_table_bytes();
+  check_geometry();
   init_faces();
 }
 
@@ -275,6 +278,7 @@ HapticBox::HapticBox(const Obb& obb, const BoxParams& params, const Sample* tabl
   if (!table_) throw InvalidInput("HapticBox: null table");
   samples_ = SampleTable(table_, params_);
   stats_.raw_bytes = stats_.bytes = raw_table_bytes();
+  check_geometry();
   init_faces();
 }
 
@@ -284,6 +288,7 @@ HapticBox::HapticBox(const Obb& obb, const BoxParams& params, CompressedTable ta
   auto owned = std::make_shared<const std::vector<std::uint8_t>>(std::move(table.payload));
   samples_ = SampleTable(table.codec, owned->data(), owned->size(), params_);
   owner_ = std::move(owned);
+  check_geometry();
   init_faces();
 }
 
@@ -294,6 +299,7 @@ HapticBox::HapticBox(const Obb& obb, const BoxParams& params, CodecId codec, con
   samples_ = SampleTable(codec, payload, bytes, params_);
   stats_.bytes = bytes;
   stats_.raw_bytes = raw_table_bytes();
+  check_geometry();
   init_faces();
 }
 
@@ -388,6 +394,13 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
   t0 = best;
   normal = best_normal;
   return true;
+}
+
+void HapticBox::check_geometry() const {
+  if (const std::string why = obb_problem(obb_); !why.empty()) throw InvalidInput("HapticBox: the box's " + why);
+  if (params_.m > 4096 || params_.n > 4096)
+    throw InvalidInput("HapticBox: m and n must be <= 4096 (m=" + std::to_string(params_.m) +
+                       ", n=" + std::to_string(params_.n) + ")");
 }
 
 void HapticBox::init_faces() noexcept {

@@ -118,6 +118,8 @@ public:
   Vec3 sample_direction(int face, int sub, int sface, int a, int b) const noexcept;
 
 private:
+  // Throws hb::InvalidInput when the box cannot be queried (obb_problem, m or n too large).
+  void check_geometry() const;
   void init_faces() noexcept;
   // The query in two phases (see the .cpp): locate() runs the geometry and starts the
   // sample fetches, finish() blends the samples, refines and tests the contact.

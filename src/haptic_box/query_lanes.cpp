@@ -15,7 +15,8 @@
 // the box reads the table's first samples and is answered "no contact".
 //
 // The kernel (query_lanes_kernel.inc) is compiled once per level, each copy in its own
-// namespace under `#pragma GCC target`, and the best level the CPU has is picked at run time:
+// namespace under `#pragma GCC target` (clang: `#pragma clang attribute` with the same target),
+// and the best level the CPU has is picked at run time:
 //   sse2    4 lanes, the x86-64 baseline;
 //   avx     4 lanes, three-operand (VEX) forms: no register copies;
 //   avx2    8 lanes (256-bit vectors);
@@ -48,27 +49,51 @@ struct LaneBox {
 namespace hb::lanes_sse2 {
 #include "haptic_box/query_lanes_kernel.inc"
 }
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx"))), apply_to = function)
+#else
 #pragma GCC push_options
 #pragma GCC target("avx")
+#endif
 namespace hb::lanes_avx {
 #include "haptic_box/query_lanes_kernel.inc"
 }
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
 #pragma GCC pop_options
+#endif
 #undef HB_LANES_WIDTH
 
 #define HB_LANES_WIDTH 8
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
+#else
 #pragma GCC push_options
 #pragma GCC target("avx2")
+#endif
 namespace hb::lanes_avx2 {
 #include "haptic_box/query_lanes_kernel.inc"
 }
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
 #pragma GCC pop_options
+#endif
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2,avx512f,avx512vl"))), apply_to = function)
+#else
 #pragma GCC push_options
 #pragma GCC target("avx2,avx512f,avx512vl")
+#endif
 namespace hb::lanes_avx512 {
 #include "haptic_box/query_lanes_kernel.inc"
 }
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
 #pragma GCC pop_options
+#endif
 #undef HB_LANES_WIDTH
 
 namespace hb {

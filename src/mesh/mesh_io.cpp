@@ -4,9 +4,11 @@
 // Reading, in order:
 //  1. Check the extension (case-insensitive) and the file itself: missing, directory, empty.
 //  2. Load a polygon soup (positions + index lists), not a half-edge mesh, so nothing is lost:
-//     off_reader.cpp (strict, our own), obj_reader.cpp, ply_reader.cpp, stl_reader.cpp,
-//     om_reader.cpp.
-//  3. Validate: finite coordinates, indices in range (else hb::InvalidInput).
+//     off_reader.cpp, obj_reader.cpp, stl_reader.cpp, ply_reader.cpp (strict parsers of our
+//     own: declared counts checked against the file, every value parsed, lines named) and
+//     om_reader.cpp (OpenMesh's half-edge format, through OpenMesh).
+//  3. Validate: finite coordinates within kMaxCoordinate, indices in range (else
+//     hb::InvalidInput).
 //  4. Fan-triangulate polygons, drop and count degenerate triangles (repeated index, zero area).
 //  5. Edge analysis: open, non-manifold, inconsistent orientation (warnings in the report).
 //  6. Compute vertex normals.

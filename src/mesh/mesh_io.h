@@ -24,12 +24,15 @@ struct MeshReadReport {
 /// Reads a mesh; the format follows the extension (.off .obj .ply .stl .om, any case).
 /// Polygons are triangulated, degenerate triangles dropped and counted, vertex normals
 /// computed. Open, non-manifold or inconsistently oriented meshes load with a warning in
-/// `report`. OFF is parsed by a strict reader of our own (comments, blank lines, colours
-/// accepted; declared counts checked against the file); other formats go through OpenMesh,
-/// whose messages are captured into `report.warnings` instead of std::cerr.
+/// `report`. OFF, OBJ, STL (ASCII and binary) and PLY (ASCII and binary) are parsed by strict
+/// readers of our own: every declared count is checked against the file's size before
+/// anything is reserved, every value must parse, errors name the line; an OBJ's mtllib is
+/// never opened. OM goes through OpenMesh, whose messages are captured into
+/// `report.warnings` instead of std::cerr.
 /// Throws hb::IoError (missing, unreadable or empty file) or hb::InvalidInput (unknown
-/// extension, garbage, NaN/Inf coordinates, out-of-range indices, no triangles left); the
-/// message names the file and the cause. Never hangs on garbage input.
+/// extension, garbage, NaN/Inf coordinates or |x| > kMaxCoordinate, out-of-range indices, no
+/// triangles left); the message names the file and the cause. Never hangs on garbage input
+/// and never allocates much more than the file's size.
 TriangleMesh read_mesh(const std::string& path, MeshReadReport* report = nullptr);
 
 /// Writes a mesh (format from the extension, as read_mesh). Throws hb::IoError.

@@ -12,11 +12,11 @@ namespace hb::detail {
 
 /// OFF, strict parser of our own (off_reader.cpp). `text`: the whole file.
 PolygonSoup read_off(const std::string& path, const std::string& text, MeshReadReport& report);
-/// Wavefront OBJ (obj_reader.cpp).
+/// Wavefront OBJ, strict parser of our own (obj_reader.cpp).
 PolygonSoup read_obj(const std::string& path, MeshReadReport& report);
-/// PLY, ASCII or binary (ply_reader.cpp).
+/// PLY, ASCII or binary, strict parser of our own (ply_reader.cpp).
 PolygonSoup read_ply(const std::string& path, MeshReadReport& report);
-/// STL, ASCII or binary (stl_reader.cpp).
+/// STL, ASCII or binary, strict parser of our own (stl_reader.cpp).
 PolygonSoup read_stl(const std::string& path, MeshReadReport& report);
 /// OpenMesh's own OM format (openmesh_reader.cpp).
 PolygonSoup read_om(const std::string& path, MeshReadReport& report);

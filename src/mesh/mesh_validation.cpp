@@ -1,7 +1,8 @@
 // Checks shared by every mesh reader.
 //
 //  1. The file: exists, regular, not empty, readable (before any parser runs).
-//  2. The soup: finite coordinates, vertex count < 2^31, indices in range (else hb::InvalidInput).
+//  2. The soup: finite coordinates within kMaxCoordinate, vertex count < 2^31, indices in
+//     range (else hb::InvalidInput).
 //  3. Fan-triangulate polygons, drop and count degenerate triangles (repeated index, zero area).
 //  4. Edge analysis on sorted undirected edges: boundary edges (open), edges with more than
 //     two faces (non-manifold), edges used twice in the same direction (inconsistent orientation).
@@ -12,6 +13,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -37,6 +39,12 @@ TriangleMesh triangulate(const std::string& path, PolygonSoup& soup, MeshReadRep
   for (std::size_t v = 0; v < soup.positions.size(); ++v) {
     if (!soup.positions[v].allFinite())
       throw InvalidInput(path + ": vertex " + std::to_string(v) + " has a non-finite (NaN or Inf) coordinate");
+    if (soup.positions[v].cwiseAbs().maxCoeff() > kMaxCoordinate) {
+      char value[32];
+      std::snprintf(value, sizeof value, "%g", double(soup.positions[v].cwiseAbs().maxCoeff()));
+      throw InvalidInput(path + ": vertex " + std::to_string(v) + " has a coordinate of magnitude " + value +
+                         ", beyond the supported range (|x| <= 1e15)");
+    }
   }
   if (soup.positions.size() >= (std::size_t(1) << 31))
     throw InvalidInput(path + ": too many vertices (" + std::to_string(soup.positions.size()) + ")");

@@ -1,10 +1,7 @@
 #pragma once
-// What the readers and writers that go through OpenMesh share: one OpenMesh call at a time
-// (its log streams are process-global), its std::cerr chatter captured as text, and a reader
-// that records OpenMesh's raw polygons. Internal to src/mesh.
-#include "mesh/mesh_io.h"
-#include "mesh/polygon_soup.h"
-
+// What the OM reader and the writers that go through OpenMesh share: one OpenMesh call at a
+// time (its log streams are process-global) and its std::cerr chatter captured as text.
+// Internal to src/mesh.
 #include <mutex>
 #include <sstream>
 #include <string>
@@ -32,10 +29,5 @@ private:
   bool had_cerr_ = false;
   bool err_was_enabled_ = true, out_was_enabled_ = true, log_was_enabled_ = true;
 };
-
-/// Reads any format OpenMesh's IOManager knows into a soup (no half-edge mesh, so faces with
-/// bad or repeated indices reach our validation instead of being dropped silently). OpenMesh's
-/// messages become `report.warnings`; failure throws hb::InvalidInput with its first message.
-PolygonSoup read_with_openmesh(const std::string& path, MeshReadReport& report);
 
 } // namespace hb::detail

@@ -11,6 +11,12 @@ namespace hb {
 using Vec3 = Eigen::Vector3f;
 using Triangle = std::array<std::uint32_t, 3>;
 
+/// Largest |coordinate| a mesh may have, in model units. Readers and the Embree scene refuse
+/// anything beyond it (hb::InvalidInput): the rays of a bake start on boxes around the mesh
+/// and must stay well inside Embree's valid range (|origin|, |direction| < 1.8e19; beyond it
+/// Embree aborts the process).
+constexpr float kMaxCoordinate = 1e15f;
+
 /// Axis-aligned bounds.
 struct Bounds {
   Vec3 min{Vec3::Constant(0.f)};

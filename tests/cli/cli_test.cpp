@@ -11,6 +11,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <sstream>
 #include <sys/wait.h>
 
 namespace {
@@ -190,6 +192,111 @@ TEST_F(CliTest, BadSegmentsCsvNamesFileAndLine) {
   const Result r = run("query " + path("sphere.hbox") + " --segments " + in);
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("bad.csv:3"), std::string::npos) << r.err;
+}
+
+// --- hostile input (issue 12) ----------------------------------------------------------
+
+// Finding 6: `query --stiffness nan` printed NaN forces, 1e38 infinities; `servo --seconds nan`
+// ran 0 ticks and exited 0. Every numeric option now refuses non-finite and absurd values.
+TEST_F(CliTest, NonFiniteOrAbsurdOptionValuesAreUsageErrorsNamingTheValue) {
+  bake_once();
+  const std::string q = "query " + path("sphere.hbox") + " --segment 0 0.1 30 0 0.1 9 ";
+  for (const char* opt : {"--stiffness nan", "--stiffness 1e38", "--stiffness -5", "--metres-per-unit inf"}) {
+    const Result r = run(q + opt);
+    EXPECT_EQ(r.code, 2) << opt;
+    const std::string value = std::string(opt).substr(std::string(opt).find(' ') + 1);
+    EXPECT_NE(r.err.find(value), std::string::npos) << opt << ": " << r.err;
+  }
+  for (const char* opt : {"--seconds nan", "--seconds inf", "--stiffness 1e38", "--rate nan", "--spin-us nan",
+                          "--units-per-metre -inf"}) {
+    const Result r = run(std::string("servo plane --no-realtime ") + opt);
+    EXPECT_EQ(r.code, 2) << opt << ": " << r.err;
+  }
+  EXPECT_EQ(run("bake " + path("sphere.off") + " -o " + path("nan.hbox") + " --padding nan").code, 2);
+}
+
+// Finding 7: 1e-40 and 1e-300 were "not a number", a UTF-8 BOM failed the header, a folder
+// was an "empty segments file", `--segment ""` read as 0.
+TEST_F(CliTest, SegmentsCsvAcceptsTinyValuesAndAByteOrderMark) {
+  bake_once();
+  const std::string in = write("tiny.csv", "\xEF\xBB\xBFsx,sy,sz,ex,ey,ez\r\n0,0.1,30,0,0.1,1e-40\r\n1e-300,0.1,30,0,0.1,9\r\n");
+  const Result r = run("query " + path("sphere.hbox") + " --segments " + in);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::string header, row1, row2;
+  std::getline(lines, header);
+  std::getline(lines, row1);
+  std::getline(lines, row2);
+  EXPECT_EQ(row1.rfind("1,", 0), 0u) << row1;
+  EXPECT_EQ(row2.rfind("1,", 0), 0u) << row2;
+  const Result big = run("query " + path("sphere.hbox") + " --segments " + write("big.csv", "sx,sy,sz,ex,ey,ez\n0,0,1e39,0,0,0\n"));
+  EXPECT_EQ(big.code, 1);
+  EXPECT_NE(big.err.find("big.csv:2"), std::string::npos) << big.err;
+}
+
+TEST_F(CliTest, SegmentsGivenAFolderSaysItIsAFolder) {
+  bake_once();
+  fs::create_directories(path("segments_dir"));
+  const Result r = run("query " + path("sphere.hbox") + " --segments " + path("segments_dir"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("is a folder"), std::string::npos) << r.err;
+}
+
+TEST_F(CliTest, EmptySegmentValueIsAUsageError) {
+  bake_once();
+  const Result r = run("query " + path("sphere.hbox") + " --segment '' 0 30 0 0 9");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("value 1"), std::string::npos) << r.err;
+  EXPECT_EQ(run("query " + path("sphere.hbox") + " --segment 0 0 30 0 0 x9").code, 2);
+}
+
+TEST_F(CliTest, InfoVerifyRejectsBytesAfterTheLastSection) {
+  bake_once();
+  fs::copy_file(path("sphere.hbox"), path("appended.hbox"), fs::copy_options::overwrite_existing);
+  std::ofstream(path("appended.hbox"), std::ios::binary | std::ios::app) << "trailing bytes";
+  const Result r = run("info " + path("appended.hbox") + " --verify");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("after the last section"), std::string::npos) << r.err;
+  EXPECT_EQ(run("info " + path("sphere.hbox") + " --verify").code, 0);
+}
+
+// Finding 2: any coordinate >= 1e19 aborted the bake inside Embree (SIGABRT).
+TEST_F(CliTest, BakeOfAMeshBeyondTheCoordinateRangeFailsWithAMessage) {
+  const std::string far = write("far.off", "OFF\n4 4 0\n0 0 0\n1e19 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  const Result r = run("bake " + far + " -o " + path("far.hbox") + " -m 2 -n 2");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("beyond the supported range"), std::string::npos) << r.err;
+  const std::string near = write("near.off", "OFF\n4 4 0\n0 0 0\n1e14 0 0\n0 1e14 0\n0 0 1e14\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  EXPECT_EQ(run("bake " + near + " -o " + path("near.hbox") + " -m 2 -n 2").code, 0);
+}
+
+// Finding 5: a replay trusted its log's header (a negative stiffness reversed every force; a
+// rate of 0.05 Hz never returned).
+TEST_F(CliTest, ReplayOfALogWithAnImpossibleHeaderIsRefused) {
+  const std::string log = path("plane.hblog");
+  ASSERT_EQ(run("servo plane --no-realtime --seconds 0.05 --record " + log).code, 0);
+  std::string bytes;
+  {
+    std::ifstream in(log, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  ASSERT_GT(bytes.size(), 64u);
+  const auto patched = [&](const std::string& name, std::size_t at, const void* value, std::size_t n) {
+    std::string b = bytes;
+    b.replace(at, n, static_cast<const char*>(value), n);
+    std::ofstream(path(name), std::ios::binary) << b;
+    return path(name);
+  };
+  const float stiffness = -3000.f;
+  const Result negative = run("servo plane --no-realtime --seconds 1 --device replay:" +
+                              patched("negative.hblog", 16 + 8 + 12, &stiffness, 4));
+  EXPECT_EQ(negative.code, 1);
+  EXPECT_NE(negative.err.find("maximum stiffness"), std::string::npos) << negative.err;
+  const double rate = 0.05;
+  const Result slow = run("servo plane --no-realtime --seconds 1 --device replay:" + patched("slow.hblog", 16, &rate, 8));
+  EXPECT_EQ(slow.code, 1);
+  EXPECT_NE(slow.err.find("servo log rate"), std::string::npos) << slow.err;
+  EXPECT_EQ(run("servo plane --no-realtime --seconds 1 --device replay:" + log).code, 0);
 }
 
 } // namespace

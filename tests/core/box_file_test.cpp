@@ -4,6 +4,10 @@
 #include "haptic_box/box_file.h"
 #include "mesh/generators.h"
 #include <gtest/gtest.h>
+#include <xxhash.h>
+#include <cmath>
+#include <cstring>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -44,6 +48,25 @@ protected:
       EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
       EXPECT_NE(std::string(e.what()).find(cause), std::string::npos) << e.what();
     }
+  }
+
+  // Layout of this one-box version-5 file (box_file.cpp): the prefix, the box's entry, the
+  // surface, piece-id and scene-grid sections.
+  static constexpr std::size_t kPrefix = 8 + 4 + 4 + 8 + 8 + 4 + 4 + 10;  // path "sphere.off"
+  static constexpr std::size_t kCenter = kPrefix + 12, kAxes = kCenter + 12, kHalf = kAxes + 36;
+  static constexpr std::size_t kHeaderEnd = kPrefix + 72 + 24 + 28 + 28 + 24 + 24 + 24;
+  static void put_float(std::vector<char>& data, std::size_t at, float v) { std::memcpy(&data[at], &v, 4); }
+  // Re-signs the header, as a file corrupted before it was written would be signed.
+  static void resign(std::vector<char>& data) {
+    const std::uint64_t h = XXH3_64bits(data.data(), kHeaderEnd);
+    std::memcpy(&data[kHeaderEnd], &h, 8);
+  }
+  // The saved file with one OBB float replaced, re-signed.
+  std::string with_float(const std::string& name, std::size_t at, float v) const {
+    auto data = bytes();
+    put_float(data, at, v);
+    resign(data);
+    return write(name, data);
   }
 
   fs::path dir_;
@@ -118,6 +141,62 @@ TEST_F(BoxFileTest, WrongVersionIsRejected) {
   auto data = bytes();
   data[8] = 99;
   expect_invalid(write("version.hbox", data), "version 99");
+}
+
+TEST_F(BoxFileTest, ResignedUnchangedFileLoads) {
+  auto data = bytes();
+  resign(data);  // the layout constants above are right
+  EXPECT_NO_THROW(load_box_file(write("resigned.hbox", data), LoadOptions{true}));
+}
+
+// Issue 12, finding 1: a box whose OBB holds NaN, Inf or 3.4e38 loaded and crashed the query.
+TEST_F(BoxFileTest, NonFiniteOrHugeObbAxisIsRejectedAtLoad) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  int k = 0;
+  for (float v : {nan, inf, -inf, 3.4e38f}) {
+    SCOPED_TRACE(v);
+    expect_invalid(with_float("axis" + std::to_string(k++) + ".hbox", kAxes + 4, v), "box 0", false);
+  }
+}
+
+TEST_F(BoxFileTest, NonOrthonormalObbAxesAreRejectedAtLoad) {
+  expect_invalid(with_float("skew.hbox", kAxes, 1.5f), "not orthonormal", false);
+  auto data = bytes();
+  for (int r = 0; r < 3; ++r) {  // the first axis reversed: orthonormal but left-handed
+    float v;
+    std::memcpy(&v, &data[kAxes + 4 * r], 4);
+    put_float(data, kAxes + 4 * r, -v);
+  }
+  resign(data);
+  expect_invalid(write("left.hbox", data), "right-handed", false);
+}
+
+TEST_F(BoxFileTest, NanNegativeOrZeroHalfExtentIsRejectedAtLoad) {
+  int k = 0;
+  for (float v : {std::numeric_limits<float>::quiet_NaN(), -0.5f, 0.f, std::numeric_limits<float>::infinity()}) {
+    SCOPED_TRACE(v);
+    expect_invalid(with_float("half" + std::to_string(k++) + ".hbox", kHalf + 4, v), "half extent", false);
+  }
+}
+
+TEST_F(BoxFileTest, NonFiniteObbCentreIsRejectedAtLoad) {
+  expect_invalid(with_float("centre.hbox", kCenter + 8, std::numeric_limits<float>::quiet_NaN()), "centre", false);
+  expect_invalid(with_float("far.hbox", kCenter, 1e30f), "centre", false);
+}
+
+TEST_F(BoxFileTest, BytesAfterTheLastSectionAreRejectedByVerify) {
+  auto data = bytes();
+  data.insert(data.end(), 100, '\0');
+  const std::string p = write("appended.hbox", data);
+  expect_invalid(p, "100 bytes after the last section", true);
+  EXPECT_NO_THROW(load_box_file(p, LoadOptions{false}));  // lazy opening reads no table end
+}
+
+TEST(HapticBoxGeometryTest, ConstructorRefusesAnObbTheQueryCannotUse) {
+  Obb bad;
+  bad.half = Vec3(1.f, std::numeric_limits<float>::quiet_NaN(), 1.f);
+  EXPECT_THROW(HapticBox(bad, BoxParams{2, 2}, std::vector<Sample>(BoxParams{2, 2}.sample_count())), InvalidInput);
+  EXPECT_EQ(obb_problem(Obb{}), "");
 }
 
 } // namespace

@@ -6,6 +6,8 @@
 #include "two_spheres.h"
 #include <gtest/gtest.h>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <random>
 
 namespace hb {
@@ -240,6 +242,52 @@ TEST(BoxSceneTest, ContactNearestTheHandleWins) {
   ASSERT_TRUE(c.contact);
   EXPECT_NEAR(c.point.x(), 4.f, 0.02f);
   EXPECT_GT(c.normal.x(), 0.99f);
+}
+
+// Issue 12, finding 1: a NaN reaching the cell split became a far index. Whatever the segment
+// (NaN, Inf, huge, denormal-short, along a face), the query answers without reading outside
+// the table (the sanitizer build checks the reads) and any contact it reports is sound; the
+// batched lanes give the same answers on finite input.
+TEST(HapticBoxQueryTest, HostileSegmentsNeverIndexOutsideTheTable) {
+  const TriangleMesh mesh = make_sphere(1.f, 3);
+  const HapticBox box = bake(mesh, 6, 4);
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const float big = std::numeric_limits<float>::max();
+  std::vector<Segment> segments = {
+      {Vec3(nan, 0, 0), Vec3(0, 0, 0)},        {Vec3(0, 0, 2), Vec3(0, nan, 0)},
+      {Vec3(0, 0, inf), Vec3(0, 0, 0)},        {Vec3(-inf, 0, 0), Vec3(inf, 0, 0)},
+      {Vec3(big, big, 0), Vec3(-big, -big, 0)}, {Vec3(big, big, big), Vec3(big, big, 0.99f * big)},
+      {Vec3(3e38f, 3e38f, 0), Vec3(3e38f - 1e32f, 3e38f, 0)},
+      {Vec3(0, 0, 2), Vec3(0, 0, 2 - 1e-40f)}, {Vec3(0, 0, 1.2f), Vec3(1e-41f, 0, 1.2f)},
+      {Vec3(2, 2, 2), Vec3(-2, -2, -2)},       {Vec3(0, 0, 3), Vec3(0, 0, -3)},
+  };
+  const Obb& o = box.obb();
+  for (int a = 0; a < 3; ++a) {  // along each face, exactly on it
+    Vec3 on = Vec3::Zero();
+    on[(a + 1) % 3] = o.half[(a + 1) % 3];
+    Vec3 along = Vec3::Zero();
+    along[a] = 3.f * o.half[a];
+    segments.push_back({o.to_world(on - along), o.to_world(on + along)});
+  }
+  std::vector<Contact> many(segments.size());
+  box.query_many(segments.data(), segments.size(), kLaw, many.data());
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    SCOPED_TRACE(i);
+    const Contact c = box.query(segments[i], kLaw);
+    if (c.contact) {
+      const float length = (segments[i].end - segments[i].start).norm();
+      EXPECT_TRUE(std::isfinite(c.depth) && c.depth >= 0.f && c.depth <= length * 1.0001f);
+      EXPECT_NEAR(c.normal.norm(), 1.f, 1e-3f);
+      EXPECT_TRUE(c.force.allFinite());
+    }
+    if (segments[i].start.allFinite() && segments[i].end.allFinite()) {
+      EXPECT_EQ(c.contact, many[i].contact);
+      EXPECT_EQ(std::memcmp(&c.depth, &many[i].depth, sizeof c.depth), 0);
+    } else {
+      EXPECT_FALSE(c.contact);
+      EXPECT_FALSE(many[i].contact);
+    }
+  }
 }
 
 } // namespace

@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <initializer_list>
 #include <fstream>
 #include <random>
 #include <string>
@@ -308,6 +310,156 @@ TEST_F(MeshReadTest, HashFileIsStableAndSeesChanges) {
 TEST_F(MeshReadTest, HashMissingFileIsIoError) {
   EXPECT_THROW(hash_file(path("absent.off")), IoError);
   EXPECT_THROW(hash_file(dir_.string()), IoError);
+}
+
+// --- hostile input found by fuzzing (issue 12) ------------------------------------------
+
+std::string ply_header(const std::string& format, const std::string& vertex_count, const std::string& face_count,
+                       const std::string& list = "uchar int") {
+  return "ply\nformat " + format + " 1.0\nelement vertex " + vertex_count +
+         "\nproperty float x\nproperty float y\nproperty float z\nelement face " + face_count +
+         "\nproperty list " + list + " vertex_indices\nend_header\n";
+}
+
+std::string le_floats(std::initializer_list<float> values) {
+  std::string out;
+  for (float v : values) out.append(reinterpret_cast<const char*>(&v), 4);
+  return out;
+}
+
+const char* kTetrahedronStl =
+    "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\nendloop\nendfacet\n"
+    "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 1\nendloop\nendfacet\n"
+    "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 0 1 0\nendloop\nendfacet\n"
+    "facet normal 0 0 0\nouter loop\nvertex 1 0 0\nvertex 0 1 0\nvertex 0 0 1\nendloop\nendfacet\nendsolid t\n";
+
+// Finding 2: Embree aborted the bake on any coordinate of magnitude >= 1e19.
+TEST_F(MeshReadTest, CoordinateBeyondTheSupportedRangeIsRejectedInEveryFormat) {
+  const std::string far = "1e19";
+  expect_read_error<InvalidInput>(write("far.off", "OFF\n3 1 0\n0 0 0\n" + far + " 0 0\n0 1 0\n3 0 1 2\n"),
+                                  "beyond the supported range");
+  expect_read_error<InvalidInput>(write("far.obj", "v 0 0 0\nv " + far + " 0 0\nv 0 1 0\nf 1 2 3\n"),
+                                  "beyond the supported range");
+  expect_read_error<InvalidInput>(
+      write("far.ply", ply_header("ascii", "3", "1") + "0 0 0\n" + far + " 0 0\n0 1 0\n3 0 1 2\n"),
+      "beyond the supported range");
+  std::string stl = kTetrahedronStl;
+  stl.replace(stl.find("vertex 1 0 0"), 12, "vertex " + far + " 0 0");
+  expect_read_error<InvalidInput>(write("far.stl", stl), "beyond the supported range");
+  // At the limit it loads.
+  EXPECT_NO_THROW(read_mesh(write("edge.off", "OFF\n3 1 0\n0 0 0\n1e15 0 0\n0 1e15 0\n3 0 1 2\n")));
+}
+
+// Finding 3: OpenMesh's ASCII STL reader left unparsable coordinates uninitialised.
+TEST_F(MeshReadTest, AsciiStlWithABadCoordinateIsRejectedWithItsLine) {
+  int k = 0;
+  for (const char* bad : {"inf", "nan", "abc", "1e39", "-inf", "0x1p3", "1.0.0"}) {
+    SCOPED_TRACE(bad);
+    std::string stl = kTetrahedronStl;
+    stl.replace(stl.find("vertex 0 1 0"), 12, std::string("vertex 0 ") + bad + " 0");
+    expect_read_error<InvalidInput>(write("bad" + std::to_string(k++) + ".stl", stl), ":5: vertex y");
+  }
+}
+
+TEST_F(MeshReadTest, StlReadsAsciiAndBinaryWithSharedCorners) {
+  const TriangleMesh ascii = read_mesh(write("t.stl", kTetrahedronStl));
+  EXPECT_EQ(ascii.vertex_count(), 4u);  // equal corners become one vertex
+  EXPECT_EQ(ascii.triangle_count(), 4u);
+  MeshReadReport report;
+  std::string bin(80, ' ');
+  bin.replace(0, 5, "solid");  // binary files may begin with "solid" too: the size decides
+  const std::uint32_t n = 1;
+  bin.append(reinterpret_cast<const char*>(&n), 4);
+  bin += le_floats({0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0}) + std::string(2, '\0');
+  const TriangleMesh binary = read_mesh(write("b.stl", bin), &report);
+  EXPECT_EQ(binary.triangle_count(), 1u);
+  EXPECT_TRUE(report.open);
+  // A binary file whose size disagrees with its count names both.
+  expect_read_error<InvalidInput>(write("short.stl", bin.substr(0, bin.size() - 1)), "declares 1 triangles");
+  expect_read_error<InvalidInput>(write("nan.stl", bin.substr(0, 84) + le_floats({0, 0, 1, NAN, 0, 0, 1, 0, 0, 0, 1, 0}) +
+                                                        std::string(2, '\0')),
+                                  "non-finite");
+  expect_read_error<IoError>(write("cut.stl", std::string(kTetrahedronStl).substr(0, 100)), "truncated");
+}
+
+// Finding 4: OpenMesh's PLY reader allocated whatever a header declared, spun without an
+// end_header, and accepted a face count larger than the faces present.
+TEST_F(MeshReadTest, PlyCountsBeyondTheFileAreRejectedBeforeAllocating) {
+  const std::string body = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  expect_read_error<InvalidInput>(write("u64.ply", ply_header("ascii", "18446744073709551615", "1") + body), "more than");
+  expect_read_error<InvalidInput>(write("i64.ply", ply_header("ascii", "9223372036854775807", "1") + body), "more than");
+  expect_read_error<InvalidInput>(write("over.ply", ply_header("ascii", "18446744073709551616", "1") + body),
+                                  "not an unsigned integer");
+  expect_read_error<InvalidInput>(write("neg.ply", ply_header("ascii", "-3", "1") + body), "not an unsigned integer");
+  const std::string vertices = le_floats({0, 0, 0, 1, 0, 0, 0, 1, 0});
+  const std::string face = std::string("\x03", 1) + std::string("\0\0\0\0\1\0\0\0\2\0\0\0", 12);
+  expect_read_error<InvalidInput>(
+      write("faces.ply", ply_header("binary_little_endian", "3", "99999999999") + vertices + face), "more than");
+  // Lists whose count runs past the file, or is negative.
+  const std::string big_list = std::string("\xff\xff\xff\x7f", 4) + std::string(12, '\0');
+  expect_read_error<InvalidInput>(
+      write("list.ply", ply_header("binary_little_endian", "3", "1", "int int") + vertices + big_list),
+      "runs past the end");
+  const std::string negative = std::string("\xfb\xff\xff\xff", 4) + std::string(12, '\0');
+  expect_read_error<InvalidInput>(
+      write("negative_list.ply", ply_header("binary_little_endian", "3", "1", "int int") + vertices + negative),
+      "negative");
+  expect_read_error<InvalidInput>(write("negative_ascii.ply", ply_header("ascii", "3", "1") + "0 0 0\n1 0 0\n0 1 0\n-5 0 1 2\n"),
+                                  "negative");
+}
+
+TEST_F(MeshReadTest, PlyWithoutVerticesOrEndHeaderIsRejected) {
+  expect_read_error<InvalidInput>(write("none.ply", ply_header("ascii", "0", "1") + "3 0 1 2\n"), "out of range");
+  expect_read_error<InvalidInput>(write("noend.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"),
+                                  "end_header");
+  std::string spin = "ply\nformat ascii 1.0\n";
+  for (int i = 0; i < 2000; ++i) spin += "comment no end\n";
+  expect_read_error<InvalidInput>(write("spin.ply", spin), "end_header");
+}
+
+TEST_F(MeshReadTest, PlyDeclaringMoreFacesThanItHoldsIsRejected) {
+  expect_read_error<InvalidInput>(
+      write("more.ply", ply_header("ascii", "3", "2") + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), "declares 2 entries");
+  expect_read_error<InvalidInput>(
+      write("short_face.ply", ply_header("ascii", "3", "1") + "0 0 0\n1 0 0\n0 1 0\n3 0 1\n"), "expected 3 values");
+  expect_read_error<InvalidInput>(
+      write("extra.ply", ply_header("ascii", "3", "1") + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 2\n"), "after the last");
+  expect_read_error<InvalidInput>(write("nan.ply", ply_header("ascii", "3", "1") + "0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n"),
+                                  "not a finite float");
+}
+
+TEST_F(MeshReadTest, PlyVariantsRead) {
+  // Big-endian binary, double coordinates, extra properties and elements, vertex_index.
+  std::string be = "ply\nformat binary_big_endian 1.0\ncomment x\nelement vertex 3\nproperty double x\n"
+                   "property double y\nproperty double z\nproperty uchar red\nelement face 1\n"
+                   "property list uchar ushort vertex_index\nelement edge 1\nproperty int a\nend_header\n";
+  const auto be64 = [](double v) {
+    std::string b(reinterpret_cast<const char*>(&v), 8);
+    return std::string(b.rbegin(), b.rend());
+  };
+  std::string body;
+  const double xyz[3][3] = {{0, 0, 0}, {1, 0, 0}, {0, 2, 0}};
+  for (const auto& v : xyz) body += be64(v[0]) + be64(v[1]) + be64(v[2]) + std::string(1, '\x7f');
+  body += std::string("\x03\x00\x00\x00\x01\x00\x02", 7) + std::string("\0\0\0\x05", 4);
+  const TriangleMesh mesh = read_mesh(write("be.ply", be + body));
+  ASSERT_EQ(mesh.triangle_count(), 1u);
+  EXPECT_EQ(mesh.positions[2], Vec3(0, 2, 0));
+}
+
+// OpenMesh's OBJ reader opened whatever a "mtllib" line names (a device file: a read without
+// end) and skipped unparsable vertex lines; ours opens nothing else and names the line.
+TEST_F(MeshReadTest, ObjNeverOpensTheFilesItNames) {
+  const TriangleMesh m = read_mesh(write("mtl.obj", "mtllib /dev/zero\nmtllib ../../../../dev/urandom\nusemtl x\n"
+                                                    "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\ng a\ns 1\n"
+                                                    "f 1/1/1 2/1/1 3/1/1\nf -3 -1 -2\n"));
+  EXPECT_EQ(m.triangle_count(), 2u);
+}
+
+TEST_F(MeshReadTest, ObjBadStatementIsRejectedWithItsLine) {
+  expect_read_error<InvalidInput>(write("v.obj", "v 0 0 0\nv 1 abc 0\nv 0 1 0\nf 1 2 3\n"), ":2: vertex 1");
+  expect_read_error<InvalidInput>(write("f.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n"), ":4: face 0");
+  expect_read_error<InvalidInput>(write("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"), ":4: face 0");
+  expect_read_error<InvalidInput>(write("big.obj", "v 0 0 0\nv 1 1e39 0\nv 0 1 0\nf 1 2 3\n"), "non-finite");
 }
 
 } // namespace

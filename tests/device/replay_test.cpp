@@ -4,10 +4,13 @@
 #include "device/virtual_device.h"
 #include <gtest/gtest.h>
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <thread>
+#include <unistd.h>
 
 using namespace hb;
 using namespace std::chrono_literals;
@@ -136,4 +139,66 @@ TEST(ReplayTest, ReplayDeviceEndsWithEndOfStream) {
   EXPECT_EQ(s.position_m.x(), 0.5f);
   EXPECT_EQ(dev.read_state(s), DeviceStatus::ok);
   EXPECT_EQ(dev.read_state(s), DeviceStatus::end_of_stream);
+}
+
+// Issue 12, finding 5: a replay trusted the log header. Rates no loop can run (0.05 Hz never
+// returned; 1e-300 Hz overflowed), a negative stiffness (every force reversed into the
+// surface) and an infinite, NaN, zero or negative force maximum are refused at reading.
+namespace {
+
+void expect_log_refused(double rate, const DeviceSpec& spec, const std::string& cause) {
+  const std::string path = temp(("hb_log_header_" + std::to_string(::getpid()) + ".hblog").c_str());
+  {
+    LogRecorder rec(path, rate, spec);
+    rec.push(LogRecord{});
+    rec.finish();
+  }
+  try {
+    read_servo_log(path);
+    ADD_FAILURE() << "no error for rate " << rate << ", " << cause;
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(cause), std::string::npos) << e.what();
+  }
+  std::remove(path.c_str());
+}
+
+} // namespace
+
+TEST(ReplayTest, LogRateNoServoLoopCanRunIsRefused) {
+  for (double rate : {0.05, 1e-300, 0.0, -1000.0, 1e9, std::nan(""), HUGE_VAL})
+    expect_log_refused(rate, virtual_device_spec(), "servo log rate");
+}
+
+TEST(ReplayTest, LogDeviceSpecNoDeviceCanHaveIsRefused) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  for (float stiffness : {-3000.f, 0.f, nan, inf, 1e30f}) {
+    DeviceSpec s = virtual_device_spec();
+    s.max_stiffness_n_per_m = stiffness;
+    expect_log_refused(1000.0, s, "maximum stiffness");
+  }
+  for (float force : {inf, 1e30f, nan, 0.f, -8.f}) {
+    DeviceSpec s = virtual_device_spec();
+    s.max_force_n = force;
+    expect_log_refused(1000.0, s, "maximum force");
+  }
+  DeviceSpec s = virtual_device_spec();
+  s.workspace_radius_m = -0.04f;
+  expect_log_refused(1000.0, s, "workspace radius");
+  s = virtual_device_spec();
+  s.max_continuous_force_n = 2.f * s.max_force_n;
+  expect_log_refused(1000.0, s, "continuous force");
+  EXPECT_EQ(device_spec_problem(virtual_device_spec()), "");
+}
+
+TEST(ReplayTest, LoopRefusesAReplayWhoseSpecWouldReverseTheForces) {
+  // A log built in memory (the reader would refuse its spec): the loop refuses it too.
+  ServoLog log;
+  log.spec = virtual_device_spec();
+  log.spec.max_stiffness_n_per_m = -3000.f;
+  log.records.resize(50);
+  ReplayDevice dev(log);
+  test::HalfSpaceScene scene(0.f);
+  ServoLoop loop(dev, scene, options());
+  EXPECT_THROW(loop.start(), InvalidInput);
 }

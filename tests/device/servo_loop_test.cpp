@@ -5,6 +5,8 @@
 #include "device/virtual_device.h"
 #include <gtest/gtest.h>
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <thread>
 
 using namespace hb;
@@ -184,4 +186,32 @@ TEST(ServoLoopTest, ScriptedTrajectoryRunsThroughTheSamePath) {
   loop.stop();
   EXPECT_GE(dev.reads(), 100u);
   EXPECT_GT(loop.report().compute.count, 0u);
+}
+
+// Issue 12, finding 6: a non-finite or overflowing force law gave NaN or silently zero force.
+TEST(ServoLoopTest, RejectsANonFiniteOrOverflowingForceLaw) {
+  VirtualDevice dev;
+  test::HalfSpaceScene scene;
+  for (float k : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(), -500.f, 0.f}) {
+    ServoOptions o = test_options();
+    o.law.stiffness_n_per_m = k;
+    ServoLoop loop(dev, scene, o);
+    EXPECT_THROW(loop.start(), InvalidInput) << k;
+  }
+  ServoOptions o = test_options();
+  o.law.stiffness_n_per_m = 1e38f;
+  o.mapping.model_units_per_metre = 1e38f;  // k x m/unit x units/m overflows
+  ServoLoop loop(dev, scene, o);
+  EXPECT_THROW(loop.start(), InvalidInput);
+}
+
+TEST(ServoLoopTest, RejectsARateBelowOneHertz) {
+  VirtualDevice dev;
+  test::HalfSpaceScene scene;
+  for (double rate : {0.05, 1e-300, std::nan("")}) {
+    ServoOptions o = test_options();
+    o.rate_hz = rate;
+    ServoLoop loop(dev, scene, o);
+    EXPECT_THROW(loop.start(), InvalidInput) << rate;
+  }
 }
