@@ -458,8 +458,10 @@ public:
         if (wall != 0 && last != 0 && wall != last) ++sw;
         if (wall != 0) last = wall;
       }
-      ripple[which] = (n && fsum > 0) ? std::sqrt(lat2 / n) / (fsum / n) : 0.0;
-      switches[which] = sw / std::max(1e-9, (ticks.empty() ? 0.0 : ticks.back().t - 1.0));
+      // No force at all in the corner (the contact lost) fails both figures.
+      const bool held = n && fsum / n > 0.1;
+      ripple[which] = held ? std::sqrt(lat2 / n) / (fsum / n) : 99.0;
+      switches[which] = held ? sw / std::max(1e-9, ticks.back().t - 1.0) : 99.0;
     }
     add(metric("T4", s.name, "lateral force ripple (rms / mean |F|) after 1 s", "", ripple[0], ripple[1],
                StabilityRule::at_most, 0.07));
