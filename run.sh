@@ -29,7 +29,7 @@ echo "== eval against the exact Embree answer"
 echo "== bench (one core)"
 "$HB" bench out/default.hbox "$MODEL" | tee out/bench.txt
 echo "== report (report.html, summary.json, samples.csv)"
-"$HB" report out/default.hbox "$MODEL" -o out/report --no-sweep
+"$HB" report out/default.hbox "$MODEL" -o out/report --no-sweep --stability
 echo "== summary"
 grep -E '^ *(contact agreement|force error|direction error)' out/eval.txt || true
 grep -E '^verdict:' out/bench.txt || true

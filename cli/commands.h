@@ -1,6 +1,7 @@
 #pragma once
 // The hapticbox command: one file per sub-command, each registering itself on the app.
 #include <CLI/CLI.hpp>
+#include <string>
 
 void add_info_command(CLI::App& app);
 void add_bake_command(CLI::App& app);
@@ -17,3 +18,16 @@ void add_field_command(CLI::App& app);
 void add_compress_sweep_command(CLI::App& app);
 void add_compress_command(CLI::App& app);
 void add_cache_command(CLI::App& app);
+void add_stability_command(CLI::App& app);
+
+namespace hb {
+struct StabilityReport;
+class BoxScene;
+struct TriangleMesh;
+}
+namespace hb::cli {
+/// The stability suite with the command's defaults (Falcon profile, the servo's safety with
+/// hold-and-ramp), for `report --stability` (defined in stability_command.cpp).
+StabilityReport default_stability(const BoxScene& scene, const TriangleMesh& mesh, const std::string& model_name,
+                                  std::size_t sites);
+}

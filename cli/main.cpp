@@ -86,6 +86,7 @@ int main(int argc, char** argv) {
   add_compress_command(app);
   add_compress_sweep_command(app);
   add_cache_command(app);
+  add_stability_command(app);
   if (ranks > 1) {
     const std::string sub = subcommand_of(app, argc, argv);
     if (!sub.empty() && !kDistributed.count(sub))

@@ -49,6 +49,7 @@ void add_report_command(CLI::App& app) {
     std::string cache = hb::default_box_cache_dir();
     bool no_cache = false;
     bool no_image = false;
+    bool stability = false;
     std::string save_box;
   };
   auto opts = std::make_shared<Opts>();
@@ -76,6 +77,7 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--compression-curve", opts->report.compression_codec,
                   "Also draw this codec's compression curve (haar, block; needs the codec layer)");
   cmd->add_option("--save-box", opts->save_box, "When baking, also save the box file here");
+  cmd->add_flag("--stability", opts->stability, "Also run the trajectory stability suite (as `stability`, 6 sites)");
   hb::cli::add_force_law_options(*cmd, opts->report.law);
   cmd->callback([opts] {
     const auto t0 = std::chrono::steady_clock::now();
@@ -143,6 +145,9 @@ void add_report_command(CLI::App& app) {
     data.mesh_hash = mesh_hash;
     data.box_path = box_path;
     data.box_hash = box_path.empty() ? 0 : hb::hash_file(box_path);
+    if (opts->stability)
+      data.stability = std::make_shared<hb::StabilityReport>(hb::cli::default_stability(
+          scene, mesh, std::filesystem::path(mesh_path).filename().string(), 6));
 
     // The error-field image needs X (Debian's VTK has no headless rendering).
     std::filesystem::create_directories(opts->out);

@@ -20,7 +20,8 @@ public:
       c.depth = (s.end - c.point).norm();
       c.normal = Vec3(0.f, 0.f, 1.f);
     }
-    apply_force_law(c, law);
+    const Vec3 d = s.end - s.start;
+    apply_force_law(c, law, d.norm() > 0.f ? Vec3(d / d.norm()) : Vec3(Vec3::Zero()));
     return c;
   }
 

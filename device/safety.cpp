@@ -1,5 +1,10 @@
 // Safety filter.
-// 1. Faults first (NaN/Inf, emergency stop, device fault, watchdog): output zero, restart ramp.
+// 1. Faults first. NaN/Inf and the emergency stop: output zero, restart the ramp. Device fault
+//    and watchdog: with FaultResponse::hold_and_ramp the force held so far becomes a ceiling
+//    (the fresh force, never more than the held one) that grows back to the maximum force
+//    over the ramp time; with zero_and_ramp, zero and restart the ramp (the old behaviour:
+//    a probe inside the object then sinks under the hand and is re-stiffened: pop-through or
+//    energy injected, docs/stability.md, T8).
 // 2. Clamp |F| to the device maximum, keeping the direction.
 // 3. Continuous limit: an exponential mean of |F| over `continuous_window_s`; above the
 //    device's continuous rating the force is scaled so the mean cannot keep growing.
@@ -45,6 +50,7 @@ SafetyFilter::SafetyFilter(const DeviceSpec& spec, const SafetyOptions& options,
                           ? static_cast<std::uint64_t>(std::max(1LL, std::llround(options_.ramp_seconds / dt_)))
                           : 0;
   max_step_ = static_cast<float>(options_.max_force_rate_n_per_s * dt_);
+  ceiling_step_ = ramp_ticks_total_ > 0 ? max_force_ / float(ramp_ticks_total_) : max_force_;
   mean_alpha_ = options_.continuous_window_s > 0
                     ? static_cast<float>(std::min(1.0, dt_ / options_.continuous_window_s))
                     : 1.f;
@@ -59,6 +65,7 @@ void SafetyFilter::flag(SafetyEvent e) noexcept {
 Vec3 SafetyFilter::fault_zero(SafetyEvent e) noexcept {
   flag(e);
   ramp_ticks_done_ = 0;
+  ceiling_active_ = false;
   last_ = Vec3::Zero();
   return last_;
 }
@@ -76,8 +83,15 @@ Vec3 SafetyFilter::apply(const SafetyInput& in) noexcept {
     return last_;
   }
   if (estop_) return fault_zero(SafetyEvent::emergency_stop);
-  if (in.device_fault) return fault_zero(SafetyEvent::device_fault);
-  if (in.lateness_s > options_.watchdog_bound_s) return fault_zero(SafetyEvent::watchdog);
+  const bool late = in.lateness_s > options_.watchdog_bound_s;
+  if (in.device_fault || late) {
+    const SafetyEvent e = in.device_fault ? SafetyEvent::device_fault : SafetyEvent::watchdog;
+    if (options_.fault_response == FaultResponse::zero_and_ramp) return fault_zero(e);
+    flag(e);
+    const float held = last_.norm();
+    ceiling_ = ceiling_active_ ? std::min(ceiling_, held) : held;
+    ceiling_active_ = true;
+  }
 
   Vec3 f = in.desired_force_n;
   float mag = f.norm();
@@ -101,6 +115,13 @@ Vec3 SafetyFilter::apply(const SafetyInput& in) noexcept {
   if (ramp_ticks_total_ > 0 && ramp_ticks_done_ < ramp_ticks_total_) {
     ++ramp_ticks_done_;
     f *= static_cast<float>(ramp_ticks_done_) / static_cast<float>(ramp_ticks_total_);
+  }
+
+  if (ceiling_active_) {
+    const float m = f.norm();
+    if (m > ceiling_) f *= ceiling_ / m;
+    ceiling_ += ceiling_step_;
+    if (ceiling_ >= max_force_) ceiling_active_ = false;
   }
 
   const Vec3 step = f - last_;

@@ -12,14 +12,24 @@ enum class SafetyEvent : std::uint8_t {
   force_clamped,       ///< |F| exceeded the device's maximum force: scaled down.
   continuous_limited,  ///< the running mean of |F| exceeded the maximum continuous force.
   rate_limited,        ///< dF per tick exceeded the rate limit: limited.
-  watchdog,            ///< the tick woke later than the watchdog bound: zero force, ramp restarts.
+  watchdog,            ///< the tick woke later than the watchdog bound: force held, ramps from it.
   emergency_stop,      ///< the emergency stop is latched: zero force until reset.
-  device_fault,        ///< the device reported a transient fault: zero force, ramp restarts.
+  device_fault,        ///< the device reported a transient fault: force held, ramps from it.
   count_
 };
 constexpr std::size_t safety_event_count = static_cast<std::size_t>(SafetyEvent::count_);
 using SafetyCounters = std::array<std::uint64_t, safety_event_count>;
 const char* to_string(SafetyEvent e) noexcept;
+
+/// What a watchdog (late tick) or transient device fault does to the force.
+enum class FaultResponse : std::uint8_t {
+  /// Keep the held force as a ceiling and ramp the ceiling back up from it over `ramp_seconds`
+  /// (the default): a probe inside the object is never dropped and then re-stiffened, which
+  /// lets a pushing hand pop through the stylus or injects energy (issue 11, test T8).
+  hold_and_ramp,
+  /// Zero the force and restart the ramp from zero (the first servo's behaviour).
+  zero_and_ramp,
+};
 
 /// Options of SafetyFilter. Defaults are conservative and on.
 struct SafetyOptions {
@@ -28,7 +38,8 @@ struct SafetyOptions {
                                        ///< and after every fault, s (>= 0; 0 = no ramp).
   float max_force_rate_n_per_s = 2000.f;  ///< |dF/dt| limit, N/s (2 N per 1 ms tick).
   float continuous_window_s = 2.f;     ///< time constant of the |F| running mean, s.
-  double watchdog_bound_s = 0.002;     ///< a tick waking later than deadline + this zeroes force, s.
+  double watchdog_bound_s = 0.002;     ///< a tick waking later than deadline + this is a fault, s.
+  FaultResponse fault_response = FaultResponse::hold_and_ramp;  ///< watchdog and device faults.
 };
 
 /// Inputs of one safety tick besides the desired force.
@@ -40,7 +51,9 @@ struct SafetyInput {
 };
 
 /// Applies, in order: non-finite check, emergency stop, device fault, watchdog, clamp to the
-/// maximum force, continuous-force limit, ramp-in, rate limit. The ramp and the rate limit
+/// maximum force, continuous-force limit, ramp-in, fault ceiling, rate limit. Non-finite
+/// values and the emergency stop zero the force; a watchdog or device fault does what
+/// SafetyOptions::fault_response says. The ramp and the rate limit
 /// count ticks of the nominal period `dt`, not wall time, so a replay gives the same forces.
 /// The output is always finite and |output| <= max force. noexcept, allocation-free.
 class SafetyFilter {
@@ -76,6 +89,9 @@ private:
   float max_step_;       ///< rate limit per tick, N.
   float mean_alpha_;     ///< running-mean weight per tick.
   float mean_force_ = 0.f;
+  float ceiling_ = 0.f;       ///< after a held fault: |F| limit, grows by ceiling_step_ a tick.
+  float ceiling_step_ = 0.f;
+  bool ceiling_active_ = false;
   bool estop_ = false;
   Vec3 last_{Vec3::Zero()};
   SafetyCounters counters_{};

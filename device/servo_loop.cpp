@@ -87,6 +87,7 @@ ServoLoop::ServoLoop(HapticDevice& device, const ContactQuery& scene, ServoOptio
       scene_(scene),
       options_(options),
       safety_(device.spec(), options.safety, options.rate_hz > 0 ? 1.0 / options.rate_hz : 1e-3),
+      guard_(options.energy_guard, options.rate_hz > 0 ? 1.0 / options.rate_hz : 1e-3),
       period_hist_(1000, 20000),        // 1 us bins up to 20 ms
       period_error_hist_(1000, 20000),
       compute_hist_(10, 100000),        // 10 ns bins up to 1 ms
@@ -120,8 +121,10 @@ void ServoLoop::start() {
   report_ = ServoReport{};
   report_.nominal_rate_hz = options_.rate_hz;
   const DeviceSpec& spec = device_.spec();
+  // What the law can make the device feel: k at any tilt with the normal depth law, up to
+  // k / cos(75 deg) with the depth along the segment.
   const float felt = options_.law.stiffness_n_per_m * options_.law.metres_per_unit *
-                     options_.mapping.model_units_per_metre;
+                     options_.mapping.model_units_per_metre * felt_stiffness_factor(options_.law);
   if (!std::isfinite(felt))
     throw InvalidInput("servo loop: the stiffness felt at the device (stiffness x metres per unit x model units "
                        "per metre) overflows");
@@ -131,6 +134,7 @@ void ServoLoop::start() {
   }
   report_.stiffness_n_per_m = options_.law.stiffness_n_per_m;
   safety_ = SafetyFilter(spec, options_.safety, 1.0 / options_.rate_hz);
+  guard_ = EnergyGuard(options_.energy_guard, 1.0 / options_.rate_hz);
   for (auto* h : {&period_hist_, &period_error_hist_, &compute_hist_, &query_hist_}) h->clear();
 
   device_.open();
@@ -234,7 +238,7 @@ void ServoLoop::run() noexcept {
     const Contact contact = scene_.query(seg, law);
     const std::int64_t q1 = now_ns();
     SafetyInput in;
-    in.desired_force_n = contact.force;
+    in.desired_force_n = guard_.apply(contact.force, state.position_m);
     in.position_m = state.position_m;
     // A replay re-applies the recorded timing faults, not its own lateness (see DeviceState).
     in.lateness_s = state.replayed ? (recorded(SafetyEvent::watchdog) ? 1e9 : 0.0) : lateness_s;

@@ -2,6 +2,7 @@
 // The servo thread: fixed rate on absolute deadlines; each tick reads the device, queries the
 // scene, applies safety and writes the force, allocating and locking nothing. The latest state
 // is published through a seqlock snapshot that a GUI reads at display rate.
+#include "device/energy_guard.h"
 #include "device/haptic_device.h"
 #include "device/safety.h"
 #include "device/seqlock.h"
@@ -44,7 +45,10 @@ struct ServoOptions {
   double spin_s = 50e-6;            ///< sleep until deadline - spin, then busy-wait, s (0 = none).
   ForceLaw law;                     ///< stiffness and model units; see limit_stiffness.
   bool limit_stiffness = true;      ///< lower law.stiffness so the stiffness felt at the device
-                                    ///< stays <= spec.max_stiffness_n_per_m.
+                                    ///< stays <= spec.max_stiffness_n_per_m, for any stylus
+                                    ///< tilt up to 75 degrees (felt_stiffness_factor: 1 for
+                                    ///< the normal depth law, 3.86 along the segment).
+  EnergyGuardOptions energy_guard;  ///< passivity observer / controller, off by default.
   WorkspaceMapping mapping;
   SafetyOptions safety;
 };
@@ -145,6 +149,7 @@ private:
   ServoOptions options_;
   LogRecorder* recorder_ = nullptr;
   SafetyFilter safety_;
+  EnergyGuard guard_;
   TimingHistogram period_hist_, period_error_hist_, compute_hist_, query_hist_;
   TimingHistogram window_hist_;  ///< periods of the current live window (snapshot rate, p99).
   Seqlock<ServoSnapshot> snapshot_;

@@ -12,6 +12,8 @@
 #include "evaluation/probe_sampling.h"
 #include "evaluation/query_timing.h"
 #include "report_charts.h"
+#include "stability_json.h"
+#include "stability_section.h"
 #include <nlohmann/json.hpp>
 #include <chrono>
 #include <cmath>
@@ -309,6 +311,7 @@ std::string report_json(const ReportData& d) {
   j["compression_curve"] = nlohmann::json::array();
   for (const auto& [cr, err] : d.compression_curve) j["compression_curve"].push_back({cr, err});
   j["compute_seconds"] = d.compute_seconds;
+  if (d.stability) j["stability"] = stability_json(*d.stability);
   return j.dump(2);
 }
 
@@ -444,6 +447,7 @@ void write_report(const ReportData& d, const std::string& dir_name) {
   else
     h << "<p class=note>No rendered image: " << html_escape(d.error_field_note.empty() ? "not requested" : d.error_field_note)
       << "</p>\n";
+  if (d.stability) h << stability_html_section(*d.stability, (dir / "charts").string());
   h << "<h2>Reproducing</h2>\n<p>summary.json holds every figure above and every parameter; samples.csv one "
        "row per probe with both answers. Mesh hash "
     << hex64(d.mesh_hash) << (d.box_hash ? ", box hash " + hex64(d.box_hash) : "") << ".</p>\n</body></html>\n";

@@ -5,8 +5,10 @@
 // (one row per probe with both answers). The CLI's `report` and the desktop window call these.
 #include "evaluation/comparison.h"
 #include "evaluation/error_field.h"
+#include "evaluation/stability_suite.h"
 #include "evaluation/sweep.h"
 #include "haptic_box/box_scene.h"
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -66,6 +68,9 @@ struct ReportData {
   std::string error_field_image;         ///< PNG path of the rendered field, or empty.
   std::string error_field_note;          ///< why there is no image, when there is none.
   std::vector<std::pair<double, double>> compression_curve; ///< empty when no codec.
+  /// The stability suite's results (hapticbox report --stability), or null: the stability
+  /// section of report.html and "stability" in summary.json (report/stability_section.h).
+  std::shared_ptr<const StabilityReport> stability;
   ReportOptions options;
   double compute_seconds = 0.0;
   int ranks = 1;                         ///< ranks that shared the computation.

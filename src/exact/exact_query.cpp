@@ -14,7 +14,7 @@ Contact ExactQuery::query(const Segment& segment, const ForceLaw& law) const noe
   c.depth = length - hit.t;
   c.point = segment.start + hit.t * dir;
   c.normal = hit.normal;
-  apply_force_law(c, law);
+  apply_force_law(c, law, dir);
   return c;
 }
 

@@ -15,6 +15,17 @@ struct SourceInfo {
   float diagonal = 0.f;           ///< bounding-box diagonal of the whole mesh, model units.
 };
 
+/// What a refining scene does with a blended answer its exact refinement cannot confirm
+/// (the refinement finds no triangle of the box's samples near the blended surface).
+enum class UnconfirmedBlend : std::uint8_t {
+  /// Never answers with it: the next box's confirmed contact along the segment answers
+  /// instead, or none. No force where no triangle is (the default; docs/stability.md).
+  reject,
+  /// The answer of the first refining scenes: the blend nearest the handle wins and keeps its
+  /// blended answer when refinement fails (ghost surfaces up to 1 mm from any triangle).
+  keep,
+};
+
 /// A scene of haptic boxes, one per piece. A query culls by PBB and the valid contact
 /// nearest the handle wins, so its cost grows with the boxes the segment meets.
 /// Culling: the segment is tested against the axis-aligned bounds of every PBB in one flat
@@ -61,6 +72,12 @@ public:
   /// hb::InvalidInput when a box is already compressed or the options are out of range.
   BoxScene compressed(const CodecOptions& options) const;
 
+  /// Policy for unconfirmed blends of refining boxes (no effect without refinement).
+  void set_unconfirmed_blend(UnconfirmedBlend policy) noexcept { unconfirmed_ = policy; }
+  UnconfirmedBlend unconfirmed_blend() const noexcept { return unconfirmed_; }
+  /// Whether any box refines (HapticBox::refines).
+  bool refines() const noexcept;
+
   const std::vector<HapticBox>& boxes() const { return boxes_; }
   const SourceInfo& source() const { return source_; }
   /// The piece (box index) of each triangle of the source mesh before the seams were shared,
@@ -85,6 +102,7 @@ private:
   std::vector<HapticBox> boxes_;
   SourceInfo source_;
   std::vector<std::uint32_t> piece_of_triangle_;
+  UnconfirmedBlend unconfirmed_ = UnconfirmedBlend::reject;
   // Axis-aligned bounds of each PBB, structure of arrays: lo x, y, z then hi x, y, z.
   std::vector<float> bounds_[6];
   std::shared_ptr<const SceneGrid> grid_;

@@ -2,15 +2,48 @@
 // The answer to a probe query, shared by the exact reference and the haptic box so that a
 // comparison isolates the approximation.
 #include "geometry/segment.h"
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 
 namespace hb {
 
-/// Hooke's law (paper eq. 2): F = k (d - t0) n, with the depth converted to metres.
+/// Which depth the spring of the force law compresses.
+enum class DepthLaw : std::uint8_t {
+  /// The depth d - t0 projected on the normal: F = k (d - t0) (-l . n) n. The wall feels k
+  /// whatever the stylus tilt (the default; docs/stability.md, test T5).
+  normal,
+  /// The paper's eq. 2, depth along the segment: F = k (d - t0) n. A stylus tilted by theta
+  /// from the normal feels k / cos(theta): 2 k at 60 degrees, 3.9 k at 75.
+  along_segment,
+};
+
+/// Hooke's law (paper eq. 2): F = k (d - t0) n, with the depth converted to metres, the depth
+/// projected on the normal by default (DepthLaw).
 struct ForceLaw {
   float stiffness_n_per_m = 500.f;   ///< k in N/m, > 0.
   float metres_per_unit = 0.001f;    ///< model units to metres (default: models in mm).
+  DepthLaw depth = DepthLaw::normal;
 };
+
+/// Largest normal stiffness the law can make a wall feel for a stylus tilted up to
+/// `max_tilt_degrees` from the normal, as a multiple of k: 1 for DepthLaw::normal,
+/// 1 / cos(max tilt) along the segment (the servo's stiffness limit uses it).
+inline float felt_stiffness_factor(const ForceLaw& law, float max_tilt_degrees = 75.f) noexcept {
+  if (law.depth == DepthLaw::normal) return 1.f;
+  const float c = std::cos(std::min(std::max(max_tilt_degrees, 0.f), 89.f) * 3.14159265f / 180.f);
+  return 1.f / c;
+}
+
+/// The factor the force law applies to k (d - t0) n for unit direction l and unit normal n:
+/// max(0, -l . n) for DepthLaw::normal, 1 along the segment. (Sums in a fixed order, so the
+/// batched query's lanes give the same bits.)
+inline float depth_law_scale(const ForceLaw& law, float lx, float ly, float lz, const Vec3& n) noexcept {
+  if (law.depth == DepthLaw::along_segment) return 1.f;
+  const float c = -(lx * n.x() + ly * n.y() + lz * n.z());
+  return c > 0.f ? c : 0.f;
+}
 
 /// Contact definition (paper Figure 7), the same for every method: walking the line of the
 /// segment from outside the object towards the tip, the first surface met must lie on the
@@ -39,10 +72,17 @@ public:
   }
 };
 
-/// Fills `c.force` from `c.depth` and `c.normal`.
+/// Fills `c.force` from `c.depth` and `c.normal`, the depth along the segment (eq. 2 as
+/// printed, whatever law.depth says); the force law proper is the overload with l.
 inline void apply_force_law(Contact& c, const ForceLaw& law) noexcept {
   c.force = c.contact ? Vec3(c.normal * (law.stiffness_n_per_m * c.depth * law.metres_per_unit))
                       : Vec3(Vec3::Zero());
+}
+
+/// Fills `c.force` by the law for a segment of unit direction `l` (handle -> tip).
+inline void apply_force_law(Contact& c, const ForceLaw& law, const Vec3& l) noexcept {
+  apply_force_law(c, law);
+  if (c.contact && law.depth == DepthLaw::normal) c.force *= depth_law_scale(law, l.x(), l.y(), l.z(), c.normal);
 }
 
 } // namespace hb

@@ -444,15 +444,15 @@ Vec3 HapticBox::sample_direction(int face, int sub, int sface, int a, int b) con
 }
 
 bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact& out,
-                           float& distance_from_handle, Refine refine_hit) const noexcept {
+                           float& distance_from_handle, Refine refine_hit, bool* refined) const noexcept {
   switch (samples_.codec()) {
   case CodecId::block:
-    return query_with(CodecFetch<BlockTable>{samples_.block()}, segment, law, out, distance_from_handle, refine_hit);
+    return query_with(CodecFetch<BlockTable>{samples_.block()}, segment, law, out, distance_from_handle, refine_hit, refined);
   case CodecId::haar:
-    return query_with(CodecFetch<HaarTable>{samples_.haar()}, segment, law, out, distance_from_handle, refine_hit);
+    return query_with(CodecFetch<HaarTable>{samples_.haar()}, segment, law, out, distance_from_handle, refine_hit, refined);
   default:
     return query_with(RawFetch{table_, std::size_t(params_.n), params_.samples_per_position()}, segment, law, out,
-                      distance_from_handle, refine_hit);
+                      distance_from_handle, refine_hit, refined);
   }
 }
 
@@ -575,7 +575,8 @@ bool HapticBox::locate(const Fetch& fetch, const Segment& segment, Located<Fetch
 
 template <class Fetch>
 bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceLaw& law, Contact& out,
-                       float& distance_from_handle, Refine refine_hit) const noexcept {
+                       float& distance_from_handle, Refine refine_hit, bool* refined) const noexcept {
+  if (refined) *refined = false;
   const float sx = q.sx, sy = q.sy, sz = q.sz, lx = q.lx, ly = q.ly, lz = q.lz;
   const float t_enter = q.t_enter, d = q.d, d1 = q.d1, d2 = q.d2;
   const int face = q.face, i0 = q.i0, j0 = q.j0, a0 = q.a0, b0 = q.b0;
@@ -652,6 +653,7 @@ bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceL
       t0 = refined_t;
       nx = refined_normal.x(), ny = refined_normal.y(), nz = refined_normal.z();
       contact = in_contact(t0, nx, ny, nz);
+      if (refined) *refined = true;
     }
   }
   if (!contact) return false;
@@ -661,18 +663,20 @@ bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceL
   out.point = Vec3(sx + along * lx, sy + along * ly, sz + along * lz);
   out.normal = Vec3(nx, ny, nz);
   apply_force_law(out, law);
+  if (law.depth == DepthLaw::normal) out.force *= depth_law_scale(law, lx, ly, lz, out.normal);
   distance_from_handle = along;
   return true;
 }
 
 template <class Fetch>
 bool HapticBox::query_with(const Fetch& fetch, const Segment& segment, const ForceLaw& law, Contact& out,
-                           float& distance_from_handle, Refine refine) const noexcept {
+                           float& distance_from_handle, Refine refine, bool* refined) const noexcept {
   out = Contact{};
+  if (refined) *refined = false;
   Located<Fetch> q;
   if (!locate(fetch, segment, q)) return false;
   for (typename Fetch::Corner& c : q.corners) fetch.resolve(c);
-  return finish(fetch, q, law, out, distance_from_handle, refine);
+  return finish(fetch, q, law, out, distance_from_handle, refine, refined);
 }
 
 // Batches: the geometry and the fetches of a group of queries start before any blend, so

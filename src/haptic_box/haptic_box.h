@@ -84,8 +84,10 @@ public:
   /// segment (for scenes: the contact nearest the handle wins). Returns false and leaves
   /// `out.contact` false when there is no contact. `refine` limits the exact
   /// refinement (for callers that need only whether and roughly where a surface is).
+  /// `refined`, when given, is set to whether the answer came from the exact triangles
+  /// (false: the blended samples alone, unconfirmed by refinement).
   bool query_into(const Segment& segment, const ForceLaw& law, Contact& out,
-                  float& distance_from_handle, Refine refine = Refine::all) const noexcept;
+                  float& distance_from_handle, Refine refine = Refine::all, bool* refined = nullptr) const noexcept;
 
   const Obb& obb() const { return obb_; }
   const BoxParams& params() const { return params_; }
@@ -128,7 +130,7 @@ private:
   bool locate(const Fetch& fetch, const Segment& segment, Located<Fetch>& q) const noexcept;
   template <class Fetch>
   bool finish(const Fetch& fetch, const Located<Fetch>& q, const ForceLaw& law, Contact& out,
-              float& distance_from_handle, Refine refine) const noexcept;
+              float& distance_from_handle, Refine refine, bool* refined = nullptr) const noexcept;
   template <class Fetch>
   void query_many_with(const Fetch& fetch, const Segment* segments, std::size_t count, const ForceLaw& law,
                        Contact* out) const noexcept;
@@ -139,7 +141,7 @@ private:
               float& t0, Vec3& normal) const noexcept;
   template <class Fetch>
   bool query_with(const Fetch& fetch, const Segment& segment, const ForceLaw& law, Contact& out,
-                  float& distance_from_handle, Refine refine) const noexcept;
+                  float& distance_from_handle, Refine refine, bool* refined = nullptr) const noexcept;
 
   // Per face: world position of position point (0, 0) and the steps to (1, 0) and (0, 1).
   struct FaceFrame {

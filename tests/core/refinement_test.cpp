@@ -211,8 +211,12 @@ TEST_F(RefinedBoxFileTest, CorruptTriangleIdsAreCaughtByVerifyAndNeverReadOutOfB
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("triangle ids"), std::string::npos) << e.what();
   }
-  // Lazily opened, the corrupt ids are bounds-checked: queries fall back to the blend.
-  const BoxScene lazy = load_box_file(bad_path);
+  // Lazily opened, the corrupt ids are bounds-checked: no refinement confirms anything, so the
+  // default scene (UnconfirmedBlend::reject) answers no contact, and with `keep` queries fall
+  // back to the blend.
+  BoxScene lazy = load_box_file(bad_path);
+  for (const Segment& s : sample_probes(bumpy_mesh(), 50)) EXPECT_FALSE(lazy.query(s, kLaw).contact);
+  lazy.set_unconfirmed_blend(UnconfirmedBlend::keep);
   const HapticBox blended_box(box.obb(), box.params(), std::vector<Sample>(box.table(), box.table() + box.params().sample_count()));
   for (const Segment& s : sample_probes(bumpy_mesh(), 300)) {
     const Contact a = lazy.query(s, kLaw), b = blended_box.query(s, kLaw);

@@ -83,6 +83,7 @@ TEST(SafetyTest, RampsInAtStart) {
 
 TEST(SafetyTest, RampsInAgainAfterFault) {
   SafetyOptions o = no_ramp_no_rate();
+  o.fault_response = FaultResponse::zero_and_ramp;
   o.ramp_seconds = 0.004f;  // 4 ticks
   SafetyFilter f(spec8(), o, 1e-3);
   for (int i = 0; i < 10; ++i) f.apply(force(2, 0, 0));
@@ -106,6 +107,7 @@ TEST(SafetyTest, LimitsRateOfChange) {
 
 TEST(SafetyTest, WatchdogZeroesForceWhenLate) {
   SafetyOptions o = no_ramp_no_rate();
+  o.fault_response = FaultResponse::zero_and_ramp;
   o.watchdog_bound_s = 0.002;
   SafetyFilter f(spec8(), o, 1e-3);
   SafetyInput in = force(1, 0, 0);
@@ -152,4 +154,29 @@ TEST(SafetyTest, OutputIsAlwaysFiniteAndBounded) {
     ASSERT_TRUE(out.allFinite());
     ASSERT_LE(out.norm(), 8.f + 1e-4f);
   }
+}
+
+TEST(SafetyTest, LateTickHoldsTheForceAndRampsFromIt) {
+  SafetyOptions o = no_ramp_no_rate();
+  o.ramp_seconds = 0.008f;  // 8 ticks: the ceiling grows by 8 N / 8 = 1 N a tick
+  SafetyFilter f(spec8(), o, 1e-3);
+  for (int i = 0; i < 20; ++i) f.apply(force(2, 0, 0));
+  SafetyInput late = force(3.5f, 0, 0);  // the probe sank during the stall: a larger force
+  late.lateness_s = 0.005;
+  EXPECT_NEAR(f.apply(late).x(), 2.f, 1e-5f);  // held, not zero, not re-stiffened
+  EXPECT_TRUE(has(f, SafetyEvent::watchdog));
+  EXPECT_NEAR(f.apply(force(3.5f, 0, 0)).x(), 3.f, 1e-5f);  // ramps from the held force
+  EXPECT_NEAR(f.apply(force(3.5f, 0, 0)).x(), 3.5f, 1e-5f);
+  EXPECT_NEAR(f.apply(force(1, 0, 0)).x(), 1.f, 1e-5f);     // a smaller force passes at once
+}
+
+TEST(SafetyTest, DeviceFaultHoldsTheForceByDefault) {
+  SafetyOptions o = no_ramp_no_rate();
+  o.ramp_seconds = 0.5f;
+  SafetyFilter f(spec8(), o, 1e-3);
+  for (int i = 0; i < 600; ++i) f.apply(force(1.5f, 0, 0));
+  SafetyInput fault = force(1.5f, 0, 0);
+  fault.device_fault = true;
+  EXPECT_NEAR(f.apply(fault).x(), 1.5f, 1e-5f);
+  EXPECT_TRUE(has(f, SafetyEvent::device_fault));
 }

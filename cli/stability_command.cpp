@@ -1,0 +1,163 @@
+// hapticbox stability BOX MESH [--json] [--device falcon|touch] [--tests T1,...] ...
+// The trajectory stability suite (src/evaluation/stability_suite.h) with the servo's own
+// force path (hb::device: energy guard and safety) as the filter of T6 and T8.
+#include "cli_support.h"
+#include "commands.h"
+#include "device/safety_tick_filter.h"
+#include "evaluation/stability_suite.h"
+#include "haptic_box/box_file.h"
+#include "mesh/mesh_io.h"
+#include "stability_json.h"
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+namespace {
+
+std::string figure(double v) {
+  if (std::isnan(v)) return "-";
+  char b[32];
+  if (v != 0 && (std::fabs(v) < 1e-3 || std::fabs(v) >= 1e5)) std::snprintf(b, sizeof b, "%.3g", v);
+  else std::snprintf(b, sizeof b, "%.4f", v);
+  return b;
+}
+
+const char* rule_text(hb::StabilityRule r) {
+  switch (r) {
+    case hb::StabilityRule::at_most: return "<=";
+    case hb::StabilityRule::at_least: return ">=";
+    case hb::StabilityRule::within: return "=";
+    case hb::StabilityRule::difference_at_most: return "diff <=";
+    case hb::StabilityRule::info: return "";
+  }
+  return "?";
+}
+
+void print_table(const std::vector<hb::StabilityMetric>& ms) {
+  std::printf("  %-5s %-28s %-72s %10s %10s %10s %14s  %s\n", "test", "scene", "metric", "box", "exact", "diff",
+              "threshold", "verdict");
+  for (const auto& m : ms) {
+    std::string thr = m.rule == hb::StabilityRule::info ? "-" : std::string(rule_text(m.rule)) + " " + figure(m.threshold);
+    if (m.rule == hb::StabilityRule::within) thr += " +- " + figure(m.tolerance);
+    std::string name = m.metric + (m.unit.empty() ? "" : " [" + m.unit + "]");
+    std::printf("  %-5s %-28s %-72s %10s %10s %10s %14s  %s\n", m.test.c_str(), m.scene.c_str(), name.c_str(),
+                figure(m.box).c_str(), figure(m.exact).c_str(),
+                std::isnan(m.exact) ? "-" : figure(m.difference()).c_str(), thr.c_str(), m.verdict.c_str());
+  }
+}
+
+hb::TickFilterFactory safety_filter(const hb::DeviceProfile& device, hb::FaultResponse response, bool guard_on) {
+  hb::SafetyOptions safety;
+  safety.fault_response = response;
+  hb::EnergyGuardOptions guard;
+  guard.enabled = guard_on;
+  const hb::DeviceSpec spec = hb::device_spec_of(device);
+  const double dt = device.period_s;
+  return [spec, safety, guard, dt] {
+    return std::unique_ptr<hb::TickFilter>(new hb::SafetyTickFilter(spec, safety, guard, dt));
+  };
+}
+
+} // namespace
+
+hb::StabilityReport hb::cli::default_stability(const hb::BoxScene& scene, const hb::TriangleMesh& mesh,
+                                               const std::string& model_name, std::size_t sites) {
+  hb::StabilityOptions so;
+  so.sites = sites;
+  so.generated_refine = scene.refines();
+  so.model_name = model_name;
+  so.filter = safety_filter(so.device, hb::FaultResponse::hold_and_ramp, false);
+  so.filter_name = "safety hold-and-ramp";
+  return hb::run_stability_suite(scene, mesh, so);
+}
+
+void add_stability_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("stability",
+                                 "Trajectory stability suite: box and exact side by side (calibration gate, T1-T8)");
+  struct Opts {
+    std::string box, mesh, device = "falcon", tests, safety = "hold", depth = "normal", unconfirmed = "reject";
+    std::size_t sites = 12;
+    std::uint64_t seed = 1;
+    bool json = false, no_generated = false, energy_guard = false, strict = false;
+  };
+  auto o = std::make_shared<Opts>();
+  cmd->add_option("BOX", o->box, "Box file (.hbox)")->required();
+  cmd->add_option("MESH", o->mesh, "The mesh the box was baked from")->required();
+  cmd->add_option("--device", o->device, "Device profile: falcon (8 N, 3000 N/m) or touch (3.3 N, 400 N/m)")
+      ->check(CLI::IsMember({"falcon", "touch"}))
+      ->capture_default_str();
+  cmd->add_option("--tests", o->tests, "Comma-separated tests to run (T1..T8; default all)");
+  cmd->add_option("--sites", o->sites, "Trajectories per test on the model")
+      ->check(CLI::Range(std::size_t(1), std::size_t(1000)))
+      ->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Site seed")->capture_default_str();
+  cmd->add_option("--safety", o->safety,
+                  "The servo's fault response in T6/T8: hold (hold and ramp from the held force), zero (the old "
+                  "zero-and-ramp), none (no safety filter)")
+      ->check(CLI::IsMember({"hold", "zero", "none"}))
+      ->capture_default_str();
+  cmd->add_flag("--energy-guard", o->energy_guard, "Switch the passivity observer / controller on in T6/T8");
+  cmd->add_option("--depth-law", o->depth, "Force law depth: normal (default) or along (the paper's eq. 2)")
+      ->check(CLI::IsMember({"normal", "along"}))
+      ->capture_default_str();
+  cmd->add_option("--unconfirmed", o->unconfirmed,
+                  "Refined scenes' unconfirmed blends: reject (default) or keep (the first refined scenes)")
+      ->check(CLI::IsMember({"reject", "keep"}))
+      ->capture_default_str();
+  cmd->add_flag("--no-generated", o->no_generated, "Skip the generated walls, plates and grooves");
+  cmd->add_flag("--strict", o->strict, "Exit 1 when a test fails because of the box (not the law)");
+  cmd->add_flag("--json", o->json, "Print JSON");
+  cmd->callback([o] {
+    hb::BoxScene scene = hb::load_box_file(o->box);
+    const hb::TriangleMesh mesh = hb::cli::load_mesh(o->mesh);
+    if (scene.source().mesh_hash != 0 && scene.source().mesh_hash != hb::hash_file(o->mesh))
+      std::cerr << "hapticbox: warning: " << o->box << " was baked from a different file than " << o->mesh << "\n";
+    scene.set_unconfirmed_blend(o->unconfirmed == "keep" ? hb::UnconfirmedBlend::keep : hb::UnconfirmedBlend::reject);
+    hb::StabilityOptions so;
+    so.device = hb::device_profile(o->device);
+    so.sites = o->sites;
+    so.seed = o->seed;
+    so.depth_law = o->depth == "along" ? hb::DepthLaw::along_segment : hb::DepthLaw::normal;
+    so.generated = !o->no_generated;
+    so.generated_refine = scene.refines();
+    so.model_name = o->mesh.substr(o->mesh.find_last_of('/') + 1);
+    for (std::size_t a = 0; a < o->tests.size();) {
+      const std::size_t b = std::min(o->tests.find(',', a), o->tests.size());
+      if (b > a) so.tests.push_back(o->tests.substr(a, b - a));
+      a = b + 1;
+    }
+    for (const auto& t : so.tests)
+      if (t.size() != 2 || t[0] != 'T' || t[1] < '1' || t[1] > '8')
+        throw hb::cli::UsageError("--tests: '" + t + "' is not a test (T1 .. T8)");
+    if (o->safety != "none") {
+      so.filter = safety_filter(
+          so.device, o->safety == "zero" ? hb::FaultResponse::zero_and_ramp : hb::FaultResponse::hold_and_ramp,
+          o->energy_guard);
+      so.filter_name = std::string("safety ") + (o->safety == "zero" ? "zero-and-ramp" : "hold-and-ramp") +
+                       (o->energy_guard ? " + energy guard" : "");
+    } else if (o->energy_guard) {
+      throw hb::cli::UsageError("--energy-guard needs the safety filter (--safety hold or zero)");
+    }
+    const hb::StabilityReport rep = hb::run_stability_suite(scene, mesh, so);
+    bool box_failed = false;
+    for (const auto& m : rep.metrics) box_failed |= !m.pass && m.exact_pass;
+    if (o->json) {
+      nlohmann::json j = hb::stability_json(rep);
+      j["box"] = o->box;
+      j["mesh"] = o->mesh;
+      j["unconfirmed"] = o->unconfirmed;
+      hb::cli::print_json(j);
+    } else {
+      std::printf("stability %s vs %s: device %s, depth law %s, unconfirmed blends %s, T6/T8 filter: %s\n",
+                  o->box.c_str(), o->mesh.c_str(), rep.device.c_str(), rep.depth_law.c_str(),
+                  o->unconfirmed.c_str(), rep.filter.c_str());
+      std::printf("calibration gate: %s\n", rep.calibration_pass ? "pass" : "FAIL (the harness is wrong)");
+      print_table(rep.calibration);
+      std::printf("tests: %zu pass, %zu fail (%zu of them exact fails too: the law, not the box), %.1f s\n",
+                  rep.passed, rep.failed, rep.failed_law, rep.seconds);
+      print_table(rep.metrics);
+    }
+    if (!rep.calibration_pass) throw std::runtime_error("stability: the calibration gate failed");
+    if (o->strict && box_failed) throw std::runtime_error("stability: a test failed because of the box (--strict)");
+  });
+}

@@ -1,0 +1,152 @@
+#pragma once
+// Hardware-free trajectories: a simulated device (1 kHz zero-order hold, optional one-tick
+// delay, mass, damping, position quantum, force saturation) with an optional hand model,
+// driving any ContactQuery (the box, exact Embree, an analytic wall) in device space.
+// The protocol and its reference figures: docs/stability.md.
+#include "haptic_box/contact.h"
+#include <Eigen/Core>
+#include <limits>
+#include <memory>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace hb {
+
+using Vec3d = Eigen::Vector3d;
+
+/// A simulated haptic device. SI units.
+struct DeviceProfile {
+  std::string name = "falcon";
+  double period_s = 1e-3;          ///< servo period T (zero-order hold), s, > 0.
+  int delay_ticks = 0;             ///< transport delay: force computed at tick k is applied at k + delay.
+  double mass_kg = 0.1;            ///< moving mass of the device, kg, > 0.
+  double damping_n_s_per_m = 0.0;  ///< physical damping b, N s/m, >= 0.
+  double quantum_m = 0.0;          ///< encoder position quantum per axis, m (0: none).
+  double max_force_n = 8.0;        ///< saturation, N.
+  double max_stiffness_n_per_m = 3000.0;  ///< the vendor's stable stiffness at 1 kHz, N/m.
+  /// Damping at the passivity bound for stiffness k: b = k T / 2 (Colgate and Brown 1994).
+  double passivity_damping(double k) const { return 0.5 * k * period_s; }
+};
+
+/// Novint Falcon: 8 N, 3000 N/m. Touch: 3.3 N, 400 N/m.
+DeviceProfile falcon_profile();
+DeviceProfile touch_profile();
+/// "falcon" or "touch"; throws hb::InvalidInput naming the value otherwise.
+DeviceProfile device_profile(const std::string& name);
+
+/// A hand holding the handle: a mass-spring-damper pulled toward a set-point (Hulin et al.).
+struct HandModel {
+  std::string name = "none";
+  double mass_kg = 0.0, damping_n_s_per_m = 0.0, stiffness_n_per_m = 0.0;
+  bool present() const { return mass_kg > 0 || damping_n_s_per_m > 0 || stiffness_n_per_m > 0; }
+};
+HandModel no_hand();
+HandModel light_grip();  ///< 0.1 kg, 2 N s/m, 50 N/m: the least stabilising grip.
+HandModel arm_hand();    ///< 0.554 kg, 6.45 N s/m, 135 N/m.
+
+/// Model units to device metres: device = (model - origin) * metres_per_unit.
+struct DeviceSpaceMap {
+  Vec3 model_origin{Vec3::Zero()};
+  double metres_per_unit = 0.001;
+  Vec3 to_model(const Vec3d& device_m) const {
+    return model_origin + (device_m / metres_per_unit).cast<float>();
+  }
+  Vec3d to_device(const Vec3& model) const { return ((model - model_origin).cast<double>()) * metres_per_unit; }
+};
+
+/// The map that puts the mesh's OBB diagonal at `diagonal_m` (80 mm: a Falcon's workspace).
+struct TriangleMesh;
+DeviceSpaceMap fit_device_space(const TriangleMesh& mesh, double diagonal_m = 0.08);
+
+/// One rendered answer in device space.
+struct Rendered {
+  bool contact = false;
+  Vec3d force{Vec3d::Zero()};   ///< N.
+  Vec3d normal{Vec3d::Zero()};  ///< unit, outward.
+  double depth_m = 0.0;         ///< along the stylus.
+  Vec3d point_m{Vec3d::Zero()}; ///< the surface point of the answer, device space.
+};
+
+/// The probe: the tip at the device position, the handle `stylus_m` behind it along `dir`
+/// (unit, handle -> tip). `law.metres_per_unit` must equal map.metres_per_unit.
+Rendered render(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map, const Vec3d& tip_m,
+                const Vec3d& dir, double stylus_m);
+
+/// A flat analytic wall (plane through `point`, outward `normal`), answering segments with
+/// the project's contact definition: the calibration reference of the suite.
+class AnalyticWall final : public ContactQuery {
+public:
+  AnalyticWall(const Vec3& point, const Vec3& normal) : point_(point), normal_(normal.normalized()) {}
+  Contact query(const Segment& segment, const ForceLaw& law) const noexcept override;
+
+private:
+  Vec3 point_, normal_;
+};
+
+/// A filter between the force law and the device (the servo's safety, an energy guard),
+/// called once per tick. Implemented in the device layer (hb::device) over SafetyFilter.
+class TickFilter {
+public:
+  virtual ~TickFilter() = default;
+  /// desired: the force law's answer; lateness: how late this tick is (a stall), s.
+  virtual Vec3d apply(const Vec3d& desired_n, const Vec3d& position_m, const Vec3d& velocity_m_per_s,
+                      double lateness_s) noexcept = 0;
+};
+using TickFilterFactory = std::function<std::unique_ptr<TickFilter>()>;
+
+/// A servo stall: no tick runs for `ticks` periods from tick `at` on (the device holds the last
+/// force); the next tick is late by that much.
+struct Stall {
+  std::size_t at = 0;
+  std::size_t ticks = 0;
+};
+
+/// A closed-loop run: the device (and hand) integrated with RK4 at T / substeps while the
+/// force is held per tick.
+struct ClosedLoopRun {
+  DeviceProfile device;
+  HandModel hand;
+  Vec3d start_m{Vec3d::Zero()};
+  Vec3d start_velocity{Vec3d::Zero()};
+  /// The hand's set-point at time t (ignored without a hand).
+  std::function<Vec3d(double)> set_point;
+  double hand_release_s = std::numeric_limits<double>::infinity();  ///< the hand lets go.
+  double seconds = 1.0;
+  Vec3d stylus_dir{0, 0, -1};  ///< unit, handle -> tip.
+  double stylus_m = 0.008;
+  std::vector<Stall> stalls;
+  TickFilter* filter = nullptr;  ///< not owned; nullptr: the force law straight to the device.
+  int substeps = 100;
+  /// Stop at the first tick out of contact after `stop_after_contact_ticks` ticks of contact
+  /// (0: never stop early): free bounces end when the tip leaves.
+  std::size_t stop_after_contact_ticks = 0;
+};
+
+/// One tick of a run: state at the tick (sampled position), the force applied over the tick.
+struct TickRecord {
+  double t = 0;
+  Vec3d x{Vec3d::Zero()}, v{Vec3d::Zero()};
+  Vec3d force{Vec3d::Zero()};    ///< applied (after delay, filter and saturation), N.
+  Vec3d desired{Vec3d::Zero()};  ///< the force law's answer this tick, N.
+  Vec3d normal{Vec3d::Zero()};
+  bool contact = false;
+  bool stalled = false;          ///< no tick ran: the device held the last force.
+};
+
+/// Runs a closed loop on `query`. Deterministic. Throws hb::InvalidInput on bad options.
+std::vector<TickRecord> run_closed_loop(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map,
+                                        const ClosedLoopRun& run);
+
+/// Prescribed motion: the probe at each tip position in turn (one per tick), fixed stylus.
+/// Work and velocity fields follow the positions (v from finite differences).
+std::vector<TickRecord> play_positions(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map,
+                                       const std::vector<Vec3d>& tips_m, const Vec3d& stylus_dir, double stylus_m,
+                                       double period_s);
+
+/// Passivity-equivalent stiffness of a prescribed run: K_eff = W_net / ((T/2) sum_contact |v|^2 T),
+/// W_net = sum F_k . (x_{k+1} - x_k) the work of the held force on the probe (N/m). For an
+/// exact wall K_eff is about k (0.976-1.000).
+double passivity_equivalent_stiffness(const std::vector<TickRecord>& ticks, double period_s);
+
+} // namespace hb
