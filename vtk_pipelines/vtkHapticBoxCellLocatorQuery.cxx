@@ -60,6 +60,6 @@ hb::Contact vtkHapticBoxCellLocatorQuery::query(const hb::Segment& segment, cons
   c.depth = length * float(1.0 - t);
   c.point = hb::Vec3(float(x[0]), float(x[1]), float(x[2]));
   c.normal = n;
-  hb::apply_force_law(c, law);
+  hb::apply_force_law(c, law, dir);
   return c;
 }
