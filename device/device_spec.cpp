@@ -21,16 +21,20 @@ std::string device_spec_problem(const DeviceSpec& s) {
   const auto outside = [](float v, double lo, double hi, bool lo_open) {
     return !(std::isfinite(v) && (lo_open ? v > lo : v >= lo) && v <= hi);
   };
-  if (outside(s.workspace_radius_m, 0.0, kMaxWorkspaceRadiusM, true))
-    return "workspace radius " + show(s.workspace_radius_m) + " m is outside (0, " + show(kMaxWorkspaceRadiusM) + "]";
-  if (outside(s.max_force_n, 0.0, kMaxDeviceForceN, true))
-    return "maximum force " + show(s.max_force_n) + " N is outside (0, " + show(kMaxDeviceForceN) + "]";
+  // Lower bounds too (found by fuzzing): a 1e-40 m workspace maps the model at an infinite
+  // scale, a 1e-30 N maximum is a silent zero force.
+  if (outside(s.workspace_radius_m, kMinWorkspaceRadiusM, kMaxWorkspaceRadiusM, false))
+    return "workspace radius " + show(s.workspace_radius_m) + " m is outside [" + show(kMinWorkspaceRadiusM) + ", " +
+           show(kMaxWorkspaceRadiusM) + "]";
+  if (outside(s.max_force_n, kMinDeviceForceN, kMaxDeviceForceN, false))
+    return "maximum force " + show(s.max_force_n) + " N is outside [" + show(kMinDeviceForceN) + ", " +
+           show(kMaxDeviceForceN) + "]";
   if (outside(s.max_continuous_force_n, 0.0, s.max_force_n, true))
     return "maximum continuous force " + show(s.max_continuous_force_n) + " N is outside (0, maximum force " +
            show(s.max_force_n) + "]";
-  if (outside(s.max_stiffness_n_per_m, 0.0, kMaxDeviceStiffnessNPerM, true))
-    return "maximum stiffness " + show(s.max_stiffness_n_per_m) + " N/m is outside (0, " +
-           show(kMaxDeviceStiffnessNPerM) + "]";
+  if (outside(s.max_stiffness_n_per_m, kMinDeviceStiffnessNPerM, kMaxDeviceStiffnessNPerM, false))
+    return "maximum stiffness " + show(s.max_stiffness_n_per_m) + " N/m is outside [" +
+           show(kMinDeviceStiffnessNPerM) + ", " + show(kMaxDeviceStiffnessNPerM) + "]";
   if (outside(s.max_damping_n_s_per_m, 0.0, kMaxDeviceDampingNsPerM, false))
     return "maximum damping " + show(s.max_damping_n_s_per_m) + " N s/m is outside [0, " +
            show(kMaxDeviceDampingNsPerM) + "]";

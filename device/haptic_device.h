@@ -21,7 +21,10 @@ struct DeviceSpec {
 
 /// Bounds no haptic device exceeds (desktop devices: 0.04-0.2 m, 3-40 N, up to a few
 /// thousand N/m; large industrial arms stay well inside these). A spec outside them is corrupt.
+constexpr double kMinWorkspaceRadiusM = 1e-3;
 constexpr double kMaxWorkspaceRadiusM = 2.0;
+constexpr double kMinDeviceForceN = 0.01;
+constexpr double kMinDeviceStiffnessNPerM = 1.0;
 constexpr double kMaxDeviceForceN = 500.0;
 constexpr double kMaxDeviceStiffnessNPerM = 1e5;
 constexpr double kMaxDeviceDampingNsPerM = 1e4;
@@ -30,8 +33,8 @@ constexpr double kMinServoRateHz = 1.0;
 constexpr double kMaxServoRateHz = 20000.0;
 
 /// Why `spec` describes no possible device, or an empty string when it is plausible: every
-/// value finite; workspace radius in (0, 2] m; maximum force in (0, 500] N; continuous force
-/// in (0, maximum force]; maximum stiffness in (0, 1e5] N/m; damping in [0, 1e4] N s/m.
+/// value finite; workspace radius in [1e-3, 2] m; maximum force in [0.01, 500] N; continuous
+/// force in (0, maximum force]; maximum stiffness in [1, 1e5] N/m; damping in [0, 1e4] N s/m.
 std::string device_spec_problem(const DeviceSpec& spec);
 
 /// One sample of device state. `position_m` is in the device frame (origin at the workspace

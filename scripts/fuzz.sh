@@ -15,6 +15,7 @@ targets=("$@")
 [ -x build-asan/tests/fuzz/fuzz_box ] || bash scripts/build_sanitized.sh
 mkdir -p build-asan/fuzz-artifacts
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=0}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/scripts/lsan_suppressions.txt}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 status=0
 summary=""

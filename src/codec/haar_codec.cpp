@@ -92,7 +92,7 @@ ChannelCode quantise_channel(const std::vector<double>& coeffs, const std::vecto
     if (ok) {
       code.exponent = s;
       std::uint64_t zmax = 0;
-      for (auto c : code.q) zmax = std::max(zmax, std::uint64_t((c << 1) ^ (c >> 63)));
+      for (auto c : code.q) zmax = std::max(zmax, (std::uint64_t(c) << 1) ^ std::uint64_t(c >> 63));
       code.k = bits_for(zmax);
       if (code.k > 31) throw InvalidInput("haar codec: coefficient range too wide for the error bound");
       return code;
@@ -109,7 +109,7 @@ void write_channel(std::vector<std::uint8_t>& out, const ChannelCode& code, int 
     if (code.q[i] != 0) out[at + i / 8] |= std::uint8_t(1u << (i % 8));
   BitWriter w(out);
   for (auto c : code.q)
-    if (c != 0) w.put(std::uint64_t((c << 1) ^ (c >> 63)), code.k);
+    if (c != 0) w.put((std::uint64_t(c) << 1) ^ std::uint64_t(c >> 63), code.k);
 }
 
 bool encode_tile(const Sample* tile, int n, int N, float t_step, float n_step, std::vector<std::uint8_t>& out) {

@@ -437,7 +437,11 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
     if (e.ids_bytes > 0) {
       const std::size_t samples = e.params.sample_count();
       const TriangleIds ids{data + e.ids_offset, int(e.ids_bytes / samples), e.ids_base};
-      boxes.back().attach_surface(ids, samples, keep, surface, options.verify);
+      try {
+        boxes.back().attach_surface(ids, samples, keep, surface, options.verify);
+      } catch (const InvalidInput& err) {  // found by fuzzing: the message must name the file
+        throw InvalidInput(path + ": corrupt box file (box " + std::to_string(b) + " " + err.what() + ")");
+      }
     }
   }
   std::shared_ptr<const SceneGrid> grid;

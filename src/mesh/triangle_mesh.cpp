@@ -1,4 +1,5 @@
 #include "mesh/triangle_mesh.h"
+#include <cmath>
 
 namespace hb {
 
@@ -24,7 +25,19 @@ void TriangleMesh::compute_vertex_normals() {
   }
   for (Vec3& n : normals) {
     const float len = n.norm();
-    n = len > 0.f ? Vec3(n / len) : Vec3(0.f, 0.f, 1.f);
+    if (len > 1e-18f && len < 1e18f) {
+      n /= len;
+      continue;
+    }
+    // Tiny (squares underflow: a denormal length, a normal far from unit) or huge
+    // (squares overflow): scale by the largest component first (found by fuzzing).
+    const float largest = n.cwiseAbs().maxCoeff();
+    if (!(largest > 0.f) || !std::isfinite(largest)) {
+      n = Vec3(0.f, 0.f, 1.f);
+      continue;
+    }
+    n /= largest;
+    n /= n.norm();
   }
 }
 
