@@ -14,19 +14,5 @@ if grep -rEn '#\s*include\s*[<"](vtk|Q[A-Z]|qt|libusb)' src; then
   exit 1
 fi
 
-# Long algorithm tests (decomposition, convergence) skipped in the sanitizer run below.
-HB_ASAN_SKIP='_NOT_BUILT|AutoDecompositionTest|ErrorShrinksAsDensitiesGrow|EllipsoidDepthConvergesToExact|QuadFetchEqualsPerSampleFetchAtEveryTileSize'
-
 cd build
 xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --output-on-failure -j2 --timeout 600
-
-# Hostile input: the core and device suites under AddressSanitizer + UndefinedBehaviorSanitizer
-# (clang, build-asan/, only what they need), then each libFuzzer target briefly from its seeds
-# (scripts/fuzz.sh runs them long). A few long algorithm tests that read no file are left to
-# the plain run above.
-cd ..
-bash scripts/build_sanitized.sh
-(cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  LSAN_OPTIONS=suppressions=$PWD/../scripts/lsan_suppressions.txt \
-  ctest --output-on-failure -j2 --timeout 600 -E "${HB_ASAN_SKIP}")
-bash scripts/fuzz.sh "${HB_FUZZ_SECONDS:-20}"
