@@ -93,11 +93,13 @@ public:
     const auto u_base = get_pod<std::int16_t>(rec + 12), v_base = get_pod<std::int16_t>(rec + 14);
     const auto u_ga = std::int8_t(rec[16]), u_gb = std::int8_t(rec[17]);
     const auto v_ga = std::int8_t(rec[18]), v_gb = std::int8_t(rec[19]);
-    t = float(t_base + predict(t_ga, t_gb, la, lb) + rt) * t_step_;
+    // 64-bit sums: a corrupt record must not overflow (UBSan, found by the sanitizer suite);
+    // every sum a valid record makes is the same integer, so the same float.
+    t = float(std::int64_t(t_base) + predict(t_ga, t_gb, la, lb) + rt) * t_step_;
     // std::min / max, not fmin / fmax (library calls on x86-64): the same for these values,
     // which are never NaN or -0 (an integer times a positive step).
-    u = std::min(1.f, std::max(-1.f, float(u_base + predict(u_ga, u_gb, la, lb) + ru) * n_step_));
-    v = std::min(1.f, std::max(-1.f, float(v_base + predict(v_ga, v_gb, la, lb) + rv) * n_step_));
+    u = std::min(1.f, std::max(-1.f, float(std::int64_t(u_base) + predict(u_ga, u_gb, la, lb) + ru) * n_step_));
+    v = std::min(1.f, std::max(-1.f, float(std::int64_t(v_base) + predict(v_ga, v_gb, la, lb) + rv) * n_step_));
     return t >= 0.f;
   }
 
