@@ -1,5 +1,6 @@
 #include "cli_support.h"
 #include "evaluation/segments_csv.h"
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -9,6 +10,15 @@
 namespace hb::cli {
 namespace {
 Communicator* the_communicator = nullptr;
+}
+
+std::string lower_extension(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  const std::size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
+  std::string ext = path.substr(dot);
+  for (char& c : ext) c = char(std::tolower((unsigned char)c));
+  return ext;
 }
 
 Communicator& communicator() { return communicator_or_serial(the_communicator); }

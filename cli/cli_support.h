@@ -48,6 +48,9 @@ void print_json(const nlohmann::json& j);
 /// True when `path` names a box file (by its magic bytes, not its extension).
 bool is_box_file(const std::string& path);
 
+/// Lower-case extension of a path with its dot (".vtp"), or empty.
+std::string lower_extension(const std::string& path);
+
 } // namespace hb::cli
 
 namespace hb {

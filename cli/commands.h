@@ -15,6 +15,7 @@ void add_decompose_command(CLI::App& app);
 void add_sweep_command(CLI::App& app);
 void add_report_command(CLI::App& app);
 void add_field_command(CLI::App& app);
+void add_trajectory_command(CLI::App& app);
 void add_compress_sweep_command(CLI::App& app);
 void add_compress_command(CLI::App& app);
 void add_cache_command(CLI::App& app);

@@ -1,6 +1,7 @@
 // hapticbox decompose MESH -o PIECES.txt [--threshold T] [--max-pieces K] [--plane P ...] [--json]
 // Automatic decomposition (or a split by user planes) into pieces, written as a piece id per
-// triangle (.txt, or .ply with a face property); prints the pieces' sizes and pocket scores.
+// triangle (.txt; .ply with a face property; .vtp, VTK XML PolyData with the cell array
+// PieceId, which ParaView colours by); prints the pieces' sizes and pocket scores.
 #include "cli_support.h"
 #include "commands.h"
 #include "decomposition/auto_decomposition.h"
@@ -8,6 +9,11 @@
 #include "decomposition/plane_split.h"
 #include "decomposition/pocket_measure.h"
 #include "mesh/mesh_io.h"
+#ifdef HB_WITH_VTK
+#include "polydata_files.h"
+#include <vtkFieldData.h>
+#include <vtkPolyData.h>
+#endif
 #include <chrono>
 #include <iomanip>
 #include <iostream>
@@ -47,7 +53,7 @@ void add_decompose_command(CLI::App& app) {
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
   cmd->add_option("MESH", opts->mesh, "Input mesh")->required();
-  cmd->add_option("-o,--output", opts->out, "Piece file: .txt (one id per line) or .ply (face property 'piece')")
+  cmd->add_option("-o,--output", opts->out, "Piece file: .txt (one id per line), .ply (face property 'piece') or .vtp (cell array PieceId)")
       ->required();
   cmd->add_option("--threshold", opts->automatic.threshold, "Largest pocket probability of a piece")
       ->check(hb::cli::finite_range(0.0, 1.0))->capture_default_str();
@@ -66,6 +72,16 @@ void add_decompose_command(CLI::App& app) {
       ->check(CLI::Range(0, 10000000))->capture_default_str();
   cmd->add_flag("--json", opts->json, "Print JSON");
   cmd->callback([opts] {
+    const std::string ext = hb::cli::lower_extension(opts->out);
+#ifdef HB_WITH_VTK
+    if (ext != ".txt" && ext != ".ply" && ext != ".vtp")
+      throw hb::cli::UsageError("-o " + opts->out + ": unknown piece file type '" + ext +
+                                "'; write .txt (one id per line), .ply (face property piece) or .vtp (cell array PieceId)");
+#else
+    if (ext != ".txt" && ext != ".ply")
+      throw hb::cli::UsageError("-o " + opts->out + ": unknown piece file type '" + ext +
+                                "'; write .txt or .ply (.vtp needs the VTK build)");
+#endif
     std::vector<hb::CutPlane> planes;
     for (const auto& p : opts->planes) planes.push_back(parse_plane(p));
     const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh, opts->model);
@@ -82,7 +98,15 @@ void add_decompose_command(CLI::App& app) {
       count = d.piece_count;
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    hb::write_piece_file(opts->out, mesh, ids);
+#ifdef HB_WITH_VTK
+    if (ext == ".vtp") {
+      vtkSmartPointer<vtkPolyData> pd = hb::vtk::piece_polydata(mesh, ids);
+      hb::vtk::add_provenance(pd->GetFieldData(), {{{"HapticBoxVersion", HB_VERSION}, {"Mesh", opts->mesh}},
+                                                  {{"Pieces", double(count)}}});
+      hb::vtk::write_polydata_xml(pd, opts->out);
+    } else
+#endif
+      hb::write_piece_file(opts->out, mesh, ids);
 
     std::vector<std::vector<std::uint32_t>> pieces(count);
     for (std::uint32_t t = 0; t < ids.size(); ++t) pieces[ids[t]].push_back(t);

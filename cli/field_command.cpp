@@ -1,6 +1,8 @@
 // hapticbox field MESH|BOX [MESH] -o FIELD.vtp [--m M --n N] [--probes K] [--even N] [--seed S]
 // The error field through the VTK pipeline (reader -> bake or loaded boxes -> error-field
 // filter -> XML writer): the same arrays the desktop window shows, for ParaView or scripts.
+// Field data carries the units and the provenance (box, densities, probes, seed, force law,
+// version); the box outlines go to FIELD_boxes.vtp beside it (cell data PieceId, M, N).
 #include "cli_support.h"
 #include "commands.h"
 #include "errors.h"
@@ -9,11 +11,12 @@
 #include "vtkHapticBoxErrorFieldFilter.h"
 #include "vtkHapticBoxMeshReader.h"
 #include "vtkHapticBoxSet.h"
+#include "polydata_files.h"
+#include "figure_text.h"
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
-#include <vtkXMLPolyDataWriter.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -89,21 +92,22 @@ void add_field_command(CLI::App& app) {
     if (!hb::cli::communicator().is_root()) return;  // rank 0 holds the field and writes it
     vtkPolyData* out = field->GetOutput();
     if (!out->GetPointData()->GetArray("RelativeForceError")) throw hb::Error("the error field failed");
-    vtkNew<vtkXMLPolyDataWriter> writer;
-    writer->SetInputData(out);
-    // Written under a temporary name and renamed: the file appears whole or not at all.
-    const std::string tmp = opts->out + ".tmp";
-    writer->SetFileName(tmp.c_str());
-    writer->SetDataModeToAppended();
-    writer->EncodeAppendedDataOff();
-    if (writer->Write() != 1) {
-      std::remove(tmp.c_str());
-      throw hb::IoError(opts->out + ": cannot write");
+    {
+      hb::vtk::Provenance p;
+      p.strings = {{"HapticBoxVersion", HB_VERSION},
+                   {"Mesh", mesh_path},
+                   {"BoxFile", with_box ? opts->inputs[0] : std::string("(baked by field, not saved)")}};
+      if (!with_box) p.numbers = {{"BakeSeconds", bake_seconds}};
+      hb::vtk::add_provenance(out->GetFieldData(), p);
     }
-    if (std::rename(tmp.c_str(), opts->out.c_str()) != 0) {
-      std::remove(tmp.c_str());
-      throw hb::IoError(opts->out + ": cannot rename the written file into place");
-    }
+    hb::vtk::write_polydata_xml(out, opts->out);
+    const hb::BoxScene& scene = with_box ? *loaded->GetScene() : *bake->GetBoxSet()->GetScene();
+    std::string outlines_path = opts->out;
+    if (hb::cli::lower_extension(outlines_path) == ".vtp") outlines_path.resize(outlines_path.size() - 4);
+    outlines_path += "_boxes.vtp";
+    vtkSmartPointer<vtkPolyData> outlines = hb::vtk::box_outline_polydata(scene);
+    hb::vtk::add_provenance(outlines->GetFieldData(), {{{"HapticBoxVersion", HB_VERSION}, {"Mesh", mesh_path}}, {}});
+    hb::vtk::write_polydata_xml(outlines, outlines_path);
     std::vector<double> errors;
     vtkDataArray* err = out->GetPointData()->GetArray("RelativeForceError");
     for (vtkIdType i = 0; i < err->GetNumberOfTuples(); ++i)
@@ -111,11 +115,13 @@ void add_field_command(CLI::App& app) {
     std::sort(errors.begin(), errors.end());
     const double core_seconds = out->GetFieldData()->GetArray("ErrorFieldSeconds")->GetComponent(0, 0);
     std::cout << "field " << opts->out << ": " << out->GetNumberOfPoints() << " points, " << opts->probes
-              << " probe(s) each; error field " << core_seconds << " s (filter " << filter_seconds << " s)";
-    if (!with_box) std::cout << ", bake " << bake_seconds << " s";
+              << " probe(s) each; error field " << hb::sig(core_seconds) << " s (filter "
+              << hb::sig(filter_seconds) << " s)";
+    if (!with_box) std::cout << ", bake " << hb::sig(bake_seconds) << " s";
     if (!errors.empty())
-      std::cout << "; force error median " << 100.0 * errors[errors.size() / 2] << " %, p95 "
-                << 100.0 * errors[std::size_t(0.95 * double(errors.size() - 1))] << " %";
-    std::cout << "\n";
+      std::cout << "; relative force error median " << hb::sig(100.0 * errors[errors.size() / 2]) << " %, p95 "
+                << hb::sig(100.0 * errors[std::size_t(0.95 * double(errors.size() - 1))]) << " %";
+    std::cout << "; " << (out->GetNumberOfPoints() - vtkIdType(errors.size())) << " points with no data (NaN)\n";
+    std::cout << "boxes " << outlines_path << ": " << scene.boxes().size() << " box outline(s)\n";
   });
 }

@@ -82,6 +82,7 @@ int main(int argc, char** argv) {
   add_sweep_command(app);
   add_report_command(app);
   add_field_command(app);
+  add_trajectory_command(app);
 #endif
   add_compress_command(app);
   add_compress_sweep_command(app);

@@ -1,12 +1,15 @@
 #include "pieces_option.h"
 #include "cli_support.h"
 #include <iostream>
+#ifdef HB_WITH_VTK
+#include "polydata_files.h"
+#endif
 
 namespace hb::cli {
 
 void add_pieces_options(CLI::App& cmd, std::string& spec, BakeRecipe& recipe) {
   spec = "none";
-  cmd.add_option("--pieces", spec, "Pieces: none (one box), auto, faces (a CAD solid's faces), or a piece file (.txt, .ply)")
+  cmd.add_option("--pieces", spec, "Pieces: none (one box), auto, faces (a CAD solid's faces), or a piece file (.txt, .ply, .vtp with a PieceId cell array)")
       ->capture_default_str();
   cmd.add_option("--threshold", recipe.pieces.automatic.threshold, "Auto pieces: largest pocket probability of a piece")
       ->check(hb::cli::finite_range(0.0, 1.0))->capture_default_str();
@@ -25,6 +28,13 @@ void apply_pieces_spec(const std::string& spec, BakeRecipe& recipe, const std::v
     recipe.pieces.given = face_ids;
     return;
   }
+#ifdef HB_WITH_VTK
+  if (lower_extension(spec) == ".vtp") {  // written by `decompose -o X.vtp`, or edited in ParaView
+    recipe.pieces.kind = PiecesRecipe::Kind::given;
+    recipe.pieces.given = hb::vtk::read_piece_vtp(spec, 0);
+    return;
+  }
+#endif
   PiecesRecipe p = pieces_from_spec(spec);
   p.automatic = recipe.pieces.automatic;
   if (p.kind == PiecesRecipe::Kind::automatic) p.automatic.progress = terminal_progress("decomposing");

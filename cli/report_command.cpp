@@ -169,8 +169,10 @@ void add_report_command(CLI::App& app) {
       std::filesystem::create_directories(std::filesystem::path(png).parent_path());
       const double range = std::max(ro.tolerances.force_error_p95, data.error_field_p95);
       if (vtkHapticBoxErrorFieldImage::Render(pd, "RelativeForceError", range, "relative force error", png, 1200, 600,
-                                              &data.error_field_note))
+                                              &data.error_field_note)) {
         data.error_field_image = png;
+        data.error_field_note.clear();  // rendered: nothing to explain
+      }
     }
     hb::write_report(data, opts->out);
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -10,6 +10,9 @@
 #include "device/virtual_device.h"
 #include "errors.h"
 #include "haptic_box/box_file.h"
+#ifdef HB_WITH_VTK
+#include "trajectory_export.h"
+#endif
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <chrono>
@@ -26,6 +29,7 @@ struct ServoArgs {
   std::string device = "virtual";
   double seconds = 5.0;
   std::string record;
+  std::string trajectory;  // .vtp polyline of the run (needs the VTK build)
   bool json = false;
   double rate_hz = 1000.0;
   bool no_realtime = false;
@@ -101,8 +105,10 @@ void run_servo(const ServoArgs& a) {
   if (opened.rate_hz > 0) o.rate_hz = opened.rate_hz;  // a replay: same dt, same safety ramps, same forces
 
   std::unique_ptr<hb::LogRecorder> recorder;
-  if (!a.record.empty())
-    recorder = std::make_unique<hb::LogRecorder>(a.record, o.rate_hz, device->spec());
+  // --trajectory without --record records into a temporary log beside the .vtp.
+  const std::string log_path = !a.record.empty() ? a.record : a.trajectory.empty() ? "" : a.trajectory + ".hbslog.tmp";
+  if (!log_path.empty())
+    recorder = std::make_unique<hb::LogRecorder>(log_path, o.rate_hz, device->spec());
 
   hb::ServoLoop loop(*device, *scene.query, o);
   loop.set_recorder(recorder.get());
@@ -113,6 +119,14 @@ void run_servo(const ServoArgs& a) {
   loop.stop();
   if (recorder) recorder->finish();
   const hb::ServoReport& r = loop.report();
+  std::size_t trajectory_points = 0;
+#ifdef HB_WITH_VTK
+  if (!a.trajectory.empty()) {
+    const hb::ServoLog log = hb::read_servo_log(log_path);
+    if (a.record.empty()) std::remove(log_path.c_str());
+    trajectory_points = hb::cli::write_trajectory_vtp(log, o.mapping, a.box, a.trajectory);
+  }
+#endif
 
   if (a.json) {
     nlohmann::json j;
@@ -140,7 +154,11 @@ void run_servo(const ServoArgs& a) {
       j["safety_events"][hb::to_string(static_cast<hb::SafetyEvent>(i))] = r.safety[i];
     j["exit"] = hb::to_string(r.exit);
     j["exit_message"] = r.exit_message;
-    if (recorder) {
+    if (!a.trajectory.empty()) {
+      j["trajectory"] = a.trajectory;
+      j["trajectory_points"] = trajectory_points;
+    }
+    if (recorder && !a.record.empty()) {
       j["log"] = a.record;
       j["log_records"] = recorder->written();
       j["log_dropped"] = recorder->dropped();
@@ -165,7 +183,9 @@ void run_servo(const ServoArgs& a) {
       std::printf(" %s %llu", hb::to_string(static_cast<hb::SafetyEvent>(i)),
                   static_cast<unsigned long long>(r.safety[i]));
     std::printf("\n  exit: %s\n", r.exit_message.c_str());
-    if (recorder)
+    if (!a.trajectory.empty())
+      std::printf("  trajectory: %s, %zu points (polyline, open in ParaView)\n", a.trajectory.c_str(), trajectory_points);
+    if (recorder && !a.record.empty())
       std::printf("  log: %s, %llu records, %llu dropped\n", a.record.c_str(),
                   static_cast<unsigned long long>(recorder->written()),
                   static_cast<unsigned long long>(recorder->dropped()));
@@ -184,6 +204,9 @@ void add_servo_command(CLI::App& app) {
   cmd->add_option("--device", a->device, "virtual | replay:LOG | falcon")->capture_default_str();
   cmd->add_option("--seconds", a->seconds, "Run time, s")->check(hb::cli::finite_range(1e-3, 1e6))->capture_default_str();
   cmd->add_option("--record", a->record, "Write a full-rate binary log here");
+#ifdef HB_WITH_VTK
+  cmd->add_option("--trajectory", a->trajectory, "Write the run's probe path as a polyline .vtp (ParaView)");
+#endif
   cmd->add_flag("--json", a->json, "Print the report as JSON");
   cmd->add_option("--rate", a->rate_hz, "Servo rate, Hz")->check(hb::cli::finite_range(1.0, 20000.0))->capture_default_str();
   cmd->add_flag("--no-realtime", a->no_realtime, "Do not ask for SCHED_FIFO");
@@ -195,5 +218,9 @@ void add_servo_command(CLI::App& app) {
                   "Model units per device metre (default: fit the workspace to the scene)")
       ->check(hb::cli::finite_range(0.0, 1e12));
   cmd->add_option("--firmware", a->firmware, "Falcon firmware file (supplied by you; not shipped)");
-  cmd->callback([a] { run_servo(*a); });
+  cmd->callback([a] {
+    if (!a->trajectory.empty() && hb::cli::lower_extension(a->trajectory) != ".vtp")
+      throw hb::cli::UsageError("--trajectory " + a->trajectory + ": the trajectory is written as VTK XML PolyData; name it .vtp");
+    run_servo(*a);
+  });
 }

@@ -143,7 +143,9 @@ nlohmann::json row_json(const SweepRow& r) {
           {"refine", r.refine},
           {"query_ns", r.query_ns},
           {"memory_bytes", r.memory_bytes},
-          {"bake_seconds", r.bake_seconds},
+          // A loaded box was not baked here: null, not 0.
+          {"bake_seconds", r.method == "haptic_box" && !r.from_cache && !(r.bake_seconds > 0.0)
+                               ? nlohmann::json(nullptr) : nlohmann::json(r.bake_seconds)},
           {"from_cache", r.from_cache},
           {"force_error_median", r.force_error_median},
           {"force_error_p95", r.force_error_p95},
@@ -170,6 +172,7 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   d.memory_bytes = scene.table_bytes();
   d.bake_seconds = bake_seconds;
   d.codec = codec_name(scene.boxes().front().codec());
+  d.refine = scene.refines();
   const ContactQuery& exact = *references.front().query;
 
   // 1. Accuracy on eval's probes.
@@ -201,6 +204,7 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   own.m = d.params.m;
   own.n = d.params.n;
   own.codec = d.codec;
+  own.refine = d.refine;
   own.query_ns = d.box_ns;
   own.memory_bytes = d.memory_bytes;
   own.bake_seconds = bake_seconds;
@@ -265,7 +269,9 @@ std::string report_json(const ReportData& d) {
               {"n", d.params.n},
               {"codec", d.codec},
               {"memory_bytes", d.memory_bytes},
-              {"bake_seconds", d.bake_seconds}};
+              {"refine", d.refine},
+              {"bake_seconds", d.bake_seconds > 0.0 ? nlohmann::json(d.bake_seconds) : nlohmann::json(nullptr)},
+              {"loaded_from_file", !(d.bake_seconds > 0.0)}};
   j["parameters"] = {{"samples", o.samples},
                      {"seed", o.probes.seed},
                      {"cone_degrees", o.probes.cone_degrees},
@@ -307,7 +313,7 @@ std::string report_json(const ReportData& d) {
                       {"force_error_median", d.error_field_median},
                       {"force_error_p95", d.error_field_p95},
                       {"image", d.error_field_image.empty() ? "" : "embedded in report.html"},
-                      {"note", d.error_field_note}};
+                      {"note", d.error_field_image.empty() ? d.error_field_note : std::string()}};
   j["compression_curve"] = nlohmann::json::array();
   for (const auto& [cr, err] : d.compression_curve) j["compression_curve"].push_back({cr, err});
   j["compute_seconds"] = d.compute_seconds;
@@ -355,7 +361,7 @@ void write_report(const ReportData& d, const std::string& dir_name) {
       if (r.exact.contact && r.approx.contact)
         csv << ',' << relative_force_error(r.exact, r.approx) << ',' << angle_error_degrees(r.exact, r.approx);
       else
-        csv << ",,";
+        csv << ",nan,nan";  // no data (a probe without contact in both answers): NaN, never 0
       csv << '\n';
     }
     csv.close();

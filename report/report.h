@@ -56,6 +56,7 @@ struct ReportData {
   float diagonal = 0.f;
   BoxParams params;
   std::string codec = "none";
+  bool refine = false;                   ///< the boxes refine exactly (bake --refine).
   std::size_t memory_bytes = 0;          ///< box tables.
   double bake_seconds = 0.0;             ///< 0 when loaded from a file.
   ComparisonStats stats;                 ///< the report's box against the exact reference.

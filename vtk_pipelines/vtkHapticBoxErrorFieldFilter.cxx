@@ -3,11 +3,16 @@
 // 3. convert the per-point statistics to point arrays.
 #include "vtkHapticBoxErrorFieldFilter.h"
 #include "errors.h"
+#include "polydata_files.h"
+#include "codec/codec.h"
 #include "evaluation/error_field.h"
 #include "exact/exact_query.h"
 #include "vtkHapticBoxSet.h"
 #include "vtkHapticBoxUtilities.h"
 #include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkIntArray.h>
+#include <vtkStringArray.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkFloatArray.h>
@@ -92,17 +97,62 @@ int vtkHapticBoxErrorFieldFilter::RequestData(vtkInformation*, vtkInformationVec
       this->UpdateProgress(1.0);
       return 1;
     }
-    pd->AddArray(vtkHapticBoxUtilities::ToVectorArray("ExactForce", field.exact_force));
-    pd->AddArray(vtkHapticBoxUtilities::ToVectorArray("ApproxForce", field.approx_force));
-    pd->AddArray(vtkHapticBoxUtilities::ToScalarArray("RelativeForceError", field.force_error));
-    pd->AddArray(vtkHapticBoxUtilities::ToScalarArray("DirectionError", field.direction_error));
-    pd->AddArray(vtkHapticBoxUtilities::ToScalarArray("ContactDisagreement", field.contact_disagreement));
-    pd->AddArray(vtkHapticBoxUtilities::ToScalarArray("ExactContactFraction", field.exact_contact_fraction));
-    pd->SetActiveScalars("RelativeForceError");
+    vtkFieldData* fd = output->GetFieldData();
+    auto add = [&](vtkSmartPointer<vtkFloatArray> a, const char* unit) {
+      pd->AddArray(a);
+      hb::vtk::label_units(fd, a, unit);
+    };
+    add(vtkHapticBoxUtilities::ToVectorArray("ExactForce", field.exact_force), "N");
+    add(vtkHapticBoxUtilities::ToVectorArray("ApproxForce", field.approx_force), "N");
+    add(vtkHapticBoxUtilities::ToScalarArray("AbsoluteForceError", field.force_error_newtons), "N");
+    add(vtkHapticBoxUtilities::ToScalarArray("RelativeForceError", field.force_error), "fraction of |F exact| (NaN: no data)");
+    add(vtkHapticBoxUtilities::ToScalarArray("DirectionError", field.direction_error), "degrees (NaN: no data)");
+    add(vtkHapticBoxUtilities::ToScalarArray("ContactDisagreement", field.contact_disagreement), "fraction of probes");
+    add(vtkHapticBoxUtilities::ToScalarArray("ExactContactFraction", field.exact_contact_fraction), "fraction of probes");
+    // The first array ParaView colours by: defined everywhere, in newtons.
+    pd->SetActiveScalars("AbsoluteForceError");
+    // Which box each triangle belongs to, when the scene is cut into pieces.
+    const std::vector<std::uint32_t>& pieces = boxes->GetScene()->piece_of_triangle();
+    if (this->SampleMode == VERTICES && !pieces.empty() && pieces.size() == mesh.triangle_count()) {
+      vtkNew<vtkIntArray> ids;
+      ids->SetName("PieceId");
+      ids->SetNumberOfValues(vtkIdType(pieces.size()));
+      for (std::size_t t = 0; t < pieces.size(); ++t) ids->SetValue(vtkIdType(t), int(pieces[t]));
+      output->GetCellData()->AddArray(ids);
+    }
     vtkNew<vtkDoubleArray> seconds;
     seconds->SetName("ErrorFieldSeconds");
     seconds->InsertNextValue(field.seconds);
-    output->GetFieldData()->AddArray(seconds);
+    fd->AddArray(seconds);
+    hb::vtk::label_units(fd, seconds, "s");
+    // Provenance: what was measured, with what, so the file explains itself.
+    const hb::BoxScene& scene = *boxes->GetScene();
+    int m_min = 1 << 30, m_max = 0, n_min = 1 << 30, n_max = 0;
+    for (const hb::HapticBox& b : scene.boxes()) {
+      m_min = std::min(m_min, b.params().m), m_max = std::max(m_max, b.params().m);
+      n_min = std::min(n_min, b.params().n), n_max = std::max(n_max, b.params().n);
+    }
+    hb::vtk::Provenance p;
+    p.strings = {{"Codec", hb::codec_name(scene.boxes().front().codec())},
+                 {"Refined", scene.refines() ? "yes" : "no"},
+                 {"SourceMesh", scene.source().mesh_path},
+                 {"SampleMode", this->SampleMode == EVEN ? "even" : "vertices"},
+                 {"NoData", "NaN in RelativeForceError and DirectionError: no probe at the point had a contact in both "
+                            "answers (no data, not zero error; see ContactDisagreement and AbsoluteForceError)"}};
+    p.numbers = {{"Boxes", double(scene.boxes().size())},
+                 {"MMin", double(m_min)},
+                 {"MMax", double(m_max)},
+                 {"NMin", double(n_min)},
+                 {"NMax", double(n_max)},
+                 {"ProbesPerPoint", double(this->ProbesPerPoint)},
+                 {"Probes", double(field.probes)},
+                 {"Seed", double(this->Seed)},
+                 {"Stiffness_N_per_m", this->Stiffness},
+                 {"MetresPerUnit", this->MetresPerUnit},
+                 {"ConeAngle_deg", this->ConeAngle},
+                 {"LengthFraction", this->LengthFraction},
+                 {"MaxDepthFraction", this->MaxDepthFraction}};
+    hb::vtk::add_provenance(fd, p);
     this->UpdateProgress(1.0);
     return 1;
   } catch (const std::exception& e) {

@@ -6,6 +6,8 @@
  * Input 1: the boxes (vtkHapticBoxSet, e.g. from vtkHapticBoxBakeFilter output 0).
  * Output: the sample points with point arrays (a thin adapter over hb::compute_error_field):
  *  - "ExactForce", "ApproxForce" (3 components, N): mean forces over the point's probes;
+ *  - "AbsoluteForceError" (N, the active scalars): mean |F1 - F0| over all the point's probes
+ *    (zero force out of contact), defined everywhere;
  *  - "RelativeForceError": mean |F1 - F0| / |F0| over the probes both answers call a contact
  *    (NaN where none does: no data, not zero error);
  *  - "DirectionError": mean angle between the normals, degrees (NaN likewise);
@@ -13,7 +15,11 @@
  *  - "ExactContactFraction": fraction of probes in exact contact;
  *  - "Normals".
  * SampleMode Vertices (default): the output is the triangulated input surface, one value per
- * vertex. SampleMode Even: NumberOfSamples points spread evenly by area (vertex cells).
+ * vertex, plus the cell array "PieceId" (the box of each triangle) for a scene cut into
+ * pieces. SampleMode Even: NumberOfSamples points spread evenly by area (vertex cells).
+ * Field data: "Units" ("Name: unit" per array; each array also carries UNITS_LABEL), "NoData"
+ * (what NaN means), provenance (Boxes, MMin/MMax, NMin/NMax, Codec, Refined, SourceMesh,
+ * ProbesPerPoint, Probes, Seed, Stiffness_N_per_m, MetresPerUnit, probe cone and lengths).
  * The exact reference is Embree on the input surface (hb::ExactQuery). Field data
  * "ErrorFieldSeconds" holds the computation's wall time. Progress events; abort honoured.
  */

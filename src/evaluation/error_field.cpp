@@ -99,6 +99,7 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
   field.exact_force.assign(count, Vec3::Zero());
   field.approx_force.assign(count, Vec3::Zero());
   field.force_error.assign(count, 0.f);
+  field.force_error_newtons.assign(count, 0.f);
   field.direction_error.assign(count, 0.f);
   field.contact_disagreement.assign(count, 0.f);
   field.exact_contact_fraction.assign(count, 0.f);
@@ -117,7 +118,7 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
     const Vec3 e1 = inward.cross(helper).normalized();
     const Vec3 e2 = inward.cross(e1);
     Vec3 fe = Vec3::Zero(), fa = Vec3::Zero();
-    double err = 0.0, ang = 0.0;
+    double err = 0.0, ang = 0.0, abs_err = 0.0;
     int both = 0, disagree = 0, exact_in = 0;
     for (int p = 0; p < k; ++p) {
       const float cos_theta = 1.f - rng.uniform() * (1.f - cos_max);
@@ -135,6 +136,7 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
       const Contact ca = approx.query(s, options.law);
       fe += ce.force;
       fa += ca.force;
+      abs_err += double((ca.force - ce.force).norm());
       if (ce.contact) ++exact_in;
       if (ce.contact != ca.contact) ++disagree;
       if (ce.contact && ca.contact) {
@@ -146,6 +148,7 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
     field.exact_force[i] = fe / float(k);
     field.approx_force[i] = fa / float(k);
     field.force_error[i] = both ? float(err / both) : nan;
+    field.force_error_newtons[i] = float(abs_err / k);
     field.direction_error[i] = both ? float(ang / both) : nan;
     field.contact_disagreement[i] = float(disagree) / float(k);
     field.exact_contact_fraction[i] = float(exact_in) / float(k);
@@ -166,13 +169,14 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
     const std::size_t mine = deal.items_of(comm.rank());
     std::size_t done = 0;
     ByteWriter w;
-    w.reserve(mine * 40);
+    w.reserve(mine * 44);
     deal.for_each_of(comm.rank(), [&](std::size_t begin, std::size_t end) {
       tbb::parallel_for(begin, end, one_point);
       for (std::size_t i = begin; i < end; ++i) {
         w.put(field.exact_force[i]);
         w.put(field.approx_force[i]);
         w.put(field.force_error[i]);
+        w.put(field.force_error_newtons[i]);
         w.put(field.direction_error[i]);
         w.put(field.contact_disagreement[i]);
         w.put(field.exact_contact_fraction[i]);
@@ -190,6 +194,7 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
             field.exact_force[i] = reader.get<Vec3>();
             field.approx_force[i] = reader.get<Vec3>();
             field.force_error[i] = reader.get<float>();
+            field.force_error_newtons[i] = reader.get<float>();
             field.direction_error[i] = reader.get<float>();
             field.contact_disagreement[i] = reader.get<float>();
             field.exact_contact_fraction[i] = reader.get<float>();

@@ -40,7 +40,7 @@ struct ErrorFieldOptions {
   ProgressCallback progress;
   /// The ranks sharing the field (nullptr: this process alone). Every rank calls with the same
   /// points and queries; points are dealt to the ranks in chunks and each point's figures
-  /// (40 bytes) travel once, to rank 0, which holds the whole field: the same numbers as one
+  /// (44 bytes) travel once, to rank 0, which holds the whole field: the same numbers as one
   /// process. The other ranks return a field of size 0 (with `probes` and `seconds` set).
   Communicator* communicator = nullptr;
 };
@@ -52,6 +52,9 @@ struct ErrorField {
   std::vector<Vec3> exact_force;        ///< mean exact force over the point's probes, N.
   std::vector<Vec3> approx_force;       ///< mean approximated force, N.
   std::vector<float> force_error;       ///< mean relative |F1 - F0| / |F0|, NaN when no data.
+  /// Mean absolute |F1 - F0| over all the point's probes, N (a probe out of contact has zero
+  /// force): defined everywhere, missed and false contacts included.
+  std::vector<float> force_error_newtons;
   std::vector<float> direction_error;   ///< mean angle between the normals, degrees, NaN when no data.
   std::vector<float> contact_disagreement; ///< fraction of probes whose contact flags differ, [0, 1].
   std::vector<float> exact_contact_fraction; ///< fraction of probes in exact contact, [0, 1].

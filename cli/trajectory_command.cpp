@@ -1,0 +1,90 @@
+// hapticbox trajectory LOG BOX -o OUT.vtp [--units-per-metre U]: a recorded servo log (servo
+// --record) as a polyline in the model's frame, for ParaView (colour by ForceMagnitude,
+// Contact, SafetyFlags; play it back with Time). The mapping is the one `servo` fits to the box
+// scene and the log's device (or --units-per-metre, as given to servo).
+#include "cli_support.h"
+#include "commands.h"
+#include "device/servo_log.h"
+#include "errors.h"
+#include "figure_text.h"
+#include "haptic_box/box_file.h"
+#include "polydata_files.h"
+#include "trajectory_export.h"
+#include <vtkFieldData.h>
+#include <vtkPolyData.h>
+#include <iostream>
+#include <limits>
+
+namespace hb::cli {
+
+std::size_t write_trajectory_vtp(const ServoLog& log, const WorkspaceMapping& mapping, const std::string& source,
+                                 const std::string& path) {
+  std::vector<hb::vtk::TrajectorySample> samples;
+  samples.reserve(log.records.size());
+  for (const LogRecord& r : log.records) {
+    hb::vtk::TrajectorySample s;
+    s.time_s = r.time_s;
+    s.tip = mapping.model_origin +
+            Vec3(r.position_m[0], r.position_m[1], r.position_m[2]) * mapping.model_units_per_metre;
+    s.force = Vec3(r.force_n[0], r.force_n[1], r.force_n[2]);
+    s.depth = r.depth;
+    s.contact = r.contact != 0;
+    s.query_ns = r.query_ns;
+    s.safety_flags = r.safety_flags;
+    samples.push_back(s);
+  }
+  vtkSmartPointer<vtkPolyData> pd = hb::vtk::trajectory_polydata(samples);
+  hb::vtk::add_provenance(pd->GetFieldData(),
+                          {{{"HapticBoxVersion", HB_VERSION}, {"Source", source}, {"Device", log.spec.name}},
+                           {{"Rate_Hz", log.rate_hz},
+                            {"ModelUnitsPerMetre", mapping.model_units_per_metre},
+                            {"ModelOriginX", mapping.model_origin.x()},
+                            {"ModelOriginY", mapping.model_origin.y()},
+                            {"ModelOriginZ", mapping.model_origin.z()}}});
+  hb::vtk::write_polydata_xml(pd, path);
+  return samples.size();
+}
+
+} // namespace hb::cli
+
+void add_trajectory_command(CLI::App& app) {
+  struct Opts {
+    std::string log, box, out;
+    float units_per_metre = 0.f;
+  };
+  auto opts = std::make_shared<Opts>();
+  auto* cmd = app.add_subcommand("trajectory", "Export a recorded servo log (servo --record) as a polyline .vtp");
+  cmd->add_option("LOG", opts->log, "Servo log written by servo --record")->required();
+  cmd->add_option("BOX", opts->box, "The box file the log was recorded on (gives the model frame), or `plane`")->required();
+  cmd->add_option("-o,--output", opts->out, "Output .vtp file")->required();
+  cmd->add_option("--units-per-metre", opts->units_per_metre,
+                  "Model units per device metre, as given to servo (default: fit the workspace to the scene)")
+      ->check(hb::cli::finite_range(0.0, 1e12));
+  cmd->callback([opts] {
+    if (hb::cli::lower_extension(opts->out) != ".vtp")
+      throw hb::cli::UsageError("-o " + opts->out + ": the trajectory is written as VTK XML PolyData; name it .vtp");
+    const hb::ServoLog log = hb::read_servo_log(opts->log);
+    hb::Vec3 lo = hb::Vec3::Constant(-40.f), hi = hb::Vec3::Constant(40.f);  // `plane`, as servo
+    if (opts->box != "plane") {
+      const hb::BoxScene scene = hb::load_box_file(opts->box);
+      if (scene.boxes().empty()) throw hb::InvalidInput(opts->box + ": the box file holds no boxes");
+      lo = hb::Vec3::Constant(std::numeric_limits<float>::max());
+      hi = -lo;
+      for (const auto& b : scene.boxes()) {
+        const hb::Obb& o = b.obb();
+        for (int c = 0; c < 8; ++c) {
+          const hb::Vec3 corner = o.to_world(hb::Vec3((c & 1) ? o.half.x() : -o.half.x(), (c & 2) ? o.half.y() : -o.half.y(),
+                                                      (c & 4) ? o.half.z() : -o.half.z()));
+          lo = lo.cwiseMin(corner);
+          hi = hi.cwiseMax(corner);
+        }
+      }
+    }
+    hb::WorkspaceMapping mapping = hb::fit_workspace(lo, hi, log.spec);
+    if (opts->units_per_metre > 0) mapping.model_units_per_metre = opts->units_per_metre;
+    const std::size_t n = hb::cli::write_trajectory_vtp(log, mapping, opts->log, opts->out);
+    const double seconds = log.records.empty() ? 0.0 : log.records.back().time_s - log.records.front().time_s;
+    std::cout << "trajectory " << opts->out << ": " << hb::count_text(double(n)) << " points over "
+              << hb::duration_text(seconds) << " at " << hb::sig(log.rate_hz) << " Hz\n";
+  });
+}
