@@ -158,7 +158,7 @@ bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact
   bool overflow = false;
   Contact best, c;
   float best_along = 0.f;
-  grid.walk(segment.start, segment.end, [&](std::uint16_t code, float s) {
+  grid.walk_surface(segment.start, segment.end, [&](std::uint16_t code, float s) {
     // A cell that begins beyond the nearest contact cannot hold a nearer one.
     if (best.contact && s * length > best_along) return false;
     if (code < SceneGrid::kFirstSurface) return true;

@@ -64,6 +64,16 @@ public:
   template <class Visit>
   void walk(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept;
 
+  /// As walk(), but visits only the surface cells (codes >= kFirstSurface), in the same
+  /// order and with the same s: runs of cells without surface are crossed in jumps as long as
+  /// their clearance (clearance()) allows, instead of cell by cell. BoxScene's routing.
+  template <class Visit>
+  void walk_surface(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept;
+
+  /// Per cell, the chessboard distance in cells to the nearest surface cell (0 for one),
+  /// capped at 255; computed from the codes when the grid is made.
+  const std::vector<std::uint8_t>& clearance() const { return clearance_; }
+
   bool empty() const { return codes_.empty(); }
   const Vec3& origin() const { return origin_; }
   float cell() const { return cell_; }
@@ -88,6 +98,8 @@ private:
   std::array<int, 3> dims_{{0, 0, 0}};
   std::vector<std::uint16_t> codes_;
   std::vector<std::uint32_t> list_offsets_, list_boxes_;
+  std::vector<std::uint8_t> clearance_;
+  void compute_clearance();
 };
 
 /// Builds the grid of a scene whose box b was baked from `box_triangles[b]` (ids into
@@ -140,6 +152,81 @@ void SceneGrid::walk(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept
     const std::size_t index =
         (std::size_t(i[2]) * std::size_t(dims_[1]) + std::size_t(i[1])) * std::size_t(dims_[0]) + std::size_t(i[0]);
     if (!visit(codes_[index], s)) return;
+    const int k = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
+    s = next[k];
+    if (s > s1) return;
+    i[k] += step[k];
+    if (i[k] < 0 || i[k] >= dims_[k]) return;
+    next[k] += delta[k];
+  }
+}
+
+template <class Visit>
+void SceneGrid::walk_surface(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept {
+  if (codes_.empty()) return;
+  const Vec3 d = b - a;
+  float s0 = 0.f, s1 = 1.f;
+  for (int k = 0; k < 3; ++k) {
+    const float lo = origin_[k], hi = origin_[k] + cell_ * float(dims_[k]);
+    if (std::fabs(d[k]) < 1e-30f) {
+      if (!(a[k] >= lo && a[k] <= hi)) return;
+      continue;
+    }
+    float u = (lo - a[k]) / d[k], v = (hi - a[k]) / d[k];
+    if (u > v) std::swap(u, v);
+    s0 = std::max(s0, u);
+    s1 = std::min(s1, v);
+  }
+  if (!(s0 <= s1)) return;
+  // A jump of `cells` cells (in every axis at most) along the segment, in parameter s.
+  const float max_d = std::max({std::fabs(d.x()), std::fabs(d.y()), std::fabs(d.z())});
+  const float s_per_cell = max_d > 0.f ? cell_ / max_d : 2.f;
+  int i[3], step[3];
+  float next[3], delta[3];
+  // The DDA state at parameter s: the cell holding a + s d and the next boundaries; the same
+  // formulas as walk() (whose start this is for s = s0).
+  const auto start_at = [&](float s) {
+    const Vec3 p = a + s * d;
+    for (int k = 0; k < 3; ++k) {
+      const float f = (p[k] - origin_[k]) * inv_cell_;
+      i[k] = std::min(std::max(int(std::floor(f)), 0), dims_[k] - 1);
+      if (d[k] > 1e-30f) {
+        step[k] = 1;
+        next[k] = (origin_[k] + cell_ * float(i[k] + 1) - a[k]) / d[k];
+        delta[k] = cell_ / d[k];
+      } else if (d[k] < -1e-30f) {
+        step[k] = -1;
+        next[k] = (origin_[k] + cell_ * float(i[k]) - a[k]) / d[k];
+        delta[k] = -cell_ / d[k];
+      } else {
+        step[k] = 0;
+        next[k] = 2.f;
+        delta[k] = 0.f;
+      }
+    }
+  };
+  start_at(s0);
+  float s = s0;
+  const int limit = dims_[0] + dims_[1] + dims_[2];
+  for (int it = 0; it < limit; ++it) {
+    const std::size_t index =
+        (std::size_t(i[2]) * std::size_t(dims_[1]) + std::size_t(i[1])) * std::size_t(dims_[0]) + std::size_t(i[0]);
+    const std::uint16_t code = codes_[index];
+    if (code >= kFirstSurface) {
+      if (!visit(code, s)) return;
+    } else if (clearance_[index] >= 4) {
+      // Every cell within clearance - 1 of this one has no surface. The point lies in this
+      // cell's closure (at most one cell past its low corner in each axis), so moving it at
+      // most clearance - 2 cells in every axis keeps it strictly within clearance - 1 cells:
+      // no surface cell is skipped. The landing cell has no surface either, so its inexact
+      // entry parameter is never reported.
+      const float jump = s + float(clearance_[index] - 2) * s_per_cell;
+      if (jump > s1) return;
+      start_at(jump);
+      // The landing cell is beyond the boundaries already crossed: keep s monotone.
+      s = jump;
+      continue;
+    }
     const int k = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
     s = next[k];
     if (s > s1) return;

@@ -8,6 +8,7 @@
 #include "haptic_box/scene_grid.h"
 #include "two_spheres.h"
 #include <gtest/gtest.h>
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -100,6 +101,55 @@ TEST(SceneGridTest, WalkVisitsTheCrossedCellsInOrder) {
   visited = 0;
   grid.walk(Vec3(100.f, 0.f, 0.f), Vec3(200.f, 0.f, 0.f), [&](std::uint16_t, float) { return ++visited > 0; });
   EXPECT_EQ(visited, 0);
+}
+
+TEST(SceneGridTest, ClearanceIsTheChessboardDistanceToSurface) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  const SceneGrid grid = build_scene_grid(two.mesh, lists_of(two), SceneGridOptions{1.f / 24.f});
+  const auto& d = grid.dims();
+  const auto index = [&](int x, int y, int z) { return (std::size_t(z) * d[1] + std::size_t(y)) * d[0] + std::size_t(x); };
+  std::vector<std::array<int, 3>> surface;
+  for (int z = 0; z < d[2]; ++z)
+    for (int y = 0; y < d[1]; ++y)
+      for (int x = 0; x < d[0]; ++x)
+        if (grid.codes()[index(x, y, z)] >= SceneGrid::kFirstSurface) surface.push_back({x, y, z});
+  ASSERT_FALSE(surface.empty());
+  for (int z = 0; z < d[2]; ++z)
+    for (int y = 0; y < d[1]; ++y)
+      for (int x = 0; x < d[0]; ++x) {
+        int best = 255;
+        for (const auto& c : surface)
+          best = std::min(best, std::max({std::abs(c[0] - x), std::abs(c[1] - y), std::abs(c[2] - z)}));
+        ASSERT_EQ(int(grid.clearance()[index(x, y, z)]), best) << x << " " << y << " " << z;
+      }
+}
+
+TEST(SceneGridTest, SurfaceWalkVisitsTheSurfaceCellsOfTheFullWalk) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  const SceneGrid grid = build_scene_grid(two.mesh, lists_of(two), SceneGridOptions{1.f / 100.f});
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> ux(-1.2f, 4.2f), uyz(-1.2f, 1.2f), far(-3.f, 6.f);
+  std::size_t surface_cells = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3 a(ux(rng), uyz(rng), uyz(rng));
+    const Vec3 b = k % 2 ? Vec3(ux(rng), uyz(rng), uyz(rng)) : Vec3(far(rng), far(rng), far(rng));
+    std::vector<std::pair<std::uint16_t, float>> full, jumped;
+    grid.walk(a, b, [&](std::uint16_t code, float s) {
+      if (code >= SceneGrid::kFirstSurface) full.emplace_back(code, s);
+      return true;
+    });
+    grid.walk_surface(a, b, [&](std::uint16_t code, float s) {
+      jumped.emplace_back(code, s);
+      return true;
+    });
+    ASSERT_EQ(jumped.size(), full.size()) << k;
+    for (std::size_t i = 0; i < full.size(); ++i) {
+      EXPECT_EQ(jumped[i].first, full[i].first) << k << " " << i;
+      EXPECT_NEAR(jumped[i].second, full[i].second, 1e-5f) << k << " " << i;
+    }
+    surface_cells += full.size();
+  }
+  EXPECT_GT(surface_cells, 1000u);
 }
 
 TEST(SceneGridTest, BytesRoundTripAndBadBytesThrow) {

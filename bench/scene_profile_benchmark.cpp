@@ -1,0 +1,105 @@
+// Where the time of a scene query goes (docs/speed.md, "The refined scene path"): the stages
+// of BoxScene::query timed apart on the same probes, in random order, one core.
+//   hb_bench_scene_profile BOX MESH [google benchmark flags]
+// Stages: exact Embree; the whole scene query; the grid routing alone (handle cell and the
+// walk to the first surface cell); the first routed box's query without refinement (geometry,
+// sample fetch, codec decode, blend); the same box with refinement (adds the candidates'
+// triangles, their exact tests and the walk).
+#include "evaluation/probe_sampling.h"
+#include "exact/exact_query.h"
+#include "haptic_box/box_file.h"
+#include "mesh/mesh_io.h"
+#include <benchmark/benchmark.h>
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <random>
+
+namespace {
+
+struct Fixture {
+  hb::TriangleMesh mesh;
+  hb::BoxScene scene;
+  std::unique_ptr<hb::ExactQuery> exact;
+  std::vector<hb::Segment> probes;
+  std::vector<std::uint32_t> first_box;  // the first box the grid routes each probe to (or UINT32_MAX)
+  hb::ForceLaw law;
+};
+Fixture* g = nullptr;
+
+std::uint32_t routed_box(const hb::SceneGrid& grid, const hb::Segment& s) {
+  std::uint32_t box = UINT32_MAX;
+  if (grid.code_at(s.start) != hb::SceneGrid::kOutside) return box;
+  grid.walk_surface(s.start, s.end, [&](std::uint16_t code, float) {
+    if (code < hb::SceneGrid::kFirstSurface) return true;
+    box = *grid.boxes_begin(code);
+    return false;
+  });
+  return box;
+}
+
+void scene_query(benchmark::State& state) {
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(g->scene.query(g->probes[i], g->law));
+    if (++i == g->probes.size()) i = 0;
+  }
+}
+void exact_query(benchmark::State& state) {
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(g->exact->query(g->probes[i], g->law));
+    if (++i == g->probes.size()) i = 0;
+  }
+}
+void grid_routing(benchmark::State& state) {
+  std::size_t i = 0;
+  const hb::SceneGrid& grid = *g->scene.grid();
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(routed_box(grid, g->probes[i]));
+    if (++i == g->probes.size()) i = 0;
+  }
+}
+void box_query(benchmark::State& state, hb::Refine refine) {
+  std::size_t i = 0;
+  for (auto _ : state) {
+    while (g->first_box[i] == UINT32_MAX) i = (i + 1) % g->probes.size();
+    hb::Contact c;
+    float along = 0.f;
+    benchmark::DoNotOptimize(g->scene.boxes()[g->first_box[i]].query_into(g->probes[i], g->law, c, along, refine));
+    if (++i == g->probes.size()) i = 0;
+  }
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: hb_bench_scene_profile BOX MESH [benchmark flags]\n");
+    return 2;
+  }
+  static Fixture f;
+  g = &f;
+  f.mesh = hb::read_mesh(argv[2]);
+  hb::LoadOptions load;
+  load.huge_pages = true;
+  f.scene = hb::load_box_file(argv[1], load);
+  f.exact = std::make_unique<hb::ExactQuery>(f.mesh);
+  f.probes = hb::sample_probes(f.mesh, 20000);
+  std::shuffle(f.probes.begin(), f.probes.end(), std::mt19937(7));
+  std::size_t routed = 0;
+  for (const hb::Segment& s : f.probes) {
+    f.first_box.push_back(f.scene.grid() ? routed_box(*f.scene.grid(), s) : 0u);
+    routed += f.first_box.back() != UINT32_MAX;
+  }
+  std::printf("%zu of %zu probes routed by the grid to a first box\n", routed, f.probes.size());
+  benchmark::RegisterBenchmark("exact", exact_query);
+  benchmark::RegisterBenchmark("scene", scene_query);
+  if (f.scene.grid()) benchmark::RegisterBenchmark("grid_routing", grid_routing);
+  benchmark::RegisterBenchmark("first_box_blend_only", box_query, hb::Refine::off);
+  benchmark::RegisterBenchmark("first_box_refined", box_query, hb::Refine::all);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
