@@ -3,6 +3,7 @@
 #include "commands.h"
 #include "haptic_box/bake_recipe.h"
 #include "haptic_box/box_file.h"
+#include "haptic_box/scene_codec_stats.h"
 #include "mesh/mesh_io.h"
 #include "pieces_option.h"
 #include <algorithm>
@@ -59,18 +60,7 @@ void add_bake_command(CLI::App& app) {
     const hb::BoxScene& scene = baked.scene;
     const hb::BakeStats& stats = baked.stats;
     hb::save_box_file(scene, opts->out);
-    std::uint64_t raw_bytes = 0, table_bytes = 0;
-    double t_mean = 0, t_max = 0, a_mean = 0, a_max = 0, bound = 0;
-    for (const hb::HapticBox& box : scene.boxes()) {
-      const hb::CodecStats& cs = box.codec_stats();
-      raw_bytes += box.raw_table_bytes();
-      table_bytes += box.table_bytes();
-      t_mean += cs.t_error_mean / double(scene.boxes().size());
-      a_mean += cs.normal_error_mean_deg / double(scene.boxes().size());
-      t_max = std::max<double>(t_max, cs.t_error_max);
-      a_max = std::max<double>(a_max, cs.normal_error_max_deg);
-      bound = std::max<double>(bound, cs.max_error_bound);
-    }
+    const hb::SceneCodecStats cs = hb::scene_codec_stats(scene);
     const auto bytes = std::filesystem::file_size(opts->out);
     std::vector<int> box_m;
     for (const hb::HapticBox& box : scene.boxes()) box_m.push_back(box.params().m);
@@ -88,14 +78,14 @@ void add_bake_command(CLI::App& app) {
                               {"bytes", bytes},
                               {"refine", opts->recipe.options.refine},
                               {"codec", opts->codec},
-                              {"table_bytes", table_bytes},
-                              {"raw_table_bytes", raw_bytes},
-                              {"compression_ratio", table_bytes ? double(raw_bytes) / double(table_bytes) : 0.0},
-                              {"max_error_bound", bound},
-                              {"t_error_mean", t_mean},
-                              {"t_error_max", t_max},
-                              {"normal_error_mean_deg", a_mean},
-                              {"normal_error_max_deg", a_max}};
+                              {"table_bytes", cs.table_bytes},
+                              {"raw_table_bytes", cs.raw_bytes},
+                              {"compression_ratio", cs.compression_ratio()},
+                              {"max_error_bound", cs.max_error_bound},
+                              {"t_error_mean", cs.t_error_mean},
+                              {"t_error_max", cs.t_error_max},
+                              {"normal_error_mean_deg", cs.normal_error_mean_deg},
+                              {"normal_error_max_deg", cs.normal_error_max_deg}};
     nlohmann::json j = jj;
     // How the work was shared: per rank the rays cast, the seconds its share took and the
     // bytes it sent; the busiest rank against the mean; the bytes sent against the tables.
@@ -134,9 +124,10 @@ void add_bake_command(CLI::App& app) {
                   << j["bytes_sent"].get<std::uint64_t>() / 1e6 << " MB, " << j["bytes_sent_over_tables"].get<double>()
                   << " x their tables\n";
       if (opts->recipe.codec.codec != hb::CodecId::none)
-        std::cout << "codec " << opts->codec << ": ratio " << double(raw_bytes) / double(table_bytes)
-                  << ":1, bound " << bound << " of the box diagonal; t error mean " << t_mean << ", max " << t_max
-                  << "; normal error mean " << a_mean << " deg, max " << a_max << " deg\n";
+        std::cout << "codec " << opts->codec << ": ratio " << cs.compression_ratio() << ":1, bound "
+                  << cs.max_error_bound << " of the box diagonal; t error mean " << cs.t_error_mean << ", max "
+                  << cs.t_error_max << "; normal error mean " << cs.normal_error_mean_deg << " deg, max "
+                  << cs.normal_error_max_deg << " deg (means weighted by box samples)\n";
     }
   });
 }

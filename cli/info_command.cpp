@@ -4,6 +4,7 @@
 #include "commands.h"
 #include "errors.h"
 #include "haptic_box/box_file.h"
+#include "haptic_box/scene_codec_stats.h"
 #include "mesh/mesh_io.h"
 #include <algorithm>
 #include <filesystem>
@@ -40,9 +41,6 @@ nlohmann::json mesh_info(const std::string& path, const hb::cli::ModelArgs& args
 nlohmann::json box_info(const std::string& path, bool verify) {
   const hb::BoxScene scene = hb::load_box_file(path, hb::LoadOptions{verify});
   nlohmann::json boxes = nlohmann::json::array();
-  std::uint64_t raw_bytes = 0;
-  double t_mean = 0, t_max = 0, a_mean = 0, a_max = 0, bound = 0;
-  std::string codec;
   std::uint64_t id_bytes = 0;
   std::size_t refined = 0;
   for (const hb::HapticBox& box : scene.boxes()) {
@@ -50,15 +48,7 @@ nlohmann::json box_info(const std::string& path, bool verify) {
     refined += box.refines() ? 1 : 0;
     const hb::Obb& o = box.obb();
     const hb::CodecStats& cs = box.codec_stats();
-    raw_bytes += box.raw_table_bytes();
-    const double w = double(box.raw_table_bytes());
-    t_mean += cs.t_error_mean * w;
-    a_mean += cs.normal_error_mean_deg * w;
-    t_max = std::max<double>(t_max, cs.t_error_max);
-    a_max = std::max<double>(a_max, cs.normal_error_max_deg);
-    bound = std::max<double>(bound, cs.max_error_bound);
     const std::string name = hb::codec_name(box.codec());
-    codec = codec.empty() || codec == name ? name : "mixed";
     boxes.push_back({{"m", box.params().m},
                      {"n", box.params().n},
                      {"samples", box.params().sample_count()},
@@ -77,6 +67,7 @@ nlohmann::json box_info(const std::string& path, bool verify) {
                      {"half_extents", {o.half.x(), o.half.y(), o.half.z()}}});
   }
   const auto& first = scene.boxes().front();
+  const hb::SceneCodecStats codec = hb::scene_codec_stats(scene);
   const double table_bytes = double(scene.table_bytes());
   return {{"kind", "box"},
           {"file", path},
@@ -85,14 +76,14 @@ nlohmann::json box_info(const std::string& path, bool verify) {
           {"boxes", scene.boxes().size()},
           {"m", first.params().m},
           {"n", first.params().n},
-          {"codec", codec},
-          {"raw_table_bytes", raw_bytes},
-          {"compression_ratio", table_bytes > 0 ? double(raw_bytes) / table_bytes : 0.0},
-          {"max_error_bound", bound},
-          {"t_error_mean", raw_bytes ? t_mean / double(raw_bytes) : 0.0},
-          {"t_error_max", t_max},
-          {"normal_error_mean_deg", raw_bytes ? a_mean / double(raw_bytes) : 0.0},
-          {"normal_error_max_deg", a_max},
+          {"codec", codec.codec},
+          {"raw_table_bytes", codec.raw_bytes},
+          {"compression_ratio", table_bytes > 0 ? double(codec.raw_bytes) / table_bytes : 0.0},
+          {"max_error_bound", codec.max_error_bound},
+          {"t_error_mean", codec.t_error_mean},
+          {"t_error_max", codec.t_error_max},
+          {"normal_error_mean_deg", codec.normal_error_mean_deg},
+          {"normal_error_max_deg", codec.normal_error_max_deg},
           {"refine", refined == scene.boxes().size() ? "yes" : refined == 0 ? "no" : "some boxes"},
           {"triangle_id_bytes", id_bytes},
           {"surface_bytes", scene.refinement_bytes() - id_bytes},

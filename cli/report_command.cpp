@@ -75,7 +75,7 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--tol-p95", opts->report.tolerances.force_error_p95, "Tolerance: p95 force error (fraction)")->check(hb::cli::finite_range(0.0, 1e6))->capture_default_str();
   cmd->add_option("--tol-agreement", opts->report.tolerances.contact_agreement, "Tolerance: min contact agreement")->check(hb::cli::finite_range(0.0, 1e6))->capture_default_str();
   cmd->add_option("--compression-curve", opts->report.compression_codec,
-                  "Also draw this codec's compression curve (haar, block; needs the codec layer)");
+                  "Also draw this codec's compression curve (haar or block)");
   cmd->add_option("--save-box", opts->save_box, "When baking, also save the box file here");
   cmd->add_flag("--stability", opts->stability, "Also run the trajectory stability suite (as `stability`, 6 sites)");
   hb::cli::add_force_law_options(*cmd, opts->report.law);

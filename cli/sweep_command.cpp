@@ -57,7 +57,7 @@ void add_sweep_command(CLI::App& app) {
   cmd->add_option("MESH", opts->mesh, "Mesh file")->required();
   cmd->add_option("-m,--m", opts->m, "Position densities m (comma separated)")->delimiter(',')->check(CLI::Range(2, 4096))->capture_default_str();
   cmd->add_option("-n,--n", opts->n, "Directional densities n (comma separated)")->delimiter(',')->check(CLI::Range(2, 1024))->capture_default_str();
-  cmd->add_option("--codec", opts->codecs, "Table codecs (comma separated: none, and haar, block when the codec layer is built)")->delimiter(',')->capture_default_str();
+  cmd->add_option("--codec", opts->codecs, "Table codecs (comma separated: none, haar, block)")->delimiter(',')->capture_default_str();
   hb::cli::add_pieces_options(*cmd, opts->pieces, opts->sweep.recipe);
   cmd->add_flag("--refine", opts->refine,
                 "Also measure every configuration refined exactly on the mesh's triangles (codec+ref rows)");

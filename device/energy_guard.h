@@ -1,7 +1,7 @@
 #pragma once
 // An energy guard between the force law and the safety filter: a passivity observer and
 // controller (Hannaford and Ryu 2002), windowed per contact episode. Off by default.
-#include "mesh/triangle_mesh.h"  // hb::Vec3
+#include "math/vec3.h"
 
 namespace hb {
 

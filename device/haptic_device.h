@@ -2,7 +2,7 @@
 // The device interface the servo loop drives: real hardware (Falcon), the virtual device and
 // the replay device all implement it, so they run through exactly the same servo path.
 #include "device/device_error.h"
-#include "mesh/triangle_mesh.h"  // hb::Vec3
+#include "math/vec3.h"
 #include <cstdint>
 #include <string>
 

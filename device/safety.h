@@ -68,13 +68,9 @@ public:
   void set_emergency_stop(bool on) noexcept;
   bool emergency_stopped() const noexcept { return estop_; }
 
-  /// Restarts the ramp (e.g. after a reconnect).
-  void restart_ramp() noexcept { ramp_ticks_done_ = 0; }
-
   const SafetyCounters& counters() const noexcept { return counters_; }
   /// Bit i set when event i happened in the last apply().
   std::uint32_t last_flags() const noexcept { return last_flags_; }
-  const Vec3& last_output() const noexcept { return last_; }
 
 private:
   void flag(SafetyEvent e) noexcept;

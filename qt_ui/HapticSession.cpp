@@ -497,11 +497,21 @@ void HapticSession::startServo() {
   if (opened_.rate_hz > 0.0) o.rate_hz = opened_.rate_hz;  // a replay runs at its recorded rate
   try {
     loop_ = std::make_unique<hb::ServoLoop>(*opened_.device, *boxes_, o);
+    if (estop_) loop_->emergency_stop();
     loop_->start();
   } catch (const std::exception& e) {
     loop_.reset();
     emit statusMessage(tr("Device thread not started: %1").arg(QString::fromStdString(e.what())));
   }
+}
+
+void HapticSession::setEmergencyStop(bool on) {
+  estop_ = on;
+  if (loop_) {
+    if (on) loop_->emergency_stop();
+    else loop_->clear_emergency_stop();
+  }
+  emit statusMessage(on ? tr("Emergency stop: no force until released (Space)") : tr("Emergency stop released"));
 }
 
 void HapticSession::stopServo() {

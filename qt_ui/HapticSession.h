@@ -156,6 +156,11 @@ public:
                  const QString& falconFirmware = {});
   DeviceKind deviceKind() const { return deviceKind_; }
   bool servoRunning() const;
+  /// Emergency stop (hb::ServoLoop::emergency_stop): the device's force drops to zero on the
+  /// next tick and stays zero until released; the latch survives servo restarts (a new probe,
+  /// new boxes, another device).
+  void setEmergencyStop(bool on);
+  bool emergencyStopped() const { return estop_; }
 
   // --- export --------------------------------------------------------------------------
   /// Computes and writes the error report (the files of `hapticbox report`) into `dir` on the
@@ -222,6 +227,7 @@ private:
   hb::OpenedDevice opened_;   ///< the device (hb::open_device) and its hotplug monitor.
   QString deviceName_;
   std::unique_ptr<hb::ServoLoop> loop_;
+  bool estop_ = false;
 
   BackgroundJob* job_ = nullptr;
 };

@@ -177,6 +177,13 @@ void MainWindow::createActions() {
   probe->addAction(tr("&Pull Back"), this, [this] { stepDepth(-1); }, QKeySequence(tr("[")));
   probe->addAction(tr("T&ilt"), device_, &DevicePanel::tiltRequested, QKeySequence(tr("T")));
 
+  QMenu* deviceMenu = menuBar()->addMenu(tr("&Device"));
+  QAction* estop = deviceMenu->addAction(tr("&Emergency Stop (no force until released)"));
+  estop->setCheckable(true);
+  estop->setShortcut(QKeySequence(tr("Space")));
+  estop->setShortcutContext(Qt::ApplicationShortcut);
+  connect(estop, &QAction::toggled, session_, &HapticSession::setEmergencyStop);
+
   QMenu* tools = menuBar()->addMenu(tr("&Tools"));
   tools->addAction(tr("&Bake"), bake_->bakeButton(), &QPushButton::click, QKeySequence(tr("Ctrl+B")));
   errorFieldAction_ = tools->addAction(tr("Compute &Error Field"), errorPanel_->computeButton(), &QPushButton::click,
@@ -198,6 +205,7 @@ void MainWindow::createActions() {
                                 "Left drag on the background: rotate. Right drag: zoom. Middle drag: pan.\n"
                                 "Ctrl+wheel or [ and ]: push the tip deeper / pull it back.\n"
                                 "T: tilt the probe (15 degree steps). O: PBB outlines. R: reset camera.\n"
+                                "Space: emergency stop of the device force (Space again: release).\n"
                                 "Green arrow: exact force (Embree). Orange arrow: haptic box force."));
   });
   help->addAction(tr("&About"), this, [this] {

@@ -35,8 +35,8 @@ struct ReportOptions {
   std::string cache_dir;             ///< sweep box cache (see SweepOptions::cache_dir).
   int error_field_probes_per_vertex = 1; ///< 0: no error field.
   /// Codec whose compression curve (ratio against median force error versus the raw tables,
-  /// over the codec's error bounds) the report draws: "" for none; "haar" or "block" when the
-  /// codec layer is built (otherwise hb::InvalidInput). Needs a raw (uncompressed) scene.
+  /// over the codec's error bounds) the report draws: "" for none, "haar" or "block" (another
+  /// name: hb::InvalidInput). Needs a raw (uncompressed) scene.
   std::string compression_codec;
   ProgressCallback progress;         ///< [0, 1], calling thread; false cancels.
   /// The ranks sharing the report (nullptr: this process alone). Every rank calls

@@ -144,7 +144,7 @@ int vtkHapticBoxBakeFilter::RequestData(vtkInformation*, vtkInformationVector** 
       for (int face = 0; face < 6; ++face)
         for (int i = 0; i < m; ++i)
           for (int j = 0; j < m; ++j) {
-            const hb::Vec3 p = box.position_point(face, i, j);
+            const hb::Vec3 p = box.layout().position_point(face, i, j);
             const vtkIdType id = pts->InsertNextPoint(p.x(), p.y(), p.z());
             verts->InsertNextCell(1, &id);
             ptBox->InsertNextValue(int(b));

@@ -17,6 +17,7 @@
 #define vtkHapticBoxCellLocatorQuery_h
 
 #include "haptic_box/contact.h"
+#include "mesh/triangle_mesh.h"
 #include <vtkSmartPointer.h>
 
 class vtkPolyData;

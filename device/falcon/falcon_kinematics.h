@@ -16,7 +16,7 @@
 //   0.01425 m shaft, 0.110 m drum, 35 degree offset).
 // - Motor command = torque at the arm (N m) * `counts_per_newton_metre`, capped at +-4096.
 //   The torque constant is an assumption (about 4096 counts for the 8 N peak), to calibrate.
-#include "mesh/triangle_mesh.h"
+#include "math/vec3.h"
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>

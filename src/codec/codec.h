@@ -1,7 +1,7 @@
 #pragma once
 // Table codecs: identifiers, options and error statistics shared by the Haar codec (the
-// paper's, sections 4.4 and 6.1.3) and the block codec (ours). See table_compression.h for
-// the entry point that compresses a baked table and measures what it achieved.
+// paper's, sections 4.4 and 6.1.3) and the block codec (ours). See sample_table.h for the
+// entry point that compresses a baked table and measures what it achieved (compress_table).
 #include <cstdint>
 #include <string>
 

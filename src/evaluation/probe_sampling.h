@@ -1,6 +1,7 @@
 #pragma once
 // The default probe distribution used by eval, bench, sweep and reports, so figures compare.
 #include "geometry/segment.h"
+#include "mesh/triangle_mesh.h"
 #include <cstdint>
 #include <vector>
 

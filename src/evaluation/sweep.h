@@ -11,9 +11,9 @@
 
 namespace hb {
 
-/// One box configuration: densities and the table codec ("none": plain 8-byte samples; with
-/// the codec layer (src/codec) also "haar" and "block" at the codec's default error bound;
-/// names the build does not know are rejected with hb::InvalidInput).
+/// One box configuration: densities and the table codec ("none": plain 8-byte samples; "haar"
+/// or "block": compressed at the codec's default error bound; other names are rejected with
+/// hb::InvalidInput).
 struct SweepConfig {
   int m = 32;
   int n = 16;

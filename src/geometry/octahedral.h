@@ -2,7 +2,7 @@
 // Octahedral encoding of unit vectors (Cigolle et al. 2014, "A Survey of Efficient
 // Representations for Independent Unit Vectors"): two signed 16-bit values in 32 bits,
 // worst-case angular error about 0.003 degrees.
-#include "mesh/triangle_mesh.h"
+#include "math/vec3.h"
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

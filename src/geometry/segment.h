@@ -1,5 +1,5 @@
 #pragma once
-#include "mesh/triangle_mesh.h"
+#include "math/vec3.h"
 
 namespace hb {
 

@@ -76,6 +76,7 @@ BoxPlan plan_box(const TriangleMesh& mesh, const std::vector<std::uint32_t>& tri
   BoxPlan plan{fit_obb(mesh, triangles, options.obb), options.params};
   plan.params.m = options.density.m_for(options.params.m, 2.f * plan.obb.half.maxCoeff(), mesh.bounds().diagonal());
   check_params(plan.params);
+  if (const std::string why = obb_problem(plan.obb); !why.empty()) throw InvalidInput("HapticBox: the box's " + why);
   return plan;
 }
 
@@ -87,9 +88,7 @@ std::uint64_t cast_positions(const EmbreeScene& scene, const BoxPlan& plan, std:
                              ProgressState& progress) {
   const BoxParams& p = plan.params;
   const Obb& obb = plan.obb;
-  // A view for the layout and geometry helpers (it reads no samples).
-  const Sample dummy{};
-  const HapticBox geometry(obb, p, &dummy, nullptr);
+  const BoxLayout layout(obb, p);
   const int per_face = p.m * p.m;
   const float t_far = 2.f * obb.diagonal();
   const std::size_t base = first * p.samples_per_position();
@@ -101,14 +100,14 @@ std::uint64_t cast_positions(const EmbreeScene& scene, const BoxPlan& plan, std:
       const int face = pos / per_face;
       const int i = (pos % per_face) / p.m;
       const int j = pos % p.m;
-      const Vec3 origin = geometry.position_point(face, i, j);
+      const Vec3 origin = layout.position_point(face, i, j);
       for (int sub = 0; sub < 4; ++sub)
         for (int sface = 0; sface < 3; ++sface)
           for (int a = 0; a < p.n; ++a)
             for (int b = 0; b < p.n; ++b) {
-              const Vec3 dir = geometry.sample_direction(face, sub, sface, a, b);
+              const Vec3 dir = layout.sample_direction(face, sub, sface, a, b);
               const RayHit hit = scene.intersect(origin, dir, 0.f, t_far);
-              const std::size_t index = geometry.sample_index(face, i, j, sub, sface, a, b) - base;
+              const std::size_t index = layout.sample_index(face, i, j, sub, sface, a, b) - base;
               Sample& s = out[index];
               // A back face first (the ray entered the piece through a seam cut) is stored as a
               // miss: the contact there belongs to the neighbouring piece's box, and a miss

@@ -1,6 +1,7 @@
 #pragma once
 // Baking haptic boxes: casting the directional samples with Embree.
 #include "haptic_box/box_scene.h"
+#include "haptic_box/position_density.h"
 #include "parallel/communicator.h"
 #include "progress.h"
 #include <vector>

@@ -12,7 +12,7 @@
 //     source mesh, u64 hash; BoxScene::piece_of_triangle); version 5 adds the scene grid (u64
 //     offset, u64 bytes: 0 without one, u64 hash; its bytes: SceneGrid::serialize); then u64
 //     hash of all header bytes before it.
-//  2. Tables at 64-byte aligned offsets: raw records in HapticBox::sample_index order, or a
+//  2. Tables at 64-byte aligned offsets: raw records in BoxLayout::sample_index order (box_layout.h), or a
 //     compressed payload (codec/table_payload.h); then each refined box's triangle ids
 //     (same order; u16 offsets or u32 slots), then the SurfaceTriangles records, then the
 //     piece ids (u32 per triangle), then the scene grid.

@@ -45,42 +45,6 @@
 namespace hb {
 namespace {
 
-// Local axes of face f: the axis it is normal to, its two in-face axes, and its sign.
-struct FaceAxes {
-  int a, u, v;
-  float sign;  // -1: face at -half[a], +1: at +half[a]
-};
-inline FaceAxes face_axes(int face) noexcept {
-  const int a = face / 2;
-  return {a, (a + 1) % 3, (a + 2) % 3, (face & 1) ? 1.f : -1.f};
-}
-
-// Directional coordinates of a direction (x, y, z) in a hemi-cube frame with z > 0 (into
-// the box): sub-block, sub-block face, and continuous grid coordinates in [0, 1].
-struct DirCoords {
-  int sub, sface;
-  float c1, c2;
-};
-inline DirCoords direction_coords(float x, float y, float z) noexcept {
-  DirCoords d;
-  d.sub = (x < 0.f ? 1 : 0) | (y < 0.f ? 2 : 0);
-  const float X = std::fabs(x), Y = std::fabs(y), Z = std::max(z, 0.f);
-  if (Z >= X && Z >= Y) {
-    d.sface = 0;
-    d.c1 = X / Z;
-    d.c2 = Y / Z;
-  } else if (X >= Y) {
-    d.sface = 1;
-    d.c1 = Y / X;
-    d.c2 = Z / X;
-  } else {
-    d.sface = 2;
-    d.c1 = X / Y;
-    d.c2 = Z / Y;
-  }
-  return d;
-}
-
 // Blend of up to four (t, normal) values with miss handling (overview step 5).
 struct Blend {
   float t = 0.f;
@@ -173,12 +137,15 @@ inline CornerBlend blend_quad(unsigned hits, const float t[4], const float u[4],
 // (0,0), (1,0), (1,1), (0,1) of the directional weights).
 struct RawFetch {
   const Sample* table;
-  std::size_t n, per_position;
+  const BoxLayout& layout;
+  std::size_t n;
+  RawFetch(const Sample* table, const BoxLayout& layout)
+      : table(table), layout(layout), n(std::size_t(layout.params().n)) {}
   struct Corner {
     const Sample* base;
   };
   void begin(std::size_t position, std::size_t sf, int a0, int b0, Corner& c) const noexcept {
-    c.base = table + position * per_position + sf * n * n + std::size_t(a0) * n + std::size_t(b0);
+    c.base = table + layout.first_sample(position, sf, a0, b0);
     __builtin_prefetch(c.base);
     __builtin_prefetch(c.base + n);
   }
@@ -207,7 +174,7 @@ template <> struct CodecFetch<HaarTable> {
     int a0, b0;
   };
   void begin(std::size_t position, std::size_t sf, int a0, int b0, Corner& c) const noexcept {
-    c = {position * 12u + sf, a0, b0};
+    c = {BoxLayout::tile_index(position, sf), a0, b0};
     view.prefetch(c.tile, a0, b0);
   }
   void resolve(Corner&) const noexcept {}
@@ -230,7 +197,7 @@ template <> struct CodecFetch<BlockTable> {
     const std::uint8_t* rec[4];
   };
   void begin(std::size_t position, std::size_t sf, int a0, int b0, Corner& c) const noexcept {
-    c.tile = position * 12u + sf;
+    c.tile = BoxLayout::tile_index(position, sf);
     c.a0 = a0;
     c.b0 = b0;
     view.prefetch(c.tile, a0, b0);
@@ -268,7 +235,7 @@ HapticBox::HapticBox(const Obb& obb, const BoxParams& params, std::vector<Sample
   samples_ = SampleTable(table_, params_);
   stats_.raw_bytes = stats_.bytes = raw_table_bytes();
   check_geometry();
-  init_faces();
+  layout_ = BoxLayout(obb_, params_);
 }
 
 HapticBox::HapticBox(const Obb& obb, const BoxParams& params, const Sample* table,
@@ -279,7 +246,7 @@ HapticBox::HapticBox(const Obb& obb, const BoxParams& params, const Sample* tabl
   samples_ = SampleTable(table_, params_);
   stats_.raw_bytes = stats_.bytes = raw_table_bytes();
   check_geometry();
-  init_faces();
+  layout_ = BoxLayout(obb_, params_);
 }
 
 HapticBox::HapticBox(const Obb& obb, const BoxParams& params, CompressedTable table)
@@ -289,7 +256,7 @@ HapticBox::HapticBox(const Obb& obb, const BoxParams& params, CompressedTable ta
   samples_ = SampleTable(table.codec, owned->data(), owned->size(), params_);
   owner_ = std::move(owned);
   check_geometry();
-  init_faces();
+  layout_ = BoxLayout(obb_, params_);
 }
 
 HapticBox::HapticBox(const Obb& obb, const BoxParams& params, CodecId codec, const std::uint8_t* payload,
@@ -300,7 +267,7 @@ HapticBox::HapticBox(const Obb& obb, const BoxParams& params, CodecId codec, con
   stats_.bytes = bytes;
   stats_.raw_bytes = raw_table_bytes();
   check_geometry();
-  init_faces();
+  layout_ = BoxLayout(obb_, params_);
 }
 
 HapticBox HapticBox::compressed(const CodecOptions& options) const {
@@ -344,12 +311,11 @@ constexpr int kWalkSteps = 8;
 // when it is a front face and agrees with the blend within the tolerance, replaces the blend.
 bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const float p1[3], const float l[3],
                        float t_blend, float& t0, Vec3& normal) const noexcept {
-  const std::size_t n = std::size_t(params_.n), m = std::size_t(params_.m);
-  const std::size_t positions[4] = {p00, p00 + m, p00 + m + 1, p00 + 1};
+  const std::size_t n = std::size_t(params_.n);
   std::uint32_t candidates[16];
   int count = 0;
-  for (std::size_t position : positions) {
-    const std::size_t first = (position * 12u + sf) * n * n + std::size_t(a0) * n + std::size_t(b0);
+  for (int c = 0; c < 4; ++c) {
+    const std::size_t first = layout_.first_sample(p00 + layout_.corner_step(c), sf, a0, b0);
     const std::uint32_t quad[4] = {triangle_ids_.at(first), triangle_ids_.at(first + 1), triangle_ids_.at(first + n),
                                    triangle_ids_.at(first + n + 1)};
     for (std::uint32_t id : quad) {
@@ -403,46 +369,6 @@ void HapticBox::check_geometry() const {
                        ", n=" + std::to_string(params_.n) + ")");
 }
 
-void HapticBox::init_faces() noexcept {
-  for (int a = 0; a < 3; ++a) {
-    for (int k = 0; k < 3; ++k) rt_[a][k] = obb_.axes(k, a);
-    center_[a] = obb_.center[a];
-    half_[a] = obb_.half[a];
-    grid_scale_[a] = 0.5f * float(params_.m - 1) / obb_.half[a];
-  }
-  const float step = 2.f / float(params_.m - 1);
-  for (int face = 0; face < 6; ++face) {
-    const FaceAxes fa = face_axes(face);
-    Vec3 local;
-    local[fa.a] = fa.sign * obb_.half[fa.a];
-    local[fa.u] = -obb_.half[fa.u];
-    local[fa.v] = -obb_.half[fa.v];
-    faces_[face].origin = obb_.to_world(local);
-    faces_[face].step_i = obb_.axes.col(fa.u) * (obb_.half[fa.u] * step);
-    faces_[face].step_j = obb_.axes.col(fa.v) * (obb_.half[fa.v] * step);
-  }
-}
-
-Vec3 HapticBox::sample_direction(int face, int sub, int sface, int a, int b) const noexcept {
-  const FaceAxes fa = face_axes(face);
-  const float c1 = float(a) / float(params_.n - 1), c2 = float(b) / float(params_.n - 1);
-  float X, Y, Z;
-  if (sface == 0) {
-    X = c1; Y = c2; Z = 1.f;
-  } else if (sface == 1) {
-    X = 1.f; Y = c1; Z = c2;
-  } else {
-    X = c1; Y = 1.f; Z = c2;
-  }
-  const float x = (sub & 1) ? -X : X;
-  const float y = (sub & 2) ? -Y : Y;
-  Vec3 local;
-  local[fa.u] = x;
-  local[fa.v] = y;
-  local[fa.a] = -fa.sign * Z;  // into the box
-  return (obb_.axes * local).normalized();
-}
-
 bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact& out,
                            float& distance_from_handle, Refine refine_hit, bool* refined) const noexcept {
   switch (samples_.codec()) {
@@ -451,7 +377,7 @@ bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact&
   case CodecId::haar:
     return query_with(CodecFetch<HaarTable>{samples_.haar()}, segment, law, out, distance_from_handle, refine_hit, refined);
   default:
-    return query_with(RawFetch{table_, std::size_t(params_.n), params_.samples_per_position()}, segment, law, out,
+    return query_with(RawFetch(table_, layout_), segment, law, out,
                       distance_from_handle, refine_hit, refined);
   }
 }
@@ -482,11 +408,12 @@ bool HapticBox::locate(const Fetch& fetch, const Segment& segment, Located<Fetch
   // segment's own vector D = end - start (parameter s = t / length): it needs neither the
   // length nor l, so it runs beside their square root and division, and so do steps 2-3
   // (the cube-map projection is invariant to the scale of the direction).
-  const float px = sx - center_[0], py = sy - center_[1], pz = sz - center_[2];
+  const BoxLayout::Local& L = layout_.local();
+  const float px = sx - L.center[0], py = sy - L.center[1], pz = sz - L.center[2];
   float o[3], D[3];
   for (int a = 0; a < 3; ++a) {
-    o[a] = rt_[a][0] * px + rt_[a][1] * py + rt_[a][2] * pz;
-    D[a] = rt_[a][0] * dx + rt_[a][1] * dy + rt_[a][2] * dz;
+    o[a] = L.rt[a][0] * px + L.rt[a][1] * py + L.rt[a][2] * pz;
+    D[a] = L.rt[a][0] * dx + L.rt[a][1] * dy + L.rt[a][2] * dz;
   }
   float s_enter = -std::numeric_limits<float>::infinity();
   float s_exit = std::numeric_limits<float>::infinity();
@@ -494,12 +421,12 @@ bool HapticBox::locate(const Fetch& fetch, const Segment& segment, Located<Fetch
   const float parallel = 1e-12f * length;  // |l . axis| < 1e-12: parallel to the slab
   for (int a = 0; a < 3; ++a) {
     if (std::fabs(D[a]) < parallel) {
-      if (o[a] < -half_[a] || o[a] > half_[a]) return false;
+      if (o[a] < -L.half[a] || o[a] > L.half[a]) return false;
       continue;
     }
     const float inv = 1.f / D[a];
-    float s0 = (-half_[a] - o[a]) * inv;
-    float s1 = (half_[a] - o[a]) * inv;
+    float s0 = (-L.half[a] - o[a]) * inv;
+    float s1 = (L.half[a] - o[a]) * inv;
     int f0 = 2 * a;
     if (s0 > s1) {
       std::swap(s0, s1);
@@ -522,8 +449,8 @@ bool HapticBox::locate(const Fetch& fetch, const Segment& segment, Located<Fetch
   const float half_cells = 0.5f * float(cells_m);
   int i0, j0;
   float d1, d2;
-  split_cell((o[fa.u] + s_enter * D[fa.u]) * grid_scale_[fa.u] + half_cells, cells_m, i0, d1);
-  split_cell((o[fa.v] + s_enter * D[fa.v]) * grid_scale_[fa.v] + half_cells, cells_m, j0, d2);
+  split_cell((o[fa.u] + s_enter * D[fa.u]) * L.grid_scale[fa.u] + half_cells, cells_m, i0, d1);
+  split_cell((o[fa.v] + s_enter * D[fa.v]) * L.grid_scale[fa.v] + half_cells, cells_m, j0, d2);
 
   // 3. Directional cell, once for all corners (cube-map projection with one reciprocal).
   const float x = D[fa.u], y = D[fa.v], z = -fa.sign * D[fa.a];
@@ -544,27 +471,22 @@ bool HapticBox::locate(const Fetch& fetch, const Segment& segment, Located<Fetch
   float wa, wb;
   split_cell(num1 * dir_scale, cells_n, a0, wa);
   split_cell(num2 * dir_scale, cells_n, b0, wb);
-  const std::size_t sf = std::size_t(sub) * 3u + std::size_t(sface);
+  const std::size_t sf = BoxLayout::sub_face(sub, sface);
   const float dir_w[4] = {(1.f - wa) * (1.f - wb), wa * (1.f - wb), wa * wb, (1.f - wa) * wb};
 
   // 4. Corners (P2..P5 of eq. 1): start all four corners' loads before using any
   // (memory-level parallelism instead of four serial misses).
-  const std::size_t m = std::size_t(params_.m);
-  const std::size_t p00 = std::size_t(face) * m * m + std::size_t(i0) * m + std::size_t(j0);
+  const std::size_t p00 = layout_.position_index(face, i0, j0);
   if (triangle_ids_.data) {
     // The triangle ids of the four quads (refinement), loaded now so they arrive with the samples.
     const std::size_t n = std::size_t(params_.n);
-    const std::size_t corner_positions[4] = {p00, p00 + m, p00 + m + 1, p00 + 1};
-    for (std::size_t position : corner_positions) {
-      const std::size_t first = (position * 12u + sf) * n * n + std::size_t(a0) * n + std::size_t(b0);
+    for (int c = 0; c < 4; ++c) {
+      const std::size_t first = layout_.first_sample(p00 + layout_.corner_step(c), sf, a0, b0);
       __builtin_prefetch(triangle_ids_.address(first));
       __builtin_prefetch(triangle_ids_.address(first + n + 1));
     }
   }
-  fetch.begin(p00, sf, a0, b0, q.corners[0]);
-  fetch.begin(p00 + m, sf, a0, b0, q.corners[1]);
-  fetch.begin(p00 + m + 1, sf, a0, b0, q.corners[2]);
-  fetch.begin(p00 + 1, sf, a0, b0, q.corners[3]);
+  for (int c = 0; c < 4; ++c) fetch.begin(p00 + layout_.corner_step(c), sf, a0, b0, q.corners[c]);
   q.sx = sx, q.sy = sy, q.sz = sz, q.lx = lx, q.ly = ly, q.lz = lz;
   q.t_enter = t_enter, q.d = d, q.d1 = d1, q.d2 = d2;
   q.face = face, q.i0 = i0, q.j0 = j0, q.a0 = a0, q.b0 = b0;
@@ -586,7 +508,7 @@ bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceL
   // The four corners side by side (SSE2 lanes): miss rule, normalisation, half of the
   // tangent-plane correction from the corner to P1, positional blend.
   const float p1x = sx + t_enter * lx, p1y = sy + t_enter * ly, p1z = sz + t_enter * lz;
-  const FaceFrame& ff = faces_[face];
+  const BoxLayout::FaceFrame& ff = layout_.frame(face);
   const __m128 zero = _mm_setzero_ps();
   const __m128 W = blended.w;
   const __m128 omd1 = _mm_setr_ps(1.f - d1, d1, d1, 1.f - d1);
@@ -713,7 +635,7 @@ void HapticBox::query_many(const Segment* segments, std::size_t count, const For
     return query_many_with(CodecFetch<HaarTable>{samples_.haar()}, segments, count, law, out);
   default:
     if (!surface_) return query_many_lanes(segments, count, law, out);
-    return query_many_with(RawFetch{table_, std::size_t(params_.n), params_.samples_per_position()}, segments, count,
+    return query_many_with(RawFetch(table_, layout_), segments, count,
                            law, out);
   }
 }

@@ -3,6 +3,7 @@
 // a directional hemi-cube (DHC) of 4 sub-blocks x 3 faces x n x n directional samples.
 #include "geometry/obb.h"
 #include "codec/sample_table.h"
+#include "haptic_box/box_layout.h"
 #include "haptic_box/contact.h"
 #include "haptic_box/sample.h"
 #include "haptic_box/surface_triangles.h"
@@ -35,7 +36,7 @@ void set_lane_isa_cap(LaneIsa cap) noexcept;
 class HapticBox final : public ContactQuery {
 public:
   /// Takes ownership of a table of params.sample_count() samples in the layout of
-  /// sample_index(). Throws hb::InvalidInput when the size does not match.
+  /// BoxLayout::sample_index(). Throws hb::InvalidInput when the size does not match.
   HapticBox(const Obb& obb, const BoxParams& params, std::vector<Sample> table);
   /// Refers to a table owned elsewhere (a memory-mapped file kept alive by `owner`).
   HapticBox(const Obb& obb, const BoxParams& params, const Sample* table,
@@ -48,7 +49,7 @@ public:
             std::size_t bytes, std::shared_ptr<const void> owner, const CodecStats& stats);
 
   /// Exact refinement (step 7 of the query, see the .cpp overview): `triangle_ids` holds,
-  /// per sample in the layout of sample_index(), the surface slot of the triangle the
+  /// per sample in the layout of BoxLayout::sample_index(), the surface slot of the triangle the
   /// sample's ray hit (kNoTriangle for a miss), `surface` those triangles. Both are kept
   /// alive by the box (`ids_owner`, the shared surface). Throws hb::InvalidInput when the id
   /// count is not params().sample_count(), the width is not 2 or 4, or (when `validate`) an id
@@ -103,26 +104,12 @@ public:
   /// Bytes of the table uncompressed.
   std::size_t raw_table_bytes() const { return params_.sample_count() * sizeof(Sample); }
 
-  /// Layout: index of sample (a, b) of sub-block face `sface` (0..2) of sub-block `sub`
-  /// (0..3) at position point (i, j) of PBB face `face` (0..5).
-  std::size_t sample_index(int face, int i, int j, int sub, int sface, int a, int b) const noexcept {
-    const std::size_t n = std::size_t(params_.n), m = std::size_t(params_.m);
-    return (((std::size_t(face) * m + std::size_t(i)) * m + std::size_t(j)) * 12u +
-            std::size_t(sub) * 3u + std::size_t(sface)) * n * n + std::size_t(a) * n + std::size_t(b);
-  }
-
-  /// World position of position point (i, j) of face `face`.
-  Vec3 position_point(int face, int i, int j) const noexcept {
-    const FaceFrame& f = faces_[face];
-    return f.origin + float(i) * f.step_i + float(j) * f.step_j;
-  }
-  /// World unit direction of directional sample (sub, sface, a, b) at any point of `face`.
-  Vec3 sample_direction(int face, int sub, int sface, int a, int b) const noexcept;
+  /// Where the samples are, in space and in the table (box_layout.h).
+  const BoxLayout& layout() const { return layout_; }
 
 private:
   // Throws hb::InvalidInput when the box cannot be queried (obb_problem, m or n too large).
   void check_geometry() const;
-  void init_faces() noexcept;
   // The query in two phases (see the .cpp): locate() runs the geometry and starts the
   // sample fetches, finish() blends the samples, refines and tests the contact.
   template <class Fetch> struct Located;
@@ -143,15 +130,7 @@ private:
   bool query_with(const Fetch& fetch, const Segment& segment, const ForceLaw& law, Contact& out,
                   float& distance_from_handle, Refine refine, bool* refined = nullptr) const noexcept;
 
-  // Per face: world position of position point (0, 0) and the steps to (1, 0) and (0, 1).
-  struct FaceFrame {
-    Vec3 origin, step_i, step_j;
-  };
-  FaceFrame faces_[6];
-  // Query constants in box-local coordinates (init_faces): rows of axes^T (local =
-  // rt_ (p - centre)), centre, half extents, and grid scales 0.5 (m - 1) / half per axis.
-  float rt_[3][3];
-  float center_[3], half_[3], grid_scale_[3];
+  BoxLayout layout_;  // built from obb_ and params_ once they are checked
   Obb obb_;
   BoxParams params_;
   const Sample* table_ = nullptr;

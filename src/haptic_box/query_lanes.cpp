@@ -31,12 +31,13 @@
 namespace hb {
 namespace {
 
-// What the kernel needs of a box, in plain arrays.
+// What the kernel needs of a box, in plain arrays, and the box's layout (box_layout.h) for
+// the sample addresses.
 struct LaneBox {
   float rt[3][3], center[3], half[3], grid_scale[3];
   float frames[6][9];  // per face: origin, step_i, step_j (world)
   int m, n;
-  std::size_t per_position;
+  const BoxLayout* layout;
   const Sample* table;
 };
 
@@ -133,21 +134,23 @@ void set_lane_isa_cap(LaneIsa cap) noexcept { lane_isa_cap.store(int(cap), std::
 void HapticBox::query_many_lanes(const Segment* segments, std::size_t count, const ForceLaw& law,
                                  Contact* out) const noexcept {
   LaneBox b;
+  const BoxLayout::Local& local = layout_.local();
   for (int a = 0; a < 3; ++a) {
-    for (int k = 0; k < 3; ++k) b.rt[a][k] = rt_[a][k];
-    b.center[a] = center_[a];
-    b.half[a] = half_[a];
-    b.grid_scale[a] = grid_scale_[a];
+    for (int k = 0; k < 3; ++k) b.rt[a][k] = local.rt[a][k];
+    b.center[a] = local.center[a];
+    b.half[a] = local.half[a];
+    b.grid_scale[a] = local.grid_scale[a];
   }
   for (int face = 0; face < 6; ++face)
     for (int a = 0; a < 3; ++a) {
-      b.frames[face][a] = faces_[face].origin[a];
-      b.frames[face][3 + a] = faces_[face].step_i[a];
-      b.frames[face][6 + a] = faces_[face].step_j[a];
+      const BoxLayout::FaceFrame& frame = layout_.frame(face);
+      b.frames[face][a] = frame.origin[a];
+      b.frames[face][3 + a] = frame.step_i[a];
+      b.frames[face][6 + a] = frame.step_j[a];
     }
   b.m = params_.m;
   b.n = params_.n;
-  b.per_position = params_.samples_per_position();
+  b.layout = &layout_;
   b.table = table_;
   switch (lane_isa()) {
   case LaneIsa::avx512:

@@ -1,14 +1,13 @@
 #pragma once
 // The core's mesh: an indexed triangle list with per-vertex (shaded) normals.
-#include <Eigen/Core>
-#include <Eigen/Geometry>
+#include "math/bounds.h"
+#include "math/vec3.h"
 #include <array>
 #include <cstdint>
 #include <vector>
 
 namespace hb {
 
-using Vec3 = Eigen::Vector3f;
 using Triangle = std::array<std::uint32_t, 3>;
 
 /// Largest |coordinate| a mesh may have, in model units. Readers and the Embree scene refuse
@@ -16,13 +15,6 @@ using Triangle = std::array<std::uint32_t, 3>;
 /// and must stay well inside Embree's valid range (|origin|, |direction| < 1.8e19; beyond it
 /// Embree aborts the process).
 constexpr float kMaxCoordinate = 1e15f;
-
-/// Axis-aligned bounds.
-struct Bounds {
-  Vec3 min{Vec3::Constant(0.f)};
-  Vec3 max{Vec3::Constant(0.f)};
-  float diagonal() const { return (max - min).norm(); }
-};
 
 /// Indexed triangle mesh in model units. `normals` holds one unit vertex normal per
 /// position (area-weighted average of the incident face normals), used for shaded

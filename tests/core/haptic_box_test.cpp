@@ -133,10 +133,10 @@ TEST(HapticBoxQueryTest, QueryAtStoredSampleReturnsStoredValue) {
   for (int face = 0; face < 6; ++face)
     for (int sface = 0; sface < 3; ++sface) {
       const int i = 3, j = 4, sub = face % 4, a = 2, b = 1;
-      const Sample& sample = box.table()[box.sample_index(face, i, j, sub, sface, a, b)];
+      const Sample& sample = box.table()[box.layout().sample_index(face, i, j, sub, sface, a, b)];
       if (sample.t < 0.f) continue;
-      const Vec3 p = box.position_point(face, i, j);
-      const Vec3 dir = box.sample_direction(face, sub, sface, a, b);
+      const Vec3 p = box.layout().position_point(face, i, j);
+      const Vec3 dir = box.layout().sample_direction(face, sub, sface, a, b);
       const float depth = 0.05f;
       const Segment s{p - 0.5f * dir, p + (sample.t + depth) * dir};
       const Contact c = box.query(s, kLaw);

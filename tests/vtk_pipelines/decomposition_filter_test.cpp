@@ -1,4 +1,3 @@
-// Built only when the core has src/decomposition/ (HB_HAVE_DECOMPOSITION).
 #include "test_meshes.h"
 #include "vtkHapticBoxBakeFilter.h"
 #include "vtkHapticBoxDecompositionFilter.h"

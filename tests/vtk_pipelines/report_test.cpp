@@ -105,30 +105,6 @@ TEST_F(ReportFixture, HtmlEmbedsItsChartsAndLoadsNoExternalFile) {
   EXPECT_NE(html.find("vtk_static_cell_locator"), std::string::npos);
 }
 
-#include "vtkHapticBoxChartTables.h"
-#include <vtkTable.h>
-
-TEST(ChartTablesTest, SweepAndHistogramTablesHaveTheRowsAndColumns) {
-  std::vector<hb::SweepRow> rows(3);
-  rows[0].method = "exact_embree";
-  rows[1].method = "haptic_box";
-  rows[1].m = 16;
-  rows[1].force_error_median = 0.25;
-  rows[2].pareto = true;
-  vtkSmartPointer<vtkTable> t = vtkHapticBoxChartTables::SweepTable(rows);
-  EXPECT_EQ(t->GetNumberOfRows(), 3);
-  EXPECT_EQ(t->GetNumberOfColumns(), 10);
-  EXPECT_EQ(t->GetValueByName(1, "M").ToInt(), 16);
-  EXPECT_DOUBLE_EQ(t->GetValueByName(1, "ForceErrorMedianPercent").ToDouble(), 25.0);
-  EXPECT_EQ(t->GetValueByName(0, "Method").ToString(), "exact_embree");
-  vtkSmartPointer<vtkTable> h = vtkHapticBoxChartTables::HistogramTable({0.05, 0.15, 0.15, 3.0}, 4, 0.4);
-  EXPECT_EQ(h->GetNumberOfRows(), 4);
-  EXPECT_DOUBLE_EQ(h->GetValueByName(0, "Probes").ToDouble(), 1.0);
-  EXPECT_DOUBLE_EQ(h->GetValueByName(1, "Probes").ToDouble(), 2.0);
-  EXPECT_DOUBLE_EQ(h->GetValueByName(3, "Probes").ToDouble(), 1.0);  // overflow in the last bin
-  EXPECT_DOUBLE_EQ(h->GetValueByName(0, "ErrorPercent").ToDouble(), 5.0);
-}
-
 TEST_F(ReportFixture, CompressionCurveIsEmbeddedWhenGiven) {
   const vtkHapticBoxReferenceQueries refs(mesh);
   hb::ReportOptions options;
