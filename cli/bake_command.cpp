@@ -1,5 +1,6 @@
 // hapticbox bake MESH -o BOX.hbox [-m 32] [-n 16] [--refine] [--cell C [--max-m 64]] [--pieces auto|FILE|none] [--codec none|haar|block] [--max-error E | --ratio R] [--json]
 #include "cli_support.h"
+#include "figure_text.h"
 #include "commands.h"
 #include "haptic_box/bake_recipe.h"
 #include "haptic_box/box_file.h"
@@ -19,6 +20,7 @@ void add_bake_command(CLI::App& app) {
     std::string pieces;
     std::string codec = "none";
     bool json = false;
+    bool strict = false;
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
@@ -38,7 +40,7 @@ void add_bake_command(CLI::App& app) {
   hb::cli::add_pieces_options(*cmd, opts->pieces, opts->recipe);
   cmd->add_option("--codec", opts->codec, "Table codec: none, haar (the paper's) or block (ours)")
       ->check(CLI::IsMember({"none", "haar", "block"}))->capture_default_str();
-  auto* max_error = hb::cli::add_codec_bound_options(*cmd, opts->recipe.codec);
+  auto* max_error = hb::cli::add_codec_bound_options(*cmd, opts->recipe.codec, &opts->strict);
   cmd->add_flag("--refine", opts->recipe.options.refine,
                 "Store the triangle each sample hit and the mesh's triangles: queries then refine the blend exactly "
                 "(2 or 4 bytes more per sample, 64 per triangle)");
@@ -87,6 +89,9 @@ void add_bake_command(CLI::App& app) {
                               {"normal_error_mean_deg", cs.normal_error_mean_deg},
                               {"normal_error_max_deg", cs.normal_error_max_deg}};
     nlohmann::json j = jj;
+    if (opts->recipe.codec.codec != hb::CodecId::none)
+      hb::cli::check_ratio_target(opts->recipe.codec.ratio, cs.compression_ratio(), cs.max_error_bound, cs.t_error_mean,
+                                  opts->strict, j);
     // How the work was shared: per rank the rays cast, the seconds its share took and the
     // bytes it sent; the busiest rank against the mean; the bytes sent against the tables.
     {
@@ -116,18 +121,19 @@ void add_bake_command(CLI::App& app) {
                 << (opts->recipe.options.density.cell > 0.f ? std::to_string(*std::min_element(box_m.begin(), box_m.end())) + ".." +
                                                          std::to_string(*std::max_element(box_m.begin(), box_m.end()))
                                                    : std::to_string(opts->recipe.options.params.m))
-                << " n=" << opts->recipe.options.params.n << ", " << stats.rays << " rays in " << stats.seconds << " s ("
-                << stats.rays_per_second / 1e6 << " M rays/s), " << bytes / 1e6 << " MB"
+                << " n=" << opts->recipe.options.params.n << ", " << hb::count_text(double(stats.rays)) << " rays in "
+                << hb::duration_text(stats.seconds) << " (" << hb::count_text(stats.rays_per_second) << " rays/s), "
+                << hb::bytes_text(bytes)
                 << (opts->recipe.options.refine ? " (with triangle ids and surface for exact refinement)" : "") << "\n";
       if (comm.size() > 1)
-        std::cout << comm.size() << " ranks: busiest " << j["load_balance"].get<double>() << " x the mean; sent "
-                  << j["bytes_sent"].get<std::uint64_t>() / 1e6 << " MB, " << j["bytes_sent_over_tables"].get<double>()
-                  << " x their tables\n";
+        std::cout << comm.size() << " ranks: busiest " << hb::sig(j["load_balance"].get<double>()) << " x the mean; sent "
+                  << hb::bytes_text(j["bytes_sent"].get<std::uint64_t>()) << ", "
+                  << hb::sig(j["bytes_sent_over_tables"].get<double>()) << " x their tables\n";
       if (opts->recipe.codec.codec != hb::CodecId::none)
-        std::cout << "codec " << opts->codec << ": ratio " << cs.compression_ratio() << ":1, bound "
-                  << cs.max_error_bound << " of the box diagonal; t error mean " << cs.t_error_mean << ", max "
-                  << cs.t_error_max << "; normal error mean " << cs.normal_error_mean_deg << " deg, max "
-                  << cs.normal_error_max_deg << " deg (means weighted by box samples)\n";
+        std::cout << "codec " << opts->codec << ": ratio " << hb::sig(cs.compression_ratio()) << ":1, bound "
+                  << hb::percent(cs.max_error_bound) << " of the box diagonal; t error mean " << hb::percent(cs.t_error_mean)
+                  << ", max " << hb::percent(cs.t_error_max) << "; normal error mean " << hb::sig(cs.normal_error_mean_deg)
+                  << " deg, max " << hb::sig(cs.normal_error_max_deg) << " deg (means weighted by box samples)\n";
     }
   });
 }

@@ -2,6 +2,7 @@
 // The box cache (hb::BoxCache, shared with the window): where it is, how many boxes and how
 // many bytes it holds; --clear removes them.
 #include "cli_support.h"
+#include "figure_text.h"
 #include "commands.h"
 #include "haptic_box/box_cache.h"
 #include <iostream>
@@ -27,9 +28,9 @@ void add_cache_command(CLI::App& app) {
       return;
     }
     if (opts->clear)
-      std::cout << "removed " << removed.files << " box file(s), " << double(removed.bytes) / 1e6 << " MB from "
+      std::cout << "removed " << removed.files << " box file(s), " << hb::bytes_text(removed.bytes) << " from "
                 << cache.dir() << "\n";
     else
-      std::cout << cache.dir() << ": " << now.files << " box file(s), " << double(now.bytes) / 1e6 << " MB\n";
+      std::cout << cache.dir() << ": " << now.files << " box file(s), " << hb::bytes_text(now.bytes) << "\n";
   });
 }

@@ -1,5 +1,8 @@
 #include "cli_support.h"
 #include "evaluation/segments_csv.h"
+#include "errors.h"
+#include "figure_text.h"
+#include "haptic_box/box_scene.h"
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
@@ -10,6 +13,31 @@
 namespace hb::cli {
 namespace {
 Communicator* the_communicator = nullptr;
+}
+
+void check_same_mesh(const BoxScene& scene, const std::string& box_path, const std::string& mesh_path,
+                     std::uint64_t mesh_hash, bool force) {
+  if (scene.source().mesh_hash == 0 || scene.source().mesh_hash == mesh_hash) return;
+  const std::string what = box_path + " was baked from a different mesh than " + mesh_path + " (recorded source " +
+                           (scene.source().mesh_path.empty() ? std::string("unknown") : scene.source().mesh_path) +
+                           ", hashes differ)";
+  if (!force) throw InvalidInput(what + ": the comparison would measure nothing; give the mesh it was baked from, or --force");
+  if (communicator().is_root()) std::cerr << "hapticbox: warning: " << what << "; going on (--force)\n";
+}
+
+void check_ratio_target(double target, double achieved, double bound, double t_error_mean, bool strict,
+                        nlohmann::json& j) {
+  if (!(target > 0.0)) return;
+  const bool reached = achieved >= target * (1.0 - 1e-3);
+  j["ratio_target"] = target;
+  j["ratio_reached"] = reached;
+  if (reached) return;
+  const std::string what = "--ratio " + hb::sig(target) + ": target not reached; the codec ends at " + hb::sig(achieved) +
+                           ":1 with its error bound at its maximum, " + hb::percent(bound) +
+                           " of the box diagonal (t error mean " + hb::percent(t_error_mean) + ")";
+  if (strict) throw Error(what + " (--strict)");
+  if (communicator().is_root())
+    std::cerr << "hapticbox: warning: " << what << "; the file was written (--strict makes this an error)\n";
 }
 
 std::string lower_extension(const std::string& path) {
@@ -55,7 +83,8 @@ CLI::Validator finite_range(double lo, double hi) {
       "FINITE in " + range);
 }
 
-CLI::Option* add_codec_bound_options(CLI::App& cmd, CodecOptions& options) {
+CLI::Option* add_codec_bound_options(CLI::App& cmd, CodecOptions& options, bool* strict) {
+  if (strict) cmd.add_flag("--strict", *strict, "With --ratio: fail (exit 1) when the codec cannot reach the ratio");
   auto* max_error = cmd.add_option("--max-error", options.max_error,
                                    "Bound on |t1 - t0| / box diagonal for every hit sample")
                         ->check(finite_range(1e-5, 0.1))

@@ -13,6 +13,10 @@
 #include <vector>
 #include <string>
 
+namespace hb {
+class BoxScene;
+}
+
 namespace hb::cli {
 
 /// Thrown by a command for a usage error the parser could not catch (exit code 2).
@@ -36,7 +40,8 @@ ProgressCallback terminal_progress(const std::string& label);
 
 /// Adds --max-error, --ratio (mutually exclusive) and --normal-bits to a command; returns the
 /// --max-error option (to tell whether it was given).
-CLI::Option* add_codec_bound_options(CLI::App& cmd, CodecOptions& options);
+/// `strict` (optional): adds --strict, failing the command when --ratio's target is not met.
+CLI::Option* add_codec_bound_options(CLI::App& cmd, CodecOptions& options, bool* strict = nullptr);
 
 /// Adds --stiffness and --metres-per-unit to a command.
 void add_force_law_options(CLI::App& cmd, ForceLaw& law);
@@ -47,6 +52,18 @@ void print_json(const nlohmann::json& j);
 
 /// True when `path` names a box file (by its magic bytes, not its extension).
 bool is_box_file(const std::string& path);
+
+/// Fails (hb::InvalidInput, exit 1) when `scene` records a source hash that differs from
+/// `mesh_hash`: evaluating a box against another mesh measures nothing. With `force`, warns on
+/// stderr instead and goes on.
+void check_same_mesh(const BoxScene& scene, const std::string& box_path, const std::string& mesh_path,
+                     std::uint64_t mesh_hash, bool force);
+
+/// After a bake or compress with --ratio R: when the codec ended below R (at its largest error
+/// bound), warns on stderr with what it reached, and throws hb::Error (exit 1) when `strict`.
+/// Sets j["ratio_target"], j["ratio_reached"]. No-op when no ratio was asked (target <= 0).
+void check_ratio_target(double target, double achieved, double bound, double t_error_mean, bool strict,
+                        nlohmann::json& j);
 
 /// Lower-case extension of a path with its dot (".vtp"), or empty.
 std::string lower_extension(const std::string& path);

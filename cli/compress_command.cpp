@@ -1,6 +1,7 @@
 // hapticbox compress BOX -o OUT.hbox --codec haar|block [--max-error E | --ratio R] [--json]
 // Compresses the tables of an uncompressed box file without baking again.
 #include "cli_support.h"
+#include "figure_text.h"
 #include "commands.h"
 #include "errors.h"
 #include "haptic_box/box_file.h"
@@ -14,13 +15,14 @@ void add_compress_command(CLI::App& app) {
     std::string box, out, codec = "block";
     hb::CodecOptions codec_options;
     bool json = false;
+    bool strict = false;
   };
   auto opts = std::make_shared<Opts>();
   cmd->add_option("BOX", opts->box, "Box file with uncompressed tables")->required();
   cmd->add_option("-o,--output", opts->out, "Output box file (.hbox)")->required();
   cmd->add_option("--codec", opts->codec, "Table codec: haar (the paper's) or block (ours)")
       ->check(CLI::IsMember({"haar", "block"}))->capture_default_str();
-  hb::cli::add_codec_bound_options(*cmd, opts->codec_options);
+  hb::cli::add_codec_bound_options(*cmd, opts->codec_options, &opts->strict);
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
   cmd->callback([opts] {
     const hb::BoxScene scene = hb::load_box_file(opts->box);
@@ -31,22 +33,24 @@ void add_compress_command(CLI::App& app) {
     const hb::BoxScene out = scene.compressed(opts->codec_options);
     hb::save_box_file(out, opts->out);
     std::uint64_t raw = 0, bytes = 0;
-    double t_max = 0, bound = 0;
+    double t_max = 0, t_mean = 0, bound = 0;
     for (const hb::HapticBox& box : out.boxes()) {
       raw += box.raw_table_bytes();
       bytes += box.table_bytes();
       t_max = std::max<double>(t_max, box.codec_stats().t_error_max);
+      t_mean += box.codec_stats().t_error_mean / double(out.boxes().size());
       bound = std::max<double>(bound, box.codec_stats().max_error_bound);
     }
-    const nlohmann::json j = {{"input", opts->box}, {"output", opts->out}, {"codec", opts->codec},
+    nlohmann::json j = {{"input", opts->box}, {"output", opts->out}, {"codec", opts->codec},
                               {"bytes", std::filesystem::file_size(opts->out)}, {"table_bytes", bytes},
                               {"compression_ratio", double(raw) / double(bytes)}, {"max_error_bound", bound},
                               {"t_error_max", t_max}};
+    hb::cli::check_ratio_target(opts->codec_options.ratio, double(raw) / double(bytes), bound, t_mean, opts->strict, j);
     if (opts->json) {
       hb::cli::print_json(j);
       return;
     }
-    std::cout << "compressed " << opts->out << ": codec " << opts->codec << ", ratio " << double(raw) / double(bytes)
-              << ":1, bound " << bound << ", t error max " << t_max << " (of the box diagonal)\n";
+    std::cout << "compressed " << opts->out << ": codec " << opts->codec << ", ratio " << hb::sig(double(raw) / double(bytes))
+              << ":1, bound " << hb::percent(bound) << ", t error max " << hb::percent(t_max) << " (of the box diagonal)\n";
   });
 }

@@ -2,6 +2,7 @@
 #include "cli_support.h"
 #include "commands.h"
 #include "eval_json.h"
+#include "figure_text.h"
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
@@ -19,6 +20,7 @@ void add_eval_command(CLI::App& app) {
     hb::ProbeOptions probes;
     hb::ForceLaw law;
     bool json = false;
+    bool force = false;
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
@@ -28,12 +30,11 @@ void add_eval_command(CLI::App& app) {
   cmd->add_option("--seed", opts->probes.seed, "Probe seed")->capture_default_str();
   hb::cli::add_force_law_options(*cmd, opts->law);
   cmd->add_flag("--json", opts->json, "Print JSON");
+  cmd->add_flag("--force", opts->force, "Evaluate even when the box was baked from a different mesh (its hash differs)");
   cmd->callback([opts] {
     const hb::BoxScene scene = hb::load_box_file(opts->box);
     const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh, opts->model);
-    if (hb::cli::communicator().is_root() && scene.source().mesh_hash != 0 &&
-        scene.source().mesh_hash != hb::cli::hash_model(opts->mesh, opts->model))
-      std::cerr << "hapticbox: warning: " << opts->box << " was baked from a different file than " << opts->mesh << "\n";
+    hb::cli::check_same_mesh(scene, opts->box, opts->mesh, hb::cli::hash_model(opts->mesh, opts->model), opts->force);
     const hb::ExactQuery exact(mesh);
     const auto probes = hb::sample_probes(mesh, opts->samples, opts->probes);
     const float diag = mesh.bounds().diagonal();
@@ -45,14 +46,14 @@ void add_eval_command(CLI::App& app) {
       hb::cli::print_json(j);
       return;
     }
-    std::cout << std::fixed << std::setprecision(4) << "eval " << opts->box << " vs " << opts->mesh << " ("
-              << s.samples << " probes, seed " << opts->probes.seed << ")\n"
-              << "  contact agreement   " << 100.0 * s.contact_agreement << " %  (false " << s.false_contacts
-              << ", missed " << s.missed_contacts << ", exact contacts " << s.exact_contacts << ")\n"
-              << "  force error         median " << 100.0 * s.force_error_median << " %, p95 "
-              << 100.0 * s.force_error_p95 << " %, max " << 100.0 * s.force_error_max << " %\n"
-              << "  direction error     median " << s.angle_error_median_deg << " deg, p99 " << s.angle_error_p99_deg
-              << " deg\n"
-              << "  depth RMS / diag    " << s.depth_rms_over_diag << "\n";
+    std::cout << "eval " << opts->box << " vs " << opts->mesh << " (" << s.samples << " probes, seed "
+              << opts->probes.seed << ")\n"
+              << "  contact agreement   " << hb::agreement_percent(s.contact_agreement) << "  (false "
+              << s.false_contacts << ", missed " << s.missed_contacts << ", exact contacts " << s.exact_contacts << ")\n"
+              << "  force error         median " << hb::percent(s.force_error_median) << ", p95 "
+              << hb::percent(s.force_error_p95) << ", max " << hb::percent(s.force_error_max) << "\n"
+              << "  direction error     median " << hb::sig(s.angle_error_median_deg) << " deg, p99 "
+              << hb::sig(s.angle_error_p99_deg) << " deg\n"
+              << "  depth RMS / diag    " << hb::sig(s.depth_rms_over_diag) << "\n";
   });
 }

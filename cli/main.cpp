@@ -34,6 +34,33 @@ std::string subcommand_of(const CLI::App& app, int argc, char** argv) {
   return "";
 }
 
+bool is_command(const CLI::App& app, const std::string& word) {
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+    if (sub->get_name() == word) return true;
+  return false;
+}
+
+std::string command_list(const CLI::App& app) {
+  std::string out;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+    out += (out.empty() ? "" : ", ") + sub->get_name();
+  return out;
+}
+
+// The first argument that is neither an option of main nor an option's value.
+std::string first_word(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--threads") {
+      ++i;  // its value
+      continue;
+    }
+    if (!a.empty() && a[0] == '-') continue;
+    return a;
+  }
+  return "";
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -88,6 +115,14 @@ int main(int argc, char** argv) {
   add_compress_sweep_command(app);
   add_cache_command(app);
   add_stability_command(app);
+  // The first word that is not an option must be a command: say which word was not one, and
+  // list the commands (CLI11 alone says "A subcommand is required").
+  if (const std::string word = first_word(argc, argv); !word.empty() && !is_command(app, word)) {
+    if (rank == 0)
+      std::cerr << "hapticbox: unknown command '" << word << "'; the commands are: " << command_list(app)
+                << "\n(hapticbox --help describes them; hapticbox COMMAND --help, one)\n";
+    return 2;
+  }
   if (ranks > 1) {
     const std::string sub = subcommand_of(app, argc, argv);
     if (!sub.empty() && !kDistributed.count(sub))

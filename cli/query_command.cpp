@@ -31,8 +31,10 @@ void add_query_command(CLI::App& app) {
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
-  cmd->add_option("BOX", opts->box, "Box file (.hbox)")->required();
-  auto* seg = cmd->add_option("--segment", opts->segment, "One segment: sx sy sz ex ey ez")->expected(6);
+  // BOX is checked in the callback, after --segment: a short --segment swallows the box file
+  // name, and the message must say that the segment is short, not that BOX is missing.
+  cmd->add_option("BOX", opts->box, "Box file (.hbox)");
+  auto* seg = cmd->add_option("--segment", opts->segment, "One segment: six numbers sx sy sz ex ey ez")->expected(1, 16);
   auto* segs = cmd->add_option("--segments", opts->segments_csv, "CSV with header sx,sy,sz,ex,ey,ez");
   seg->excludes(segs);
   cmd->add_option("--out", opts->out_csv, "Output CSV (default: stdout)");
@@ -41,6 +43,18 @@ void add_query_command(CLI::App& app) {
   cmd->callback([opts] {
     std::vector<hb::Segment> segments;
     if (!opts->segment.empty()) {
+      // `query --segment 6 NUMBERS BOX`: the option takes what follows it; the seventh is BOX.
+      if (opts->box.empty() && opts->segment.size() == 7) {
+        opts->box = opts->segment.back();
+        opts->segment.pop_back();
+      }
+      if (opts->segment.size() != 6) {
+        std::string given;
+        for (const std::string& v : opts->segment) given += " " + v;
+        throw hb::cli::UsageError("--segment takes six numbers sx sy sz ex ey ez (tip last); got " +
+                                  std::to_string(opts->segment.size()) + ":" + given +
+                                  (opts->box.empty() ? " (and no BOX file: put it before --segment)" : ""));
+      }
       float v[6];
       for (std::size_t k = 0; k < 6; ++k)
         if (!hb::parse_finite_float(opts->segment[k], v[k]) || std::fabs(v[k]) > hb::kMaxSegmentCoordinate)
@@ -52,6 +66,7 @@ void add_query_command(CLI::App& app) {
     } else {
       throw hb::cli::UsageError("query: give --segment sx sy sz ex ey ez or --segments IN.csv");
     }
+    if (opts->box.empty()) throw hb::cli::UsageError("query: BOX is required (the box file, first)");
     const hb::BoxScene scene = hb::load_box_file(opts->box);
     hb::TriangleMesh mesh;
     std::unique_ptr<hb::ExactQuery> exact;

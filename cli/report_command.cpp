@@ -50,6 +50,7 @@ void add_report_command(CLI::App& app) {
     bool no_cache = false;
     bool no_image = false;
     bool stability = false;
+    bool force = false;
     std::string save_box;
   };
   auto opts = std::make_shared<Opts>();
@@ -76,6 +77,7 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--tol-agreement", opts->report.tolerances.contact_agreement, "Tolerance: min contact agreement")->check(hb::cli::finite_range(0.0, 1e6))->capture_default_str();
   cmd->add_option("--compression-curve", opts->report.compression_codec,
                   "Also draw this codec's compression curve (haar or block)");
+  cmd->add_flag("--force", opts->force, "Report even when BOX was baked from a different mesh (its hash differs)");
   cmd->add_option("--save-box", opts->save_box, "When baking, also save the box file here");
   cmd->add_flag("--stability", opts->stability, "Also run the trajectory stability suite (as `stability`, 6 sites)");
   hb::cli::add_force_law_options(*cmd, opts->report.law);
@@ -97,8 +99,7 @@ void add_report_command(CLI::App& app) {
     const std::uint64_t mesh_hash = hb::cli::hash_model(mesh_path, opts->model);
     double bake_seconds = 0.0;
     if (first_is_box) {
-      if (hb::cli::communicator().is_root() && scene.source().mesh_hash != 0 && scene.source().mesh_hash != mesh_hash)
-        std::cerr << "hapticbox: warning: " << box_path << " was baked from a different file than " << mesh_path << "\n";
+      hb::cli::check_same_mesh(scene, box_path, mesh_path, mesh_hash, opts->force);
     } else {
       hb::BakeRecipe recipe;
       recipe.options.params = opts->params;

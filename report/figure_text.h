@@ -24,7 +24,7 @@ std::string agreement_percent(double fraction);
 std::string bytes_text(std::uint64_t bytes);
 
 /// A count in k (thousands), M (millions) or G above 10,000, 3 significant digits:
-/// count_text(18874368) = "18.9 M", count_text(5000) = "5,000".
+/// count_text(18874368) = "18.9 M", count_text(5000) = "5000".
 std::string count_text(double count);
 
 /// A duration with its unit chosen for 1-999: "1.23 s", "450 ms", "3.1 us", "310 ns".

@@ -1,7 +1,14 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages HapticBox needs to build, test and run.
 # Only packages that are missing are installed; needs root (or sudo) when any are.
+#   --check   only say what is missing or in the way (exit 1 when anything is), install nothing.
+# Living beside ParaView: on Debian 12, python3-paraview (which `paraview` recommends, so a
+# plain `apt install paraview` brings it) conflicts with python3-vtk9, a dependency of
+# libvtk9-dev. With it installed apt would remove ParaView's Python or refuse: that case is
+# detected first and explained (exit 1) before apt runs. `paraview` alone does not conflict.
 set -euo pipefail
+CHECK_ONLY=0
+[ "${1:-}" = "--check" ] && CHECK_ONLY=1
 
 PACKAGES=(
   build-essential cmake pkg-config git ca-certificates
@@ -18,15 +25,50 @@ PACKAGES=(
   python3-nibabel python3-pydicom
 )
 
+# HB_PRETEND_INSTALLED="pkg ..." / HB_PRETEND_MISSING="pkg ..." treat those packages as
+# installed / missing (the tests of this script use them with --check).
+installed() {
+  case " ${HB_PRETEND_INSTALLED:-} " in *" $1 "*) return 0 ;; esac
+  case " ${HB_PRETEND_MISSING:-} " in *" $1 "*) return 1 ;; esac
+  dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"
+}
+
+# ParaView's Python in the way of libvtk9-dev (through python3-vtk9)?
+needs_vtk=0
+for p in libvtk9-dev python3-vtk9; do installed "$p" || needs_vtk=1; done
+if installed python3-paraview && [ "$needs_vtk" = 1 ]; then
+  cat >&2 <<MSG
+install_deps: cannot install HapticBox's build dependencies: the installed Debian package
+python3-paraview (ParaView's Python, which 'apt install paraview' brings along) conflicts with
+python3-vtk9, which libvtk9-dev needs (HapticBox builds against Debian's VTK 9.1). Debian 12
+builds ParaView 5.11 with its own VTK, so the two cannot be installed together; nothing was
+changed. Choose one:
+  1. Keep the ParaView application, drop only its Python (the 'paraview' package itself does
+     not conflict), then run this again:
+       sudo apt-get remove python3-paraview && bash scripts/install_deps.sh
+     (ParaView's Python shell and pvpython go; reading HapticBox's .vtp and .csv does not.)
+  2. Keep all of Debian's ParaView (with Python) and build HapticBox in a Debian 12 container
+     or chroot (e.g. docker run -it debian:12), where libvtk9-dev installs.
+  3. Replace Debian's ParaView by ParaView's own binary release (https://www.paraview.org/download/,
+     a folder such as /opt/ParaView-5.11, no Debian package, Python included):
+       sudo apt-get remove paraview python3-paraview && bash scripts/install_deps.sh
+MSG
+  exit 1
+fi
+
 missing=()
 for p in "${PACKAGES[@]}"; do
-  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+  if ! installed "$p"; then
     missing+=("$p")
   fi
 done
 
 if [ ${#missing[@]} -eq 0 ]; then
   exit 0
+fi
+if [ "$CHECK_ONLY" = 1 ]; then
+  echo "install_deps: missing Debian packages: ${missing[*]}" >&2
+  exit 1
 fi
 
 echo "install_deps: installing missing Debian packages: ${missing[*]}"

@@ -302,3 +302,73 @@ TEST_F(CliTest, ReplayOfALogWithAnImpossibleHeaderIsRefused) {
 }
 
 } // namespace
+
+TEST_F(CliTest, UnknownCommandIsNamedAndTheCommandsListed) {
+  const Result r = run("bakee " + path("sphere.off"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("unknown command 'bakee'"), std::string::npos) << r.err;
+  for (const char* command : {"bake", "eval", "query", "info"}) EXPECT_NE(r.err.find(command), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("A subcommand is required"), std::string::npos) << r.err;
+  // Main's own options still come first.
+  EXPECT_EQ(run("--threads 1 info " + path("sphere.off")).code, 0);
+}
+
+TEST_F(CliTest, ShortSegmentSaysSixNumbersAndWhatItGot) {
+  bake_once();
+  Result r = run("query " + path("sphere.hbox") + " --segment 1 2 3");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("six numbers"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("got 3: 1 2 3"), std::string::npos) << r.err;
+  // Before the box file, a short segment swallows its name: the message says so.
+  r = run("query --segment 1 2 3 " + path("sphere.hbox"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("got 4"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("no BOX"), std::string::npos) << r.err;
+  EXPECT_EQ(run("query --segment 0 0 30 0 0 9 " + path("sphere.hbox")).code, 0);
+}
+
+TEST_F(CliTest, EvalAgainstAnotherMeshFailsUnlessForced) {
+  bake_once();
+  hb::write_mesh(hb::make_sphere(12.f, 4), path("other.off"));
+  const Result r = run("eval " + path("sphere.hbox") + " " + path("other.off") + " --samples 200");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("different mesh"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--force"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  const Result forced = run("eval " + path("sphere.hbox") + " " + path("other.off") + " --samples 200 --force");
+  EXPECT_EQ(forced.code, 0) << forced.err;
+  EXPECT_NE(forced.err.find("warning"), std::string::npos) << forced.err;
+  EXPECT_EQ(run("eval " + path("sphere.hbox") + " " + path("sphere.off") + " --samples 200").code, 0);
+}
+
+TEST_F(CliTest, FiguresPrintWithSignificantDigits) {
+  const Result bake = run("bake " + path("sphere.off") + " -o " + path("fig.hbox") + " -m 8 -n 6");
+  ASSERT_EQ(bake.code, 0) << bake.err;
+  // 6 x 64 x 12 x 36 = 165,888 rays: "166 k rays", not the raw count; bytes in MB or kB.
+  EXPECT_NE(bake.out.find("166 k rays"), std::string::npos) << bake.out;
+  EXPECT_EQ(bake.out.find("165888"), std::string::npos) << bake.out;
+  EXPECT_TRUE(bake.out.find(" MB") != std::string::npos || bake.out.find(" kB") != std::string::npos) << bake.out;
+  const Result eval = run("eval " + path("fig.hbox") + " " + path("sphere.off") + " --samples 500");
+  ASSERT_EQ(eval.code, 0) << eval.err;
+  EXPECT_EQ(eval.out.find(".0000 %"), std::string::npos) << eval.out;  // no raw fixed precision
+}
+
+TEST_F(CliTest, RatioTargetNotReachedIsSaidAndFailsOnlyWhenStrict) {
+  const Result r = run("bake " + path("sphere.off") + " -o " + path("ratio.hbox") +
+                       " -m 8 -n 6 --codec haar --ratio 100000 --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("target not reached"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("10 %"), std::string::npos) << r.err;  // the bound at its maximum
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["ratio_reached"], false);
+  EXPECT_EQ(j["ratio_target"].get<double>(), 100000.0);
+  const Result strict = run("bake " + path("sphere.off") + " -o " + path("ratio2.hbox") +
+                            " -m 8 -n 6 --codec haar --ratio 100000 --strict");
+  EXPECT_EQ(strict.code, 1);
+  EXPECT_NE(strict.err.find("target not reached"), std::string::npos) << strict.err;
+  // A reachable target is met silently.
+  const Result easy = run("bake " + path("sphere.off") + " -o " + path("ratio3.hbox") +
+                          " -m 8 -n 6 --codec haar --ratio 1.5 --json --strict");
+  ASSERT_EQ(easy.code, 0) << easy.err;
+  EXPECT_EQ(nlohmann::json::parse(easy.out)["ratio_reached"], true);
+}

@@ -65,12 +65,13 @@ TEST_F(ModelFormatsCliTest, VolumeBakesAndEvaluatesEndToEnd) {
   EXPECT_NE(bake.err.find("iso -480"), std::string::npos) << bake.err;
   const Result eval = run("eval " + path("p.hbox") + " " + path("phantom.mha") + " --iso -480 --samples 1000 --json");
   ASSERT_EQ(eval.code, 0) << eval.err;
-  EXPECT_EQ(eval.err.find("different file"), std::string::npos) << eval.err;
+  EXPECT_EQ(eval.err.find("different mesh"), std::string::npos) << eval.err;
   const auto e = nlohmann::json::parse(eval.out);
   EXPECT_GT(e["contact_agreement"].get<double>(), 0.95);
   // Evaluating against another iso-value is noticed.
   const Result other = run("eval " + path("p.hbox") + " " + path("phantom.mha") + " --iso 370 --samples 200 --json");
-  EXPECT_NE(other.err.find("different file"), std::string::npos) << other.err;
+  EXPECT_EQ(other.code, 1);
+  EXPECT_NE(other.err.find("different mesh"), std::string::npos) << other.err;
 }
 
 TEST_F(ModelFormatsCliTest, BadVolumeInputNamesTheFileAndTheCause) {
