@@ -13,6 +13,18 @@
 namespace hb::cli {
 namespace {
 Communicator* the_communicator = nullptr;
+std::string the_command_line;
+}
+
+const std::string& command_line() { return the_command_line; }
+
+void set_command_line(int argc, char** argv) {
+  the_command_line.clear();
+  for (int i = 0; i < argc; ++i) {
+    std::string a = i == 0 ? std::string("hapticbox") : std::string(argv[i]);
+    if (a.find_first_of(" \t'\"") != std::string::npos) a = "'" + a + "'";
+    the_command_line += (i ? " " : "") + a;
+  }
 }
 
 void check_same_mesh(const BoxScene& scene, const std::string& box_path, const std::string& mesh_path,

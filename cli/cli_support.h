@@ -65,6 +65,10 @@ void check_same_mesh(const BoxScene& scene, const std::string& box_path, const s
 void check_ratio_target(double target, double achieved, double bound, double t_error_mean, bool strict,
                         nlohmann::json& j);
 
+/// The command line as typed (set by main; arguments with spaces quoted), for reports.
+const std::string& command_line();
+void set_command_line(int argc, char** argv);
+
 /// Lower-case extension of a path with its dot (".vtp"), or empty.
 std::string lower_extension(const std::string& path);
 

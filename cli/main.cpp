@@ -72,6 +72,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   hb::cli::set_communicator(comm.get());
+  hb::cli::set_command_line(argc, argv);
   const int rank = comm->rank(), ranks = comm->size();
   // Only rank 0 speaks on standard output (progress and --json included).
   if (rank != 0) std::cout.rdbuf(nullptr);

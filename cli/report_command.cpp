@@ -9,6 +9,8 @@
 #include "haptic_box/box_file.h"
 #include "mesh/mesh_io.h"
 #include "report.h"
+#include "figure_text.h"
+#include "summary_text.h"
 #include "vtkHapticBoxErrorFieldImage.h"
 #include "vtkHapticBoxReferenceQueries.h"
 #include "vtkHapticBoxUtilities.h"
@@ -142,6 +144,7 @@ void add_report_command(CLI::App& app) {
     hb::ReportData data = hb::compute_report(mesh, {}, scene, bake_seconds, refs.References(), ro);
     if (!hb::cli::communicator().is_root()) return;  // rank 0 holds the figures and writes the report
     data.product_version = HB_VERSION;
+    data.command_line = hb::cli::command_line();
     data.mesh_path = mesh_path;
     data.mesh_hash = mesh_hash;
     data.box_path = box_path;
@@ -177,10 +180,10 @@ void add_report_command(CLI::App& app) {
     }
     hb::write_report(data, opts->out);
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::cout << "report " << opts->out << "/report.html (" << mesh.triangle_count() << " triangles, m=" << own.m
-              << " n=" << own.n << ", median force error " << 100.0 * data.stats.force_error_median
-              << " %, agreement " << 100.0 * data.stats.contact_agreement << " %: "
-              << (data.pass() ? "pass" : "FAIL") << "; " << total << " s)\n";
+    std::cout << "report " << opts->out << "/report.html (" << hb::count_text(double(mesh.triangle_count()))
+              << " triangles, " << hb::densities_text(data) << "; " << (data.pass() ? "within" : "OUTSIDE")
+              << " tolerances; " << hb::duration_text(total) << ")\n"
+              << hb::report_summary_text(data, opts->out) << "\n";
     if (data.error_field_image.empty()) std::cout << "  no error-field image: " << data.error_field_note << "\n";
   });
 }

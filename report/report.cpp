@@ -4,14 +4,18 @@
 //  2. the references and the extra sweep configurations on the same probes (hb::run_sweep),
 //     plus the box's own row, and the Pareto front;
 //  3. the per-vertex error field;
-//  4. writing: charts through PLplot (PNG files), then report.html with the PNGs embedded as
-//     base64 data URIs (one self-contained file), summary.json and samples.csv.
+//  4. writing: charts through PLplot (SVG files), then report.html (report_html.cpp: the SVGs
+//     embedded as data URIs, one self-contained file), summary.json, summary.txt and samples.csv.
 #include "report.h"
 #include "eval_json.h"
 #include "errors.h"
 #include "evaluation/probe_sampling.h"
 #include "evaluation/query_timing.h"
 #include "report_charts.h"
+#include "report_html.h"
+#include "machine_info.h"
+#include "figure_text.h"
+#include "summary_text.h"
 #include "stability_json.h"
 #include "stability_section.h"
 #include <nlohmann/json.hpp>
@@ -44,41 +48,6 @@ std::string hex64(std::uint64_t v) {
   return buf;
 }
 
-std::string base64(const std::string& bytes) {
-  static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  std::size_t i = 0;
-  for (; i + 2 < bytes.size(); i += 3) {
-    const unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8 | (unsigned char)bytes[i + 2];
-    out += table[v >> 18 & 63];
-    out += table[v >> 12 & 63];
-    out += table[v >> 6 & 63];
-    out += table[v & 63];
-  }
-  if (i + 1 == bytes.size()) {
-    const unsigned v = (unsigned char)bytes[i] << 16;
-    out += table[v >> 18 & 63];
-    out += table[v >> 12 & 63];
-    out += "==";
-  } else if (i + 2 == bytes.size()) {
-    const unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8;
-    out += table[v >> 18 & 63];
-    out += table[v >> 12 & 63];
-    out += table[v >> 6 & 63];
-    out += '=';
-  }
-  return out;
-}
-
-std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path + ": cannot read");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // A written file appears whole or not at all: written under a temporary name, renamed.
 void move_into_place(const fs::path& tmp, const fs::path& path) {
   std::error_code ec;
@@ -100,39 +69,6 @@ void write_text(const fs::path& path, const std::string& text) {
     throw IoError(path.string() + ": cannot write");
   }
   move_into_place(tmp, path);
-}
-
-std::string html_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
-
-std::string fmt(double v, int precision = 2) {
-  std::ostringstream ss;
-  ss << std::fixed << std::setprecision(precision) << v;
-  return ss.str();
-}
-
-std::string bytes_text(std::size_t b) {
-  if (b >= (1u << 30)) return fmt(double(b) / double(1u << 30)) + " GiB";
-  if (b >= (1u << 20)) return fmt(double(b) / double(1u << 20)) + " MiB";
-  if (b >= (1u << 10)) return fmt(double(b) / double(1u << 10)) + " KiB";
-  return std::to_string(b) + " B";
-}
-
-const SweepRow* find_row(const std::vector<SweepRow>& rows, const std::string& method) {
-  for (const SweepRow& r : rows)
-    if (r.method == method) return &r;
-  return nullptr;
 }
 
 nlohmann::json row_json(const SweepRow& r) {
@@ -173,6 +109,14 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   d.bake_seconds = bake_seconds;
   d.codec = codec_name(scene.boxes().front().codec());
   d.refine = scene.refines();
+  d.m_min = d.m_max = d.params.m;
+  d.n_min = d.n_max = d.params.n;
+  for (const HapticBox& b : scene.boxes()) {
+    d.m_min = std::min(d.m_min, b.params().m), d.m_max = std::max(d.m_max, b.params().m);
+    d.n_min = std::min(d.n_min, b.params().n), d.n_max = std::max(d.n_max, b.params().n);
+  }
+  d.generated_at = utc_now_iso();
+  d.machine = machine_description();
   const ContactQuery& exact = *references.front().query;
 
   // 1. Accuracy on eval's probes.
@@ -180,6 +124,7 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   Communicator& comm = communicator_or_serial(options.communicator);
   d.ranks = comm.size();
   d.stats = compare_queries(scene, exact, probes, options.law, d.diagonal, &d.records, &comm);
+  d.worst = worst_probes(d.records, d.diagonal);
   report_progress(options.progress, 0.05);
 
   // 2. References, sweep configurations, the box's own row.
@@ -260,6 +205,7 @@ std::string report_json(const ReportData& d) {
   const ReportOptions& o = d.options;
   nlohmann::json j;
   j["product"] = {{"name", "hapticbox"}, {"version", d.product_version}};
+  j["generated"] = {{"at_utc", d.generated_at}, {"machine", d.machine}, {"command_line", d.command_line}};
   j["inputs"] = {{"mesh", d.mesh_path},
                  {"mesh_hash", hex64(d.mesh_hash)},
                  {"box", d.box_path},
@@ -267,6 +213,8 @@ std::string report_json(const ReportData& d) {
   j["model"] = {{"vertices", d.vertices}, {"triangles", d.triangles}, {"pieces", d.pieces}, {"diagonal", d.diagonal}};
   j["box"] = {{"m", d.params.m},
               {"n", d.params.n},
+              {"m_range", {d.m_min, d.m_max}},
+              {"n_range", {d.n_min, d.n_max}},
               {"codec", d.codec},
               {"memory_bytes", d.memory_bytes},
               {"refine", d.refine},
@@ -296,6 +244,7 @@ std::string report_json(const ReportData& d) {
     const double exact_ns = timing["exact_embree_ns"].get<double>();
     timing["speedup_vs_exact"] = exact_ns / d.box_ns;
     timing["verdict"] = exact_ns >= d.box_ns ? "faster than exact" : "slower than exact";
+    timing["verdict_text"] = "the box is " + speed_verdict(d.box_ns, exact_ns) + " (same probes, one at a time, one core)";
   }
   j["timing"] = timing;
   j["tolerances"] = {{"force_error_median", o.tolerances.force_error_median},
@@ -316,6 +265,21 @@ std::string report_json(const ReportData& d) {
                       {"note", d.error_field_image.empty() ? d.error_field_note : std::string()}};
   j["compression_curve"] = nlohmann::json::array();
   for (const auto& [cr, err] : d.compression_curve) j["compression_curve"].push_back({cr, err});
+  j["worst_probes"] = nlohmann::json::array();
+  for (const WorstProbe& w : d.worst)
+    j["worst_probes"].push_back({{"kind", to_string(w.kind)},
+                                 {"probe", w.index},
+                                 {"start", {w.segment.start.x(), w.segment.start.y(), w.segment.start.z()}},
+                                 {"tip", {w.segment.end.x(), w.segment.end.y(), w.segment.end.z()}},
+                                 {"relative_force_error", w.relative_error},
+                                 {"exact_force_n", w.exact_force_n},
+                                 {"approx_force_n", w.approx_force_n},
+                                 {"force_difference_n", w.force_difference_n},
+                                 {"exact_depth_over_diagonal", w.exact_depth_fraction},
+                                 {"approx_depth_over_diagonal", w.approx_depth_fraction},
+                                 {"incidence_deg", w.incidence_deg},
+                                 {"cause", w.cause}});
+  j["summary_text"] = report_summary_text(d, "");
   j["compute_seconds"] = d.compute_seconds;
   if (d.stability) j["stability"] = stability_json(*d.stability);
   return j.dump(2);
@@ -327,13 +291,17 @@ void write_report(const ReportData& d, const std::string& dir_name) {
   fs::create_directories(dir / "charts", ec);
   if (ec) throw IoError(dir_name + ": cannot create the report directory (" + ec.message() + ")");
 
-  // Charts.
-  const std::string speed_png = (dir / "charts" / "speed_accuracy.png").string();
-  const std::string hist_png = (dir / "charts" / "force_error_histogram.png").string();
-  const std::string comp_png = (dir / "charts" / "compression_curve.png").string();
-  plot_speed_accuracy(d.rows, speed_png);
-  plot_force_error_histogram(d.stats.force_errors, hist_png);
-  if (!d.compression_curve.empty()) plot_compression_curve(d.compression_curve, comp_png);
+  // Charts, as SVG (vector: sharp when printed; embedded in report.html).
+  ChartFiles charts;
+  charts.speed = (dir / "charts" / "speed_accuracy.svg").string();
+  charts.histogram = (dir / "charts" / "force_error_histogram.svg").string();
+  plot_speed_accuracy(d.rows, charts.speed);
+  plot_force_error_histogram(d.stats.force_errors, charts.histogram);
+  if (!d.compression_curve.empty()) {
+    charts.compression = (dir / "charts" / "compression_curve.svg").string();
+    plot_compression_curve(d.compression_curve, charts.compression);
+  }
+  charts.stability_dir = (dir / "charts").string();
 
   write_text(dir / "summary.json", report_json(d) + "\n");
 
@@ -373,91 +341,9 @@ void write_report(const ReportData& d, const std::string& dir_name) {
     move_into_place(csv_tmp, dir / "samples.csv");
   }
 
-  // report.html.
-  const ComparisonStats& s = d.stats;
-  const ReportTolerances& tol = d.options.tolerances;
-  auto img = [](const std::string& png, const std::string& alt) {
-    return "<img alt=\"" + html_escape(alt) + "\" src=\"data:image/png;base64," + base64(read_bytes(png)) + "\">";
-  };
-  auto verdict = [](bool ok) { return ok ? "<td class=pass>pass</td>" : "<td class=fail>fail</td>"; };
-  const SweepRow* exact = find_row(d.rows, "exact_embree");
-  const SweepRow* vtk = find_row(d.rows, "vtk_static_cell_locator");
-  std::ostringstream h;
-  h << "<!DOCTYPE html>\n<html lang=en><head><meta charset=utf-8><title>HapticBox report: "
-    << html_escape(fs::path(d.mesh_path).filename().string()) << "</title>\n<style>"
-    << "body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}"
-    << "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
-    << "th{background:#eee}td.l{text-align:left}.pass{color:#070;font-weight:bold}.fail{color:#b00;font-weight:bold}"
-    << "img{max-width:100%;border:1px solid #ddd}.note{color:#666}</style></head><body>\n";
-  h << "<h1>HapticBox error report</h1>\n<p>" << html_escape(d.mesh_path)
-    << (d.box_path.empty() ? "" : " with box file " + html_escape(d.box_path)) << ". hapticbox "
-    << html_escape(d.product_version) << "; " << s.samples << " probes, seed " << d.options.probes.seed
-    << "; every method answered the same probe segments. Overall: "
-    << (d.pass() ? "<span class=pass>within tolerances</span>" : "<span class=fail>outside tolerances</span>")
-    << ".</p>\n";
-  h << "<h2>Summary</h2>\n<table>\n";
-  auto tr = [&h](const std::string& k, const std::string& v) { h << "<tr><th>" << k << "</th><td class=l>" << v << "</td></tr>\n"; };
-  tr("model", html_escape(fs::path(d.mesh_path).filename().string()));
-  tr("triangles", std::to_string(d.triangles));
-  tr("pieces (boxes)", std::to_string(d.pieces));
-  tr("densities", "m = " + std::to_string(d.params.m) + ", n = " + std::to_string(d.params.n));
-  tr("codec", html_escape(d.codec));
-  tr("memory (tables)", bytes_text(d.memory_bytes));
-  tr("bake time", d.bake_seconds > 0 ? fmt(d.bake_seconds) + " s" : "loaded from a box file");
-  tr("query time, haptic box", fmt(d.box_ns, 1) + " ns");
-  if (exact) tr("query time, exact Embree", fmt(exact->query_ns, 1) + " ns");
-  if (exact && d.box_ns > 0 && exact->query_ns > 0)
-    tr("speed against exact (same probes, one at a time)",
-       exact->query_ns >= d.box_ns ? "<span class=pass>faster than exact, " + fmt(exact->query_ns / d.box_ns) + "x</span>"
-                                   : "<span class=fail>slower than exact, " + fmt(d.box_ns / exact->query_ns) + "x</span>");
-  if (vtk) tr("query time, VTK vtkStaticCellLocator", fmt(vtk->query_ns, 1) + " ns");
-  h << "</table>\n<h2>Accuracy against the exact answer</h2>\n<table>\n"
-    << "<tr><th>figure</th><th>value</th><th>tolerance</th><th>verdict</th></tr>\n"
-    << "<tr><td class=l>median relative force error</td><td>" << fmt(100 * s.force_error_median) << " %</td><td>&le; "
-    << fmt(100 * tol.force_error_median) << " %</td>" << verdict(d.pass_median) << "</tr>\n"
-    << "<tr><td class=l>95th percentile force error</td><td>" << fmt(100 * s.force_error_p95) << " %</td><td>&le; "
-    << fmt(100 * tol.force_error_p95) << " %</td>" << verdict(d.pass_p95) << "</tr>\n"
-    << "<tr><td class=l>contact agreement</td><td>" << fmt(100 * s.contact_agreement) << " %</td><td>&ge; "
-    << fmt(100 * tol.contact_agreement) << " %</td>" << verdict(d.pass_agreement) << "</tr>\n"
-    << "<tr><td class=l>max force error</td><td>" << fmt(100 * s.force_error_max) << " %</td><td></td><td></td></tr>\n"
-    << "<tr><td class=l>direction error median / p99</td><td>" << fmt(s.angle_error_median_deg) << " / "
-    << fmt(s.angle_error_p99_deg) << " deg</td><td></td><td></td></tr>\n"
-    << "<tr><td class=l>false / missed contacts</td><td>" << s.false_contacts << " / " << s.missed_contacts
-    << "</td><td></td><td></td></tr>\n"
-    << "<tr><td class=l>depth RMS / diagonal</td><td>" << fmt(s.depth_rms_over_diag, 5) << "</td><td></td><td></td></tr>\n"
-    << "</table>\n";
-  h << "<h2>Speed against accuracy</h2>\n" << img(speed_png, "speed against accuracy chart") << "\n<table>\n"
-    << "<tr><th>method</th><th>m</th><th>n</th><th>codec</th><th>query ns</th><th>memory</th><th>bake / build s</th>"
-       "<th>median error</th><th>p95 error</th><th>agreement</th><th>Pareto</th></tr>\n";
-  for (const SweepRow& r : d.rows) {
-    const bool box = r.method == "haptic_box";
-    h << "<tr><td class=l>" << html_escape(r.method) << "</td><td>" << (box ? std::to_string(r.m) : "")
-      << "</td><td>" << (box ? std::to_string(r.n) : "") << "</td><td>" << html_escape(r.codec) << "</td><td>"
-      << fmt(r.query_ns, 1) << "</td><td>" << bytes_text(r.memory_bytes) << "</td><td>"
-      << (r.from_cache ? "cached" : fmt(r.bake_seconds, 3)) << "</td><td>" << fmt(100 * r.force_error_median)
-      << " %</td><td>" << fmt(100 * r.force_error_p95) << " %</td><td>" << fmt(100 * r.contact_agreement)
-      << " %</td><td>" << (r.pareto ? "yes" : "") << "</td></tr>\n";
-  }
-  h << "</table>\n<p class=note>Pareto front: no other row is both faster and more accurate (median force "
-       "error). Memory of the references counts the mesh arrays and the locator's index, not Embree's BVH.</p>\n";
-  h << "<h2>Force error distribution</h2>\n" << img(hist_png, "force error histogram") << "\n";
-  if (!d.compression_curve.empty())
-    h << "<h2>Compression (" << html_escape(d.options.compression_codec) << ")</h2>\n"
-      << img(comp_png, "compression curve") << "\n";
-  h << "<h2>Error field</h2>\n<p>" << d.error_field.size() << " vertices, "
-    << d.options.error_field_probes_per_vertex << " probe(s) each, computed in " << fmt(d.error_field.seconds, 3)
-    << " s; relative force error over the vertices: median " << fmt(100 * d.error_field_median) << " %, p95 "
-    << fmt(100 * d.error_field_p95) << " %.</p>\n";
-  if (!d.error_field_image.empty() && fs::exists(d.error_field_image))
-    h << img(d.error_field_image, "error field") << "\n";
-  else
-    h << "<p class=note>No rendered image: " << html_escape(d.error_field_note.empty() ? "not requested" : d.error_field_note)
-      << "</p>\n";
-  if (d.stability) h << stability_html_section(*d.stability, (dir / "charts").string());
-  h << "<h2>Reproducing</h2>\n<p>summary.json holds every figure above and every parameter; samples.csv one "
-       "row per probe with both answers. Mesh hash "
-    << hex64(d.mesh_hash) << (d.box_hash ? ", box hash " + hex64(d.box_hash) : "") << ".</p>\n</body></html>\n";
-  write_text(dir / "report.html", h.str());
+  // report.html and the plain-text summary.
+  write_text(dir / "summary.txt", report_summary_text(d, dir_name) + "\n");
+  write_text(dir / "report.html", report_html(d, charts));
 }
 
 } // namespace hb

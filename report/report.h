@@ -7,6 +7,7 @@
 #include "evaluation/error_field.h"
 #include "evaluation/stability_suite.h"
 #include "evaluation/sweep.h"
+#include "evaluation/worst_probes.h"
 #include "haptic_box/box_scene.h"
 #include <memory>
 #include <string>
@@ -54,12 +55,14 @@ struct ReportData {
   std::uint64_t mesh_hash = 0, box_hash = 0;
   std::size_t vertices = 0, triangles = 0, pieces = 0;
   float diagonal = 0.f;
-  BoxParams params;
+  BoxParams params;                      ///< the first box's (see m_min..n_max for all boxes).
+  int m_min = 0, m_max = 0, n_min = 0, n_max = 0; ///< densities over the scene's boxes.
   std::string codec = "none";
   bool refine = false;                   ///< the boxes refine exactly (bake --refine).
   std::size_t memory_bytes = 0;          ///< box tables.
   double bake_seconds = 0.0;             ///< 0 when loaded from a file.
   ComparisonStats stats;                 ///< the report's box against the exact reference.
+  std::vector<WorstProbe> worst;         ///< the worst probes of `records` (hb::worst_probes).
   std::vector<ProbeRecord> records;      ///< one per probe (samples.csv).
   std::vector<SweepRow> rows;            ///< references, sweep configurations and the box itself.
   double box_ns = 0.0;                   ///< query time of the report's box.
@@ -73,6 +76,9 @@ struct ReportData {
   /// section of report.html and "stability" in summary.json (report/stability_section.h).
   std::shared_ptr<const StabilityReport> stability;
   ReportOptions options;
+  std::string generated_at;              ///< UTC date and time, ISO 8601 (set by compute_report).
+  std::string machine;                   ///< host, CPU model and cores (set by compute_report).
+  std::string command_line;              ///< how the report was asked for (the caller's), or empty.
   double compute_seconds = 0.0;
   int ranks = 1;                         ///< ranks that shared the computation.
   bool pass() const { return pass_median && pass_p95 && pass_agreement; }

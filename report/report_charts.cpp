@@ -1,6 +1,6 @@
-// Each chart is one PLplot stream on the pngcairo driver (file output, no display), with a
-// white background and a small fixed palette; the stream ends (and the file is flushed)
-// when the plstream goes out of scope.
+// Each chart is one PLplot stream on a cairo file driver (svgcairo for .svg, vector and sharp
+// when printed; pngcairo otherwise; no display), with a white background and a small fixed
+// palette; the stream ends (and the file is flushed) when the plstream goes out of scope.
 #include "report_charts.h"
 #include "errors.h"
 #include "evaluation/comparison.h"
@@ -18,7 +18,8 @@ enum Colour { kWhite = 0, kBlack = 1, kBlue = 2, kRed = 3, kGreen = 4, kOrange =
 
 std::unique_ptr<plstream> open_png(const std::string& path, int width = 900, int height = 560) {
   auto pls = std::make_unique<plstream>();
-  pls->sdev("pngcairo");
+  const bool svg = path.size() > 4 && path.compare(path.size() - 4, 4, ".svg") == 0;
+  pls->sdev(svg ? "svgcairo" : "pngcairo");
   pls->sfnam(path.c_str());
   pls->spage(0, 0, width, height, 0, 0);
   const PLINT r[] = {255, 0, 31, 214, 44, 255, 150};
@@ -71,22 +72,52 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
       pls->line(PLINT(fx.size()), fx.data(), fy.data());
       pls->lsty(1);
     }
+    // Labels: to the right of their point, or to the left in the right quarter of the axis (so
+    // none runs off the edge); a label that would overlap an earlier one moves down a line.
     pls->schr(0, 0.65);
+    const double line = 0.045 * ymax, span = lx1 - lx0;
+    std::vector<std::pair<double, double>> placed;  // label anchors already used
+    bool have_front = false, have_dominated = false, have_exact = false, have_vtk = false;
     for (const SweepRow& r : rows) {
       PLFLT x = std::log10(std::max(r.query_ns, 1.0)), y = 100.0 * r.force_error_median;
       const bool box = r.method == "haptic_box";
-      pls->col0(box ? (r.pareto ? kBlue : kGrey) : (r.method.find("vtk") != std::string::npos ? kOrange : kRed));
+      const bool vtk = r.method.find("vtk") != std::string::npos;
+      (box ? (r.pareto ? have_front : have_dominated) : (vtk ? have_vtk : have_exact)) = true;
+      pls->col0(box ? (r.pareto ? kBlue : kGrey) : (vtk ? kOrange : kRed));
       pls->ssym(0, box ? 1.2 : 1.6);
       pls->poin(1, &x, &y, box ? 17 : 16);
       char label[96];
       if (box)
         std::snprintf(label, sizeof label, "m%d n%d%s%s", r.m, r.n,
                       r.codec != "none" && !r.codec.empty() ? (" " + r.codec).c_str() : "", r.refine ? " ref" : "");
-      else std::snprintf(label, sizeof label, "%s", r.method.c_str());
-      pls->ptex(x + 0.02 * (lx1 - lx0), y + 0.02 * ymax, 1.0, 0.0, 0.0, label);
+      else std::snprintf(label, sizeof label, "%s", vtk ? "VTK locator" : "exact Embree");
+      const bool left = x > lx0 + 0.75 * span;
+      double ly = y + 0.02 * ymax;
+      for (int tries = 0; tries < 8; ++tries) {
+        bool clash = false;
+        for (const auto& [px, py] : placed)
+          if (std::fabs(px - x) < 0.12 * span && std::fabs(py - ly) < line) clash = true;
+        if (!clash) break;
+        ly -= line;
+      }
+      placed.emplace_back(x, ly);
+      pls->ptex(x + (left ? -0.015 : 0.015) * span, ly, 1.0, 0.0, left ? 1.0 : 0.0, label);
+    }
+    // A legend for the series present only.
+    struct Entry { bool present; int colour; const char* text; };
+    const Entry entries[] = {{have_front, kBlue, "haptic box (Pareto front)"},
+                             {have_dominated, kGrey, "haptic box (dominated)"},
+                             {have_exact, kRed, "exact Embree"},
+                             {have_vtk, kOrange, "VTK vtkStaticCellLocator"}};
+    double pos = 0.0;
+    pls->schr(0, 0.7);
+    for (const Entry& e : entries) {
+      if (!e.present) continue;
+      pls->col0(e.colour);
+      pls->mtex("t", 0.6, pos, 0.0, (std::string("\u25CF ") + e.text).c_str());
+      pos += 0.02 + 0.0115 * double(std::string(e.text).size());
     }
     pls->col0(kBlack);
-    pls->mtex("t", 0.6, 1.0, 1.0, "blue: haptic box on the Pareto front; grey: dominated; red/orange: exact references");
   }
   check_written(png_path);
 }

@@ -1,5 +1,6 @@
 #pragma once
-// The report's charts, drawn with PLplot's pngcairo driver: no display needed.
+// The report's charts, drawn with PLplot's cairo drivers (a path ending .svg: SVG, otherwise
+// PNG): no display needed.
 #include "evaluation/sweep.h"
 #include <string>
 #include <utility>
@@ -8,7 +9,8 @@
 namespace hb {
 
 /// Speed against accuracy: query ns (log scale) against median force error (%), one point
-/// per sweep row, references and the Pareto front marked and labelled. Writes a PNG.
+/// per sweep row, references and the Pareto front marked and labelled (labels kept inside the plot and apart), a legend of the series present.
+/// Writes SVG (path ending .svg) or PNG.
 /// Throws hb::IoError when the file cannot be written.
 void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& png_path);
 

@@ -64,7 +64,25 @@ TEST_F(ReportCommandTest, ReportJsonCarriesTheFiguresEvalPrintsForTheSameInputAn
   EXPECT_EQ(s["sweep"].size(), 4u);  // exact, VTK, m4 n4, the box itself
 
   const std::string html = read("rep/report.html");
-  EXPECT_EQ(count(html, "src=\"data:image/png;base64,iVBORw0KGgo"), 2u);
+  EXPECT_EQ(count(html, "src=\"data:image/svg+xml;base64,"), 2u);  // charts as vector graphics
+  // Stamped: date, machine, command line, version; verdicts for accuracy and speed side by side.
+  EXPECT_NE(html.find("Generated 20"), std::string::npos);
+  EXPECT_NE(html.find(s["generated"]["machine"].get<std::string>()), std::string::npos);
+  EXPECT_NE(html.find("report " + path("torus.hbox")), std::string::npos);
+  EXPECT_TRUE(html.find("x slower than exact") != std::string::npos || html.find("x faster than exact") != std::string::npos ||
+              html.find("as fast as exact") != std::string::npos);
+  EXPECT_NE(html.find("speed against exact Embree"), std::string::npos);
+  EXPECT_NE(html.find("id=worst"), std::string::npos);
+  EXPECT_EQ(html.find("0.00 %"), std::string::npos);  // significant digits, never rounded to nothing
+  EXPECT_TRUE(s["generated"]["at_utc"].get<std::string>().size() == 20u);
+  ASSERT_TRUE(s["worst_probes"].is_array());
+  ASSERT_FALSE(s["worst_probes"].empty());
+  for (const char* key : {"kind", "probe", "tip", "relative_force_error", "exact_force_n", "incidence_deg", "cause"})
+    EXPECT_TRUE(s["worst_probes"][0].contains(key)) << key;
+  EXPECT_NE(s["summary_text"].get<std::string>().find("the box is "), std::string::npos);
+  EXPECT_NE(report.out.find("speed: the box is "), std::string::npos) << report.out;
+  EXPECT_NE(report.out.find("accuracy: contact agreement"), std::string::npos) << report.out;
+  EXPECT_TRUE(fs::exists(path("rep/summary.txt")));
   EXPECT_EQ(count(html, "src=\""), count(html, "src=\"data:"));
   EXPECT_EQ(count(html, "href="), 0u);
   EXPECT_NE(html.find("DISPLAY"), std::string::npos);  // the note explaining the missing image

@@ -1,0 +1,52 @@
+#include "summary_text.h"
+#include "figure_text.h"
+#include <filesystem>
+#include <sstream>
+
+namespace hb {
+
+std::string densities_text(const ReportData& d) {
+  auto range = [](int lo, int hi) { return lo == hi ? std::to_string(lo) : std::to_string(lo) + "-" + std::to_string(hi); };
+  return "m " + range(d.m_min, d.m_max) + ", n " + range(d.n_min, d.n_max);
+}
+
+std::string report_summary_text(const ReportData& d, const std::string& dir) {
+  const ComparisonStats& s = d.stats;
+  const ReportTolerances& tol = d.options.tolerances;
+  std::ostringstream o;
+  const std::string mesh = std::filesystem::path(d.mesh_path).filename().string();
+  o << "measured: the haptic box (" << (d.box_path.empty() ? std::string("baked for the report") : d.box_path) << ": "
+    << d.pieces << (d.pieces == 1 ? " box, " : " boxes, ") << densities_text(d) << ", codec " << d.codec
+    << (d.refine ? ", exact refinement" : "") << ") against the exact answer (Embree on the "
+    << count_text(double(d.triangles)) << "-triangle mesh " << mesh << "), on the same " << count_text(double(s.samples))
+    << " random probes (seed " << d.options.probes.seed << ")\n";
+  o << "accuracy: contact agreement " << agreement_percent(s.contact_agreement) << " (" << s.false_contacts
+    << " false, " << s.missed_contacts << " missed contacts); relative force error median "
+    << percent(s.force_error_median) << ", p95 " << percent(s.force_error_p95) << ": "
+    << (d.pass() ? "within" : "OUTSIDE") << " the tolerances (median <= " << percent(tol.force_error_median)
+    << ", p95 <= " << percent(tol.force_error_p95) << ", agreement >= " << percent(tol.contact_agreement) << ")\n";
+  const WorstProbe* worst = nullptr;
+  for (const WorstProbe& w : d.worst)
+    if (w.kind == WorstProbe::Kind::force_error) {
+      worst = &w;
+      break;
+    }
+  if (worst)
+    o << "largest force error: " << percent(worst->relative_error) << " at probe " << worst->index << ", a "
+      << worst->cause << "\n";
+  const std::string where = dir.empty() ? std::string("report.html") : (std::filesystem::path(dir) / "report.html").string();
+  if (!d.worst.empty())
+    o << "worst probes: " << d.worst.size() << " listed (where, how wrong, why) in " << where
+      << " and summary.json (\"worst_probes\"); rows of samples.csv by probe number\n";
+  double exact_ns = 0.0;
+  for (const SweepRow& r : d.rows)
+    if (r.method == "exact_embree") exact_ns = r.query_ns;
+  if (d.box_ns > 0 && exact_ns > 0)
+    o << "speed: the box is " << speed_verdict(d.box_ns, exact_ns) << " on this mesh (" << duration_text(d.box_ns * 1e-9)
+      << " against " << duration_text(exact_ns * 1e-9) << " a query, one at a time, one core, same probes)";
+  else
+    o << "speed: not measured";
+  return o.str();
+}
+
+} // namespace hb
