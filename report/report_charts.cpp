@@ -3,6 +3,7 @@
 // palette; the stream ends (and the file is flushed) when the plstream goes out of scope.
 #include "report_charts.h"
 #include "errors.h"
+#include "figure_text.h"
 #include "evaluation/comparison.h"
 #include <plplot/plstream.h>
 #include <algorithm>
@@ -114,7 +115,7 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
     for (const Entry& e : entries) {
       if (!e.present) continue;
       pls->col0(e.colour);
-      pls->mtex("t", 0.6, pos, 0.0, (std::string("\u25CF ") + e.text).c_str());
+      pls->mtex("t", 1.1, pos, 0.0, (std::string("\u25CF ") + e.text).c_str());
       pos += 0.02 + 0.0115 * double(std::string(e.text).size());
     }
     pls->col0(kBlack);
@@ -157,10 +158,10 @@ void plot_force_error_histogram(const std::vector<double>& errors, const std::st
         pls->col0(c);
         pls->line(2, lx, ly);
       }
-      char text[128];
-      std::snprintf(text, sizeof text, "median %.2f %% (red), p95 %.2f %% (orange), %zu probes", med, p95, errors.size());
+      const std::string text = "median " + sig(med) + " % (red), p95 " + sig(p95) + " % (orange), " +
+                               count_text(double(errors.size())) + " probes";
       pls->col0(kBlack);
-      pls->mtex("t", 0.6, 1.0, 1.0, text);
+      pls->mtex("t", 1.1, 1.0, 1.0, text.c_str());
     }
   }
   check_written(png_path);

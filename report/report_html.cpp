@@ -101,7 +101,7 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
   h << "<!DOCTYPE html>\n<html lang=en><head><meta charset=utf-8><title>HapticBox report: "
     << html_escape(fs::path(d.mesh_path).filename().string()) << "</title>\n<style>"
     << "body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222;line-height:1.4}"
-    << "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
+    << "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right;white-space:nowrap}td.l{white-space:normal}"
     << "th{background:#eee}td.l,th.l{text-align:left}.pass{color:#070;font-weight:bold}.fail{color:#b00;font-weight:bold}"
     << ".slow{color:#a60;font-weight:bold}img.chart{max-width:100%;border:1px solid #ddd}.note{color:#555}"
     << ".stamp{color:#555;font-size:90%}.verdicts td{font-size:110%}code{background:#f4f4f4;padding:0 3px}"
