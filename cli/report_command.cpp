@@ -167,12 +167,15 @@ void add_report_command(CLI::App& app) {
       data.error_field_note = "rendering the error field did not finish";
       hb::write_report(data, opts->out);
       vtkSmartPointer<vtkPolyData> pd = vtkHapticBoxUtilities::ToPolyData(mesh);
-      pd->GetPointData()->AddArray(
-          vtkHapticBoxUtilities::ToScalarArray("RelativeForceError", data.error_field.force_error));
+      // Drawn in percent, as the report's text gives it (NaN stays NaN: no data, grey).
+      std::vector<float> percent(data.error_field.force_error);
+      for (float& v : percent) v *= 100.f;
+      pd->GetPointData()->AddArray(vtkHapticBoxUtilities::ToScalarArray("RelativeForceErrorPercent", percent));
       const std::string png = (std::filesystem::path(opts->out) / "charts" / "error_field.png").string();
       std::filesystem::create_directories(std::filesystem::path(png).parent_path());
-      const double range = std::max(ro.tolerances.force_error_p95, data.error_field_p95);
-      if (vtkHapticBoxErrorFieldImage::Render(pd, "RelativeForceError", range, "relative force error", png, 1200, 600,
+      const double range = 100.0 * std::max(ro.tolerances.force_error_p95, data.error_field_p95);
+      if (vtkHapticBoxErrorFieldImage::Render(pd, "RelativeForceErrorPercent", range,
+                                              "relative force error, %   (grey: no data)", png, 1200, 700,
                                               &data.error_field_note)) {
         data.error_field_image = png;
         data.error_field_note.clear();  // rendered: nothing to explain

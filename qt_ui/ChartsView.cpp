@@ -20,6 +20,9 @@
 #include <vtkTable.h>
 #include <vtkTextProperty.h>
 #include <cmath>
+#include <QEvent>
+#include <vtkTooltipItem.h>
+#include "figure_text.h"
 
 namespace {
 
@@ -41,7 +44,8 @@ vtkSmartPointer<vtkContextView> makeView(QVTKOpenGLNativeWidget* widget, vtkSmar
 }
 
 vtkPlot* addPoints(vtkChartXY* chart, const char* name, const std::vector<double>& xs, const std::vector<double>& ys,
-                   unsigned char r, unsigned char g, unsigned char b, int marker) {
+                   unsigned char r, unsigned char g, unsigned char b, int marker,
+                   const std::vector<std::string>& tooltips = {}) {
   auto table = vtkSmartPointer<vtkTable>::New();
   auto x = vtkSmartPointer<vtkDoubleArray>::New();
   x->SetName("x");
@@ -62,6 +66,13 @@ vtkPlot* addPoints(vtkChartXY* chart, const char* name, const std::vector<double
     points->SetMarkerStyle(marker);
     points->SetMarkerSize(10.0);
   }
+  // The tooltip names the point in words ("m32 n16 none: 3.1 us, 0.0015 %"), not plot coordinates.
+  if (tooltips.size() == xs.size() && !tooltips.empty()) {
+    auto labels = vtkSmartPointer<vtkStringArray>::New();
+    for (const std::string& t : tooltips) labels->InsertNextValue(t);
+    plot->SetIndexedLabels(labels);
+    plot->SetTooltipLabelFormat("%i");
+  }
   return plot;
 }
 
@@ -73,12 +84,13 @@ ChartsView::ChartsView(QWidget* parent) : QWidget(parent) {
   speedView_ = makeView(speedWidget_, speedChart_, "Speed against accuracy", "query time (ns, log)",
                         "median relative force error (%)");
   compressionView_ = makeView(compressionWidget_, compressionChart_, "Compression against error",
-                              "compression rate", "relative error");
+                              "compression rate (x : 1)", "median force error against raw tables (fraction)");
   hint_ = new QLabel(tr("Run a sweep (Tools > Sweep) or export a report to fill the charts; click a "
                         "haptic-box point to load that configuration."));
   hint_->setWordWrap(true);
-  compressionNote_ = new QLabel(tr("Compression against error: no codec in this build (codec none); "
-                                   "the chart fills once the codecs are merged."));
+  compressionNote_ = new QLabel(tr("Compression against error: no curve yet. Choose a codec in the Codec "
+                                   "menu (haar or block) and export a report from raw (uncompressed) boxes: "
+                                   "the curve of that codec's error bounds appears here."));
   compressionNote_->setWordWrap(true);
   compressionNote_->setAlignment(Qt::AlignCenter);
   compressionWidget_->hide();
@@ -99,7 +111,39 @@ ChartsView::ChartsView(QWidget* parent) : QWidget(parent) {
   // A left click on a point selects it (VTK's default is the right button); drag still pans.
   speedChart_->SetClickActionToButton(vtkChart::SELECT, vtkContextMouseEvent::LEFT_BUTTON);
   speedChart_->AddObserver(vtkCommand::SelectionChangedEvent, observer);
+  // VTK hides a chart's tooltip on its own mouse moves only: hide it when the mouse leaves.
+  speedWidget_->installEventFilter(this);
+  compressionWidget_->installEventFilter(this);
 }
+
+bool ChartsView::eventFilter(QObject* watched, QEvent* event) {
+  if (event->type() == QEvent::Leave) {
+    for (auto [widget, chart] : {std::pair<QObject*, vtkChartXY*>{speedWidget_, speedChart_},
+                                 std::pair<QObject*, vtkChartXY*>{compressionWidget_, compressionChart_}})
+      if (watched == widget && chart->GetTooltip() && chart->GetTooltip()->GetVisible()) {
+        chart->GetTooltip()->SetVisible(false);
+        static_cast<QVTKOpenGLNativeWidget*>(widget)->renderWindow()->Render();
+      }
+  }
+  return QWidget::eventFilter(watched, event);
+}
+
+bool ChartsView::tooltipVisible() const { return speedChart_->GetTooltip() && speedChart_->GetTooltip()->GetVisible(); }
+
+std::string ChartsView::speedTooltip(std::size_t index) const {
+  if (!boxPlot_ || !boxPlot_->GetIndexedLabels() || vtkIdType(index) >= boxPlot_->GetIndexedLabels()->GetNumberOfValues())
+    return {};
+  return std::string(boxPlot_->GetTooltipLabel(vtkVector2d(0, 0), vtkIdType(index), 0));
+}
+
+std::vector<std::string> ChartsView::speedAxisLabels() const {
+  std::vector<std::string> out;
+  vtkStringArray* labels = speedChart_->GetAxis(vtkAxis::BOTTOM)->GetTickLabels();
+  for (vtkIdType i = 0; labels && i < labels->GetNumberOfValues(); ++i) out.push_back(labels->GetValue(i));
+  return out;
+}
+
+int ChartsView::legendEntries() const { return speedChart_->GetShowLegend() ? int(speedChart_->GetNumberOfPlots()) : 0; }
 
 ChartsView::~ChartsView() = default;
 
@@ -123,10 +167,42 @@ void ChartsView::setRows(const std::vector<hb::SweepRow>& rows, const std::vecto
       ly.push_back(y);
     }
   }
-  speedChart_->GetAxis(vtkAxis::BOTTOM)->SetTitle("log10 query time (ns)");
-  if (!bx.empty()) boxPlot_ = addPoints(speedChart_, "haptic box (m, n)", bx, by, 255, 115, 0, VTK_MARKER_CIRCLE);
-  if (!ex.empty()) addPoints(speedChart_, "exact Embree", ex, ey, 38, 191, 64, VTK_MARKER_DIAMOND);
-  if (!lx.empty()) addPoints(speedChart_, "VTK static cell locator", lx, ly, 40, 90, 220, VTK_MARKER_SQUARE);
+  // The x axis is log10 of the time; its ticks are labelled with real times (1, 2, 5 per decade).
+  vtkAxis* xAxis = speedChart_->GetAxis(vtkAxis::BOTTOM);
+  xAxis->SetTitle("query time (log scale)");
+  double lo = 1e300, hi = -1e300;
+  for (const auto* v : {&bx, &ex, &lx})
+    for (double x : *v) lo = std::min(lo, x), hi = std::max(hi, x);
+  if (lo <= hi) {
+    lo = std::floor(lo - 0.1);
+    hi = std::ceil(hi + 0.1);
+    auto positions = vtkSmartPointer<vtkDoubleArray>::New();
+    auto labels = vtkSmartPointer<vtkStringArray>::New();
+    for (int decade = int(lo); decade <= int(hi); ++decade)
+      for (double step : {1.0, 2.0, 5.0}) {
+        const double t = std::log10(step) + decade;
+        if (t < lo - 1e-9 || t > hi + 1e-9) continue;
+        positions->InsertNextValue(t);
+        labels->InsertNextValue(hb::duration_text(step * std::pow(10.0, decade) * 1e-9));
+      }
+    xAxis->SetBehavior(vtkAxis::FIXED);
+    xAxis->SetRange(lo, hi);
+    xAxis->SetCustomTickPositions(positions, labels);
+  }
+  auto tip = [](const hb::SweepRow& r) {
+    std::string t = r.method == "haptic_box" ? "m " + std::to_string(r.m) + ", n " + std::to_string(r.n) + ", " +
+                                                   (r.codec.empty() ? std::string("none") : r.codec) + (r.refine ? ", refined" : "")
+                                             : r.method;
+    return t + ": " + hb::duration_text(r.query_ns * 1e-9) + " a query, median error " + hb::percent(r.force_error_median) +
+           ", agreement " + hb::agreement_percent(r.contact_agreement);
+  };
+  std::vector<std::string> bt, et, lt;
+  for (const auto& r : rows) (r.method == "haptic_box" ? bt : r.method == "exact_embree" ? et : lt).push_back(tip(r));
+  // Only the series present get a plot (and so a legend entry).
+  if (!bx.empty()) boxPlot_ = addPoints(speedChart_, "haptic box", bx, by, 255, 115, 0, VTK_MARKER_CIRCLE, bt);
+  if (!ex.empty()) addPoints(speedChart_, "exact Embree", ex, ey, 38, 191, 64, VTK_MARKER_DIAMOND, et);
+  if (!lx.empty()) addPoints(speedChart_, "VTK static cell locator", lx, ly, 40, 90, 220, VTK_MARKER_SQUARE, lt);
+  speedChart_->SetShowLegend(!rows.empty());
   speedChart_->RecalculateBounds();
 
   compressionChart_->ClearPlots();
@@ -138,10 +214,13 @@ void ChartsView::setRows(const std::vector<hb::SweepRow>& rows, const std::vecto
       cx.push_back(p.first);
       cy.push_back(p.second);
     }
-    addPoints(compressionChart_, "codec", cx, cy, 120, 40, 160, VTK_MARKER_CIRCLE);
+    std::vector<std::string> ct;
+    for (const auto& p : compression)
+      ct.push_back(hb::sig(p.first) + ":1, median error " + hb::percent(p.second) + " against the raw tables");
+    addPoints(compressionChart_, "codec error bounds", cx, cy, 120, 40, 160, VTK_MARKER_CIRCLE, ct);
     compressionChart_->SetTitle("Compression against error");
   } else {
-    compressionChart_->SetTitle("Compression against error: no codec in this build (codec none)");
+    compressionChart_->SetTitle("Compression against error: no curve yet");
   }
   compressionChart_->RecalculateBounds();
   hint_->setText(rows.empty() ? hint_->text()

@@ -5,6 +5,7 @@
 #include "evaluation/sweep.h"
 #include <QWidget>
 #include <vtkSmartPointer.h>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -23,6 +24,15 @@ public:
   std::size_t pointCount() const { return boxRows_.size(); }
   /// As a click on the box point `index` would do.
   void choose(std::size_t index);
+  /// What the charts show (tests): the tooltip text of box point `index`, the x-axis tick
+  /// labels, the legend's entries, whether a tooltip is on screen.
+  std::string speedTooltip(std::size_t index) const;
+  std::vector<std::string> speedAxisLabels() const;
+  int legendEntries() const;
+  bool tooltipVisible() const;
+
+protected:
+  bool eventFilter(QObject* watched, QEvent* event) override;
 
 signals:
   void configurationChosen(int m, int n, const QString& codec);

@@ -4,6 +4,11 @@
 #include <QFormLayout>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QListWidget>
+#include "figure_text.h"
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
 #include <QProgressBar>
 #include <QPushButton>
 #include <QRadioButton>
@@ -29,6 +34,9 @@ ErrorFieldPanel::ErrorFieldPanel(HapticSession* session, QWidget* parent) : QWid
   progress_->setRange(0, 1000);
   info_ = new QLabel;
   info_->setWordWrap(true);
+  worst_ = new QListWidget;
+  worst_->setToolTip(tr("The vertices where the metric shown is worst; click one to move the probe there"));
+  worst_->setMaximumHeight(170);
 
   auto* form = new QFormLayout;
   form->addRow(tr("Metric"), metric_);
@@ -43,9 +51,21 @@ ErrorFieldPanel::ErrorFieldPanel(HapticSession* session, QWidget* parent) : QWid
   layout->addLayout(buttons);
   layout->addWidget(progress_);
   layout->addWidget(info_);
+  layout->addWidget(new QLabel(tr("Worst vertices (click to probe there):")));
+  layout->addWidget(worst_);
   layout->addStretch(1);
+  connect(worst_, &QListWidget::itemActivated, this, [this](QListWidgetItem* item) {
+    const QVariantList v = item->data(Qt::UserRole).toList();
+    if (v.size() == 6)
+      emit goToPoint(hb::Vec3(v[0].toFloat(), v[1].toFloat(), v[2].toFloat()),
+                     hb::Vec3(v[3].toFloat(), v[4].toFloat(), v[5].toFloat()));
+  });
+  connect(worst_, &QListWidget::itemClicked, worst_, &QListWidget::itemActivated);
 
-  const auto changed = [this] { emit displayChanged(showField(), metric()); };
+  const auto changed = [this] {
+    updateState();
+    emit displayChanged(showField(), metric());
+  };
   connect(metric_, QOverload<int>::of(&QComboBox::currentIndexChanged), this, changed);
   connect(byField_, &QRadioButton::toggled, this, changed);
   connect(compute_, &QPushButton::clicked, this, [this] {
@@ -86,23 +106,81 @@ void ErrorFieldPanel::updateState() {
   cancel_->setEnabled(running_);
   byField_->setEnabled(session_->hasErrorField());
   if (!session_->hasErrorField()) {
+    worst_->clear();
     if (byField_->isChecked()) byPiece_->setChecked(true);
     info_->setText(session_->hasBoxes() ? tr("Not computed") : tr("Bake first"));
     return;
   }
+  // The summary names the metric shown (and its unit), and the vertices without data.
   const hb::ErrorField& f = *session_->errorField();
+  const ErrorMetric m = metric();
+  const std::vector<float>& values = m == ErrorMetric::RelativeForce ? f.force_error
+                                     : m == ErrorMetric::Direction   ? f.direction_error
+                                                                     : f.contact_disagreement;
   std::vector<float> v;
-  for (float x : f.force_error)
+  for (float x : values)
     if (std::isfinite(x)) v.push_back(x);
+  const std::size_t noData = values.size() - v.size();
   double median = 0.0;
   if (!v.empty()) {
     std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
     median = v[v.size() / 2];
   }
-  info_->setText(tr("%1 points, %2 probes in %3 s; median relative force error %4 % (%5 points with data)")
+  QString figure;
+  if (m == ErrorMetric::RelativeForce)
+    figure = tr("median relative force error %1").arg(QString::fromStdString(hb::percent(median)));
+  else if (m == ErrorMetric::Direction)
+    figure = tr("median direction error %1 deg").arg(QString::fromStdString(hb::sig(median)));
+  else {
+    std::size_t disagree = 0;
+    for (float x : v) disagree += x > 0.f;
+    figure = tr("contacts disagree at %1 of %2 vertices (%3)")
+                 .arg(disagree)
+                 .arg(v.size())
+                 .arg(QString::fromStdString(hb::percent(v.empty() ? 0.0 : double(disagree) / double(v.size()))));
+  }
+  info_->setText(tr("%1 points, %2 probes in %3; %4; %5 point(s) with no data (grey: no probe touched the "
+                    "surface in both answers)")
                      .arg(f.size())
                      .arg(f.probes)
-                     .arg(f.seconds, 0, 'f', 2)
-                     .arg(100.0 * median, 0, 'f', 2)
-                     .arg(v.size()));
+                     .arg(QString::fromStdString(hb::duration_text(f.seconds)))
+                     .arg(figure)
+                     .arg(noData));
+  updateWorst();
+}
+
+void ErrorFieldPanel::updateWorst() {
+  worst_->clear();
+  const hb::ErrorField& f = *session_->errorField();
+  vtkPolyData* surface = session_->surface();
+  if (!surface || surface->GetNumberOfPoints() != vtkIdType(f.size())) return;
+  const ErrorMetric m = metric();
+  const std::vector<float>& values = m == ErrorMetric::RelativeForce ? f.force_error
+                                     : m == ErrorMetric::Direction   ? f.direction_error
+                                                                     : f.contact_disagreement;
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (std::isfinite(values[i]) && values[i] > 0.f) order.push_back(i);
+  const std::size_t k = std::min<std::size_t>(10, order.size());
+  std::partial_sort(order.begin(), order.begin() + std::ptrdiff_t(k), order.end(),
+                    [&](std::size_t a, std::size_t b) { return values[a] > values[b]; });
+  vtkDataArray* normals = surface->GetPointData()->GetNormals();
+  for (std::size_t j = 0; j < k; ++j) {
+    const std::size_t i = order[j];
+    double p[3], n[3] = {0.0, 0.0, 1.0};
+    surface->GetPoint(vtkIdType(i), p);
+    if (normals) normals->GetTuple(vtkIdType(i), n);
+    const QString value = m == ErrorMetric::RelativeForce ? QString::fromStdString(hb::percent(values[i]))
+                          : m == ErrorMetric::Direction   ? QString::fromStdString(hb::sig(values[i])) + " deg"
+                                                          : QString::fromStdString(hb::percent(values[i])) + tr(" disagree");
+    auto* item = new QListWidgetItem(tr("%1  at vertex %2 (%3, %4, %5)")
+                                         .arg(value)
+                                         .arg(i)
+                                         .arg(QString::fromStdString(hb::sig(p[0])))
+                                         .arg(QString::fromStdString(hb::sig(p[1])))
+                                         .arg(QString::fromStdString(hb::sig(p[2]))));
+    item->setData(Qt::UserRole, QVariantList{p[0], p[1], p[2], n[0], n[1], n[2]});
+    worst_->addItem(item);
+  }
+  if (k == 0) worst_->addItem(tr("(no vertex with an error for this metric)"));
 }

@@ -537,6 +537,9 @@ bool HapticSession::startReport(const QString& dir, const QString& errorFieldIma
   const BakeSettings settings = bake_;
   const std::string out = QFile::encodeName(dir).toStdString();
   const std::string image = QFile::encodeName(errorFieldImage).toStdString();
+  // A report measures fewer configurations than a sweep: it fills the charts only when no
+  // sweep has (exporting a report never replaces the window's sweep chart).
+  const bool haveSweep = !sweepRows_.empty();
   return job_->start(tr("Report"), [=](const auto& progress) {
     const std::shared_ptr<const hb::ExactQuery> exact = exactFuture.get();
     vtkHapticBoxCellLocatorQuery locator(*mesh);
@@ -552,9 +555,12 @@ bool HapticSession::startReport(const QString& dir, const QString& errorFieldIma
     d.mesh_path = source.mesh_path;
     d.mesh_hash = source.mesh_hash;
     d.codec = settings.codec.toStdString();
-    pendingRows_ = d.rows;
-    pendingCompression_ = d.compression_curve;
-    pendingRowsReady_ = true;
+    d.command_line = "hapticbox-gui: File > Export Report";
+    if (!haveSweep) {
+      pendingRows_ = d.rows;
+      pendingCompression_ = d.compression_curve;
+      pendingRowsReady_ = true;
+    }
     if (!image.empty()) d.error_field_image = image;
     else d.error_field_note = "the error field was not computed in the window";
     hb::write_report(d, out);

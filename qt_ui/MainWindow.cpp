@@ -74,6 +74,12 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
           [this] { charts_->setRows(session_->sweepRows(), session_->compressionCurve()); });
   connect(bake_, &BakePanel::message, this, [this](const QString& m) { showMessage(m); });
   connect(errorPanel_, &ErrorFieldPanel::message, this, [this](const QString& m) { showMessage(m, true); });
+  connect(errorPanel_, &ErrorFieldPanel::goToPoint, this, [this](const hb::Vec3& point, const hb::Vec3& normal) {
+    // Head-on at the vertex, as the error field's probes were aimed (its cone's axis).
+    if (normal.squaredNorm() > 0.f) session_->setProbeDirection(-normal.normalized());
+    session_->setProbeTarget(point);
+    showMessage(tr("Probe moved to the vertex at (%1, %2, %3)").arg(point.x()).arg(point.y()).arg(point.z()));
+  });
   connect(errorPanel_, &ErrorFieldPanel::displayChanged, this, [this](bool field, ErrorMetric metric) {
     view_->setColorMode(field ? ProbeView::ColorMode::ErrorField : ProbeView::ColorMode::Pieces, metric);
   });
@@ -321,7 +327,10 @@ void MainWindow::stepDepth(int step) {
 void MainWindow::refresh() {
   const ProbeReading r = session_->reading();
   view_->setReading(r, session_->forceDisplayScale());
-  if (++refreshCount_ % 6 == 0) readout_->setReading(r);  // text at ~10 Hz
+  if (++refreshCount_ % 6 == 0) {  // text at ~10 Hz
+    readout_->setModelOpen(session_->hasMesh());
+    readout_->setReading(r);
+  }
 }
 
 // --- export ------------------------------------------------------------------------------

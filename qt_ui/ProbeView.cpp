@@ -35,6 +35,8 @@
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
 #include <vtkScalarBarActor.h>
+#include <vtkFloatArray.h>
+#include "error_colour_map.h"
 #include <vtkSphereSource.h>
 #include <vtkStaticCellLocator.h>
 #include <vtkTextActor.h>
@@ -178,16 +180,15 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   renderer_->AddViewProp(legendExact_);
   renderer_->AddViewProp(legendApprox_);
 
+  // A horizontal bar along the bottom: its title reads whole, whatever its length.
   scalarBar_ = vtkSmartPointer<vtkScalarBarActor>::New();
-  scalarBar_->SetNumberOfLabels(5);
+  scalarBar_->SetOrientationToHorizontal();
   scalarBar_->SetUnconstrainedFontSize(true);
-  scalarBar_->GetTitleTextProperty()->SetFontSize(16);
-  scalarBar_->GetLabelTextProperty()->SetFontSize(14);
-  scalarBar_->SetVerticalTitleSeparation(8);
-  scalarBar_->SetMaximumWidthInPixels(90);
-  scalarBar_->GetPositionCoordinate()->SetValue(0.84, 0.1);
-  scalarBar_->SetWidth(0.14);
-  scalarBar_->SetHeight(0.8);
+  scalarBar_->GetPositionCoordinate()->SetValue(0.2, 0.06);
+  scalarBar_->SetWidth(0.6);
+  scalarBar_->SetHeight(0.12);
+  scalarBar_->SetBarRatio(0.3);
+  scalarBar_->SetVerticalTitleSeparation(4);
   scalarBar_->VisibilityOff();
   renderer_->AddViewProp(scalarBar_);
 
@@ -286,20 +287,35 @@ void ProbeView::updateColoring() {
       range[1] = v[k] > 0.0 ? v[k] : 1.0;
     }
     if (metric_ == ErrorMetric::ContactDisagreement) range[1] = std::max(range[1], 0.05);
-    auto lut = vtkSmartPointer<vtkLookupTable>::New();
-    lut->SetHueRange(0.667, 0.0);  // blue (small error) to red (large)
-    lut->SetTableRange(range);
-    lut->SetNanColor(0.55, 0.55, 0.55, 1.0);  // no data: grey, not zero error
-    lut->SetUseAboveRangeColor(true);
-    lut->SetAboveRangeColor(0.6, 0.0, 0.0, 1.0);
-    lut->Build();
+    // One probe a vertex makes the disagreement yes/no: a categorical legend, not a bar.
+    bool categorical = metric_ == ErrorMetric::ContactDisagreement;
+    for (vtkIdType i = 0; categorical && i < field->GetNumberOfTuples(); ++i) {
+      const double x = field->GetTuple1(i);
+      categorical = std::isnan(x) || x == 0.0 || x == 1.0;
+    }
+    // Fractions are shown in percent (the panel's text says %): a display copy times 100.
+    const char* shown = name;
+    std::string title = HapticSession::errorMetricTitle(metric_).toStdString();
+    if (metric_ == ErrorMetric::Direction) title += ", deg";
+    if (!categorical && metric_ != ErrorMetric::Direction) {
+      static const char* kPercent = "DisplayPercent";
+      auto percent = vtkSmartPointer<vtkFloatArray>::New();
+      percent->SetName(kPercent);
+      percent->SetNumberOfValues(field->GetNumberOfTuples());
+      for (vtkIdType i = 0; i < field->GetNumberOfTuples(); ++i) percent->SetValue(i, float(100.0 * field->GetTuple1(i)));
+      surface_->GetPointData()->RemoveArray(kPercent);
+      surface_->GetPointData()->AddArray(percent);
+      shown = kPercent;
+      range[1] *= 100.0;
+      title += metric_ == ErrorMetric::ContactDisagreement ? ", % of probes" : ", %";
+    }
+    vtkSmartPointer<vtkLookupTable> lut = categorical ? hb::vtk::agreement_table() : hb::vtk::viridis_table(range[1]);
     surfaceMapper_->SetLookupTable(lut);
     surfaceMapper_->SetScalarModeToUsePointFieldData();
-    surfaceMapper_->SelectColorArray(name);
-    surfaceMapper_->SetScalarRange(range);
+    surfaceMapper_->SelectColorArray(shown);
+    surfaceMapper_->SetScalarRange(categorical ? 0.0 : range[0], categorical ? 1.0 : range[1]);
     surfaceMapper_->ScalarVisibilityOn();
-    scalarBar_->SetLookupTable(lut);
-    scalarBar_->SetTitle(HapticSession::errorMetricTitle(metric_).toUtf8().constData());
+    hb::vtk::style_scalar_bar(scalarBar_, lut, title + "  (grey: no data)", categorical, true);
     scalarBar_->VisibilityOn();
   } else {
     vtkDataArray* pieces = surface_->GetCellData()->GetArray("PieceId");

@@ -11,6 +11,8 @@ class ReadoutPanel : public QWidget {
 public:
   explicit ReadoutPanel(QWidget* parent = nullptr);
   void setReading(const ProbeReading& r);
+  /// Whether a model is open (the hint without a probe then says how to open one).
+  void setModelOpen(bool open);
   /// The text of a row (tests): "depth", "exact", "approx", "error", "angle", "query", "device".
   QString rowText(const QString& key) const;
 
@@ -22,4 +24,5 @@ private:
   QLabel* angle_;
   QLabel* query_;
   QLabel* device_;
+  bool modelOpen_ = false;
 };

@@ -2,6 +2,7 @@
 // 2. two renderers (front and back views) over one mapper coloured by the error array;
 // 3. render off screen, grab with vtkWindowToImageFilter, write with vtkPNGWriter.
 #include "vtkHapticBoxErrorFieldImage.h"
+#include "error_colour_map.h"
 #include <vtkActor.h>
 #include <vtkAutoInit.h>
 #include <vtkCamera.h>
@@ -61,13 +62,7 @@ bool vtkHapticBoxErrorFieldImage::Render(vtkPolyData* field, const std::string& 
       if (note) *note = "the field has no array " + arrayName;
       return false;
     }
-    vtkNew<vtkLookupTable> lut;
-    lut->SetHueRange(0.667, 0.0);
-    lut->SetTableRange(0.0, rangeMax > 0.0 ? rangeMax : 1.0);
-    lut->SetNanColor(0.6, 0.6, 0.6, 1.0);
-    lut->UseAboveRangeColorOn();
-    lut->SetAboveRangeColor(0.5, 0.0, 0.0, 1.0);
-    lut->Build();
+    vtkSmartPointer<vtkLookupTable> lut = hb::vtk::viridis_table(rangeMax);
     vtkNew<vtkPolyDataMapper> mapper;
     mapper->SetInputData(field);
     mapper->SetScalarModeToUsePointFieldData();
@@ -81,29 +76,34 @@ bool vtkHapticBoxErrorFieldImage::Render(vtkPolyData* field, const std::string& 
     window->SetShowWindow(false);  // renders to an offscreen framebuffer; still needs X here
     window->SetSize(width, height);
     window->SetMultiSamples(0);
+    // Front and back views above, the colour bar in a strip of its own below: the bar's title
+    // never lands on the model and reads at full size.
+    const double strip = 0.17;
     for (int view = 0; view < 2; ++view) {
       vtkNew<vtkRenderer> renderer;
-      renderer->SetViewport(0.5 * view, 0.0, 0.5 * (view + 1), 1.0);
+      renderer->SetViewport(0.5 * view, strip, 0.5 * (view + 1), 1.0);
       renderer->SetBackground(1.0, 1.0, 1.0);
       renderer->AddActor(actor);
       renderer->ResetCamera();
       if (view == 1) renderer->GetActiveCamera()->Azimuth(180.0);
-      renderer->GetActiveCamera()->Zoom(1.4);
+      renderer->GetActiveCamera()->Zoom(1.3);
       renderer->ResetCameraClippingRange();
-      if (view == 1) {
-        vtkNew<vtkScalarBarActor> bar;
-        bar->SetLookupTable(lut);
-        bar->SetTitle(title.c_str());
-        bar->SetNumberOfLabels(5);
-        bar->GetTitleTextProperty()->SetColor(0, 0, 0);
-        bar->GetLabelTextProperty()->SetColor(0, 0, 0);
-        bar->SetWidth(0.12);
-        bar->SetHeight(0.7);
-        bar->SetPosition(0.86, 0.15);
-        renderer->AddActor2D(bar);
-      }
       window->AddRenderer(renderer);
     }
+    vtkNew<vtkRenderer> legend;
+    legend->SetViewport(0.0, 0.0, 1.0, strip);
+    legend->SetBackground(1.0, 1.0, 1.0);
+    vtkNew<vtkScalarBarActor> bar;
+    hb::vtk::style_scalar_bar(bar, lut, title, false);
+    bar->SetOrientationToHorizontal();
+    bar->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+    bar->GetPositionCoordinate()->SetValue(0.15, 0.05);
+    bar->SetWidth(0.7);
+    bar->SetHeight(0.9);
+    bar->SetBarRatio(0.35);
+    bar->GetTitleTextProperty()->SetFontSize(18);
+    legend->AddActor2D(bar);
+    window->AddRenderer(legend);
     window->Render();
     vtkNew<vtkWindowToImageFilter> grab;
     grab->SetInput(window);

@@ -13,6 +13,7 @@
 #include <QFileInfo>
 #include <QImage>
 #include <QLabel>
+#include <QListWidget>
 #include <QPushButton>
 #include <QDropEvent>
 #include <QStatusBar>
@@ -399,4 +400,104 @@ TEST(MainWindowTest, AutomaticPiecesAndTheBlockCodecBakeACompressedSceneOfSevera
     EXPECT_EQ(box.codec(), hb::CodecId::block);
     EXPECT_TRUE(box.refines());  // the panel's "Refine exactly" reached the bake
   }
+}
+
+TEST(MainWindowTest, ErrorFieldUsesViridisNamesTheMetricAndListsWorstVerticesThatMoveTheProbe) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  openAndBake(w, data.mesh);
+  w.errorFieldPanel()->computeButton()->click();
+  ASSERT_TRUE(waitFor([&] { return w.session()->hasErrorField() && !w.session()->job()->isRunning(); }));
+  // The summary names the metric shown, in its unit, and the vertices without data.
+  auto* info = w.errorFieldPanel()->findChildren<QLabel*>().first();
+  QString text;
+  for (QLabel* l : w.errorFieldPanel()->findChildren<QLabel*>())
+    if (l->text().contains("points,")) text = l->text();
+  EXPECT_TRUE(text.contains("median relative force error")) << text.toStdString();
+  EXPECT_TRUE(text.contains("no data")) << text.toStdString();
+  (void)info;
+  w.errorFieldPanel()->setMetric(ErrorMetric::Direction);
+  for (QLabel* l : w.errorFieldPanel()->findChildren<QLabel*>())
+    if (l->text().contains("points,")) text = l->text();
+  EXPECT_TRUE(text.contains("median direction error")) << text.toStdString();
+  EXPECT_FALSE(text.contains("force error")) << text.toStdString();
+  w.errorFieldPanel()->setMetric(ErrorMetric::ContactDisagreement);
+  for (QLabel* l : w.errorFieldPanel()->findChildren<QLabel*>())
+    if (l->text().contains("points,")) text = l->text();
+  EXPECT_TRUE(text.contains("contacts disagree at")) << text.toStdString();
+  // Worst vertices for the metric shown; a click moves the probe onto that vertex.
+  w.errorFieldPanel()->setMetric(ErrorMetric::RelativeForce);
+  QListWidget* worst = w.errorFieldPanel()->worstList();
+  ASSERT_GT(worst->count(), 0);
+  ASSERT_TRUE(worst->item(0)->text().contains("%")) << worst->item(0)->text().toStdString();
+  const QVariantList v = worst->item(0)->data(Qt::UserRole).toList();
+  ASSERT_EQ(v.size(), 6);
+  emit worst->itemClicked(worst->item(0));
+  const hb::Vec3 vertex(v[0].toFloat(), v[1].toFloat(), v[2].toFloat());
+  // The probe line comes to pass through the vertex (the virtual device follows its target;
+  // the tip is pushed past the vertex along the inward normal).
+  auto offLine = [&] {
+    const ProbeReading r = w.session()->reading();
+    if (!r.placed) return 1e30f;
+    const hb::Vec3 d = (r.segment.end - r.segment.start).normalized();
+    return ((vertex - r.segment.start) - d * d.dot(vertex - r.segment.start)).norm();
+  };
+  EXPECT_TRUE(waitFor([&] { return offLine() < 2e-3f * w.session()->diagonal(); }, 10)) << offLine();
+  // The screenshot of the field uses viridis (no pure red of the old rainbow map).
+  const QString png = data.dir.filePath(QStringLiteral("field.png"));
+  w.probeView()->saveScreenshot(png);
+  QImage img(png);
+  ASSERT_FALSE(img.isNull());
+  int rainbowRed = 0, viridisish = 0;
+  for (int y = 0; y < img.height(); y += 2)
+    for (int x = 0; x < img.width(); x += 2) {
+      const QColor q(img.pixel(x, y));
+      if (q.red() > 200 && q.green() < 60 && q.blue() < 60) ++rainbowRed;
+      if (q.green() > q.red() && q.blue() > q.red() + 20 && q.red() < 90) ++viridisish;  // teal-blue band
+    }
+  EXPECT_EQ(rainbowRed, 0);
+  EXPECT_GT(viridisish, 50);
+  // For a person to look at: HB_SCREENSHOT_DIR keeps the view and the whole window.
+  if (const char* keep = std::getenv("HB_SCREENSHOT_DIR")) {
+    QFile::copy(png, QString::fromLocal8Bit(keep) + "/error_field_view.png");
+    w.grab().save(QString::fromLocal8Bit(keep) + "/error_field_window.png");
+    w.errorFieldPanel()->setMetric(ErrorMetric::ContactDisagreement);
+    pump(0.3);
+    w.probeView()->saveScreenshot(QString::fromLocal8Bit(keep) + "/contact_disagreement_view.png");
+  }
+}
+
+TEST(MainWindowTest, ChartsLabelRealTimesNameConfigurationsAndAReportKeepsTheSweep) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  openAndBake(w, data.mesh);
+  QString error;
+  ASSERT_TRUE(w.session()->startSweep({8, 12}, {4}, 1000, &error)) << error.toStdString();
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 300));
+  ASSERT_EQ(w.chartsView()->pointCount(), 2u);
+  const std::size_t sweepRows = w.session()->sweepRows().size();
+  // Tick labels are times ("1 us", "200 ns"), not log10 numbers.
+  const std::vector<std::string> ticks = w.chartsView()->speedAxisLabels();
+  ASSERT_FALSE(ticks.empty());
+  for (const std::string& t : ticks) EXPECT_TRUE(t.find("s") != std::string::npos) << t;
+  // The tooltip says which configuration a point is.
+  const std::string tip = w.chartsView()->speedTooltip(0);
+  EXPECT_NE(tip.find("m 8, n 4"), std::string::npos) << tip;
+  EXPECT_NE(tip.find("a query"), std::string::npos) << tip;
+  EXPECT_EQ(w.chartsView()->legendEntries(), 3);  // box, exact, VTK: the series present
+  EXPECT_FALSE(w.chartsView()->tooltipVisible());
+  // Exporting a report measures fewer rows; it does not replace the sweep's chart.
+  ASSERT_TRUE(w.exportReport(data.dir.filePath(QStringLiteral("rep")), 500));
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 300));
+  EXPECT_EQ(w.session()->sweepRows().size(), sweepRows);
+  EXPECT_EQ(w.chartsView()->pointCount(), 2u);
+}
+
+TEST(MainWindowTest, ReadoutWithoutAModelSaysHowToOpenOne) {
+  MainWindow w;
+  w.show();
+  ASSERT_TRUE(waitFor([&] { return w.readoutPanel()->rowText("depth").contains("File > Open"); }, 10));
+  EXPECT_FALSE(w.readoutPanel()->rowText("depth").contains("drag on the model"));
 }

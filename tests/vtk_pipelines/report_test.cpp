@@ -88,14 +88,15 @@ TEST_F(ReportFixture, HtmlEmbedsItsChartsAndLoadsNoExternalFile) {
   hb::write_report(data, dir);
   const std::string html = ReadText(std::filesystem::path(dir) / "report.html");
   ASSERT_FALSE(html.empty());
-  // Two charts (speed-vs-accuracy, histogram) as PNG data URIs with a real PNG signature.
+  // Two charts (speed-vs-accuracy, histogram) as SVG data URIs (vector: sharp when printed);
+  // "PHN2Zy" / "PD94bW" are base64 of "<svg" / "<?xml".
   // (Plain searches: std::regex recurses per character and overflows on megabyte strings.)
   auto count = [&html](const std::string& what) {
     std::size_t n = 0;
     for (std::size_t at = html.find(what); at != std::string::npos; at = html.find(what, at + 1)) ++n;
     return n;
   };
-  EXPECT_EQ(count("src=\"data:image/png;base64,iVBORw0KGgo"), 2u);
+  EXPECT_EQ(count("src=\"data:image/svg+xml;base64,PD94bW") + count("src=\"data:image/svg+xml;base64,PHN2Zy"), 2u);
   // Nothing else is loaded: every src is a data URI, no stylesheet or script links.
   EXPECT_EQ(count("src=\""), count("src=\"data:"));
   EXPECT_EQ(count("href="), 0u);
@@ -116,8 +117,8 @@ TEST_F(ReportFixture, CompressionCurveIsEmbeddedWhenGiven) {
   hb::write_report(data, dir);
   const std::string html = ReadText(std::filesystem::path(dir) / "report.html");
   std::size_t n = 0;
-  for (std::size_t at = html.find("data:image/png;base64,"); at != std::string::npos;
-       at = html.find("data:image/png;base64,", at + 1))
+  for (std::size_t at = html.find("data:image/svg+xml;base64,"); at != std::string::npos;
+       at = html.find("data:image/svg+xml;base64,", at + 1))
     ++n;
   EXPECT_EQ(n, 3u);
   const nlohmann::json j = nlohmann::json::parse(ReadText(std::filesystem::path(dir) / "summary.json"));
