@@ -20,6 +20,7 @@ PACKAGES=(
   libplplot-dev plplot-driver-cairo
   libopenmpi-dev openmpi-bin
   xvfb xauth
+  clang libclang-rt-dev  # sanitizer build and libFuzzer targets (scripts/build_sanitized.sh)
   libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev libocct-foundation-dev
   libassimp-dev zlib1g-dev
   python3-nibabel python3-pydicom
