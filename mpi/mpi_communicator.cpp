@@ -32,6 +32,27 @@ const char* env(const char* name) {
   return v && *v ? v : nullptr;
 }
 
+// One slice of a sliced gather: each rank's count of bytes at `offset` and where it lands in
+// the receive buffer; returns the slice's total.
+int slice_layout(const std::vector<std::uint64_t>& sizes, std::uint64_t offset, std::vector<int>& counts,
+                 std::vector<int>& displs) {
+  int total = 0;
+  for (std::size_t r = 0; r < sizes.size(); ++r) {
+    const std::uint64_t s = sizes[r];
+    counts[r] = int(std::min(kSlice, s > offset ? s - offset : 0));
+    displs[r] = total;
+    total += counts[r];
+  }
+  return total;
+}
+
+// Copies a received slice into each rank's buffer at `offset`.
+void unpack_slice(const Bytes& recv, const std::vector<int>& counts, const std::vector<int>& displs,
+                  std::uint64_t offset, std::vector<Bytes>& out) {
+  for (std::size_t r = 0; r < out.size(); ++r)
+    if (counts[r] > 0) std::memcpy(out[r].data() + offset, recv.data() + displs[r], std::size_t(counts[r]));
+}
+
 int instances = 0;
 
 } // namespace
@@ -80,23 +101,12 @@ std::vector<Bytes> MpiCommunicator::gather(const Bytes& mine, int root) {
   Bytes recv;
   for (std::uint64_t offset = 0; offset < std::max<std::uint64_t>(largest, 1); offset += kSlice) {
     const int my_count = int(std::min(kSlice, my_size > offset ? my_size - offset : 0));
-    int total = 0;
-    if (rank_ == root)
-      for (int r = 0; r < size_; ++r) {
-        const std::uint64_t s = sizes[std::size_t(r)];
-        counts[std::size_t(r)] = int(std::min(kSlice, s > offset ? s - offset : 0));
-        displs[std::size_t(r)] = total;
-        total += counts[std::size_t(r)];
-      }
+    const int total = rank_ == root ? slice_layout(sizes, offset, counts, displs) : 0;
     recv.resize(std::size_t(total));
     check(MPI_Gatherv(mine.data() + std::min<std::uint64_t>(offset, my_size), my_count, MPI_BYTE, recv.data(),
                       counts.data(), displs.data(), MPI_BYTE, root, MPI_COMM_WORLD),
           "MPI_Gatherv");
-    if (rank_ == root)
-      for (int r = 0; r < size_; ++r)
-        if (counts[std::size_t(r)] > 0)
-          std::memcpy(out[std::size_t(r)].data() + offset, recv.data() + displs[std::size_t(r)],
-                      std::size_t(counts[std::size_t(r)]));
+    if (rank_ == root) unpack_slice(recv, counts, displs, offset, out);
     if (largest == 0) break;
   }
   if (rank_ != root) bytes_sent_ += my_size + sizeof(my_size);
@@ -113,21 +123,12 @@ std::vector<Bytes> MpiCommunicator::all_gather(const Bytes& mine) {
   std::vector<int> counts(static_cast<std::size_t>(size_)), displs(static_cast<std::size_t>(size_));
   Bytes recv;
   for (std::uint64_t offset = 0; offset < std::max<std::uint64_t>(largest, 1); offset += kSlice) {
-    int total = 0;
-    for (int r = 0; r < size_; ++r) {
-      const std::uint64_t s = sizes[std::size_t(r)];
-      counts[std::size_t(r)] = int(std::min(kSlice, s > offset ? s - offset : 0));
-      displs[std::size_t(r)] = total;
-      total += counts[std::size_t(r)];
-    }
+    const int total = slice_layout(sizes, offset, counts, displs);
     recv.resize(std::size_t(total));
     check(MPI_Allgatherv(mine.data() + std::min<std::uint64_t>(offset, my_size), counts[std::size_t(rank_)], MPI_BYTE,
                          recv.data(), counts.data(), displs.data(), MPI_BYTE, MPI_COMM_WORLD),
           "MPI_Allgatherv");
-    for (int r = 0; r < size_; ++r)
-      if (counts[std::size_t(r)] > 0)
-        std::memcpy(out[std::size_t(r)].data() + offset, recv.data() + displs[std::size_t(r)],
-                    std::size_t(counts[std::size_t(r)]));
+    unpack_slice(recv, counts, displs, offset, out);
     if (largest == 0) break;
   }
   bytes_sent_ += (my_size + sizeof(my_size)) * std::uint64_t(size_ - 1);

@@ -8,6 +8,7 @@
 //     the face's orientation, and nodes at the same position (the shared edges, which BRepMesh
 //     discretises once for both faces) are merged, so a closed solid gives a closed mesh.
 #include "cad_reader.h"
+#include "string_util.h"
 #include "errors.h"
 #include <BRepAdaptor_Surface.hxx>
 #include <BRep_Builder.hxx>
@@ -62,11 +63,6 @@ void mute_opencascade() {
     Interface_Static::SetCVal("xstep.cascade.unit", "MM");
     Interface_Static::SetCVal("write.step.unit", "MM");
   });
-}
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return s;
 }
 
 const char* surface_type_name(GeomAbs_SurfaceType t) {

@@ -6,6 +6,7 @@
 //  3. the unit is settled (--unit, else the file's, else mm), the mesh scaled to millimetres
 //     and checked for an absurd size, and the facts `info` prints are gathered.
 #include "model_loader.h"
+#include "string_util.h"
 #include "errors.h"
 #include "vtkHapticBoxUtilities.h"
 #include <vtkOBJReader.h>
@@ -30,11 +31,6 @@ namespace hb::vtk {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return s;
-}
 
 bool is_cad(const std::string& ext) { return ext == ".step" || ext == ".stp" || ext == ".iges" || ext == ".igs"; }
 bool is_scene(const std::string& ext) {

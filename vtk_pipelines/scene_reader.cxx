@@ -6,6 +6,7 @@
 //     FBX from the UnitScaleFactor metadata (centimetres per unit), 3MF from the model's unit
 //     attribute, read here from the zip (Assimp does not expose it).
 #include "scene_reader.h"
+#include "string_util.h"
 #include "errors.h"
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
@@ -29,11 +30,6 @@ namespace hb::vtk {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return s;
-}
 
 std::uint32_t le32(const unsigned char* p) { return p[0] | (p[1] << 8) | (p[2] << 16) | (std::uint32_t(p[3]) << 24); }
 std::uint16_t le16(const unsigned char* p) { return std::uint16_t(p[0] | (p[1] << 8)); }

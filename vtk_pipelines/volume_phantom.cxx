@@ -2,6 +2,7 @@
 // writers for NIfTI (VTK's writer, qform and sform), MetaImage and NRRD (headers written here,
 // since VTK 9.1's writers have no direction matrix).
 #include "volume_phantom.h"
+#include "string_util.h"
 #include "errors.h"
 #include <vtkImageData.h>
 #include <vtkMatrix4x4.h>
@@ -17,15 +18,6 @@
 namespace hb::vtk {
 
 namespace {
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return s;
-}
-
-bool ends_with(const std::string& s, const std::string& tail) {
-  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
 
 double ramp(double d, double width) { return std::clamp(0.5 - d / width, 0.0, 1.0); }
 

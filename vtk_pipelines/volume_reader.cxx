@@ -14,6 +14,7 @@
 //     their normals: normals point to where the value is below the iso-value (or another
 //     label), i.e. out of the bright region, whatever the handedness of index_to_mm.
 #include "volume_reader.h"
+#include "string_util.h"
 #include "errors.h"
 #include "vtkHapticBoxUtilities.h"
 #include <vtkCallbackCommand.h>
@@ -49,15 +50,6 @@ namespace hb::vtk {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return s;
-}
-
-bool ends_with(const std::string& s, const std::string& tail) {
-  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
 
 // Collects a VTK algorithm's error messages (and keeps them off the console) so that they can
 // be rethrown with the file's name.

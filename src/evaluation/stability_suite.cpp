@@ -232,6 +232,21 @@ public:
     return f;
   }
 
+  // A hold at `site`: a light grip starting 2 mm outside and pulling towards 30 mm inside
+  // (reached in 0.5 s, then held), the stylus along the inward normal, for `seconds`.
+  ClosedLoopRun hold_run(const Site& site, double seconds) const {
+    ClosedLoopRun run;
+    run.device = o_.device;
+    run.hand = light_grip();
+    run.start_m = site.surface_m - 0.002 * site.inward;
+    const Vec3d from = run.start_m, to = site.surface_m + 0.03 * site.inward;
+    run.set_point = [from, to](double t) { return t < 0.5 ? from + (to - from) * (t / 0.5) : to; };
+    run.seconds = seconds;
+    run.stylus_dir = site.inward;
+    run.stylus_m = o_.stylus_m;
+    return run;
+  }
+
   void add(StabilityMetric m) { out_.push_back(std::move(m)); }
 
   // T1: free bounces at k = K_max with b = 0 and b at the passivity bound; hold and release.
@@ -263,15 +278,7 @@ public:
     for (std::size_t i = 0; i < std::min<std::size_t>(3, s.sites.size()); ++i) {
       const Site& site = s.sites[i];
       for (int which = 0; which < 2; ++which) {
-        ClosedLoopRun run;
-        run.device = o_.device;
-        run.hand = light_grip();
-        run.start_m = site.surface_m - 0.002 * site.inward;
-        const Vec3d from = run.start_m, to = site.surface_m + 0.03 * site.inward;
-        run.set_point = [from, to](double t) { return t < 0.5 ? from + (to - from) * (t / 0.5) : to; };
-        run.seconds = 2.5;
-        run.stylus_dir = site.inward;
-        run.stylus_m = o_.stylus_m;
+        const ClosedLoopRun run = hold_run(site, 2.5);
         const auto ticks = run_closed_loop(which ? *s.exact : *s.box, lh, s.map, run);
         const double early = rms_speed(ticks, 1.0, 1.75), late = rms_speed(ticks, 1.75, 2.5);
         const double decay = early > 1e-4 ? late / early : 0.0;
@@ -602,15 +609,7 @@ public:
           // A hold: light grip pushing about 1.5 N, no device damping, the stall at 1 s (the
           // first run has none: on a curved model the hand may slide the tip along the
           // surface, and only what the stall adds to the penetration counts).
-          ClosedLoopRun run;
-          run.device = o_.device;
-          run.hand = light_grip();
-          run.start_m = site.surface_m - 0.002 * site.inward;
-          const Vec3d from = run.start_m, to = site.surface_m + 0.03 * site.inward;
-          run.set_point = [from, to](double t) { return t < 0.5 ? from + (to - from) * (t / 0.5) : to; };
-          run.seconds = 2.0;
-          run.stylus_dir = site.inward;
-          run.stylus_m = o_.stylus_m;
+          ClosedLoopRun run = hold_run(site, 2.0);
           run.stalls = {Stall{1000, ticks}};
           auto f = filter();
           run.filter = f.get();

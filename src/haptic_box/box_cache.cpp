@@ -51,6 +51,9 @@ std::uint64_t recipe_key(const BakeRecipe& r) {
   k << "hbcache1 m " << o.params.m << " n " << o.params.n << " cell " << hexfloat(o.density.cell) << " min_m "
     << o.density.min_m << " max_m " << o.density.max_m << " padding " << hexfloat(o.obb.padding) << " obb_iter "
     << o.obb.refine_iterations << " refine " << o.refine;
+  // The scene grid is baked into scenes of several boxes only, but the key need not know that.
+  k << " grid " << o.scene_grid;
+  if (o.scene_grid) k << ' ' << hexfloat(o.grid.cell) << ' ' << o.grid.max_cells;
   const PiecesRecipe& p = r.pieces;
   switch (p.kind) {
   case PiecesRecipe::Kind::none: k << " pieces none"; break;

@@ -14,9 +14,9 @@ namespace hb {
 std::string default_box_cache_dir();
 
 /// A 64-bit key of everything in `recipe` that changes the baked scene (densities, per-box
-/// density, padding and PBB fit, refinement, pieces (a piece file by its contents, given ids
+/// density, padding and PBB fit, refinement, scene grid and its options, pieces (a piece file by its contents, given ids
 /// by their values, automatic by its options), seams, codec and its bound); progress
-/// callbacks are not part of it. Throws hb::IoError when a piece file cannot be read.
+/// callbacks and the ranks (communicator, scene_on_every_rank) are not part of it. Throws hb::IoError when a piece file cannot be read.
 std::uint64_t recipe_key(const BakeRecipe& recipe);
 
 /// What a cache directory holds.

@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <vector>
 #include <unistd.h>
 
 namespace hb {
@@ -49,6 +51,62 @@ TEST(BoxCacheTest, KeyCoversTheWholeRecipe) {
   EXPECT_NE(recipe_key(r), given);
   r = base; r.pieces.kind = PiecesRecipe::Kind::file; r.pieces.file = temp_dir("missing.txt");
   EXPECT_THROW(recipe_key(r), IoError);
+}
+
+// Every recipe field that changes the baked scene gives its own key (one field changed at a
+// time from the defaults, automatic pieces and a codec so their options count); what does not
+// change the scene (progress, the ranks) leaves the key alone.
+TEST(BoxCacheTest, KeyChangesWithEveryFieldThatChangesTheScene) {
+  BakeRecipe base;
+  base.pieces.kind = PiecesRecipe::Kind::automatic;
+  base.codec.codec = CodecId::block;
+  std::vector<std::pair<std::string, BakeRecipe>> variants;
+  const auto vary = [&](const std::string& name, auto change) {
+    BakeRecipe r = base;
+    change(r);
+    variants.emplace_back(name, r);
+  };
+  vary("defaults", [](BakeRecipe&) {});
+  vary("m", [](BakeRecipe& r) { r.options.params.m = 31; });
+  vary("n", [](BakeRecipe& r) { r.options.params.n = 15; });
+  vary("density.cell", [](BakeRecipe& r) { r.options.density.cell = 0.01f; });
+  vary("density.min_m", [](BakeRecipe& r) { r.options.density.min_m = 9; });
+  vary("density.max_m", [](BakeRecipe& r) { r.options.density.max_m = 63; });
+  vary("obb.padding", [](BakeRecipe& r) { r.options.obb.padding = 0.02f; });
+  vary("obb.refine_iterations", [](BakeRecipe& r) { r.options.obb.refine_iterations = 0; });
+  vary("refine", [](BakeRecipe& r) { r.options.refine = true; });
+  vary("scene_grid", [](BakeRecipe& r) { r.options.scene_grid = false; });
+  vary("grid.cell", [](BakeRecipe& r) { r.options.grid.cell = 1.f / 64.f; });
+  vary("grid.max_cells", [](BakeRecipe& r) { r.options.grid.max_cells = 1000; });
+  vary("automatic.threshold", [](BakeRecipe& r) { r.pieces.automatic.threshold = 0.001; });
+  vary("automatic.min_area_fraction", [](BakeRecipe& r) { r.pieces.automatic.min_area_fraction = 0.01; });
+  vary("automatic.max_pieces", [](BakeRecipe& r) { r.pieces.automatic.max_pieces = 8; });
+  vary("automatic.leaves", [](BakeRecipe& r) { r.pieces.automatic.leaves = 512; });
+  vary("automatic.lines", [](BakeRecipe& r) { r.pieces.automatic.lines = 100000; });
+  vary("automatic.seed", [](BakeRecipe& r) { r.pieces.automatic.seed = 2; });
+  vary("pieces none", [](BakeRecipe& r) { r.pieces.kind = PiecesRecipe::Kind::none; });
+  vary("seams.rings", [](BakeRecipe& r) { r.seams.rings = 2; });
+  vary("seams.cells", [](BakeRecipe& r) { r.seams.cells = 2.f; });
+  vary("codec", [](BakeRecipe& r) { r.codec.codec = CodecId::haar; });
+  vary("codec.max_error", [](BakeRecipe& r) { r.codec.max_error = 0.001f; });
+  vary("codec.ratio", [](BakeRecipe& r) { r.codec.ratio = 20.f; });
+  vary("codec.normal_bits", [](BakeRecipe& r) { r.codec.normal_bits = 10; });
+  vary("codec none", [](BakeRecipe& r) { r.codec.codec = CodecId::none; });
+  std::map<std::uint64_t, std::string> seen;
+  for (const auto& [name, r] : variants) {
+    const auto [at, fresh] = seen.emplace(recipe_key(r), name);
+    EXPECT_TRUE(fresh) << name << " has the key of " << at->second;
+  }
+  BakeRecipe same = base;
+  same.options.progress = [](double) { return true; };
+  same.pieces.automatic.progress = [](double) { return true; };
+  same.options.scene_on_every_rank = true;
+  EXPECT_EQ(recipe_key(same), recipe_key(base));
+  // Without a scene grid its options change nothing.
+  BakeRecipe a = base, b = base;
+  a.options.scene_grid = b.options.scene_grid = false;
+  b.options.grid.cell = 1.f / 64.f;
+  EXPECT_EQ(recipe_key(a), recipe_key(b));
 }
 
 TEST(BoxCacheTest, StoresLoadsSizesAndClears) {
