@@ -1,6 +1,10 @@
-// `hapticbox servo BOX --device virtual|replay:LOG|falcon --seconds S [--record LOG] [--json]`:
+// `hapticbox servo BOX --device virtual|replay:LOG|falcon --seconds S [--record LOG] [--json]
+//  [--exact MESH [--render box|exact]] [--csv FILE]`:
 // runs the servo loop over a box file (or the built-in analytic scene `plane`) and prints the
-// timing histogram and the safety events.
+// timing histogram and the safety events. With --exact, the exact Embree answer on MESH runs
+// in the same loop: one of the two drives the device (--render, box by default), the other is
+// computed in shadow on the same segment in the same tick; the summary compares them (query
+// times, contact agreement, force difference) and --record / --csv log both per tick.
 #include "cli_support.h"
 #include "commands.h"
 #include "device/device_choice.h"
@@ -9,7 +13,9 @@
 #include "device/servo_loop.h"
 #include "device/virtual_device.h"
 #include "errors.h"
+#include "exact/exact_query.h"
 #include "haptic_box/box_file.h"
+#include "mesh/file_hash.h"
 #ifdef HB_WITH_VTK
 #include "trajectory_export.h"
 #endif
@@ -37,11 +43,15 @@ struct ServoArgs {
   float stiffness = 500.f;
   float units_per_metre = 0.f;   // 0 = fit the workspace to the scene
   std::string firmware;
+  std::string exact;             // the mesh for the exact answer (empty: none)
+  std::string render = "box";    // which answer drives the device with --exact
+  std::string csv;
 };
 
 struct Scene {
   std::unique_ptr<hb::ContactQuery> query;
   hb::Vec3 min{hb::Vec3::Constant(-40.f)}, max{hb::Vec3::Constant(40.f)};
+  std::uint64_t mesh_hash = 0;  // of the mesh the box was baked from (0: unknown)
 };
 
 Scene load_scene(const std::string& box) {
@@ -64,8 +74,26 @@ Scene load_scene(const std::string& box) {
       s.max = s.max.cwiseMax(corner);
     }
   }
+  s.mesh_hash = scene->source().mesh_hash;
   s.query = std::move(scene);
   return s;
+}
+
+// The exact answer for --exact: the mesh (kept alive with its Embree scene).
+struct ExactScene {
+  hb::TriangleMesh mesh;
+  std::unique_ptr<hb::ExactQuery> query;
+};
+
+std::unique_ptr<ExactScene> load_exact(const ServoArgs& a, const Scene& box) {
+  if (a.exact.empty()) return nullptr;
+  if (a.box == "plane") throw hb::cli::UsageError("--exact compares a box file with its mesh, not the plane scene");
+  auto e = std::make_unique<ExactScene>();
+  e->mesh = hb::cli::load_mesh(a.exact);
+  if (box.mesh_hash != 0 && box.mesh_hash != hb::hash_file(a.exact))
+    std::cerr << "hapticbox: warning: " << a.box << " was baked from a different file than " << a.exact << "\n";
+  e->query = std::make_unique<hb::ExactQuery>(e->mesh);
+  return e;
 }
 
 hb::OpenedDevice open_chosen_device(const ServoArgs& a, double dt) {
@@ -91,8 +119,64 @@ void print_stats(const char* name, const hb::TimingStats& s) {
               s.p99_us, s.p999_us, s.max_us);
 }
 
+void print_shadow(const ServoArgs& a, const hb::ServoReport& r) {
+  const hb::ShadowReport& sh = r.shadow;
+  const bool box_drives = a.render == "box";
+  const hb::TimingStats& box_q = box_drives ? r.query : sh.query;
+  const hb::TimingStats& exact_q = box_drives ? sh.query : r.query;
+  std::printf("  box vs exact (%s drives the device, %s in shadow, same segment every tick):\n",
+              box_drives ? "box" : "exact", box_drives ? "exact" : "box");
+  print_stats("box", box_q);
+  print_stats("exact", exact_q);
+  std::printf("  query time exact / box: p50 %.2fx, p99 %.2fx\n", box_q.p50_us > 0 ? exact_q.p50_us / box_q.p50_us : 0.0,
+              box_q.p99_us > 0 ? exact_q.p99_us / box_q.p99_us : 0.0);
+  const unsigned long long box_only = box_drives ? sh.drive_only : sh.shadow_only;
+  const unsigned long long exact_only = box_drives ? sh.shadow_only : sh.drive_only;
+  std::printf("  contact ticks: both %llu, box only %llu, exact only %llu, neither %llu\n",
+              static_cast<unsigned long long>(sh.both_contact), box_only, exact_only,
+              static_cast<unsigned long long>(sh.neither));
+  std::printf("  |F_box - F_exact| (ticks with a contact): mean %.4f N, p50 %.4f N, p99 %.4f N, max %.4f N\n",
+              sh.force_diff_mean_n, sh.force_diff_p50_n, sh.force_diff_p99_n, sh.force_diff_max_n);
+  std::printf("  force direction difference (both in contact): p50 %.2f deg, p99 %.2f deg, max %.2f deg\n",
+              sh.angle_p50_deg, sh.angle_p99_deg, sh.angle_max_deg);
+}
+
+nlohmann::json shadow_json(const ServoArgs& a, const hb::ServoReport& r) {
+  const hb::ShadowReport& sh = r.shadow;
+  const bool box_drives = a.render == "box";
+  const hb::TimingStats& box_q = box_drives ? r.query : sh.query;
+  const hb::TimingStats& exact_q = box_drives ? sh.query : r.query;
+  nlohmann::json j;
+  j["rendered"] = a.render;
+  j["mesh"] = a.exact;
+  j["box_query_p50_us"] = box_q.p50_us;
+  j["box_query_p99_us"] = box_q.p99_us;
+  j["exact_query_p50_us"] = exact_q.p50_us;
+  j["exact_query_p99_us"] = exact_q.p99_us;
+  j["contact_both"] = sh.both_contact;
+  j["contact_box_only"] = box_drives ? sh.drive_only : sh.shadow_only;
+  j["contact_exact_only"] = box_drives ? sh.shadow_only : sh.drive_only;
+  j["contact_neither"] = sh.neither;
+  j["force_diff_mean_n"] = sh.force_diff_mean_n;
+  j["force_diff_p50_n"] = sh.force_diff_p50_n;
+  j["force_diff_p99_n"] = sh.force_diff_p99_n;
+  j["force_diff_max_n"] = sh.force_diff_max_n;
+  j["angle_p50_deg"] = sh.angle_p50_deg;
+  j["angle_p99_deg"] = sh.angle_p99_deg;
+  j["angle_max_deg"] = sh.angle_max_deg;
+  return j;
+}
+
 void run_servo(const ServoArgs& a) {
+  if (a.render == "exact" && a.exact.empty()) throw hb::cli::UsageError("--render exact needs --exact MESH");
   Scene scene = load_scene(a.box);
+  const std::unique_ptr<ExactScene> exact = load_exact(a, scene);
+  const hb::ContactQuery* drive = scene.query.get();
+  const hb::ContactQuery* shadow = nullptr;
+  if (exact) {
+    drive = a.render == "exact" ? static_cast<const hb::ContactQuery*>(exact->query.get()) : scene.query.get();
+    shadow = a.render == "exact" ? scene.query.get() : static_cast<const hb::ContactQuery*>(exact->query.get());
+  }
   hb::OpenedDevice opened = open_chosen_device(a, 1.0 / a.rate_hz);
   hb::HapticDevice* device = opened.device.get();
   hb::ServoOptions o;
@@ -107,11 +191,17 @@ void run_servo(const ServoArgs& a) {
   std::unique_ptr<hb::LogRecorder> recorder;
   // --trajectory without --record records into a temporary log beside the .vtp.
   const std::string log_path = !a.record.empty() ? a.record : a.trajectory.empty() ? "" : a.trajectory + ".hbslog.tmp";
-  if (!log_path.empty())
-    recorder = std::make_unique<hb::LogRecorder>(log_path, o.rate_hz, device->spec());
+  if (!log_path.empty()) {
+    if (exact)  // a comparison recording: both answers per tick
+      recorder = std::make_unique<hb::LogRecorder>(
+          log_path, o.rate_hz, device->spec(), a.render == "exact" ? hb::RenderedAnswer::exact : hb::RenderedAnswer::box);
+    else
+      recorder = std::make_unique<hb::LogRecorder>(log_path, o.rate_hz, device->spec());
+  }
 
-  hb::ServoLoop loop(*device, *scene.query, o);
+  hb::ServoLoop loop(*device, *drive, o);
   loop.set_recorder(recorder.get());
+  loop.set_shadow(shadow);
   loop.start();
   const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(a.seconds);
   while (loop.running() && std::chrono::steady_clock::now() < until)
@@ -127,6 +217,7 @@ void run_servo(const ServoArgs& a) {
     trajectory_points = hb::cli::write_trajectory_vtp(log, o.mapping, a.box, a.trajectory);
   }
 #endif
+  if (!a.csv.empty()) hb::write_servo_log_csv(hb::read_servo_log(a.record), a.csv);
 
   if (a.json) {
     nlohmann::json j;
@@ -163,6 +254,8 @@ void run_servo(const ServoArgs& a) {
       j["log_records"] = recorder->written();
       j["log_dropped"] = recorder->dropped();
     }
+    if (!a.csv.empty()) j["csv"] = a.csv;
+    if (exact) j["box_vs_exact"] = shadow_json(a, r);
     std::cout << j.dump(2) << "\n";
   } else {
     std::printf("servo: %s, scene %s, %.0f Hz nominal\n", device->spec().name.c_str(), a.box.c_str(),
@@ -183,12 +276,15 @@ void run_servo(const ServoArgs& a) {
       std::printf(" %s %llu", hb::to_string(static_cast<hb::SafetyEvent>(i)),
                   static_cast<unsigned long long>(r.safety[i]));
     std::printf("\n  exit: %s\n", r.exit_message.c_str());
+    if (exact) print_shadow(a, r);
     if (!a.trajectory.empty())
       std::printf("  trajectory: %s, %zu points (polyline, open in ParaView)\n", a.trajectory.c_str(), trajectory_points);
     if (recorder && !a.record.empty())
-      std::printf("  log: %s, %llu records, %llu dropped\n", a.record.c_str(),
+      std::printf("  log: %s, %llu records, %llu dropped%s\n", a.record.c_str(),
                   static_cast<unsigned long long>(recorder->written()),
-                  static_cast<unsigned long long>(recorder->dropped()));
+                  static_cast<unsigned long long>(recorder->dropped()),
+                  exact ? " (box and exact per tick)" : "");
+    if (!a.csv.empty()) std::printf("  csv: %s\n", a.csv.c_str());
   }
   if (r.exit == hb::ServoExit::disconnected)
     throw hb::DeviceDisconnected(device->spec().name + ": " + r.exit_message);
@@ -218,6 +314,16 @@ void add_servo_command(CLI::App& app) {
                   "Model units per device metre (default: fit the workspace to the scene)")
       ->check(hb::cli::finite_range(0.0, 1e12));
   cmd->add_option("--firmware", a->firmware, "Falcon firmware file (supplied by you; not shipped)");
+  cmd->add_option("--exact", a->exact,
+                  "The mesh BOX was baked from: its exact Embree answer runs in the same loop on the same "
+                  "segment every tick, compared with the box in the summary and logged by --record/--csv");
+  cmd->add_option("--render", a->render, "With --exact: which answer drives the device (the other runs in shadow)")
+      ->check(CLI::IsMember({"box", "exact"}))
+      ->capture_default_str();
+  auto* record = cmd->get_option("--record");
+  cmd->add_option("--csv", a->csv, "Also write the recorded log as CSV (one row a tick; box_* and exact_* "
+                                   "columns with --exact)")
+      ->needs(record);
   cmd->callback([a] {
     if (!a->trajectory.empty() && hb::cli::lower_extension(a->trajectory) != ".vtp")
       throw hb::cli::UsageError("--trajectory " + a->trajectory + ": the trajectory is written as VTK XML PolyData; name it .vtp");

@@ -8,6 +8,8 @@
 // 4. A tick ending after the next deadline is an overrun; deadlines already past are skipped
 //    (no burst of catch-up ticks), and the safety watchdog sees the lateness.
 // 5. Disconnect or end of stream ends the loop: zero force (when possible), report, exit.
+// 6. With a shadow query (set_shadow), after the force is written the same segment is asked
+//    of it too; the two answers are compared (counts, |dF| and angle histograms) and logged.
 #include "device/servo_loop.h"
 #include "device/servo_log.h"
 #include <pthread.h>
@@ -92,7 +94,10 @@ ServoLoop::ServoLoop(HapticDevice& device, const ContactQuery& scene, ServoOptio
       period_error_hist_(1000, 20000),
       compute_hist_(10, 100000),        // 10 ns bins up to 1 ms
       query_hist_(10, 100000),
-      window_hist_(10000, 2000) {}      // 10 us bins up to 20 ms: the live rate window
+      window_hist_(10000, 2000),        // 10 us bins up to 20 ms: the live rate window
+      shadow_query_hist_(10, 100000),
+      force_diff_hist_(1, 200000),      // 0.1 mN bins up to 20 N
+      angle_hist_(1, 18001) {}          // 0.01 degree bins up to 180 degrees
 
 ServoLoop::~ServoLoop() {
   try {
@@ -135,7 +140,9 @@ void ServoLoop::start() {
   report_.stiffness_n_per_m = options_.law.stiffness_n_per_m;
   safety_ = SafetyFilter(spec, options_.safety, 1.0 / options_.rate_hz);
   guard_ = EnergyGuard(options_.energy_guard, 1.0 / options_.rate_hz);
-  for (auto* h : {&period_hist_, &period_error_hist_, &compute_hist_, &query_hist_}) h->clear();
+  for (auto* h : {&period_hist_, &period_error_hist_, &compute_hist_, &query_hist_, &shadow_query_hist_,
+                  &force_diff_hist_, &angle_hist_})
+    h->clear();
 
   device_.open();
   opened_ = true;
@@ -181,6 +188,9 @@ void ServoLoop::run() noexcept {
   DeviceState state;
   ServoSnapshot snap;
   LogRecord rec;
+  ShadowRecord shadow_rec;
+  ShadowReport& sh = rep.shadow;
+  sh.enabled = shadow_ != nullptr;
   std::int64_t deadline = now_ns() + period;
   std::int64_t prev_wake = -1, first_wake = -1;
   // The live window (snapshot rate_hz and period_p99_us): about half a second of ticks.
@@ -254,6 +264,32 @@ void ServoLoop::run() noexcept {
     compute_hist_.add(c1 - c0);
     query_hist_.add(q1 - c0);
 
+    // The shadow answer, on the same segment, once the force is out.
+    Contact other;
+    std::int64_t shadow_ns = 0;
+    if (shadow_) {
+      const std::int64_t s0 = now_ns();
+      other = shadow_->query(seg, law);
+      shadow_ns = now_ns() - s0;
+      shadow_query_hist_.add(shadow_ns);
+      if (contact.contact && other.contact) ++sh.both_contact;
+      else if (contact.contact) ++sh.drive_only;
+      else if (other.contact) ++sh.shadow_only;
+      else ++sh.neither;
+      if (contact.contact || other.contact) {
+        const float diff = (contact.force - other.force).norm();
+        // (clamped: past 1e5 N it only counts as the overflow bin, and llround stays defined)
+        if (std::isfinite(diff)) force_diff_hist_.add(std::llround(std::min(double(diff), 1e5) * 1e4));
+      }
+      if (contact.contact && other.contact) {
+        const float na = contact.force.norm(), nb = other.force.norm();
+        if (na > 0.f && nb > 0.f && std::isfinite(na) && std::isfinite(nb)) {
+          const double c = std::clamp(double(contact.force.dot(other.force)) / (double(na) * nb), -1.0, 1.0);
+          angle_hist_.add(std::llround(std::acos(c) * (180.0 / 3.14159265358979323846) * 100.0));
+        }
+      }
+    }
+
     snap.tick = tick;
     snap.time_s = state.time_s;
     to_array(state.position_m, snap.position_m);
@@ -266,6 +302,9 @@ void ServoLoop::run() noexcept {
     snap.safety_flags = safety_.last_flags();
     snap.query_ns = static_cast<std::uint32_t>(q1 - c0);
     snap.compute_ns = static_cast<std::uint32_t>(c1 - c0);
+    to_array(other.force, snap.shadow_force_n);
+    snap.shadow_query_ns = static_cast<std::uint32_t>(shadow_ns);
+    snap.shadow_contact = other.contact;
     snap.contact = contact.contact;
     snap.running = 1;
     snap.emergency_stopped = safety_.emergency_stopped();
@@ -282,7 +321,18 @@ void ServoLoop::run() noexcept {
       rec.contact = contact.contact;
       rec.safety_flags = snap.safety_flags;
       rec.tick = tick;
-      recorder_->push(rec);
+      if (recorder_->comparison()) {
+        to_array(contact.force, shadow_rec.drive_force_n);
+        to_array(contact.normal, shadow_rec.drive_normal);
+        to_array(other.force, shadow_rec.shadow_force_n);
+        to_array(other.normal, shadow_rec.shadow_normal);
+        shadow_rec.shadow_depth = other.depth;
+        shadow_rec.shadow_query_ns = snap.shadow_query_ns;
+        shadow_rec.shadow_contact = other.contact;
+        recorder_->push(rec, &shadow_rec);
+      } else {
+        recorder_->push(rec);
+      }
     }
     ++tick;
 
@@ -307,6 +357,16 @@ void ServoLoop::run() noexcept {
   rep.compute = timing_stats(compute_hist_);
   rep.query = timing_stats(query_hist_);
   rep.safety = safety_.counters();
+  if (sh.enabled) {
+    sh.query = timing_stats(shadow_query_hist_);
+    sh.force_diff_mean_n = force_diff_hist_.mean_ns() * 1e-4;
+    sh.force_diff_p50_n = force_diff_hist_.percentile_ns(0.5) * 1e-4;
+    sh.force_diff_p99_n = force_diff_hist_.percentile_ns(0.99) * 1e-4;
+    sh.force_diff_max_n = force_diff_hist_.max_ns() * 1e-4;
+    sh.angle_p50_deg = angle_hist_.percentile_ns(0.5) * 1e-2;
+    sh.angle_p99_deg = angle_hist_.percentile_ns(0.99) * 1e-2;
+    sh.angle_max_deg = angle_hist_.max_ns() * 1e-2;
+  }
   switch (rep.exit) {
     case ServoExit::disconnected:
       rep.exit_message = "device disconnected at tick " + std::to_string(tick) +

@@ -71,6 +71,9 @@ struct ServoSnapshot {
   /// the tick rate, Hz, and the 99th percentile of the wake-to-wake period, us.
   float rate_hz = 0;
   float period_p99_us = 0;
+  float shadow_force_n[3] = {};  ///< the shadow answer's force (set_shadow), else 0.
+  std::uint32_t shadow_query_ns = 0;
+  std::uint8_t shadow_contact = 0;
   std::uint8_t contact = 0;
   std::uint8_t running = 0;
   std::uint8_t emergency_stopped = 0;
@@ -87,6 +90,18 @@ struct TimingStats {
   std::uint64_t count = 0;
 };
 TimingStats timing_stats(const TimingHistogram& h);
+
+/// The driving answer against the shadow answer (ServoLoop::set_shadow), both computed on the
+/// same segment with the same law in every tick, compared before the energy guard and safety.
+struct ShadowReport {
+  bool enabled = false;
+  TimingStats query;                     ///< the shadow query alone.
+  std::uint64_t both_contact = 0, drive_only = 0, shadow_only = 0, neither = 0;  ///< ticks
+  /// |F_drive - F_shadow|, N, over the ticks where either has a contact (0.1 mN bins).
+  double force_diff_mean_n = 0, force_diff_p50_n = 0, force_diff_p99_n = 0, force_diff_max_n = 0;
+  /// Angle between the two forces, degrees, over the ticks where both have a contact (0.01 degree bins).
+  double angle_p50_deg = 0, angle_p99_deg = 0, angle_max_deg = 0;
+};
 
 /// What a run measured; complete after stop().
 struct ServoReport {
@@ -108,6 +123,7 @@ struct ServoReport {
   ServoExit exit = ServoExit::not_started;
   std::string exit_message;
   std::uint64_t log_records = 0, log_dropped = 0;
+  ShadowReport shadow;
 };
 
 /// Runs the servo loop on its own thread. The device and the scene must outlive the loop.
@@ -120,6 +136,11 @@ public:
 
   /// Records every tick to `recorder` (not owned; set before start; finish it after stop).
   void set_recorder(LogRecorder* recorder) noexcept { recorder_ = recorder; }
+  /// Also queries `shadow` (not owned, outlives the loop; set before start) on every tick's
+  /// segment, after the force is written: its answer never reaches the device. It is compared
+  /// with the driving answer (ServoReport::shadow, ServoSnapshot) and logged when the recorder
+  /// is a comparison recording. `servo BOX --exact MESH` drives with one, shadows the other.
+  void set_shadow(const ContactQuery* shadow) noexcept { shadow_ = shadow; }
 
   /// Opens the device (throws its DeviceError) and starts the thread. Throws std::logic_error
   /// when already running, InvalidInput for bad options.
@@ -148,10 +169,13 @@ private:
   const ContactQuery& scene_;
   ServoOptions options_;
   LogRecorder* recorder_ = nullptr;
+  const ContactQuery* shadow_ = nullptr;
   SafetyFilter safety_;
   EnergyGuard guard_;
   TimingHistogram period_hist_, period_error_hist_, compute_hist_, query_hist_;
   TimingHistogram window_hist_;  ///< periods of the current live window (snapshot rate, p99).
+  // The shadow comparison (the histogram counts integers: ns, 0.1 mN, 0.01 degree).
+  TimingHistogram shadow_query_hist_, force_diff_hist_, angle_hist_;
   Seqlock<ServoSnapshot> snapshot_;
   ServoReport report_;
   std::atomic<bool> stop_{false};

@@ -301,6 +301,46 @@ TEST_F(CliTest, ReplayOfALogWithAnImpossibleHeaderIsRefused) {
   EXPECT_EQ(run("servo plane --no-realtime --seconds 1 --device replay:" + log).code, 0);
 }
 
+// `servo BOX --exact MESH`: the exact answer in the same loop, one drives and the other runs
+// in shadow; the summary compares them and the log and CSV carry both per tick.
+TEST_F(CliTest, ServoWithExactComparesBoxAndExactOnOneTrajectoryAndLogsBoth) {
+  bake_once();
+  const std::string log = path("shadow.hblog"), csv = path("shadow.csv");
+  const Result r = run("servo " + path("sphere.hbox") + " --exact " + path("sphere.off") +
+                       " --no-realtime --seconds 0.3 --units-per-metre 400 --record " + log + " --csv " + csv + " --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.contains("box_vs_exact")) << r.out;
+  const auto& c = j["box_vs_exact"];
+  EXPECT_EQ(c["rendered"], "box");
+  EXPECT_EQ(c["contact_both"].get<std::uint64_t>() + c["contact_box_only"].get<std::uint64_t>() +
+                c["contact_exact_only"].get<std::uint64_t>() + c["contact_neither"].get<std::uint64_t>(),
+            j["ticks"].get<std::uint64_t>());
+  EXPECT_GT(c["contact_both"].get<std::uint64_t>(), 0u) << r.out;  // 400 units/m: the circle runs inside the sphere, the handle in and out
+  EXPECT_GT(c["exact_query_p50_us"].get<double>(), 0.0);
+  EXPECT_GE(c["force_diff_p99_n"].get<double>(), c["force_diff_p50_n"].get<double>());
+  std::ifstream in(csv);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_NE(header.find("box_fx_n"), std::string::npos) << header;
+  EXPECT_NE(header.find("exact_fx_n"), std::string::npos) << header;
+  // The exact answer can drive instead; the text summary names both.
+  const Result exact = run("servo " + path("sphere.hbox") + " --exact " + path("sphere.off") +
+                           " --render exact --no-realtime --seconds 0.2 --units-per-metre 400");
+  ASSERT_EQ(exact.code, 0) << exact.err;
+  EXPECT_NE(exact.out.find("exact drives the device, box in shadow"), std::string::npos) << exact.out;
+  EXPECT_NE(exact.out.find("|F_box - F_exact|"), std::string::npos) << exact.out;
+  // What makes no sense is refused with a message.
+  const Result no_mesh = run("servo " + path("sphere.hbox") + " --render exact --no-realtime --seconds 0.1");
+  EXPECT_EQ(no_mesh.code, 2);
+  EXPECT_NE(no_mesh.err.find("--render exact needs --exact"), std::string::npos) << no_mesh.err;
+  const Result plane = run("servo plane --exact " + path("sphere.off") + " --no-realtime --seconds 0.1");
+  EXPECT_EQ(plane.code, 2);
+  EXPECT_NE(plane.err.find("not the plane scene"), std::string::npos) << plane.err;
+  EXPECT_EQ(run("servo plane --csv " + csv + " --no-realtime --seconds 0.1").code, 2);  // --csv needs --record
+  EXPECT_EQ(run("servo " + path("sphere.hbox") + " --exact " + path("nope.off") + " --no-realtime --seconds 0.1").code, 1);
+}
+
 } // namespace
 
 TEST_F(CliTest, UnknownCommandIsNamedAndTheCommandsListed) {
