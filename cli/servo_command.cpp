@@ -119,22 +119,33 @@ void print_stats(const char* name, const hb::TimingStats& s) {
               s.p99_us, s.p999_us, s.max_us);
 }
 
-void print_shadow(const ServoArgs& a, const hb::ServoReport& r) {
+// The loop's drive/shadow comparison told as box and exact.
+struct BoxVsExact {
+  bool box_drives;
+  hb::TimingStats box_query, exact_query;
+  std::uint64_t box_only, exact_only;
+};
+
+BoxVsExact box_vs_exact(const ServoArgs& a, const hb::ServoReport& r) {
   const hb::ShadowReport& sh = r.shadow;
   const bool box_drives = a.render == "box";
-  const hb::TimingStats& box_q = box_drives ? r.query : sh.query;
-  const hb::TimingStats& exact_q = box_drives ? sh.query : r.query;
+  return {box_drives, box_drives ? r.query : sh.query, box_drives ? sh.query : r.query,
+          box_drives ? sh.drive_only : sh.shadow_only, box_drives ? sh.shadow_only : sh.drive_only};
+}
+
+void print_shadow(const ServoArgs& a, const hb::ServoReport& r) {
+  const hb::ShadowReport& sh = r.shadow;
+  const BoxVsExact c = box_vs_exact(a, r);
   std::printf("  box vs exact (%s drives the device, %s in shadow, same segment every tick):\n",
-              box_drives ? "box" : "exact", box_drives ? "exact" : "box");
-  print_stats("box", box_q);
-  print_stats("exact", exact_q);
-  std::printf("  query time exact / box: p50 %.2fx, p99 %.2fx\n", box_q.p50_us > 0 ? exact_q.p50_us / box_q.p50_us : 0.0,
-              box_q.p99_us > 0 ? exact_q.p99_us / box_q.p99_us : 0.0);
-  const unsigned long long box_only = box_drives ? sh.drive_only : sh.shadow_only;
-  const unsigned long long exact_only = box_drives ? sh.shadow_only : sh.drive_only;
+              c.box_drives ? "box" : "exact", c.box_drives ? "exact" : "box");
+  print_stats("box", c.box_query);
+  print_stats("exact", c.exact_query);
+  std::printf("  query time exact / box: p50 %.2fx, p99 %.2fx\n",
+              c.box_query.p50_us > 0 ? c.exact_query.p50_us / c.box_query.p50_us : 0.0,
+              c.box_query.p99_us > 0 ? c.exact_query.p99_us / c.box_query.p99_us : 0.0);
   std::printf("  contact ticks: both %llu, box only %llu, exact only %llu, neither %llu\n",
-              static_cast<unsigned long long>(sh.both_contact), box_only, exact_only,
-              static_cast<unsigned long long>(sh.neither));
+              static_cast<unsigned long long>(sh.both_contact), static_cast<unsigned long long>(c.box_only),
+              static_cast<unsigned long long>(c.exact_only), static_cast<unsigned long long>(sh.neither));
   std::printf("  |F_box - F_exact| (ticks with a contact): mean %.4f N, p50 %.4f N, p99 %.4f N, max %.4f N\n",
               sh.force_diff_mean_n, sh.force_diff_p50_n, sh.force_diff_p99_n, sh.force_diff_max_n);
   std::printf("  force direction difference (both in contact): p50 %.2f deg, p99 %.2f deg, max %.2f deg\n",
@@ -143,28 +154,24 @@ void print_shadow(const ServoArgs& a, const hb::ServoReport& r) {
 
 nlohmann::json shadow_json(const ServoArgs& a, const hb::ServoReport& r) {
   const hb::ShadowReport& sh = r.shadow;
-  const bool box_drives = a.render == "box";
-  const hb::TimingStats& box_q = box_drives ? r.query : sh.query;
-  const hb::TimingStats& exact_q = box_drives ? sh.query : r.query;
-  nlohmann::json j;
-  j["rendered"] = a.render;
-  j["mesh"] = a.exact;
-  j["box_query_p50_us"] = box_q.p50_us;
-  j["box_query_p99_us"] = box_q.p99_us;
-  j["exact_query_p50_us"] = exact_q.p50_us;
-  j["exact_query_p99_us"] = exact_q.p99_us;
-  j["contact_both"] = sh.both_contact;
-  j["contact_box_only"] = box_drives ? sh.drive_only : sh.shadow_only;
-  j["contact_exact_only"] = box_drives ? sh.shadow_only : sh.drive_only;
-  j["contact_neither"] = sh.neither;
-  j["force_diff_mean_n"] = sh.force_diff_mean_n;
-  j["force_diff_p50_n"] = sh.force_diff_p50_n;
-  j["force_diff_p99_n"] = sh.force_diff_p99_n;
-  j["force_diff_max_n"] = sh.force_diff_max_n;
-  j["angle_p50_deg"] = sh.angle_p50_deg;
-  j["angle_p99_deg"] = sh.angle_p99_deg;
-  j["angle_max_deg"] = sh.angle_max_deg;
-  return j;
+  const BoxVsExact c = box_vs_exact(a, r);
+  return {{"rendered", a.render},
+          {"mesh", a.exact},
+          {"box_query_p50_us", c.box_query.p50_us},
+          {"box_query_p99_us", c.box_query.p99_us},
+          {"exact_query_p50_us", c.exact_query.p50_us},
+          {"exact_query_p99_us", c.exact_query.p99_us},
+          {"contact_both", sh.both_contact},
+          {"contact_box_only", c.box_only},
+          {"contact_exact_only", c.exact_only},
+          {"contact_neither", sh.neither},
+          {"force_diff_mean_n", sh.force_diff_mean_n},
+          {"force_diff_p50_n", sh.force_diff_p50_n},
+          {"force_diff_p99_n", sh.force_diff_p99_n},
+          {"force_diff_max_n", sh.force_diff_max_n},
+          {"angle_p50_deg", sh.angle_p50_deg},
+          {"angle_p99_deg", sh.angle_p99_deg},
+          {"angle_max_deg", sh.angle_max_deg}};
 }
 
 void run_servo(const ServoArgs& a) {

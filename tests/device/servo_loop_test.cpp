@@ -1,4 +1,5 @@
 #include "analytic_scene.h"
+#include "servo_test_support.h"
 #include "device/device_choice.h"
 #include "device/servo_loop.h"
 #include "errors.h"
@@ -14,21 +15,8 @@ using namespace std::chrono_literals;
 
 namespace {
 
-ServoOptions test_options() {
-  ServoOptions o;
-  o.request_realtime = false;  // do not compete with the build on a shared machine
-  o.safety.watchdog_bound_s = 10.0;  // timing is measured by `hapticbox servo`, not asserted here
-  o.safety.ramp_seconds = 0.01f;
-  o.mapping.model_units_per_metre = 1000.f;  // model in mm
-  o.mapping.probe_length = 10.f;
-  o.law.stiffness_n_per_m = 1000.f;
-  return o;
-}
-
-void wait_ticks(const ServoLoop& loop, std::uint64_t n) {
-  for (int i = 0; i < 2000 && loop.snapshot().tick < n && loop.running(); ++i)
-    std::this_thread::sleep_for(1ms);
-}
+ServoOptions test_options() { return test::servo_test_options(); }
+using test::wait_ticks;
 
 } // namespace
 
