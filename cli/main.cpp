@@ -24,7 +24,7 @@ namespace {
 // The sub-commands whose work is split across ranks; the others refuse to run on several
 // ranks (each rank would do the whole job and write the same files). A new command joins this
 // list once its core function splits its work (stability does not yet).
-const std::set<std::string> kDistributed = {"bake", "sweep", "eval", "field", "report"};
+const std::set<std::string> kDistributed = {"bake", "sweep", "eval", "field", "report", "stability"};
 
 // The first argument naming a sub-command (main's options come before it).
 std::string subcommand_of(const CLI::App& app, int argc, char** argv) {

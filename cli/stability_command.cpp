@@ -110,7 +110,8 @@ void add_stability_command(CLI::App& app) {
   cmd->callback([o] {
     hb::BoxScene scene = hb::load_box_file(o->box);
     const hb::TriangleMesh mesh = hb::cli::load_mesh(o->mesh);
-    if (scene.source().mesh_hash != 0 && scene.source().mesh_hash != hb::hash_file(o->mesh))
+    hb::Communicator& comm = hb::cli::communicator();
+    if (comm.is_root() && scene.source().mesh_hash != 0 && scene.source().mesh_hash != hb::hash_file(o->mesh))
       std::cerr << "hapticbox: warning: " << o->box << " was baked from a different file than " << o->mesh << "\n";
     scene.set_unconfirmed_blend(o->unconfirmed == "keep" ? hb::UnconfirmedBlend::keep : hb::UnconfirmedBlend::reject);
     hb::StabilityOptions so;
@@ -138,6 +139,7 @@ void add_stability_command(CLI::App& app) {
     } else if (o->energy_guard) {
       throw hb::cli::UsageError("--energy-guard needs the safety filter (--safety hold or zero)");
     }
+    so.communicator = &comm;  // the tasks (gate, each test on each scene) dealt across the ranks of an MPI job
     const hb::StabilityReport rep = hb::run_stability_suite(scene, mesh, so);
     bool box_failed = false;
     for (const auto& m : rep.metrics) box_failed |= !m.pass && m.exact_pass;
@@ -147,7 +149,7 @@ void add_stability_command(CLI::App& app) {
       j["mesh"] = o->mesh;
       j["unconfirmed"] = o->unconfirmed;
       hb::cli::print_json(j);
-    } else {
+    } else if (comm.is_root()) {
       std::printf("stability %s vs %s: device %s, depth law %s, unconfirmed blends %s, T6/T8 filter: %s\n",
                   o->box.c_str(), o->mesh.c_str(), rep.device.c_str(), rep.depth_law.c_str(),
                   o->unconfirmed.c_str(), rep.filter.c_str());

@@ -9,15 +9,23 @@
 // 4. Tests T1-T8 (issue 11), each a trajectory run on the box and on exact, the same
 //    trajectory for both; every figure becomes a StabilityMetric judged against its
 //    threshold, for the box and for exact (a failure exact shares is the law's).
+// 5. Ranks: the gate and each (scene, test) pair are tasks dealt to the ranks in turn; every
+//    rank receives every task's figures and traces and assembles them in task order, so the
+//    report is the one process's (StabilityOptions::communicator).
 #include "evaluation/stability_suite.h"
 #include "errors.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
 #include "haptic_box/bake.h"
 #include "mesh/triangle_mesh.h"
+#include "parallel/byte_buffer.h"
+#include "parallel/work_split.h"
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <functional>
+#include <iterator>
 #include <limits>
 #include <memory>
 
@@ -735,21 +743,62 @@ TriangleMesh make_v_groove(float degrees, bool welded, int divisions) {
   return m;
 }
 
+namespace {
+
+// One rank's share of the suite travels as: per task, its metrics then its traces.
+void put_metrics(ByteWriter& w, const std::vector<StabilityMetric>& ms) {
+  w.put(std::uint64_t(ms.size()));
+  for (const StabilityMetric& m : ms) {
+    for (const std::string* t : {&m.test, &m.scene, &m.metric, &m.unit, &m.verdict}) w.put_string(*t);
+    w.put(m.box), w.put(m.exact), w.put(m.rule), w.put(m.threshold), w.put(m.tolerance);
+    w.put(std::uint8_t(m.pass)), w.put(std::uint8_t(m.exact_pass));
+  }
+}
+
+std::vector<StabilityMetric> get_metrics(ByteReader& r) {
+  std::vector<StabilityMetric> ms(r.get<std::uint64_t>());
+  for (StabilityMetric& m : ms) {
+    for (std::string* t : {&m.test, &m.scene, &m.metric, &m.unit, &m.verdict}) *t = r.get_string();
+    m.box = r.get<double>(), m.exact = r.get<double>(), m.rule = r.get<StabilityRule>();
+    m.threshold = r.get<double>(), m.tolerance = r.get<double>();
+    m.pass = r.get<std::uint8_t>() != 0, m.exact_pass = r.get<std::uint8_t>() != 0;
+  }
+  return ms;
+}
+
+void put_traces(ByteWriter& w, const std::vector<ForceTrace>& ts) {
+  w.put(std::uint64_t(ts.size()));
+  for (const ForceTrace& t : ts) {
+    w.put_string(t.test), w.put_string(t.scene), w.put_string(t.label);
+    w.put_vector(t.t_s), w.put_vector(t.box_n), w.put_vector(t.exact_n);
+  }
+}
+
+std::vector<ForceTrace> get_traces(ByteReader& r) {
+  std::vector<ForceTrace> ts(r.get<std::uint64_t>());
+  for (ForceTrace& t : ts) {
+    t.test = r.get_string(), t.scene = r.get_string(), t.label = r.get_string();
+    t.t_s = r.get_vector<double>(), t.box_n = r.get_vector<double>(), t.exact_n = r.get_vector<double>();
+  }
+  return ts;
+}
+
+} // namespace
+
 StabilityReport run_stability_suite(const BoxScene& box, const TriangleMesh& mesh, const StabilityOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   for (const std::string& t : o.tests)
     if (t.size() != 2 || t[0] != 'T' || t[1] < '1' || t[1] > '8')
       throw InvalidInput("stability test '" + t + "': expected T1 .. T8");
   if (mesh.triangle_count() == 0) throw InvalidInput("stability suite: the mesh has no triangles");
+  Communicator& comm = communicator_or_serial(o.communicator);
   StabilityReport rep;
   rep.device = o.device.name;
   rep.filter = o.filter_name;
   rep.depth_law = o.depth_law == DepthLaw::normal ? "normal" : "along_segment";
-  rep.calibration = run_calibration(o.device);
-  rep.calibration_pass = std::all_of(rep.calibration.begin(), rep.calibration.end(), [](auto& m) { return m.pass; });
-  Suite suite(o);
+  const Suite wanted(o);
 
-  // The model.
+  // The model (every rank fits it and picks the same sites: both are deterministic).
   const ExactQuery exact(mesh);
   Scene model;
   model.name = o.model_name;
@@ -757,70 +806,128 @@ StabilityReport run_stability_suite(const BoxScene& box, const TriangleMesh& mes
   model.exact = &exact;
   model.box_scene = &box;
   model.map = fit_device_space(mesh, o.diagonal_m);
-  model.sites = pick_sites(mesh, exact, model.map, suite.law(model, suite.k_half()), o.sites, o.seed, o.stylus_m);
-  if (suite.want("T1")) suite.t1(model);
-  if (suite.want("T2")) suite.t2(model);
-  if (suite.want("T5")) suite.t5(model, true);
-  if (suite.want("T6")) suite.t6(model);
-  if (suite.want("T7")) suite.t7(model);
-  if (suite.want("T8")) suite.t8(model);
 
-  if (o.generated) {
-    BakeOptions bo;
-    bo.params.m = o.generated_m;
-    bo.params.n = o.generated_n;
-    bo.refine = o.generated_refine;
-    struct Generated {
-      std::string name;
-      TriangleMesh mesh;
-      std::unique_ptr<BoxScene> box;
-      std::unique_ptr<ExactQuery> exact;
-    };
-    const auto make = [&](std::string name, TriangleMesh m) {
-      auto g = std::make_unique<Generated>();
-      g->name = std::move(name);
-      g->mesh = std::move(m);
-      g->box = std::make_unique<BoxScene>(bake_scene(g->mesh, {}, bo, SourceInfo{}));
-      g->box->set_unconfirmed_blend(box.unconfirmed_blend());
-      g->exact = std::make_unique<ExactQuery>(g->mesh);
-      return g;
-    };
-    const auto scene_of = [&](const Generated& g) {
-      Scene s;
-      s.name = g.name;
-      s.box = g.box.get();
-      s.exact = g.exact.get();
-      s.box_scene = g.box.get();
-      s.map.metres_per_unit = 0.001;  // mm
-      return s;
-    };
-    if (suite.want("T1") || suite.want("T5") || suite.want("T7") || suite.want("T8")) {
-      TriangleMesh wall = extrude({{-20, -10}, {20, -10}, {20, 0}, {-20, 0}}, 20.f, 8);
-      auto g = make("flat wall", std::move(wall));
-      Scene s = scene_of(*g);
-      for (double x : {-3.1, 0.0, 2.7, 5.3}) s.sites.push_back(Site{Vec3d(x * 1e-3, 1.3e-3 * x, 0), Vec3d(0, 0, -1)});
-      if (suite.want("T1")) suite.t1(s);
-      if (suite.want("T5")) suite.t5(s, false);
-      if (suite.want("T7")) suite.t7(s);
-      if (suite.want("T8")) suite.t8(s);
+  // The generated objects, baked on the ranks whose tasks need them (the first time).
+  BakeOptions bo;
+  bo.params.m = o.generated_m;
+  bo.params.n = o.generated_n;
+  bo.refine = o.generated_refine;
+  struct Generated {
+    std::string name;
+    TriangleMesh mesh;
+    std::unique_ptr<BoxScene> box;
+    std::unique_ptr<ExactQuery> exact;
+  };
+  const auto make = [&](std::string name, TriangleMesh m) {
+    auto g = std::make_unique<Generated>();
+    g->name = std::move(name);
+    g->mesh = std::move(m);
+    g->box = std::make_unique<BoxScene>(bake_scene(g->mesh, {}, bo, SourceInfo{}));
+    g->box->set_unconfirmed_blend(box.unconfirmed_blend());
+    g->exact = std::make_unique<ExactQuery>(g->mesh);
+    return g;
+  };
+  const auto scene_of = [&](const Generated& g) {
+    Scene sc;
+    sc.name = g.name;
+    sc.box = g.box.get();
+    sc.exact = g.exact.get();
+    sc.box_scene = g.box.get();
+    sc.map.metres_per_unit = 0.001;  // mm
+    return sc;
+  };
+  std::unique_ptr<Generated> wall;
+  Scene wall_scene;
+  const auto the_wall = [&]() -> const Scene& {
+    if (!wall) {
+      wall = make("flat wall", extrude({{-20, -10}, {20, -10}, {20, 0}, {-20, 0}}, 20.f, 8));
+      wall_scene = scene_of(*wall);
+      for (double x : {-3.1, 0.0, 2.7, 5.3})
+        wall_scene.sites.push_back(Site{Vec3d(x * 1e-3, 1.3e-3 * x, 0), Vec3d(0, 0, -1)});
     }
-    if (suite.want("T3"))
-      for (double h : {0.25, 0.5, 1.0, 2.0}) {
-        char name[32];
-        std::snprintf(name, sizeof name, "plate %.2f mm", h);
-        auto g = make(name, make_plate(float(h)));
-        suite.t3(scene_of(*g), h);
-      }
-    if (suite.want("T4"))
+    return wall_scene;
+  };
+  bool sites_picked = false;
+  const auto the_model = [&](Suite& suite) -> const Scene& {
+    if (!sites_picked) {
+      model.sites = pick_sites(mesh, exact, model.map, suite.law(model, suite.k_half()), o.sites, o.seed, o.stylus_m);
+      sites_picked = true;
+    }
+    return model;
+  };
+
+  // The tasks, in the order of the report: the calibration gate, the model's tests, then the
+  // generated objects'. Each runs into a Suite of its own; with several ranks they are dealt
+  // in turn (task k on rank k % ranks) and every rank receives every result, assembled in
+  // task order: the report of one process.
+  std::vector<std::function<void(Suite&)>> tasks;
+  tasks.push_back([&](Suite& s) { s.out_ = run_calibration(o.device); });
+  if (wanted.want("T1")) tasks.push_back([&](Suite& s) { s.t1(the_model(s)); });
+  if (wanted.want("T2")) tasks.push_back([&](Suite& s) { s.t2(the_model(s)); });
+  if (wanted.want("T5")) tasks.push_back([&](Suite& s) { s.t5(the_model(s), true); });
+  if (wanted.want("T6")) tasks.push_back([&](Suite& s) { s.t6(the_model(s)); });
+  if (wanted.want("T7")) tasks.push_back([&](Suite& s) { s.t7(the_model(s)); });
+  if (wanted.want("T8")) tasks.push_back([&](Suite& s) { s.t8(the_model(s)); });
+  if (o.generated) {
+    if (wanted.want("T1")) tasks.push_back([&](Suite& s) { s.t1(the_wall()); });
+    if (wanted.want("T5")) tasks.push_back([&](Suite& s) { s.t5(the_wall(), false); });
+    if (wanted.want("T7")) tasks.push_back([&](Suite& s) { s.t7(the_wall()); });
+    if (wanted.want("T8")) tasks.push_back([&](Suite& s) { s.t8(the_wall()); });
+    if (wanted.want("T3"))
+      for (double h : {0.25, 0.5, 1.0, 2.0})
+        tasks.push_back([&, h](Suite& s) {
+          char name[32];
+          std::snprintf(name, sizeof name, "plate %.2f mm", h);
+          const auto g = make(name, make_plate(float(h)));
+          s.t3(scene_of(*g), h);
+        });
+    if (wanted.want("T4"))
       for (double deg : {60.0, 90.0, 120.0})
-        for (bool welded : {false, true}) {
-          const std::string name = std::to_string(int(deg)) + " deg groove, " + (welded ? "welded" : "crisp");
-          auto g = make(name, make_v_groove(float(deg), welded));
-          suite.t4(scene_of(*g));
-        }
+        for (bool welded : {false, true})
+          tasks.push_back([&, deg, welded](Suite& s) {
+            const std::string name = std::to_string(int(deg)) + " deg groove, " + (welded ? "welded" : "crisp");
+            const auto g = make(name, make_v_groove(float(deg), welded));
+            s.t4(scene_of(*g));
+          });
   }
-  rep.metrics = std::move(suite.out_);
-  rep.traces = std::move(suite.traces_);
+
+  const DealtChunks deal{tasks.size(), 1, comm.size()};
+  std::vector<std::vector<StabilityMetric>> metrics(tasks.size());
+  std::vector<std::vector<ForceTrace>> traces(tasks.size());
+  ByteWriter mine;
+  try {
+    deal.for_each_of(comm.rank(), [&](std::size_t k, std::size_t) {
+      Suite suite(o);
+      tasks[k](suite);
+      metrics[k] = std::move(suite.out_);
+      traces[k] = std::move(suite.traces_);
+      if (comm.size() > 1) put_metrics(mine, metrics[k]), put_traces(mine, traces[k]);
+    });
+  } catch (const std::exception& e) {
+    if (comm.size() == 1) throw;
+    comm.abort("hapticbox: rank " + std::to_string(comm.rank()) + " of " + std::to_string(comm.size()) +
+                   ": stability suite: " + e.what(),
+               1);
+  }
+  if (comm.size() > 1) {
+    const std::vector<Bytes> all = comm.all_gather(mine.bytes());
+    for (int r = 0; r < comm.size(); ++r) {
+      ByteReader in(all[std::size_t(r)], "run_stability_suite: rank " + std::to_string(r));
+      deal.for_each_of(r, [&](std::size_t k, std::size_t) {
+        metrics[k] = get_metrics(in);
+        traces[k] = get_traces(in);
+      });
+    }
+  }
+
+  rep.calibration = std::move(metrics[0]);
+  rep.calibration_pass = std::all_of(rep.calibration.begin(), rep.calibration.end(), [](auto& m) { return m.pass; });
+  for (std::size_t k = 1; k < tasks.size(); ++k) {
+    rep.metrics.insert(rep.metrics.end(), std::make_move_iterator(metrics[k].begin()),
+                       std::make_move_iterator(metrics[k].end()));
+    rep.traces.insert(rep.traces.end(), std::make_move_iterator(traces[k].begin()),
+                      std::make_move_iterator(traces[k].end()));
+  }
   for (const auto& m : rep.metrics) {
     if (m.rule == StabilityRule::info) continue;
     if (m.pass) ++rep.passed;

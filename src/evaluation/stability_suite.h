@@ -4,6 +4,7 @@
 // exact, difference, threshold and verdict. A calibration gate on an analytic wall runs first.
 #include "evaluation/trajectory.h"
 #include "haptic_box/box_scene.h"
+#include "parallel/communicator.h"
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -60,6 +61,11 @@ struct StabilityOptions {
   int generated_m = 16, generated_n = 8;  ///< their boxes' densities.
   bool generated_refine = true;  ///< refine their boxes (default: as the model's box).
   std::string model_name = "model";
+  /// The ranks sharing the suite (nullptr: this process alone): every rank calls
+  /// run_stability_suite with the same box, mesh and options; the tasks (the calibration gate,
+  /// each test on each scene) are dealt in turn, and every rank returns the whole report,
+  /// the same as one process's but for `seconds`.
+  Communicator* communicator = nullptr;
 };
 
 struct StabilityReport {

@@ -7,6 +7,8 @@
 //     millisecond (the log's own rate, checked by the reader, only sets the ramp lengths).
 //  3. Every commanded force must be finite, within the log's device maximum, and point out of
 //     the plane (+z, no x or y component): never into the surface.
+//  4. A comparison log (version 2, `servo --exact`) has a shadow record per record and a known
+//     rendered answer; its replay runs a shadow query too, which must change nothing sent.
 #include "device/plane_scene.h"
 #include "device/servo_log.h"
 #include "device/servo_loop.h"
@@ -52,8 +54,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (hb::device_spec_problem(log.spec) != "") hb::fuzz::fail("accepted a log whose device spec is impossible");
   if (!(log.rate_hz >= hb::kMinServoRateHz && log.rate_hz <= hb::kMaxServoRateHz))
     hb::fuzz::fail("accepted a log rate outside the servo range");
+  if (log.comparison ? log.shadow.size() != log.records.size() : !log.shadow.empty())
+    hb::fuzz::fail("a comparison log without one shadow record per record, or a plain log with some");
+  if (log.rendered != hb::RenderedAnswer::box && log.rendered != hb::RenderedAnswer::exact)
+    hb::fuzz::fail("accepted an unknown rendered answer");
+  const bool comparison = log.comparison;
   if (log.records.empty()) return 0;
   if (log.records.size() > 12) log.records.resize(12);
+  if (log.shadow.size() > 12) log.shadow.resize(12);
   const float max_force = log.spec.max_force_n;
   CheckedReplay device(std::move(log));
   const hb::PlaneScene plane(0.f);
@@ -65,6 +73,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   o.mapping = hb::fit_workspace(hb::Vec3::Constant(-40.f), hb::Vec3::Constant(40.f), device.spec());
   o.law.stiffness_n_per_m = 1e7f;  // far above any device: the stiffness limit must hold it
   hb::ServoLoop loop(device, plane, o);
+  // A comparison log replays with a shadow answer too (a plane 1 unit higher): it must change
+  // nothing the device is sent.
+  const hb::PlaneScene shadow(1.f);
+  if (comparison) loop.set_shadow(&shadow);
   try {
     loop.start();
   } catch (const hb::Error& e) {

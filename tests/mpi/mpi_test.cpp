@@ -169,6 +169,23 @@ TEST_F(MpiTest, AKilledRankEndsTheJobWithAFailure) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+TEST_F(MpiTest, StabilityOnTwoAndThreeRanksGivesTheReportOfOneProcess) {
+  ASSERT_EQ(run("bake " + path("torus.off") + " -o " + path("stab.hbox") + " -m 12 -n 6 --refine").code, 0);
+  // The gate, two tests on the model and on the generated wall: 5 tasks to deal.
+  const std::string args = "stability " + path("stab.hbox") + " " + path("torus.off") + " --tests T1,T7 --sites 2 --json";
+  const CommandResult one = run(args);
+  ASSERT_EQ(one.code, 0) << one.err;
+  const auto o = nlohmann::json::parse(one.out);
+  ASSERT_FALSE(o["metrics"].empty()) << one.out;
+  for (int ranks : {2, 3}) {
+    const CommandResult many = run_mpi(ranks, args);
+    ASSERT_EQ(many.code, 0) << many.err;
+    const auto j = nlohmann::json::parse(many.out);  // printed once: one document
+    EXPECT_EQ(j["ranks"], ranks);
+    expect_same_keys(o, j, std::to_string(ranks) + " ranks");
+  }
+}
+
 TEST_F(MpiTest, ACommandThatDoesNotSplitRefusesSeveralRanks) {
   const CommandResult r = run_mpi(2, "subdivide " + path("torus.off") + " -o " + path("sub.off") + " --levels 1");
   EXPECT_NE(r.code, 0);
