@@ -8,35 +8,14 @@
 #include "haptic_box/bake_recipe.h"
 #include "haptic_box/box_file.h"
 #include "mesh/mesh_io.h"
-#include "report.h"
 #include "figure_text.h"
+#include "report_request.h"
 #include "summary_text.h"
 #include "vtkHapticBoxErrorFieldImage.h"
 #include "vtkHapticBoxReferenceQueries.h"
-#include "vtkHapticBoxUtilities.h"
-#include <vtkFloatArray.h>
-#include <vtkPointData.h>
-#include <vtkPolyData.h>
-#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
-#include <set>
-
-namespace {
-
-// Around the report's own (m, n): m/4, m/2, m by n/2, n, without the box itself.
-std::vector<hb::SweepConfig> default_sweep(int m, int n) {
-  std::set<std::pair<int, int>> grid;
-  for (int mm : {m / 4, m / 2, m})
-    for (int nn : {n / 2, n})
-      if (mm >= 2 && nn >= 2 && !(mm == m && nn == n)) grid.insert({mm, nn});
-  std::vector<hb::SweepConfig> out;
-  for (const auto& [mm, nn] : grid) out.push_back({mm, nn, "none"});
-  return out;
-}
-
-} // namespace
 
 void add_report_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("report", "Write an error report (report.html, summary.json, samples.csv)");
@@ -118,70 +97,38 @@ void add_report_command(CLI::App& app) {
         box_path = opts->save_box;
       }
     }
-    hb::ReportOptions& ro = opts->report;
-    const hb::BoxParams own = scene.boxes().front().params();
-    // Sweep configurations are baked as one box: with a multi-box scene they would not compare
-    // like with like, so the default sweep is skipped then (explicit --sweep-m/-n still run).
-    const bool explicit_sweep = !opts->sweep_m.empty() || !opts->sweep_n.empty();
-    if (scene.boxes().size() > 1 && !explicit_sweep && !opts->no_sweep && hb::cli::communicator().is_root())
-      std::cerr << "hapticbox: note: " << scene.boxes().size()
-                << " boxes: the default sweep (one box per configuration) is skipped\n";
-    if (!opts->no_sweep && (scene.boxes().size() == 1 || explicit_sweep)) {
-      if (!explicit_sweep) {
-        ro.sweep_configs = default_sweep(own.m, own.n);
-      } else {
-        const std::vector<int> ms = opts->sweep_m.empty() ? std::vector<int>{own.m} : opts->sweep_m;
-        const std::vector<int> ns = opts->sweep_n.empty() ? std::vector<int>{own.n} : opts->sweep_n;
-        for (const hb::SweepConfig& c : hb::sweep_grid(ms, ns))
-          if (!(c.m == own.m && c.n == own.n)) ro.sweep_configs.push_back(c);
-      }
-    }
-    ro.cache_dir = opts->no_cache ? "" : opts->cache;
-    ro.progress = hb::cli::terminal_progress("report");
-    ro.communicator = &hb::cli::communicator();
-
+    // One request, as the window's Export Error Report builds it (report/report_request.h).
     const vtkHapticBoxReferenceQueries refs(mesh);
-    hb::ReportData data = hb::compute_report(mesh, {}, scene, bake_seconds, refs.References(), ro);
+    hb::ReportRequest request;
+    request.mesh = &mesh;
+    request.scene = &scene;
+    request.mesh_path = mesh_path;
+    request.mesh_hash = mesh_hash;
+    request.box_path = box_path;
+    request.bake_seconds = bake_seconds;
+    request.references = refs.References();
+    request.options = opts->report;
+    request.options.cache_dir = opts->no_cache ? "" : opts->cache;
+    request.options.progress = hb::cli::terminal_progress("report");
+    request.options.communicator = &hb::cli::communicator();
+    request.sweep.enabled = !opts->no_sweep;
+    request.sweep.m = opts->sweep_m;
+    request.sweep.n = opts->sweep_n;
+    request.product_version = HB_VERSION;
+    request.command_line = hb::cli::command_line();
+    // The error-field image needs X (Debian's VTK has no headless rendering).
+    if (opts->no_image) request.no_image_note = "image not requested (--no-image)";
+    else request.render_error_field = &vtkHapticBoxErrorFieldImage::RenderField;
+    std::string sweep_note;
+    hb::report_sweep_configs(scene, request.sweep, &sweep_note);
+    if (!sweep_note.empty() && hb::cli::communicator().is_root()) std::cerr << "hapticbox: note: " << sweep_note << "\n";
+    hb::ReportData data = hb::compute_report(request);
     if (!hb::cli::communicator().is_root()) return;  // rank 0 holds the figures and writes the report
-    data.product_version = HB_VERSION;
-    data.command_line = hb::cli::command_line();
-    data.mesh_path = mesh_path;
-    data.mesh_hash = mesh_hash;
-    data.box_path = box_path;
-    data.box_hash = box_path.empty() ? 0 : hb::hash_file(box_path);
     if (opts->stability)
       data.stability = std::make_shared<hb::StabilityReport>(hb::cli::default_stability(
           scene, mesh, std::filesystem::path(mesh_path).filename().string(), 6));
-
-    // The error-field image needs X (Debian's VTK has no headless rendering).
-    std::filesystem::create_directories(opts->out);
-    if (data.error_field.size() == 0) {
-      data.error_field_note = "error field disabled (--field-probes 0)";
-    } else if (opts->no_image) {
-      data.error_field_note = "image not requested (--no-image)";
-    } else if (std::string why; !vtkHapticBoxErrorFieldImage::DisplayAvailable(&why)) {
-      data.error_field_note = why;
-    } else {
-      // Write the report without the image first: a display that vanishes mid-render can take
-      // the process down inside Xlib, and the figures must survive that.
-      data.error_field_note = "rendering the error field did not finish";
-      hb::write_report(data, opts->out);
-      vtkSmartPointer<vtkPolyData> pd = vtkHapticBoxUtilities::ToPolyData(mesh);
-      // Drawn in percent, as the report's text gives it (NaN stays NaN: no data, grey).
-      std::vector<float> percent(data.error_field.force_error);
-      for (float& v : percent) v *= 100.f;
-      pd->GetPointData()->AddArray(vtkHapticBoxUtilities::ToScalarArray("RelativeForceErrorPercent", percent));
-      const std::string png = (std::filesystem::path(opts->out) / "charts" / "error_field.png").string();
-      std::filesystem::create_directories(std::filesystem::path(png).parent_path());
-      const double range = 100.0 * std::max(ro.tolerances.force_error_p95, data.error_field_p95);
-      if (vtkHapticBoxErrorFieldImage::Render(pd, "RelativeForceErrorPercent", range,
-                                              "relative force error, %   (grey: no data)", png, 1200, 700,
-                                              &data.error_field_note)) {
-        data.error_field_image = png;
-        data.error_field_note.clear();  // rendered: nothing to explain
-      }
-    }
-    hb::write_report(data, opts->out);
+    hb::write_report(request, data, opts->out);
+    const hb::BoxParams own = scene.boxes().front().params();
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::cout << "report " << opts->out << "/report.html (" << hb::count_text(double(mesh.triangle_count()))
               << " triangles, " << hb::densities_text(data) << "; " << (data.pass() ? "within" : "OUTSIDE")

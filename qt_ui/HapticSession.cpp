@@ -16,8 +16,8 @@
 #include "evaluation/sweep.h"
 #include "haptic_box/box_file.h"
 #include "mesh/mesh_io.h"
-#include "report.h"
-#include "vtkHapticBoxCellLocatorQuery.h"
+#include "report_request.h"
+#include "vtkHapticBoxReferenceQueries.h"
 #include "vtkHapticBoxMeshReader.h"
 #include "vtkHapticBoxUtilities.h"
 #include <QDir>
@@ -36,6 +36,17 @@
 #include <sstream>
 
 namespace {
+
+// The references over `mesh`, keeping the mesh alive as long as they are (they refer to it).
+std::shared_ptr<const vtkHapticBoxReferenceQueries> buildReferences(std::shared_ptr<const hb::TriangleMesh> mesh) {
+  struct Held {
+    std::shared_ptr<const hb::TriangleMesh> mesh;
+    vtkHapticBoxReferenceQueries references;
+    explicit Held(std::shared_ptr<const hb::TriangleMesh> m) : mesh(std::move(m)), references(*mesh) {}
+  };
+  auto held = std::make_shared<const Held>(std::move(mesh));
+  return std::shared_ptr<const vtkHapticBoxReferenceQueries>(held, &held->references);
+}
 
 double elapsedNs(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
@@ -129,8 +140,8 @@ bool HapticSession::openMesh(const QString& path, QString* error) {
     const auto tRead = std::chrono::steady_clock::now();
     const std::uint64_t hash = QFileInfo(path).isDir() ? std::hash<std::string>{}(p) : hb::hash_file(p);
     const auto tHash = std::chrono::steady_clock::now();
-    std::shared_future<std::shared_ptr<const hb::ExactQuery>> exact =
-        std::async(std::launch::async, [mesh] { return std::make_shared<const hb::ExactQuery>(*mesh); }).share();
+    std::shared_future<std::shared_ptr<const vtkHapticBoxReferenceQueries>> exact =
+        std::async(std::launch::async, [mesh] { return buildReferences(mesh); }).share();
     const auto tExact = std::chrono::steady_clock::now();
 
     // Commit: nothing below throws on a valid mesh.
@@ -138,7 +149,7 @@ bool HapticSession::openMesh(const QString& path, QString* error) {
     boxes_.reset();
     errorField_.reset();
     boxPieces_.clear();
-    exact_ = std::move(exact);
+    references_ = std::move(exact);
     mesh_ = std::move(mesh);
     meshHash_ = hash;
     meshPath_ = QFileInfo(path).absoluteFilePath();
@@ -283,6 +294,7 @@ bool HapticSession::openBoxFile(const QString& path, QString* error) {
       throw hb::InvalidInput(QFile::encodeName(path).toStdString() + ": baked from another mesh (" +
                              scene->source().mesh_path + ")");
     installBoxes(std::move(scene), 0.0, true);
+    boxPath_ = QFileInfo(path).absoluteFilePath();
     return true;
   } catch (const std::exception& e) {
     if (error) *error = QString::fromStdString(e.what());
@@ -307,6 +319,7 @@ void HapticSession::installBoxes(std::shared_ptr<const hb::BoxScene> boxes, doub
   boxPieces_ = boxes_->piece_of_triangle();
   bakeSeconds_ = seconds;
   boxesFromCache_ = fromCache;
+  boxPath_.clear();
   errorField_.reset();
   vtkPointData* pd = surface_->GetPointData();
   for (ErrorMetric m : {ErrorMetric::RelativeForce, ErrorMetric::Direction, ErrorMetric::ContactDisagreement})
@@ -348,10 +361,11 @@ bool HapticSession::startErrorField(int probesPerPoint, QString* error) {
   if (busy(error)) return false;
   auto mesh = mesh_;
   auto boxes = boxes_;
-  const auto exactFuture = exact_;
+  const auto refsFuture = references_;
   const float diagonal = diagonal_;
-  return job_->start(tr("Error field"), [this, mesh, boxes, exactFuture, diagonal, probesPerPoint](const auto& progress) {
-    const std::shared_ptr<const hb::ExactQuery> exact = exactFuture.get();
+  return job_->start(tr("Error field"), [this, mesh, boxes, refsFuture, diagonal, probesPerPoint](const auto& progress) {
+    const std::shared_ptr<const vtkHapticBoxReferenceQueries> refs = refsFuture.get();
+    const hb::ExactQuery* exact = &refs->Exact();
     hb::ErrorFieldOptions o;
     o.probes_per_point = probesPerPoint;
     o.law = law_;
@@ -530,40 +544,38 @@ bool HapticSession::startReport(const QString& dir, const QString& errorFieldIma
   if (busy(error)) return false;
   auto mesh = mesh_;
   auto boxes = boxes_;
-  const auto exactFuture = exact_;
-  const std::vector<std::uint32_t> pieces = boxPieces_;
-  const double bakeSeconds = bakeSeconds_;
-  const hb::SourceInfo source = sourceInfo();
-  const BakeSettings settings = bake_;
+  const auto refsFuture = references_;
+  // The request `hapticbox report BOX MESH` builds (report/report_request.h), so the window
+  // and the command line give the same report for the same input.
+  hb::ReportRequest request;
+  request.mesh_path = QFile::encodeName(meshPath_).toStdString();
+  request.mesh_hash = meshHash_;
+  request.box_path = QFile::encodeName(boxPath_).toStdString();
+  request.bake_seconds = bakeSeconds_;  // 0 for boxes loaded from a file or the cache
+  request.options.samples = samples;
+  request.options.law = law_;
+  request.options.cache_dir = bake_.useCache ? cache_.dir() : std::string();
+  request.product_version = HB_VERSION;
+  request.command_line = "hapticbox-gui: File > Export Report";
+  request.error_field_image = QFile::encodeName(errorFieldImage).toStdString();
+  request.no_image_note = "no error field in the window to picture (Compute Error Field first)";
   const std::string out = QFile::encodeName(dir).toStdString();
-  const std::string image = QFile::encodeName(errorFieldImage).toStdString();
   // A report measures fewer configurations than a sweep: it fills the charts only when no
   // sweep has (exporting a report never replaces the window's sweep chart).
   const bool haveSweep = !sweepRows_.empty();
-  return job_->start(tr("Report"), [=](const auto& progress) {
-    const std::shared_ptr<const hb::ExactQuery> exact = exactFuture.get();
-    vtkHapticBoxCellLocatorQuery locator(*mesh);
-    std::vector<hb::SweepReference> refs;
-    refs.push_back({"exact_embree", exact.get(), 0, 0.0});
-    refs.push_back({"vtk_static_cell_locator", &locator, locator.GetMemoryBytes(), locator.GetBuildSeconds()});
-    hb::ReportOptions o;
-    o.samples = samples;
-    o.law = law_;
-    o.progress = progress;
-    hb::ReportData d = hb::compute_report(*mesh, pieces, *boxes, bakeSeconds, refs, o);
-    d.product_version = HB_VERSION;
-    d.mesh_path = source.mesh_path;
-    d.mesh_hash = source.mesh_hash;
-    d.codec = settings.codec.toStdString();
-    d.command_line = "hapticbox-gui: File > Export Report";
+  return job_->start(tr("Report"), [=](const auto& progress) mutable {
+    const std::shared_ptr<const vtkHapticBoxReferenceQueries> refs = refsFuture.get();
+    request.mesh = mesh.get();
+    request.scene = boxes.get();
+    request.references = refs->References();
+    request.options.progress = progress;
+    hb::ReportData d = hb::compute_report(request);
     if (!haveSweep) {
       pendingRows_ = d.rows;
       pendingCompression_ = d.compression_curve;
       pendingRowsReady_ = true;
     }
-    if (!image.empty()) d.error_field_image = image;
-    else d.error_field_note = "the error field was not computed in the window";
-    hb::write_report(d, out);
+    hb::write_report(request, d, out);
   });
 }
 
@@ -575,15 +587,12 @@ bool HapticSession::startSweep(const std::vector<int>& ms, const std::vector<int
   }
   if (busy(error)) return false;
   auto mesh = mesh_;
-  const auto exactFuture = exact_;
+  const auto refsFuture = references_;
   const hb::SourceInfo source = sourceInfo();
   const std::string cache = bake_.useCache ? cache_.dir() : std::string();
   return job_->start(tr("Sweep"), [=](const auto& progress) {
-    const std::shared_ptr<const hb::ExactQuery> exact = exactFuture.get();
-    vtkHapticBoxCellLocatorQuery locator(*mesh);
-    std::vector<hb::SweepReference> refs;
-    refs.push_back({"exact_embree", exact.get(), 0, 0.0});
-    refs.push_back({"vtk_static_cell_locator", &locator, locator.GetMemoryBytes(), locator.GetBuildSeconds()});
+    const std::shared_ptr<const vtkHapticBoxReferenceQueries> references = refsFuture.get();
+    const std::vector<hb::SweepReference> refs = references->References();
     hb::SweepOptions o;
     o.configs = hb::sweep_grid(ms, ns);
     o.samples = samples;
@@ -608,9 +617,9 @@ double HapticSession::forceDisplayScale() const {
 }
 
 const hb::ExactQuery* HapticSession::readyExact() const {
-  if (!exact_.valid() || exact_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return nullptr;
+  if (!references_.valid() || references_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return nullptr;
   try {
-    return exact_.get().get();
+    return &references_.get()->Exact();
   } catch (const std::exception&) {
     return nullptr;  // Embree failed: reported when a job needs it
   }

@@ -22,7 +22,7 @@
 #include <optional>
 
 class BackgroundJob;
-class vtkHapticBoxCellLocatorQuery;
+class vtkHapticBoxReferenceQueries;
 
 /// What the bake panel sets: densities, padding, pieces (none: one box, a piece file, or
 /// automatic: hb::decompose_auto) and the table codec ("none", "block", "haar"; compressed at
@@ -194,9 +194,11 @@ private:
   std::shared_ptr<hb::TriangleMesh> mesh_;
   std::uint64_t meshHash_ = 0;
   float diagonal_ = 0.f;
-  // The exact query's Embree build runs beside the window's own setup; readers take it from
-  // here (reading() skips the exact answer until it is ready, jobs wait for it).
-  std::shared_future<std::shared_ptr<const hb::ExactQuery>> exact_;
+  // The reference methods over the mesh (exact Embree, VTK's cell locator, with their memory
+  // and build times: vtkHapticBoxReferenceQueries, as the command line measures them) build
+  // beside the window's own setup; readers take them from here (reading() skips the exact
+  // answer until it is ready, jobs wait for it).
+  std::shared_future<std::shared_ptr<const vtkHapticBoxReferenceQueries>> references_;
   const hb::ExactQuery* readyExact() const;
   vtkSmartPointer<vtkPolyData> surface_;
   vtkSmartPointer<vtkPolyData> outlines_;
@@ -204,6 +206,7 @@ private:
   std::vector<std::uint32_t> boxPieces_;
   double bakeSeconds_ = 0.0;
   bool boxesFromCache_ = false;
+  QString boxPath_;  ///< the box file the boxes were opened from (empty: baked or cached).
   std::unique_ptr<hb::ErrorField> errorField_;
 
   // Results handed from the worker to the GUI thread on finished().

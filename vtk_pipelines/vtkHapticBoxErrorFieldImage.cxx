@@ -2,11 +2,16 @@
 // 2. two renderers (front and back views) over one mapper coloured by the error array;
 // 3. render off screen, grab with vtkWindowToImageFilter, write with vtkPNGWriter.
 #include "vtkHapticBoxErrorFieldImage.h"
+<<<<<<< HEAD
 #include "error_colour_map.h"
+=======
+#include "vtkHapticBoxUtilities.h"
+>>>>>>> 17fdd11 (Report assembly as one request (report/report_request.h: ReportRequest -> compute_report/write_report, default sweep, error-field picture) used by hapticbox report and the window; the window measures the shared references (vtkHapticBoxReferenceQueries: real memory and build times) and reports its opened box file; test: window and CLI give the same summary.json; README layout complete (math/, codec/, decomposition/, every command incl. compress, compress-sweep), design notes in docs/ (architecture.md, style.md, paper_notes.md))
 #include <vtkActor.h>
 #include <vtkAutoInit.h>
 #include <vtkCamera.h>
 #include <vtkDataArray.h>
+#include <vtkFloatArray.h>
 #include <vtkLookupTable.h>
 #include <vtkPNGWriter.h>
 #include <vtkPointData.h>
@@ -122,4 +127,16 @@ bool vtkHapticBoxErrorFieldImage::Render(vtkPolyData* field, const std::string& 
     if (note) *note = e.what();
     return false;
   }
+}
+
+bool vtkHapticBoxErrorFieldImage::RenderField(const hb::TriangleMesh& mesh, const std::vector<float>& forceError,
+                                              double rangeMax, const std::string& pngPath, std::string* note) {
+  if (!DisplayAvailable(note)) return false;
+  vtkSmartPointer<vtkPolyData> pd = vtkHapticBoxUtilities::ToPolyData(mesh);
+  // Drawn in percent, as the report's text gives it (NaN stays NaN: no data, grey).
+  std::vector<float> percent(forceError);
+  for (float& v : percent) v *= 100.f;
+  pd->GetPointData()->AddArray(vtkHapticBoxUtilities::ToScalarArray("RelativeForceErrorPercent", percent));
+  return Render(pd, "RelativeForceErrorPercent", 100.0 * rangeMax, "relative force error, %   (grey: no data)", pngPath,
+                1200, 700, note);
 }

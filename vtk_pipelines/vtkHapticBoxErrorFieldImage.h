@@ -10,7 +10,9 @@
 #ifndef vtkHapticBoxErrorFieldImage_h
 #define vtkHapticBoxErrorFieldImage_h
 
+#include "mesh/triangle_mesh.h"
 #include <string>
+#include <vector>
 
 class vtkPolyData;
 
@@ -27,6 +29,14 @@ public:
    */
   static bool Render(vtkPolyData* field, const std::string& arrayName, double rangeMax, const std::string& title,
                      const std::string& pngPath, int width = 1200, int height = 600, std::string* note = nullptr);
+
+  /**
+   * A report's error-field picture (hb::ErrorFieldRenderer, report/report_request.h): the
+   * per-vertex relative force errors `forceError` over `mesh` as array "RelativeForceError",
+   * 1200 x 600, when a display is available (otherwise false and the reason in `note`).
+   */
+  static bool RenderField(const hb::TriangleMesh& mesh, const std::vector<float>& forceError, double rangeMax,
+                          const std::string& pngPath, std::string* note);
 };
 
 #endif
