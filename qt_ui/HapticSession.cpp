@@ -48,6 +48,11 @@ std::shared_ptr<const vtkHapticBoxReferenceQueries> buildReferences(std::shared_
   return std::shared_ptr<const vtkHapticBoxReferenceQueries>(held, &held->references);
 }
 
+HapticSession::RunSettings& processRunSettings() {
+  static HapticSession::RunSettings settings;
+  return settings;
+}
+
 double elapsedNs(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -109,6 +114,9 @@ bool HapticSession::busy(QString* error) const {
 
 // --- model -----------------------------------------------------------------------------
 
+void HapticSession::setRunSettings(const RunSettings& s) { processRunSettings() = s; }
+HapticSession::RunSettings HapticSession::runSettings() { return processRunSettings(); }
+
 bool HapticSession::openMesh(const QString& path, QString* error) {
   if (busy(error)) return false;
   try {
@@ -168,7 +176,7 @@ bool HapticSession::openMesh(const QString& path, QString* error) {
     if (!modelNote.isEmpty()) emit statusMessage(tr("Opened %1%2").arg(QFileInfo(path).fileName(), modelNote));
     const auto tView = std::chrono::steady_clock::now();
     loadCachedBoxes();
-    if (qEnvironmentVariableIsSet("HB_GUI_TIMING")) {
+    if (runSettings().timing) {
       const auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
       std::fprintf(stderr, "open timing: read %.0f ms, hash %.0f ms, exact %.0f ms, surface %.0f ms, view %.0f ms, cache %.0f ms\n",
                    ms(t0, tRead), ms(tRead, tHash), ms(tHash, tExact), ms(tExact, tSurface), ms(tSurface, tView),
@@ -503,11 +511,11 @@ void HapticSession::startServo() {
   hb::ServoOptions o;
   o.law = law_;
   o.mapping = mapping_;
-  o.request_realtime = qEnvironmentVariableIsEmpty("HB_GUI_NO_REALTIME");
+  o.request_realtime = runSettings().realtime;
   // No busy-wait before each deadline: the window renders on the same cores (software GL
   // uses every core), and a real-time thread spinning 50 us per tick halves its frame rate
   // while sleeping to the deadline keeps the p99 period within a few tens of us.
-  o.spin_s = qEnvironmentVariableIntValue("HB_GUI_SPIN_US") * 1e-6;
+  o.spin_s = runSettings().spinUs * 1e-6;
   if (opened_.rate_hz > 0.0) o.rate_hz = opened_.rate_hz;  // a replay runs at its recorded rate
   try {
     loop_ = std::make_unique<hb::ServoLoop>(*opened_.device, *boxes_, o);

@@ -70,6 +70,16 @@ public:
   explicit HapticSession(QObject* parent = nullptr);
   ~HapticSession() override;
 
+  /// How the sessions of this process run, from hapticbox-gui's command line (--no-realtime,
+  /// --spin-us, --timing; no hidden environment settings). Set before the first session.
+  struct RunSettings {
+    bool realtime = true;   ///< ask for SCHED_FIFO for the servo thread.
+    double spinUs = 0.0;    ///< servo busy-wait before each deadline, us (0: sleep only; the window renders on the same cores).
+    bool timing = false;    ///< print where opening a model spends its time (stderr).
+  };
+  static void setRunSettings(const RunSettings& s);
+  static RunSettings runSettings();
+
   // --- model ---------------------------------------------------------------------------
   /// Reads a mesh (any format read_mesh takes), builds the exact query and, when a cached
   /// bake for the current settings exists, loads it. On failure the previous model stays and

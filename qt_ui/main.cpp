@@ -1,5 +1,5 @@
 // hapticbox-gui [MESH|SESSION] [--device virtual|falcon|replay:LOG] [--no-bake]
-//               [--screenshot PNG] [--measure-fps N]
+//               [--screenshot PNG] [--measure-fps N] [--no-realtime] [--spin-us US] [--timing]
 #include "BackgroundJob.h"
 #include "DevicePanel.h"
 #include "HapticSession.h"
@@ -55,8 +55,21 @@ int main(int argc, char** argv) {
   QCommandLineOption fps(QStringLiteral("measure-fps"), QStringLiteral("Render N frames of the probe view with the device thread on, print frames/s and quit"), QStringLiteral("frames"));
   QCommandLineOption field(QStringLiteral("error-field"), QStringLiteral("With --screenshot: compute the error field and show it"));
   QCommandLineOption sweep(QStringLiteral("sweep"), QStringLiteral("With --screenshot: run a small sweep and show the charts"));
-  parser.addOptions({device, noBake, shot, fps, field, sweep});
+  QCommandLineOption noRealtime(QStringLiteral("no-realtime"), QStringLiteral("Run the device thread without SCHED_FIFO"));
+  QCommandLineOption spin(QStringLiteral("spin-us"), QStringLiteral("Servo busy-wait before each deadline, us (default 0: sleep only)"), QStringLiteral("us"), QStringLiteral("0"));
+  QCommandLineOption timing(QStringLiteral("timing"), QStringLiteral("Print where opening a model spends its time"));
+  parser.addOptions({device, noBake, shot, fps, field, sweep, noRealtime, spin, timing});
   parser.process(app);
+  HapticSession::RunSettings run;
+  run.realtime = !parser.isSet(noRealtime);
+  bool spinOk = false;
+  run.spinUs = parser.value(spin).toDouble(&spinOk);
+  if (!spinOk || !(run.spinUs >= 0.0 && run.spinUs <= 1000.0)) {
+    std::fprintf(stderr, "hapticbox-gui: --spin-us %s: a number of microseconds in [0, 1000]\n", qPrintable(parser.value(spin)));
+    return 2;
+  }
+  run.timing = parser.isSet(timing);
+  HapticSession::setRunSettings(run);
 
   MainWindow window;
   window.setBakeOnOpen(!parser.isSet(noBake));
