@@ -2,11 +2,8 @@
 // 2. two renderers (front and back views) over one mapper coloured by the error array;
 // 3. render off screen, grab with vtkWindowToImageFilter, write with vtkPNGWriter.
 #include "vtkHapticBoxErrorFieldImage.h"
-<<<<<<< HEAD
 #include "error_colour_map.h"
-=======
 #include "vtkHapticBoxUtilities.h"
->>>>>>> 17fdd11 (Report assembly as one request (report/report_request.h: ReportRequest -> compute_report/write_report, default sweep, error-field picture) used by hapticbox report and the window; the window measures the shared references (vtkHapticBoxReferenceQueries: real memory and build times) and reports its opened box file; test: window and CLI give the same summary.json; README layout complete (math/, codec/, decomposition/, every command incl. compress, compress-sweep), design notes in docs/ (architecture.md, style.md, paper_notes.md))
 #include <vtkActor.h>
 #include <vtkAutoInit.h>
 #include <vtkCamera.h>
