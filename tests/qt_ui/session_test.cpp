@@ -86,7 +86,8 @@ nlohmann::json withoutTimings(const nlohmann::json& j) {
     const std::string& k = it.key();
     bool timing = false;
     for (const char* w : {"_ns", "seconds", "timing", "pareto", "from_cache", "image", "note", "faster", "slower",
-                          "speedup", "loaded_from_file", "stamp", "command_line", "date", "machine", "host", "verdict"})
+                          "speedup", "loaded_from_file", "stamp", "command_line", "date", "machine", "host", "verdict", "generated",
+                          "summary_text"})
       timing |= k.find(w) != std::string::npos;
     if (!timing) out[k] = withoutTimings(*it);
   }
