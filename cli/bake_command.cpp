@@ -1,7 +1,11 @@
-// hapticbox bake MESH -o BOX.hbox [-m 32] [-n 16] [--refine] [--cell C [--max-m 64]] [--pieces auto|FILE|none] [--codec none|haar|block] [--max-error E | --ratio R] [--json]
+// hapticbox bake MESH -o BOX.hbox [--budget p95=7,median=2,dir99=10,agree=99.5] [--json]: the default,
+// budgeted bake (hb::default_recipe); or, with any of -m, -n, --cell, --refine, a bake of exactly
+// that sampling: [-m 32] [-n 16] [--refine] [--cell C [--max-m 64]] [--pieces auto|FILE|none]
+// [--codec none|haar|block] [--max-error E | --ratio R].
 #include "cli_support.h"
 #include "figure_text.h"
 #include "commands.h"
+#include "errors.h"
 #include "haptic_box/bake_recipe.h"
 #include "haptic_box/box_file.h"
 #include "haptic_box/scene_codec_stats.h"
@@ -19,6 +23,7 @@ void add_bake_command(CLI::App& app) {
     hb::BakeRecipe recipe;
     std::string pieces;
     std::string codec = "none";
+    std::string budget;
     bool json = false;
     bool strict = false;
   };
@@ -44,8 +49,39 @@ void add_bake_command(CLI::App& app) {
   cmd->add_flag("--refine", opts->recipe.options.refine,
                 "Store the triangle each sample hit and the mesh's triangles: queries then refine the blend exactly "
                 "(2 or 4 bytes more per sample, 64 per triangle)");
+  cmd->add_option("--budget", opts->budget,
+                  "Error budget the default bake meets at the lowest cost it finds, against exact Embree: "
+                  "p95=PERCENT,median=PERCENT,dir99=DEGREES,agree=PERCENT (any subset; default "
+                  "p95=7,median=2,dir99=10,agree=99.5). Not with -m, -n, --cell or --refine, which bake one given sampling");
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
-  cmd->callback([opts, max_error] {
+  cmd->callback([opts, max_error, cmd] {
+    // Without a sampling option the bake is the default, budgeted one (hb::default_recipe):
+    // the pieces, codec and seam options given still apply to it.
+    const bool sampling_given = cmd->count("-m") + cmd->count("-n") + cmd->count("--cell") + cmd->count("--refine") > 0;
+    if (sampling_given && cmd->count("--budget"))
+      throw hb::cli::UsageError("bake: --budget chooses -n, --cell and --refine per piece; drop -m, -n, --cell and --refine, or --budget");
+    if (!sampling_given) {
+      hb::BakeRecipe r = hb::default_recipe();
+      try {
+        r.budget.budget = hb::parse_budget(opts->budget);
+      } catch (const hb::InvalidInput& e) {
+        throw hb::cli::UsageError(std::string("bake: ") + e.what());
+      }
+      if (cmd->count("--max-m")) r.options.density.max_m = opts->recipe.options.density.max_m;
+      if (cmd->count("--padding")) r.options.obb.padding = opts->recipe.options.obb.padding;
+      if (cmd->count("--threshold")) r.pieces.automatic.threshold = opts->recipe.pieces.automatic.threshold;
+      if (cmd->count("--max-pieces")) r.pieces.automatic.max_pieces = opts->recipe.pieces.automatic.max_pieces;
+      if (cmd->count("--seam-rings")) r.seams.rings = opts->recipe.seams.rings;
+      if (cmd->count("--seam-cells")) r.seams.cells = opts->recipe.seams.cells;
+      if (!cmd->count("--pieces")) opts->pieces = "auto";
+      if (!cmd->count("--codec")) opts->codec = "block";
+      if (*max_error || opts->recipe.codec.ratio > 0.f) {
+        r.codec.max_error = opts->recipe.codec.max_error;
+        r.codec.ratio = opts->recipe.codec.ratio;
+      }
+      r.pieces.automatic.progress = opts->recipe.pieces.automatic.progress;
+      opts->recipe = r;
+    }
     opts->recipe.codec.codec = hb::parse_codec(opts->codec);
     if (opts->recipe.codec.codec == hb::CodecId::none && (*max_error || opts->recipe.codec.ratio > 0.f))
       throw hb::cli::UsageError("bake: --max-error and --ratio need --codec haar or block");
@@ -63,22 +99,31 @@ void add_bake_command(CLI::App& app) {
     const hb::BakeStats& stats = baked.stats;
     hb::save_box_file(scene, opts->out);
     const hb::SceneCodecStats cs = hb::scene_codec_stats(scene);
+    const hb::BudgetReport& budget = scene.budget_report();
     const auto bytes = std::filesystem::file_size(opts->out);
-    std::vector<int> box_m;
-    for (const hb::HapticBox& box : scene.boxes()) box_m.push_back(box.params().m);
+    std::vector<int> box_m, box_n;
+    for (const hb::HapticBox& box : scene.boxes()) box_m.push_back(box.params().m), box_n.push_back(box.params().n);
+    const auto range = [](const std::vector<int>& v) {
+      const int lo = *std::min_element(v.begin(), v.end()), hi = *std::max_element(v.begin(), v.end());
+      return lo == hi ? std::to_string(lo) : std::to_string(lo) + ".." + std::to_string(hi);
+    };
+    std::size_t refined_boxes = 0;
+    for (const hb::HapticBox& box : scene.boxes()) refined_boxes += box.refines() ? 1 : 0;
     const nlohmann::json jj = {{"mesh", opts->mesh},
                               {"output", opts->out},
                               {"triangles", mesh.triangle_count()},
                               {"boxes", scene.boxes().size()},
                               {"m", opts->recipe.options.params.m},
                               {"box_m", box_m},
-                              {"n", opts->recipe.options.params.n},
+                              {"n", budget.present ? box_n.back() : opts->recipe.options.params.n},
+                              {"box_n", box_n},
+                              {"refined_boxes", refined_boxes},
                               {"seconds", stats.seconds},
                               {"rays", stats.rays},
                               {"rays_per_second", stats.rays_per_second},
                               {"hit_fraction", stats.rays ? double(stats.hits) / double(stats.rays) : 0.0},
                               {"bytes", bytes},
-                              {"refine", opts->recipe.options.refine},
+                              {"refine", refined_boxes > 0},
                               {"codec", opts->codec},
                               {"table_bytes", cs.table_bytes},
                               {"raw_table_bytes", cs.raw_bytes},
@@ -114,17 +159,21 @@ void add_bake_command(CLI::App& app) {
       j["bytes_sent"] = sent;
       j["bytes_sent_over_tables"] = expected > 0 ? double(sent) / expected : 0.0;
     }
+    j["budget"] = hb::cli::budget_json(budget);
     if (opts->json) {
       hb::cli::print_json(j);
     } else {
-      std::cout << "baked " << opts->out << ": " << scene.boxes().size() << " box(es), m="
-                << (opts->recipe.options.density.cell > 0.f ? std::to_string(*std::min_element(box_m.begin(), box_m.end())) + ".." +
-                                                         std::to_string(*std::max_element(box_m.begin(), box_m.end()))
-                                                   : std::to_string(opts->recipe.options.params.m))
-                << " n=" << opts->recipe.options.params.n << ", " << hb::count_text(double(stats.rays)) << " rays in "
+      std::cout << "baked " << opts->out << ": " << scene.boxes().size() << " box(es), m=" << range(box_m)
+                << " n=" << range(box_n) << ", " << hb::count_text(double(stats.rays)) << " rays in "
                 << hb::duration_text(stats.seconds) << " (" << hb::count_text(stats.rays_per_second) << " rays/s), "
-                << hb::bytes_text(bytes)
-                << (opts->recipe.options.refine ? " (with triangle ids and surface for exact refinement)" : "") << "\n";
+                << hb::bytes_text(bytes);
+      if (refined_boxes > 0)
+        std::cout << " (" << (refined_boxes == scene.boxes().size() ? std::string("all") : std::to_string(refined_boxes))
+                  << " box(es) with triangle ids and surface for exact refinement)";
+      std::cout << "\n";
+      if (budget.present)
+        std::cout << "budget " << budget.summary() << "; " << budget.candidates_tried << " sampling bake(s), "
+                  << hb::duration_text(budget.seconds) << " in all\n";
       if (comm.size() > 1)
         std::cout << comm.size() << " ranks: busiest " << hb::sig(j["load_balance"].get<double>()) << " x the mean; sent "
                   << hb::bytes_text(j["bytes_sent"].get<std::uint64_t>()) << ", "

@@ -63,7 +63,15 @@ void add_bench_command(CLI::App& app) {
     constexpr float kStrokeRadius = 0.02f;
     const auto strokes = hb::sample_strokes(mesh, std::max<std::size_t>(1, opts->samples / kStrokeSteps), kStrokeSteps,
                                             kStrokeRadius, opts->probes);
-    const double box_stroke_ns = hb::median_query_ns(scene, strokes, opts->law, opts->rounds);
+    // The box along strokes as a servo loop queries it: one probe with its query state
+    // (BoxScene::query with a SceneQueryState, a bounded walk from the last contact), and
+    // without it (every tick the full query) for comparison.
+    hb::SceneProbe probe(scene);
+    const double box_stroke_ns = hb::median_query_ns(probe, strokes, opts->law, opts->rounds);
+    const double state_share = probe.state().from_state + probe.state().full > 0
+                                   ? double(probe.state().from_state) / double(probe.state().from_state + probe.state().full)
+                                   : 0.0;
+    const double box_stroke_stateless_ns = hb::median_query_ns(scene, strokes, opts->law, opts->rounds);
     const double exact_stroke_ns = hb::median_query_ns(exact, strokes, opts->law, opts->rounds);
     // The tail of single queries (random order), each query timed on its own.
     const hb::QueryLatency box_tail = hb::single_query_latency(scene, probes, opts->law, opts->rounds);
@@ -134,6 +142,8 @@ void add_bench_command(CLI::App& app) {
                               {"exact_coherent_ns", exact_coherent_ns},
                               {"speedup_coherent", box_coherent_ns > 0 ? exact_coherent_ns / box_coherent_ns : 0.0},
                               {"box_stroke_ns", box_stroke_ns},
+                              {"box_stroke_stateless_ns", box_stroke_stateless_ns},
+                              {"stroke_share_from_state", state_share},
                               {"exact_stroke_ns", exact_stroke_ns},
                               {"speedup_stroke", box_stroke_ns > 0 ? exact_stroke_ns / box_stroke_ns : 0.0},
                               {"box_single_tail", tail_json(box_tail)},
@@ -178,6 +188,8 @@ void add_bench_command(CLI::App& app) {
               << " hand-like strokes: circles of 2% of the diagonal, 1000 probes 1 ms apart, as a 1 kHz loop):\n"
               << "  haptic box  " << box_stroke_ns << " ns/query, exact " << exact_stroke_ns << " ns/query: box is "
               << hb::speed_verdict(box_stroke_ns, exact_stroke_ns) << "\n"
+              << std::setprecision(1) << "  with a query state per probe (" << 100.0 * state_share
+              << "% of ticks from the last contact); without it " << box_stroke_stateless_ns << " ns/query\n"
               << std::setprecision(1) << "  boxes       " << scene.boxes().size() << ", met per query " << mean_met
               << " on average; box queries per probe " << std::setprecision(2) << mean_asked << " on average (max "
               << asked_max << ", " << std::setprecision(1) << 100.0 * share_one << "% of probes at most one), "

@@ -245,4 +245,28 @@ std::uint64_t hash_model(const std::string& path, const ModelArgs& args) {
   return h;
 }
 
+nlohmann::json budget_json(const BudgetReport& r) {
+  if (!r.present) return nullptr;
+  nlohmann::json pieces = nlohmann::json::array();
+  for (const PieceChoice& p : r.pieces)
+    pieces.push_back({{"cell", p.cell}, {"n", p.n}, {"refine", p.refine}, {"tuning_probes", p.probes}});
+  return {{"budget", budget_spec(r.budget)},
+          {"met", r.met},
+          {"fresh_probes", r.probes},
+          {"fresh_seed", r.seed},
+          {"contact_agreement", r.agreement},
+          {"force_error_median", r.force_median},
+          {"force_error_p95", r.force_p95},
+          {"angle_error_p99_deg", r.direction_p99_deg},
+          {"tuning_probes", r.tuning_probes},
+          {"tuning_seed", r.tuning_seed},
+          {"tuning_contact_agreement", r.tuning_agreement},
+          {"tuning_force_error_median", r.tuning_force_median},
+          {"tuning_force_error_p95", r.tuning_force_p95},
+          {"tuning_angle_error_p99_deg", r.tuning_direction_p99_deg},
+          {"seconds", r.seconds},
+          {"sampling_bakes", r.candidates_tried},
+          {"pieces", pieces}};
+}
+
 } // namespace hb::cli

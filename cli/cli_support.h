@@ -3,6 +3,7 @@
 // terminal progress bar, the force-law options and JSON output.
 #include "codec/codec.h"
 #include "haptic_box/contact.h"
+#include "haptic_box/error_budget.h"
 #include "parallel/communicator.h"
 #include "progress.h"
 #include <CLI/CLI.hpp>
@@ -120,5 +121,9 @@ TriangleMesh load_mesh(const std::string& path, MeshReadReport* report);
 /// order, for a DICOM series), mixed with the options that shaped the surface for volumes and
 /// CAD (so a box baked at another iso-value is noticed).
 std::uint64_t hash_model(const std::string& path, const ModelArgs& args = {});
+
+/// A budgeted bake's report as JSON (null when the scene was not baked to a budget):
+/// the budget, met, the fresh-probe figures and seed, the tuning figures, the per-piece choices.
+nlohmann::json budget_json(const BudgetReport& report);
 
 }

@@ -94,6 +94,8 @@ nlohmann::json box_info(const std::string& path, bool verify) {
           {"source_mesh_hash", scene.source().mesh_hash},
           {"source_triangles", scene.source().triangles},
           {"source_diagonal", scene.source().diagonal},
+          {"budget", scene.budget_report().summary()},
+          {"budget_report", hb::cli::budget_json(scene.budget_report())},
           {"box_list", boxes}};
 }
 
@@ -120,7 +122,7 @@ void add_info_command(CLI::App& app) {
       return;
     }
     for (auto it = j.begin(); it != j.end(); ++it) {
-      if (it.key() == "box_list") continue;
+      if (it.key() == "box_list" || it.key() == "budget_report") continue;
       std::cout << it.key() << ": " << (it->is_string() ? it->get<std::string>() : it->dump()) << "\n";
     }
     if (j.contains("box_list") && j["box_list"].size() > 1) {

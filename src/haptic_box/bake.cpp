@@ -306,7 +306,7 @@ HapticBox bake_box(const TriangleMesh& mesh, const std::vector<std::uint32_t>& t
   progress.callback = &options.progress;
   progress.total = plan.params.sample_count();
   std::uint64_t hits = 0;
-  const auto surface = options.refine ? std::make_shared<const SurfaceTriangles>(mesh) : nullptr;
+  const auto surface = !options.refine ? nullptr : options.surface ? options.surface : std::make_shared<const SurfaceTriangles>(mesh);
   HapticBox box = bake_one(mesh, triangles, plan, surface, progress, hits);
   if (stats) {
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -357,7 +357,7 @@ BoxScene bake_scene_from_lists(const TriangleMesh& mesh, const std::vector<std::
   }
   std::uint64_t hits = 0;
   std::vector<HapticBox> boxes;
-  const auto surface = options.refine ? std::make_shared<const SurfaceTriangles>(mesh) : nullptr;
+  const auto surface = !options.refine ? nullptr : options.surface ? options.surface : std::make_shared<const SurfaceTriangles>(mesh);
   Communicator& comm = communicator_or_serial(options.communicator);
   if (comm.size() == 1) {
     ProgressState progress;

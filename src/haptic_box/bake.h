@@ -19,6 +19,9 @@ struct BakeOptions {
   /// refine the blended answer exactly (HapticBox::attach_surface): 2 or 4 bytes more per sample
   /// and 64 bytes per triangle.
   bool refine = false;
+  /// With refine: the refinement surface to share (SurfaceTriangles of this mesh), so that
+  /// boxes of several bakes form one scene (the budgeted bake); nullptr: built by the bake.
+  std::shared_ptr<const SurfaceTriangles> surface;
   /// Scenes of several boxes: also bake a scene grid (scene_grid.h), which routes each
   /// probe to the boxes whose pieces it can meet and answers whether the handle is inside
   /// the object in O(1).

@@ -76,7 +76,21 @@ std::vector<std::vector<std::uint32_t>> seamed_piece_lists(const TriangleMesh& m
   });
 }
 
+BakeRecipe default_recipe() {
+  BakeRecipe r;
+  r.pieces.kind = PiecesRecipe::Kind::automatic;
+  r.pieces.automatic.threshold = 0.001;
+  r.options.density.cell = r.budget.samplings.back().cell;
+  r.options.density.max_m = 128;
+  r.options.params.n = r.budget.samplings.back().n;
+  r.options.refine = true;
+  r.codec = CodecOptions{CodecId::block};
+  r.budget.enabled = true;
+  return r;
+}
+
 BakeResult bake(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source) {
+  if (recipe.budget.enabled) return bake_to_budget(mesh, recipe, source);
   BakeResult result;
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<std::uint32_t> ids = resolve_piece_ids(mesh, recipe.pieces);

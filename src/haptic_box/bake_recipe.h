@@ -7,6 +7,7 @@
 #include "decomposition/auto_decomposition.h"
 #include "decomposition/seam_overlap.h"
 #include "haptic_box/bake.h"
+#include "haptic_box/error_budget.h"
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -32,7 +33,30 @@ PiecesRecipe pieces_from_spec(const std::string& spec);
 /// The inverse of pieces_from_spec ("given" for given ids).
 std::string pieces_spec(const PiecesRecipe& pieces);
 
-/// Everything a bake needs besides the mesh. Defaults: one m=32 n=16 raw box.
+/// One sampling a budgeted bake may give a piece: its position cell (fraction of the mesh
+/// diagonal, per-box m from it, PositionDensity) and n.
+struct Sampling {
+  float cell = 0.016f;
+  int n = 8;
+};
+
+/// The budgeted bake (budgeted_bake.cpp): per piece, the cheapest of `samplings` (and
+/// refined or not) whose error on the piece's probes, measured against exact Embree during
+/// the bake, meets `budget`; then the scene is checked whole and measured on fresh probes
+/// (BudgetReport). Sampling order is cost order, cheapest first. The defaults were measured
+/// on the armadillo (docs/speed.md): a refined n=6 box at 3.2% cells already meets the
+/// default budget on most pieces; 1.6% cells n=8 is `./run.sh`'s former recipe.
+struct BudgetRecipe {
+  bool enabled = false;
+  ErrorBudget budget;
+  std::vector<Sampling> samplings = {{0.032f, 6}, {0.024f, 6}, {0.024f, 8}, {0.016f, 8}};
+  std::size_t probes = 20000;       ///< tuning probes, and fresh probes for the report.
+  std::uint64_t tuning_seed = 101;  ///< seeds other than eval's usual 1 and 2.
+  std::uint64_t check_seed = 102;
+};
+
+/// Everything a bake needs besides the mesh. Defaults: one m=32 n=16 raw box; the product's
+/// default (`hapticbox bake MESH`, the window's Bake, `./run.sh`) is default_recipe().
 struct BakeRecipe {
   /// Densities (params, per-box density), PBB padding (obb), refinement and progress of the
   /// ray casting (see BakeOptions).
@@ -43,7 +67,14 @@ struct BakeRecipe {
   SeamOptions seams;
   /// The table codec, applied after the bake; CodecId::none keeps raw 8-byte samples.
   CodecOptions codec{CodecId::none};
+  /// When enabled, bake() is bake_to_budget(): options.params.n, options.density.cell and
+  /// options.refine are chosen per piece from budget.samplings.
+  BudgetRecipe budget;
 };
+
+/// The default bake: automatic pieces (threshold 0.001), the block codec at its default bound
+/// (0.05% of each box's diagonal), the default error budget (BudgetRecipe), max m 128.
+BakeRecipe default_recipe();
 
 /// A bake's result.
 struct BakeResult {
@@ -67,6 +98,12 @@ std::vector<std::vector<std::uint32_t>> seamed_piece_lists(const TriangleMesh& m
 /// Bakes `mesh` per `recipe`: pieces (resolve_piece_ids), seams (seamed_piece_lists), one box
 /// per piece (bake_scene_from_lists), then the codec. The scene records `source` and the
 /// piece ids. Throws hb::InvalidInput, hb::IoError (piece file), hb::Cancelled, hb::LibraryError.
+/// With recipe.budget.enabled, bake_to_budget().
 BakeResult bake(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source = {});
+
+/// The budgeted bake (see BudgetRecipe and budgeted_bake.cpp); the scene carries its
+/// BudgetReport. One process only (throws hb::InvalidInput with several ranks), and what
+/// bake() throws.
+BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source = {});
 
 } // namespace hb

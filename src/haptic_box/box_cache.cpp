@@ -73,6 +73,11 @@ std::uint64_t recipe_key(const BakeRecipe& r) {
   k << " codec " << codec_name(r.codec.codec);
   if (r.codec.codec != CodecId::none)
     k << ' ' << hexfloat(r.codec.max_error) << ' ' << hexfloat(r.codec.ratio) << ' ' << r.codec.normal_bits;
+  if (r.budget.enabled) {
+    const BudgetRecipe& b = r.budget;
+    k << " budget " << budget_spec(b.budget) << ' ' << b.probes << ' ' << b.tuning_seed << ' ' << b.check_seed;
+    for (const Sampling& s : b.samplings) k << ' ' << hexfloat(s.cell) << ' ' << s.n;
+  }
   const std::string text = k.str();
   return XXH3_64bits(text.data(), text.size());
 }

@@ -1,4 +1,4 @@
-// The .hbox file format, version 5 (little-endian; versions 1 to 4 are still read):
+// The .hbox file format, version 6 (little-endian; versions 1 to 5 are still read):
 //  1. Header: magic "HBOXFILE", u32 version, u32 box count, u64 mesh hash, u64 triangles,
 //     f32 diagonal, u32 path length + path bytes; then per box: u32 codec (CodecId: 0 raw
 //     8-byte samples, 1 Haar, 2 block), i32 m, i32 n, f32 centre[3], axes[9] (columns),
@@ -10,12 +10,14 @@
 //     after the boxes, the scene's surface triangles (u64 offset, u64 bytes, u64 hash);
 //     version 4 adds the scene's piece ids (u64 offset, u64 bytes: 0 or 4 a triangle of the
 //     source mesh, u64 hash; BoxScene::piece_of_triangle); version 5 adds the scene grid (u64
-//     offset, u64 bytes: 0 without one, u64 hash; its bytes: SceneGrid::serialize); then u64
-//     hash of all header bytes before it.
+//     offset, u64 bytes: 0 without one, u64 hash; its bytes: SceneGrid::serialize); version 6
+//     adds the budget report (u64 offset, u64 bytes: 0 for a scene not baked to a budget,
+//     u64 hash; its bytes: BudgetReport::serialize, key=value text); then u64 hash of all
+//     header bytes before it.
 //  2. Tables at 64-byte aligned offsets: raw records in BoxLayout::sample_index order (box_layout.h), or a
 //     compressed payload (codec/table_payload.h); then each refined box's triangle ids
 //     (same order; u16 offsets or u32 slots), then the SurfaceTriangles records, then the
-//     piece ids (u32 per triangle), then the scene grid.
+//     piece ids (u32 per triangle), then the scene grid, then the budget report.
 //  3. Loading maps the file read-only (mmap); boxes point into the mapping, which stays
 //     alive while any box of the scene does. Always checked: the header hash, sizes and
 //     offsets, every OBB (finite, positive half extents, orthonormal right-handed axes: see
@@ -40,7 +42,7 @@ namespace hb {
 namespace {
 
 constexpr char kMagic[8] = {'H', 'B', 'O', 'X', 'F', 'I', 'L', 'E'};
-constexpr std::uint32_t kVersion = 5;
+constexpr std::uint32_t kVersion = 6;
 constexpr std::size_t kAlign = 64;
 
 class Writer {
@@ -133,6 +135,8 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
     id_hashes.push_back(box.refines() ? XXH3_64bits(box.triangle_ids().data, box.triangle_id_bytes()) : 0);
   const std::vector<std::uint8_t> grid_bytes = scene.grid() ? scene.grid()->serialize() : std::vector<std::uint8_t>{};
   const std::uint64_t grid_hash = grid_bytes.empty() ? 0 : XXH3_64bits(grid_bytes.data(), grid_bytes.size());
+  const std::string budget_text = scene.budget_report().present ? scene.budget_report().serialize() : std::string();
+  const std::uint64_t budget_hash = budget_text.empty() ? 0 : XXH3_64bits(budget_text.data(), budget_text.size());
   // offsets: the tables, then the ids of each box, then the surface, then the grid (zeros
   // while sizing).
   auto write_header = [&](const std::vector<std::uint64_t>& offsets) {
@@ -178,6 +182,9 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
     w.put(std::uint64_t(offsets.empty() || grid_bytes.empty() ? 0 : offsets[2 * boxes.size() + 2]));
     w.put(std::uint64_t(grid_bytes.size()));
     w.put(grid_hash);
+    w.put(std::uint64_t(offsets.empty() || budget_text.empty() ? 0 : offsets[2 * boxes.size() + 3]));
+    w.put(std::uint64_t(budget_text.size()));
+    w.put(budget_hash);
     const std::uint64_t header_hash = XXH3_64bits(w.bytes().data(), w.bytes().size());
     w.put(header_hash);
     return std::move(w.bytes());
@@ -190,6 +197,7 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
   blocks.emplace_back(surface ? static_cast<const void*>(surface->records()) : nullptr, surface ? surface->bytes() : 0);
   blocks.emplace_back(pieces.data(), piece_bytes);
   blocks.emplace_back(grid_bytes.empty() ? nullptr : grid_bytes.data(), grid_bytes.size());
+  blocks.emplace_back(budget_text.empty() ? nullptr : budget_text.data(), budget_text.size());
   std::vector<std::uint64_t> offsets;
   std::size_t pos = align_up(write_header({}).size());
   for (const auto& block : blocks) {
@@ -316,6 +324,12 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
     grid_bytes = r.get<std::uint64_t>();
     grid_hash = r.get<std::uint64_t>();
   }
+  std::uint64_t budget_offset = 0, budget_bytes = 0, budget_hash = 0;
+  if (version >= 6) {
+    budget_offset = r.get<std::uint64_t>();
+    budget_bytes = r.get<std::uint64_t>();
+    budget_hash = r.get<std::uint64_t>();
+  }
   const std::size_t header_end = r.pos();
   const auto stored_hash = r.get<std::uint64_t>();
   if (XXH3_64bits(data, header_end) != stored_hash)
@@ -378,6 +392,7 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
   section_end(surface_offset, surface_bytes);
   section_end(pieces_offset, pieces_bytes);
   section_end(grid_offset, grid_bytes);
+  section_end(budget_offset, budget_bytes);
   // Bytes after the last section are no part of any box file this program writes.
   if (options.verify && map->size > end_of_data)
     throw InvalidInput(path + ": corrupt box file (" + std::to_string(map->size - end_of_data) +
@@ -456,8 +471,24 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
       throw InvalidInput(path + ": corrupt box file (" + err.what() + ")");
     }
   }
+  // The budget report: a few hundred bytes of text, always hashed and parsed.
+  BudgetReport budget;
+  if (budget_bytes > 0) {
+    if (budget_bytes > (std::uint64_t(1) << 26) || budget_offset > map->size || budget_bytes > map->size - budget_offset)
+      throw InvalidInput(path + ": truncated box file (the budget report is cut short)");
+    const char* b = data + budget_offset;
+    if (XXH3_64bits(b, budget_bytes) != budget_hash)
+      throw InvalidInput(path + ": corrupt box file (budget report checksum mismatch)");
+    try {
+      budget = BudgetReport::parse(std::string(b, std::size_t(budget_bytes)));
+    } catch (const InvalidInput& err) {
+      throw InvalidInput(path + ": corrupt box file (" + err.what() + ")");
+    }
+  }
   try {
-    return BoxScene(std::move(boxes), src, std::move(pieces), std::move(grid));
+    BoxScene scene(std::move(boxes), src, std::move(pieces), std::move(grid));
+    scene.set_budget_report(std::move(budget));
+    return scene;
   } catch (const InvalidInput& err) {
     throw InvalidInput(path + ": corrupt box file (" + err.what() + ")");
   }

@@ -141,8 +141,43 @@ std::size_t BoxScene::box_queries(const Segment& segment, const ForceLaw& law) c
   return asked;
 }
 
+Contact BoxScene::query(const Segment& segment, const ForceLaw& law, SceneQueryState& state) const noexcept {
+  if (grid_ && state.box < boxes_.size() && state.triangle != SceneQueryState::kNone && boxes_[state.box].refines() &&
+      grid_->code_at(segment.start) == SceneGrid::kOutside) {
+    const HapticBox& box = boxes_[state.box];
+    Contact c;
+    float along = 0.f;
+    std::uint32_t crossed = kNoTriangle;
+    if (box.query_near(segment, law, state.triangle, kStateWalkSteps, c, along, &crossed)) {
+      // The full query asks every box named by a surface cell that begins before the nearest
+      // contact: it would ask this box alone.
+      const float length = (segment.end - segment.start).norm();
+      bool alone = true;
+      grid_->walk_surface(segment.start, segment.end, [&](std::uint16_t code, float s) {
+        if (s * length > along) return false;
+        for (const std::uint32_t* b = grid_->boxes_begin(code); b != grid_->boxes_end(code); ++b)
+          if (*b != state.box) alone = false;
+        return alone;
+      });
+      if (alone) {
+        state.triangle = crossed;
+        ++state.from_state;
+        return c;
+      }
+    }
+  }
+  ++state.full;
+  std::uint32_t box = SceneQueryState::kNone, triangle = kNoTriangle;
+  Contact c;
+  if (!(grid_ && query_routed(segment, law, c, nullptr, &box, &triangle))) c = query_met(segment, law, nullptr, &box, &triangle);
+  const bool known = c.contact && box < boxes_.size() && triangle != kNoTriangle;
+  state.box = known ? box : SceneQueryState::kNone;
+  state.triangle = known ? triangle : SceneQueryState::kNone;
+  return c;
+}
+
 bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact& out,
-                            std::size_t* asked_count) const noexcept {
+                            std::size_t* asked_count, std::uint32_t* out_box, std::uint32_t* out_triangle) const noexcept {
   const SceneGrid& grid = *grid_;
   const std::uint16_t handle = grid.code_at(segment.start);
   if (handle == SceneGrid::kInside) {
@@ -158,6 +193,7 @@ bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact
   bool overflow = false;
   Contact best, c;
   float best_along = 0.f;
+  std::uint32_t best_box = SceneQueryState::kNone, best_triangle = kNoTriangle;
   grid.walk_surface(segment.start, segment.end, [&](std::uint16_t code, float s) {
     // A cell that begins beyond the nearest contact cannot hold a nearer one.
     if (best.contact && s * length > best_along) return false;
@@ -171,12 +207,15 @@ bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact
       asked[n_asked++] = *b;
       float along = 0.f;
       bool refined = false;
-      if (!boxes_[*b].query_into(segment, law, c, along, Refine::all, &refined)) continue;
+      std::uint32_t triangle = kNoTriangle;
+      if (!boxes_[*b].query_into(segment, law, c, along, Refine::all, &refined, &triangle)) continue;
       // Unconfirmed blends of refining boxes never answer here (step 6).
       if (unconfirmed_ == UnconfirmedBlend::reject && boxes_[*b].refines() && !refined) continue;
       if (!best.contact || along < best_along) {
         best = c;
         best_along = along;
+        best_box = *b;
+        best_triangle = triangle;
       }
     }
     return true;
@@ -186,10 +225,13 @@ bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact
   if (asked_count) *asked_count += std::size_t(n_asked);
   if (overflow || (n_asked > 0 && !best.contact)) return false;
   out = best;
+  if (out_box) *out_box = best_box;
+  if (out_triangle) *out_triangle = best_triangle;
   return true;
 }
 
-Contact BoxScene::query_met(const Segment& segment, const ForceLaw& law, std::size_t* asked) const noexcept {
+Contact BoxScene::query_met(const Segment& segment, const ForceLaw& law, std::size_t* asked, std::uint32_t* out_box,
+                            std::uint32_t* out_triangle) const noexcept {
   Contact best;
   float best_along = 0.f;
   const std::size_t count = boxes_.size();
@@ -199,8 +241,9 @@ Contact BoxScene::query_met(const Segment& segment, const ForceLaw& law, std::si
   if (count == 1) {
     if (asked) ++*asked;
     bool refined = false;
-    boxes_[0].query_into(segment, law, best, best_along, Refine::all, &refined);
+    boxes_[0].query_into(segment, law, best, best_along, Refine::all, &refined, out_triangle);
     if (reject && boxes_[0].refines() && best.contact && !refined) return Contact{};
+    if (out_box) *out_box = 0;
     return best;
   }
   Contact c;
@@ -242,8 +285,9 @@ Contact BoxScene::query_met(const Segment& segment, const ForceLaw& law, std::si
       const HapticBox& box = boxes_[hit_box[h]];
       float along = 0.f;
       bool refined = false;
+      std::uint32_t triangle = kNoTriangle;
       if (asked) ++*asked;
-      const bool hit = box.query_into(segment, law, c, along, Refine::all, &refined);
+      const bool hit = box.query_into(segment, law, c, along, Refine::all, &refined, &triangle);
       if (!reject) {
         if (hit) best = c, best_along = along;
         found = true;
@@ -251,6 +295,10 @@ Contact BoxScene::query_met(const Segment& segment, const ForceLaw& law, std::si
         best = c;
         best_along = along;
         found = true;
+      }
+      if (found) {
+        if (out_box) *out_box = hit_box[h];
+        if (out_triangle) *out_triangle = triangle;
       }
     }
     if (!found) return Contact{};
@@ -303,7 +351,9 @@ BoxScene BoxScene::compressed(const CodecOptions& options) const {
   std::vector<HapticBox> boxes;
   boxes.reserve(boxes_.size());
   for (const HapticBox& box : boxes_) boxes.push_back(box.compressed(options));
-  return BoxScene(std::move(boxes), source_, piece_of_triangle_, grid_);
+  BoxScene s(std::move(boxes), source_, piece_of_triangle_, grid_);
+  s.budget_ = budget_;
+  return s;
 }
 
 } // namespace hb

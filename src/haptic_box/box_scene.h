@@ -1,4 +1,5 @@
 #pragma once
+#include "haptic_box/error_budget.h"
 #include "haptic_box/haptic_box.h"
 #include "haptic_box/scene_grid.h"
 #include <memory>
@@ -26,6 +27,17 @@ enum class UnconfirmedBlend : std::uint8_t {
   keep,
 };
 
+/// One probe's memory between queries (a servo loop's ticks, a stroke): the box and the
+/// surface triangle of its last contact, and counts of how its queries were answered.
+/// Not shared between threads or probes; a default-constructed state knows nothing.
+struct SceneQueryState {
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+  std::uint32_t box = kNone;
+  std::uint32_t triangle = kNone;
+  std::uint64_t from_state = 0;  ///< queries answered from the last contact (bounded walk).
+  std::uint64_t full = 0;        ///< queries answered by the full query.
+};
+
 /// A scene of haptic boxes, one per piece. A query culls by PBB and the valid contact
 /// nearest the handle wins, so its cost grows with the boxes the segment meets.
 /// Culling: the segment is tested against the axis-aligned bounds of every PBB in one flat
@@ -51,6 +63,16 @@ public:
                     std::shared_ptr<const SceneGrid> grid = nullptr);
 
   Contact query(const Segment& segment, const ForceLaw& law) const noexcept override;
+  /// The query of a probe that moves a little between calls (see SceneQueryState): when the
+  /// last contact's box refines and the grid routes the handle (outside cell), the segment is
+  /// first tried against the last contact's triangle with a walk of at most
+  /// kStateWalkSteps edges (HapticBox::query_near); that answer stands when the crossing is a
+  /// contact and every surface cell the segment crosses up to it names only that box (so
+  /// the full query would ask that box alone). Otherwise, and for scenes without a grid, the
+  /// full query, and the state learns its box and triangle. The answers are the full
+  /// query's wherever that box's refinement finds the same triangle (tests/core, strokes).
+  Contact query(const Segment& segment, const ForceLaw& law, SceneQueryState& state) const noexcept;
+  static constexpr int kStateWalkSteps = 4;
   /// The same answers as query() one by one. A one-box scene runs HapticBox::query_many
   /// (fetches of a group of queries overlapped); with several boxes, query() in a loop.
   void query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
@@ -66,7 +88,11 @@ public:
   const std::shared_ptr<const SceneGrid>& grid() const { return grid_; }
   /// The same boxes without the grid (every query takes the path without it; for
   /// before/after measurements).
-  BoxScene without_grid() const { return BoxScene(boxes_, source_, piece_of_triangle_); }
+  BoxScene without_grid() const {
+    BoxScene s(boxes_, source_, piece_of_triangle_);
+    s.budget_ = budget_;
+    return s;
+  }
 
   /// A copy with every box's table compressed (see HapticBox::compressed); throws
   /// hb::InvalidInput when a box is already compressed or the options are out of range.
@@ -87,15 +113,22 @@ public:
   /// Replaces the piece ids (same checks as the constructor).
   void set_piece_of_triangle(std::vector<std::uint32_t> piece_of_triangle);
   std::size_t table_bytes() const;
+  /// What a budgeted bake chose and achieved (BudgetReport::present false otherwise); stored
+  /// in box files from version 6.
+  const BudgetReport& budget_report() const { return budget_; }
+  void set_budget_report(BudgetReport report) { budget_ = std::move(report); }
   /// Bytes the exact refinement adds (0 without it): every box's triangle ids and the
   /// surface the boxes share (once).
   std::size_t refinement_bytes() const;
 
 private:
   // The query through the grid; false when the handle's cell leaves it to query_met().
-  bool query_routed(const Segment& segment, const ForceLaw& law, Contact& out, std::size_t* asked) const noexcept;
+  // `box` and `triangle`, when given, receive the answering box and refined triangle.
+  bool query_routed(const Segment& segment, const ForceLaw& law, Contact& out, std::size_t* asked,
+                    std::uint32_t* box = nullptr, std::uint32_t* triangle = nullptr) const noexcept;
   // The query without the grid: every box whose PBB the segment meets.
-  Contact query_met(const Segment& segment, const ForceLaw& law, std::size_t* asked) const noexcept;
+  Contact query_met(const Segment& segment, const ForceLaw& law, std::size_t* asked, std::uint32_t* box = nullptr,
+                    std::uint32_t* triangle = nullptr) const noexcept;
   // Boxes in [first, last) whose axis-aligned bounds the segment meets, written into `out`.
   std::size_t cull(const Segment& segment, std::size_t first, std::size_t last, std::uint32_t* out) const noexcept;
 
@@ -106,6 +139,23 @@ private:
   // Axis-aligned bounds of each PBB, structure of arrays: lo x, y, z then hi x, y, z.
   std::vector<float> bounds_[6];
   std::shared_ptr<const SceneGrid> grid_;
+  BudgetReport budget_;
+};
+
+/// One probe querying a scene through its own SceneQueryState, as a ContactQuery (for timing
+/// and for loops written against ContactQuery). Not safe from several threads.
+class SceneProbe final : public ContactQuery {
+public:
+  explicit SceneProbe(const BoxScene& scene) : scene_(scene) {}
+  Contact query(const Segment& segment, const ForceLaw& law) const noexcept override {
+    return scene_.query(segment, law, state_);
+  }
+  const SceneQueryState& state() const { return state_; }
+  void reset() { state_ = SceneQueryState{}; }
+
+private:
+  const BoxScene& scene_;
+  mutable SceneQueryState state_;
 };
 
 } // namespace hb

@@ -310,7 +310,7 @@ constexpr int kWalkSteps = 8;
 // The line from P1 along l is tested against each (distinct) one exactly; the nearest hit,
 // when it is a front face and agrees with the blend within the tolerance, replaces the blend.
 bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const float p1[3], const float l[3],
-                       float t_blend, float& t0, Vec3& normal) const noexcept {
+                       float t_blend, float& t0, Vec3& normal, std::uint32_t& triangle) const noexcept {
   const std::size_t n = std::size_t(params_.n);
   std::uint32_t candidates[16];
   int count = 0;
@@ -329,6 +329,7 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
   float best = std::numeric_limits<float>::infinity();
   Vec3 best_normal = Vec3::Zero();
   bool best_front = false;
+  std::uint32_t best_id = kNoTriangle;
   std::uint32_t start = kNoTriangle;
   float nearest_outside = std::numeric_limits<float>::infinity();
   for (int k = 0; k < count; ++k) {
@@ -344,6 +345,7 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
       best = s;
       best_normal = nrm;
       best_front = front;
+      best_id = candidates[k];
     }
   }
   const auto accepted = [&](float s, bool front) {
@@ -353,12 +355,13 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
   if (!accepted(best, best_front)) {
     // No candidate is crossed: the line passes between them. Walk from the candidate it
     // passes nearest, across the edges it passes, to the triangle it crosses.
-    if (start == kNoTriangle || !surface_->walk(start, p1, l, 0.f, kWalkSteps, best, best_normal, best_front) ||
+    if (start == kNoTriangle || !surface_->walk(start, p1, l, 0.f, kWalkSteps, best, best_normal, best_front, &best_id) ||
         !accepted(best, best_front))
       return false;
   }
   t0 = best;
   normal = best_normal;
+  triangle = best_id;
   return true;
 }
 
@@ -370,17 +373,21 @@ void HapticBox::check_geometry() const {
 }
 
 bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact& out,
-                           float& distance_from_handle, Refine refine_hit, bool* refined) const noexcept {
+                           float& distance_from_handle, Refine refine_hit, bool* refined,
+                           std::uint32_t* triangle) const noexcept {
   switch (samples_.codec()) {
   case CodecId::block:
-    return query_with(CodecFetch<BlockTable>{samples_.block()}, segment, law, out, distance_from_handle, refine_hit, refined);
+    return query_with(CodecFetch<BlockTable>{samples_.block()}, segment, law, out, distance_from_handle, refine_hit,
+                      refined, triangle);
   case CodecId::haar:
-    return query_with(CodecFetch<HaarTable>{samples_.haar()}, segment, law, out, distance_from_handle, refine_hit, refined);
+    return query_with(CodecFetch<HaarTable>{samples_.haar()}, segment, law, out, distance_from_handle, refine_hit,
+                      refined, triangle);
   default:
     return query_with(RawFetch(table_, layout_), segment, law, out,
-                      distance_from_handle, refine_hit, refined);
+                      distance_from_handle, refine_hit, refined, triangle);
   }
 }
+
 
 // A query between its two phases: the geometry (steps 1-3) is done and the corners'
 // samples are being fetched (step 4 began); finish() blends them.
@@ -497,8 +504,10 @@ bool HapticBox::locate(const Fetch& fetch, const Segment& segment, Located<Fetch
 
 template <class Fetch>
 bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceLaw& law, Contact& out,
-                       float& distance_from_handle, Refine refine_hit, bool* refined) const noexcept {
+                       float& distance_from_handle, Refine refine_hit, bool* refined,
+                       std::uint32_t* triangle) const noexcept {
   if (refined) *refined = false;
+  if (triangle) *triangle = kNoTriangle;
   const float sx = q.sx, sy = q.sy, sz = q.sz, lx = q.lx, ly = q.ly, lz = q.lz;
   const float t_enter = q.t_enter, d = q.d, d1 = q.d1, d2 = q.d2;
   const int face = q.face, i0 = q.i0, j0 = q.j0, a0 = q.a0, b0 = q.b0;
@@ -571,11 +580,13 @@ bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceL
     const float p1[3] = {p1x, p1y, p1z}, l[3] = {lx, ly, lz};
     Vec3 refined_normal;
     float refined_t = 0.f;
-    if (refine(p00, a0, b0, sf, p1, l, blended_hit ? t0 : -1.f, refined_t, refined_normal)) {
+    std::uint32_t refined_triangle = kNoTriangle;
+    if (refine(p00, a0, b0, sf, p1, l, blended_hit ? t0 : -1.f, refined_t, refined_normal, refined_triangle)) {
       t0 = refined_t;
       nx = refined_normal.x(), ny = refined_normal.y(), nz = refined_normal.z();
       contact = in_contact(t0, nx, ny, nz);
       if (refined) *refined = true;
+      if (triangle) *triangle = refined_triangle;
     }
   }
   if (!contact) return false;
@@ -592,13 +603,15 @@ bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceL
 
 template <class Fetch>
 bool HapticBox::query_with(const Fetch& fetch, const Segment& segment, const ForceLaw& law, Contact& out,
-                           float& distance_from_handle, Refine refine, bool* refined) const noexcept {
+                           float& distance_from_handle, Refine refine, bool* refined,
+                           std::uint32_t* triangle) const noexcept {
   out = Contact{};
   if (refined) *refined = false;
+  if (triangle) *triangle = kNoTriangle;
   Located<Fetch> q;
   if (!locate(fetch, segment, q)) return false;
   for (typename Fetch::Corner& c : q.corners) fetch.resolve(c);
-  return finish(fetch, q, law, out, distance_from_handle, refine, refined);
+  return finish(fetch, q, law, out, distance_from_handle, refine, refined, triangle);
 }
 
 // Batches: the geometry and the fetches of a group of queries start before any blend, so
@@ -638,6 +651,47 @@ void HapticBox::query_many(const Segment* segments, std::size_t count, const For
     return query_many_with(RawFetch(table_, layout_), segments, count,
                            law, out);
   }
+}
+
+namespace {
+// A fetch policy that reads nothing (query_near needs the geometry of locate() only).
+struct NoFetch {
+  struct Corner {};
+  void begin(std::size_t, std::size_t, int, int, Corner&) const noexcept {}
+  void resolve(Corner&) const noexcept {}
+};
+} // namespace
+
+// Step 6's contact on a refined answer: the same arithmetic as finish().
+static bool refined_contact(float sx, float sy, float sz, float lx, float ly, float lz, float t_enter, float d,
+                            float t0, const Vec3& normal, const ForceLaw& law, Contact& out,
+                            float& distance_from_handle) noexcept {
+  const float nx = normal.x(), ny = normal.y(), nz = normal.z();
+  if (!(t_enter + t0 >= 0.f && t0 <= d && nx * lx + ny * ly + nz * lz < 0.f)) return false;
+  const float along = t_enter + t0;
+  out.contact = true;
+  out.depth = d - t0;
+  out.point = Vec3(sx + along * lx, sy + along * ly, sz + along * lz);
+  out.normal = Vec3(nx, ny, nz);
+  apply_force_law(out, law);
+  if (law.depth == DepthLaw::normal) out.force *= depth_law_scale(law, lx, ly, lz, out.normal);
+  distance_from_handle = along;
+  return true;
+}
+
+bool HapticBox::query_near(const Segment& segment, const ForceLaw& law, std::uint32_t triangle, int max_steps,
+                           Contact& out, float& distance_from_handle, std::uint32_t* crossed) const noexcept {
+  out = Contact{};
+  if (!surface_) return false;
+  Located<NoFetch> q;
+  if (!locate(NoFetch{}, segment, q)) return false;
+  const float p1[3] = {q.sx + q.t_enter * q.lx, q.sy + q.t_enter * q.ly, q.sz + q.t_enter * q.lz};
+  const float l[3] = {q.lx, q.ly, q.lz};
+  float t0 = 0.f;
+  Vec3 normal;
+  bool front = false;
+  if (!surface_->walk(triangle, p1, l, 0.f, max_steps, t0, normal, front, crossed) || !front) return false;
+  return refined_contact(q.sx, q.sy, q.sz, q.lx, q.ly, q.lz, q.t_enter, q.d, t0, normal, law, out, distance_from_handle);
 }
 
 Contact HapticBox::query(const Segment& segment, const ForceLaw& law) const noexcept {

@@ -56,6 +56,14 @@ public:
   /// is beyond `surface`; unvalidated ids (lazily mapped files) are bounds-checked per query.
   void attach_surface(const TriangleIds& triangle_ids, std::size_t count, std::shared_ptr<const void> ids_owner,
                       std::shared_ptr<const SurfaceTriangles> surface, bool validate = true);
+  /// A copy of this box that does not refine (no triangle ids, no surface): the blend alone.
+  HapticBox without_refinement() const {
+    HapticBox box(*this);
+    box.triangle_ids_ = TriangleIds{};
+    box.ids_owner_.reset();
+    box.surface_.reset();
+    return box;
+  }
   /// Whether queries refine with the exact triangles (attach_surface was called).
   bool refines() const { return surface_ != nullptr; }
   const TriangleIds& triangle_ids() const { return triangle_ids_; }
@@ -87,8 +95,21 @@ public:
   /// refinement (for callers that need only whether and roughly where a surface is).
   /// `refined`, when given, is set to whether the answer came from the exact triangles
   /// (false: the blended samples alone, unconfirmed by refinement).
+  /// `triangle`, when given, receives the surface slot of the triangle a refined answer came
+  /// from (kNoTriangle otherwise).
   bool query_into(const Segment& segment, const ForceLaw& law, Contact& out,
-                  float& distance_from_handle, Refine refine = Refine::all, bool* refined = nullptr) const noexcept;
+                  float& distance_from_handle, Refine refine = Refine::all, bool* refined = nullptr,
+                  std::uint32_t* triangle = nullptr) const noexcept;
+
+  /// The answer of a refining box from a known triangle (a probe's last contact): the
+  /// segment's line from the box entry P1, as in query_into, against `triangle`, walking at
+  /// most `max_steps` edges from it to the triangle it crosses; a contact when that crossing
+  /// is a front face on the segment (the contact test of query_into, same force law).
+  /// No samples are read. False (no contact claimed) when the box does not refine, the line
+  /// misses the box, the walk fails or the crossing is no contact. `crossed` receives the
+  /// triangle crossed.
+  bool query_near(const Segment& segment, const ForceLaw& law, std::uint32_t triangle, int max_steps, Contact& out,
+                  float& distance_from_handle, std::uint32_t* crossed) const noexcept;
 
   const Obb& obb() const { return obb_; }
   const BoxParams& params() const { return params_; }
@@ -117,7 +138,8 @@ private:
   bool locate(const Fetch& fetch, const Segment& segment, Located<Fetch>& q) const noexcept;
   template <class Fetch>
   bool finish(const Fetch& fetch, const Located<Fetch>& q, const ForceLaw& law, Contact& out,
-              float& distance_from_handle, Refine refine, bool* refined = nullptr) const noexcept;
+              float& distance_from_handle, Refine refine, bool* refined = nullptr,
+              std::uint32_t* triangle = nullptr) const noexcept;
   template <class Fetch>
   void query_many_with(const Fetch& fetch, const Segment* segments, std::size_t count, const ForceLaw& law,
                        Contact* out) const noexcept;
@@ -125,10 +147,11 @@ private:
   // SIMD lanes, the same arithmetic as query() (query_lanes.cpp).
   void query_many_lanes(const Segment* segments, std::size_t count, const ForceLaw& law, Contact* out) const noexcept;
   bool refine(std::size_t p00, int a0, int b0, std::size_t sf, const float p1[3], const float l[3], float t_blend,
-              float& t0, Vec3& normal) const noexcept;
+              float& t0, Vec3& normal, std::uint32_t& triangle) const noexcept;
   template <class Fetch>
   bool query_with(const Fetch& fetch, const Segment& segment, const ForceLaw& law, Contact& out,
-                  float& distance_from_handle, Refine refine, bool* refined = nullptr) const noexcept;
+                  float& distance_from_handle, Refine refine, bool* refined = nullptr,
+                  std::uint32_t* triangle = nullptr) const noexcept;
 
   BoxLayout layout_;  // built from obb_ and params_ once they are checked
   Obb obb_;

@@ -157,7 +157,7 @@ bool SurfaceTriangles::intersect(std::uint32_t id, const float o[3], const float
 }
 
 bool SurfaceTriangles::walk(std::uint32_t start, const float o[3], const float d[3], float s_min, int max_steps,
-                            float& s, Vec3& normal, bool& front) const noexcept {
+                            float& s, Vec3& normal, bool& front, std::uint32_t* crossed) const noexcept {
   std::uint32_t id = start, previous = kNoTriangle;
   for (int step = 0; step <= max_steps; ++step) {
     if (id >= count_) return false;
@@ -169,7 +169,10 @@ bool SurfaceTriangles::walk(std::uint32_t start, const float o[3], const float d
     int worst = 0;
     for (int k = 1; k < 3; ++k)
       if (w[k] < w[worst]) worst = k;
-    if (w[worst] >= 0.f) return finish(r, d, u, v, hit, s_min, s, normal, front);
+    if (w[worst] >= 0.f) {
+      if (crossed) *crossed = id;
+      return finish(r, d, u, v, hit, s_min, s, normal, front);
+    }
     const std::uint32_t next = r.neighbour[worst];
     if (next == kNoTriangle || next == previous) return false;
     previous = id;

@@ -81,8 +81,9 @@ public:
   /// As intersect(), but when the line passes beside triangle `start`, steps to the
   /// neighbour across the edge it passes (the most negative barycentric coordinate), at most
   /// `max_steps` times: finds the triangle the line crosses near a candidate that missed.
+  /// `crossed`, when given, receives the triangle crossed.
   bool walk(std::uint32_t start, const float origin[3], const float dir[3], float s_min, int max_steps, float& s,
-            Vec3& normal, bool& front) const noexcept;
+            Vec3& normal, bool& front, std::uint32_t* crossed = nullptr) const noexcept;
 
 private:
   // Line against one record: barycentrics (u, v) and the line parameter of the plane hit;

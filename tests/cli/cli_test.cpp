@@ -45,6 +45,29 @@ protected:
 };
 fs::path CliTest::dir_;
 
+// `bake MESH -o BOX` alone is the budgeted default: it reports the budget it met on fresh
+// probes, info shows it, and a bad --budget or --budget with a sampling option is a usage error.
+TEST_F(CliTest, DefaultBakeMeetsTheBudgetAndInfoReportsIt) {
+  const Result bake = run("bake " + path("sphere.off") + " -o " + path("budget.hbox") + " --budget agree=99 --json");
+  ASSERT_EQ(bake.code, 0) << bake.err;
+  const auto b = nlohmann::json::parse(bake.out);
+  ASSERT_TRUE(b["budget"].is_object()) << bake.out;
+  EXPECT_TRUE(b["budget"]["met"].get<bool>()) << bake.out;
+  EXPECT_NE(b["budget"]["fresh_seed"], b["budget"]["tuning_seed"]);
+  EXPECT_EQ(b["budget"]["budget"].get<std::string>().find("agree=99"), std::string("p95=7,median=2,dir99=10,").size());
+  const Result info = run("info " + path("budget.hbox"));
+  ASSERT_EQ(info.code, 0) << info.err;
+  EXPECT_NE(info.out.find("budget: p95=7"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("met on 20000 fresh probes"), std::string::npos) << info.out;
+  const auto ij = nlohmann::json::parse(run("info " + path("budget.hbox") + " --json").out);
+  EXPECT_TRUE(ij["budget_report"]["met"].get<bool>());
+  EXPECT_EQ(run("bake " + path("sphere.off") + " -o " + path("x.hbox") + " --budget p95=abc").code, 2);
+  EXPECT_EQ(run("bake " + path("sphere.off") + " -o " + path("x.hbox") + " --budget p95=5 -n 4").code, 2);
+  // A box baked with given options has no budget.
+  bake_once();
+  EXPECT_NE(run("info " + path("sphere.hbox")).out.find("budget: none"), std::string::npos);
+}
+
 TEST_F(CliTest, BakeInfoEvalBenchProduceDocumentedJson) {
   const Result bake = run("bake " + path("sphere.off") + " -o " + path("sphere.hbox") + " -m 8 -n 6 --json");
   ASSERT_EQ(bake.code, 0) << bake.err;

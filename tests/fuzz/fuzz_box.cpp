@@ -93,6 +93,14 @@ void resign(std::string& f, bool tables) {
     if (!u64(ignored)) return;
     sections.push_back(grid);
   }
+  if (version >= 6) {
+    Hashed budget{};
+    if (!u64(budget.offset) || !u64(budget.bytes)) return;
+    budget.hash_at = pos;
+    budget.always = true;
+    if (!u64(ignored)) return;
+    sections.push_back(budget);
+  }
   if (8 > f.size() - pos) return;
   for (const Hashed& s : sections)
     if ((tables || s.always) && s.offset <= f.size() && s.bytes <= f.size() - s.offset) {

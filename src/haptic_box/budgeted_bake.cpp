@@ -1,0 +1,384 @@
+// The budgeted bake (bake_recipe.h, BudgetRecipe): the cheapest scene found that meets an
+// error budget against exact Embree.
+//  1. Pieces as the recipe says (automatic by default), once. Tuning probes (the default
+//     distribution, BudgetRecipe::tuning_seed) and their exact answers, once.
+//  2. Every piece is baked at every sampling (seams in that sampling's cells), with one
+//     shared refinement surface and the recipe's codec; each bake is also tried without its
+//     triangle ids. These are a piece's variants, costed in bytes.
+//  3. A piece owns the tuning probes the scene grid routes to it (the first box named by the
+//     first surface cell the probe crosses, the handle outside). On its probes each variant
+//     is asked alone and its failures counted (contact disagreements; force errors over the
+//     median and p95 bounds, direction errors over the p99 bound). The budget becomes
+//     allowances of such failures over all probes (80% of them, a margin for unseen probes).
+//     The failures are counted in the scene with every piece at one variant, probe by probe,
+//     and charged to the owning piece. The choice starts at the cheapest uniform variant
+//     within the allowances and takes each piece, largest first, down to its cheapest
+//     variant that keeps the sums within them: the bytes go where the error is (triangle ids
+//     only where the blend misses, fine sampling only where coarse fails). When no uniform
+//     variant is within them, moves that remove the most excess per byte are made instead.
+//  4. The chosen boxes form the scene (piece ids, a scene grid from the chosen lists). The
+//     whole scene is checked on the tuning probes; while it misses the budget, each piece
+//     owning a failing probe moves up one variant (at most as many rounds as variants).
+//  5. The scene is measured on fresh probes (BudgetRecipe::check_seed) and the figures are
+//     recorded in BudgetReport (the box file, `info`, `--json`, the report).
+#include "errors.h"
+#include "evaluation/comparison.h"
+#include "evaluation/probe_sampling.h"
+#include "exact/exact_query.h"
+#include "haptic_box/bake_recipe.h"
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <algorithm>
+#include <chrono>
+#include <map>
+
+namespace hb {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The box the scene grid routes the probe to first (UINT32_MAX: not routed).
+std::uint32_t routed_box(const SceneGrid& grid, const Segment& s) {
+  std::uint32_t box = UINT32_MAX;
+  if (grid.code_at(s.start) != SceneGrid::kOutside) return box;
+  grid.walk_surface(s.start, s.end, [&](std::uint16_t code, float) {
+    box = *grid.boxes_begin(code);
+    return false;
+  });
+  return box;
+}
+
+struct Tuning {
+  std::vector<Segment> probes;
+  std::vector<Contact> exact;
+};
+
+Tuning tune_probes(const TriangleMesh& mesh, const ExactQuery& exact, std::size_t count, std::uint64_t seed,
+                   const ForceLaw& law) {
+  Tuning t;
+  ProbeOptions po;
+  po.seed = seed;
+  t.probes = sample_probes(mesh, count, po);
+  t.exact.resize(t.probes.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, t.probes.size(), 256), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) t.exact[i] = exact.query(t.probes[i], law);
+  });
+  return t;
+}
+
+// A probe fails when the contact flags differ or the force misses the budget's p95 or dir99.
+bool probe_fails(const Contact& exact, const Contact& approx, const ErrorBudget& b) {
+  if (exact.contact != approx.contact) return true;
+  if (!exact.contact) return false;
+  return relative_force_error(exact, approx) > b.force_p95 || angle_error_degrees(exact, approx) > b.direction_p99_deg;
+}
+
+} // namespace
+
+BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source) {
+  const BudgetRecipe& br = recipe.budget;
+  if (br.samplings.empty()) throw InvalidInput("bake: the budget has no samplings to try");
+  for (const Sampling& s : br.samplings)
+    if (!(s.cell > 0.f && s.cell <= 1.f) || s.n < 2 || s.n > 256)
+      throw InvalidInput("bake: budget sampling cell " + std::to_string(s.cell) + " n " + std::to_string(s.n) +
+                         " out of range (cell in (0, 1], n in [2, 256])");
+  if (recipe.options.communicator && recipe.options.communicator->size() > 1)
+    throw InvalidInput("bake: a budgeted bake runs in one process (give the sampling options for a bake across ranks)");
+  if (mesh.triangle_count() == 0) throw InvalidInput("bake: mesh has no triangles");
+  const auto t0 = std::chrono::steady_clock::now();
+  const ProgressCallback& progress = recipe.options.progress;
+  const auto report_progress = [&](double f) {
+    if (progress && !progress(std::min(1.0, std::max(0.0, f)))) throw Cancelled("bake cancelled");
+  };
+
+  BakeResult result;
+  std::vector<std::uint32_t> ids = resolve_piece_ids(mesh, recipe.pieces);
+  if (recipe.pieces.kind == PiecesRecipe::Kind::automatic) result.decompose_seconds = seconds_since(t0);
+  SourceInfo src = source;
+  if (src.triangles == 0) src.triangles = mesh.triangle_count();
+  if (!(src.diagonal > 0.f)) src.diagonal = mesh.bounds().diagonal();
+  const float diagonal = mesh.bounds().diagonal();
+  const ForceLaw law{};
+  const ExactQuery exact(mesh);
+  const Tuning tuning = tune_probes(mesh, exact, br.probes, br.tuning_seed, law);
+  const auto surface = std::make_shared<const SurfaceTriangles>(mesh);
+
+  const std::size_t samplings = br.samplings.size();
+  const auto options_for = [&](std::size_t c) {
+    BakeOptions o = recipe.options;
+    o.params.n = br.samplings[c].n;
+    o.density.cell = br.samplings[c].cell;
+    o.refine = true;
+    o.surface = surface;
+    o.scene_grid = false;
+    o.communicator = nullptr;
+    o.progress = nullptr;
+    return o;
+  };
+  // Per sampling: the seamed lists of every piece (cheap) and the boxes baked so far.
+  std::vector<std::vector<std::vector<std::uint32_t>>> lists(samplings);
+  std::vector<std::map<std::size_t, HapticBox>> baked(samplings);
+  const auto lists_at = [&](std::size_t c) -> const std::vector<std::vector<std::uint32_t>>& {
+    if (lists[c].empty()) lists[c] = seamed_piece_lists(mesh, ids, recipe.seams, options_for(c));
+    return lists[c];
+  };
+  const std::size_t pieces = lists_at(0).size();
+  std::uint64_t rays = 0, hits = 0;
+  double ray_seconds = 0.0;
+  std::uint32_t tried = 0;
+  const auto bake_pieces = [&](std::size_t c, const std::vector<std::size_t>& which) {
+    std::vector<std::vector<std::uint32_t>> todo;
+    std::vector<std::size_t> todo_ids;
+    for (std::size_t p : which)
+      if (!baked[c].count(p)) {
+        todo.push_back(lists_at(c)[p]);
+        todo_ids.push_back(p);
+      }
+    if (todo.empty()) return;
+    ++tried;
+    BakeStats stats;
+    BoxScene part = bake_scene_from_lists(mesh, todo, options_for(c), src, &stats);
+    if (recipe.codec.codec != CodecId::none) part = part.compressed(recipe.codec);
+    rays += stats.rays;
+    hits += stats.hits;
+    ray_seconds += stats.seconds;
+    for (std::size_t k = 0; k < todo_ids.size(); ++k) baked[c].emplace(todo_ids[k], part.boxes()[k]);
+  };
+
+  // Ownership of the tuning probes: the grid of the first sampling's lists.
+  std::vector<std::vector<std::size_t>> owned(pieces);
+  if (pieces > 1) {
+    const SceneGrid grid = build_scene_grid(mesh, lists_at(0), recipe.options.grid);
+    for (std::size_t i = 0; i < tuning.probes.size(); ++i) {
+      const std::uint32_t b = grid.empty() ? UINT32_MAX : routed_box(grid, tuning.probes[i]);
+      if (b < pieces) owned[b].push_back(i);
+    }
+  } else {
+    for (std::size_t i = 0; i < tuning.probes.size(); ++i) owned[0].push_back(i);
+  }
+
+  // Variants, cheapest first: (sampling c, unrefined) then (c, refined). Every piece is
+  // baked at every sampling (the coarse ones cost a fraction of the finest).
+  const std::size_t variants = 2 * samplings;
+  std::vector<std::size_t> all(pieces);
+  for (std::size_t p = 0; p < pieces; ++p) all[p] = p;
+  for (std::size_t c = 0; c < samplings; ++c) {
+    bake_pieces(c, all);
+    report_progress(0.7 * double(c + 1) / double(samplings));
+  }
+
+  // Per piece and variant: its bytes and, on the probes it owns, the counts the budget
+  // limits: contact disagreements, and among probes in contact on both sides those whose
+  // force error exceeds the median bound, the p95 bound, and whose direction error exceeds
+  // the p99 bound.
+  struct Counts {
+    double bytes = 0;
+    double disagree = 0, both = 0, over_median = 0, over_p95 = 0, over_dir = 0;
+  };
+  std::vector<std::vector<Counts>> counts(pieces, std::vector<Counts>(variants));
+  std::vector<std::size_t> choice(pieces, 0);
+  // The scene of the chosen boxes, checked whole; pieces owning failing probes move up.
+  const auto compose = [&]() {
+    std::vector<HapticBox> boxes;
+    std::vector<std::vector<std::uint32_t>> chosen_lists;
+    for (std::size_t p = 0; p < pieces; ++p) {
+      const HapticBox& box = baked[choice[p] / 2].at(p);
+      boxes.push_back(choice[p] % 2 ? box : box.without_refinement());
+      chosen_lists.push_back(lists_at(choice[p] / 2)[p]);
+    }
+    std::shared_ptr<const SceneGrid> grid;
+    if (recipe.options.scene_grid && pieces > 1)
+      grid = std::make_shared<const SceneGrid>(build_scene_grid(mesh, chosen_lists, recipe.options.grid));
+    return BoxScene(std::move(boxes), src, pieces > 1 ? ids : std::vector<std::uint32_t>{}, grid);
+  };
+  // Each variant's failures in the scene (every piece at that variant), probe by probe,
+  // charged to the piece owning the probe: the scene answers a probe with more than the
+  // routed box alone (other boxes, fallbacks), so a box asked alone is no proxy for it.
+  for (std::size_t v = 0; v < variants; ++v) {
+    choice.assign(pieces, v);
+    const BoxScene uniform = compose();
+    std::vector<Contact> answers(tuning.probes.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tuning.probes.size(), 256), [&](const auto& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i) answers[i] = uniform.query(tuning.probes[i], law);
+    });
+    for (std::size_t p = 0; p < pieces; ++p) {
+      const HapticBox& box = uniform.boxes()[p];
+      Counts& n = counts[p][v];
+      n.bytes = double(box.table_bytes() + box.triangle_id_bytes());
+      for (std::size_t i : owned[p]) {
+        const Contact& a = answers[i];
+        const Contact& e = tuning.exact[i];
+        if (a.contact != e.contact) {
+          ++n.disagree;
+          continue;
+        }
+        if (!e.contact) continue;
+        ++n.both;
+        const double f = relative_force_error(e, a);
+        n.over_median += f > br.budget.force_median ? 1 : 0;
+        n.over_p95 += f > br.budget.force_p95 ? 1 : 0;
+        n.over_dir += angle_error_degrees(e, a) > br.budget.direction_p99_deg ? 1 : 0;
+      }
+    }
+    report_progress(0.7 + 0.1 * double(v + 1) / double(variants));
+  }
+  choice.assign(pieces, 0);
+  // The budget as allowances over all owned probes, with a margin for the probes the choice
+  // does not see (the fresh check, the scene's own routing); failures add up over pieces.
+  constexpr double kMargin = 0.8;
+  const auto totals = [&]() {
+    Counts t;
+    for (std::size_t p = 0; p < pieces; ++p) {
+      const Counts& n = counts[p][choice[p]];
+      t.disagree += n.disagree, t.both += n.both, t.over_median += n.over_median;
+      t.over_p95 += n.over_p95, t.over_dir += n.over_dir;
+    }
+    return t;
+  };
+  double owned_probes = 0;
+  for (const auto& o : owned) owned_probes += double(o.size());
+  // Excess over the allowances, each relative to its allowance (0: within the budget).
+  const auto excess = [&](const Counts& t) {
+    const double allow_disagree = kMargin * (1.0 - br.budget.agreement) * owned_probes;
+    const double allow_median = 0.5 * t.both * (br.budget.force_median > 0 ? 1.0 : 0.0);
+    const double allow_p95 = kMargin * 0.05 * t.both, allow_dir = kMargin * 0.01 * t.both;
+    const auto over = [](double count, double allow) { return count > allow ? (count - allow) / std::max(allow, 1.0) : 0.0; };
+    return over(t.disagree, allow_disagree) + over(t.over_median, kMargin * allow_median) + over(t.over_p95, allow_p95) +
+           over(t.over_dir, allow_dir);
+  };
+  // Start from the cheapest uniform variant that is within the allowances (or, when none
+  // is, the one with the least excess), then take each piece, largest first, down to the
+  // cheapest of its variants that keeps the scene within them.
+  const auto piece_bytes = [&](std::size_t p, std::size_t v) { return counts[p][v].bytes; };
+  {
+    std::size_t start = variants;
+    double start_bytes = 0, least = 0;
+    std::size_t least_v = variants - 1;
+    for (std::size_t v = 0; v < variants; ++v) {
+      choice.assign(pieces, v);
+      const double e = excess(totals());
+      double bytes = 0;
+      for (std::size_t p = 0; p < pieces; ++p) bytes += piece_bytes(p, v);
+      if (e <= 0.0 && (start == variants || bytes < start_bytes)) start = v, start_bytes = bytes;
+      if (v == 0 || e < least) least = e, least_v = v;
+    }
+    choice.assign(pieces, start < variants ? start : least_v);
+  }
+  std::vector<std::size_t> by_size(pieces);
+  for (std::size_t p = 0; p < pieces; ++p) by_size[p] = p;
+  std::sort(by_size.begin(), by_size.end(),
+            [&](std::size_t x, std::size_t y) { return piece_bytes(x, choice[x]) > piece_bytes(y, choice[y]); });
+  if (excess(totals()) <= 0.0) {
+    for (std::size_t p : by_size) {
+      // A piece that owns no probe is not measured: it keeps its refinement (its blends
+      // could answer other pieces' probes, uncharged).
+      if (owned[p].empty()) {
+        choice[p] = std::min(choice[p], std::size_t(1));
+        continue;
+      }
+      std::vector<std::size_t> cheaper;
+      for (std::size_t v = 0; v < variants; ++v)
+        if (piece_bytes(p, v) < piece_bytes(p, choice[p])) cheaper.push_back(v);
+      std::sort(cheaper.begin(), cheaper.end(), [&](std::size_t x, std::size_t y) { return piece_bytes(p, x) < piece_bytes(p, y); });
+      const std::size_t keep = choice[p];
+      for (std::size_t v : cheaper) {
+        choice[p] = v;
+        if (excess(totals()) <= 0.0) break;
+        choice[p] = keep;
+      }
+    }
+  }
+  // Still beyond the allowances (no uniform variant met them): the move that removes the
+  // most excess per byte added, until within them or no move helps.
+  for (std::size_t step = 0; step < pieces * variants; ++step) {
+    const Counts t = totals();
+    const double now = excess(t);
+    if (now <= 0.0) break;
+    double best_gain = 0.0;
+    std::size_t best_p = pieces, best_v = 0;
+    for (std::size_t p = 0; p < pieces; ++p)
+      for (std::size_t v = choice[p] + 1; v < variants; ++v) {
+        Counts u = t;
+        const Counts &from = counts[p][choice[p]], &to = counts[p][v];
+        u.disagree += to.disagree - from.disagree, u.both += to.both - from.both;
+        u.over_median += to.over_median - from.over_median, u.over_p95 += to.over_p95 - from.over_p95;
+        u.over_dir += to.over_dir - from.over_dir;
+        const double gain = (now - excess(u)) / std::max(1.0, to.bytes - from.bytes);
+        if (gain > best_gain) best_gain = gain, best_p = p, best_v = v;
+      }
+    if (best_p == pieces) break;  // no move helps: the finest variants are the best there is
+    choice[best_p] = best_v;
+  }
+  report_progress(0.8);
+
+  BoxScene scene = compose();
+  std::vector<std::uint32_t> owner(tuning.probes.size(), UINT32_MAX);
+  for (std::size_t p = 0; p < pieces; ++p)
+    for (std::size_t i : owned[p]) owner[i] = std::uint32_t(p);
+  ComparisonStats tuned;
+  for (std::size_t round = 0;; ++round) {
+    std::vector<ProbeRecord> records(tuning.probes.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tuning.probes.size(), 256), [&](const auto& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i)
+        records[i] = {tuning.probes[i], tuning.exact[i], scene.query(tuning.probes[i], law)};
+    });
+    tuned = summarize(records, diagonal);
+    if (meets_budget(tuned, br.budget) || round >= variants) break;
+    std::vector<bool> upgrade(pieces, false);
+    for (std::size_t i = 0; i < records.size(); ++i)
+      if (owner[i] != UINT32_MAX && probe_fails(records[i].exact, records[i].approx, br.budget)) upgrade[owner[i]] = true;
+    bool moved = false;
+    for (std::size_t p = 0; p < pieces; ++p)
+      if (upgrade[p] && choice[p] + (choice[p] % 2 ? 2 : 1) < variants) {
+        // Up to the next refined variant (a refined piece never drops its refinement).
+        choice[p] += choice[p] % 2 ? 2 : 1;
+        bake_pieces(choice[p] / 2, {p});
+        moved = true;
+      }
+    if (!moved) break;
+    scene = compose();
+  }
+  report_progress(0.9);
+
+  // Fresh probes: what the scene achieves on probes the choice never saw.
+  ProbeOptions fresh;
+  fresh.seed = br.check_seed;
+  const std::vector<Segment> check = sample_probes(mesh, br.probes, fresh);
+  const ComparisonStats checked = compare_queries(scene, exact, check, law, diagonal);
+  BudgetReport rep;
+  rep.present = true;
+  rep.budget = br.budget;
+  rep.met = meets_budget(checked, br.budget);
+  rep.probes = check.size();
+  rep.seed = br.check_seed;
+  rep.agreement = checked.contact_agreement;
+  rep.force_median = checked.force_error_median;
+  rep.force_p95 = checked.force_error_p95;
+  rep.direction_p99_deg = checked.angle_error_p99_deg;
+  rep.tuning_probes = tuning.probes.size();
+  rep.tuning_seed = br.tuning_seed;
+  rep.tuning_agreement = tuned.contact_agreement;
+  rep.tuning_force_median = tuned.force_error_median;
+  rep.tuning_force_p95 = tuned.force_error_p95;
+  rep.tuning_direction_p99_deg = tuned.angle_error_p99_deg;
+  rep.candidates_tried = tried;
+  for (std::size_t p = 0; p < pieces; ++p)
+    rep.pieces.push_back({br.samplings[choice[p] / 2].cell, br.samplings[choice[p] / 2].n, choice[p] % 2 == 1,
+                          std::uint32_t(owned[p].size())});
+  rep.seconds = seconds_since(t0);
+  scene.set_budget_report(rep);
+  result.scene = std::move(scene);
+  result.stats.seconds = ray_seconds;
+  result.stats.rays = rays;
+  result.stats.hits = hits;
+  result.stats.rays_per_second = ray_seconds > 0 ? double(rays) / ray_seconds : 0.0;
+  result.stats.ranks = {{0, rays, ray_seconds, 0}};
+  for (const HapticBox& box : result.scene.boxes())
+    result.stats.table_bytes += box.raw_table_bytes() + box.triangle_id_bytes();
+  report_progress(1.0);
+  return result;
+}
+
+} // namespace hb

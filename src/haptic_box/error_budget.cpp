@@ -1,0 +1,164 @@
+#include "haptic_box/error_budget.h"
+#include "errors.h"
+#include "evaluation/comparison.h"
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+namespace hb {
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto a = s.find_first_not_of(" \t"), b = s.find_last_not_of(" \t");
+  return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);
+}
+
+// A finite number in [lo, hi], or throws naming `what`.
+double number(const std::string& text, const std::string& what, double lo, double hi) {
+  const std::string t = trim(text);
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(t.c_str(), &end);
+  if (t.empty() || end != t.c_str() + t.size() || errno != 0 || !std::isfinite(v) || v < lo || v > hi) {
+    std::ostringstream os;
+    os << what << ": '" << text << "' is not a number in [" << lo << ", " << hi << "]";
+    throw InvalidInput(os.str());
+  }
+  return v;
+}
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os.precision(6);
+  os << v;
+  return os.str();
+}
+
+} // namespace
+
+ErrorBudget parse_budget(const std::string& spec) {
+  ErrorBudget b;
+  const std::string all = trim(spec);
+  if (all.empty() || all == "default") return b;
+  std::stringstream ss(all);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos)
+      throw InvalidInput("--budget: '" + item + "' is not key=value (keys: p95, median, dir99, agree)");
+    const std::string key = trim(item.substr(0, eq)), value = item.substr(eq + 1);
+    if (key == "p95")
+      b.force_p95 = number(value, "--budget p95 (percent)", 0.0, 1e4) / 100.0;
+    else if (key == "median")
+      b.force_median = number(value, "--budget median (percent)", 0.0, 1e4) / 100.0;
+    else if (key == "dir99")
+      b.direction_p99_deg = number(value, "--budget dir99 (degrees)", 0.0, 180.0);
+    else if (key == "agree")
+      b.agreement = number(value, "--budget agree (percent)", 0.0, 100.0) / 100.0;
+    else
+      throw InvalidInput("--budget: unknown key '" + key + "' (keys: p95, median, dir99, agree)");
+  }
+  return b;
+}
+
+std::string budget_spec(const ErrorBudget& b) {
+  return "p95=" + fmt(b.force_p95 * 100.0) + ",median=" + fmt(b.force_median * 100.0) +
+         ",dir99=" + fmt(b.direction_p99_deg) + ",agree=" + fmt(b.agreement * 100.0);
+}
+
+bool meets_budget(const ComparisonStats& s, const ErrorBudget& b) { return budget_misses(s, b).empty(); }
+
+std::string budget_misses(const ComparisonStats& s, const ErrorBudget& b) {
+  std::string out;
+  const auto add = [&](bool miss, const std::string& what) {
+    if (!miss) return;
+    if (!out.empty()) out += "; ";
+    out += what;
+  };
+  add(s.contact_agreement < b.agreement,
+      "agreement " + fmt(s.contact_agreement * 100.0) + "% < " + fmt(b.agreement * 100.0) + "%");
+  add(s.force_error_median > b.force_median,
+      "median " + fmt(s.force_error_median * 100.0) + "% > " + fmt(b.force_median * 100.0) + "%");
+  add(s.force_error_p95 > b.force_p95,
+      "p95 " + fmt(s.force_error_p95 * 100.0) + "% > " + fmt(b.force_p95 * 100.0) + "%");
+  add(s.angle_error_p99_deg > b.direction_p99_deg,
+      "dir99 " + fmt(s.angle_error_p99_deg) + " deg > " + fmt(b.direction_p99_deg) + " deg");
+  return out;
+}
+
+std::string BudgetReport::serialize() const {
+  std::ostringstream os;
+  os.precision(9);
+  os << "budget=" << budget_spec(budget) << "\n"
+     << "met=" << (met ? 1 : 0) << "\n"
+     << "probes=" << probes << "\nseed=" << seed << "\n"
+     << "agreement=" << agreement << "\nforce_median=" << force_median << "\nforce_p95=" << force_p95
+     << "\ndirection_p99_deg=" << direction_p99_deg << "\n"
+     << "tuning_probes=" << tuning_probes << "\ntuning_seed=" << tuning_seed << "\n"
+     << "tuning_agreement=" << tuning_agreement << "\ntuning_force_median=" << tuning_force_median
+     << "\ntuning_force_p95=" << tuning_force_p95 << "\ntuning_direction_p99_deg=" << tuning_direction_p99_deg << "\n"
+     << "seconds=" << seconds << "\ncandidates_tried=" << candidates_tried << "\n";
+  for (const PieceChoice& p : pieces)
+    os << "piece=" << p.cell << " " << p.n << " " << (p.refine ? 1 : 0) << " " << p.probes << "\n";
+  return os.str();
+}
+
+BudgetReport BudgetReport::parse(const std::string& text) {
+  BudgetReport r;
+  r.present = true;
+  std::stringstream ss(text);
+  std::string line;
+  const auto count = [](const std::string& v, const std::string& key) {
+    return std::uint64_t(number(v, "budget report " + key, 0.0, 1e15));
+  };
+  while (std::getline(ss, line)) {
+    if (line.empty()) continue;
+    const auto eq = line.find('=');
+    if (eq == std::string::npos) throw InvalidInput("budget report: line '" + line.substr(0, 80) + "' is not key=value");
+    const std::string key = line.substr(0, eq), v = line.substr(eq + 1);
+    if (key == "budget") r.budget = parse_budget(v);
+    else if (key == "met") r.met = count(v, key) != 0;
+    else if (key == "probes") r.probes = count(v, key);
+    else if (key == "seed") r.seed = count(v, key);
+    else if (key == "agreement") r.agreement = number(v, key, 0, 1);
+    else if (key == "force_median") r.force_median = number(v, key, 0, 1e30);
+    else if (key == "force_p95") r.force_p95 = number(v, key, 0, 1e30);
+    else if (key == "direction_p99_deg") r.direction_p99_deg = number(v, key, 0, 180);
+    else if (key == "tuning_probes") r.tuning_probes = count(v, key);
+    else if (key == "tuning_seed") r.tuning_seed = count(v, key);
+    else if (key == "tuning_agreement") r.tuning_agreement = number(v, key, 0, 1);
+    else if (key == "tuning_force_median") r.tuning_force_median = number(v, key, 0, 1e30);
+    else if (key == "tuning_force_p95") r.tuning_force_p95 = number(v, key, 0, 1e30);
+    else if (key == "tuning_direction_p99_deg") r.tuning_direction_p99_deg = number(v, key, 0, 180);
+    else if (key == "seconds") r.seconds = number(v, key, 0, 1e9);
+    else if (key == "candidates_tried") r.candidates_tried = std::uint32_t(number(v, key, 0, 1e6));
+    else if (key == "piece") {
+      std::stringstream ps(v);
+      std::string cell, n, refine, probes, extra;
+      if (!(ps >> cell >> n >> refine >> probes) || (ps >> extra))
+        throw InvalidInput("budget report: piece line '" + v.substr(0, 80) + "' is not 'cell n refine probes'");
+      PieceChoice p;
+      p.cell = float(number(cell, "budget report piece cell", 0, 1));
+      p.n = int(number(n, "budget report piece n", 0, 4096));
+      p.refine = number(refine, "budget report piece refine", 0, 1) != 0;
+      p.probes = std::uint32_t(number(probes, "budget report piece probes", 0, 4e9));
+      r.pieces.push_back(p);
+      if (r.pieces.size() > (1u << 20)) throw InvalidInput("budget report: too many pieces");
+    } else
+      throw InvalidInput("budget report: unknown key '" + key.substr(0, 40) + "'");
+  }
+  return r;
+}
+
+std::string BudgetReport::summary() const {
+  if (!present) return "none (not baked to a budget)";
+  std::ostringstream os;
+  os.precision(4);
+  os << budget_spec(budget) << ": " << (met ? "met" : "MISSED") << " on " << probes << " fresh probes (seed " << seed
+     << "): agreement " << agreement * 100.0 << "%, force error median " << force_median * 100.0 << "% p95 "
+     << force_p95 * 100.0 << "%, direction p99 " << direction_p99_deg << " deg";
+  return os.str();
+}
+
+} // namespace hb

@@ -1,0 +1,67 @@
+#pragma once
+// The error budget a budgeted bake meets (issue 17: "model no more than a scene needs"), and
+// the record of what a bake achieved against it, stored in the box file (version 6).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace hb {
+
+struct ComparisonStats;
+
+/// Accuracy a scene must have against the exact answer (the paper's accuracy measure, on the
+/// default probes of hb::sample_probes). The defaults are what a hand cannot tell apart: the
+/// force-magnitude JND is about 7%.
+struct ErrorBudget {
+  double force_p95 = 0.07;        ///< 95th percentile of the relative force error, fraction.
+  double force_median = 0.02;     ///< median relative force error, fraction.
+  double direction_p99_deg = 10;  ///< 99th percentile of the force direction error, degrees.
+  double agreement = 0.995;       ///< contact agreement, fraction of probes.
+};
+
+/// Parses "p95=7,median=2,dir99=10,agree=99.5" (percent, percent, degrees, percent): any
+/// subset of the keys, in any order, the others at their defaults; "default" or "" is the
+/// default budget. Throws hb::InvalidInput naming the bad key or value.
+ErrorBudget parse_budget(const std::string& spec);
+/// The spec parse_budget reads back (every key).
+std::string budget_spec(const ErrorBudget& budget);
+
+/// Whether `stats` meets `budget` (every figure within it).
+bool meets_budget(const ComparisonStats& stats, const ErrorBudget& budget);
+/// The figures of `stats` that miss `budget`, as "p95 12.3% > 7%" phrases joined by "; "
+/// (empty when it meets it).
+std::string budget_misses(const ComparisonStats& stats, const ErrorBudget& budget);
+
+/// What one piece of a budgeted bake was given.
+struct PieceChoice {
+  float cell = 0.f;         ///< position cell, fraction of the mesh diagonal.
+  int n = 0;                ///< directional points per sub-block face edge.
+  bool refine = false;      ///< triangle ids kept (exact refinement) for this piece.
+  std::uint32_t probes = 0; ///< tuning probes the piece owned (routed to it by the grid).
+};
+
+/// What a budgeted bake chose and achieved, measured against exact Embree on probes of a seed
+/// the choice never saw. Stored in the box file (version 6) and shown by `info`, `--json`
+/// and the report.
+struct BudgetReport {
+  bool present = false;             ///< false: the scene was not baked to a budget.
+  ErrorBudget budget;
+  bool met = false;                 ///< the fresh probes meet the budget.
+  std::uint64_t probes = 0;         ///< fresh probes.
+  std::uint64_t seed = 0;           ///< their seed.
+  double agreement = 0, force_median = 0, force_p95 = 0, direction_p99_deg = 0;
+  std::uint64_t tuning_probes = 0, tuning_seed = 0;
+  double tuning_agreement = 0, tuning_force_median = 0, tuning_force_p95 = 0, tuning_direction_p99_deg = 0;
+  double seconds = 0;               ///< the whole budgeted bake.
+  std::uint32_t candidates_tried = 0;
+  std::vector<PieceChoice> pieces;  ///< one per box, in box order.
+
+  /// "key=value" lines (the file form); parse() reads them back and throws hb::InvalidInput on
+  /// anything else, so a corrupt section cannot load.
+  std::string serialize() const;
+  static BudgetReport parse(const std::string& text);
+  /// One line: "budget p95=7,... met on 20000 fresh probes (seed 102): agreement 99.61%, ...".
+  std::string summary() const;
+};
+
+} // namespace hb

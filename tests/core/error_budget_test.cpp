@@ -1,0 +1,141 @@
+// The error budget: its syntax, the budgeted bake (the cheapest sampling meeting the budget
+// per piece, the report on fresh probes) and the report's file round trip.
+#include "errors.h"
+#include "evaluation/comparison.h"
+#include "evaluation/probe_sampling.h"
+#include "exact/exact_query.h"
+#include "haptic_box/bake_recipe.h"
+#include "haptic_box/box_file.h"
+#include "two_spheres.h"
+#include <gtest/gtest.h>
+#include <filesystem>
+#include <unistd.h>
+
+namespace hb {
+namespace {
+
+TEST(ErrorBudgetTest, SpecParsesAnySubsetAndRoundTrips) {
+  const ErrorBudget d = parse_budget("");
+  EXPECT_DOUBLE_EQ(d.force_p95, 0.07);
+  EXPECT_DOUBLE_EQ(d.force_median, 0.02);
+  EXPECT_DOUBLE_EQ(d.direction_p99_deg, 10.0);
+  EXPECT_DOUBLE_EQ(d.agreement, 0.995);
+  const ErrorBudget b = parse_budget("agree=99, p95=12.5");
+  EXPECT_DOUBLE_EQ(b.agreement, 0.99);
+  EXPECT_DOUBLE_EQ(b.force_p95, 0.125);
+  EXPECT_DOUBLE_EQ(b.force_median, 0.02);
+  const ErrorBudget back = parse_budget(budget_spec(b));
+  EXPECT_DOUBLE_EQ(back.agreement, b.agreement);
+  EXPECT_DOUBLE_EQ(back.force_p95, b.force_p95);
+  EXPECT_DOUBLE_EQ(back.direction_p99_deg, b.direction_p99_deg);
+  EXPECT_THROW(parse_budget("p95"), InvalidInput);
+  EXPECT_THROW(parse_budget("p96=3"), InvalidInput);
+  EXPECT_THROW(parse_budget("agree=101"), InvalidInput);
+  EXPECT_THROW(parse_budget("dir99=nan"), InvalidInput);
+  EXPECT_THROW(parse_budget("median=-1"), InvalidInput);
+}
+
+TEST(ErrorBudgetTest, MissesNameEveryFigureOutsideTheBudget) {
+  ComparisonStats s;
+  s.contact_agreement = 0.999;
+  s.force_error_median = 0.01;
+  s.force_error_p95 = 0.05;
+  s.angle_error_p99_deg = 3;
+  EXPECT_TRUE(meets_budget(s, ErrorBudget{}));
+  s.force_error_p95 = 0.08;
+  s.angle_error_p99_deg = 11;
+  EXPECT_FALSE(meets_budget(s, ErrorBudget{}));
+  const std::string why = budget_misses(s, ErrorBudget{});
+  EXPECT_NE(why.find("p95"), std::string::npos) << why;
+  EXPECT_NE(why.find("dir99"), std::string::npos) << why;
+  EXPECT_EQ(why.find("agreement"), std::string::npos) << why;
+}
+
+TEST(ErrorBudgetTest, ReportRoundTripsAndCorruptTextThrows) {
+  BudgetReport r;
+  r.present = true;
+  r.met = true;
+  r.probes = 2000;
+  r.seed = 102;
+  r.agreement = 0.9971;
+  r.force_p95 = 0.0012;
+  r.pieces = {{0.032f, 6, false, 10}, {0.016f, 8, true, 300}};
+  const BudgetReport back = BudgetReport::parse(r.serialize());
+  EXPECT_TRUE(back.present && back.met);
+  EXPECT_EQ(back.probes, 2000u);
+  EXPECT_DOUBLE_EQ(back.agreement, 0.9971);
+  ASSERT_EQ(back.pieces.size(), 2u);
+  EXPECT_FLOAT_EQ(back.pieces[1].cell, 0.016f);
+  EXPECT_TRUE(back.pieces[1].refine);
+  EXPECT_FALSE(back.pieces[0].refine);
+  EXPECT_THROW(BudgetReport::parse("met=1\nbogus=3\n"), InvalidInput);
+  EXPECT_THROW(BudgetReport::parse("piece=0.1 8\n"), InvalidInput);
+  EXPECT_THROW(BudgetReport::parse("agreement=2\n"), InvalidInput);
+}
+
+// Two spheres in two pieces: the budgeted bake meets the budget, reports it on fresh probes
+// (which eval confirms), picks the cheapest sampling that does, and the file keeps the report.
+TEST(ErrorBudgetTest, BudgetedBakeMeetsTheBudgetOnFreshProbesAndTheFileKeepsIt) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  BakeRecipe recipe = default_recipe();
+  recipe.pieces.kind = PiecesRecipe::Kind::given;
+  recipe.pieces.given = two.piece;
+  recipe.budget.probes = 3000;
+  recipe.budget.samplings = {{0.2f, 4}, {0.1f, 6}};
+  const BakeResult baked = bake(two.mesh, recipe);
+  const BudgetReport& rep = baked.scene.budget_report();
+  ASSERT_TRUE(rep.present);
+  EXPECT_TRUE(rep.met) << rep.summary();
+  EXPECT_EQ(rep.probes, 3000u);
+  EXPECT_EQ(rep.seed, recipe.budget.check_seed);
+  ASSERT_EQ(rep.pieces.size(), 2u);
+  ASSERT_EQ(baked.scene.boxes().size(), 2u);
+  for (std::size_t b = 0; b < 2; ++b) {
+    EXPECT_EQ(baked.scene.boxes()[b].params().n, rep.pieces[b].n);
+    EXPECT_EQ(baked.scene.boxes()[b].refines(), rep.pieces[b].refine);
+    EXPECT_GT(rep.pieces[b].probes, 0u);
+  }
+  // The recorded figures are the scene's own on those probes.
+  ProbeOptions po;
+  po.seed = recipe.budget.check_seed;
+  const ExactQuery exact(two.mesh);
+  const ComparisonStats s = compare_queries(baked.scene, exact, sample_probes(two.mesh, 3000, po), ForceLaw{},
+                                            two.mesh.bounds().diagonal());
+  EXPECT_DOUBLE_EQ(s.contact_agreement, rep.agreement);
+  EXPECT_DOUBLE_EQ(s.force_error_p95, rep.force_p95);
+  EXPECT_TRUE(meets_budget(s, recipe.budget.budget));
+
+  const std::string path = "/tmp/hb_budget_test_" + std::to_string(::getpid()) + ".hbox";
+  save_box_file(baked.scene, path);
+  const BoxScene loaded = load_box_file(path, LoadOptions{true});
+  std::filesystem::remove(path);
+  ASSERT_TRUE(loaded.budget_report().present);
+  EXPECT_EQ(loaded.budget_report().serialize(), rep.serialize());
+  ASSERT_TRUE(loaded.grid() != nullptr);
+}
+
+TEST(ErrorBudgetTest, AnUnreachableBudgetIsReportedMissedNotHidden) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  BakeRecipe recipe = default_recipe();
+  recipe.pieces.kind = PiecesRecipe::Kind::given;
+  recipe.pieces.given = two.piece;
+  recipe.budget.probes = 1000;
+  recipe.budget.samplings = {{0.3f, 3}};
+  recipe.budget.budget = parse_budget("p95=0,median=0,dir99=0,agree=100");
+  const BakeResult baked = bake(two.mesh, recipe);
+  EXPECT_TRUE(baked.scene.budget_report().present);
+  EXPECT_FALSE(baked.scene.budget_report().met);
+  EXPECT_NE(baked.scene.budget_report().summary().find("MISSED"), std::string::npos);
+}
+
+TEST(ErrorBudgetTest, BadSamplingsThrow) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  BakeRecipe recipe = default_recipe();
+  recipe.budget.samplings = {{0.f, 6}};
+  EXPECT_THROW(bake(two.mesh, recipe), InvalidInput);
+  recipe.budget.samplings.clear();
+  EXPECT_THROW(bake(two.mesh, recipe), InvalidInput);
+}
+
+} // namespace
+} // namespace hb

@@ -1,0 +1,78 @@
+// Per-probe query state (BoxScene::query with a SceneQueryState): along strokes it answers
+// most ticks from the last contact, with the answers of the stateless query.
+#include "evaluation/probe_sampling.h"
+#include "haptic_box/bake.h"
+#include "two_spheres.h"
+#include <gtest/gtest.h>
+#include <cmath>
+
+namespace hb {
+namespace {
+
+const ForceLaw kLaw{};
+
+void expect_same_answers_along_strokes(const test::TwoSpheres& two, std::size_t& from_state, std::size_t& ticks) {
+  BakeOptions o;
+  o.params = {12, 6};
+  o.refine = true;
+  const BoxScene scene = bake_scene(two.mesh, two.piece, o, SourceInfo{});
+  ASSERT_TRUE(scene.grid() != nullptr);
+  const std::vector<Segment> strokes = sample_strokes(two.mesh, 20, 200, 0.02f);
+  SceneQueryState state;
+  std::size_t differ = 0, contacts = 0;
+  for (std::size_t i = 0; i < strokes.size(); ++i) {
+    if (i % 200 == 0) state = SceneQueryState{};  // a new stroke, a new probe
+    const Contact stateless = scene.query(strokes[i], kLaw);
+    const Contact stateful = scene.query(strokes[i], kLaw, state);
+    ASSERT_EQ(stateful.contact, stateless.contact) << i;
+    if (!stateless.contact) continue;
+    ++contacts;
+    const float scale = std::max(1e-6f, stateless.force.norm());
+    if ((stateful.force - stateless.force).norm() > 1e-4f * scale) ++differ;
+    EXPECT_NEAR(stateful.depth, stateless.depth, 1e-4f * two.mesh.bounds().diagonal()) << i;
+  }
+  EXPECT_GT(contacts, strokes.size() / 2);
+  EXPECT_EQ(differ, 0u);
+  EXPECT_EQ(state.from_state + state.full, 200u);
+  ticks += strokes.size();
+  // The ticks answered from the state, one probe over all strokes.
+  SceneQueryState all;
+  for (const Segment& s : strokes) scene.query(s, kLaw, all);
+  from_state += all.from_state;
+}
+
+TEST(QueryStateTest, StrokesGetTheStatelessAnswersMostlyFromTheLastContact) {
+  std::size_t from_state = 0, ticks = 0;
+  expect_same_answers_along_strokes(test::two_spheres(3.f), from_state, ticks);
+  expect_same_answers_along_strokes(test::two_spheres(1.6f), from_state, ticks);  // overlapping pieces: seams
+  EXPECT_GT(from_state, ticks / 2) << from_state << " of " << ticks;
+}
+
+TEST(QueryStateTest, ScenesWithoutAGridAndUnknownStatesTakeTheFullQuery) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  BakeOptions o;
+  o.params = {10, 4};
+  o.refine = true;
+  const BoxScene one = bake_scene(two.mesh, {}, o, SourceInfo{});  // one box: no grid
+  SceneQueryState state;
+  for (const Segment& s : sample_strokes(two.mesh, 2, 50, 0.02f)) {
+    const Contact a = one.query(s, kLaw), b = one.query(s, kLaw, state);
+    EXPECT_EQ(a.contact, b.contact);
+    EXPECT_EQ(a.force, b.force);
+  }
+  EXPECT_EQ(state.from_state, 0u);
+  EXPECT_EQ(state.full, 100u);
+  // A stale state naming a box or triangle the scene does not have is ignored.
+  const BoxScene two_boxes = bake_scene(two.mesh, two.piece, o, SourceInfo{});
+  SceneQueryState stale;
+  stale.box = 7;
+  stale.triangle = 123456789;
+  const Segment s = sample_probes(two.mesh, 1).front();
+  EXPECT_EQ(two_boxes.query(s, kLaw, stale).contact, two_boxes.query(s, kLaw).contact);
+  stale.box = 0;
+  stale.triangle = 123456789;
+  EXPECT_EQ(two_boxes.query(s, kLaw, stale).contact, two_boxes.query(s, kLaw).contact);
+}
+
+} // namespace
+} // namespace hb
