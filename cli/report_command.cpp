@@ -128,7 +128,6 @@ void add_report_command(CLI::App& app) {
       data.stability = std::make_shared<hb::StabilityReport>(hb::cli::default_stability(
           scene, mesh, std::filesystem::path(mesh_path).filename().string(), 6));
     hb::write_report(request, data, opts->out);
-    const hb::BoxParams own = scene.boxes().front().params();
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::cout << "report " << opts->out << "/report.html (" << hb::count_text(double(mesh.triangle_count()))
               << " triangles, " << hb::densities_text(data) << "; " << (data.pass() ? "within" : "OUTSIDE")

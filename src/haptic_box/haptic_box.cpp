@@ -502,6 +502,21 @@ bool HapticBox::locate(const Fetch& fetch, const Segment& segment, Located<Fetch
   return true;
 }
 
+// The contact of an answer that passed step 6's test: surface point, depth, normal, force
+// (finish() and refined_contact() share it, so both give the same bits).
+static inline void write_contact(float sx, float sy, float sz, float lx, float ly, float lz, float t_enter,
+                                 float d, float t0, float nx, float ny, float nz, const ForceLaw& law,
+                                 Contact& out, float& distance_from_handle) noexcept {
+  const float along = t_enter + t0;  // handle to surface point
+  out.contact = true;
+  out.depth = d - t0;
+  out.point = Vec3(sx + along * lx, sy + along * ly, sz + along * lz);
+  out.normal = Vec3(nx, ny, nz);
+  apply_force_law(out, law);
+  if (law.depth == DepthLaw::normal) out.force *= depth_law_scale(law, lx, ly, lz, out.normal);
+  distance_from_handle = along;
+}
+
 template <class Fetch>
 bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceLaw& law, Contact& out,
                        float& distance_from_handle, Refine refine_hit, bool* refined,
@@ -590,14 +605,7 @@ bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceL
     }
   }
   if (!contact) return false;
-  const float along = t_enter + t0;  // handle to surface point
-  out.contact = true;
-  out.depth = d - t0;
-  out.point = Vec3(sx + along * lx, sy + along * ly, sz + along * lz);
-  out.normal = Vec3(nx, ny, nz);
-  apply_force_law(out, law);
-  if (law.depth == DepthLaw::normal) out.force *= depth_law_scale(law, lx, ly, lz, out.normal);
-  distance_from_handle = along;
+  write_contact(sx, sy, sz, lx, ly, lz, t_enter, d, t0, nx, ny, nz, law, out, distance_from_handle);
   return true;
 }
 
@@ -668,14 +676,7 @@ static bool refined_contact(float sx, float sy, float sz, float lx, float ly, fl
                             float& distance_from_handle) noexcept {
   const float nx = normal.x(), ny = normal.y(), nz = normal.z();
   if (!(t_enter + t0 >= 0.f && t0 <= d && nx * lx + ny * ly + nz * lz < 0.f)) return false;
-  const float along = t_enter + t0;
-  out.contact = true;
-  out.depth = d - t0;
-  out.point = Vec3(sx + along * lx, sy + along * ly, sz + along * lz);
-  out.normal = Vec3(nx, ny, nz);
-  apply_force_law(out, law);
-  if (law.depth == DepthLaw::normal) out.force *= depth_law_scale(law, lx, ly, lz, out.normal);
-  distance_from_handle = along;
+  write_contact(sx, sy, sz, lx, ly, lz, t_enter, d, t0, nx, ny, nz, law, out, distance_from_handle);
   return true;
 }
 

@@ -93,6 +93,13 @@ public:
   static SceneGrid deserialize(const std::uint8_t* data, std::size_t bytes);
 
 private:
+  /// Clips the segment a + s d, s in [0, 1], to the grid: [s0, s1] narrowed to the part
+  /// inside; false when the segment misses the grid.
+  bool clip(const Vec3& a, const Vec3& d, float& s0, float& s1) const noexcept;
+  /// The walk's DDA state at parameter s: the cell holding a + s d, the step per axis, the
+  /// parameter of the next boundary per axis and the parameter per cell.
+  void dda_start(const Vec3& a, const Vec3& d, float s, int i[3], int step[3], float next[3],
+                 float delta[3]) const noexcept;
   Vec3 origin_{Vec3::Zero()};
   float cell_ = 0.f, inv_cell_ = 0.f;
   std::array<int, 3> dims_{{0, 0, 0}};
@@ -109,15 +116,11 @@ private:
 SceneGrid build_scene_grid(const TriangleMesh& mesh, const std::vector<std::vector<std::uint32_t>>& box_triangles,
                            const SceneGridOptions& options = {});
 
-template <class Visit>
-void SceneGrid::walk(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept {
-  if (codes_.empty()) return;
-  const Vec3 d = b - a;
-  float s0 = 0.f, s1 = 1.f;
+inline bool SceneGrid::clip(const Vec3& a, const Vec3& d, float& s0, float& s1) const noexcept {
   for (int k = 0; k < 3; ++k) {
     const float lo = origin_[k], hi = origin_[k] + cell_ * float(dims_[k]);
     if (std::fabs(d[k]) < 1e-30f) {
-      if (!(a[k] >= lo && a[k] <= hi)) return;
+      if (!(a[k] >= lo && a[k] <= hi)) return false;
       continue;
     }
     float u = (lo - a[k]) / d[k], v = (hi - a[k]) / d[k];
@@ -125,10 +128,12 @@ void SceneGrid::walk(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept
     s0 = std::max(s0, u);
     s1 = std::min(s1, v);
   }
-  if (!(s0 <= s1)) return;
-  int i[3], step[3];
-  float next[3], delta[3];
-  const Vec3 p = a + s0 * d;
+  return s0 <= s1;
+}
+
+inline void SceneGrid::dda_start(const Vec3& a, const Vec3& d, float s, int i[3], int step[3], float next[3],
+                                 float delta[3]) const noexcept {
+  const Vec3 p = a + s * d;
   for (int k = 0; k < 3; ++k) {
     const float f = (p[k] - origin_[k]) * inv_cell_;
     i[k] = std::min(std::max(int(std::floor(f)), 0), dims_[k] - 1);
@@ -146,6 +151,17 @@ void SceneGrid::walk(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept
       delta[k] = 0.f;
     }
   }
+}
+
+template <class Visit>
+void SceneGrid::walk(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept {
+  if (codes_.empty()) return;
+  const Vec3 d = b - a;
+  float s0 = 0.f, s1 = 1.f;
+  if (!clip(a, d, s0, s1)) return;
+  int i[3], step[3];
+  float next[3], delta[3];
+  dda_start(a, d, s0, i, step, next, delta);
   float s = s0;
   const int limit = dims_[0] + dims_[1] + dims_[2];
   for (int it = 0; it < limit; ++it) {
@@ -166,18 +182,7 @@ void SceneGrid::walk_surface(const Vec3& a, const Vec3& b, Visit&& visit) const 
   if (codes_.empty()) return;
   const Vec3 d = b - a;
   float s0 = 0.f, s1 = 1.f;
-  for (int k = 0; k < 3; ++k) {
-    const float lo = origin_[k], hi = origin_[k] + cell_ * float(dims_[k]);
-    if (std::fabs(d[k]) < 1e-30f) {
-      if (!(a[k] >= lo && a[k] <= hi)) return;
-      continue;
-    }
-    float u = (lo - a[k]) / d[k], v = (hi - a[k]) / d[k];
-    if (u > v) std::swap(u, v);
-    s0 = std::max(s0, u);
-    s1 = std::min(s1, v);
-  }
-  if (!(s0 <= s1)) return;
+  if (!clip(a, d, s0, s1)) return;
   // A jump of `cells` cells (in every axis at most) along the segment, in parameter s.
   const float max_d = std::max({std::fabs(d.x()), std::fabs(d.y()), std::fabs(d.z())});
   const float s_per_cell = max_d > 0.f ? cell_ / max_d : 2.f;
@@ -185,26 +190,7 @@ void SceneGrid::walk_surface(const Vec3& a, const Vec3& b, Visit&& visit) const 
   float next[3], delta[3];
   // The DDA state at parameter s: the cell holding a + s d and the next boundaries; the same
   // formulas as walk() (whose start this is for s = s0).
-  const auto start_at = [&](float s) {
-    const Vec3 p = a + s * d;
-    for (int k = 0; k < 3; ++k) {
-      const float f = (p[k] - origin_[k]) * inv_cell_;
-      i[k] = std::min(std::max(int(std::floor(f)), 0), dims_[k] - 1);
-      if (d[k] > 1e-30f) {
-        step[k] = 1;
-        next[k] = (origin_[k] + cell_ * float(i[k] + 1) - a[k]) / d[k];
-        delta[k] = cell_ / d[k];
-      } else if (d[k] < -1e-30f) {
-        step[k] = -1;
-        next[k] = (origin_[k] + cell_ * float(i[k]) - a[k]) / d[k];
-        delta[k] = -cell_ / d[k];
-      } else {
-        step[k] = 0;
-        next[k] = 2.f;
-        delta[k] = 0.f;
-      }
-    }
-  };
+  const auto start_at = [&](float s) { dda_start(a, d, s, i, step, next, delta); };
   start_at(s0);
   float s = s0;
   const int limit = dims_[0] + dims_[1] + dims_[2];
