@@ -41,6 +41,6 @@ done
 echo "test.sh: sanitizer build and suites took $((SECONDS - start)) s"
 if [ "$fuzz_seconds" -gt 0 ]; then
   unset ASAN_OPTIONS LSAN_OPTIONS UBSAN_OPTIONS   # scripts/fuzz.sh sets its own
-  HB_FUZZ_JOBS=2 bash scripts/fuzz.sh "$fuzz_seconds"
+  HB_FUZZ_JOBS=2 HB_FUZZ_SEED=${HB_FUZZ_SEED:-1} bash scripts/fuzz.sh "$fuzz_seconds"
 fi
 echo "test.sh: hostile-input stage took $((SECONDS - start)) s"

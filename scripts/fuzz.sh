@@ -5,6 +5,8 @@
 # Inputs that break an invariant, crash, hang (> 10 s) or use more than 1 GB are saved in
 # build-asan/fuzz-artifacts/ and make the script fail. Prints executions per target.
 # HB_FUZZ_JOBS=N runs N targets at once (default 1; ./test.sh runs 2, one a core).
+# HB_FUZZ_SEED=S fixes libFuzzer's random seed (./test.sh uses 1), so a short run from the
+# seed corpus repeats the same mutations: CI checks a known prefix, long runs explore.
 #   scripts/fuzz.sh [SECONDS | --runs N] [TARGET...]     (targets: off obj ply stl box servo_log segments_csv)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,6 +16,11 @@ elif [ -n "${1:-}" ] && [[ "$1" =~ ^[0-9]+$ ]]; then limit=(-max_total_time="$1"
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(off obj ply stl box servo_log segments_csv)
 jobs=${HB_FUZZ_JOBS:-1}
+seed_opt=()
+if [ -n "${HB_FUZZ_SEED:-}" ]; then
+  [[ "$HB_FUZZ_SEED" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz.sh: HB_FUZZ_SEED must be a positive integer, not '$HB_FUZZ_SEED'" >&2; exit 2; }
+  seed_opt=(-seed="$HB_FUZZ_SEED")
+fi
 [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz.sh: HB_FUZZ_JOBS must be a positive integer, not '$jobs'" >&2; exit 2; }
 for t in "${targets[@]}"; do
   case "$t" in off|obj|ply|stl|box|servo_log|segments_csv) ;;
@@ -31,7 +38,7 @@ run_one() {
   local t=$1 work=build-asan/fuzz-corpus/$1 log=build-asan/fuzz-$1.log
   mkdir -p "$work"
   # Each process has its own scratch file (fuzz_support.h names it after the pid).
-  if build-asan/tests/fuzz/fuzz_$t "${limit[@]}" -rss_limit_mb=1024 -malloc_limit_mb=1024 -timeout=10 \
+  if build-asan/tests/fuzz/fuzz_$t "${limit[@]}" "${seed_opt[@]}" -rss_limit_mb=1024 -malloc_limit_mb=1024 -timeout=10 \
        -print_final_stats=1 -artifact_prefix=build-asan/fuzz-artifacts/$t- "$work" tests/fuzz/corpus/$t >"$log" 2>&1; then
     echo ok >build-asan/fuzz-$t.result
   else

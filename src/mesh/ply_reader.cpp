@@ -130,6 +130,14 @@ bool host_is_little_endian() {
   return b == 1;
 }
 
+/// A header name (element or property) that can stand in a message: printable ASCII only
+/// (a NUL in a name would cut the message that quotes it).
+bool printable_name(std::string_view name) {
+  for (const char c : name)
+    if (c < 0x21 || c > 0x7e) return false;
+  return !name.empty();
+}
+
 /// Parses the header; returns the byte offset of the body.
 std::size_t parse_header(const std::string& path, const std::string& text, Encoding& encoding,
                          std::vector<Element>& elements) {
@@ -177,6 +185,7 @@ std::size_t parse_header(const std::string& path, const std::string& text, Encod
       if (count.empty() || count[0] == '+' || count[0] == '-' || !parse_number(count, e.count))
         throw fail(line_no, "element '" + std::string(name.substr(0, 40)) + "': count '" +
                                 std::string(count.substr(0, 40)) + "' is not an unsigned integer below 2^64");
+      if (!printable_name(name)) throw fail(line_no, "element name with a byte that is not printable ASCII");
       e.name = std::string(name);
       e.line = line_no;
       elements.push_back(std::move(e));
@@ -198,6 +207,7 @@ std::size_t parse_header(const std::string& path, const std::string& text, Encod
         throw fail(line_no, "expected 'property TYPE NAME'");
       }
       if (!type_of(type, p.type)) throw fail(line_no, "unknown property type '" + std::string(type.substr(0, 40)) + "'");
+      if (!printable_name(name)) throw fail(line_no, "property name with a byte that is not printable ASCII");
       p.name = std::string(name);
       elements.back().properties.push_back(std::move(p));
       continue;

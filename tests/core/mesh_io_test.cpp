@@ -153,6 +153,15 @@ TEST_F(MeshReadTest, TruncatedPlyIsInvalidInput) {
   expect_read_error<InvalidInput>(write("truncated.ply", ply));
 }
 
+TEST_F(MeshReadTest, PlyNameWithANulByteIsRejectedWithAWholeMessage) {
+  // Found by fuzz_ply: an element name holding NUL bytes reached a message that quoted it,
+  // and the message was cut after the file name.
+  const std::string ply = std::string("ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
+                                      "property float y\nproperty float z\nelement \0\0x 4\n", 118) +
+                          "property list uchar int vertex_indices\nend_header\n";
+  expect_read_error<InvalidInput>(write("nul_name.ply", ply), "not printable ASCII");
+}
+
 TEST_F(MeshReadTest, NoTrianglesIsInvalidInput) {
   expect_read_error<InvalidInput>(write("points.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"), "no (non-degenerate) triangles");
   expect_read_error<InvalidInput>(write("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"), "no (non-degenerate) triangles");
