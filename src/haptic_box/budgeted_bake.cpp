@@ -129,22 +129,22 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   double ray_seconds = 0.0;
   std::uint32_t tried = 0;
   const auto bake_pieces = [&](std::size_t c, const std::vector<std::size_t>& which) {
-    std::vector<std::vector<std::uint32_t>> todo;
-    std::vector<std::size_t> todo_ids;
+    std::vector<std::vector<std::uint32_t>> pending;
+    std::vector<std::size_t> pending_ids;
     for (std::size_t p : which)
       if (!baked[c].count(p)) {
-        todo.push_back(lists_at(c)[p]);
-        todo_ids.push_back(p);
+        pending.push_back(lists_at(c)[p]);
+        pending_ids.push_back(p);
       }
-    if (todo.empty()) return;
+    if (pending.empty()) return;
     ++tried;
     BakeStats stats;
-    BoxScene part = bake_scene_from_lists(mesh, todo, options_for(c), src, &stats);
+    BoxScene part = bake_scene_from_lists(mesh, pending, options_for(c), src, &stats);
     if (recipe.codec.codec != CodecId::none) part = part.compressed(recipe.codec);
     rays += stats.rays;
     hits += stats.hits;
     ray_seconds += stats.seconds;
-    for (std::size_t k = 0; k < todo_ids.size(); ++k) baked[c].emplace(todo_ids[k], part.boxes()[k]);
+    for (std::size_t k = 0; k < pending_ids.size(); ++k) baked[c].emplace(pending_ids[k], part.boxes()[k]);
   };
 
   // Ownership of the tuning probes: the grid of the first sampling's lists.
