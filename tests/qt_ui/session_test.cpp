@@ -1,10 +1,14 @@
-// The logic without widgets: session files, the background job, the servo rate monitor.
+// The logic without widgets: session files, the background job, the model's hash, the jobs'
+// default recipe, the report shared with the command line.
 #include "BackgroundJob.h"
 #include "HapticSession.h"
 #include "SessionFile.h"
 #include "errors.h"
+#include "haptic_box/box_cache.h"
+#include "mesh/file_hash.h"
 #include "ui_test_support.h"
 #include <QFile>
+#include <QFileInfo>
 #include <QProcess>
 #include <nlohmann/json.hpp>
 #include <gtest/gtest.h>
@@ -14,6 +18,7 @@ TEST(SessionFileTest, RoundTripsEveryField) {
   QTemporaryDir dir;
   SessionState s;
   s.meshPath = dir.filePath("model.off");
+  s.bake.advanced = true;
   s.bake.m = 24;
   s.bake.n = 6;
   s.bake.padding = 0.02f;
@@ -28,6 +33,7 @@ TEST(SessionFileTest, RoundTripsEveryField) {
   saveSessionFile(s, dir.filePath("a.hbsession"));
   const SessionState t = loadSessionFile(dir.filePath("a.hbsession"));
   EXPECT_EQ(t.meshPath, s.meshPath);
+  EXPECT_TRUE(t.bake.advanced);
   EXPECT_EQ(t.bake.m, 24);
   EXPECT_EQ(t.bake.n, 6);
   EXPECT_FLOAT_EQ(t.bake.padding, 0.02f);
@@ -110,6 +116,7 @@ TEST(SessionReportTest, WindowAndCommandLineGiveTheSameReport) {
   HapticSession s;
   ASSERT_TRUE(s.openMesh(data.mesh));
   BakeSettings b = s.bakeSettings();
+  b.advanced = true;
   b.m = 8;
   b.n = 4;
   s.setBakeSettings(b);
@@ -147,4 +154,55 @@ TEST(SessionReportTest, WindowAndCommandLineGiveTheSameReport) {
     EXPECT_TRUE(vtk);
   }
   EXPECT_GT(window["sweep"].size(), 2u);  // the default sweep ran in the window too
+}
+
+// The window hashes its input with the command line's hb::hash_model, a DICOM folder
+// included, so a box it bakes is accepted by `hapticbox eval` (which refuses a box baked from
+// another model) and both share cache entries.
+TEST(SessionModelTest, WindowAndCommandLineHashAFolderTheSame) {
+  const QString series = QStringLiteral(HB_DATASETS_DIR "/volumes/dicom/CT5N");
+  const QString debian =
+      QStringLiteral("/usr/lib/python3/dist-packages/pydicom/data/test_files/dicomdirtests/98892001/CT5N");
+  const QString folder = QFileInfo::exists(series) ? series : debian;
+  if (!QFileInfo::exists(folder)) GTEST_SKIP() << "no DICOM series here (python3-pydicom)";
+  hbtest::MeshDir data;  // its own box cache
+  HapticSession s;
+  QString error;
+  ASSERT_TRUE(s.openMesh(folder, &error)) << error.toStdString();
+  EXPECT_EQ(s.meshHash(), hb::hash_model(QFile::encodeName(folder).toStdString()));
+  BakeSettings b = s.bakeSettings();
+  b.advanced = true;
+  b.m = 8;
+  b.n = 4;
+  s.setBakeSettings(b);
+  ASSERT_TRUE(s.startBake(&error)) << error.toStdString();
+  ASSERT_TRUE(hbtest::waitFor([&] { return !s.job()->isRunning(); }, 300));
+  ASSERT_TRUE(s.hasBoxes());
+  EXPECT_EQ(s.boxes()->source().mesh_hash, s.meshHash());
+  const QString box = data.dir.filePath(QStringLiteral("series.hbox"));
+  ASSERT_TRUE(s.saveBoxFile(box));
+  QProcess cli;
+  cli.start(QStringLiteral(HB_CLI_PATH), {QStringLiteral("eval"), box, folder, QStringLiteral("--samples"),
+                                          QStringLiteral("200"), QStringLiteral("--json")});
+  ASSERT_TRUE(cli.waitForFinished(120000));
+  EXPECT_EQ(cli.exitCode(), 0) << cli.readAllStandardError().toStdString();
+}
+
+// By default the window's Bake is `hapticbox bake MESH -o BOX`: hb::default_recipe() (the
+// budgeted bake, automatic pieces, block codec) through hb::bake. The advanced settings
+// bake exactly the sampling given.
+TEST(SessionJobsTest, DefaultBakeIsTheCommandLinesDefaultRecipe) {
+  const BakeSettings defaults;
+  EXPECT_FALSE(defaults.advanced);
+  EXPECT_EQ(hb::recipe_key(defaults.recipe()), hb::recipe_key(hb::default_recipe()));
+  EXPECT_TRUE(defaults.recipe().budget.enabled);
+  BakeSettings advanced;
+  advanced.advanced = true;
+  advanced.m = 12;
+  advanced.n = 6;
+  const hb::BakeRecipe r = advanced.recipe();
+  EXPECT_FALSE(r.budget.enabled);
+  EXPECT_EQ(r.options.params.m, 12);
+  EXPECT_EQ(r.options.params.n, 6);
+  EXPECT_NE(hb::recipe_key(r), hb::recipe_key(hb::default_recipe()));
 }
