@@ -2,16 +2,22 @@
 //  1. startBake runs hb::bake_cached (hb::bake through the shared box cache) on the worker with
 //     the recipe of the bake settings: hb::default_recipe() unless advanced, so the window's
 //     Bake is `hapticbox bake MESH -o BOX`'s.
-//  2. startErrorField, startSweep and startReport run hb::compute_error_field, hb::run_sweep
-//     and the report request of `hapticbox report` (report/report_request.h) against the
-//     model's references.
+//  2. startErrorField runs the pipeline's vtkHapticBoxErrorFieldFilter on the model's surface
+//     and boxes (its output's arrays go to the view); startSweep and startReport run
+//     hb::run_sweep and the report request of `hapticbox report` (report/report_request.h)
+//     against the model's references.
 //  3. When the job ends, its result is installed into the model on the GUI thread.
 #include "SessionJobs.h"
 #include "BackgroundJob.h"
 #include "errors.h"
 #include "report_request.h"
+#include "vtkHapticBoxErrorFieldFilter.h"
 #include "vtkHapticBoxReferenceQueries.h"
+#include "vtkHapticBoxSet.h"
 #include <QFile>
+#include <vtkCallbackCommand.h>
+#include <vtkCommand.h>
+#include <functional>
 #include <optional>
 
 // --- bake settings ---------------------------------------------------------------------
@@ -57,7 +63,7 @@ void SessionJobs::finished(bool ok) {
     if (!pendingCacheWarning_.isEmpty()) emit statusMessage(pendingCacheWarning_);
     emit cacheChanged();
   }
-  if (ok && pendingField_) model_->setErrorField(std::move(pendingField_));
+  if (ok && pendingField_) model_->setErrorField(std::move(pendingField_), pendingFieldSurface_);
   if (ok && pendingRowsReady_) {
     sweepRows_ = std::move(pendingRows_);
     compression_ = std::move(pendingCompression_);
@@ -66,6 +72,7 @@ void SessionJobs::finished(bool ok) {
   pendingRowsReady_ = false;
   pendingBoxes_.reset();
   pendingField_.reset();
+  pendingFieldSurface_ = nullptr;
   pendingCacheWarning_.clear();
 }
 
@@ -147,20 +154,42 @@ bool SessionJobs::startErrorField(int probesPerPoint, QString* error) {
     return false;
   }
   if (busy(error)) return false;
-  auto mesh = model_->sharedMesh();
-  auto boxes = model_->sharedBoxes();
-  const SessionModel::References refsFuture = model_->references();
-  const float diagonal = model_->diagonal();
+  // The pipeline's error-field filter (a thin adapter over hb::compute_error_field) on the
+  // model's surface (a shallow copy: the view keeps drawing the original) and boxes; the
+  // view's arrays are its output's.
+  auto surface = vtkSmartPointer<vtkPolyData>::New();
+  surface->ShallowCopy(model_->surface());
+  auto boxes = vtkSmartPointer<vtkHapticBoxSet>::New();
+  boxes->SetScene(model_->sharedBoxes());
   const hb::ForceLaw law = model_->law();
-  return job_->start(tr("Error field"), [this, mesh, boxes, refsFuture, diagonal, law, probesPerPoint](const auto& progress) {
-    const std::shared_ptr<const vtkHapticBoxReferenceQueries> refs = refsFuture.get();
-    const hb::ExactQuery* exact = &refs->Exact();
-    hb::ErrorFieldOptions o;
-    o.probes_per_point = probesPerPoint;
-    o.law = law;
-    o.progress = progress;
-    pendingField_ = std::make_unique<hb::ErrorField>(
-        hb::compute_error_field(*boxes, *exact, hb::surface_points_at_vertices(*mesh), diagonal, o));
+  return job_->start(tr("Error field"), [this, surface, boxes, law, probesPerPoint](const auto& progress) {
+    auto filter = vtkSmartPointer<vtkHapticBoxErrorFieldFilter>::New();
+    filter->SetInputData(0, surface);
+    filter->SetBoxSetData(boxes);
+    filter->SetSampleModeToVertices();
+    filter->SetProbesPerPoint(probesPerPoint);
+    filter->SetStiffness(law.stiffness_n_per_m);
+    filter->SetMetresPerUnit(law.metres_per_unit);
+    // The job's progress bar and cancel: a cancel aborts the filter at its next progress call.
+    bool cancelled = false;
+    auto onProgress = vtkSmartPointer<vtkCallbackCommand>::New();
+    onProgress->SetCallback([](vtkObject* caller, unsigned long, void* client, void* data) {
+      auto* state = static_cast<std::pair<const std::function<bool(double)>*, bool*>*>(client);
+      if (!(*state->first)(*static_cast<double*>(data))) {
+        *state->second = true;
+        static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
+      }
+    });
+    const std::function<bool(double)> forward = progress;
+    std::pair<const std::function<bool(double)>*, bool*> state{&forward, &cancelled};
+    onProgress->SetClientData(&state);
+    filter->AddObserver(vtkCommand::ProgressEvent, onProgress);
+    filter->AddObserver(vtkCommand::ErrorEvent, vtkSmartPointer<vtkCallbackCommand>::New());  // shown by the window
+    filter->Update();
+    if (cancelled) throw hb::Cancelled("error field cancelled");
+    if (!filter->GetErrorField()) throw hb::Error(filter->GetLastError().empty() ? "error field failed" : filter->GetLastError());
+    pendingFieldSurface_ = filter->GetOutput();
+    pendingField_ = std::make_unique<hb::ErrorField>(*filter->GetErrorField());
   });
 }
 

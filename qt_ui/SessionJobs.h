@@ -95,6 +95,7 @@ private:
   // Results handed from the worker to the GUI thread on finished().
   std::shared_ptr<const hb::BoxScene> pendingBoxes_;
   std::unique_ptr<hb::ErrorField> pendingField_;
+  vtkSmartPointer<vtkPolyData> pendingFieldSurface_;  ///< the error-field filter's output.
   double pendingSeconds_ = 0.0;
   bool pendingFromCache_ = false;
   QString pendingCacheWarning_;

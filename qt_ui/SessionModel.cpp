@@ -5,7 +5,7 @@
 //     and takes the reader's output as the surface the views draw.
 //  2. installBoxes takes the boxes a job baked (or the cache or a file held); the piece ids
 //     and the PBB outlines the views show come from the scene.
-//  3. setErrorField adds the field's arrays to the surface.
+//  3. setErrorField adds the error-field filter's output arrays to the surface.
 #include "SessionModel.h"
 #include "errors.h"
 #include "haptic_box/box_file.h"
@@ -186,13 +186,14 @@ bool SessionModel::saveBoxFile(const QString& path, QString* error) const {
 
 // --- error field -----------------------------------------------------------------------
 
-void SessionModel::setErrorField(std::unique_ptr<hb::ErrorField> field) {
+void SessionModel::setErrorField(std::unique_ptr<hb::ErrorField> field, vtkPolyData* fieldSurface) {
   errorField_ = std::move(field);
   vtkPointData* pd = surface_->GetPointData();
-  pd->AddArray(vtkHapticBoxUtilities::ToScalarArray(errorArrayName(ErrorMetric::RelativeForce), errorField_->force_error));
-  pd->AddArray(vtkHapticBoxUtilities::ToScalarArray(errorArrayName(ErrorMetric::Direction), errorField_->direction_error));
-  pd->AddArray(vtkHapticBoxUtilities::ToScalarArray(errorArrayName(ErrorMetric::ContactDisagreement),
-                                                    errorField_->contact_disagreement));
+  for (ErrorMetric m : {ErrorMetric::RelativeForce, ErrorMetric::Direction, ErrorMetric::ContactDisagreement}) {
+    vtkDataArray* a = fieldSurface ? fieldSurface->GetPointData()->GetArray(errorArrayName(m)) : nullptr;
+    if (a && a->GetNumberOfTuples() == surface_->GetNumberOfPoints()) pd->AddArray(a);
+    else pd->RemoveArray(errorArrayName(m));
+  }
   surface_->Modified();
   emit errorFieldChanged();
 }

@@ -80,8 +80,10 @@ public:
   bool saveBoxFile(const QString& path, QString* error = nullptr) const;
 
   // --- error field ---------------------------------------------------------------------
-  /// Installs a computed field and its arrays on the surface; emits errorFieldChanged.
-  void setErrorField(std::unique_ptr<hb::ErrorField> field);
+  /// Installs a computed field and, on the surface, the arrays errorArrayName() names of
+  /// `fieldSurface` (vtkHapticBoxErrorFieldFilter's output over this surface, same vertices);
+  /// emits errorFieldChanged.
+  void setErrorField(std::unique_ptr<hb::ErrorField> field, vtkPolyData* fieldSurface);
   bool hasErrorField() const { return errorField_ != nullptr; }
   const hb::ErrorField* errorField() const { return errorField_.get(); }
   static const char* errorArrayName(ErrorMetric metric);

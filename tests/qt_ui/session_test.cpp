@@ -4,6 +4,7 @@
 #include "HapticSession.h"
 #include "SessionFile.h"
 #include "errors.h"
+#include "exact/exact_query.h"
 #include "haptic_box/box_cache.h"
 #include "mesh/file_hash.h"
 #include "ui_test_support.h"
@@ -12,6 +13,9 @@
 #include <QProcess>
 #include <nlohmann/json.hpp>
 #include <gtest/gtest.h>
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
+#include <cmath>
 #include <thread>
 
 TEST(SessionFileTest, RoundTripsEveryField) {
@@ -205,4 +209,53 @@ TEST(SessionJobsTest, DefaultBakeIsTheCommandLinesDefaultRecipe) {
   EXPECT_EQ(r.options.params.m, 12);
   EXPECT_EQ(r.options.params.n, 6);
   EXPECT_NE(hb::recipe_key(r), hb::recipe_key(hb::default_recipe()));
+}
+
+// The window's error field runs the pipeline's vtkHapticBoxErrorFieldFilter; the view's
+// arrays are its output's and hold what hb::compute_error_field gives on the same boxes (the
+// numbers the window showed when it called the core itself, to float rounding).
+TEST(SessionJobsTest, ErrorFieldArraysAreTheFiltersAndTheCoresNumbers) {
+  hbtest::MeshDir data;
+  HapticSession s;
+  ASSERT_TRUE(s.openMesh(data.mesh));
+  BakeSettings b = s.bakeSettings();
+  b.advanced = true;
+  b.m = 8;
+  b.n = 4;
+  s.setBakeSettings(b);
+  ASSERT_TRUE(s.startBake());
+  ASSERT_TRUE(hbtest::waitFor([&] { return !s.job()->isRunning(); }, 300));
+  ASSERT_TRUE(s.hasBoxes());
+  QString error;
+  ASSERT_TRUE(s.startErrorField(2, &error)) << error.toStdString();
+  ASSERT_TRUE(hbtest::waitFor([&] { return !s.job()->isRunning(); }, 300));
+  ASSERT_TRUE(s.hasErrorField());
+
+  const hb::ExactQuery exact(s.mesh());
+  hb::ErrorFieldOptions o;
+  o.probes_per_point = 2;
+  const hb::ErrorField core =
+      hb::compute_error_field(*s.boxes(), exact, hb::surface_points_at_vertices(s.mesh()), s.diagonal(), o);
+  ASSERT_EQ(core.size(), s.mesh().vertex_count());
+  const struct {
+    ErrorMetric metric;
+    const std::vector<float>* values;
+    double absolute;  // tolerance besides 1e-4 relative: an angle near 0 (acos) amplifies rounding
+  } arrays[] = {{ErrorMetric::RelativeForce, &core.force_error, 0.0},
+                {ErrorMetric::Direction, &core.direction_error, 0.05},
+                {ErrorMetric::ContactDisagreement, &core.contact_disagreement, 0.0}};
+  for (const auto& a : arrays) {
+    vtkDataArray* shown = s.surface()->GetPointData()->GetArray(HapticSession::errorArrayName(a.metric));
+    ASSERT_NE(shown, nullptr) << HapticSession::errorArrayName(a.metric);
+    ASSERT_EQ(static_cast<std::size_t>(shown->GetNumberOfTuples()), a.values->size());
+    // The filter reads the surface back (unit normals renormalised, a rounding apart), so a
+    // value may differ in its last bits and a grazing probe may rarely flip its contact.
+    std::size_t close = 0;
+    for (std::size_t i = 0; i < a.values->size(); ++i) {
+      const double v = shown->GetTuple1(static_cast<vtkIdType>(i)), w = (*a.values)[i];
+      close += (std::isnan(v) && std::isnan(w)) || std::abs(v - w) <= a.absolute + 1e-4 * (1.0 + std::abs(w)) ? 1 : 0;
+    }
+    EXPECT_GE(static_cast<double>(close), 0.99 * static_cast<double>(a.values->size())) << HapticSession::errorArrayName(a.metric);
+  }
+  EXPECT_EQ(s.errorField()->probes, core.probes);
 }
