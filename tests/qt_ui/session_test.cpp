@@ -259,3 +259,50 @@ TEST(SessionJobsTest, ErrorFieldArraysAreTheFiltersAndTheCoresNumbers) {
   }
   EXPECT_EQ(s.errorField()->probes, core.probes);
 }
+
+namespace {
+
+// `hapticbox ARGS...`: exit code and standard output.
+std::pair<int, QByteArray> runCli(const QStringList& args) {
+  QProcess cli;
+  cli.start(QStringLiteral(HB_CLI_PATH), args);
+  if (!cli.waitForFinished(600000)) return {-1, {}};
+  return {cli.exitCode(), cli.readAllStandardOutput()};
+}
+
+}  // namespace
+
+// The window's Bake at its default settings and `hapticbox bake MESH -o BOX` give the same
+// boxes: the same answers on the same probes (eval --json equal but for the box's name).
+TEST(SessionJobsTest, DefaultBakeGivesTheCommandLinesBoxes) {
+  hbtest::MeshDir data;
+  // A coarse sphere (320 triangles): the default bake tunes on 20,000 probes whatever the size.
+  hb::BumpySphereOptions o;
+  o.radius = 50.f;
+  o.subdivisions = 2;
+  const QString mesh = data.dir.filePath(QStringLiteral("coarse.off"));
+  hb::write_mesh(hb::make_bumpy_sphere(o), QFile::encodeName(mesh).toStdString());
+  HapticSession s;
+  ASSERT_TRUE(s.openMesh(mesh));
+  ASSERT_FALSE(s.bakeSettings().advanced);
+  QString error;
+  ASSERT_TRUE(s.startBake(&error)) << error.toStdString();
+  ASSERT_TRUE(hbtest::waitFor([&] { return !s.job()->isRunning(); }, 600));
+  ASSERT_TRUE(s.hasBoxes());
+  EXPECT_TRUE(s.boxes()->budget_report().present);
+  const QString window = data.dir.filePath(QStringLiteral("window.hbox"));
+  const QString line = data.dir.filePath(QStringLiteral("line.hbox"));
+  ASSERT_TRUE(s.saveBoxFile(window));
+  ASSERT_EQ(runCli({QStringLiteral("bake"), s.meshPath(), QStringLiteral("-o"), line}).first, 0);
+  const auto evalJson = [&](const QString& box) {
+    const auto [code, out] = runCli({QStringLiteral("eval"), box, s.meshPath(), QStringLiteral("--samples"),
+                                     QStringLiteral("2000"), QStringLiteral("--json")});
+    EXPECT_EQ(code, 0);
+    nlohmann::json j = nlohmann::json::parse(out.toStdString(), nullptr, false);
+    if (j.is_object()) j.erase("box");
+    return j;
+  };
+  const nlohmann::json a = evalJson(window), b = evalJson(line);
+  ASSERT_TRUE(a.is_object());
+  EXPECT_EQ(a.dump(1), b.dump(1));
+}
