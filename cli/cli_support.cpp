@@ -230,19 +230,7 @@ TriangleMesh load_mesh(const std::string& path, const ModelArgs& args, MeshReadR
 }
 
 std::uint64_t hash_model(const std::string& path, const ModelArgs& args) {
-  namespace fs = std::filesystem;
-  std::uint64_t h = 0;
-  if (fs::is_directory(path)) {
-    std::vector<std::string> files;
-    for (const auto& e : fs::directory_iterator(path))
-      if (e.is_regular_file()) files.push_back(e.path().string());
-    std::sort(files.begin(), files.end());
-    for (const std::string& f : files) h = h * 1099511628211ull ^ hash_file(f);
-  } else {
-    h = hash_file(path);
-  }
-  if (has_model_args(args)) h ^= std::hash<std::string>{}(args_text(args)) * 0x9E3779B97F4A7C15ull;
-  return h;
+  return hb::hash_model(path, has_model_args(args) ? args_text(args) : std::string());
 }
 
 nlohmann::json budget_json(const BudgetReport& r) {

@@ -117,9 +117,8 @@ TriangleMesh load_mesh(const std::string& path, const ModelArgs& args = {}, Mesh
 /// Reads a mesh with the default model options.
 TriangleMesh load_mesh(const std::string& path, MeshReadReport* report);
 
-/// The hash a box file records for its source: the file's bytes (a directory's files, in name
-/// order, for a DICOM series), mixed with the options that shaped the surface for volumes and
-/// CAD (so a box baked at another iso-value is noticed).
+/// hb::hash_model (mesh/file_hash.h) of `path` with the loader options of `args` (their text
+/// when any differs from its default): the hash a box file records for its source.
 std::uint64_t hash_model(const std::string& path, const ModelArgs& args = {});
 
 /// A budgeted bake's report as JSON (null when the scene was not baked to a budget):

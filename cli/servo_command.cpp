@@ -90,7 +90,7 @@ std::unique_ptr<ExactScene> load_exact(const ServoArgs& a, const Scene& box) {
   if (a.box == "plane") throw hb::cli::UsageError("--exact compares a box file with its mesh, not the plane scene");
   auto e = std::make_unique<ExactScene>();
   e->mesh = hb::cli::load_mesh(a.exact);
-  if (box.mesh_hash != 0 && box.mesh_hash != hb::hash_file(a.exact))
+  if (box.mesh_hash != 0 && box.mesh_hash != hb::hash_model(a.exact))
     std::cerr << "hapticbox: warning: " << a.box << " was baked from a different file than " << a.exact << "\n";
   e->query = std::make_unique<hb::ExactQuery>(e->mesh);
   return e;

@@ -111,7 +111,7 @@ void add_stability_command(CLI::App& app) {
     hb::BoxScene scene = hb::load_box_file(o->box);
     const hb::TriangleMesh mesh = hb::cli::load_mesh(o->mesh);
     hb::Communicator& comm = hb::cli::communicator();
-    if (comm.is_root() && scene.source().mesh_hash != 0 && scene.source().mesh_hash != hb::hash_file(o->mesh))
+    if (comm.is_root() && scene.source().mesh_hash != 0 && scene.source().mesh_hash != hb::hash_model(o->mesh))
       std::cerr << "hapticbox: warning: " << o->box << " was baked from a different file than " << o->mesh << "\n";
     scene.set_unconfirmed_blend(o->unconfirmed == "keep" ? hb::UnconfirmedBlend::keep : hb::UnconfirmedBlend::reject);
     hb::StabilityOptions so;

@@ -17,6 +17,11 @@
 #include <QVBoxLayout>
 
 BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent), session_(session) {
+  recipe_ = new QComboBox;
+  recipe_->addItem(tr("Default (error budget, as hapticbox bake)"), false);
+  recipe_->addItem(tr("Advanced (the sampling below)"), true);
+  recipe_->setItemData(0, tr("hb::default_recipe(): automatic pieces, n, cell and refinement chosen per piece to meet "
+                             "the default error budget against exact Embree, block codec"), Qt::ToolTipRole);
   m_ = new QSpinBox;
   m_->setRange(2, 256);
   m_->setToolTip(tr("Position points per PBB face edge (m)"));
@@ -62,6 +67,11 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   cacheRow->addWidget(clearCache_);
   size_ = new QLabel;
   const auto showSize = [this] {
+    if (!recipe_->currentData().toBool()) {
+      size_->setText(tr("chosen per piece by the error budget"));
+      size_->setStyleSheet(QString());
+      return;
+    }
     hb::BoxParams p;
     p.m = m_->value();
     p.n = n_->value();
@@ -77,6 +87,7 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   connect(m_, QOverload<int>::of(&QSpinBox::valueChanged), this, showSize);
   connect(n_, QOverload<int>::of(&QSpinBox::valueChanged), this, showSize);
   connect(refine_, &QCheckBox::toggled, this, showSize);
+  connect(recipe_, QOverload<int>::of(&QComboBox::currentIndexChanged), this, showSize);
 
   bake_ = new QPushButton(tr("Bake"));
   bake_->setDefault(true);
@@ -90,6 +101,7 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   info_->setTextInteractionFlags(Qt::TextSelectableByMouse);
 
   auto* form = new QFormLayout;
+  form->addRow(tr("Recipe"), recipe_);
   form->addRow(tr("Positions m"), m_);
   form->addRow(tr("Directions n"), n_);
   form->addRow(tr("Padding"), padding_);
@@ -116,6 +128,7 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   connect(cancel_, &QPushButton::clicked, this, [this] { session_->job()->cancel(); });
   connect(browse_, &QPushButton::clicked, this, &BakePanel::browsePieces);
   connect(pieces_, QOverload<int>::of(&QComboBox::currentIndexChanged), this, &BakePanel::updateState);
+  connect(recipe_, QOverload<int>::of(&QComboBox::currentIndexChanged), this, &BakePanel::updateState);
   connect(session_->job(), &BackgroundJob::progressChanged, this, [this](double f) {
     if (bakeRunning_) progress_->setValue(static_cast<int>(f * 1000.0));
   });
@@ -137,6 +150,7 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
 
 void BakePanel::showSettings() {
   const BakeSettings& s = session_->bakeSettings();
+  recipe_->setCurrentIndex(recipe_->findData(s.advanced));
   m_->setValue(s.m);
   n_->setValue(s.n);
   padding_->setValue(s.padding);
@@ -150,6 +164,7 @@ void BakePanel::showSettings() {
 
 void BakePanel::applySettings() {
   BakeSettings s = session_->bakeSettings();
+  s.advanced = recipe_->currentData().toBool();
   s.m = m_->value();
   s.n = n_->value();
   s.padding = static_cast<float>(padding_->value());
@@ -196,7 +211,9 @@ void BakePanel::updateState() {
   const bool busy = session_->job()->isRunning();
   bake_->setEnabled(session_->hasMesh() && !busy);
   cancel_->setEnabled(bakeRunning_);
-  const bool file = pieces_->currentData().toInt() == int(BakeSettings::Pieces::File);
+  const bool advanced = recipe_->currentData().toBool();
+  for (QWidget* w : std::initializer_list<QWidget*>{m_, n_, padding_, pieces_, codec_, refine_}) w->setEnabled(advanced);
+  const bool file = advanced && pieces_->currentData().toInt() == int(BakeSettings::Pieces::File);
   piecesFile_->setEnabled(file);
   browse_->setEnabled(file);
   if (!session_->hasBoxes()) {

@@ -1,5 +1,6 @@
 #pragma once
-// The bake panel: densities, pieces, codec, cache; Bake and Cancel with a progress bar.
+// The bake panel: the default recipe (as `hapticbox bake`) or, advanced, densities, pieces and
+// codec; the cache; Bake and Cancel with a progress bar.
 #include <QWidget>
 
 class HapticSession;
@@ -21,6 +22,7 @@ public:
   void applySettings();
   /// Shows the session's settings in the controls.
   void showSettings();
+  QComboBox* recipeBox() const { return recipe_; }
   QPushButton* bakeButton() const { return bake_; }
   QPushButton* cancelButton() const { return cancel_; }
   QProgressBar* progressBar() const { return progress_; }
@@ -37,6 +39,7 @@ private:
   void showCacheUsage();
 
   HapticSession* session_;
+  QComboBox* recipe_;
   QSpinBox* m_;
   QSpinBox* n_;
   QDoubleSpinBox* padding_;

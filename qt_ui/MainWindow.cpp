@@ -93,6 +93,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
   connect(view_, &ProbeView::depthStepped, this, &MainWindow::stepDepth);
   connect(charts_, &ChartsView::configurationChosen, this, [this](int m, int n, const QString& codec) {
     BakeSettings s = session_->bakeSettings();
+    s.advanced = true;  // a sweep point is an explicit sampling
     s.m = m;
     s.n = n;
     s.codec = codec;

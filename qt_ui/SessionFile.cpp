@@ -15,7 +15,8 @@ void saveSessionFile(const SessionState& s, const QString& path) {
   j["format"] = "hapticbox-session";
   j["version"] = 1;
   j["mesh"] = s.meshPath.toStdString();
-  j["bake"] = {{"m", s.bake.m},
+  j["bake"] = {{"recipe", s.bake.advanced ? "advanced" : "default"},
+               {"m", s.bake.m},
                {"n", s.bake.n},
                {"padding", s.bake.padding},
                {"pieces", s.bake.pieces == BakeSettings::Pieces::None   ? "none"
@@ -54,6 +55,8 @@ SessionState loadSessionFile(const QString& path) {
     const QDir base = QFileInfo(path).absoluteDir();
     s.meshPath = QDir::cleanPath(base.absoluteFilePath(QString::fromStdString(j.at("mesh").get<std::string>())));
     const auto& b = j.at("bake");
+    // Session files from before the default recipe name an explicit sampling.
+    s.bake.advanced = b.value("recipe", std::string("advanced")) != "default";
     s.bake.m = b.value("m", 16);
     s.bake.n = b.value("n", 8);
     s.bake.padding = b.value("padding", 0.01f);

@@ -44,6 +44,8 @@ int vtkHapticBoxErrorFieldFilter::FillInputPortInformation(int port, vtkInformat
 
 int vtkHapticBoxErrorFieldFilter::RequestData(vtkInformation*, vtkInformationVector** inputVector,
                                               vtkInformationVector* outputVector) {
+  this->Field.reset();
+  this->LastError.clear();
   try {
     vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
     vtkHapticBoxSet* boxes = vtkHapticBoxSet::GetData(inputVector[1], 0);
@@ -71,7 +73,9 @@ int vtkHapticBoxErrorFieldFilter::RequestData(vtkInformation*, vtkInformationVec
     options.law.metres_per_unit = float(this->MetresPerUnit);
     options.progress = vtkHapticBoxUtilities::MakeProgressCallback(this, 0.05, 0.95);
     options.communicator = this->Communicator;
-    const hb::ErrorField field = hb::compute_error_field(*boxes->GetScene(), exact, points, diagonal, options);
+    this->Field = std::make_unique<hb::ErrorField>(
+        hb::compute_error_field(*boxes->GetScene(), exact, points, diagonal, options));
+    const hb::ErrorField& field = *this->Field;
 
     if (this->SampleMode == EVEN) {
       vtkNew<vtkPoints> pts;
@@ -156,6 +160,8 @@ int vtkHapticBoxErrorFieldFilter::RequestData(vtkInformation*, vtkInformationVec
     this->UpdateProgress(1.0);
     return 1;
   } catch (const std::exception& e) {
+    this->Field.reset();
+    this->LastError = e.what();
     vtkErrorMacro(<< e.what());
     return 0;
   }

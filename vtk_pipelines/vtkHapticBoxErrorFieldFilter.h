@@ -28,9 +28,12 @@
 
 #include <vtkPolyDataAlgorithm.h>
 #include <cstdint>
+#include <memory>
+#include <string>
 
 namespace hb {
 class Communicator;
+struct ErrorField;
 }
 
 class vtkHapticBoxSet;
@@ -102,6 +105,12 @@ public:
   /// ranks output the points alone).
   void SetCommunicator(hb::Communicator* communicator) { this->Communicator = communicator; }
   hb::Communicator* GetCommunicator() const { return this->Communicator; }
+
+  /// The field of the last successful update (its per-point figures are the output's arrays;
+  /// probes and seconds besides), or nullptr. For front ends that show its summary.
+  const hb::ErrorField* GetErrorField() const { return this->Field.get(); }
+  /// Why the last update failed (as vtkErrorMacro reported it, without its prefix), or empty.
+  const std::string& GetLastError() const { return this->LastError; }
   ///@}
 
 protected:
@@ -120,6 +129,8 @@ protected:
   double Stiffness = 500.0;
   double MetresPerUnit = 0.001;
   hb::Communicator* Communicator = nullptr;
+  std::unique_ptr<hb::ErrorField> Field;
+  std::string LastError;
 
 private:
   vtkHapticBoxErrorFieldFilter(const vtkHapticBoxErrorFieldFilter&) = delete;

@@ -23,6 +23,7 @@ bool vtkHapticBoxMeshReader::CanReadFile(const char* fileName) {
 }
 
 int vtkHapticBoxMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector) {
+  this->LastError.clear();
   try {
     vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
     if (!this->FileName || !*this->FileName) throw hb::InvalidInput("no file name set");
@@ -35,6 +36,7 @@ int vtkHapticBoxMeshReader::RequestData(vtkInformation*, vtkInformationVector**,
     this->UpdateProgress(1.0);
     return 1;
   } catch (const std::exception& e) {
+    this->LastError = e.what();
     vtkErrorMacro(<< e.what());
     return 0;
   }

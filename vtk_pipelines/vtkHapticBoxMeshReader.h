@@ -58,6 +58,9 @@ public:
 
   /// True when the extension of `fileName` is one this reader handles.
   static bool CanReadFile(const char* fileName);
+  /// Why the last read failed (the file and the cause, as vtkErrorMacro reported it without
+  /// its prefix), empty after a successful read; for front ends that show it to a user.
+  const std::string& GetLastError() const { return this->LastError; }
 
 protected:
   vtkHapticBoxMeshReader();
@@ -68,6 +71,7 @@ protected:
   bool UseVTKReaders = false;
   hb::vtk::ModelOptions Options;
   hb::vtk::LoadedModel Model;
+  std::string LastError;
 
 private:
   vtkHapticBoxMeshReader(const vtkHapticBoxMeshReader&) = delete;

@@ -321,6 +321,36 @@ TEST_F(MeshReadTest, HashMissingFileIsIoError) {
   EXPECT_THROW(hash_file(dir_.string()), IoError);
 }
 
+// hash_model: what every front end records as a box's source (the window, the CLI, the cache).
+TEST_F(MeshReadTest, HashModelOfAFileIsItsHashAndOptionsChangeIt) {
+  const std::string a = write("a.off", kTetrahedronOff);
+  EXPECT_EQ(hash_model(a), hash_file(a));
+  EXPECT_EQ(hash_model(a, ""), hash_file(a));
+  EXPECT_NE(hash_model(a, "iso=300"), hash_file(a));
+  EXPECT_NE(hash_model(a, "iso=300"), hash_model(a, "iso=301"));
+  EXPECT_EQ(hash_model(a, "iso=300"), hash_model(a, "iso=300"));
+}
+
+TEST_F(MeshReadTest, HashModelOfAFolderFoldsItsFilesInNameOrder) {
+  fs::create_directories(dir_ / "series");
+  const std::string one = write("series/IM0001", "slice one");
+  const std::string two = write("series/IM0002", "slice two");
+  fs::create_directories(dir_ / "series" / "sub");  // sub-folders are not read
+  write("series/sub/IGNORED", "not a slice");
+  const std::uint64_t expected = (0ull * 1099511628211ull ^ hash_file(one)) * 1099511628211ull ^ hash_file(two);
+  const std::string series = path("series");
+  EXPECT_EQ(hash_model(series), expected);
+  // Another folder with the same files in the same order: the same hash (the path is not hashed).
+  fs::create_directories(dir_ / "copy");
+  write("copy/IM0001", "slice one");
+  write("copy/IM0002", "slice two");
+  EXPECT_EQ(hash_model(path("copy")), expected);
+  // A changed slice is seen.
+  write("copy/IM0002", "slice 2");
+  EXPECT_NE(hash_model(path("copy")), expected);
+  EXPECT_THROW(hash_model(path("absent")), IoError);
+}
+
 // --- hostile input found by fuzzing (issue 12) ------------------------------------------
 
 std::string ply_header(const std::string& format, const std::string& vertex_count, const std::string& face_count,

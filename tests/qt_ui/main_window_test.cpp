@@ -33,6 +33,7 @@ namespace {
 
 void setSmallBake(HapticSession& s, int m = 8, int n = 4) {
   BakeSettings b = s.bakeSettings();
+  b.advanced = true;
   b.m = m;
   b.n = n;
   s.setBakeSettings(b);
@@ -190,6 +191,7 @@ TEST(MainWindowTest, CancellingABakeLeavesNoBoxes) {
   w.setBakeOnOpen(false);
   ASSERT_TRUE(w.openFile(data.mesh));
   BakeSettings b = w.session()->bakeSettings();
+  b.advanced = true;
   b.m = 32;  // 150 MB of tables: long enough to cancel, small enough for a shared machine
   b.n = 16;
   b.useCache = false;
@@ -331,6 +333,7 @@ TEST(MainWindowTest, APieceFileBakesOneBoxPerPieceAndABadOneIsReported) {
     for (const auto& t : mesh.triangles) f.write(mesh.positions[t[0]].z() > 0.f ? "7\n" : "3\n");
   }
   BakeSettings b = w.session()->bakeSettings();
+  b.advanced = true;
   b.m = 8;
   b.n = 4;
   b.pieces = BakeSettings::Pieces::File;
@@ -384,6 +387,7 @@ TEST(MainWindowTest, AutomaticPiecesAndTheBlockCodecBakeACompressedSceneOfSevera
   w.setBakeOnOpen(false);
   ASSERT_TRUE(w.openFile(mesh));
   BakeSettings b = w.session()->bakeSettings();
+  b.advanced = true;
   b.m = 8;
   b.n = 4;
   b.pieces = BakeSettings::Pieces::Automatic;

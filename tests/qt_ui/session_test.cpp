@@ -1,19 +1,28 @@
-// The logic without widgets: session files, the background job, the servo rate monitor.
+// The logic without widgets: session files, the background job, the model's hash, the jobs'
+// default recipe, the report shared with the command line.
 #include "BackgroundJob.h"
 #include "HapticSession.h"
 #include "SessionFile.h"
 #include "errors.h"
+#include "exact/exact_query.h"
+#include "haptic_box/box_cache.h"
+#include "mesh/file_hash.h"
 #include "ui_test_support.h"
 #include <QFile>
+#include <QFileInfo>
 #include <QProcess>
 #include <nlohmann/json.hpp>
 #include <gtest/gtest.h>
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
+#include <cmath>
 #include <thread>
 
 TEST(SessionFileTest, RoundTripsEveryField) {
   QTemporaryDir dir;
   SessionState s;
   s.meshPath = dir.filePath("model.off");
+  s.bake.advanced = true;
   s.bake.m = 24;
   s.bake.n = 6;
   s.bake.padding = 0.02f;
@@ -28,6 +37,7 @@ TEST(SessionFileTest, RoundTripsEveryField) {
   saveSessionFile(s, dir.filePath("a.hbsession"));
   const SessionState t = loadSessionFile(dir.filePath("a.hbsession"));
   EXPECT_EQ(t.meshPath, s.meshPath);
+  EXPECT_TRUE(t.bake.advanced);
   EXPECT_EQ(t.bake.m, 24);
   EXPECT_EQ(t.bake.n, 6);
   EXPECT_FLOAT_EQ(t.bake.padding, 0.02f);
@@ -110,6 +120,7 @@ TEST(SessionReportTest, WindowAndCommandLineGiveTheSameReport) {
   HapticSession s;
   ASSERT_TRUE(s.openMesh(data.mesh));
   BakeSettings b = s.bakeSettings();
+  b.advanced = true;
   b.m = 8;
   b.n = 4;
   s.setBakeSettings(b);
@@ -147,4 +158,151 @@ TEST(SessionReportTest, WindowAndCommandLineGiveTheSameReport) {
     EXPECT_TRUE(vtk);
   }
   EXPECT_GT(window["sweep"].size(), 2u);  // the default sweep ran in the window too
+}
+
+// The window hashes its input with the command line's hb::hash_model, a DICOM folder
+// included, so a box it bakes is accepted by `hapticbox eval` (which refuses a box baked from
+// another model) and both share cache entries.
+TEST(SessionModelTest, WindowAndCommandLineHashAFolderTheSame) {
+  const QString series = QStringLiteral(HB_DATASETS_DIR "/volumes/dicom/CT5N");
+  const QString debian =
+      QStringLiteral("/usr/lib/python3/dist-packages/pydicom/data/test_files/dicomdirtests/98892001/CT5N");
+  const QString folder = QFileInfo::exists(series) ? series : debian;
+  if (!QFileInfo::exists(folder)) GTEST_SKIP() << "no DICOM series here (python3-pydicom)";
+  hbtest::MeshDir data;  // its own box cache
+  HapticSession s;
+  QString error;
+  ASSERT_TRUE(s.openMesh(folder, &error)) << error.toStdString();
+  EXPECT_EQ(s.meshHash(), hb::hash_model(QFile::encodeName(folder).toStdString()));
+  BakeSettings b = s.bakeSettings();
+  b.advanced = true;
+  b.m = 8;
+  b.n = 4;
+  s.setBakeSettings(b);
+  ASSERT_TRUE(s.startBake(&error)) << error.toStdString();
+  ASSERT_TRUE(hbtest::waitFor([&] { return !s.job()->isRunning(); }, 300));
+  ASSERT_TRUE(s.hasBoxes());
+  EXPECT_EQ(s.boxes()->source().mesh_hash, s.meshHash());
+  const QString box = data.dir.filePath(QStringLiteral("series.hbox"));
+  ASSERT_TRUE(s.saveBoxFile(box));
+  QProcess cli;
+  cli.start(QStringLiteral(HB_CLI_PATH), {QStringLiteral("eval"), box, folder, QStringLiteral("--samples"),
+                                          QStringLiteral("200"), QStringLiteral("--json")});
+  ASSERT_TRUE(cli.waitForFinished(120000));
+  EXPECT_EQ(cli.exitCode(), 0) << cli.readAllStandardError().toStdString();
+}
+
+// By default the window's Bake is `hapticbox bake MESH -o BOX`: hb::default_recipe() (the
+// budgeted bake, automatic pieces, block codec) through hb::bake. The advanced settings
+// bake exactly the sampling given.
+TEST(SessionJobsTest, DefaultBakeIsTheCommandLinesDefaultRecipe) {
+  const BakeSettings defaults;
+  EXPECT_FALSE(defaults.advanced);
+  EXPECT_EQ(hb::recipe_key(defaults.recipe()), hb::recipe_key(hb::default_recipe()));
+  EXPECT_TRUE(defaults.recipe().budget.enabled);
+  BakeSettings advanced;
+  advanced.advanced = true;
+  advanced.m = 12;
+  advanced.n = 6;
+  const hb::BakeRecipe r = advanced.recipe();
+  EXPECT_FALSE(r.budget.enabled);
+  EXPECT_EQ(r.options.params.m, 12);
+  EXPECT_EQ(r.options.params.n, 6);
+  EXPECT_NE(hb::recipe_key(r), hb::recipe_key(hb::default_recipe()));
+}
+
+// The window's error field runs the pipeline's vtkHapticBoxErrorFieldFilter; the view's
+// arrays are its output's and hold what hb::compute_error_field gives on the same boxes (the
+// numbers the window showed when it called the core itself, to float rounding).
+TEST(SessionJobsTest, ErrorFieldArraysAreTheFiltersAndTheCoresNumbers) {
+  hbtest::MeshDir data;
+  HapticSession s;
+  ASSERT_TRUE(s.openMesh(data.mesh));
+  BakeSettings b = s.bakeSettings();
+  b.advanced = true;
+  b.m = 8;
+  b.n = 4;
+  s.setBakeSettings(b);
+  ASSERT_TRUE(s.startBake());
+  ASSERT_TRUE(hbtest::waitFor([&] { return !s.job()->isRunning(); }, 300));
+  ASSERT_TRUE(s.hasBoxes());
+  QString error;
+  ASSERT_TRUE(s.startErrorField(2, &error)) << error.toStdString();
+  ASSERT_TRUE(hbtest::waitFor([&] { return !s.job()->isRunning(); }, 300));
+  ASSERT_TRUE(s.hasErrorField());
+
+  const hb::ExactQuery exact(s.mesh());
+  hb::ErrorFieldOptions o;
+  o.probes_per_point = 2;
+  const hb::ErrorField core =
+      hb::compute_error_field(*s.boxes(), exact, hb::surface_points_at_vertices(s.mesh()), s.diagonal(), o);
+  ASSERT_EQ(core.size(), s.mesh().vertex_count());
+  const struct {
+    ErrorMetric metric;
+    const std::vector<float>* values;
+    double absolute;  // tolerance besides 1e-4 relative: an angle near 0 (acos) amplifies rounding
+  } arrays[] = {{ErrorMetric::RelativeForce, &core.force_error, 0.0},
+                {ErrorMetric::Direction, &core.direction_error, 0.05},
+                {ErrorMetric::ContactDisagreement, &core.contact_disagreement, 0.0}};
+  for (const auto& a : arrays) {
+    vtkDataArray* shown = s.surface()->GetPointData()->GetArray(HapticSession::errorArrayName(a.metric));
+    ASSERT_NE(shown, nullptr) << HapticSession::errorArrayName(a.metric);
+    ASSERT_EQ(static_cast<std::size_t>(shown->GetNumberOfTuples()), a.values->size());
+    // The filter reads the surface back (unit normals renormalised, a rounding apart), so a
+    // value may differ in its last bits and a grazing probe may rarely flip its contact.
+    std::size_t close = 0;
+    for (std::size_t i = 0; i < a.values->size(); ++i) {
+      const double v = shown->GetTuple1(static_cast<vtkIdType>(i)), w = (*a.values)[i];
+      close += (std::isnan(v) && std::isnan(w)) || std::abs(v - w) <= a.absolute + 1e-4 * (1.0 + std::abs(w)) ? 1 : 0;
+    }
+    EXPECT_GE(static_cast<double>(close), 0.99 * static_cast<double>(a.values->size())) << HapticSession::errorArrayName(a.metric);
+  }
+  EXPECT_EQ(s.errorField()->probes, core.probes);
+}
+
+namespace {
+
+// `hapticbox ARGS...`: exit code and standard output.
+std::pair<int, QByteArray> runCli(const QStringList& args) {
+  QProcess cli;
+  cli.start(QStringLiteral(HB_CLI_PATH), args);
+  if (!cli.waitForFinished(600000)) return {-1, {}};
+  return {cli.exitCode(), cli.readAllStandardOutput()};
+}
+
+}  // namespace
+
+// The window's Bake at its default settings and `hapticbox bake MESH -o BOX` give the same
+// boxes: the same answers on the same probes (eval --json equal but for the box's name).
+TEST(SessionJobsTest, DefaultBakeGivesTheCommandLinesBoxes) {
+  hbtest::MeshDir data;
+  // A coarse sphere (320 triangles): the default bake tunes on 20,000 probes whatever the size.
+  hb::BumpySphereOptions o;
+  o.radius = 50.f;
+  o.subdivisions = 2;
+  const QString mesh = data.dir.filePath(QStringLiteral("coarse.off"));
+  hb::write_mesh(hb::make_bumpy_sphere(o), QFile::encodeName(mesh).toStdString());
+  HapticSession s;
+  ASSERT_TRUE(s.openMesh(mesh));
+  ASSERT_FALSE(s.bakeSettings().advanced);
+  QString error;
+  ASSERT_TRUE(s.startBake(&error)) << error.toStdString();
+  ASSERT_TRUE(hbtest::waitFor([&] { return !s.job()->isRunning(); }, 600));
+  ASSERT_TRUE(s.hasBoxes());
+  EXPECT_TRUE(s.boxes()->budget_report().present);
+  const QString window = data.dir.filePath(QStringLiteral("window.hbox"));
+  const QString line = data.dir.filePath(QStringLiteral("line.hbox"));
+  ASSERT_TRUE(s.saveBoxFile(window));
+  ASSERT_EQ(runCli({QStringLiteral("bake"), s.meshPath(), QStringLiteral("-o"), line}).first, 0);
+  const auto evalJson = [&](const QString& box) {
+    const auto [code, out] = runCli({QStringLiteral("eval"), box, s.meshPath(), QStringLiteral("--samples"),
+                                     QStringLiteral("2000"), QStringLiteral("--json")});
+    EXPECT_EQ(code, 0);
+    nlohmann::json j = nlohmann::json::parse(out.toStdString(), nullptr, false);
+    if (j.is_object()) j.erase("box");
+    return j;
+  };
+  const nlohmann::json a = evalJson(window), b = evalJson(line);
+  ASSERT_TRUE(a.is_object());
+  EXPECT_EQ(a.dump(1), b.dump(1));
 }

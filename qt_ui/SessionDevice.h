@@ -1,0 +1,104 @@
+#pragma once
+// The window's device (the "device" third of HapticSession): the device choice (through the
+// device layer's one hb::open_device, as `hapticbox servo`), the servo thread's lifecycle
+// against the model's boxes, its rate (the servo snapshot's own), the emergency stop, and the
+// probe the device moves (direction, depth, tilt, the mouse's target for the virtual device).
+#include "SessionModel.h"
+#include "SessionRunSettings.h"
+#include "device/device_choice.h"
+#include "device/servo_loop.h"
+#include "geometry/segment.h"
+#include <QObject>
+#include <QString>
+#include <memory>
+#include <optional>
+
+enum class DeviceKind { Virtual = 0, Replay = 1, Falcon = 2 };
+
+/// One display frame's worth of probe state (read by the readout and the probe view).
+struct ProbeReading {
+  bool placed = false;            ///< the probe has a position.
+  hb::Segment segment;            ///< handle (start) to tip (end), model units.
+  hb::Contact exact;              ///< the exact Embree answer on `segment`.
+  hb::Contact approx;             ///< the haptic box's answer (from the servo thread when running).
+  bool haveBoxes = false;
+  double exactQueryNs = 0.0;      ///< this frame's exact query, GUI thread.
+  double approxQueryNs = 0.0;     ///< the servo thread's last box query.
+  double relativeError = 0.0;     ///< |F1 - F0| / |F0| when both are in contact.
+  double angleDeg = 0.0;          ///< angle between the normals when both are in contact.
+  bool deviceRunning = false;
+  QString deviceName;
+  double rateHz = 0.0;            ///< measured over the last window (~0.5 s).
+  double p99PeriodUs = 0.0;
+};
+
+class SessionDevice : public QObject {
+  Q_OBJECT
+public:
+  /// Follows `model`: a new mesh stops the servo thread and refits the workspace, new boxes
+  /// restart it. `model` outlives this object.
+  explicit SessionDevice(SessionModel* model, QObject* parent = nullptr);
+  ~SessionDevice() override;  ///< stops the servo thread.
+
+  // --- probe ---------------------------------------------------------------------------
+  /// Places the tip `depth` past `surfacePoint` along the probe direction (mouse drag).
+  void setProbeTarget(const hb::Vec3& surfacePoint);
+  /// Handle -> tip direction (unit). Restarts the servo thread when it changes.
+  void setProbeDirection(const hb::Vec3& direction);
+  hb::Vec3 probeDirection() const { return probeDirection_; }
+  /// Aims the probe along the view direction `view`, tilted by tiltDegrees() about `right`.
+  void aimProbe(const hb::Vec3& view, const hb::Vec3& right);
+  /// Tilt of the probe away from the view direction, degrees; tilt() steps it by 15 (0..60).
+  double tiltDegrees() const { return tiltDegrees_; }
+  void setTiltDegrees(double d) { tiltDegrees_ = d; }
+  void tilt() { tiltDegrees_ = tiltDegrees_ >= 60.0 ? 0.0 : tiltDegrees_ + 15.0; }
+  /// Arrow length per newton, model units, so that the force at 1 % depth is 8 % of the diagonal.
+  double forceDisplayScale() const;
+  /// Push depth past the picked point, fraction of the diagonal; clamped to [-0.05, 0.1].
+  void setDepthFraction(double f);
+  double depthFraction() const { return depthFraction_; }
+  float probeLength() const { return mapping_.probe_length; }
+  std::optional<hb::Vec3> surfacePoint() const { return picked_; }
+  /// The state to show now (GUI thread, display rate; lock-free read of the servo snapshot).
+  ProbeReading reading();
+
+  // --- device --------------------------------------------------------------------------
+  /// Chooses the device. Falcon without hardware: false, `message` says so, and the
+  /// virtual device is used instead. The servo thread runs while there are boxes.
+  /// `falconFirmware`: a firmware file for the Falcon (empty: the device's own), as
+  /// `hapticbox servo --firmware`; a hotplug monitor reports plugging in the status bar.
+  bool setDevice(DeviceKind kind, const QString& replayPath = {}, QString* message = nullptr,
+                 const QString& falconFirmware = {});
+  DeviceKind deviceKind() const { return deviceKind_; }
+  bool servoRunning() const;
+  /// Emergency stop (hb::ServoLoop::emergency_stop): the device's force drops to zero on the
+  /// next tick and stays zero until released; the latch survives servo restarts (a new probe,
+  /// new boxes, another device).
+  void setEmergencyStop(bool on);
+  bool emergencyStopped() const { return estop_; }
+
+signals:
+  void deviceChanged(const QString& description);
+  void statusMessage(const QString& message);
+
+private:
+  void meshChanged();
+  void boxesChanged();
+  void startServo();
+  void stopServo();
+
+  SessionModel* model_;
+  hb::WorkspaceMapping mapping_;
+  hb::Vec3 probeDirection_{0.f, 0.f, -1.f};
+  double depthFraction_ = 0.01;
+  double tiltDegrees_ = 0.0;
+  std::optional<hb::Vec3> picked_;
+
+  DeviceKind deviceKind_ = DeviceKind::Virtual;
+  hb::OpenedDevice opened_;   ///< the device (hb::open_device) and its hotplug monitor.
+  QString deviceName_;
+  /// The boxes the servo thread runs against (kept alive while it runs, whatever the model holds).
+  std::shared_ptr<const hb::BoxScene> servoBoxes_;
+  std::unique_ptr<hb::ServoLoop> loop_;
+  bool estop_ = false;
+};

@@ -1,0 +1,217 @@
+// SessionModel: the window's model.
+//  1. openMesh runs the pipeline's reader (vtkHapticBoxMeshReader: every format, volumes, CAD
+//     and scenes through hb::vtk::load_model, as the command line), hashes the input with
+//     hb::hash_model, starts the references (exact Embree, VTK locator) on their own thread,
+//     and takes the reader's output as the surface the views draw.
+//  2. installBoxes takes the boxes a job baked (or the cache or a file held); the piece ids
+//     and the PBB outlines the views show come from the scene.
+//  3. setErrorField adds the error-field filter's output arrays to the surface.
+#include "SessionModel.h"
+#include "errors.h"
+#include "haptic_box/box_file.h"
+#include "mesh/file_hash.h"
+#include "vtkHapticBoxMeshReader.h"
+#include "vtkHapticBoxReferenceQueries.h"
+#include "vtkHapticBoxUtilities.h"
+#include <QFile>
+#include <QFileInfo>
+#include <vtkCallbackCommand.h>
+#include <vtkCellData.h>
+#include <vtkCommand.h>
+#include <vtkFloatArray.h>
+#include <vtkIntArray.h>
+#include <vtkPointData.h>
+#include <chrono>
+
+namespace {
+
+// The references over `mesh`, keeping the mesh alive as long as they are (they refer to it).
+std::shared_ptr<const vtkHapticBoxReferenceQueries> buildReferences(std::shared_ptr<const hb::TriangleMesh> mesh) {
+  struct Held {
+    std::shared_ptr<const hb::TriangleMesh> mesh;
+    vtkHapticBoxReferenceQueries references;
+    explicit Held(std::shared_ptr<const hb::TriangleMesh> m) : mesh(std::move(m)), references(*mesh) {}
+  };
+  auto held = std::make_shared<const Held>(std::move(mesh));
+  return std::shared_ptr<const vtkHapticBoxReferenceQueries>(held, &held->references);
+}
+
+double msBetween(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+}  // namespace
+
+SessionModel::SessionModel(QObject* parent) : QObject(parent) { outlines_ = vtkSmartPointer<vtkPolyData>::New(); }
+
+SessionModel::~SessionModel() = default;
+
+QString SessionModel::meshFileFilter() {
+  return tr("Meshes (*.off *.obj *.ply *.stl *.om *.vtp *.vtk);;All files (*)");
+}
+
+bool SessionModel::openMesh(const QString& path, QString* error, OpenTiming* timing) {
+  try {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::string p = QFile::encodeName(path).toStdString();
+    auto reader = vtkSmartPointer<vtkHapticBoxMeshReader>::New();
+    // The window shows the reader's error and warnings itself (no console output window).
+    auto quiet = vtkSmartPointer<vtkCallbackCommand>::New();
+    reader->AddObserver(vtkCommand::ErrorEvent, quiet);
+    reader->AddObserver(vtkCommand::WarningEvent, quiet);
+    reader->SetFileName(p.c_str());
+    reader->Update();
+    if (!reader->GetLastError().empty()) throw hb::InvalidInput(reader->GetLastError());
+    vtkPolyData* out = reader->GetOutput();
+    if (!out || out->GetNumberOfCells() == 0) throw hb::InvalidInput(p + ": no triangles could be read");
+    const hb::vtk::LoadedModel& model = reader->GetLoadedModel();
+    auto mesh = std::make_shared<hb::TriangleMesh>(model.mesh);
+    QString modelNote;
+    const nlohmann::json& f = model.facts;
+    if (f.contains("iso")) modelNote = QStringLiteral(", iso-value %1").arg(f["iso"].get<double>());
+    if (f.contains("label")) modelNote = QStringLiteral(", label %1").arg(f["label"].get<long>());
+    if (f.contains("chordal_deviation_mm"))
+      modelNote = QStringLiteral(", chordal deviation %1 mm").arg(f["chordal_deviation_mm"].get<double>());
+    if (!modelNote.isEmpty()) modelNote = QStringLiteral(" (%1%2, mm)").arg(QString::fromStdString(model.format), modelNote);
+    const auto tRead = std::chrono::steady_clock::now();
+    const std::uint64_t hash = hb::hash_model(p);  // as the command line (default loader options)
+    const auto tHash = std::chrono::steady_clock::now();
+    References references = std::async(std::launch::async, [mesh] { return buildReferences(mesh); }).share();
+    const auto tExact = std::chrono::steady_clock::now();
+
+    // Commit: nothing below throws on a valid mesh.
+    boxes_.reset();
+    errorField_.reset();
+    boxPath_.clear();
+    references_ = std::move(references);
+    mesh_ = std::move(mesh);
+    meshHash_ = hash;
+    meshPath_ = QFileInfo(path).absoluteFilePath();
+    diagonal_ = mesh_->bounds().diagonal();
+    warnings_.clear();
+    for (const auto& w : model.report.warnings) warnings_ << QString::fromStdString(w);
+    surface_ = vtkSmartPointer<vtkPolyData>::New();
+    surface_->ShallowCopy(out);
+    updatePieceArray({});
+    outlines_ = vtkSmartPointer<vtkPolyData>::New();
+    const auto tSurface = std::chrono::steady_clock::now();
+    emit meshChanged();
+    if (!modelNote.isEmpty()) emit statusMessage(tr("Opened %1%2").arg(QFileInfo(path).fileName(), modelNote));
+    if (timing) {
+      const auto tView = std::chrono::steady_clock::now();
+      *timing = OpenTiming{msBetween(t0, tRead), msBetween(tRead, tHash), msBetween(tHash, tExact),
+                           msBetween(tExact, tSurface), msBetween(tSurface, tView)};
+    }
+    return true;
+  } catch (const std::exception& e) {
+    if (error) *error = QString::fromStdString(e.what());
+    return false;
+  }
+}
+
+void SessionModel::updatePieceArray(const std::vector<std::uint32_t>& pieces) {
+  auto ids = vtkSmartPointer<vtkIntArray>::New();
+  ids->SetName("PieceId");
+  ids->SetNumberOfTuples(static_cast<vtkIdType>(mesh_->triangle_count()));
+  for (vtkIdType i = 0; i < ids->GetNumberOfTuples(); ++i)
+    ids->SetValue(i, pieces.empty() ? 0 : static_cast<int>(pieces[static_cast<std::size_t>(i)]));
+  surface_->GetCellData()->AddArray(ids);
+  surface_->Modified();
+}
+
+hb::SourceInfo SessionModel::sourceInfo() const {
+  hb::SourceInfo s;
+  s.mesh_path = QFile::encodeName(meshPath_).toStdString();
+  s.mesh_hash = meshHash_;
+  s.triangles = mesh_->triangle_count();
+  s.diagonal = diagonal_;
+  return s;
+}
+
+const hb::ExactQuery* SessionModel::readyExact() const {
+  if (!references_.valid() || references_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return nullptr;
+  try {
+    return &references_.get()->Exact();
+  } catch (const std::exception&) {
+    return nullptr;  // Embree failed: reported when a job needs it
+  }
+}
+
+// --- boxes -----------------------------------------------------------------------------
+
+void SessionModel::installBoxes(std::shared_ptr<const hb::BoxScene> boxes, double seconds, bool fromCache) {
+  boxes_ = std::move(boxes);
+  bakeSeconds_ = seconds;
+  boxesFromCache_ = fromCache;
+  boxPath_.clear();
+  errorField_.reset();
+  vtkPointData* pd = surface_->GetPointData();
+  for (ErrorMetric m : {ErrorMetric::RelativeForce, ErrorMetric::Direction, ErrorMetric::ContactDisagreement})
+    pd->RemoveArray(errorArrayName(m));
+  updatePieceArray(boxes_->piece_of_triangle());
+  outlines_ = vtkHapticBoxUtilities::BoxOutlines(*boxes_);
+  emit boxesChanged();
+  emit errorFieldChanged();
+}
+
+bool SessionModel::openBoxFile(const QString& path, QString* error) {
+  if (!mesh_) {
+    if (error) *error = tr("Open the model the boxes were baked from first");
+    return false;
+  }
+  try {
+    auto scene = std::make_shared<hb::BoxScene>(hb::load_box_file(QFile::encodeName(path).toStdString()));
+    if (scene->source().mesh_hash != 0 && scene->source().mesh_hash != meshHash_)
+      throw hb::InvalidInput(QFile::encodeName(path).toStdString() + ": baked from another mesh (" +
+                             scene->source().mesh_path + ")");
+    installBoxes(std::move(scene), 0.0, true);
+    boxPath_ = QFileInfo(path).absoluteFilePath();
+    return true;
+  } catch (const std::exception& e) {
+    if (error) *error = QString::fromStdString(e.what());
+    return false;
+  }
+}
+
+bool SessionModel::saveBoxFile(const QString& path, QString* error) const {
+  try {
+    if (!boxes_) throw hb::InvalidInput("no boxes: bake first");
+    hb::save_box_file(*boxes_, QFile::encodeName(path).toStdString());
+    return true;
+  } catch (const std::exception& e) {
+    if (error) *error = QString::fromStdString(e.what());
+    return false;
+  }
+}
+
+// --- error field -----------------------------------------------------------------------
+
+void SessionModel::setErrorField(std::unique_ptr<hb::ErrorField> field, vtkPolyData* fieldSurface) {
+  errorField_ = std::move(field);
+  vtkPointData* pd = surface_->GetPointData();
+  for (ErrorMetric m : {ErrorMetric::RelativeForce, ErrorMetric::Direction, ErrorMetric::ContactDisagreement}) {
+    vtkDataArray* a = fieldSurface ? fieldSurface->GetPointData()->GetArray(errorArrayName(m)) : nullptr;
+    if (a && a->GetNumberOfTuples() == surface_->GetNumberOfPoints()) pd->AddArray(a);
+    else pd->RemoveArray(errorArrayName(m));
+  }
+  surface_->Modified();
+  emit errorFieldChanged();
+}
+
+const char* SessionModel::errorArrayName(ErrorMetric metric) {
+  switch (metric) {
+  case ErrorMetric::RelativeForce: return "RelativeForceError";
+  case ErrorMetric::Direction: return "DirectionError";
+  case ErrorMetric::ContactDisagreement: return "ContactDisagreement";
+  }
+  return "RelativeForceError";
+}
+
+QString SessionModel::errorMetricTitle(ErrorMetric metric) {
+  switch (metric) {
+  case ErrorMetric::RelativeForce: return tr("Relative force error");
+  case ErrorMetric::Direction: return tr("Direction error (deg)");
+  case ErrorMetric::ContactDisagreement: return tr("Contact disagreement");
+  }
+  return {};
+}

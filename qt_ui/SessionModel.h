@@ -1,0 +1,115 @@
+#pragma once
+// The window's model (the "model" third of HapticSession): the mesh read through the
+// pipeline's reader (vtkHapticBoxMeshReader), its hash (hb::hash_model, as the command line),
+// the surface the views draw, the exact and VTK references, the boxes in use and their error
+// field. It runs nothing long and holds no widget: the jobs fill it, the device reads it.
+#include "evaluation/error_field.h"
+#include "exact/exact_query.h"
+#include "haptic_box/box_scene.h"
+#include "haptic_box/contact.h"
+#include "mesh/triangle_mesh.h"
+#include <QObject>
+#include <QString>
+#include <QStringList>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <cstdint>
+#include <future>
+#include <memory>
+#include <vector>
+
+class vtkHapticBoxReferenceQueries;
+
+/// The surface metric the error-field view colours by.
+enum class ErrorMetric { RelativeForce = 0, Direction = 1, ContactDisagreement = 2 };
+
+class SessionModel : public QObject {
+  Q_OBJECT
+public:
+  explicit SessionModel(QObject* parent = nullptr);
+  ~SessionModel() override;
+
+  /// Where opening a model spent its time, ms (hapticbox-gui --timing).
+  struct OpenTiming {
+    double readMs = 0, hashMs = 0, exactMs = 0, surfaceMs = 0, viewMs = 0;
+  };
+  /// Reads a model (any format vtkHapticBoxMeshReader takes, at its default options: the
+  /// same surface and hash as the command line), starts building the references and emits
+  /// meshChanged. On failure the previous model stays and `error` names the file and the cause.
+  bool openMesh(const QString& path, QString* error = nullptr, OpenTiming* timing = nullptr);
+  bool hasMesh() const { return mesh_ != nullptr; }
+  QString meshPath() const { return meshPath_; }
+  const hb::TriangleMesh& mesh() const { return *mesh_; }
+  std::shared_ptr<const hb::TriangleMesh> sharedMesh() const { return mesh_; }
+  /// hb::hash_model of the file (or DICOM folder) opened: what box files and the cache record.
+  std::uint64_t meshHash() const { return meshHash_; }
+  float diagonal() const { return diagonal_; }
+  QStringList meshWarnings() const { return warnings_; }
+  /// The source a bake records (path, hash, triangles, diagonal).
+  hb::SourceInfo sourceInfo() const;
+  /// The surface (the reader's output): cell i = triangle i, cell "PieceId", point "Normals"
+  /// and, after an error field, the point arrays named by errorArrayName().
+  vtkPolyData* surface() const { return surface_; }
+  /// PBB outlines of the current boxes (12 lines per box, cell "BoxId"); empty when none.
+  vtkPolyData* outlines() const { return outlines_; }
+  /// File filter of every format the reader takes.
+  static QString meshFileFilter();
+  /// The force law of the session (probe, servo, error field, report, sweep).
+  const hb::ForceLaw& law() const { return law_; }
+
+  /// The reference methods over the mesh (exact Embree, VTK's cell locator, with their memory
+  /// and build times, as the command line measures them), built beside the window's own setup.
+  using References = std::shared_future<std::shared_ptr<const vtkHapticBoxReferenceQueries>>;
+  References references() const { return references_; }
+  /// The exact query when it is built, else nullptr (never blocks).
+  const hb::ExactQuery* readyExact() const;
+
+  // --- boxes ---------------------------------------------------------------------------
+  /// Installs boxes baked or loaded for the mesh; drops the error field; emits boxesChanged
+  /// and errorFieldChanged.
+  void installBoxes(std::shared_ptr<const hb::BoxScene> boxes, double seconds, bool fromCache);
+  bool hasBoxes() const { return boxes_ != nullptr; }
+  const hb::BoxScene* boxes() const { return boxes_.get(); }
+  std::shared_ptr<const hb::BoxScene> sharedBoxes() const { return boxes_; }
+  double bakeSeconds() const { return bakeSeconds_; }
+  bool boxesFromCache() const { return boxesFromCache_; }
+  /// The box file the boxes were opened from (empty: baked or cached).
+  QString boxPath() const { return boxPath_; }
+  /// Installs a loaded .hbox file (checked against the mesh hash when it records one).
+  bool openBoxFile(const QString& path, QString* error = nullptr);
+  bool saveBoxFile(const QString& path, QString* error = nullptr) const;
+
+  // --- error field ---------------------------------------------------------------------
+  /// Installs a computed field and, on the surface, the arrays errorArrayName() names of
+  /// `fieldSurface` (vtkHapticBoxErrorFieldFilter's output over this surface, same vertices);
+  /// emits errorFieldChanged.
+  void setErrorField(std::unique_ptr<hb::ErrorField> field, vtkPolyData* fieldSurface);
+  bool hasErrorField() const { return errorField_ != nullptr; }
+  const hb::ErrorField* errorField() const { return errorField_.get(); }
+  static const char* errorArrayName(ErrorMetric metric);
+  static QString errorMetricTitle(ErrorMetric metric);
+
+signals:
+  void meshChanged();
+  void boxesChanged();
+  void errorFieldChanged();
+  void statusMessage(const QString& message);
+
+private:
+  void updatePieceArray(const std::vector<std::uint32_t>& pieces);
+
+  QString meshPath_;
+  QStringList warnings_;
+  std::shared_ptr<hb::TriangleMesh> mesh_;
+  std::uint64_t meshHash_ = 0;
+  float diagonal_ = 0.f;
+  hb::ForceLaw law_;
+  References references_;
+  vtkSmartPointer<vtkPolyData> surface_;
+  vtkSmartPointer<vtkPolyData> outlines_;
+  std::shared_ptr<const hb::BoxScene> boxes_;
+  double bakeSeconds_ = 0.0;
+  bool boxesFromCache_ = false;
+  QString boxPath_;
+  std::unique_ptr<hb::ErrorField> errorField_;
+};
