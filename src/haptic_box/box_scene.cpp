@@ -208,9 +208,15 @@ bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact
       float along = 0.f;
       bool refined = false;
       std::uint32_t triangle = kNoTriangle;
-      if (!boxes_[*b].query_into(segment, law, c, along, Refine::all, &refined, &triangle)) continue;
-      // Unconfirmed blends of refining boxes never answer here (step 6).
-      if (unconfirmed_ == UnconfirmedBlend::reject && boxes_[*b].refines() && !refined) continue;
+      const HapticBox& box = boxes_[*b];
+      if (unconfirmed_ == UnconfirmedBlend::reject && box.refines()) {
+        // Unconfirmed blends of refining boxes never answer here (step 6), so the blend is
+        // not needed: the triangle ids alone answer (step 7).
+        if (!box.query_refined(segment, law, c, along, &triangle)) continue;
+      } else {
+        if (!box.query_into(segment, law, c, along, Refine::all, &refined, &triangle)) continue;
+        if (unconfirmed_ == UnconfirmedBlend::reject && box.refines() && !refined) continue;
+      }
       if (!best.contact || along < best_along) {
         best = c;
         best_along = along;
