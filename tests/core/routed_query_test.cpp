@@ -47,6 +47,40 @@ TEST(RoutedQueryTest, IdsOnlyRefinedQueryEqualsTheConfirmedRefinedQuery) {
   EXPECT_FALSE(c.contact);
 }
 
+TEST(RoutedQueryTest, HandlesInSurfaceCellsShownOutsideAreRoutedWithTheUnroutedAnswers) {
+  const test::TwoSpheres two = test::two_spheres(2.5f);
+  BakeOptions o;
+  o.params = {12, 6};
+  o.refine = true;
+  const BoxScene scene = bake_scene(two.mesh, two.piece, o, SourceInfo{});
+  ASSERT_NE(scene.grid(), nullptr);
+  const BoxScene plain = scene.without_grid();
+  const SceneGrid& grid = *scene.grid();
+  // Handles in surface cells, a little outside and inside the spheres, segments along the
+  // normal's opposite (contacts ahead) and along it (no contact).
+  std::size_t probes = 0, same = 0, routed = 0;
+  for (std::size_t t = 0; t < two.mesh.triangle_count(); t += 3) {
+    const Triangle& tri = two.mesh.triangles[t];
+    const Vec3 &p0 = two.mesh.positions[tri[0]], &p1 = two.mesh.positions[tri[1]], &p2 = two.mesh.positions[tri[2]];
+    const Vec3 c = (p0 + p1 + p2) / 3.f;
+    const Vec3 n = (p1 - p0).cross(p2 - p0).normalized();  // outward on the spheres
+    for (float off : {0.3f, 0.6f, -0.3f}) {
+      const Vec3 handle = c + (off * grid.cell()) * n;
+      if (grid.code_at(handle) < SceneGrid::kFirstSurface) continue;
+      for (float dir : {-1.f, 1.f}) {
+        const Segment s{handle, handle + (dir * 0.1f) * n};
+        const Contact a = scene.query(s, kLaw), b = plain.query(s, kLaw);
+        ++probes;
+        same += a.contact == b.contact ? 1 : 0;
+        routed += scene.box_queries(s, kLaw) < plain.box_queries(s, kLaw) ? 1 : 0;
+      }
+    }
+  }
+  ASSERT_GT(probes, 200u);
+  EXPECT_GE(double(same), 0.99 * double(probes)) << same << " of " << probes;
+  EXPECT_GT(routed, probes / 4) << routed << " of " << probes;
+}
+
 TEST(RoutedQueryTest, BrickedCellWordsGiveTheCodeOfEveryCell) {
   const test::TwoSpheres two = test::two_spheres(3.f);
   std::vector<std::vector<std::uint32_t>> lists(2);
