@@ -26,7 +26,10 @@
 //     unconfirmed blend never answers here, so its samples are not read. A handle in a
 //     surface cell is routed the same way when it is shown outside: a point up to 4 cells
 //     behind it is in an outside cell and no box of the surface cells between them finds an
-//     entering crossing there (handle_outside_behind); otherwise steps 1-4.
+//     entering crossing there (handle_outside_behind); otherwise steps 1-4. When the boxes
+//     the grid named find no contact although the segment crossed surface, the other boxes
+//     the segment meets are asked the same way (the handle is outside: no inside test)
+//     before steps 1-4 decide.
 //  6. Unconfirmed blends (UnconfirmedBlend::reject, the default; here and in the routed path of step 5): when the winner's full
 //     refinement finds no triangle confirming its blended contact, the next blended contact
 //     along the segment is refined in turn, and the first confirmed one wins; none confirmed
@@ -280,7 +283,36 @@ bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact
   // No contact although the segment crossed surface: every box it meets decides (the few
   // probes whose owner box loses the surface at a silhouette, or that only graze it).
   if (asked_count) *asked_count += std::size_t(n_asked);
-  if (overflow || (n_asked > 0 && !best.contact)) return false;
+  if (overflow) return false;
+  if (n_asked > 0 && !best.contact) {
+    // The boxes the grid named lost the surface (a silhouette, a graze). The handle is
+    // outside, so the other boxes the segment meets may answer without an inside test.
+    constexpr std::size_t kChunk = 64;
+    std::uint32_t met[kChunk];
+    for (std::size_t first = 0; first < boxes_.size(); first += kChunk) {
+      const std::size_t count = cull(segment, first, std::min(boxes_.size(), first + kChunk), met);
+      for (std::size_t i = 0; i < count; ++i) {
+        if (std::find(asked, asked + n_asked, met[i]) != asked + n_asked) continue;
+        if (asked_count) ++*asked_count;
+        const HapticBox& box = boxes_[met[i]];
+        float along = 0.f;
+        std::uint32_t triangle = kNoTriangle;
+        bool hit = false;
+        if (box.refines()) {
+          hit = box.query_refined(segment, law, c, along, &triangle);
+        } else {
+          hit = box.query_into(segment, law, c, along, Refine::all, nullptr, &triangle);
+        }
+        if (hit && (!best.contact || along < best_along)) {
+          best = c;
+          best_along = along;
+          best_box = met[i];
+          best_triangle = triangle;
+        }
+      }
+    }
+    if (!best.contact) return false;
+  }
   out = best;
   if (out_box) *out_box = best_box;
   if (out_triangle) *out_triangle = best_triangle;
