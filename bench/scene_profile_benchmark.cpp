@@ -94,6 +94,23 @@ int main(int argc, char** argv) {
     routed += f.first_box.back() != UINT32_MAX;
   }
   std::printf("%zu of %zu probes routed by the grid to a first box\n", routed, f.probes.size());
+  if (f.scene.grid()) {
+    // Where the costly probes (4 or more box queries) start: the handle's cell, and whether
+    // the segment crosses surface cells at all.
+    std::size_t costly = 0, by_code[4] = {0, 0, 0, 0}, no_surface = 0;
+    for (const hb::Segment& s : f.probes) {
+      if (f.scene.box_queries(s, f.law) < 4) continue;
+      ++costly;
+      const std::uint16_t code = f.scene.grid()->code_at(s.start);
+      ++by_code[std::min<std::uint16_t>(code, hb::SceneGrid::kFirstSurface)];
+      bool crossed = false;
+      f.scene.grid()->walk_surface(s.start, s.end, [&](std::uint16_t, float) { return !(crossed = true); });
+      no_surface += crossed ? 0 : 1;
+    }
+    std::printf("%zu probes with 4+ box queries; handle cell outside %zu, inside %zu, unknown %zu, surface %zu; "
+                "crossing no surface cell %zu\n",
+                costly, by_code[0], by_code[1], by_code[2], by_code[3], no_surface);
+  }
   benchmark::RegisterBenchmark("exact", exact_query);
   benchmark::RegisterBenchmark("scene", scene_query);
   if (f.scene.grid()) benchmark::RegisterBenchmark("grid_routing", grid_routing);

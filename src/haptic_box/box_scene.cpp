@@ -21,7 +21,15 @@
 //     so a box that sees it is always asked; boxes whose pieces have no surface near the
 //     segment are not (their contacts could only be blends of surface elsewhere). No inside
 //     test is needed: the handle is outside. More than 8 boxes to ask, or no contact from the
-//     boxes asked although the segment crossed surface, falls back to steps 1-4.
+//     boxes asked although the segment crossed surface, falls back to steps 1-4. A refining
+//     box asked here answers from its triangle ids alone (HapticBox::query_refined): an
+//     unconfirmed blend never answers here, so its samples are not read. A handle in a
+//     surface cell is routed the same way when it is shown outside: a point up to 4 cells
+//     behind it is in an outside cell and no box of the surface cells between them finds an
+//     entering crossing there (handle_outside_behind); otherwise steps 1-4. When the boxes
+//     the grid named find no contact although the segment crossed surface, the other boxes
+//     the segment meets are asked the same way (the handle is outside: no inside test)
+//     before steps 1-4 decide.
 //  6. Unconfirmed blends (UnconfirmedBlend::reject, the default; here and in the routed path of step 5): when the winner's full
 //     refinement finds no triangle confirming its blended contact, the next blended contact
 //     along the segment is refined in turn, and the first confirmed one wins; none confirmed
@@ -119,6 +127,47 @@ bool handle_inside(const HapticBox& box, const Segment& segment, const ForceLaw&
   return far_surface < contact_along;
 }
 
+// A handle in a surface cell lies outside the object when a point a little behind it on the
+// segment's line is in an outside cell and no refining box whose surface the short segment
+// from there to the handle crosses finds an entering crossing on it (the first crossing from
+// outside enters). False (undecided: the caller takes the unrouted path) when no outside cell
+// is within kBehind cells, a listed box does not refine, or a crossing is found.
+bool handle_outside_behind(const SceneGrid& grid, const std::vector<HapticBox>& boxes, const Segment& segment,
+                           const ForceLaw& law, std::size_t* asked_count) noexcept {
+  constexpr int kBehind = 4;
+  constexpr int kMaxAsked = 8;
+  const Vec3 delta = segment.end - segment.start;
+  const float length = delta.norm();
+  if (!(length > 0.f) || !std::isfinite(length)) return false;
+  const Vec3 l = delta / length;
+  Vec3 behind = segment.start;
+  bool found = false;
+  for (int k = 1; k <= kBehind && !found; ++k) {
+    behind = segment.start - (float(k) * grid.cell()) * l;
+    const std::uint16_t code = grid.code_at(behind);
+    if (code == SceneGrid::kOutside) found = true;
+    else if (code < SceneGrid::kFirstSurface) return false;  // inside or unknown behind
+  }
+  if (!found) return false;
+  const Segment back{behind, segment.start};
+  std::uint32_t asked[kMaxAsked];
+  int n_asked = 0;
+  bool outside = true;
+  grid.walk_surface(back.start, back.end, [&](std::uint16_t code, float) {
+    for (const std::uint32_t* b = grid.boxes_begin(code); b != grid.boxes_end(code); ++b) {
+      if (std::find(asked, asked + n_asked, *b) != asked + n_asked) continue;
+      if (n_asked == kMaxAsked || !boxes[*b].refines()) return outside = false;
+      asked[n_asked++] = *b;
+      if (asked_count) ++*asked_count;
+      Contact c;
+      float along = 0.f;
+      if (boxes[*b].query_refined(back, law, c, along)) return outside = false;
+    }
+    return true;
+  });
+  return outside;
+}
+
 } // namespace
 
 bool BoxScene::refines() const noexcept {
@@ -184,7 +233,12 @@ bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact
     out = Contact{};
     return true;
   }
-  if (handle != SceneGrid::kOutside) return false;
+  // A handle in a surface cell is routed too when it is shown to be outside (its cell's
+  // boxes then see the surface around it); otherwise the path without the grid decides.
+  if (handle != SceneGrid::kOutside &&
+      (handle < SceneGrid::kFirstSurface || unconfirmed_ != UnconfirmedBlend::reject ||
+       !handle_outside_behind(grid, boxes_, segment, law, asked_count)))
+    return false;
   const float length = (segment.end - segment.start).norm();
   if (!(length > 0.f) || !std::isfinite(length)) return false;
   constexpr int kMaxAsked = 8;
@@ -208,9 +262,15 @@ bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact
       float along = 0.f;
       bool refined = false;
       std::uint32_t triangle = kNoTriangle;
-      if (!boxes_[*b].query_into(segment, law, c, along, Refine::all, &refined, &triangle)) continue;
-      // Unconfirmed blends of refining boxes never answer here (step 6).
-      if (unconfirmed_ == UnconfirmedBlend::reject && boxes_[*b].refines() && !refined) continue;
+      const HapticBox& box = boxes_[*b];
+      if (unconfirmed_ == UnconfirmedBlend::reject && box.refines()) {
+        // Unconfirmed blends of refining boxes never answer here (step 6), so the blend is
+        // not needed: the triangle ids alone answer (step 7).
+        if (!box.query_refined(segment, law, c, along, &triangle)) continue;
+      } else {
+        if (!box.query_into(segment, law, c, along, Refine::all, &refined, &triangle)) continue;
+        if (unconfirmed_ == UnconfirmedBlend::reject && box.refines() && !refined) continue;
+      }
       if (!best.contact || along < best_along) {
         best = c;
         best_along = along;
@@ -223,7 +283,36 @@ bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact
   // No contact although the segment crossed surface: every box it meets decides (the few
   // probes whose owner box loses the surface at a silhouette, or that only graze it).
   if (asked_count) *asked_count += std::size_t(n_asked);
-  if (overflow || (n_asked > 0 && !best.contact)) return false;
+  if (overflow) return false;
+  if (n_asked > 0 && !best.contact) {
+    // The boxes the grid named lost the surface (a silhouette, a graze). The handle is
+    // outside, so the other boxes the segment meets may answer without an inside test.
+    constexpr std::size_t kChunk = 64;
+    std::uint32_t met[kChunk];
+    for (std::size_t first = 0; first < boxes_.size(); first += kChunk) {
+      const std::size_t count = cull(segment, first, std::min(boxes_.size(), first + kChunk), met);
+      for (std::size_t i = 0; i < count; ++i) {
+        if (std::find(asked, asked + n_asked, met[i]) != asked + n_asked) continue;
+        if (asked_count) ++*asked_count;
+        const HapticBox& box = boxes_[met[i]];
+        float along = 0.f;
+        std::uint32_t triangle = kNoTriangle;
+        bool hit = false;
+        if (box.refines()) {
+          hit = box.query_refined(segment, law, c, along, &triangle);
+        } else {
+          hit = box.query_into(segment, law, c, along, Refine::all, nullptr, &triangle);
+        }
+        if (hit && (!best.contact || along < best_along)) {
+          best = c;
+          best_along = along;
+          best_box = met[i];
+          best_triangle = triangle;
+        }
+      }
+    }
+    if (!best.contact) return false;
+  }
   out = best;
   if (out_box) *out_box = best_box;
   if (out_triangle) *out_triangle = best_triangle;

@@ -695,6 +695,25 @@ bool HapticBox::query_near(const Segment& segment, const ForceLaw& law, std::uin
   return refined_contact(q.sx, q.sy, q.sz, q.lx, q.ly, q.lz, q.t_enter, q.d, t0, normal, law, out, distance_from_handle);
 }
 
+bool HapticBox::query_refined(const Segment& segment, const ForceLaw& law, Contact& out, float& distance_from_handle,
+                              std::uint32_t* triangle) const noexcept {
+  out = Contact{};
+  if (triangle) *triangle = kNoTriangle;
+  if (!surface_) return false;
+  Located<NoFetch> q;  // also prefetches the four quads' triangle ids
+  if (!locate(NoFetch{}, segment, q)) return false;
+  const float p1[3] = {q.sx + q.t_enter * q.lx, q.sy + q.t_enter * q.ly, q.sz + q.t_enter * q.lz};
+  const float l[3] = {q.lx, q.ly, q.lz};
+  float t0 = 0.f;
+  Vec3 normal;
+  std::uint32_t id = kNoTriangle;
+  if (!refine(q.p00, q.a0, q.b0, q.sf, p1, l, -1.f, t0, normal, id)) return false;
+  if (!refined_contact(q.sx, q.sy, q.sz, q.lx, q.ly, q.lz, q.t_enter, q.d, t0, normal, law, out, distance_from_handle))
+    return false;
+  if (triangle) *triangle = id;
+  return true;
+}
+
 Contact HapticBox::query(const Segment& segment, const ForceLaw& law) const noexcept {
   Contact c;
   float along = 0.f;

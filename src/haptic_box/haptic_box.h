@@ -111,6 +111,17 @@ public:
   bool query_near(const Segment& segment, const ForceLaw& law, std::uint32_t triangle, int max_steps, Contact& out,
                   float& distance_from_handle, std::uint32_t* crossed) const noexcept;
 
+  /// The answer of a refining box from its triangle ids alone (no sample is read or
+  /// decoded): the candidates of step 7 at the located cell, the nearest front-face crossing
+  /// among them (or the bounded walk from the one the line passes nearest) with no blended t
+  /// to agree with, then the contact test of step 6. What query_into(..., Refine::all)
+  /// returns when its refinement confirms a contact and the blend is not consulted; a scene
+  /// that never answers with unconfirmed blends (UnconfirmedBlend::reject) routes a probe's
+  /// box query here (box_scene.cpp). False (no contact) when the box does not refine, the
+  /// line misses the box, no sample of the cell hit, or the crossing is no contact.
+  bool query_refined(const Segment& segment, const ForceLaw& law, Contact& out, float& distance_from_handle,
+                     std::uint32_t* triangle = nullptr) const noexcept;
+
   const Obb& obb() const { return obb_; }
   const BoxParams& params() const { return params_; }
   /// The raw records, or nullptr when the table is compressed.

@@ -85,9 +85,9 @@ SceneGrid::SceneGrid(const Vec3& origin, float cell, const std::array<int, 3>& d
 // exact for this metric. Derived from the codes, so files need not store it.
 void SceneGrid::compute_clearance() {
   const int nx = dims_[0], ny = dims_[1], nz = dims_[2];
-  clearance_.assign(codes_.size(), 255);
+  std::vector<std::uint8_t> clear(codes_.size(), 255);
   for (std::size_t c = 0; c < codes_.size(); ++c)
-    if (codes_[c] >= kFirstSurface) clearance_[c] = 0;
+    if (codes_[c] >= kFirstSurface) clear[c] = 0;
   const auto index = [&](int x, int y, int z) {
     return (std::size_t(z) * std::size_t(ny) + std::size_t(y)) * std::size_t(nx) + std::size_t(x);
   };
@@ -96,7 +96,7 @@ void SceneGrid::compute_clearance() {
     for (int z = z0; z >= 0 && z < nz; z += dir)
       for (int y = y0; y >= 0 && y < ny; y += dir)
         for (int x = x0; x >= 0 && x < nx; x += dir) {
-          std::uint8_t& here = clearance_[index(x, y, z)];
+          std::uint8_t& here = clear[index(x, y, z)];
           if (here == 0) continue;
           int best = here;
           // The neighbours visited before (x, y, z) in this pass's raster order.
@@ -106,13 +106,34 @@ void SceneGrid::compute_clearance() {
                 if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
                 const int X = x + dir * dx, Y = y + dir * dy, Z = z + dir * dz;
                 if (X < 0 || Y < 0 || Z < 0 || X >= nx || Y >= ny || Z >= nz) continue;
-                best = std::min(best, int(clearance_[index(X, Y, Z)]) + 1);
+                best = std::min(best, int(clear[index(X, Y, Z)]) + 1);
               }
           here = std::uint8_t(std::min(best, 255));
         }
   };
   pass(1);
   pass(-1);
+  // The query words in bricks (scene_grid.h, cells_); the bricks' cells beyond the grid are
+  // never read.
+  bricks_x_ = (nx + 3) / 4;
+  bricks_y_ = (ny + 3) / 4;
+  const int bricks_z = (nz + 3) / 4;
+  cells_.assign(std::size_t(bricks_x_) * std::size_t(bricks_y_) * std::size_t(bricks_z) * 64, 0u);
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        const std::size_t c = index(x, y, z);
+        cells_[cell_index(x, y, z)] = std::uint32_t(codes_[c]) | (std::uint32_t(clear[c]) << 16);
+      }
+}
+
+std::vector<std::uint8_t> SceneGrid::clearance() const {
+  std::vector<std::uint8_t> out(codes_.size());
+  std::size_t c = 0;
+  for (int z = 0; z < dims_[2]; ++z)
+    for (int y = 0; y < dims_[1]; ++y)
+      for (int x = 0; x < dims_[0]; ++x) out[c++] = std::uint8_t(cells_[cell_index(x, y, z)] >> 16);
+  return out;
 }
 
 std::uint32_t SceneGrid::max_box() const {

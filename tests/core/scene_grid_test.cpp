@@ -114,13 +114,14 @@ TEST(SceneGridTest, ClearanceIsTheChessboardDistanceToSurface) {
       for (int x = 0; x < d[0]; ++x)
         if (grid.codes()[index(x, y, z)] >= SceneGrid::kFirstSurface) surface.push_back({x, y, z});
   ASSERT_FALSE(surface.empty());
+  const std::vector<std::uint8_t> clearance = grid.clearance();
   for (int z = 0; z < d[2]; ++z)
     for (int y = 0; y < d[1]; ++y)
       for (int x = 0; x < d[0]; ++x) {
         int best = 255;
         for (const auto& c : surface)
           best = std::min(best, std::max({std::abs(c[0] - x), std::abs(c[1] - y), std::abs(c[2] - z)}));
-        ASSERT_EQ(int(grid.clearance()[index(x, y, z)]), best) << x << " " << y << " " << z;
+        ASSERT_EQ(int(clearance[index(x, y, z)]), best) << x << " " << y << " " << z;
       }
 }
 

@@ -1,0 +1,105 @@
+// The cheap routed path of a scene query: the refined box query from triangle ids alone (no
+// samples decoded) and the grid's bricked cell words.
+#include "evaluation/probe_sampling.h"
+#include "haptic_box/bake.h"
+#include "haptic_box/scene_grid.h"
+#include "two_spheres.h"
+#include <gtest/gtest.h>
+
+namespace hb {
+namespace {
+
+const ForceLaw kLaw{};
+
+TEST(RoutedQueryTest, IdsOnlyRefinedQueryEqualsTheConfirmedRefinedQuery) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  BakeOptions o;
+  o.params = {12, 6};
+  o.refine = true;
+  const BoxScene scene = bake_scene(two.mesh, {}, o, SourceInfo{});
+  ASSERT_EQ(scene.boxes().size(), 1u);
+  const HapticBox& box = scene.boxes()[0];
+  ASSERT_TRUE(box.refines());
+  const std::vector<Segment> probes = sample_probes(two.mesh, 4000, ProbeOptions{});
+  std::size_t confirmed = 0, same = 0, flags = 0;
+  for (const Segment& s : probes) {
+    Contact full, ids;
+    float along_full = 0.f, along_ids = 0.f;
+    bool refined = false;
+    std::uint32_t t_full = kNoTriangle, t_ids = kNoTriangle;
+    const bool hit_full = box.query_into(s, kLaw, full, along_full, Refine::all, &refined, &t_full) && refined;
+    const bool hit_ids = box.query_refined(s, kLaw, ids, along_ids, &t_ids);
+    flags += hit_full == hit_ids ? 1 : 0;
+    if (!hit_full) continue;
+    ++confirmed;
+    // The same triangle gives the same bits (write_contact is shared).
+    if (hit_ids && t_ids == t_full && ids.depth == full.depth && ids.force == full.force && along_ids == along_full)
+      ++same;
+  }
+  EXPECT_GT(confirmed, probes.size() / 4);
+  // Without a blend to agree with, only a candidate the blend's tolerance rejected may differ.
+  EXPECT_GE(double(same), 0.995 * double(confirmed)) << same << " of " << confirmed;
+  EXPECT_GE(double(flags), 0.995 * double(probes.size())) << flags << " of " << probes.size();
+  // A box that does not refine has no ids-only answer.
+  Contact c;
+  float along = 0.f;
+  EXPECT_FALSE(box.without_refinement().query_refined(probes[0], kLaw, c, along));
+  EXPECT_FALSE(c.contact);
+}
+
+TEST(RoutedQueryTest, HandlesInSurfaceCellsShownOutsideAreRoutedWithTheUnroutedAnswers) {
+  const test::TwoSpheres two = test::two_spheres(2.5f);
+  BakeOptions o;
+  o.params = {12, 6};
+  o.refine = true;
+  const BoxScene scene = bake_scene(two.mesh, two.piece, o, SourceInfo{});
+  ASSERT_NE(scene.grid(), nullptr);
+  const BoxScene plain = scene.without_grid();
+  const SceneGrid& grid = *scene.grid();
+  // Handles in surface cells, a little outside and inside the spheres, segments along the
+  // normal's opposite (contacts ahead) and along it (no contact).
+  std::size_t probes = 0, same = 0, routed = 0;
+  for (std::size_t t = 0; t < two.mesh.triangle_count(); t += 3) {
+    const Triangle& tri = two.mesh.triangles[t];
+    const Vec3 &p0 = two.mesh.positions[tri[0]], &p1 = two.mesh.positions[tri[1]], &p2 = two.mesh.positions[tri[2]];
+    const Vec3 c = (p0 + p1 + p2) / 3.f;
+    const Vec3 n = (p1 - p0).cross(p2 - p0).normalized();  // outward on the spheres
+    for (float off : {0.3f, 0.6f, -0.3f}) {
+      const Vec3 handle = c + (off * grid.cell()) * n;
+      if (grid.code_at(handle) < SceneGrid::kFirstSurface) continue;
+      for (float dir : {-1.f, 1.f}) {
+        const Segment s{handle, handle + (dir * 0.1f) * n};
+        const Contact a = scene.query(s, kLaw), b = plain.query(s, kLaw);
+        ++probes;
+        same += a.contact == b.contact ? 1 : 0;
+        routed += scene.box_queries(s, kLaw) < plain.box_queries(s, kLaw) ? 1 : 0;
+      }
+    }
+  }
+  ASSERT_GT(probes, 200u);
+  EXPECT_GE(double(same), 0.99 * double(probes)) << same << " of " << probes;
+  EXPECT_GT(routed, probes / 4) << routed << " of " << probes;
+}
+
+TEST(RoutedQueryTest, BrickedCellWordsGiveTheCodeOfEveryCell) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  std::vector<std::vector<std::uint32_t>> lists(2);
+  for (std::uint32_t t = 0; t < two.piece.size(); ++t) lists[two.piece[t]].push_back(t);
+  // An odd cell size: dimensions that are not multiples of the 4-cell bricks.
+  const SceneGrid grid = build_scene_grid(two.mesh, lists, SceneGridOptions{1.f / 37.f});
+  const auto& d = grid.dims();
+  ASSERT_TRUE(d[0] % 4 != 0 || d[1] % 4 != 0 || d[2] % 4 != 0);
+  std::size_t index = 0, surface = 0;
+  for (int z = 0; z < d[2]; ++z)
+    for (int y = 0; y < d[1]; ++y)
+      for (int x = 0; x < d[0]; ++x, ++index) {
+        const Vec3 centre = grid.origin() + grid.cell() * Vec3(float(x) + 0.5f, float(y) + 0.5f, float(z) + 0.5f);
+        ASSERT_EQ(grid.code_at(centre), grid.codes()[index]) << x << " " << y << " " << z;
+        surface += grid.codes()[index] >= SceneGrid::kFirstSurface ? 1 : 0;
+      }
+  EXPECT_GT(surface, 0u);
+  EXPECT_EQ(grid.query_bytes() % 256, 0u);
+}
+
+} // namespace
+} // namespace hb
