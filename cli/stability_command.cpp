@@ -75,7 +75,8 @@ void add_stability_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("stability",
                                  "Trajectory stability suite: box and exact side by side (calibration gate, T1-T8)");
   struct Opts {
-    std::string box, mesh, device = "falcon", tests, safety = "hold", depth = "normal", unconfirmed = "reject";
+    std::string box, mesh, device = "falcon", tests, safety = "hold", depth = "normal", unconfirmed = "reject",
+                walk = "all";
     std::size_t sites = 12;
     std::uint64_t seed = 1;
     bool json = false, no_generated = false, energy_guard = false, strict = false;
@@ -104,6 +105,11 @@ void add_stability_command(CLI::App& app) {
                   "Refined scenes' unconfirmed blends: reject (default) or keep (the first refined scenes)")
       ->check(CLI::IsMember({"reject", "keep"}))
       ->capture_default_str();
+  cmd->add_option("--refine-walk", o->walk,
+                  "Refinement walks: all (default: when the nearest candidate's walk fails, walk from every "
+                  "candidate) or nearest (the first refined scenes)")
+      ->check(CLI::IsMember({"all", "nearest"}))
+      ->capture_default_str();
   cmd->add_flag("--no-generated", o->no_generated, "Skip the generated walls, plates and grooves");
   cmd->add_flag("--strict", o->strict, "Exit 1 when a test fails because of the box (not the law)");
   cmd->add_flag("--json", o->json, "Print JSON");
@@ -114,6 +120,7 @@ void add_stability_command(CLI::App& app) {
     if (comm.is_root() && scene.source().mesh_hash != 0 && scene.source().mesh_hash != hb::hash_model(o->mesh))
       std::cerr << "hapticbox: warning: " << o->box << " was baked from a different file than " << o->mesh << "\n";
     scene.set_unconfirmed_blend(o->unconfirmed == "keep" ? hb::UnconfirmedBlend::keep : hb::UnconfirmedBlend::reject);
+    scene.set_walk_all_candidates(o->walk == "all");
     hb::StabilityOptions so;
     so.device = hb::device_profile(o->device);
     so.sites = o->sites;
@@ -148,11 +155,13 @@ void add_stability_command(CLI::App& app) {
       j["box"] = o->box;
       j["mesh"] = o->mesh;
       j["unconfirmed"] = o->unconfirmed;
+      j["refine_walk"] = o->walk;
       hb::cli::print_json(j);
     } else if (comm.is_root()) {
-      std::printf("stability %s vs %s: device %s, depth law %s, unconfirmed blends %s, T6/T8 filter: %s\n",
+      std::printf("stability %s vs %s: device %s, depth law %s, unconfirmed blends %s, refinement walks %s, "
+                  "T6/T8 filter: %s\n",
                   o->box.c_str(), o->mesh.c_str(), rep.device.c_str(), rep.depth_law.c_str(),
-                  o->unconfirmed.c_str(), rep.filter.c_str());
+                  o->unconfirmed.c_str(), o->walk.c_str(), rep.filter.c_str());
       std::printf("calibration gate: %s\n", rep.calibration_pass ? "pass" : "FAIL (the harness is wrong)");
       print_table(rep.calibration);
       std::printf("tests: %zu pass, %zu fail (%zu of them exact fails too: the law, not the box), %.1f s\n",

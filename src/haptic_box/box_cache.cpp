@@ -77,6 +77,7 @@ std::uint64_t recipe_key(const BakeRecipe& r) {
     const BudgetRecipe& b = r.budget;
     k << " budget " << budget_spec(b.budget) << ' ' << b.probes << ' ' << b.tuning_seed << ' ' << b.check_seed;
     for (const Sampling& s : b.samplings) k << ' ' << hexfloat(s.cell) << ' ' << s.n;
+    if (b.surface_tolerance > 0) k << " surface " << hexfloat(float(b.surface_tolerance));
   }
   const std::string text = k.str();
   return XXH3_64bits(text.data(), text.size());

@@ -101,6 +101,10 @@ public:
   /// Policy for unconfirmed blends of refining boxes (no effect without refinement).
   void set_unconfirmed_blend(UnconfirmedBlend policy) noexcept { unconfirmed_ = policy; }
   UnconfirmedBlend unconfirmed_blend() const noexcept { return unconfirmed_; }
+  /// Every box's refinement walk policy (HapticBox::set_walk_all_candidates; default true).
+  void set_walk_all_candidates(bool on) noexcept {
+    for (HapticBox& b : boxes_) b.set_walk_all_candidates(on);
+  }
   /// Whether any box refines (HapticBox::refines).
   bool refines() const noexcept;
 

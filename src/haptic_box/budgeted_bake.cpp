@@ -16,9 +16,13 @@
 //     variant that keeps the sums within them: the bytes go where the error is (triangle ids
 //     only where the blend misses, fine sampling only where coarse fails). When no uniform
 //     variant is within them, moves that remove the most excess per byte are made instead.
+//     A piece left unrefined must also answer every probe it owns on the surface
+//     (BudgetRecipe::surface_tolerance): a blend off it is a ghost surface on a trajectory,
+//     however rare among random probes; such a piece is refined at its sampling.
 //  4. The chosen boxes form the scene (piece ids, a scene grid from the chosen lists). The
 //     whole scene is checked on the tuning probes; while it misses the budget, each piece
-//     owning a failing probe moves up one variant (at most as many rounds as variants).
+//     owning a failing probe moves up one variant (at most as many rounds as variants), and
+//     an unrefined piece owning a probe answered off the surface is refined.
 //  5. The scene is measured on fresh probes (BudgetRecipe::check_seed) and the figures are
 //     recorded in BudgetReport (the box file, `info`, `--json`, the report).
 #include "errors.h"
@@ -30,6 +34,7 @@
 #include <tbb/parallel_for.h>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <map>
 
 namespace hb {
@@ -73,6 +78,13 @@ bool probe_fails(const Contact& exact, const Contact& approx, const ErrorBudget&
   if (exact.contact != approx.contact) return true;
   if (!exact.contact) return false;
   return relative_force_error(exact, approx) > b.force_p95 || angle_error_degrees(exact, approx) > b.direction_p99_deg;
+}
+
+// A probe answered from off the surface: a contact exact does not have, or a surface point
+// farther than `tolerance` (model units, along the probe) from exact's.
+bool off_surface(const Contact& exact, const Contact& approx, float tolerance) {
+  if (!approx.contact || tolerance <= 0.f) return false;
+  return !exact.contact || std::fabs(exact.depth - approx.depth) > tolerance;
 }
 
 } // namespace
@@ -176,7 +188,9 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   struct Counts {
     double bytes = 0;
     double disagree = 0, both = 0, over_median = 0, over_p95 = 0, over_dir = 0;
+    double off_surface = 0;  // answered off the surface (not a budget figure: see step 3)
   };
+  const float surface_tolerance = float(br.surface_tolerance) * diagonal;
   std::vector<std::vector<Counts>> counts(pieces, std::vector<Counts>(variants));
   std::vector<std::size_t> choice(pieces, 0);
   // The scene of the chosen boxes, checked whole; pieces owning failing probes move up.
@@ -210,6 +224,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
       for (std::size_t i : owned[p]) {
         const Contact& a = answers[i];
         const Contact& e = tuning.exact[i];
+        n.off_surface += off_surface(e, a, surface_tolerance) ? 1 : 0;
         if (a.contact != e.contact) {
           ++n.disagree;
           continue;
@@ -311,6 +326,10 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     if (best_p == pieces) break;  // no move helps: the finest variants are the best there is
     choice[best_p] = best_v;
   }
+  // An unrefined piece whose blends answer its probes from off the surface is refined at
+  // its sampling (its refined variant is the next one).
+  for (std::size_t p = 0; p < pieces; ++p)
+    if (choice[p] % 2 == 0 && counts[p][choice[p]].off_surface > 0) choice[p] += 1;
   report_progress(0.8);
 
   BoxScene scene = compose();
@@ -325,13 +344,33 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
         records[i] = {tuning.probes[i], tuning.exact[i], scene.query(tuning.probes[i], law)};
     });
     tuned = summarize(records, diagonal);
-    if (meets_budget(tuned, br.budget) || round >= variants) break;
+    // Unrefined pieces whose blends answer a probe off the surface in the whole scene (its
+    // routing and neighbours answer probes that other pieces own, which the per-variant
+    // counts do not see) are refined: the box that gave the answer (its own blend is it).
+    std::vector<bool> ghost(pieces, false);
+    bool ghosts = false;
+    for (std::size_t i = 0; i < records.size(); ++i) {
+      const Contact& a = records[i].approx;
+      if (!off_surface(records[i].exact, a, surface_tolerance)) continue;
+      for (std::size_t p = 0; p < pieces; ++p) {
+        if (choice[p] % 2 != 0) continue;
+        Contact c;
+        float along = 0.f;
+        if (scene.boxes()[p].query_into(records[i].segment, law, c, along) && c.depth == a.depth && c.point == a.point)
+          ghost[p] = ghosts = true;
+      }
+    }
+    if ((meets_budget(tuned, br.budget) && !ghosts) || round >= variants) break;
     std::vector<bool> upgrade(pieces, false);
     for (std::size_t i = 0; i < records.size(); ++i)
       if (owner[i] != UINT32_MAX && probe_fails(records[i].exact, records[i].approx, br.budget)) upgrade[owner[i]] = true;
     bool moved = false;
     for (std::size_t p = 0; p < pieces; ++p)
-      if (upgrade[p] && choice[p] + (choice[p] % 2 ? 2 : 1) < variants) {
+      if (ghost[p] && !upgrade[p]) {
+        choice[p] += 1;  // refined at its sampling
+        bake_pieces(choice[p] / 2, {p});
+        moved = true;
+      } else if (upgrade[p] && choice[p] + (choice[p] % 2 ? 2 : 1) < variants) {
         // Up to the next refined variant (a refined piece never drops its refinement).
         choice[p] += choice[p] % 2 ? 2 : 1;
         bake_pieces(choice[p] / 2, {p});

@@ -66,6 +66,12 @@ public:
   }
   /// Whether queries refine with the exact triangles (attach_surface was called).
   bool refines() const { return surface_ != nullptr; }
+  /// Refinement walks (step 7): when the walk from the candidate the line passes nearest
+  /// fails (a crease, a border, a fold), walk from every other candidate too and keep the
+  /// nearest accepted crossing (true, the default); false: the nearest candidate's walk
+  /// only (the first refining boxes; docs/stability.md).
+  void set_walk_all_candidates(bool on) noexcept { walk_from_all_ = on; }
+  bool walk_all_candidates() const noexcept { return walk_from_all_; }
   const TriangleIds& triangle_ids() const { return triangle_ids_; }
   const std::shared_ptr<const SurfaceTriangles>& surface() const { return surface_; }
   /// Bytes of the triangle ids (0 without refinement); with the shared surface, per scene:
@@ -175,6 +181,7 @@ private:
   std::shared_ptr<const void> ids_owner_;
   std::shared_ptr<const SurfaceTriangles> surface_;
   float refine_tolerance_ = 0.f;  // largest |refined t - blended t| accepted (attach_surface)
+  bool walk_from_all_ = true;     // set_walk_all_candidates
 };
 
 } // namespace hb

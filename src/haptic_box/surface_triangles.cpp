@@ -1,10 +1,10 @@
 #include "haptic_box/surface_triangles.h"
 #include "errors.h"
 #include "geometry/octahedral.h"
-#include "mesh/triangle_adjacency.h"
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 namespace hb {
 
@@ -53,23 +53,51 @@ SurfaceTriangles::SurfaceTriangles(const TriangleMesh& mesh) {
     }
     r.pad = 0;
   }
-  // Neighbour across the edge opposite vertex k: the (first) triangle holding both of the
-  // edge's vertices.
-  const TriangleAdjacency adjacency = triangle_adjacency(mesh);
-  for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+  // Neighbour across the edge opposite vertex k: the first triangle (in mesh order) holding
+  // both of the edge's end points. End points are compared by position, not by vertex index:
+  // a flat-shaded crease (each face its own vertices, for its own normals) or a mesh read
+  // from triangle soup still joins its faces, so a walk can cross the crease (issue 11: the
+  // refinement of a crisp groove could not, and its contacts were lost).
+  std::vector<std::uint32_t> weld(mesh.positions.size());
+  {
+    std::vector<std::uint32_t> order(mesh.positions.size());
+    for (std::uint32_t v = 0; v < order.size(); ++v) order[v] = v;
+    const auto key = [&](std::uint32_t v) {
+      const Vec3& p = mesh.positions[v];
+      return std::make_tuple(p.x(), p.y(), p.z(), v);
+    };
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
+    for (std::size_t i = 0; i < order.size(); ++i)
+      weld[order[i]] = i > 0 && mesh.positions[order[i]] == mesh.positions[order[i - 1]] ? weld[order[i - 1]] : order[i];
+  }
+  struct EdgeUse {
+    std::uint64_t edge;
+    std::uint32_t triangle;
+    int k;
+  };
+  std::vector<EdgeUse> uses;
+  uses.reserve(3 * count);
+  for (std::uint32_t t = 0; t < count; ++t) {
     const Triangle& tri = mesh.triangles[t];
     for (int k = 0; k < 3; ++k) {
-      const std::uint32_t e0 = tri[(k + 1) % 3], e1 = tri[(k + 2) % 3];
-      for (const std::uint32_t* nb = adjacency.begin(t); nb != adjacency.end(t); ++nb) {
-        const Triangle& other = mesh.triangles[*nb];
-        const bool has0 = other[0] == e0 || other[1] == e0 || other[2] == e0;
-        const bool has1 = other[0] == e1 || other[1] == e1 || other[2] == e1;
-        if (has0 && has1) {
-          records[slot_of_[t]].neighbour[k] = slot_of_[*nb];
+      const std::uint32_t a = weld[tri[(k + 1) % 3]], b = weld[tri[(k + 2) % 3]];
+      if (a == b) continue;  // a degenerate edge joins nothing
+      uses.push_back({(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b), t, k});
+    }
+  }
+  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
+    return x.edge != y.edge ? x.edge < y.edge : x.triangle < y.triangle;
+  });
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i;
+    while (j < uses.size() && uses[j].edge == uses[i].edge) ++j;
+    for (std::size_t a = i; a < j; ++a)
+      for (std::size_t b = i; b < j; ++b)
+        if (uses[b].triangle != uses[a].triangle) {
+          records[slot_of_[uses[a].triangle]].neighbour[uses[a].k] = slot_of_[uses[b].triangle];
           break;
         }
-      }
-    }
+    i = j;
   }
   records_ = records.data();
   count_ = records.size();

@@ -46,7 +46,8 @@ public:
   static_assert(sizeof(Record) == 64, "one cache line per triangle");
 
   SurfaceTriangles() = default;
-  /// Records of every triangle of `mesh` (which needs vertex normals). Throws
+  /// Records of every triangle of `mesh` (which needs vertex normals); edge neighbours are
+  /// joined by vertex position, so faces with vertices of their own still join. Throws
   /// hb::InvalidInput when the mesh has none.
   explicit SurfaceTriangles(const TriangleMesh& mesh);
   /// Refers to `count` records stored elsewhere (a mapped box file kept alive by `owner`).

@@ -92,6 +92,15 @@ TEST(BoxCacheTest, KeyChangesWithEveryFieldThatChangesTheScene) {
   vary("codec.ratio", [](BakeRecipe& r) { r.codec.ratio = 20.f; });
   vary("codec.normal_bits", [](BakeRecipe& r) { r.codec.normal_bits = 10; });
   vary("codec none", [](BakeRecipe& r) { r.codec.codec = CodecId::none; });
+  vary("budget", [](BakeRecipe& r) { r.budget.enabled = true; });
+  vary("budget.surface_tolerance", [](BakeRecipe& r) {
+    r.budget.enabled = true;
+    r.budget.surface_tolerance = 0.002;
+  });
+  vary("budget without the surface check", [](BakeRecipe& r) {
+    r.budget.enabled = true;
+    r.budget.surface_tolerance = 0;
+  });
   std::map<std::uint64_t, std::string> seen;
   for (const auto& [name, r] : variants) {
     const auto [at, fresh] = seen.emplace(recipe_key(r), name);

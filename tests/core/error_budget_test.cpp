@@ -114,6 +114,43 @@ TEST(ErrorBudgetTest, BudgetedBakeMeetsTheBudgetOnFreshProbesAndTheFileKeepsIt) 
   ASSERT_TRUE(loaded.grid() != nullptr);
 }
 
+// A coarse unrefined sampling meets a lax budget, but its blends answer probes from off the
+// surface (ghost surfaces on a trajectory): with the surface check the pieces are refined at
+// that sampling, and the scene answers no more probes off the surface than without it.
+TEST(ErrorBudgetTest, PiecesWhoseBlendsAnswerOffTheSurfaceAreRefined) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  BakeRecipe recipe = default_recipe();
+  recipe.pieces.kind = PiecesRecipe::Kind::given;
+  recipe.pieces.given = two.piece;
+  recipe.budget.probes = 1000;
+  recipe.budget.samplings = {{0.3f, 3}};
+  recipe.budget.budget = parse_budget("p95=100,median=100,dir99=90,agree=50");
+  const ExactQuery exact(two.mesh);
+  ProbeOptions po;
+  po.seed = recipe.budget.tuning_seed;
+  const auto probes = sample_probes(two.mesh, recipe.budget.probes, po);
+  const float tolerance = float(recipe.budget.surface_tolerance) * two.mesh.bounds().diagonal();
+  const auto off_surface = [&](const BoxScene& scene) {
+    std::size_t off = 0;
+    for (const Segment& s : probes) {
+      const Contact e = exact.query(s, ForceLaw{}), a = scene.query(s, ForceLaw{});
+      off += a.contact && (!e.contact || std::fabs(e.depth - a.depth) > tolerance);
+    }
+    return off;
+  };
+  recipe.budget.surface_tolerance = 0;  // the first budgeted bakes
+  const BakeResult loose = bake(two.mesh, recipe);
+  recipe.budget.surface_tolerance = BudgetRecipe{}.surface_tolerance;
+  const BakeResult checked = bake(two.mesh, recipe);
+  ASSERT_EQ(loose.scene.budget_report().pieces.size(), 2u);
+  ASSERT_EQ(checked.scene.budget_report().pieces.size(), 2u);
+  for (const PieceChoice& p : loose.scene.budget_report().pieces) EXPECT_FALSE(p.refine);
+  for (const PieceChoice& p : checked.scene.budget_report().pieces) EXPECT_TRUE(p.refine);
+  const std::size_t before = off_surface(loose.scene), after = off_surface(checked.scene);
+  EXPECT_GT(before, 0u);
+  EXPECT_LT(after, before);
+}
+
 TEST(ErrorBudgetTest, AnUnreachableBudgetIsReportedMissedNotHidden) {
   const test::TwoSpheres two = test::two_spheres(3.f);
   BakeRecipe recipe = default_recipe();

@@ -104,6 +104,35 @@ TEST(RefinementTest, TheWalkFindsTheCrossedTriangleFromANeighbourOfANeighbour) {
   EXPECT_FALSE(surface.walk(start, origin, dir, 0.f, 0, s, n, front) && start != crossed);
 }
 
+// Two faces meeting at a crease, each with vertices of its own (flat shading, triangle soup):
+// the walk crosses from one to the other (their edge is joined by position).
+TEST(RefinementTest, TheWalkCrossesACreaseBetweenFacesWithVerticesOfTheirOwn) {
+  TriangleMesh m;
+  // A in the plane z = 0 (outward +z), B in the plane x = 0 (outward -x); they share the edge
+  // from (0, 0, 0) to (0, 1, 0) by position only.
+  m.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, -1)};
+  m.normals = {Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(-1, 0, 0), Vec3(-1, 0, 0), Vec3(-1, 0, 0)};
+  m.triangles = {{0, 1, 2}, {3, 4, 5}};
+  const SurfaceTriangles surface(m);
+  const std::uint32_t a = surface.slot(0), b = surface.slot(1);
+  bool joined = false;
+  for (std::uint32_t nb : surface.records()[a].neighbour) joined |= nb == b;
+  EXPECT_TRUE(joined);
+  // A line meeting A's plane beyond the crease (x = -0.4) and crossing B at (0, 0.2, -0.2).
+  const Vec3 dir = Vec3(1.f, 0.f, -0.5f).normalized();
+  const float origin[3] = {-1.f, 0.2f, 0.3f}, d[3] = {dir.x(), dir.y(), dir.z()};
+  float s = 0.f;
+  Vec3 n;
+  bool front = false;
+  std::uint32_t crossed = kNoTriangle;
+  EXPECT_FALSE(surface.intersect(a, origin, d, 0.f, s, n, front));
+  ASSERT_TRUE(surface.walk(a, origin, d, 0.f, 2, s, n, front, &crossed));
+  EXPECT_EQ(crossed, b);
+  EXPECT_TRUE(front);
+  EXPECT_NEAR(n.x(), -1.f, 1e-5f);
+  EXPECT_NEAR(s, std::sqrt(1.25f), 1e-5f);
+}
+
 TEST(RefinementTest, CompressionKeepsTheRefinement) {
   const BoxScene raw = bake_bumpy(true);
   CodecOptions codec;
