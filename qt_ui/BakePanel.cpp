@@ -61,6 +61,12 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   cacheRow->addWidget(cacheInfo_, 1);
   cacheRow->addWidget(clearCache_);
   size_ = new QLabel;
+  // Texts that grow (sizes, cache, bake summary) wrap inside the dock instead of widening it
+  // (and shrinking the 3D view): their width hint is ignored, their height follows the text.
+  for (QLabel* l : {size_, cacheInfo_}) {
+    l->setWordWrap(true);
+    l->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);
+  }
   const auto showSize = [this] {
     hb::BoxParams p;
     p.m = m_->value();
@@ -87,6 +93,7 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   progress_->setFormat(QStringLiteral("%p%"));
   info_ = new QLabel;
   info_->setWordWrap(true);
+  info_->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);
   info_->setTextInteractionFlags(Qt::TextSelectableByMouse);
 
   auto* form = new QFormLayout;
@@ -163,6 +170,10 @@ void BakePanel::applySettings() {
 
 void BakePanel::bake() {
   applySettings();
+  if (session_->bakeSettings().pieces == BakeSettings::Pieces::File && session_->bakeSettings().piecesFile.trimmed().isEmpty()) {
+    emit message(tr("Pieces is set to 'From a piece file' but no piece file is chosen: choose one (...) or set Pieces to None"));
+    return;
+  }
   // Reopening with the same settings is instant: use the cache when it holds this bake.
   if (session_->bakeSettings().useCache && session_->loadCachedBoxes()) {
     progress_->setValue(1000);

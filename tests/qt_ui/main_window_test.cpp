@@ -8,7 +8,7 @@
 #include "MainWindow.h"
 #include "ProbeView.h"
 #include "ReadoutPanel.h"
-#include "ui_test_support.h"
+#include "window_test_support.h"
 #include <QFile>
 #include <QFileInfo>
 #include <QImage>
@@ -28,36 +28,11 @@
 
 using hbtest::pump;
 using hbtest::waitFor;
+using hbtest::openAndBake;
+using hbtest::placeProbe;
+using hbtest::setSmallBake;
 
 namespace {
-
-void setSmallBake(HapticSession& s, int m = 8, int n = 4) {
-  BakeSettings b = s.bakeSettings();
-  b.m = m;
-  b.n = n;
-  s.setBakeSettings(b);
-}
-
-/// Opens the mesh and bakes a small box through the panel's Bake button.
-void openAndBake(MainWindow& w, const QString& mesh) {
-  w.setBakeOnOpen(false);
-  ASSERT_TRUE(w.openFile(mesh));
-  setSmallBake(*w.session());
-  w.bakePanel()->showSettings();
-  w.bakePanel()->bakeButton()->click();
-  ASSERT_TRUE(waitFor([&] { return w.session()->hasBoxes() && !w.session()->job()->isRunning(); }));
-}
-
-/// Places the probe on the model at the centre of the view.
-bool placeProbe(MainWindow& w) {
-  ProbeView* v = w.probeView();
-  const int* size = v->renderWindow()->GetSize();
-  hb::Vec3 p;
-  if (!v->pickSurface(size[0] / 2, size[1] / 2, p)) return false;
-  w.session()->aimProbe(v->viewDirection(), v->viewRight());
-  w.session()->setProbeTarget(p);
-  return true;
-}
 
 struct PixelCounts {
   int model = 0, exactArrow = 0, approxArrow = 0, total = 0;
