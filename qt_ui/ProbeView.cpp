@@ -173,11 +173,12 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   tipActor_->VisibilityOff();
   renderer_->AddActor(tipActor_);
 
-  // When the two agree they coincide: the exact arrow is a thicker translucent sleeve and the
-  // box's a thinner solid core, so the orange shows inside the green instead of behind it.
+  // When the two agree they coincide: the exact arrow is a thicker sleeve drawn from inside
+  // (front faces culled: its far wall shows, opaque and lit from both sides) and the box's a
+  // thinner solid core, so the orange shows whole inside a green rim instead of behind it.
   exactArrow_ = makeArrow(kExactColor, 2.0);
-  exactArrow_->GetProperty()->SetOpacity(0.6);
-  approxArrow_ = makeArrow(kApproxColor, 0.9);
+  exactArrow_->GetProperty()->FrontfaceCullingOn();
+  approxArrow_ = makeArrow(kApproxColor, 1.0);
   // An arrow seen end on is a disc: a caption at its tip says which way it points.
   const auto caption = [this](const double color[3], bool below) {
     auto t = vtkSmartPointer<vtkTextActor>::New();
@@ -186,7 +187,7 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
     t->GetTextProperty()->BoldOn();
     t->GetTextProperty()->ShadowOn();
     t->GetTextProperty()->SetVerticalJustification(below ? VTK_TEXT_TOP : VTK_TEXT_BOTTOM);
-    t->GetPositionCoordinate()->SetCoordinateSystemToWorld();
+    t->GetPositionCoordinate()->SetCoordinateSystemToDisplay();
     t->VisibilityOff();
     t->PickableOff();
     renderer_->AddViewProp(t);
@@ -508,6 +509,8 @@ void ProbeView::setReading(const ProbeReading& r, double forceScale) {
     }
   };
   place(exactArrow_, r.exact, exactTip_, exactDir_);
+  exactLength_ = r.exact.contact ? static_cast<float>(std::min(cap, r.exact.force.norm() * forceScale))
+                                 : static_cast<float>(std::min(cap, r.approx.force.norm() * forceScale));
   place(approxArrow_, r.approx, approxTip_, approxDir_);
   renderNow();
 }
@@ -517,6 +520,8 @@ void ProbeView::updateArrowCaptions() {
   double d[3];
   renderer_->GetActiveCamera()->GetDirectionOfProjection(d);
   const hb::Vec3 view(static_cast<float>(d[0]), static_cast<float>(d[1]), static_cast<float>(d[2]));
+  const hb::Vec3 right = viewRight();
+  const float rimRadius = 0.2f * exactLength_;  // makeArrow: tip radius 0.1 x thickness 2, scaled by the length
   const auto update = [&](vtkTextActor* caption, vtkActor* arrow, const hb::Vec3& dir, const hb::Vec3& tip, const char* who) {
     const float c = dir.dot(view);
     if (!arrow->GetVisibility() || std::abs(c) < 0.866f) {
@@ -526,7 +531,17 @@ void ProbeView::updateArrowCaptions() {
     const std::string text = std::string("  ") + who + (c < 0.f ? ": toward you" : ": away from you");
     const char* shown = caption->GetInput();
     if (!shown || text != shown) caption->SetInput(text.c_str());
-    caption->GetPositionCoordinate()->SetValue(tip.x(), tip.y(), tip.z());
+    // Beside the disc, not over it: right of the exact arrow's rim (the wider of the two).
+    double centre[3], rim[3];
+    const hb::Vec3 edge = tip + right * rimRadius;
+    renderer_->SetWorldPoint(tip.x(), tip.y(), tip.z(), 1.0);
+    renderer_->WorldToDisplay();
+    renderer_->GetDisplayPoint(centre);
+    renderer_->SetWorldPoint(edge.x(), edge.y(), edge.z(), 1.0);
+    renderer_->WorldToDisplay();
+    renderer_->GetDisplayPoint(rim);
+    const double gap = std::hypot(rim[0] - centre[0], rim[1] - centre[1]) + 4.0;
+    caption->GetPositionCoordinate()->SetValue(centre[0] + gap, centre[1] + (caption == exactCaption_ ? 2.0 : -2.0));
     caption->VisibilityOn();
   };
   update(exactCaption_, exactArrow_, exactDir_, exactTip_, "exact");

@@ -118,6 +118,7 @@ private:
   vtkSmartPointer<vtkTextActor> approxCaption_;
   hb::Vec3 exactTip_{0.f, 0.f, 0.f}, approxTip_{0.f, 0.f, 0.f};
   hb::Vec3 exactDir_{0.f, 0.f, 0.f}, approxDir_{0.f, 0.f, 0.f};
+  float exactLength_ = 0.f;  ///< shown length of the arrows (the captions stand clear of the rim)
   vtkSmartPointer<vtkOrientationMarkerWidget> axesWidget_;
   vtkSmartPointer<vtkTextActor> legendExact_;
   vtkSmartPointer<vtkTextActor> legendApprox_;

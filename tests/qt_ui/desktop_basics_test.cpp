@@ -11,6 +11,7 @@
 #include <QCheckBox>
 #include <QDir>
 #include <QDockWidget>
+#include <QFile>
 #include <QFileInfo>
 #include <QImage>
 #include <QLabel>
@@ -20,6 +21,7 @@
 #include <QStatusBar>
 #include <QToolBar>
 #include <chrono>
+#include <cstdlib>
 
 using hbtest::openAndBake;
 using hbtest::placeProbe;
@@ -130,6 +132,7 @@ TEST(DesktopBasicsTest, ScreenshotAtTwiceTheViewWithATransparentBackground) {
 
   const QString big = data.dir.filePath(QStringLiteral("big.png"));
   ASSERT_TRUE(w.exportScreenshot(big, 2, true));
+  if (const char* keep = std::getenv("HB_SCREENSHOT_DIR")) QFile::copy(big, QString::fromLocal8Bit(keep) + "/transparent_2x.png");
   QImage img(big);
   ASSERT_FALSE(img.isNull());
   EXPECT_EQ(img.size(), view * 2);
@@ -178,6 +181,10 @@ TEST(DesktopBasicsTest, AgreeingArrowsBothShowAndHeadOnArrowsAreCaptioned) {
   w.refresh();
   const QString png = data.dir.filePath(QStringLiteral("headon.png"));
   ASSERT_TRUE(w.exportScreenshot(png));
+  if (const char* keep = std::getenv("HB_SCREENSHOT_DIR")) {  // for a person to look at
+    QFile::copy(png, QString::fromLocal8Bit(keep) + "/arrows_head_on.png");
+    w.grab().save(QString::fromLocal8Bit(keep) + "/arrows_head_on_window.png");
+  }
   EXPECT_EQ(w.probeView()->exactArrowCaption(), QStringLiteral("exact: toward you"));
   EXPECT_EQ(w.probeView()->approxArrowCaption(), QStringLiteral("box: toward you"));
   // Both colours on screen although the two arrows coincide.
@@ -272,6 +279,7 @@ TEST(DesktopBasicsTest, DocksKeepTheirWidthWhenTextsGrow) {
     w.refresh();
   }
   pump(0.3);
+  if (const char* keep = std::getenv("HB_SCREENSHOT_DIR")) w.grab().save(QString::fromLocal8Bit(keep) + "/long_texts_window.png");
   EXPECT_EQ(dock->width(), width);
   EXPECT_EQ(w.probeView()->width(), viewWidth);
 }
