@@ -10,6 +10,8 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <memory>
+#include <optional>
 #include <unistd.h>
 
 namespace hb::cli {
@@ -86,14 +88,17 @@ std::string progress_eta_text(double elapsed, double fraction) {
 
 ProgressCallback terminal_progress(const std::string& label) {
   if (!isatty(STDERR_FILENO) || !communicator().is_root()) return {};
-  const auto start = std::chrono::steady_clock::now();
+  // The clock starts at the first report: a bar made before other work (a bake's, made before
+  // the decomposition runs) does not count that work in its rate.
+  auto start = std::make_shared<std::optional<std::chrono::steady_clock::time_point>>();
   return [label, start](double fraction) {
+    if (!*start) *start = std::chrono::steady_clock::now();
     const int width = 40;
     fraction = std::min(1.0, std::max(0.0, fraction));
     const int filled = int(fraction * width + 0.5);
     std::fprintf(stderr, "\r%s [%s%s] %3d%% %s", label.c_str(), std::string(std::size_t(filled), '#').c_str(),
                  std::string(std::size_t(width - filled), '.').c_str(), int(fraction * 100.0 + 0.5),
-                 progress_eta_text(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), fraction)
+                 progress_eta_text(std::chrono::duration<double>(std::chrono::steady_clock::now() - **start).count(), fraction)
                      .c_str());
     if (fraction >= 1.0) std::fprintf(stderr, "\n");
     std::fflush(stderr);
