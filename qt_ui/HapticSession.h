@@ -22,6 +22,9 @@
 #include <optional>
 
 class BackgroundJob;
+namespace hb {
+struct StabilityReport;
+}
 class vtkHapticBoxReferenceQueries;
 
 /// What the bake panel sets: densities, padding, pieces (none: one box, a piece file, or
@@ -178,7 +181,18 @@ public:
   bool startReport(const QString& dir, const QString& errorFieldImage, std::size_t samples = 20000,
                    QString* error = nullptr);
 
+  // --- stability (the Stability tab; implemented in SessionStability.cpp) ---------------
+  /// Runs the trajectory stability suite on the boxes and mesh in use, on the worker:
+  /// hb::run_stability_suite with `hapticbox stability`'s defaults (Falcon profile, the
+  /// servo's safety filter hold-and-ramp in T6/T8, generated walls, plates and grooves),
+  /// `sites` trajectories per test, one test at a time (progress and cancel between tests);
+  /// `generated` false: the model alone (as `--no-generated`).
+  bool startStability(std::size_t sites = 12, bool generated = true, QString* error = nullptr);
+  /// The last suite's report (null before one finished).
+  const hb::StabilityReport* stabilityReport() const { return stability_.get(); }
+
 signals:
+  void stabilityChanged();
   void meshChanged();
   void boxesChanged();
   void cacheChanged();
@@ -243,4 +257,5 @@ private:
   bool estop_ = false;
 
   BackgroundJob* job_ = nullptr;
+  std::shared_ptr<const hb::StabilityReport> stability_;
 };

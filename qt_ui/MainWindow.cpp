@@ -8,6 +8,7 @@
 #include "ReadoutPanel.h"
 #include "ScreenshotDialog.h"
 #include "SessionFile.h"
+#include "StabilityPanel.h"
 #include <QAction>
 #include <QApplication>
 #include <QCloseEvent>
@@ -49,6 +50,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
   errorPanel_ = new ErrorFieldPanel(session_);
   device_ = new DevicePanel(session_);
   charts_ = new ChartsView;
+  stability_ = new StabilityPanel(session_);
   createDocks();
   createActions();
   createToolBar();
@@ -105,6 +107,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
     view_->setColorMode(field ? ProbeView::ColorMode::ErrorField : ProbeView::ColorMode::Pieces, metric);
   });
   connect(device_, &DevicePanel::message, this, [this](const QString& m) { showMessage(m); });
+  connect(stability_, &StabilityPanel::message, this, [this](const QString& m) { showMessage(m, true); });
   connect(device_, &DevicePanel::tiltRequested, this, [this] {
     session_->tilt();
     session_->aimProbe(view_->viewDirection(), view_->viewRight());
@@ -152,9 +155,14 @@ void MainWindow::createDocks() {
   QDockWidget* charts = dock(charts_, tr("Charts"), QStringLiteral("ChartsDock"), Qt::BottomDockWidgetArea);
   tabifyDockWidget(bake, field);
   tabifyDockWidget(field, device);
+  // The stability table is wide (metric, box, exact, threshold, verdict): below the view,
+  // beside the charts, shown by Tools > Stability Suite or the Window menu.
+  QDockWidget* stability = dock(stability_, tr("Stability"), QStringLiteral("StabilityDock"), Qt::BottomDockWidgetArea);
   bake->raise();
   resizeDocks({readout, bake}, {260, 520}, Qt::Vertical);
+  tabifyDockWidget(charts, stability);
   charts->hide();
+  stability->hide();
 }
 
 void MainWindow::createActions() {
@@ -232,6 +240,12 @@ void MainWindow::createActions() {
     QString error;
     if (!session_->startSweep({8, 16, 32}, {4, 8}, 5000, &error)) showMessage(error, true);
     else if (auto* d = findChild<QDockWidget*>(QStringLiteral("ChartsDock"))) d->show();
+  });
+  tools->addAction(tr("S&tability Suite..."), this, [this] {
+    if (auto* d = findChild<QDockWidget*>(QStringLiteral("StabilityDock"))) {
+      d->show();
+      d->raise();
+    }
   });
   tools->addAction(tr("Cancel Running Job"), session_->job(), &BackgroundJob::cancel, QKeySequence(tr("Esc")));
 
@@ -322,10 +336,11 @@ void MainWindow::savePreferences() {
 
 void MainWindow::restorePreferences() {
   QSettings settings;
-  if (settings.contains(QStringLiteral("window/geometry")))
-    restoreGeometry(settings.value(QStringLiteral("window/geometry")).toByteArray());
+  // The docks first, then the geometry: restoring the docks may resize the window.
   if (settings.contains(QStringLiteral("window/state")))
     restoreState(settings.value(QStringLiteral("window/state")).toByteArray(), kLayoutVersion);
+  if (settings.contains(QStringLiteral("window/geometry")))
+    restoreGeometry(settings.value(QStringLiteral("window/geometry")).toByteArray());
   BakeSettings b = session_->bakeSettings();
   settings.beginGroup(QStringLiteral("bake"));
   // Out-of-range values (an edited file, another version) fall back to the defaults.

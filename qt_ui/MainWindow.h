@@ -20,6 +20,7 @@ class QPushButton;
 class QTimer;
 class QToolBar;
 class ReadoutPanel;
+class StabilityPanel;
 
 class MainWindow : public QMainWindow {
   Q_OBJECT
@@ -49,6 +50,7 @@ public:
   ErrorFieldPanel* errorFieldPanel() const { return errorPanel_; }
   DevicePanel* devicePanel() const { return device_; }
   ChartsView* chartsView() const { return charts_; }
+  StabilityPanel* stabilityPanel() const { return stability_; }
   /// Preferences that persist between runs (QSettings): bake settings, Bake on Open, the
   /// orientation axes, the window's geometry and dock/toolbar layout, the screenshot options.
   /// Read when the window is made, written when it closes (and when a bake starts).
@@ -92,6 +94,7 @@ private:
   ErrorFieldPanel* errorPanel_;
   DevicePanel* device_;
   ChartsView* charts_;
+  StabilityPanel* stability_;
   QTimer* timer_;
   QProgressBar* jobProgress_;
   QPushButton* jobCancel_;

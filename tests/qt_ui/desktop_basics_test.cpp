@@ -6,6 +6,8 @@
 #include "ReadoutPanel.h"
 #include "ScreenshotDialog.h"
 #include "SessionFile.h"
+#include "StabilityPanel.h"
+#include "evaluation/stability_suite.h"
 #include "window_test_support.h"
 #include <QAction>
 #include <QCheckBox>
@@ -18,10 +20,12 @@
 #include <QProgressBar>
 #include <QSettings>
 #include <QSpinBox>
+#include <QTableWidget>
 #include <QStatusBar>
 #include <QToolBar>
 #include <chrono>
 #include <cstdlib>
+#include <set>
 
 using hbtest::openAndBake;
 using hbtest::placeProbe;
@@ -282,4 +286,46 @@ TEST(DesktopBasicsTest, DocksKeepTheirWidthWhenTextsGrow) {
   if (const char* keep = std::getenv("HB_SCREENSHOT_DIR")) w.grab().save(QString::fromLocal8Bit(keep) + "/long_texts_window.png");
   EXPECT_EQ(dock->width(), width);
   EXPECT_EQ(w.probeView()->width(), viewWidth);
+}
+
+TEST(DesktopBasicsTest, StabilityTabRunsTheSuiteOnTheOpenModelAndShowsItsTable) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  StabilityPanel* panel = w.stabilityPanel();
+  auto* dock = w.findChild<QDockWidget*>(QStringLiteral("StabilityDock"));
+  EXPECT_FALSE(dock->isVisible());
+  for (QAction* a : w.findChildren<QAction*>())
+    if (a->text() == QStringLiteral("S&tability Suite...")) a->trigger();
+  EXPECT_TRUE(dock->isVisible());
+  EXPECT_FALSE(panel->runButton()->isEnabled());  // no boxes yet
+  openAndBake(w, data.mesh);
+  EXPECT_TRUE(panel->runButton()->isEnabled());
+  panel->sitesBox()->setValue(1);
+  panel->generatedBox()->setChecked(false);  // the model alone: quick
+  panel->runButton()->click();
+  ASSERT_TRUE(w.session()->job()->isRunning());
+  EXPECT_FALSE(panel->runButton()->isEnabled());
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 300));
+  const hb::StabilityReport* r = w.session()->stabilityReport();
+  ASSERT_NE(r, nullptr);
+  EXPECT_TRUE(r->calibration_pass);
+  ASSERT_GT(r->metrics.size(), 8u);
+  QTableWidget* t = panel->table();
+  ASSERT_EQ(t->rowCount(), static_cast<int>(r->calibration.size() + r->metrics.size()));
+  EXPECT_EQ(t->horizontalHeaderItem(6)->text(), QStringLiteral("Verdict"));
+  std::set<QString> tests;
+  for (int i = 0; i < t->rowCount(); ++i) {
+    tests.insert(t->item(i, 0)->text());
+    const QString verdict = t->item(i, 6)->text();
+    EXPECT_TRUE(verdict == "pass" || verdict.startsWith("fail") || verdict == "info") << verdict.toStdString();
+  }
+  for (const char* test : {"calibration", "T1", "T2", "T5", "T8"}) EXPECT_EQ(tests.count(QString::fromLatin1(test)), 1u) << test;
+  EXPECT_EQ(t->item(static_cast<int>(r->calibration.size()), 1)->text(), QStringLiteral("bumpy.off"));
+  EXPECT_TRUE(panel->summaryLabel()->text().contains(QStringLiteral("calibration pass"))) << panel->summaryLabel()->text().toStdString();
+  EXPECT_TRUE(panel->runButton()->isEnabled());
+  if (const char* keep = std::getenv("HB_SCREENSHOT_DIR")) {
+    pump(0.3);
+    w.grab().save(QString::fromLocal8Bit(keep) + "/stability_tab_window.png");
+  }
 }
