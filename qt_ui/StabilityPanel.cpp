@@ -101,7 +101,7 @@ void StabilityPanel::showReport() {
   // keeps box, exact, threshold and verdict in view in the dock.
   table_->resizeColumnsToContents();
   table_->setColumnWidth(1, std::min(table_->columnWidth(1), 110));
-  table_->setColumnWidth(2, std::min(table_->columnWidth(2), 170));
+  table_->setColumnWidth(2, std::min(table_->columnWidth(2), 420));
   summary_->setText(tr("%1: calibration %2; %3 passed, %4 failed (box), %5 failed by the law (exact fails too); "
                        "%6 device, filter %7; %8")
                         .arg(QFileInfo(session_->meshPath()).fileName())
