@@ -38,6 +38,9 @@ void set_communicator(Communicator* communicator);
 /// A progress callback drawing a bar on stderr when it is a terminal (silent otherwise, and
 /// on every rank but 0: rank 0 reports for the whole job).
 ProgressCallback terminal_progress(const std::string& label);
+/// The text after a terminal progress bar: elapsed time and, from 1 % and 1 s on, the time left
+/// at the rate so far ("12.3 s elapsed, ETA 41.2 s"; "done in 53.5 s" at the end).
+std::string progress_eta_text(double elapsed_seconds, double fraction);
 
 /// Adds --max-error, --ratio (mutually exclusive) and --normal-bits to a command; returns the
 /// --max-error option (to tell whether it was given).

@@ -3,6 +3,7 @@
 #include "cli_support.h"
 #include "commands.h"
 #include "errors.h"
+#include "figure_text.h"
 #include "haptic_box/box_file.h"
 #include "haptic_box/scene_codec_stats.h"
 #include "mesh/mesh_io.h"
@@ -11,6 +12,19 @@
 #include <iostream>
 
 namespace {
+
+/// A value of the text form: floating-point figures with 4 significant digits (the JSON form
+/// keeps full precision), arrays element by element, strings bare.
+std::string info_text(const nlohmann::json& v) {
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_number_float()) return hb::sig(v.get<double>(), 4);
+  if (v.is_array()) {
+    std::string out = "[";
+    for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + info_text(v[i]);
+    return out + "]";
+  }
+  return v.dump();
+}
 
 nlohmann::json mesh_info(const std::string& path, const hb::cli::ModelArgs& args) {
   hb::MeshReadReport report;
@@ -67,6 +81,11 @@ nlohmann::json box_info(const std::string& path, bool verify) {
                      {"half_extents", {o.half.x(), o.half.y(), o.half.z()}}});
   }
   const auto& first = scene.boxes().front();
+  std::pair<int, int> m_range{first.params().m, first.params().m}, n_range{first.params().n, first.params().n};
+  for (const hb::HapticBox& box : scene.boxes()) {
+    m_range = {std::min(m_range.first, box.params().m), std::max(m_range.second, box.params().m)};
+    n_range = {std::min(n_range.first, box.params().n), std::max(n_range.second, box.params().n)};
+  }
   const hb::SceneCodecStats codec = hb::scene_codec_stats(scene);
   const double table_bytes = double(scene.table_bytes());
   return {{"kind", "box"},
@@ -74,8 +93,12 @@ nlohmann::json box_info(const std::string& path, bool verify) {
           {"bytes", std::filesystem::file_size(path)},
           {"table_bytes", scene.table_bytes()},
           {"boxes", scene.boxes().size()},
-          {"m", first.params().m},
+          {"m", first.params().m},  // the first box's; a scene's boxes differ: m_min..m_max
           {"n", first.params().n},
+          {"m_min", m_range.first},
+          {"m_max", m_range.second},
+          {"n_min", n_range.first},
+          {"n_max", n_range.second},
           {"codec", codec.codec},
           {"raw_table_bytes", codec.raw_bytes},
           {"compression_ratio", table_bytes > 0 ? double(codec.raw_bytes) / table_bytes : 0.0},
@@ -121,17 +144,28 @@ void add_info_command(CLI::App& app) {
       hb::cli::print_json(j);
       return;
     }
+    const bool scene = j.value("boxes", 0) > 1;
     for (auto it = j.begin(); it != j.end(); ++it) {
-      if (it.key() == "box_list" || it.key() == "budget_report") continue;
-      std::cout << it.key() << ": " << (it->is_string() ? it->get<std::string>() : it->dump()) << "\n";
+      const std::string& key = it.key();
+      if (key == "box_list" || key == "budget_report") continue;
+      if (key == "m_min" || key == "m_max" || key == "n_min" || key == "n_max") continue;
+      if (scene && (key == "m" || key == "n")) {
+        // A scene's boxes each have their own densities: the range, never the first box's.
+        const int lo = j[key + "_min"].get<int>(), hi = j[key + "_max"].get<int>();
+        std::cout << key << ": " << (lo == hi ? std::to_string(lo) : std::to_string(lo) + ".." + std::to_string(hi))
+                  << " (over " << j["boxes"].get<int>() << " boxes)\n";
+        continue;
+      }
+      std::cout << key << ": " << info_text(*it) << "\n";
     }
     if (j.contains("box_list") && j["box_list"].size() > 1) {
       for (std::size_t b = 0; b < j["box_list"].size(); ++b) {
         const auto& x = j["box_list"][b];
-        std::cout << "box " << b << ": centre " << x["center"].dump() << ", half extents " << x["half_extents"].dump()
-                  << ", codec " << x["codec"].get<std::string>() << ", " << x["table_bytes"].dump() << " bytes, ratio "
-                  << x["compression_ratio"].dump() << ", t error mean " << x["t_error_mean"].dump() << " max "
-                  << x["t_error_max"].dump() << "\n";
+        std::cout << "box " << b << ": m " << x["m"].get<int>() << " n " << x["n"].get<int>() << ", centre "
+                  << info_text(x["center"]) << ", half extents " << info_text(x["half_extents"]) << ", codec "
+                  << x["codec"].get<std::string>() << ", " << hb::bytes_text(x["table_bytes"].get<std::uint64_t>())
+                  << ", ratio " << hb::sig(x["compression_ratio"].get<double>()) << ":1, t error mean "
+                  << info_text(x["t_error_mean"]) << " max " << info_text(x["t_error_max"]) << "\n";
       }
     }
   });

@@ -1,5 +1,6 @@
 #include "pieces_option.h"
 #include "cli_support.h"
+#include "figure_text.h"
 #include <iostream>
 #ifdef HB_WITH_VTK
 #include "polydata_files.h"
@@ -43,8 +44,8 @@ void apply_pieces_spec(const std::string& spec, BakeRecipe& recipe, const std::v
 
 void print_decomposition(const BakeRecipe& recipe, const BakeResult& result) {
   if (recipe.pieces.kind != PiecesRecipe::Kind::automatic) return;
-  std::cerr << "decomposed into " << result.scene.boxes().size() << " pieces in " << result.decompose_seconds
-            << " s\n";
+  std::cerr << "decomposed into " << result.scene.boxes().size() << " pieces in "
+            << duration_text(result.decompose_seconds) << "\n";
 }
 
 } // namespace hb::cli

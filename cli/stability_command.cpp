@@ -3,7 +3,7 @@
 // force path (hb::device: energy guard and safety) as the filter of T6 and T8.
 #include "cli_support.h"
 #include "commands.h"
-#include "device/safety_tick_filter.h"
+#include "device/stability_defaults.h"
 #include "evaluation/stability_suite.h"
 #include "haptic_box/box_file.h"
 #include "mesh/mesh_io.h"
@@ -46,29 +46,11 @@ void print_table(const std::vector<hb::StabilityMetric>& ms) {
   }
 }
 
-hb::TickFilterFactory safety_filter(const hb::DeviceProfile& device, hb::FaultResponse response, bool guard_on) {
-  hb::SafetyOptions safety;
-  safety.fault_response = response;
-  hb::EnergyGuardOptions guard;
-  guard.enabled = guard_on;
-  const hb::DeviceSpec spec = hb::device_spec_of(device);
-  const double dt = device.period_s;
-  return [spec, safety, guard, dt] {
-    return std::unique_ptr<hb::TickFilter>(new hb::SafetyTickFilter(spec, safety, guard, dt));
-  };
-}
-
 } // namespace
 
 hb::StabilityReport hb::cli::default_stability(const hb::BoxScene& scene, const hb::TriangleMesh& mesh,
                                                const std::string& model_name, std::size_t sites) {
-  hb::StabilityOptions so;
-  so.sites = sites;
-  so.generated_refine = scene.refines();
-  so.model_name = model_name;
-  so.filter = safety_filter(so.device, hb::FaultResponse::hold_and_ramp, false);
-  so.filter_name = "safety hold-and-ramp";
-  return hb::run_stability_suite(scene, mesh, so);
+  return hb::run_stability_suite(scene, mesh, hb::default_stability_options(scene, model_name, sites));
 }
 
 void add_stability_command(CLI::App& app) {
@@ -138,7 +120,7 @@ void add_stability_command(CLI::App& app) {
       if (t.size() != 2 || t[0] != 'T' || t[1] < '1' || t[1] > '8')
         throw hb::cli::UsageError("--tests: '" + t + "' is not a test (T1 .. T8)");
     if (o->safety != "none") {
-      so.filter = safety_filter(
+      so.filter = hb::safety_tick_filter_factory(
           so.device, o->safety == "zero" ? hb::FaultResponse::zero_and_ramp : hb::FaultResponse::hold_and_ramp,
           o->energy_guard);
       so.filter_name = std::string("safety ") + (o->safety == "zero" ? "zero-and-ramp" : "hold-and-ramp") +

@@ -51,6 +51,7 @@ bool BackgroundJob::start(const QString& name, Work work) {
   });
   poll_->start();
   thread_->start();
+  emit started(name_);
   return true;
 }
 

@@ -33,6 +33,8 @@ public:
   void wait();
 
 signals:
+  /// The job `name` started (GUI thread): its status replaces whatever the last one said.
+  void started(const QString& name);
   void progressChanged(double fraction);
   void finished(bool ok, bool cancelled, const QString& message);
 

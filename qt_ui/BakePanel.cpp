@@ -1,6 +1,7 @@
 #include "BakePanel.h"
 #include "BackgroundJob.h"
 #include "HapticSession.h"
+#include "figure_text.h"
 #include "haptic_box/haptic_box.h"
 #include <QCheckBox>
 #include <QComboBox>
@@ -15,6 +16,7 @@
 #include <QPushButton>
 #include <QSpinBox>
 #include <QVBoxLayout>
+#include <algorithm>
 
 BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent), session_(session) {
   recipe_ = new QComboBox;
@@ -66,6 +68,12 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   cacheRow->addWidget(cacheInfo_, 1);
   cacheRow->addWidget(clearCache_);
   size_ = new QLabel;
+  // Texts that grow (sizes, cache, bake summary) wrap inside the dock instead of widening it
+  // (and shrinking the 3D view): their width hint is ignored, their height follows the text.
+  for (QLabel* l : {size_, cacheInfo_}) {
+    l->setWordWrap(true);
+    l->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);
+  }
   const auto showSize = [this] {
     if (!recipe_->currentData().toBool()) {
       size_->setText(tr("chosen per piece by the error budget"));
@@ -76,11 +84,12 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
     p.m = m_->value();
     p.n = n_->value();
     const double mb = static_cast<double>(p.sample_count() * sizeof(hb::Sample)) / 1048576.0;
-    const double ids = refine_->isChecked() ? static_cast<double>(p.sample_count() * 2u) / 1048576.0 : 0.0;  // 16-bit unless a piece spans > 65,535 triangles
-    QString text = tr("%1 MB of tables per box, %2 M rays per box")
-                       .arg(mb, 0, 'f', 1)
-                       .arg(static_cast<double>(p.sample_count()) / 1e6, 0, 'f', 1);
-    if (ids > 0.0) text += tr(", + %1 MB of triangle ids").arg(ids, 0, 'f', 1);
+    const std::uint64_t ids = refine_->isChecked() ? p.sample_count() * 2u : 0u;  // 16-bit unless a piece spans > 65,535 triangles
+    // Figures as the command line prints them (3 significant digits, decimal units).
+    QString text = tr("%1 of tables per box, %2 rays per box")
+                       .arg(QString::fromStdString(hb::bytes_text(p.sample_count() * sizeof(hb::Sample))))
+                       .arg(QString::fromStdString(hb::count_text(static_cast<double>(p.sample_count()))));
+    if (ids > 0) text += tr(", + %1 of triangle ids").arg(QString::fromStdString(hb::bytes_text(ids)));
     size_->setText(text);
     size_->setStyleSheet(mb > 1024.0 ? QStringLiteral("color: #c00000;") : QString());
   };
@@ -98,6 +107,7 @@ BakePanel::BakePanel(HapticSession* session, QWidget* parent) : QWidget(parent),
   progress_->setFormat(QStringLiteral("%p%"));
   info_ = new QLabel;
   info_->setWordWrap(true);
+  info_->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);
   info_->setTextInteractionFlags(Qt::TextSelectableByMouse);
 
   auto* form = new QFormLayout;
@@ -178,6 +188,10 @@ void BakePanel::applySettings() {
 
 void BakePanel::bake() {
   applySettings();
+  if (session_->bakeSettings().pieces == BakeSettings::Pieces::File && session_->bakeSettings().piecesFile.trimmed().isEmpty()) {
+    emit message(tr("Pieces is set to 'From a piece file' but no piece file is chosen: choose one (...) or set Pieces to None"));
+    return;
+  }
   // Reopening with the same settings is instant: use the cache when it holds this bake.
   if (session_->bakeSettings().useCache && session_->loadCachedBoxes()) {
     progress_->setValue(1000);
@@ -224,14 +238,21 @@ void BakePanel::updateState() {
   const hb::BoxScene& s = *session_->boxes();
   const auto& p = s.boxes().front().params();
   const std::size_t refineBytes = s.refinement_bytes();
-  const QString tables = tr("%1 MB of tables").arg(static_cast<double>(s.table_bytes()) / 1048576.0, 0, 'f', 1);
+  const QString tables = tr("%1 of tables").arg(QString::fromStdString(hb::bytes_text(s.table_bytes())));
+  // A scene's boxes have their own densities: the range, not the first box's.
+  int mLo = p.m, mHi = p.m, nLo = p.n, nHi = p.n;
+  for (const hb::HapticBox& b : s.boxes()) {
+    mLo = std::min(mLo, b.params().m), mHi = std::max(mHi, b.params().m);
+    nLo = std::min(nLo, b.params().n), nHi = std::max(nHi, b.params().n);
+  }
+  const auto span = [](int lo, int hi) { return lo == hi ? QString::number(lo) : QStringLiteral("%1-%2").arg(lo).arg(hi); };
   info_->setText(tr("%1 box(es), m %2, n %3, %4, %5")
                      .arg(s.boxes().size())
-                     .arg(p.m)
-                     .arg(p.n)
-                     .arg(refineBytes > 0 ? tables + tr(" + %1 MB for exact refinement")
-                                                         .arg(static_cast<double>(refineBytes) / 1048576.0, 0, 'f', 1)
+                     .arg(span(mLo, mHi))
+                     .arg(span(nLo, nHi))
+                     .arg(refineBytes > 0 ? tables + tr(" + %1 for exact refinement")
+                                                         .arg(QString::fromStdString(hb::bytes_text(refineBytes)))
                                           : tables)
                      .arg(session_->boxesFromCache() ? tr("from the cache")
-                                                     : tr("baked in %1 s").arg(session_->bakeSeconds(), 0, 'f', 2)));
+                                                     : tr("baked in %1").arg(QString::fromStdString(hb::duration_text(session_->bakeSeconds())))));
 }

@@ -190,7 +190,8 @@ void ChartsView::setRows(const std::vector<hb::SweepRow>& rows, const std::vecto
     xAxis->SetCustomTickPositions(positions, labels);
   }
   auto tip = [](const hb::SweepRow& r) {
-    std::string t = r.method == "haptic_box" ? "m " + std::to_string(r.m) + ", n " + std::to_string(r.n) + ", " +
+    std::string t = r.method == "haptic_box" && !r.label.empty() ? r.label + ", " + (r.codec.empty() ? std::string("none") : r.codec)
+                    : r.method == "haptic_box" ? "m " + std::to_string(r.m) + ", n " + std::to_string(r.n) + ", " +
                                                    (r.codec.empty() ? std::string("none") : r.codec) + (r.refine ? ", refined" : "")
                                              : r.method;
     return t + ": " + hb::duration_text(r.query_ns * 1e-9) + " a query, median error " + hb::percent(r.force_error_median) +

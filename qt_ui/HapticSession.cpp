@@ -20,6 +20,7 @@ HapticSession::HapticSession(QObject* parent)
   connect(model_.get(), &SessionModel::statusMessage, this, &HapticSession::statusMessage);
   connect(jobs_.get(), &SessionJobs::cacheChanged, this, &HapticSession::cacheChanged);
   connect(jobs_.get(), &SessionJobs::sweepChanged, this, &HapticSession::sweepChanged);
+  connect(jobs_.get(), &SessionJobs::stabilityChanged, this, &HapticSession::stabilityChanged);
   connect(jobs_.get(), &SessionJobs::jobFinished, this, &HapticSession::jobFinished);
   connect(jobs_.get(), &SessionJobs::statusMessage, this, &HapticSession::statusMessage);
   connect(device_.get(), &SessionDevice::deviceChanged, this, &HapticSession::deviceChanged);

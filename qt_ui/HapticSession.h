@@ -82,6 +82,11 @@ public:
                    QString* error = nullptr) {
     return jobs_->startReport(dir, errorFieldImage, samples, error);
   }
+  /// Runs the stability suite on the model's boxes (SessionJobs::startStability).
+  bool startStability(std::size_t sites = 12, bool generated = true, QString* error = nullptr) {
+    return jobs_->startStability(sites, generated, error);
+  }
+  const hb::StabilityReport* stabilityReport() const { return jobs_->stabilityReport(); }
   const std::vector<hb::SweepRow>& sweepRows() const { return jobs_->sweepRows(); }
   const std::vector<std::pair<double, double>>& compressionCurve() const { return jobs_->compressionCurve(); }
 
@@ -109,6 +114,7 @@ public:
   bool emergencyStopped() const { return device_->emergencyStopped(); }
 
 signals:
+  void stabilityChanged();
   void meshChanged();
   void boxesChanged();
   void cacheChanged();

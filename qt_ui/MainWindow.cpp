@@ -6,7 +6,9 @@
 #include "ErrorFieldPanel.h"
 #include "ProbeView.h"
 #include "ReadoutPanel.h"
+#include "ScreenshotDialog.h"
 #include "SessionFile.h"
+#include "StabilityPanel.h"
 #include <QAction>
 #include <QApplication>
 #include <QCloseEvent>
@@ -26,10 +28,15 @@
 #include <QPushButton>
 #include <QSettings>
 #include <QStatusBar>
+#include <QStyle>
 #include <QTimer>
+#include <QToolBar>
+#include <algorithm>
+#include <optional>
 
 namespace {
 constexpr int kMaxRecent = 8;
+constexpr int kLayoutVersion = 2;  ///< saveState/restoreState: bump when the docks or toolbars change
 bool isSessionFile(const QString& path) { return path.endsWith(QLatin1String(".hbsession"), Qt::CaseInsensitive); }
 }  // namespace
 
@@ -43,8 +50,10 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
   errorPanel_ = new ErrorFieldPanel(session_);
   device_ = new DevicePanel(session_);
   charts_ = new ChartsView;
+  stability_ = new StabilityPanel(session_);
   createDocks();
   createActions();
+  createToolBar();
 
   jobProgress_ = new QProgressBar;
   jobProgress_->setRange(0, 1000);
@@ -55,9 +64,23 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
   statusBar()->addPermanentWidget(jobProgress_);
   statusBar()->addPermanentWidget(jobCancel_);
   connect(jobCancel_, &QPushButton::clicked, session_->job(), &BackgroundJob::cancel);
+  // A job's status replaces the last one's ("Bake cancelled" must not linger into the next).
+  connect(session_->job(), &BackgroundJob::started, this, [this](const QString& name) {
+    jobCancel_->setEnabled(true);
+    showMessage(tr("%1 of %2 running (Esc or Cancel stops it)").arg(name, fileLabel()));
+  });
+  // Cancel answers at once; the job stops at its next progress report.
+  connect(session_->job(), &BackgroundJob::progressChanged, this, [this] {
+    if (session_->job()->isRunning() && !jobCancel_->isEnabled())
+      jobProgress_->setFormat(tr("cancelling %1").arg(session_->job()->name()));
+  });
+  connect(jobCancel_, &QPushButton::clicked, this, [this] {
+    jobCancel_->setEnabled(false);
+    showMessage(tr("Cancelling %1 of %2...").arg(session_->job()->name(), fileLabel()));
+  });
   connect(session_->job(), &BackgroundJob::progressChanged, this, [this](double f) {
     jobProgress_->setValue(static_cast<int>(f * 1000.0));
-    jobProgress_->setFormat(session_->job()->name() + QStringLiteral(" %p%"));
+    if (jobCancel_->isEnabled()) jobProgress_->setFormat(session_->job()->name() + QStringLiteral(" %p%"));
     jobProgress_->show();
     jobCancel_->show();
   });
@@ -84,6 +107,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
     view_->setColorMode(field ? ProbeView::ColorMode::ErrorField : ProbeView::ColorMode::Pieces, metric);
   });
   connect(device_, &DevicePanel::message, this, [this](const QString& m) { showMessage(m); });
+  connect(stability_, &StabilityPanel::message, this, [this](const QString& m) { showMessage(m, true); });
   connect(device_, &DevicePanel::tiltRequested, this, [this] {
     session_->tilt();
     session_->aimProbe(view_->viewDirection(), view_->viewRight());
@@ -110,6 +134,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
   connect(timer_, &QTimer::timeout, this, &MainWindow::refresh);
   timer_->start();
   resize(1280, 860);
+  restorePreferences();
   updateActions();
   showMessage(tr("Open a model (File > Open, or drop a file here)"));
 }
@@ -131,9 +156,14 @@ void MainWindow::createDocks() {
   QDockWidget* charts = dock(charts_, tr("Charts"), QStringLiteral("ChartsDock"), Qt::BottomDockWidgetArea);
   tabifyDockWidget(bake, field);
   tabifyDockWidget(field, device);
+  // The stability table is wide (metric, box, exact, threshold, verdict): below the view,
+  // beside the charts, shown by Tools > Stability Suite or the Window menu.
+  QDockWidget* stability = dock(stability_, tr("Stability"), QStringLiteral("StabilityDock"), Qt::BottomDockWidgetArea);
   bake->raise();
   resizeDocks({readout, bake}, {260, 520}, Qt::Vertical);
+  tabifyDockWidget(charts, stability);
   charts->hide();
+  stability->hide();
 }
 
 void MainWindow::createActions() {
@@ -144,20 +174,17 @@ void MainWindow::createActions() {
   saveBoxAction_ = file->addAction(tr("Save Box File &As..."), this, &MainWindow::saveBoxDialog);
   file->addSeparator();
   file->addAction(tr("Open &Session..."), this, [this] {
-    const QString p = QFileDialog::getOpenFileName(this, tr("Open session"), QString(), tr("Sessions (*.hbsession)"));
+    const QString p = QFileDialog::getOpenFileName(this, tr("Open session"), lastFolder(), tr("Sessions (*.hbsession)"));
     if (!p.isEmpty()) openFile(p, true);
   });
   file->addAction(tr("Save Session &As..."), this, [this] {
-    const QString p = QFileDialog::getSaveFileName(this, tr("Save session"), QString(), tr("Sessions (*.hbsession)"));
+    const QString p = QFileDialog::getSaveFileName(this, tr("Save session"), lastFolder(), tr("Sessions (*.hbsession)"));
     if (!p.isEmpty()) saveSession(p.endsWith(QLatin1String(".hbsession")) ? p : p + QStringLiteral(".hbsession"));
   });
   file->addSeparator();
-  file->addAction(tr("Export Screens&hot..."), this, [this] {
-    const QString p = QFileDialog::getSaveFileName(this, tr("Screenshot"), QStringLiteral("hapticbox.png"), tr("PNG (*.png)"));
-    if (!p.isEmpty()) exportScreenshot(p);
-  }, QKeySequence(tr("Ctrl+P")));
+  file->addAction(tr("Export Screens&hot..."), this, &MainWindow::screenshotDialog, QKeySequence(tr("Ctrl+P")));
   reportAction_ = file->addAction(tr("Export Error &Report..."), this, [this] {
-    const QString d = QFileDialog::getExistingDirectory(this, tr("Report folder"));
+    const QString d = QFileDialog::getExistingDirectory(this, tr("Report folder"), lastFolder());
     if (!d.isEmpty()) exportReport(d);
   });
   file->addSeparator();
@@ -169,10 +196,25 @@ void MainWindow::createActions() {
   outlinesAction_->setShortcut(QKeySequence(tr("O")));
   connect(outlinesAction_, &QAction::toggled, view_, &ProbeView::setOutlinesVisible);
   view->addAction(tr("&Reset Camera"), view_, &ProbeView::resetCamera, QKeySequence(tr("R")));
-  QAction* bakeOnOpen = view->addAction(tr("&Bake on Open"));
-  bakeOnOpen->setCheckable(true);
-  bakeOnOpen->setChecked(bakeOnOpen_);
-  connect(bakeOnOpen, &QAction::toggled, this, [this](bool on) { bakeOnOpen_ = on; });
+  QMenu* along = view->addMenu(tr("View &Direction"));
+  const struct { const char* text; int axis, sign; } directions[] = {
+      {"+X", 0, 1}, {"-X", 0, -1}, {"+Y", 1, 1}, {"-Y", 1, -1}, {"+Z", 2, 1}, {"-Z", 2, -1}};
+  for (const auto& d : directions) {
+    QAction* a = along->addAction(tr("Look Along %1").arg(QLatin1String(d.text)), this,
+                                  [this, axis = d.axis, sign = d.sign] { view_->viewAlong(axis, sign); });
+    a->setIconText(QLatin1String(d.text));
+    a->setObjectName(QStringLiteral("view%1").arg(QLatin1String(d.text)).replace('+', 'P').replace('-', 'M'));
+    a->setToolTip(tr("Look along %1 (the camera on the %2 side)").arg(QLatin1String(d.text),
+                                                                      QLatin1String(d.sign > 0 ? "-" : "+") + QLatin1Char("XYZ"[d.axis])));
+  }
+  axesAction_ = view->addAction(tr("Orientation &Axes"));
+  axesAction_->setCheckable(true);
+  axesAction_->setChecked(view_->orientationAxesVisible());
+  connect(axesAction_, &QAction::toggled, view_, &ProbeView::setOrientationAxesVisible);
+  bakeOnOpenAction_ = view->addAction(tr("&Bake on Open"));
+  bakeOnOpenAction_->setCheckable(true);
+  bakeOnOpenAction_->setChecked(bakeOnOpen_);
+  connect(bakeOnOpenAction_, &QAction::toggled, this, [this](bool on) { bakeOnOpen_ = on; });
 
   QMenu* probe = menuBar()->addMenu(tr("&Probe"));
   probeToolAction_ = probe->addAction(tr("Probe &Tool (drag on the model)"));
@@ -200,6 +242,12 @@ void MainWindow::createActions() {
     if (!session_->startSweep({8, 16, 32}, {4, 8}, 5000, &error)) showMessage(error, true);
     else if (auto* d = findChild<QDockWidget*>(QStringLiteral("ChartsDock"))) d->show();
   });
+  tools->addAction(tr("S&tability Suite..."), this, [this] {
+    if (auto* d = findChild<QDockWidget*>(QStringLiteral("StabilityDock"))) {
+      d->show();
+      d->raise();
+    }
+  });
   tools->addAction(tr("Cancel Running Job"), session_->job(), &BackgroundJob::cancel, QKeySequence(tr("Esc")));
 
   QMenu* windows = menuBar()->addMenu(tr("&Window"));
@@ -220,6 +268,130 @@ void MainWindow::createActions() {
                        tr("HapticBox %1: haptic rendering by directional sampling.").arg(QStringLiteral(HB_VERSION)));
   });
   updateRecentMenu();
+}
+
+void MainWindow::createToolBar() {
+  // The common actions one click away (ParaView's and Slicer's toolbars): files, bake and
+  // cancel, screenshot, and the camera's standard views.
+  toolBar_ = addToolBar(tr("Main"));
+  toolBar_->setObjectName(QStringLiteral("MainToolBar"));
+  toolBar_->setToolButtonStyle(Qt::ToolButtonTextBesideIcon);
+  QStyle* st = style();
+  QAction* open = toolBar_->addAction(st->standardIcon(QStyle::SP_DialogOpenButton), tr("Open"), this, &MainWindow::openDialog);
+  open->setToolTip(tr("Open a model or a session (Ctrl+O)"));
+  QAction* save = toolBar_->addAction(st->standardIcon(QStyle::SP_DialogSaveButton), tr("Save Session"), this, [this] {
+    const QString p = QFileDialog::getSaveFileName(this, tr("Save session"), lastFolder(), tr("Sessions (*.hbsession)"));
+    if (!p.isEmpty()) saveSession(p.endsWith(QLatin1String(".hbsession")) ? p : p + QStringLiteral(".hbsession"));
+  });
+  save->setObjectName(QStringLiteral("toolSaveSession"));
+  toolBar_->addSeparator();
+  QAction* bake = toolBar_->addAction(st->standardIcon(QStyle::SP_MediaPlay), tr("Bake"), bake_->bakeButton(), &QPushButton::click);
+  bake->setToolTip(tr("Bake the boxes with the Bake panel's settings (Ctrl+B)"));
+  QAction* cancel = toolBar_->addAction(st->standardIcon(QStyle::SP_BrowserStop), tr("Cancel"), this, [this] {
+    if (session_->job()->isRunning()) jobCancel_->click();
+  });
+  cancel->setToolTip(tr("Cancel the running job (Esc)"));
+  toolBar_->addAction(tr("Screenshot"), this, &MainWindow::screenshotDialog)->setToolTip(tr("Export the view as PNG (Ctrl+P)"));
+  toolBar_->addSeparator();
+  QAction* reset = toolBar_->addAction(tr("Reset"), view_, &ProbeView::resetCamera);
+  reset->setToolTip(tr("Reset the camera to frame the model (R)"));
+  for (QAction* a : findChildren<QAction*>())
+    if (a->objectName().startsWith(QLatin1String("view"))) toolBar_->addAction(a);
+  toolBar_->addAction(axesAction_);
+  toolBar_->addAction(outlinesAction_);
+  // Enabled with the job: Bake needs a model, Cancel a running job.
+  connect(session_->job(), &BackgroundJob::started, cancel, [cancel] { cancel->setEnabled(true); });
+  connect(session_, &HapticSession::jobFinished, cancel, [cancel] { cancel->setEnabled(false); });
+  cancel->setEnabled(false);
+  cancel->setObjectName(QStringLiteral("toolCancel"));
+  bake->setObjectName(QStringLiteral("toolBake"));
+}
+
+QString MainWindow::fileLabel() const {
+  return session_->hasMesh() ? QFileInfo(session_->meshPath()).fileName() : tr("no model");
+}
+
+// --- preferences -------------------------------------------------------------------------
+
+void MainWindow::savePreferences() {
+  QSettings settings;
+  settings.setValue(QStringLiteral("window/geometry"), saveGeometry());
+  settings.setValue(QStringLiteral("window/state"), saveState(kLayoutVersion));
+  bake_->applySettings();
+  const BakeSettings& b = session_->bakeSettings();
+  settings.beginGroup(QStringLiteral("bake"));
+  settings.setValue(QStringLiteral("advanced"), b.advanced);
+  settings.setValue(QStringLiteral("m"), b.m);
+  settings.setValue(QStringLiteral("n"), b.n);
+  settings.setValue(QStringLiteral("padding"), b.padding);
+  settings.setValue(QStringLiteral("pieces"), int(b.pieces));
+  settings.setValue(QStringLiteral("piecesFile"), b.piecesFile);
+  settings.setValue(QStringLiteral("codec"), b.codec);
+  settings.setValue(QStringLiteral("refine"), b.refine);
+  settings.setValue(QStringLiteral("cache"), b.useCache);
+  settings.endGroup();
+  settings.setValue(QStringLiteral("view/bakeOnOpen"), bakeOnOpen_);
+  settings.setValue(QStringLiteral("view/orientationAxes"), view_->orientationAxesVisible());
+  settings.setValue(QStringLiteral("screenshot/magnification"), shotMagnification_);
+  settings.setValue(QStringLiteral("screenshot/transparent"), shotTransparent_);
+}
+
+void MainWindow::restorePreferences() {
+  QSettings settings;
+  // The docks first, then the geometry: restoring the docks may resize the window.
+  if (settings.contains(QStringLiteral("window/state")))
+    restoreState(settings.value(QStringLiteral("window/state")).toByteArray(), kLayoutVersion);
+  if (settings.contains(QStringLiteral("window/geometry")))
+    restoreGeometry(settings.value(QStringLiteral("window/geometry")).toByteArray());
+  BakeSettings b = session_->bakeSettings();
+  settings.beginGroup(QStringLiteral("bake"));
+  // Out-of-range values (an edited file, another version) fall back to the defaults.
+  b.advanced = settings.value(QStringLiteral("advanced"), b.advanced).toBool();
+  const int m = settings.value(QStringLiteral("m"), b.m).toInt(), n = settings.value(QStringLiteral("n"), b.n).toInt();
+  if (m >= 2 && m <= 256) b.m = m;
+  if (n >= 2 && n <= 64) b.n = n;
+  const float padding = settings.value(QStringLiteral("padding"), b.padding).toFloat();
+  if (padding >= 0.f && padding <= 0.5f) b.padding = padding;
+  const int pieces = settings.value(QStringLiteral("pieces"), int(b.pieces)).toInt();
+  if (pieces >= 0 && pieces <= 2) b.pieces = static_cast<BakeSettings::Pieces>(pieces);
+  b.piecesFile = settings.value(QStringLiteral("piecesFile"), b.piecesFile).toString();
+  const QString codec = settings.value(QStringLiteral("codec"), b.codec).toString();
+  if (codec == QLatin1String("none") || codec == QLatin1String("block") || codec == QLatin1String("haar")) b.codec = codec;
+  b.refine = settings.value(QStringLiteral("refine"), b.refine).toBool();
+  b.useCache = settings.value(QStringLiteral("cache"), b.useCache).toBool();
+  settings.endGroup();
+  session_->setBakeSettings(b);
+  bake_->showSettings();
+  bakeOnOpenAction_->setChecked(settings.value(QStringLiteral("view/bakeOnOpen"), bakeOnOpen_).toBool());
+  axesAction_->setChecked(settings.value(QStringLiteral("view/orientationAxes"), true).toBool());
+  shotMagnification_ = std::clamp(settings.value(QStringLiteral("screenshot/magnification"), 1).toInt(), 1, 8);
+  shotTransparent_ = settings.value(QStringLiteral("screenshot/transparent"), false).toBool();
+}
+
+QString MainWindow::lastFolder() const {
+  const QString folder = QSettings().value(QStringLiteral("files/lastFolder")).toString();
+  return !folder.isEmpty() && QFileInfo(folder).isDir() ? folder : QDir::currentPath();
+}
+
+void MainWindow::rememberFolder(const QString& fileOrFolder) {
+  const QFileInfo info(fileOrFolder);
+  const QString folder = info.isDir() ? info.absoluteFilePath() : info.absolutePath();
+  if (!folder.isEmpty()) QSettings().setValue(QStringLiteral("files/lastFolder"), folder);
+}
+
+void MainWindow::screenshotDialog() {
+  ScreenshotDialog options(view_->viewPixels(), this);
+  options.setMagnification(shotMagnification_);
+  options.setTransparent(shotTransparent_);
+  if (options.exec() != QDialog::Accepted) return;
+  shotMagnification_ = options.magnification();
+  shotTransparent_ = options.transparent();
+  const QString base = session_->hasMesh() ? QFileInfo(session_->meshPath()).completeBaseName() : QStringLiteral("hapticbox");
+  const QString p = QFileDialog::getSaveFileName(this, tr("Screenshot"), QDir(lastFolder()).filePath(base + QStringLiteral(".png")),
+                                                 tr("PNG (*.png)"));
+  if (p.isEmpty()) return;
+  exportScreenshot(p.endsWith(QLatin1String(".png"), Qt::CaseInsensitive) ? p : p + QStringLiteral(".png"),
+                   shotMagnification_, shotTransparent_);
 }
 
 void MainWindow::showMessage(const QString& text, bool error) {
@@ -248,19 +420,21 @@ bool MainWindow::openFile(const QString& path, bool interactive) {
     return false;
   }
   addRecentFile(session_->meshPath());
+  rememberFolder(session_->meshPath());
   if (!session_->hasBoxes() && bakeOnOpen_) bake_->bakeButton()->click();
   return true;
 }
 
 void MainWindow::openDialog() {
-  const QString p = QFileDialog::getOpenFileName(this, tr("Open model"), QString(),
+  const QString p = QFileDialog::getOpenFileName(this, tr("Open model"), lastFolder(),
                                                  HapticSession::meshFileFilter() + tr(";;Sessions (*.hbsession)"));
   if (!p.isEmpty()) openFile(p, true);
 }
 
 void MainWindow::openBoxDialog() {
-  const QString p = QFileDialog::getOpenFileName(this, tr("Open box file"), QString(), tr("Box files (*.hbox)"));
+  const QString p = QFileDialog::getOpenFileName(this, tr("Open box file"), lastFolder(), tr("Box files (*.hbox)"));
   if (p.isEmpty()) return;
+  rememberFolder(p);
   QString error;
   if (!session_->openBoxFile(p, &error)) {
     showMessage(error, true);
@@ -269,8 +443,9 @@ void MainWindow::openBoxDialog() {
 }
 
 void MainWindow::saveBoxDialog() {
-  const QString p = QFileDialog::getSaveFileName(this, tr("Save box file"), QString(), tr("Box files (*.hbox)"));
+  const QString p = QFileDialog::getSaveFileName(this, tr("Save box file"), lastFolder(), tr("Box files (*.hbox)"));
   if (p.isEmpty()) return;
+  rememberFolder(p);
   QString error;
   if (!session_->saveBoxFile(p, &error)) showMessage(error, true);
   else showMessage(tr("Saved %1").arg(p));
@@ -309,7 +484,14 @@ void MainWindow::onMeshChanged() {
 void MainWindow::onJobFinished(const QString& name, bool ok, const QString& message) {
   jobProgress_->hide();
   jobCancel_->hide();
-  showMessage(ok && name == tr("Report") ? tr("Report written to %1").arg(pendingReportDir_) : message, !ok);
+  jobCancel_->setEnabled(true);
+  // Whole sentences that name the job and the model: a bare ": cannot open" helps nobody.
+  QString text;
+  if (ok) text = name == tr("Report") ? tr("Report written to %1").arg(pendingReportDir_) : tr("%1 of %2 done").arg(name, fileLabel());
+  else if (message == tr("%1 cancelled").arg(name)) text = tr("%1 of %2 cancelled").arg(name, fileLabel());
+  else text = tr("%1 of %2 failed: %3").arg(name, fileLabel(), message.isEmpty() ? tr("unknown error") : message);
+  if (name == tr("Bake") && ok) savePreferences();  // the settings that baked are the ones to start with next time
+  showMessage(text, !ok);
   updateActions();
 }
 
@@ -336,10 +518,16 @@ void MainWindow::refresh() {
 
 // --- export ------------------------------------------------------------------------------
 
-bool MainWindow::exportScreenshot(const QString& path) {
+bool MainWindow::exportScreenshot(const QString& path, int magnification, bool transparent) {
   try {
-    view_->saveScreenshot(path);
-    showMessage(tr("Saved %1").arg(path));
+    view_->saveScreenshot(path, magnification, transparent);
+    rememberFolder(path);
+    const QSize size = view_->viewPixels() * magnification;
+    showMessage(tr("Saved %1 (%2 x %3 pixels%4)")
+                    .arg(path)
+                    .arg(size.width())
+                    .arg(size.height())
+                    .arg(transparent ? tr(", transparent background") : QString()));
     return true;
   } catch (const std::exception& e) {
     showMessage(QString::fromStdString(e.what()), true);
@@ -367,6 +555,7 @@ bool MainWindow::exportReport(const QString& dir, std::size_t samples) {
     return false;
   }
   pendingReportDir_ = dir;
+  rememberFolder(dir);
   return true;
 }
 
@@ -384,8 +573,13 @@ bool MainWindow::saveSession(const QString& path) {
   s.metric = errorPanel_->metric();
   s.hasCamera = session_->hasMesh();
   s.camera = view_->cameraState();
+  if (const std::optional<hb::Vec3> p = session_->surfacePoint()) {
+    s.hasProbe = true;
+    s.probePoint = {p->x(), p->y(), p->z()};
+  }
   try {
     saveSessionFile(s, path);
+    rememberFolder(path);
     showMessage(tr("Saved session %1").arg(path));
     return true;
   } catch (const std::exception& e) {
@@ -413,6 +607,7 @@ bool MainWindow::openSessionFile(const QString& path, bool interactive) {
   session_->setProbeDirection(hb::Vec3(s.probeDirection[0], s.probeDirection[1], s.probeDirection[2]));
   session_->setTiltDegrees(s.tiltDegrees);
   session_->setDepthFraction(s.depthFraction);
+  if (s.hasProbe) session_->setProbeTarget(hb::Vec3(s.probePoint[0], s.probePoint[1], s.probePoint[2]));
   device_->showDepth();
   errorPanel_->setMetric(s.metric);
   if (s.hasCamera) view_->setCameraState(s.camera);
@@ -440,6 +635,7 @@ bool MainWindow::openDroppedUrls(const QList<QUrl>& urls) {
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {
+  savePreferences();
   session_->job()->cancel();
   session_->job()->wait();
   timer_->stop();

@@ -18,7 +18,9 @@ class QMenu;
 class QProgressBar;
 class QPushButton;
 class QTimer;
+class QToolBar;
 class ReadoutPanel;
+class StabilityPanel;
 
 class MainWindow : public QMainWindow {
   Q_OBJECT
@@ -34,7 +36,9 @@ public:
   /// Bakes automatically after opening a model without a cached bake (default on).
   void setBakeOnOpen(bool on) { bakeOnOpen_ = on; }
 
-  bool exportScreenshot(const QString& path);
+  /// Writes the view as PNG at `magnification` x its size, optionally with a transparent
+  /// background (File > Export Screenshot asks for both).
+  bool exportScreenshot(const QString& path, int magnification = 1, bool transparent = false);
   /// Starts the report job (the files of `hapticbox report` plus the error-field image).
   bool exportReport(const QString& dir, std::size_t samples = 20000);
   bool saveSession(const QString& path);
@@ -46,6 +50,16 @@ public:
   ErrorFieldPanel* errorFieldPanel() const { return errorPanel_; }
   DevicePanel* devicePanel() const { return device_; }
   ChartsView* chartsView() const { return charts_; }
+  StabilityPanel* stabilityPanel() const { return stability_; }
+  /// Preferences that persist between runs (QSettings): bake settings, Bake on Open, the
+  /// orientation axes, the window's geometry and dock/toolbar layout, the screenshot options.
+  /// Read when the window is made, written when it closes (and when a bake starts).
+  void savePreferences();
+  void restorePreferences();
+  /// The folder file dialogs open in: the last one a file was opened from or saved to.
+  QString lastFolder() const;
+  void rememberFolder(const QString& fileOrFolder);
+  QToolBar* toolBar() const { return toolBar_; }
   /// One display tick (the timer calls it at ~60 Hz): latest reading to the view and readout.
   void refresh();
 
@@ -57,6 +71,9 @@ protected:
 private:
   void createActions();
   void createDocks();
+  void createToolBar();
+  void screenshotDialog();
+  QString fileLabel() const;
   void showMessage(const QString& text, bool error = false);
   void addRecentFile(const QString& path);
   void updateRecentMenu();
@@ -77,6 +94,7 @@ private:
   ErrorFieldPanel* errorPanel_;
   DevicePanel* device_;
   ChartsView* charts_;
+  StabilityPanel* stability_;
   QTimer* timer_;
   QProgressBar* jobProgress_;
   QPushButton* jobCancel_;
@@ -86,6 +104,11 @@ private:
   QAction* saveBoxAction_ = nullptr;
   QAction* reportAction_ = nullptr;
   QAction* errorFieldAction_ = nullptr;
+  QAction* axesAction_ = nullptr;
+  QAction* bakeOnOpenAction_ = nullptr;
+  QToolBar* toolBar_ = nullptr;
+  int shotMagnification_ = 1;
+  bool shotTransparent_ = false;
   bool bakeOnOpen_ = true;
   int refreshCount_ = 0;
   QString pendingReportDir_;

@@ -15,6 +15,9 @@
 #include <QtGlobal>
 #include <vtkActor.h>
 #include <vtkArrowSource.h>
+#include <vtkAxesActor.h>
+#include <vtkCaptionActor2D.h>
+#include <vtkOrientationMarkerWidget.h>
 #include <vtkCallbackCommand.h>
 #include <vtkCamera.h>
 #include <vtkIdTypeArray.h>
@@ -170,9 +173,33 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   tipActor_->VisibilityOff();
   renderer_->AddActor(tipActor_);
 
-  // The exact arrow is a little thicker, so it shows around the box's when the two coincide.
-  exactArrow_ = makeArrow(kExactColor, 1.5);
+  // When the two agree they coincide: the exact arrow is a thicker sleeve drawn from inside
+  // (front faces culled: its far wall shows, opaque and lit from both sides) and the box's a
+  // thinner solid core, so the orange shows whole inside a green rim instead of behind it.
+  exactArrow_ = makeArrow(kExactColor, 2.0);
+  exactArrow_->GetProperty()->FrontfaceCullingOn();
   approxArrow_ = makeArrow(kApproxColor, 1.0);
+  // An arrow seen end on is a disc: a caption at its tip says which way it points.
+  const auto caption = [this](const double color[3], bool below) {
+    auto t = vtkSmartPointer<vtkTextActor>::New();
+    t->GetTextProperty()->SetColor(color[0], color[1], color[2]);
+    t->GetTextProperty()->SetFontSize(15);
+    t->GetTextProperty()->BoldOn();
+    t->GetTextProperty()->ShadowOn();
+    t->GetTextProperty()->SetVerticalJustification(below ? VTK_TEXT_TOP : VTK_TEXT_BOTTOM);
+    t->GetPositionCoordinate()->SetCoordinateSystemToDisplay();
+    t->VisibilityOff();
+    t->PickableOff();
+    renderer_->AddViewProp(t);
+    return t;
+  };
+  exactCaption_ = caption(kExactColor, false);
+  approxCaption_ = caption(kApproxColor, true);
+  auto beforeRender = vtkSmartPointer<vtkCallbackCommand>::New();
+  beforeRender->SetClientData(this);
+  beforeRender->SetCallback(
+      [](vtkObject*, unsigned long, void* self, void*) { static_cast<ProbeView*>(self)->updateArrowCaptions(); });
+  renderer_->AddObserver(vtkCommand::StartEvent, beforeRender);
   renderer_->AddActor(exactArrow_);
   renderer_->AddActor(approxArrow_);
   legendExact_ = makeLegend("-> exact force (Embree)", kExactColor, 0);
@@ -204,6 +231,22 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   };
   style_->DepthCallback = [this](int step) { emit depthStepped(step); };
   interactor()->SetInteractorStyle(style_);
+  // Orientation axes in the lower-left corner, as ParaView and Slicer show them.
+  auto axes = vtkSmartPointer<vtkAxesActor>::New();
+  axes->SetShaftTypeToCylinder();
+  axes->SetCylinderRadius(0.04);
+  axes->SetConeRadius(0.5);
+  for (vtkCaptionActor2D* c : {axes->GetXAxisCaptionActor2D(), axes->GetYAxisCaptionActor2D(), axes->GetZAxisCaptionActor2D()}) {
+    c->GetCaptionTextProperty()->ItalicOff();
+    c->GetCaptionTextProperty()->ShadowOff();
+    c->GetCaptionTextProperty()->BoldOn();
+  }
+  axesWidget_ = vtkSmartPointer<vtkOrientationMarkerWidget>::New();
+  axesWidget_->SetOrientationMarker(axes);
+  axesWidget_->SetInteractor(interactor());
+  axesWidget_->SetViewport(0.0, 0.0, 0.14, 0.2);
+  axesWidget_->SetEnabled(1);
+  axesWidget_->InteractiveOff();
   auto interaction = vtkSmartPointer<vtkCallbackCommand>::New();
   interaction->SetClientData(this);
   interaction->SetCallback([](vtkObject*, unsigned long event, void* self, void*) {
@@ -452,15 +495,65 @@ void ProbeView::setReading(const ProbeReading& r, double forceScale) {
   tipActor_->SetPosition(r.segment.end.x(), r.segment.end.y(), r.segment.end.z());
   // Both arrows on one scale (so their lengths compare), capped at a fifth of the model.
   const double cap = 0.2 * diagonal_;
-  if (r.exact.contact)
-    placeArrow(exactArrow_, r.exact.point, r.exact.force, std::min(cap, r.exact.force.norm() * forceScale));
-  else
-    exactArrow_->VisibilityOff();
-  if (r.approx.contact)
-    placeArrow(approxArrow_, r.approx.point, r.approx.force, std::min(cap, r.approx.force.norm() * forceScale));
-  else
-    approxArrow_->VisibilityOff();
+  const auto place = [&](vtkActor* arrow, const hb::Contact& c, hb::Vec3& tip, hb::Vec3& dir) {
+    dir = hb::Vec3::Zero();
+    if (!c.contact) {
+      arrow->VisibilityOff();
+      return;
+    }
+    const double length = std::min(cap, c.force.norm() * forceScale);
+    placeArrow(arrow, c.point, c.force, length);
+    if (arrow->GetVisibility()) {
+      dir = c.force.normalized();
+      tip = c.point + dir * static_cast<float>(length);
+    }
+  };
+  place(exactArrow_, r.exact, exactTip_, exactDir_);
+  exactLength_ = r.exact.contact ? static_cast<float>(std::min(cap, r.exact.force.norm() * forceScale))
+                                 : static_cast<float>(std::min(cap, r.approx.force.norm() * forceScale));
+  place(approxArrow_, r.approx, approxTip_, approxDir_);
   renderNow();
+}
+
+void ProbeView::updateArrowCaptions() {
+  // Within 30 degrees of the line of sight an arrow's shape no longer tells its direction.
+  double d[3];
+  renderer_->GetActiveCamera()->GetDirectionOfProjection(d);
+  const hb::Vec3 view(static_cast<float>(d[0]), static_cast<float>(d[1]), static_cast<float>(d[2]));
+  const hb::Vec3 right = viewRight();
+  const float rimRadius = 0.2f * exactLength_;  // makeArrow: tip radius 0.1 x thickness 2, scaled by the length
+  const auto update = [&](vtkTextActor* caption, vtkActor* arrow, const hb::Vec3& dir, const hb::Vec3& tip, const char* who) {
+    const float c = dir.dot(view);
+    if (!arrow->GetVisibility() || std::abs(c) < 0.866f) {
+      caption->VisibilityOff();
+      return;
+    }
+    const std::string text = std::string("  ") + who + (c < 0.f ? ": toward you" : ": away from you");
+    const char* shown = caption->GetInput();
+    if (!shown || text != shown) caption->SetInput(text.c_str());
+    // Beside the disc, not over it: right of the exact arrow's rim (the wider of the two).
+    double centre[3], rim[3];
+    const hb::Vec3 edge = tip + right * rimRadius;
+    renderer_->SetWorldPoint(tip.x(), tip.y(), tip.z(), 1.0);
+    renderer_->WorldToDisplay();
+    renderer_->GetDisplayPoint(centre);
+    renderer_->SetWorldPoint(edge.x(), edge.y(), edge.z(), 1.0);
+    renderer_->WorldToDisplay();
+    renderer_->GetDisplayPoint(rim);
+    const double gap = std::hypot(rim[0] - centre[0], rim[1] - centre[1]) + 4.0;
+    caption->GetPositionCoordinate()->SetValue(centre[0] + gap, centre[1] + (caption == exactCaption_ ? 2.0 : -2.0));
+    caption->VisibilityOn();
+  };
+  update(exactCaption_, exactArrow_, exactDir_, exactTip_, "exact");
+  update(approxCaption_, approxArrow_, approxDir_, approxTip_, "box");
+}
+
+QString ProbeView::exactArrowCaption() const {
+  return exactCaption_->GetVisibility() ? QString::fromUtf8(exactCaption_->GetInput()).trimmed() : QString();
+}
+
+QString ProbeView::approxArrowCaption() const {
+  return approxCaption_->GetVisibility() ? QString::fromUtf8(approxCaption_->GetInput()).trimmed() : QString();
 }
 
 void ProbeView::setProbeMode(bool on) { style_->SetProbeMode(on); }
@@ -507,6 +600,28 @@ void ProbeView::resetCamera() {
   renderNow();
 }
 
+void ProbeView::viewAlong(int axis, int sign) {
+  vtkCamera* c = renderer_->GetActiveCamera();
+  double focal[3];
+  c->GetFocalPoint(focal);
+  const double distance = c->GetDistance();
+  double position[3] = {focal[0], focal[1], focal[2]};
+  position[axis] -= (sign > 0 ? 1.0 : -1.0) * distance;  // looking toward +axis: the camera on the - side
+  c->SetPosition(position);
+  if (axis == 2) c->SetViewUp(0.0, 1.0, 0.0);
+  else c->SetViewUp(0.0, 0.0, 1.0);
+  renderer_->ResetCamera();
+  renderNow();
+}
+
+void ProbeView::setOrientationAxesVisible(bool on) {
+  axesWidget_->SetEnabled(on ? 1 : 0);
+  if (on) axesWidget_->InteractiveOff();
+  renderNow();
+}
+
+bool ProbeView::orientationAxesVisible() const { return axesWidget_->GetEnabled() != 0; }
+
 void ProbeView::orbitCamera(double azimuth, double elevation) {
   vtkCamera* c = renderer_->GetActiveCamera();
   c->Azimuth(azimuth);
@@ -548,15 +663,39 @@ void ProbeView::renderNow() {
   });
 }
 
-void ProbeView::saveScreenshot(const QString& path) {
+QSize ProbeView::viewPixels() const {
+  const int* size = const_cast<ProbeView*>(this)->renderWindow()->GetSize();
+  return QSize(size[0], size[1]);
+}
+
+void ProbeView::saveScreenshot(const QString& path, int magnification, bool transparent) {
+  if (magnification < 1 || magnification > 8)
+    throw hb::InvalidInput("screenshot magnification " + std::to_string(magnification) + " is outside [1, 8]");
   stillTimer_->stop();
   setInteracting(false);  // a screenshot shows the full model, never the proxy
+  const bool gradient = renderer_->GetGradientBackground() != 0;
+  if (transparent) {
+    // ParaView's "transparent background": the background's alpha at 0, everything drawn opaque.
+    renderer_->GradientBackgroundOff();
+    renderer_->SetBackgroundAlpha(0.0);
+    window_->SetAlphaBitPlanes(1);
+  }
   renderWindow()->Render();
   auto grab = vtkSmartPointer<vtkWindowToImageFilter>::New();
   grab->SetInput(renderWindow());
-  grab->SetInputBufferTypeToRGB();
+  // Magnified: VTK renders the view in tiles at the window's size and stitches them (text
+  // and bars are placed per tile and keep their pixel size).
+  grab->SetScale(magnification, magnification);
+  grab->FixBoundaryOn();
+  if (transparent) grab->SetInputBufferTypeToRGBA();
+  else grab->SetInputBufferTypeToRGB();
   grab->ReadFrontBufferOff();
   grab->Update();
+  if (transparent) {
+    renderer_->SetBackgroundAlpha(1.0);
+    renderer_->SetGradientBackground(gradient);
+  }
+  renderNow();
   auto writer = vtkSmartPointer<vtkPNGWriter>::New();
   writer->SetFileName(QFile::encodeName(path).constData());
   writer->SetInputConnection(grab->GetOutputPort());

@@ -13,6 +13,7 @@ class vtkActor;
 class vtkGenericOpenGLRenderWindow;
 class vtkIdTypeArray;
 class vtkLineSource;
+class vtkOrientationMarkerWidget;
 class vtkPolyDataMapper;
 class vtkRenderer;
 class vtkScalarBarActor;
@@ -47,6 +48,12 @@ public:
   hb::Vec3 viewRight() const;
 
   void resetCamera();
+  /// Looks along an axis (0 x, 1 y, 2 z), toward +axis when `sign` > 0 (ParaView's "+X"
+  /// button: the camera on the -X side), the model framed; up is +Z (+Y for the Z views).
+  void viewAlong(int axis, int sign);
+  /// The orientation axes in the lower-left corner (vtkOrientationMarkerWidget, vtkAxesActor).
+  void setOrientationAxesVisible(bool on);
+  bool orientationAxesVisible() const;
   /// Orbits the camera about the focal point, degrees.
   void orbitCamera(double azimuth, double elevation);
   CameraState cameraState() const;
@@ -54,12 +61,19 @@ public:
 
   /// Renders at the next pass of the event loop (GUI thread; coalesced).
   void renderNow();
-  /// Writes the view as PNG; throws hb::IoError.
-  void saveScreenshot(const QString& path);
+  /// Writes the view as PNG, `magnification` (1-8) times the view's size in pixels, with a
+  /// transparent background (RGBA) when asked; throws hb::IoError.
+  void saveScreenshot(const QString& path, int magnification = 1, bool transparent = false);
+  /// The view's size in pixels (what magnification 1 writes).
+  QSize viewPixels() const;
   /// What is on screen (tests).
   bool exactArrowShown() const;
   bool approxArrowShown() const;
   bool scalarBarShown() const;
+  /// The caption beside an arrow seen nearly end on ("toward you" / "away from you"), empty
+  /// when the arrow reads by its shape (tests).
+  QString exactArrowCaption() const;
+  QString approxArrowCaption() const;
   /// Frames per second over `frames` renders while orbiting (benchmark); `interactive`
   /// renders the level-of-detail proxy, as during a drag.
   double measureFrameRate(int frames, bool interactive = false);
@@ -77,6 +91,7 @@ signals:
 
 private:
   void updateColoring();
+  void updateArrowCaptions();
   void buildProxy();
   void updateProxyColors();
 
@@ -99,6 +114,12 @@ private:
   vtkSmartPointer<vtkActor> tipActor_;
   vtkSmartPointer<vtkActor> exactArrow_;
   vtkSmartPointer<vtkActor> approxArrow_;
+  vtkSmartPointer<vtkTextActor> exactCaption_;
+  vtkSmartPointer<vtkTextActor> approxCaption_;
+  hb::Vec3 exactTip_{0.f, 0.f, 0.f}, approxTip_{0.f, 0.f, 0.f};
+  hb::Vec3 exactDir_{0.f, 0.f, 0.f}, approxDir_{0.f, 0.f, 0.f};
+  float exactLength_ = 0.f;  ///< shown length of the arrows (the captions stand clear of the rim)
+  vtkSmartPointer<vtkOrientationMarkerWidget> axesWidget_;
   vtkSmartPointer<vtkTextActor> legendExact_;
   vtkSmartPointer<vtkTextActor> legendApprox_;
   vtkSmartPointer<vtkScalarBarActor> scalarBar_;

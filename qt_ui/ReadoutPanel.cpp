@@ -10,6 +10,9 @@ QLabel* value() {
   auto* l = new QLabel(QStringLiteral("-"));
   l->setFont(QFontDatabase::systemFont(QFontDatabase::FixedFont));
   l->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  // Readouts change ten times a second: they wrap in the dock's width, never widen it.
+  l->setWordWrap(true);
+  l->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);
   return l;
 }
 }  // namespace

@@ -4,6 +4,8 @@
 #include <QFile>
 #include <QFileInfo>
 #include <nlohmann/json.hpp>
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 
 namespace {
@@ -30,6 +32,7 @@ void saveSessionFile(const SessionState& s, const QString& path) {
   j["probe"] = {{"depth_fraction", s.depthFraction},
                 {"direction", {s.probeDirection[0], s.probeDirection[1], s.probeDirection[2]}},
                 {"tilt_degrees", s.tiltDegrees}};
+  if (s.hasProbe) j["probe"]["surface_point"] = {s.probePoint[0], s.probePoint[1], s.probePoint[2]};
   j["display"] = {{"outlines", s.outlines},
                   {"error_field", s.showErrorField},
                   {"metric", HapticSession::errorArrayName(s.metric)}};
@@ -75,6 +78,11 @@ SessionState loadSessionFile(const QString& path) {
       s.depthFraction = p.value("depth_fraction", 0.01);
       if (p.contains("direction")) s.probeDirection = p["direction"].get<std::array<float, 3>>();
       s.tiltDegrees = p.value("tilt_degrees", 0.0);
+      if (p.contains("surface_point")) {
+        s.probePoint = p["surface_point"].get<std::array<float, 3>>();
+        s.hasProbe = std::all_of(s.probePoint.begin(), s.probePoint.end(), [](float v) { return std::isfinite(v); });
+        if (!s.hasProbe) throw hb::InvalidInput(local(path) + ": probe.surface_point is not finite");
+      }
     }
     if (j.contains("display")) {
       const auto& d = j["display"];

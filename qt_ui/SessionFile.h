@@ -19,6 +19,8 @@ struct SessionState {
   double depthFraction = 0.01;
   std::array<float, 3> probeDirection{0.f, 0.f, -1.f};
   double tiltDegrees = 0.0;
+  bool hasProbe = false;               ///< the probe was placed: `probePoint` is where.
+  std::array<float, 3> probePoint{};   ///< the surface point the probe was dragged to, model units.
   bool outlines = false;
   bool showErrorField = false;
   ErrorMetric metric = ErrorMetric::RelativeForce;

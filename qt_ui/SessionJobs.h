@@ -14,6 +14,9 @@
 #include <vector>
 
 class BackgroundJob;
+namespace hb {
+struct StabilityReport;
+}
 
 /// What the bake panel sets. By default the bake is the product's default, the one
 /// `hapticbox bake MESH -o BOX` runs (hb::default_recipe(): automatic pieces, an error budget
@@ -73,11 +76,19 @@ public:
   /// worker. `errorFieldImage`: a PNG of the rendered field to embed, or empty.
   bool startReport(const QString& dir, const QString& errorFieldImage, std::size_t samples = 20000,
                    QString* error = nullptr);
+  /// Runs the trajectory stability suite on the model's boxes and mesh on the worker
+  /// (`hapticbox stability`'s defaults: hb::default_stability_options), `sites` trajectories
+  /// per test, one test at a time (progress and cancel between tests); `generated` false: the
+  /// model alone (as `--no-generated`). Implemented in SessionStability.cpp.
+  bool startStability(std::size_t sites = 12, bool generated = true, QString* error = nullptr);
+  /// The last suite's report (null before one finished).
+  const hb::StabilityReport* stabilityReport() const { return stability_.get(); }
   /// Sweep rows of the last report or sweep (the charts).
   const std::vector<hb::SweepRow>& sweepRows() const { return sweepRows_; }
   const std::vector<std::pair<double, double>>& compressionCurve() const { return compression_; }
 
 signals:
+  void stabilityChanged();
   void cacheChanged();
   void sweepChanged();
   void jobFinished(const QString& name, bool ok, const QString& message);
@@ -102,6 +113,8 @@ private:
   std::vector<hb::SweepRow> pendingRows_;
   std::vector<std::pair<double, double>> pendingCompression_;
   bool pendingRowsReady_ = false;
+
+  std::shared_ptr<const hb::StabilityReport> stability_;
 
   BackgroundJob* job_ = nullptr;
 };

@@ -77,6 +77,7 @@ nlohmann::json row_json(const SweepRow& r) {
           {"n", r.n},
           {"codec", r.codec},
           {"refine", r.refine},
+          {"label", r.label},
           {"query_ns", r.query_ns},
           {"memory_bytes", r.memory_bytes},
           // A loaded box was not baked here: null, not 0.
@@ -148,6 +149,11 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   own.method = "haptic_box";
   own.m = d.params.m;
   own.n = d.params.n;
+  if (d.pieces > 1) {
+    // A scene is not the first box's (m, n): its chart point says what it is.
+    const auto span = [](int lo, int hi) { return lo == hi ? std::to_string(lo) : std::to_string(lo) + "-" + std::to_string(hi); };
+    own.label = "scene: " + std::to_string(d.pieces) + " boxes, m " + span(d.m_min, d.m_max) + ", n " + span(d.n_min, d.n_max);
+  }
   own.codec = d.codec;
   own.refine = d.refine;
   own.query_ns = d.box_ns;

@@ -88,7 +88,10 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
       pls->ssym(0, box ? 1.2 : 1.6);
       pls->poin(1, &x, &y, box ? 17 : 16);
       char label[96];
-      if (box)
+      if (box && !r.label.empty())
+        std::snprintf(label, sizeof label, "%s%s%s", r.label.c_str(),
+                      r.codec != "none" && !r.codec.empty() ? (" " + r.codec).c_str() : "", r.refine ? " ref" : "");
+      else if (box)
         std::snprintf(label, sizeof label, "m%d n%d%s%s", r.m, r.n,
                       r.codec != "none" && !r.codec.empty() ? (" " + r.codec).c_str() : "", r.refine ? " ref" : "");
       else std::snprintf(label, sizeof label, "%s", vtk ? "VTK locator" : "exact Embree");

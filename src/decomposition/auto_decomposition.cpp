@@ -236,7 +236,14 @@ void Merger::build_lines() {
   const float eps = 1e-6f * radius;
   std::mt19937_64 base(options_.seed);
   const std::uint64_t seed = base();
-  tbb::parallel_for(tbb::blocked_range<int>(0, count, 1024), [&](const tbb::blocked_range<int>& r) {
+  // In chunks, with progress (0.05 to 0.3) and a chance to cancel between them: the lines are
+  // a large share of the decomposition's time. Line i depends only on i: same lines whatever
+  // the chunking.
+  constexpr int kChunks = 24;
+  const int chunk = std::max(1024, (count + kChunks - 1) / kChunks);
+  for (int from = 0; from < count; from += chunk) {
+  const int to = std::min(count, from + chunk);
+  tbb::parallel_for(tbb::blocked_range<int>(from, to, 1024), [&](const tbb::blocked_range<int>& r) {
     std::vector<LineHit> hits;
     for (int i = r.begin(); i != r.end(); ++i) {
       std::mt19937_64 rng(seed ^ (std::uint64_t(i) * 0x9E3779B97F4A7C15ull));
@@ -254,6 +261,8 @@ void Merger::build_lines() {
       if (hits.size() >= 2) per_line[std::size_t(i)] = hits;
     }
   });
+  report(0.05 + 0.25 * double(to) / double(count));
+  }
   line_offsets_.assign(1, 0);
   cluster_lines_.assign(cluster_triangles_.size(), {});
   for (const auto& hits : per_line) {
@@ -391,7 +400,12 @@ Decomposition Merger::run() {
       for (std::uint32_t b : pieces_[a].neighbours)
         if (b > a) edges.emplace_back(a, b);
     std::vector<Candidate> out(edges.size());
-    tbb::parallel_for(std::size_t(0), edges.size(), [&](std::size_t k) { out[k] = evaluate(edges[k].first, edges[k].second); });
+    const std::size_t chunk = std::max<std::size_t>(256, edges.size() / 16 + 1);
+    for (std::size_t from = 0; from < edges.size(); from += chunk) {
+      const std::size_t to = std::min(edges.size(), from + chunk);
+      tbb::parallel_for(from, to, [&](std::size_t k) { out[k] = evaluate(edges[k].first, edges[k].second); });
+      report(0.4 + 0.1 * double(to) / double(edges.size()));
+    }
     for (const Candidate& c : out) queue_.push(c);
   }
   const double total_area = [&] {
@@ -417,7 +431,7 @@ Decomposition Merger::run() {
     }
     merge(c);
     push_neighbours(c.a);
-    if ((start_count - alive_) % 32 == 0) report(0.4 + 0.55 * double(start_count - alive_) / double(start_count));
+    if ((start_count - alive_) % 32 == 0) report(0.5 + 0.35 * double(start_count - alive_) / double(start_count));
   }
   // Phase 2 and 3 share one queue of the remaining candidates: a candidate is taken when one
   // side is small, or when there are still too many pieces (cheapest first).
@@ -435,6 +449,7 @@ Decomposition Merger::run() {
         merge(c);
         push_neighbours(c.a);
         changed = true;
+        if (alive_ % 8 == 0) report(0.85 + 0.1 * double(start_count - alive_) / double(std::max<std::size_t>(start_count, 1)));
       } else {
         keep.push_back(c);
       }

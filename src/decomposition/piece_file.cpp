@@ -202,6 +202,7 @@ bool has_extension(const std::string& path, const std::string& ext) {
 } // namespace
 
 std::vector<std::uint32_t> read_piece_file(const std::string& path, std::size_t triangle_count) {
+  if (path.empty()) throw InvalidInput("no piece file given (choose one: a text file of one piece id per triangle, or .ply)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path + ": cannot open piece file");
   std::vector<std::uint32_t> ids = has_extension(path, ".ply") ? read_ply(path, in) : read_text(path, in);

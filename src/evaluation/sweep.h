@@ -53,6 +53,9 @@ struct SweepRow {
   double contact_agreement = 0.0;
   double angle_error_median_deg = 0.0;
   bool pareto = false;             ///< on the Pareto front (see mark_pareto_front).
+  /// What charts call a row that is not one (m, n) configuration, e.g. a report's own scene
+  /// of several boxes ("scene: 19 boxes, m 8-26, n 6-8"); empty: "m<m> n<n>".
+  std::string label;
 };
 
 /// Options of run_sweep.

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <array>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -66,6 +67,39 @@ TEST_F(CliTest, DefaultBakeMeetsTheBudgetAndInfoReportsIt) {
   // A box baked with given options has no budget.
   bake_once();
   EXPECT_NE(run("info " + path("sphere.hbox")).out.find("budget: none"), std::string::npos);
+}
+
+// A scene of several boxes: info names their count and the m/n range (not the first box's m),
+// its figures read with 4 significant digits, and an automatic decomposition's time reads with 3.
+TEST_F(CliTest, InfoShowsASceneAsItsBoxesAndFiguresReadable) {
+  const auto mesh = nlohmann::json::parse(run("info " + path("sphere.off") + " --json").out);
+  const std::size_t triangles = mesh["triangles"].get<std::size_t>();
+  std::ofstream ids(path("halves.txt"));
+  for (std::size_t t = 0; t < triangles; ++t) ids << (t < triangles / 2 ? 0 : 1) << "\n";
+  ids.close();
+  ASSERT_EQ(run("bake " + path("sphere.off") + " -o " + path("halves.hbox") + " -m 8 -n 6 --pieces " + path("halves.txt")).code, 0);
+  const Result info = run("info " + path("halves.hbox"));
+  ASSERT_EQ(info.code, 0) << info.err;
+  EXPECT_NE(info.out.find("\nm: 8 (over 2 boxes)\n"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("\nbox 1: m 8 n 6, centre ["), std::string::npos) << info.out;
+  const auto j = nlohmann::json::parse(run("info " + path("halves.hbox") + " --json").out);
+  // Not the raw doubles of the JSON form ("9.183012008666992").
+  const std::string raw = j["box_list"][0]["half_extents"][0].dump();
+  EXPECT_GT(raw.size(), 8u);
+  EXPECT_EQ(info.out.find(raw), std::string::npos) << "raw precision: " << info.out;
+  EXPECT_EQ(j["m_min"].get<int>(), 8);
+  EXPECT_EQ(j["m_max"].get<int>(), 8);
+  const Result decomposed = run("bake " + path("sphere.off") + " -o " + path("auto.hbox") + " -m 8 -n 4 --pieces auto");
+  ASSERT_EQ(decomposed.code, 0) << decomposed.err;
+  const std::size_t at = decomposed.err.find("decomposed into ");
+  ASSERT_NE(at, std::string::npos) << decomposed.err;
+  const std::string line = decomposed.err.substr(at, decomposed.err.find('\n', at) - at);
+  const std::size_t in = line.find(" in ");
+  ASSERT_NE(in, std::string::npos) << line;
+  const std::string figure = line.substr(in + 4, line.find(' ', in + 4) - in - 4);
+  std::size_t digits = 0;
+  for (char c : figure) digits += std::isdigit(static_cast<unsigned char>(c)) ? 1 : 0;
+  EXPECT_LE(digits, 3u) << line;
 }
 
 TEST_F(CliTest, BakeInfoEvalBenchProduceDocumentedJson) {

@@ -151,6 +151,35 @@ TEST(AutoDecompositionTest, MaxPiecesHolds) {
   EXPECT_GE(d.piece_count, 1u);
 }
 
+TEST(AutoDecompositionTest, ProgressAdvancesThroughEveryPhaseAndCancelStopsEarly) {
+  // A window's bar moves while the decomposition runs (not 0% then 100%) and a cancel is seen
+  // within a small share of the work, also while the random lines are cast.
+  const TriangleMesh torus = make_torus(1.f, 0.35f, 48, 16);
+  std::vector<double> seen;
+  AutoDecompositionOptions options;
+  options.lines = 30000;  // quick; still 24 chunks of lines
+  const Decomposition expected = decompose_auto(torus, options);
+  options.progress = [&](double f) {
+    seen.push_back(f);
+    return true;
+  };
+  EXPECT_EQ(decompose_auto(torus, options).piece_of_triangle, expected.piece_of_triangle);  // chunks change nothing
+  ASSERT_FALSE(seen.empty());
+  for (std::size_t i = 1; i < seen.size(); ++i) EXPECT_GE(seen[i], seen[i - 1]) << "report " << i;
+  std::size_t during_lines = 0, before_merging = 0;
+  for (double f : seen) {
+    during_lines += f > 0.05 && f < 0.3;
+    before_merging += f > 0.4 && f < 0.5;
+  }
+  EXPECT_GE(during_lines, 10u);
+  EXPECT_GE(before_merging, 1u);
+  EXPECT_DOUBLE_EQ(seen.back(), 1.0);
+  int calls = 0;
+  options.progress = [&](double f) { return ++calls < 3 && f < 0.1; };  // cancel while the lines are cast
+  EXPECT_THROW(decompose_auto(torus, options), Cancelled);
+  EXPECT_EQ(calls, 3);
+}
+
 TEST(AutoDecompositionTest, RejectsBadOptions) {
   AutoDecompositionOptions options;
   options.max_pieces = 0;

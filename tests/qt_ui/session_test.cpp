@@ -34,6 +34,8 @@ TEST(SessionFileTest, RoundTripsEveryField) {
   s.metric = ErrorMetric::Direction;
   s.hasCamera = true;
   s.camera.position = {1, 2, 3};
+  s.hasProbe = true;
+  s.probePoint = {0.5f, -1.25f, 7.f};
   saveSessionFile(s, dir.filePath("a.hbsession"));
   const SessionState t = loadSessionFile(dir.filePath("a.hbsession"));
   EXPECT_EQ(t.meshPath, s.meshPath);
@@ -47,6 +49,11 @@ TEST(SessionFileTest, RoundTripsEveryField) {
   EXPECT_TRUE(t.outlines);
   EXPECT_EQ(t.metric, ErrorMetric::Direction);
   EXPECT_EQ(t.camera.position[2], 3);
+  EXPECT_TRUE(t.hasProbe);
+  EXPECT_FLOAT_EQ(t.probePoint[1], -1.25f);
+  s.hasProbe = false;  // a probe never placed stays unplaced
+  saveSessionFile(s, dir.filePath("b.hbsession"));
+  EXPECT_FALSE(loadSessionFile(dir.filePath("b.hbsession")).hasProbe);
 }
 
 TEST(SessionFileTest, GarbageIsInvalidInput) {
