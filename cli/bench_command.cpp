@@ -27,6 +27,7 @@ void add_bench_command(CLI::App& app) {
     bool json = false;
     bool no_huge_pages = false;
     bool no_grid = false;
+    std::string walk = "all";
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
@@ -40,11 +41,17 @@ void add_bench_command(CLI::App& app) {
                 "Query the file mapping instead of a copy of the tables in huge pages");
   cmd->add_flag("--no-grid", opts->no_grid,
                 "Query without the scene grid (every box the segment meets; for before/after figures)");
+  cmd->add_option("--refine-walk", opts->walk,
+                  "Refinement walks: all (default: when the nearest candidate's walk fails, walk from every "
+                  "candidate) or nearest (the first refined scenes; for before/after figures)")
+      ->check(CLI::IsMember({"all", "nearest"}))
+      ->capture_default_str();
   cmd->callback([opts] {
     hb::LoadOptions load;
     load.huge_pages = !opts->no_huge_pages;
     const hb::BoxScene loaded = hb::load_box_file(opts->box, load);
-    const hb::BoxScene scene = opts->no_grid ? loaded.without_grid() : loaded;
+    hb::BoxScene scene = opts->no_grid ? loaded.without_grid() : loaded;
+    scene.set_walk_all_candidates(opts->walk == "all");
     const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh, opts->model);
     const hb::ExactQuery exact(mesh);
     const auto probes = hb::sample_probes(mesh, opts->samples, opts->probes);

@@ -117,6 +117,17 @@ nlohmann::json readJson(const QString& path) {
   return nlohmann::json::parse(f.readAll().toStdString());
 }
 
+/// Bakes the open model into a small explicit box (m 8, n 4: not the default recipe) and waits.
+void bakeSmallBox(HapticSession& s) {
+  BakeSettings b = s.bakeSettings();
+  b.advanced = true;
+  b.m = 8;
+  b.n = 4;
+  s.setBakeSettings(b);
+  ASSERT_TRUE(s.startBake());
+  ASSERT_TRUE(hbtest::waitFor([&] { return !s.job()->isRunning(); }, 300));
+}
+
 }  // namespace
 
 // The window's Export Error Report and `hapticbox report BOX MESH` build one ReportRequest
@@ -126,13 +137,7 @@ TEST(SessionReportTest, WindowAndCommandLineGiveTheSameReport) {
   hbtest::MeshDir data;
   HapticSession s;
   ASSERT_TRUE(s.openMesh(data.mesh));
-  BakeSettings b = s.bakeSettings();
-  b.advanced = true;
-  b.m = 8;
-  b.n = 4;
-  s.setBakeSettings(b);
-  ASSERT_TRUE(s.startBake());
-  ASSERT_TRUE(hbtest::waitFor([&] { return !s.job()->isRunning(); }, 300));
+  ASSERT_NO_FATAL_FAILURE(bakeSmallBox(s));
   ASSERT_TRUE(s.hasBoxes());
   const QString box = data.dir.filePath(QStringLiteral("bumpy.hbox"));
   ASSERT_TRUE(s.saveBoxFile(box));
@@ -225,13 +230,7 @@ TEST(SessionJobsTest, ErrorFieldArraysAreTheFiltersAndTheCoresNumbers) {
   hbtest::MeshDir data;
   HapticSession s;
   ASSERT_TRUE(s.openMesh(data.mesh));
-  BakeSettings b = s.bakeSettings();
-  b.advanced = true;
-  b.m = 8;
-  b.n = 4;
-  s.setBakeSettings(b);
-  ASSERT_TRUE(s.startBake());
-  ASSERT_TRUE(hbtest::waitFor([&] { return !s.job()->isRunning(); }, 300));
+  ASSERT_NO_FATAL_FAILURE(bakeSmallBox(s));
   ASSERT_TRUE(s.hasBoxes());
   QString error;
   ASSERT_TRUE(s.startErrorField(2, &error)) << error.toStdString();
