@@ -117,28 +117,20 @@ void ErrorFieldPanel::updateState() {
   const std::vector<float>& values = m == ErrorMetric::RelativeForce ? f.force_error
                                      : m == ErrorMetric::Direction   ? f.direction_error
                                                                      : f.contact_disagreement;
-  std::vector<float> v;
-  for (float x : values)
-    if (std::isfinite(x)) v.push_back(x);
-  const std::size_t noData = values.size() - v.size();
-  double median = 0.0;
-  if (!v.empty()) {
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-    median = v[v.size() / 2];
-  }
+  const hb::ErrorValuesSummary sum = hb::summarize_error_values(values, 0);
+  const std::size_t noData = sum.no_data;
+  const double median = sum.median;
   QString figure;
   if (m == ErrorMetric::RelativeForce)
     figure = tr("median relative force error %1").arg(QString::fromStdString(hb::percent(median)));
   else if (m == ErrorMetric::Direction)
     figure = tr("median direction error %1 deg").arg(QString::fromStdString(hb::sig(median)));
-  else {
-    std::size_t disagree = 0;
-    for (float x : v) disagree += x > 0.f;
+  else
     figure = tr("contacts disagree at %1 of %2 vertices (%3)")
-                 .arg(disagree)
-                 .arg(v.size())
-                 .arg(QString::fromStdString(hb::percent(v.empty() ? 0.0 : double(disagree) / double(v.size()))));
-  }
+                 .arg(sum.above_zero)
+                 .arg(sum.with_data)
+                 .arg(QString::fromStdString(
+                     hb::percent(sum.with_data == 0 ? 0.0 : double(sum.above_zero) / double(sum.with_data))));
   info_->setText(tr("%1 points, %2 probes in %3; %4; %5 point(s) with no data (grey: no probe touched the "
                     "surface in both answers)")
                      .arg(f.size())
@@ -158,12 +150,8 @@ void ErrorFieldPanel::updateWorst() {
   const std::vector<float>& values = m == ErrorMetric::RelativeForce ? f.force_error
                                      : m == ErrorMetric::Direction   ? f.direction_error
                                                                      : f.contact_disagreement;
-  std::vector<std::size_t> order;
-  for (std::size_t i = 0; i < values.size(); ++i)
-    if (std::isfinite(values[i]) && values[i] > 0.f) order.push_back(i);
-  const std::size_t k = std::min<std::size_t>(10, order.size());
-  std::partial_sort(order.begin(), order.begin() + std::ptrdiff_t(k), order.end(),
-                    [&](std::size_t a, std::size_t b) { return values[a] > values[b]; });
+  const std::vector<std::size_t> order = hb::summarize_error_values(values, 10).worst;
+  const std::size_t k = order.size();
   vtkDataArray* normals = surface->GetPointData()->GetNormals();
   for (std::size_t j = 0; j < k; ++j) {
     const std::size_t i = order[j];

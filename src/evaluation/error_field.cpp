@@ -211,3 +211,29 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
 }
 
 } // namespace hb
+
+hb::ErrorValuesSummary hb::summarize_error_values(const std::vector<float>& values, std::size_t worst_count) {
+  ErrorValuesSummary s;
+  std::vector<float> finite;
+  finite.reserve(values.size());
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values[i])) continue;
+    finite.push_back(values[i]);
+    if (values[i] > 0.f) order.push_back(i);
+  }
+  s.with_data = finite.size();
+  s.no_data = values.size() - finite.size();
+  s.above_zero = order.size();
+  if (!finite.empty()) {
+    const auto mid = finite.begin() + static_cast<std::ptrdiff_t>(finite.size() / 2);
+    std::nth_element(finite.begin(), mid, finite.end());
+    s.median = *mid;
+  }
+  const std::size_t k = std::min(worst_count, order.size());
+  std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k), order.end(),
+                    [&](std::size_t a, std::size_t b) { return values[a] > values[b] || (values[a] == values[b] && a < b); });
+  order.resize(k);
+  s.worst = std::move(order);
+  return s;
+}

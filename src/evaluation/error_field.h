@@ -74,4 +74,17 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
                                const std::vector<SurfacePoint>& points, float diagonal,
                                const ErrorFieldOptions& options = {});
 
+/// One metric of an error field summed up (the window's error-field panel): how many points
+/// have data (finite values), how many do not (NaN), how many are above zero (for the contact
+/// disagreement: the points where the answers disagree), the median of the finite values, and
+/// the `worst_count` points with the largest values above zero, largest first (ties by index).
+struct ErrorValuesSummary {
+  std::size_t with_data = 0;
+  std::size_t no_data = 0;
+  std::size_t above_zero = 0;
+  double median = 0.0;              ///< of the finite values (the upper median); 0 when none.
+  std::vector<std::size_t> worst;   ///< point indices.
+};
+ErrorValuesSummary summarize_error_values(const std::vector<float>& values, std::size_t worst_count);
+
 } // namespace hb

@@ -4,6 +4,7 @@
 #include "mesh/generators.h"
 #include <gtest/gtest.h>
 #include <cmath>
+#include <limits>
 
 TEST(ErrorFieldTest, ExactAgainstItselfHasNoError) {
   const hb::TriangleMesh mesh = hb::make_sphere(1.f, 3);
@@ -39,4 +40,22 @@ TEST(ErrorFieldTest, DeterministicWhateverTheThreadsAndCancellable) {
   options.progress = {};
   options.probes_per_point = 0;
   EXPECT_THROW(hb::compute_error_field(exact, exact, points, 2.f, options), hb::InvalidInput);
+}
+
+// The window's error-field panel sums a metric up with this: no-data points apart, the median of
+// the rest, the points above zero, and the worst points largest first (ties by index).
+TEST(ErrorFieldTest, ValuesSummaryCountsNoDataAndListsTheWorstFirst) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const std::vector<float> values = {0.f, 0.5f, nan, 2.f, 0.5f, nan, 0.f, 1.f};
+  const hb::ErrorValuesSummary s = hb::summarize_error_values(values, 3);
+  EXPECT_EQ(s.with_data, 6u);
+  EXPECT_EQ(s.no_data, 2u);
+  EXPECT_EQ(s.above_zero, 4u);
+  EXPECT_DOUBLE_EQ(s.median, 0.5);  // sorted 0 0 0.5 0.5 1 2: the upper median
+  EXPECT_EQ(s.worst, (std::vector<std::size_t>{3, 7, 1}));
+  const hb::ErrorValuesSummary none = hb::summarize_error_values({nan, nan}, 10);
+  EXPECT_EQ(none.with_data, 0u);
+  EXPECT_EQ(none.no_data, 2u);
+  EXPECT_DOUBLE_EQ(none.median, 0.0);
+  EXPECT_TRUE(none.worst.empty());
 }
