@@ -73,14 +73,20 @@ TEST(ErrorBudgetTest, ReportRoundTripsAndCorruptTextThrows) {
   EXPECT_THROW(BudgetReport::parse("agreement=2\n"), InvalidInput);
 }
 
+/// The default recipe over the two spheres' own pieces, tuned on `probes` probes.
+BakeRecipe two_piece_recipe(const test::TwoSpheres& two, std::size_t probes) {
+  BakeRecipe recipe = default_recipe();
+  recipe.pieces.kind = PiecesRecipe::Kind::given;
+  recipe.pieces.given = two.piece;
+  recipe.budget.probes = probes;
+  return recipe;
+}
+
 // Two spheres in two pieces: the budgeted bake meets the budget, reports it on fresh probes
 // (which eval confirms), picks the cheapest sampling that does, and the file keeps the report.
 TEST(ErrorBudgetTest, BudgetedBakeMeetsTheBudgetOnFreshProbesAndTheFileKeepsIt) {
   const test::TwoSpheres two = test::two_spheres(3.f);
-  BakeRecipe recipe = default_recipe();
-  recipe.pieces.kind = PiecesRecipe::Kind::given;
-  recipe.pieces.given = two.piece;
-  recipe.budget.probes = 3000;
+  BakeRecipe recipe = two_piece_recipe(two, 3000);
   recipe.budget.samplings = {{0.2f, 4}, {0.1f, 6}};
   const BakeResult baked = bake(two.mesh, recipe);
   const BudgetReport& rep = baked.scene.budget_report();
@@ -119,10 +125,7 @@ TEST(ErrorBudgetTest, BudgetedBakeMeetsTheBudgetOnFreshProbesAndTheFileKeepsIt) 
 // that sampling, and the scene answers no more probes off the surface than without it.
 TEST(ErrorBudgetTest, PiecesWhoseBlendsAnswerOffTheSurfaceAreRefined) {
   const test::TwoSpheres two = test::two_spheres(3.f);
-  BakeRecipe recipe = default_recipe();
-  recipe.pieces.kind = PiecesRecipe::Kind::given;
-  recipe.pieces.given = two.piece;
-  recipe.budget.probes = 1000;
+  BakeRecipe recipe = two_piece_recipe(two, 1000);
   recipe.budget.samplings = {{0.3f, 3}};
   recipe.budget.budget = parse_budget("p95=100,median=100,dir99=90,agree=50");
   const ExactQuery exact(two.mesh);
@@ -153,10 +156,7 @@ TEST(ErrorBudgetTest, PiecesWhoseBlendsAnswerOffTheSurfaceAreRefined) {
 
 TEST(ErrorBudgetTest, AnUnreachableBudgetIsReportedMissedNotHidden) {
   const test::TwoSpheres two = test::two_spheres(3.f);
-  BakeRecipe recipe = default_recipe();
-  recipe.pieces.kind = PiecesRecipe::Kind::given;
-  recipe.pieces.given = two.piece;
-  recipe.budget.probes = 1000;
+  BakeRecipe recipe = two_piece_recipe(two, 1000);
   recipe.budget.samplings = {{0.3f, 3}};
   recipe.budget.budget = parse_budget("p95=0,median=0,dir99=0,agree=100");
   const BakeResult baked = bake(two.mesh, recipe);
