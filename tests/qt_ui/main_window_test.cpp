@@ -34,6 +34,14 @@ using hbtest::setSmallBake;
 
 namespace {
 
+/// Runs the window's sweep over m 8 and 12 (n 4, 1000 probes) and waits for its two points.
+void runSmallSweep(MainWindow& w) {
+  QString error;
+  ASSERT_TRUE(w.session()->startSweep({8, 12}, {4}, 1000, &error)) << error.toStdString();
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 300));
+  ASSERT_EQ(w.chartsView()->pointCount(), 2u);
+}
+
 struct PixelCounts {
   int model = 0, exactArrow = 0, approxArrow = 0, total = 0;
 };
@@ -283,10 +291,7 @@ TEST(MainWindowTest, SweepFillsTheChartAndAPointLoadsItsConfiguration) {
   MainWindow w;
   w.show();
   openAndBake(w, data.mesh);
-  QString error;
-  ASSERT_TRUE(w.session()->startSweep({8, 12}, {4}, 1000, &error)) << error.toStdString();
-  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 300));
-  ASSERT_EQ(w.chartsView()->pointCount(), 2u);
+  ASSERT_NO_FATAL_FAILURE(runSmallSweep(w));
   w.chartsView()->choose(1);  // what a click on the m 12 point does
   EXPECT_EQ(w.session()->bakeSettings().m, 12);
   ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 120));
@@ -452,10 +457,7 @@ TEST(MainWindowTest, ChartsLabelRealTimesNameConfigurationsAndAReportKeepsTheSwe
   MainWindow w;
   w.show();
   openAndBake(w, data.mesh);
-  QString error;
-  ASSERT_TRUE(w.session()->startSweep({8, 12}, {4}, 1000, &error)) << error.toStdString();
-  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 300));
-  ASSERT_EQ(w.chartsView()->pointCount(), 2u);
+  ASSERT_NO_FATAL_FAILURE(runSmallSweep(w));
   const std::size_t sweepRows = w.session()->sweepRows().size();
   // Tick labels are times ("1 us", "200 ns"), not log10 numbers.
   const std::vector<std::string> ticks = w.chartsView()->speedAxisLabels();
