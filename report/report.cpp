@@ -7,6 +7,7 @@
 //  4. writing: charts through PLplot (SVG files), then report.html (report_html.cpp: the SVGs
 //     embedded as data URIs, one self-contained file), summary.json, summary.txt and samples.csv.
 #include "report.h"
+#include "mesh/file_hash.h"
 #include "eval_json.h"
 #include "errors.h"
 #include "evaluation/probe_sampling.h"
@@ -40,12 +41,6 @@ ProgressCallback sub_range(const ProgressCallback& progress, double begin, doubl
 
 void report_progress(const ProgressCallback& progress, double f) {
   if (progress && !progress(f)) throw Cancelled("report: cancelled");
-}
-
-std::string hex64(std::uint64_t v) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
-  return buf;
 }
 
 // A written file appears whole or not at all: written under a temporary name, renamed.
@@ -213,9 +208,9 @@ std::string report_json(const ReportData& d) {
   j["product"] = {{"name", "hapticbox"}, {"version", d.product_version}};
   j["generated"] = {{"at_utc", d.generated_at}, {"machine", d.machine}, {"command_line", d.command_line}};
   j["inputs"] = {{"mesh", d.mesh_path},
-                 {"mesh_hash", hex64(d.mesh_hash)},
+                 {"mesh_hash", hash_text(d.mesh_hash)},
                  {"box", d.box_path},
-                 {"box_hash", d.box_hash ? hex64(d.box_hash) : ""}};
+                 {"box_hash", d.box_hash ? hash_text(d.box_hash) : ""}};
   j["model"] = {{"vertices", d.vertices}, {"triangles", d.triangles}, {"pieces", d.pieces}, {"diagonal", d.diagonal}};
   j["box"] = {{"m", d.params.m},
               {"n", d.params.n},

@@ -2,6 +2,7 @@
 // (accuracy and speed side by side, in words), the figures (significant digits), the worst
 // probes (where, how wrong, why), the charts (SVG) and the error field.
 #include "report_html.h"
+#include "mesh/file_hash.h"
 #include "errors.h"
 #include "figure_text.h"
 #include "stability_section.h"
@@ -65,12 +66,6 @@ std::string html_escape(const std::string& s) {
   return out;
 }
 
-std::string hex64(std::uint64_t v) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
-  return buf;
-}
-
 // An image embedded in the page; SVG stays vector (sharp when printed or zoomed).
 std::string image(const std::string& path, const std::string& alt) {
   const bool svg = fs::path(path).extension() == ".svg";
@@ -111,8 +106,8 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
   h << "<p class=stamp>Generated " << html_escape(d.generated_at) << " on " << html_escape(d.machine)
     << " by hapticbox " << html_escape(d.product_version);
   if (!d.command_line.empty()) h << ":<br><code>" << html_escape(d.command_line) << "</code>";
-  h << "<br>Mesh " << html_escape(d.mesh_path) << " (hash " << hex64(d.mesh_hash) << ")";
-  if (!d.box_path.empty()) h << "; box file " << html_escape(d.box_path) << (d.box_hash ? " (hash " + hex64(d.box_hash) + ")" : "");
+  h << "<br>Mesh " << html_escape(d.mesh_path) << " (hash " << hash_text(d.mesh_hash) << ")";
+  if (!d.box_path.empty()) h << "; box file " << html_escape(d.box_path) << (d.box_hash ? " (hash " + hash_text(d.box_hash) + ")" : "");
   h << ".</p>\n";
   // 2. The verdicts, side by side.
   h << "<table class=verdicts><tr><th class=l>accuracy against the exact answer</th><td class=l>"

@@ -14,6 +14,6 @@ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
   -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ "${launcher[@]}" \
-  -DHB_SANITIZE=ON -DHB_FUZZ=ON -DHB_BUILD_VTK=OFF -DHB_BUILD_GUI=OFF -DHB_BUILD_BENCH=OFF \
+  -DCMAKE_UNITY_BUILD="$([ "${HB_UNITY:-1}" = 0 ] && echo OFF || echo ON)" -DHB_SANITIZE=ON -DHB_FUZZ=ON -DHB_BUILD_VTK=OFF -DHB_BUILD_GUI=OFF -DHB_BUILD_BENCH=OFF \
   >build-asan-configure.log 2>&1 || { cat build-asan-configure.log; exit 1; }
 cmake --build build-asan -j"$jobs" --target hb_core_tests hb_device_tests hb_fuzz_targets

@@ -13,6 +13,7 @@
 //    rank receives every task's figures and traces and assembles them in task order, so the
 //    report is the one process's (StabilityOptions::communicator).
 #include "evaluation/stability_suite.h"
+#include "math/constants.h"
 #include "errors.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
@@ -32,7 +33,6 @@
 namespace hb {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kFloor = 0.05;  // N: the JND floor of the protocol
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 

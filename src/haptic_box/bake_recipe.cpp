@@ -8,15 +8,12 @@
 #include "haptic_box/bake_recipe.h"
 #include "decomposition/piece_file.h"
 #include "errors.h"
+#include "stopwatch.h"
 #include <algorithm>
 #include <chrono>
 
 namespace hb {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 std::vector<std::uint32_t> compact(std::vector<std::uint32_t> ids) {
   std::vector<std::uint32_t> sorted(ids);

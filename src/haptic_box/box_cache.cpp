@@ -20,12 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string hex64(std::uint64_t v) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
-  return buf;
-}
-
 std::string hexfloat(double v) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%a", v);
@@ -57,9 +51,9 @@ std::uint64_t recipe_key(const BakeRecipe& r) {
   const PiecesRecipe& p = r.pieces;
   switch (p.kind) {
   case PiecesRecipe::Kind::none: k << " pieces none"; break;
-  case PiecesRecipe::Kind::file: k << " pieces file " << hex64(hash_file(p.file)); break;
+  case PiecesRecipe::Kind::file: k << " pieces file " << hash_text(hash_file(p.file)); break;
   case PiecesRecipe::Kind::given:
-    k << " pieces given " << hex64(XXH3_64bits(p.given.data(), p.given.size() * sizeof(std::uint32_t)));
+    k << " pieces given " << hash_text(XXH3_64bits(p.given.data(), p.given.size() * sizeof(std::uint32_t)));
     break;
   case PiecesRecipe::Kind::automatic: {
     const AutoDecompositionOptions& a = p.automatic;
@@ -88,7 +82,7 @@ BoxCache::BoxCache(std::string dir) : dir_(std::move(dir)) {
 }
 
 std::string BoxCache::path_for(std::uint64_t mesh_hash, const BakeRecipe& recipe) const {
-  return (fs::path(dir_) / (hex64(mesh_hash) + "_" + hex64(recipe_key(recipe)) + ".hbox")).string();
+  return (fs::path(dir_) / (hash_text(mesh_hash) + "_" + hash_text(recipe_key(recipe)) + ".hbox")).string();
 }
 
 std::optional<BoxScene> BoxCache::load(std::uint64_t mesh_hash, const BakeRecipe& recipe) const {

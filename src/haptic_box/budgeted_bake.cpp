@@ -26,6 +26,7 @@
 //  5. The scene is measured on fresh probes (BudgetRecipe::check_seed) and the figures are
 //     recorded in BudgetReport (the box file, `info`, `--json`, the report).
 #include "errors.h"
+#include "stopwatch.h"
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
@@ -39,10 +40,6 @@
 
 namespace hb {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // The box the scene grid routes the probe to first (UINT32_MAX: not routed).
 std::uint32_t routed_box(const SceneGrid& grid, const Segment& s) {

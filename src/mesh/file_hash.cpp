@@ -1,6 +1,7 @@
 // hash_file: xxHash64 of a file, read in 1 MB chunks; hash_model: a file, or a folder's files
 // in name order, with the loader options mixed in.
 #include "mesh/file_hash.h"
+#include <cstdio>
 
 #include "errors.h"
 
@@ -51,6 +52,12 @@ std::uint64_t hash_model(const std::string& path, const std::string& loader_opti
   // recorded it: changing the mixing would make them look baked from another model.
   if (!loader_options.empty()) h ^= std::hash<std::string>{}(loader_options) * 0x9E3779B97F4A7C15ull;
   return h;
+}
+
+std::string hash_text(std::uint64_t hash) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(hash));
+  return buf;
 }
 
 } // namespace hb

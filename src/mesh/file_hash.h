@@ -22,4 +22,8 @@ std::uint64_t hash_file(const std::string& path);
 /// Throws hb::IoError (missing path, unreadable file).
 std::uint64_t hash_model(const std::string& path, const std::string& loader_options = {});
 
+/// A hash as 16 lower-case hex digits ("00ab..."): how reports, box files' JSON and cache
+/// names print it.
+std::string hash_text(std::uint64_t hash);
+
 } // namespace hb

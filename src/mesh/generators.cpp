@@ -14,6 +14,7 @@
 //     resampled uniformly in arc length and revolved about +Z; a flat cap closes the bottom
 //     and the top ends on the axis at a pole vertex.
 #include "mesh/generators.h"
+#include "math/constants.h"
 
 #include "errors.h"
 #include "mesh/subdivision.h"
@@ -27,7 +28,6 @@
 namespace hb {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 void require(bool ok, const std::string& what) {
   if (!ok) throw InvalidInput(what);

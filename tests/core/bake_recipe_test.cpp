@@ -12,7 +12,7 @@
 namespace hb {
 namespace {
 
-std::string temp_path(const std::string& name) { return testing::TempDir() + "hb_recipe_" + name; }
+std::string recipe_temp_path(const std::string& name) { return testing::TempDir() + "hb_recipe_" + name; }
 
 bool same_tables(const BoxScene& a, const BoxScene& b) {
   if (a.boxes().size() != b.boxes().size()) return false;
@@ -51,7 +51,7 @@ TEST(BakeRecipeTest, PieceFileIdsAreNumberedCompactlyLikeGivenOnes) {
   const TriangleMesh sphere = make_sphere(1.f, 2);
   std::vector<std::uint32_t> sparse = split_by_planes(sphere, {{Vec3::Zero(), Vec3::UnitX()}});
   for (auto& id : sparse) id = id * 5 + 2;  // 2 and 7
-  const std::string file = temp_path("sparse.txt");
+  const std::string file = recipe_temp_path("sparse.txt");
   write_piece_file(file, sphere, sparse);
   PiecesRecipe from_file = pieces_from_spec(file);
   EXPECT_EQ(from_file.kind, PiecesRecipe::Kind::file);
@@ -77,7 +77,7 @@ TEST(BakeRecipeTest, BoxFileKeepsThePieceIds) {
   recipe.pieces.given = split_by_planes(sphere, {{Vec3::Zero(), Vec3::UnitY()}});
   const BakeResult baked = bake(sphere, recipe, {"sphere", 42, 0, 0.f});
   EXPECT_EQ(baked.scene.source().triangles, sphere.triangle_count());
-  const std::string path = temp_path("pieces.hbox");
+  const std::string path = recipe_temp_path("pieces.hbox");
   save_box_file(baked.scene, path);
   const BoxScene loaded = load_box_file(path, {true, false});
   EXPECT_EQ(loaded.piece_of_triangle(), recipe.pieces.given);

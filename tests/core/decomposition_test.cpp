@@ -21,7 +21,7 @@
 namespace hb {
 namespace {
 
-const ForceLaw kLaw{1000.f, 1.f};
+const ForceLaw kDecompositionLaw{1000.f, 1.f};
 
 BoxScene bake_lists(const TriangleMesh& mesh, const std::vector<std::vector<std::uint32_t>>& lists, int m, int n) {
   BakeOptions options;
@@ -106,10 +106,10 @@ TEST(AutoDecompositionTest, TorusSplitsAndPocketErrorsVanish) {
   const BoxScene split = bake_lists(torus, seamed(torus, d.piece_of_triangle, 1, 1.5f, m), m, n);
   int exact_contacts = 0, single_missed = 0, split_missed = 0;
   for (const Segment& s : probes) {
-    if (!exact.query(s, kLaw).contact) continue;
+    if (!exact.query(s, kDecompositionLaw).contact) continue;
     ++exact_contacts;
-    single_missed += single.query(s, kLaw).contact ? 0 : 1;
-    split_missed += split.query(s, kLaw).contact ? 0 : 1;
+    single_missed += single.query(s, kDecompositionLaw).contact ? 0 : 1;
+    split_missed += split.query(s, kDecompositionLaw).contact ? 0 : 1;
   }
   EXPECT_GT(exact_contacts, 300);
   EXPECT_GT(single_missed, exact_contacts / 2);
@@ -217,9 +217,9 @@ TEST(SeamOverlapTest, SeamCrossingKeepsContact) {
       const Vec3 target = 0.9f * r * radial;
       const Vec3 start = 1.5f * r * radial + Vec3(0.f, 0.f, z * 4.f);
       const Segment s{start, target - Vec3(0.f, 0.f, z)};
-      const Contact e = exact.query(s, kLaw);
+      const Contact e = exact.query(s, kDecompositionLaw);
       if (!e.contact) continue;
-      const Contact c = scene.query(s, kLaw);
+      const Contact c = scene.query(s, kDecompositionLaw);
       ++checked;
       ASSERT_TRUE(c.contact) << "phi " << phi << " z " << z;
       EXPECT_NEAR(c.depth, e.depth, 0.01f * r);
@@ -243,18 +243,18 @@ TEST(BoxSceneTest, NearestValidContactWinsAndBoxesMetCount) {
   const BoxScene scene = bake_lists(two, seamed(two, ids, 0, 0.f), 12, 8);
   const Segment through{Vec3(-2.f, 0.01f, 0.f), Vec3(1.2f, 0.01f, 0.f)};
   EXPECT_EQ(scene.boxes_met(through), 2u);
-  const Contact c = scene.query(through, kLaw);
+  const Contact c = scene.query(through, kDecompositionLaw);
   ASSERT_TRUE(c.contact);
   EXPECT_NEAR(c.point.x(), -1.5f, 0.01f);
   const Segment one{Vec3(2.f, 0.01f, 0.f), Vec3(1.3f, 0.01f, 0.f)};
   EXPECT_EQ(scene.boxes_met(one), 1u);
-  EXPECT_TRUE(scene.query(one, kLaw).contact);
+  EXPECT_TRUE(scene.query(one, kDecompositionLaw).contact);
   EXPECT_EQ(scene.boxes_met({Vec3(0.f, 3.f, 0.f), Vec3(0.f, 4.f, 0.f)}), 0u);
   // A handle inside the first sphere: the first surface from it is an inside one, so the
   // second sphere's surface ahead is no contact (as for the exact answer).
   const Segment inside{Vec3(-1.1f, 0.01f, 0.f), Vec3(0.8f, 0.01f, 0.f)};
-  EXPECT_FALSE(ExactQuery(two).query(inside, kLaw).contact);
-  EXPECT_FALSE(scene.query(inside, kLaw).contact);
+  EXPECT_FALSE(ExactQuery(two).query(inside, kDecompositionLaw).contact);
+  EXPECT_FALSE(scene.query(inside, kDecompositionLaw).contact);
 }
 
 TEST(PlaneSplitTest, TwoPlanesGiveFourPieces) {

@@ -12,7 +12,7 @@
 namespace hb {
 namespace {
 
-const ForceLaw kLaw{1000.f, 1.f};
+const ForceLaw kManyLaw{1000.f, 1.f};
 
 // Bitwise equality of every field (so -0 vs 0 or a last-bit difference fails).
 bool same_bits(const Contact& a, const Contact& b) {
@@ -35,10 +35,10 @@ std::vector<Segment> mixed_probes(const TriangleMesh& mesh) {
 
 std::size_t expect_same_as_single(const ContactQuery& q, const std::vector<Segment>& probes) {
   std::vector<Contact> many(probes.size());
-  q.query_many(probes.data(), probes.size(), kLaw, many.data());
+  q.query_many(probes.data(), probes.size(), kManyLaw, many.data());
   std::size_t contacts = 0;
   for (std::size_t i = 0; i < probes.size(); ++i) {
-    const Contact one = q.query(probes[i], kLaw);
+    const Contact one = q.query(probes[i], kManyLaw);
     EXPECT_TRUE(same_bits(one, many[i])) << "probe " << i;
     contacts += one.contact ? 1 : 0;
   }
@@ -64,9 +64,9 @@ TEST(QueryManyTest, RawBoxGivesTheSameAnswersAsSingleQueries) {
   EXPECT_GT(expect_same_as_single(box, probes), probes.size() / 2);
   // Sub-ranges and an empty batch.
   std::vector<Contact> out(5);
-  box.query_many(probes.data() + 3, 5, kLaw, out.data());
-  for (std::size_t i = 0; i < 5; ++i) EXPECT_TRUE(same_bits(out[i], box.query(probes[3 + i], kLaw)));
-  box.query_many(probes.data(), 0, kLaw, out.data());
+  box.query_many(probes.data() + 3, 5, kManyLaw, out.data());
+  for (std::size_t i = 0; i < 5; ++i) EXPECT_TRUE(same_bits(out[i], box.query(probes[3 + i], kManyLaw)));
+  box.query_many(probes.data(), 0, kManyLaw, out.data());
 }
 
 // The batched path of raw boxes runs 4 or 8 queries in SIMD lanes, compiled for several
@@ -93,7 +93,7 @@ TEST(QueryManyTest, EveryInstructionSetLevelGivesTheSameAnswersAsSingleQueries) 
   probes.push_back({Vec3(nan, 0.f, 0.f), Vec3(0.f, 0.f, 0.f)});
   probes.push_back({Vec3(0.f, 0.f, 2.f), Vec3(0.f, inf, 0.f)});
   probes.push_back({Vec3(-inf, 0.f, 0.f), Vec3(inf, 0.f, 0.f)});
-  for (std::size_t i = probes.size() - 3; i < probes.size(); ++i) EXPECT_FALSE(box.query(probes[i], kLaw).contact);
+  for (std::size_t i = probes.size() - 3; i < probes.size(); ++i) EXPECT_FALSE(box.query(probes[i], kManyLaw).contact);
   probes.push_back({Vec3(1e30f, 0.f, 0.f), Vec3(-1e30f, 0.f, 0.f)});  // finite, far beyond the box
   const LaneIsa best = lane_isa();
   for (LaneIsa level : {LaneIsa::sse2, LaneIsa::avx, LaneIsa::avx2, LaneIsa::avx512}) {

@@ -9,7 +9,7 @@
 namespace hb {
 namespace {
 
-const ForceLaw kLaw{};
+const ForceLaw kStateLaw{};
 
 void expect_same_answers_along_strokes(const test::TwoSpheres& two, std::size_t& from_state, std::size_t& ticks) {
   BakeOptions o;
@@ -22,8 +22,8 @@ void expect_same_answers_along_strokes(const test::TwoSpheres& two, std::size_t&
   std::size_t differ = 0, contacts = 0;
   for (std::size_t i = 0; i < strokes.size(); ++i) {
     if (i % 200 == 0) state = SceneQueryState{};  // a new stroke, a new probe
-    const Contact stateless = scene.query(strokes[i], kLaw);
-    const Contact stateful = scene.query(strokes[i], kLaw, state);
+    const Contact stateless = scene.query(strokes[i], kStateLaw);
+    const Contact stateful = scene.query(strokes[i], kStateLaw, state);
     ASSERT_EQ(stateful.contact, stateless.contact) << i;
     if (!stateless.contact) continue;
     ++contacts;
@@ -37,7 +37,7 @@ void expect_same_answers_along_strokes(const test::TwoSpheres& two, std::size_t&
   ticks += strokes.size();
   // The ticks answered from the state, one probe over all strokes.
   SceneQueryState all;
-  for (const Segment& s : strokes) scene.query(s, kLaw, all);
+  for (const Segment& s : strokes) scene.query(s, kStateLaw, all);
   from_state += all.from_state;
 }
 
@@ -56,7 +56,7 @@ TEST(QueryStateTest, ScenesWithoutAGridAndUnknownStatesTakeTheFullQuery) {
   const BoxScene one = bake_scene(two.mesh, {}, o, SourceInfo{});  // one box: no grid
   SceneQueryState state;
   for (const Segment& s : sample_strokes(two.mesh, 2, 50, 0.02f)) {
-    const Contact a = one.query(s, kLaw), b = one.query(s, kLaw, state);
+    const Contact a = one.query(s, kStateLaw), b = one.query(s, kStateLaw, state);
     EXPECT_EQ(a.contact, b.contact);
     EXPECT_EQ(a.force, b.force);
   }
@@ -68,10 +68,10 @@ TEST(QueryStateTest, ScenesWithoutAGridAndUnknownStatesTakeTheFullQuery) {
   stale.box = 7;
   stale.triangle = 123456789;
   const Segment s = sample_probes(two.mesh, 1).front();
-  EXPECT_EQ(two_boxes.query(s, kLaw, stale).contact, two_boxes.query(s, kLaw).contact);
+  EXPECT_EQ(two_boxes.query(s, kStateLaw, stale).contact, two_boxes.query(s, kStateLaw).contact);
   stale.box = 0;
   stale.triangle = 123456789;
-  EXPECT_EQ(two_boxes.query(s, kLaw, stale).contact, two_boxes.query(s, kLaw).contact);
+  EXPECT_EQ(two_boxes.query(s, kStateLaw, stale).contact, two_boxes.query(s, kStateLaw).contact);
 }
 
 } // namespace

@@ -19,7 +19,7 @@ namespace hb {
 namespace {
 
 namespace fs = std::filesystem;
-const ForceLaw kLaw{1000.f, 1.f};
+const ForceLaw kRefineLaw{1000.f, 1.f};
 
 BoxScene bake_bumpy(bool refine, int m = 10, int n = 6) {
   static const TriangleMesh mesh = make_bumpy_sphere({1.f, 0.06f, 6, 4});
@@ -39,8 +39,8 @@ TEST(RefinementTest, CoarseBoxesGiveTheExactAnswerWhereTheyRefine) {
   const ExactQuery exact(mesh);
   const auto probes = sample_probes(mesh, 3000);
   const float diagonal = mesh.bounds().diagonal();
-  const ComparisonStats blended = compare_queries(bake_bumpy(false), exact, probes, kLaw, diagonal);
-  const ComparisonStats refined = compare_queries(bake_bumpy(true), exact, probes, kLaw, diagonal);
+  const ComparisonStats blended = compare_queries(bake_bumpy(false), exact, probes, kRefineLaw, diagonal);
+  const ComparisonStats refined = compare_queries(bake_bumpy(true), exact, probes, kRefineLaw, diagonal);
   // A coarse box (m 10, n 6) blends visibly; refined, it lands on the exact triangles.
   EXPECT_GT(blended.force_error_median, 1e-3);
   EXPECT_LT(refined.force_error_median, 1e-4);
@@ -64,8 +64,8 @@ TEST(RefinementTest, ASceneOfSeveralRefinedBoxesAnswersExactlyAndKeepsItsAgreeme
   const ExactQuery exact(torus);
   const auto probes = sample_probes(torus, 3000);
   const float diagonal = torus.bounds().diagonal();
-  const ComparisonStats b = compare_queries(blended, exact, probes, kLaw, diagonal);
-  const ComparisonStats r = compare_queries(refined, exact, probes, kLaw, diagonal);
+  const ComparisonStats b = compare_queries(blended, exact, probes, kRefineLaw, diagonal);
+  const ComparisonStats r = compare_queries(refined, exact, probes, kRefineLaw, diagonal);
   EXPECT_LT(r.force_error_median, 1e-4);
   EXPECT_LT(r.force_error_p95, 0.1 * b.force_error_p95);
   EXPECT_GE(r.contact_agreement, b.contact_agreement);
@@ -142,7 +142,7 @@ TEST(RefinementTest, CompressionKeepsTheRefinement) {
   const auto probes = sample_probes(bumpy_mesh(), 500);
   int refined_equal = 0, contacts = 0;
   for (const Segment& s : probes) {
-    const Contact a = raw.query(s, kLaw), b = block.query(s, kLaw);
+    const Contact a = raw.query(s, kRefineLaw), b = block.query(s, kRefineLaw);
     if (!a.contact || !b.contact) continue;
     ++contacts;
     refined_equal += std::fabs(a.depth - b.depth) < 1e-5f;
@@ -204,7 +204,7 @@ TEST_F(RefinedBoxFileTest, RoundTripKeepsTheRefinementAndTheAnswers) {
     ASSERT_TRUE(loaded.boxes()[0].refines());
     EXPECT_EQ(loaded.boxes()[0].surface()->size(), bumpy_mesh().triangle_count());
     for (const Segment& s : sample_probes(bumpy_mesh(), 300)) {
-      const Contact a = scene_.query(s, kLaw), b = loaded.query(s, kLaw);
+      const Contact a = scene_.query(s, kRefineLaw), b = loaded.query(s, kRefineLaw);
       ASSERT_EQ(a.contact, b.contact);
       EXPECT_EQ(a.depth, b.depth);
       EXPECT_EQ(a.normal, b.normal);
@@ -244,11 +244,11 @@ TEST_F(RefinedBoxFileTest, CorruptTriangleIdsAreCaughtByVerifyAndNeverReadOutOfB
   // default scene (UnconfirmedBlend::reject) answers no contact, and with `keep` queries fall
   // back to the blend.
   BoxScene lazy = load_box_file(bad_path);
-  for (const Segment& s : sample_probes(bumpy_mesh(), 50)) EXPECT_FALSE(lazy.query(s, kLaw).contact);
+  for (const Segment& s : sample_probes(bumpy_mesh(), 50)) EXPECT_FALSE(lazy.query(s, kRefineLaw).contact);
   lazy.set_unconfirmed_blend(UnconfirmedBlend::keep);
   const HapticBox blended_box(box.obb(), box.params(), std::vector<Sample>(box.table(), box.table() + box.params().sample_count()));
   for (const Segment& s : sample_probes(bumpy_mesh(), 300)) {
-    const Contact a = lazy.query(s, kLaw), b = blended_box.query(s, kLaw);
+    const Contact a = lazy.query(s, kRefineLaw), b = blended_box.query(s, kRefineLaw);
     ASSERT_EQ(a.contact, b.contact);
     EXPECT_EQ(a.depth, b.depth);
   }

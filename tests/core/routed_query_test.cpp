@@ -9,7 +9,7 @@
 namespace hb {
 namespace {
 
-const ForceLaw kLaw{};
+const ForceLaw kRoutedLaw{};
 
 TEST(RoutedQueryTest, IdsOnlyRefinedQueryEqualsTheConfirmedRefinedQuery) {
   const test::TwoSpheres two = test::two_spheres(3.f);
@@ -27,8 +27,8 @@ TEST(RoutedQueryTest, IdsOnlyRefinedQueryEqualsTheConfirmedRefinedQuery) {
     float along_full = 0.f, along_ids = 0.f;
     bool refined = false;
     std::uint32_t t_full = kNoTriangle, t_ids = kNoTriangle;
-    const bool hit_full = box.query_into(s, kLaw, full, along_full, Refine::all, &refined, &t_full) && refined;
-    const bool hit_ids = box.query_refined(s, kLaw, ids, along_ids, &t_ids);
+    const bool hit_full = box.query_into(s, kRoutedLaw, full, along_full, Refine::all, &refined, &t_full) && refined;
+    const bool hit_ids = box.query_refined(s, kRoutedLaw, ids, along_ids, &t_ids);
     flags += hit_full == hit_ids ? 1 : 0;
     if (!hit_full) continue;
     ++confirmed;
@@ -43,7 +43,7 @@ TEST(RoutedQueryTest, IdsOnlyRefinedQueryEqualsTheConfirmedRefinedQuery) {
   // A box that does not refine has no ids-only answer.
   Contact c;
   float along = 0.f;
-  EXPECT_FALSE(box.without_refinement().query_refined(probes[0], kLaw, c, along));
+  EXPECT_FALSE(box.without_refinement().query_refined(probes[0], kRoutedLaw, c, along));
   EXPECT_FALSE(c.contact);
 }
 
@@ -69,10 +69,10 @@ TEST(RoutedQueryTest, HandlesInSurfaceCellsShownOutsideAreRoutedWithTheUnroutedA
       if (grid.code_at(handle) < SceneGrid::kFirstSurface) continue;
       for (float dir : {-1.f, 1.f}) {
         const Segment s{handle, handle + (dir * 0.1f) * n};
-        const Contact a = scene.query(s, kLaw), b = plain.query(s, kLaw);
+        const Contact a = scene.query(s, kRoutedLaw), b = plain.query(s, kRoutedLaw);
         ++probes;
         same += a.contact == b.contact ? 1 : 0;
-        routed += scene.box_queries(s, kLaw) < plain.box_queries(s, kLaw) ? 1 : 0;
+        routed += scene.box_queries(s, kRoutedLaw) < plain.box_queries(s, kRoutedLaw) ? 1 : 0;
       }
     }
   }

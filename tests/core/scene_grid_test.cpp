@@ -17,7 +17,7 @@
 namespace hb {
 namespace {
 
-const ForceLaw kLaw{};
+const ForceLaw kGridLaw{};
 
 std::vector<std::vector<std::uint32_t>> lists_of(const test::TwoSpheres& two) {
   std::vector<std::vector<std::uint32_t>> lists(2);
@@ -188,27 +188,27 @@ TEST(BoxSceneGridTest, RoutedQueriesAskOneBoxAndAgreeWithExactAsWellAsAllBoxes) 
   const ExactQuery exact(two.mesh);
   const auto probes = sample_probes(two.mesh, 3000, ProbeOptions{});
   const float diagonal = two.mesh.bounds().diagonal();
-  const ComparisonStats routed = compare_queries(scene, exact, probes, kLaw, diagonal);
-  const ComparisonStats all = compare_queries(plain, exact, probes, kLaw, diagonal);
+  const ComparisonStats routed = compare_queries(scene, exact, probes, kGridLaw, diagonal);
+  const ComparisonStats all = compare_queries(plain, exact, probes, kGridLaw, diagonal);
   EXPECT_GE(routed.contact_agreement, all.contact_agreement - 0.002);
   EXPECT_GT(routed.contact_agreement, 0.99);
   EXPECT_LT(routed.force_error_median, 1e-3);
   double asked_routed = 0, asked_all = 0;
   for (const Segment& s : probes) {
-    asked_routed += double(scene.box_queries(s, kLaw));
-    asked_all += double(plain.box_queries(s, kLaw));
+    asked_routed += double(scene.box_queries(s, kGridLaw));
+    asked_all += double(plain.box_queries(s, kGridLaw));
   }
   EXPECT_LT(asked_routed / double(probes.size()), 1.2);
   EXPECT_LT(asked_routed, asked_all);
   // A handle inside a sphere: no contact, no box query.
   const Segment inside{Vec3(0.f, 0.f, 0.f), Vec3(-1.5f, 0.f, 0.f)};
-  EXPECT_FALSE(scene.query(inside, kLaw).contact);
-  EXPECT_EQ(scene.box_queries(inside, kLaw), 0u);
+  EXPECT_FALSE(scene.query(inside, kGridLaw).contact);
+  EXPECT_EQ(scene.box_queries(inside, kGridLaw), 0u);
   // query_many answers as query() one by one.
   std::vector<Contact> many(probes.size());
-  scene.query_many(probes.data(), probes.size(), kLaw, many.data());
+  scene.query_many(probes.data(), probes.size(), kGridLaw, many.data());
   for (std::size_t i = 0; i < probes.size(); ++i) {
-    const Contact one = scene.query(probes[i], kLaw);
+    const Contact one = scene.query(probes[i], kGridLaw);
     ASSERT_EQ(one.contact, many[i].contact) << i;
     EXPECT_EQ(one.depth, many[i].depth) << i;
   }
@@ -231,7 +231,7 @@ TEST(BoxSceneGridTest, TheGridSurvivesTheBoxFileAndACorruptGridFailsToLoad) {
   EXPECT_EQ(loaded.grid()->codes(), scene.grid()->codes());
   const auto probes = sample_probes(two.mesh, 500, ProbeOptions{});
   for (const Segment& s : probes) {
-    const Contact a = scene.query(s, kLaw), b = loaded.query(s, kLaw);
+    const Contact a = scene.query(s, kGridLaw), b = loaded.query(s, kGridLaw);
     ASSERT_EQ(a.contact, b.contact);
     EXPECT_EQ(a.depth, b.depth);
   }

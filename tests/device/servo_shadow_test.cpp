@@ -20,21 +20,21 @@ using namespace std::chrono_literals;
 
 namespace {
 
-ServoOptions test_options() { return test::servo_test_options(); }
-void wait_ticks(const ServoLoop& loop, std::uint64_t n) { test::wait_ticks(loop, n, 3000); }
+ServoOptions shadow_test_options() { return test::servo_test_options(); }
+void wait_shadow_ticks(const ServoLoop& loop, std::uint64_t n) { test::wait_ticks(loop, n, 3000); }
 
-std::string temp(const char* name) { return ::testing::TempDir() + name; }
+std::string shadow_temp(const char* name) { return ::testing::TempDir() + name; }
 
 // Runs `drive` with `shadow` for about `ticks` ticks with the tip 2 mm below the plane z = 0.
 ServoReport run_pressed(const ContactQuery& drive, const ContactQuery* shadow, std::uint64_t ticks,
                         LogRecorder* recorder = nullptr, ServoSnapshot* last = nullptr, Vec3* sent = nullptr) {
   VirtualDevice dev;
   dev.set_target(Vec3(0.f, 0.f, -0.002f));
-  ServoLoop loop(dev, drive, test_options());
+  ServoLoop loop(dev, drive, shadow_test_options());
   loop.set_shadow(shadow);
   loop.set_recorder(recorder);
   loop.start();
-  wait_ticks(loop, ticks);
+  wait_shadow_ticks(loop, ticks);
   if (last) *last = loop.snapshot();
   if (sent) *sent = dev.last_force();
   loop.stop();
@@ -86,7 +86,7 @@ TEST(ServoShadowTest, ShiftedShadowMeasuresTheForceDifference) {
 }
 
 TEST(ServoShadowTest, ComparisonLogHoldsBothAnswersAndReplays) {
-  const std::string path = temp("hb_shadow.hblog");
+  const std::string path = shadow_temp("hb_shadow.hblog");
   test::HalfSpaceScene plane(0.f), lower(-1.f);
   {
     LogRecorder rec(path, 1000.0, VirtualDevice().spec(), RenderedAnswer::exact);
@@ -111,7 +111,7 @@ TEST(ServoShadowTest, ComparisonLogHoldsBothAnswersAndReplays) {
 
   // The same log replays like a plain one.
   ReplayDevice replay(path);
-  ServoLoop loop(replay, plane, test_options());
+  ServoLoop loop(replay, plane, shadow_test_options());
   loop.start();
   for (int i = 0; i < 3000 && loop.running(); ++i) std::this_thread::sleep_for(1ms);
   loop.stop();
@@ -119,7 +119,7 @@ TEST(ServoShadowTest, ComparisonLogHoldsBothAnswersAndReplays) {
   EXPECT_EQ(loop.report().ticks, log.records.size());
 
   // CSV: box_* and exact_* columns; with the exact answer rendered, exact_* is the driver.
-  const std::string csv = temp("hb_shadow.csv");
+  const std::string csv = shadow_temp("hb_shadow.csv");
   write_servo_log_csv(log, csv);
   std::ifstream in(csv);
   std::string header, row, lastrow;
@@ -145,7 +145,7 @@ TEST(ServoShadowTest, ComparisonLogHoldsBothAnswersAndReplays) {
 }
 
 TEST(ServoShadowTest, ComparisonLogWithAnImpossibleHeaderIsRefusedNamingTheFile) {
-  const std::string path = temp("hb_shadow_hdr.hblog");
+  const std::string path = shadow_temp("hb_shadow_hdr.hblog");
   test::HalfSpaceScene plane(0.f);
   {
     LogRecorder rec(path, 1000.0, VirtualDevice().spec(), RenderedAnswer::box);
@@ -161,7 +161,7 @@ TEST(ServoShadowTest, ComparisonLogWithAnImpossibleHeaderIsRefusedNamingTheFile)
   const auto refused = [&](std::size_t at, std::uint32_t value, const std::string& expect) {
     std::string b = bytes;
     std::memcpy(&b[at], &value, 4);
-    const std::string bad = temp("hb_shadow_bad.hblog");
+    const std::string bad = shadow_temp("hb_shadow_bad.hblog");
     std::ofstream(bad, std::ios::binary) << b;
     try {
       read_servo_log(bad);
