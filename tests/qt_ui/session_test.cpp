@@ -5,7 +5,9 @@
 #include "SessionFile.h"
 #include "errors.h"
 #include "exact/exact_query.h"
+#include "SessionPipeline.h"
 #include "haptic_box/box_cache.h"
+#include "haptic_box/box_file.h"
 #include "mesh/file_hash.h"
 #include "ui_test_support.h"
 #include <QFile>
@@ -301,6 +303,25 @@ TEST(SessionJobsTest, DefaultBakeGivesTheCommandLinesBoxes) {
   const QString line = data.dir.filePath(QStringLiteral("line.hbox"));
   ASSERT_TRUE(s.saveBoxFile(window));
   ASSERT_EQ(runCli({QStringLiteral("bake"), s.meshPath(), QStringLiteral("-o"), line}).first, 0);
+  // The window baked through its pipeline's bake filter into the box cache entry of the mesh
+  // hash and the default recipe; that entry is `hapticbox bake`'s file byte for byte but for
+  // the budget report's wall time of the bake ("seconds="), zeroed in both here.
+  const std::string entry = hb::BoxCache().path_for(s.meshHash(), hb::default_recipe());
+  ASSERT_EQ(s.model()->pipeline()->bake()->GetCachePath(), entry);
+  const auto withoutTime = [&](const std::string& in, const QString& out) {
+    hb::BoxScene scene = hb::load_box_file(in);
+    hb::BudgetReport report = scene.budget_report();
+    EXPECT_TRUE(report.present) << in;
+    report.seconds = 0;
+    scene.set_budget_report(report);
+    hb::save_box_file(scene, QFile::encodeName(out).toStdString());
+    QFile f(out);
+    return f.open(QIODevice::ReadOnly) ? f.readAll() : QByteArray();
+  };
+  const QByteArray cached = withoutTime(entry, data.dir.filePath(QStringLiteral("cached0.hbox")));
+  const QByteArray written = withoutTime(QFile::encodeName(line).toStdString(), data.dir.filePath(QStringLiteral("line0.hbox")));
+  ASSERT_GT(cached.size(), 0);
+  EXPECT_TRUE(cached == written) << "the window's cache entry differs from `hapticbox bake`'s file";
   const auto evalJson = [&](const QString& box) {
     const auto [code, out] = runCli({QStringLiteral("eval"), box, s.meshPath(), QStringLiteral("--samples"),
                                      QStringLiteral("2000"), QStringLiteral("--json")});
