@@ -13,6 +13,7 @@
 #include "errors.h"
 #include "haptic_box/box_file.h"
 #include "mesh/file_hash.h"
+#include "model_loader.h"
 #include "vtkHapticBoxMeshReader.h"
 #include "vtkHapticBoxReferenceQueries.h"
 #include "vtkHapticBoxUtilities.h"
@@ -50,7 +51,8 @@ SessionModel::SessionModel(QObject* parent) : QObject(parent) { outlines_ = vtkS
 SessionModel::~SessionModel() = default;
 
 QString SessionModel::meshFileFilter() {
-  return tr("Meshes (*.off *.obj *.ply *.stl *.om *.vtp *.vtk);;All files (*)");
+  // Every format the pipeline's reader takes (meshes, volumes, CAD, scenes), as the CLI.
+  return tr("Models (%1);;All files (*)").arg(QString::fromStdString(hb::vtk::model_file_patterns()));
 }
 
 bool SessionModel::openMesh(const QString& path, QString* error, OpenTiming* timing) {

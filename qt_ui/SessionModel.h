@@ -55,7 +55,7 @@ public:
   vtkPolyData* surface() const { return surface_; }
   /// PBB outlines of the current boxes (12 lines per box, cell "BoxId"); empty when none.
   vtkPolyData* outlines() const { return outlines_; }
-  /// File filter of every format the reader takes.
+  /// File filter of every format the reader takes (hb::vtk::model_file_patterns).
   static QString meshFileFilter();
   /// The force law of the session (probe, servo, error field, report, sweep).
   const hb::ForceLaw& law() const { return law_; }

@@ -226,9 +226,10 @@ TEST(SessionJobsTest, DefaultBakeIsTheCommandLinesDefaultRecipe) {
   EXPECT_NE(hb::recipe_key(r), hb::recipe_key(hb::default_recipe()));
 }
 
-// The window's error field runs the pipeline's vtkHapticBoxErrorFieldFilter; the view's
-// arrays are its output's and hold what hb::compute_error_field gives on the same boxes (the
-// numbers the window showed when it called the core itself, to float rounding).
+// The window's error field runs the pipeline's vtkHapticBoxErrorFieldFilter on the bake
+// filter's boxes and the session's exact reference; the view's arrays are its output's and hold
+// what hb::compute_error_field gives on the same boxes, the same mesh (the reader's surface
+// converts back bit for bit) and a fresh exact query: the same numbers, bit for bit.
 TEST(SessionJobsTest, ErrorFieldArraysAreTheFiltersAndTheCoresNumbers) {
   hbtest::MeshDir data;
   HapticSession s;
@@ -249,23 +250,21 @@ TEST(SessionJobsTest, ErrorFieldArraysAreTheFiltersAndTheCoresNumbers) {
   const struct {
     ErrorMetric metric;
     const std::vector<float>* values;
-    double absolute;  // tolerance besides 1e-4 relative: an angle near 0 (acos) amplifies rounding
-  } arrays[] = {{ErrorMetric::RelativeForce, &core.force_error, 0.0},
-                {ErrorMetric::Direction, &core.direction_error, 0.05},
-                {ErrorMetric::ContactDisagreement, &core.contact_disagreement, 0.0}};
+  } arrays[] = {{ErrorMetric::RelativeForce, &core.force_error},
+                {ErrorMetric::Direction, &core.direction_error},
+                {ErrorMetric::ContactDisagreement, &core.contact_disagreement}};
   for (const auto& a : arrays) {
     vtkDataArray* shown = s.surface()->GetPointData()->GetArray(HapticSession::errorArrayName(a.metric));
     ASSERT_NE(shown, nullptr) << HapticSession::errorArrayName(a.metric);
     ASSERT_EQ(static_cast<std::size_t>(shown->GetNumberOfTuples()), a.values->size());
-    // The filter reads the surface back (unit normals renormalised, a rounding apart), so a
-    // value may differ in its last bits and a grazing probe may rarely flip its contact.
-    std::size_t close = 0;
+    std::size_t same = 0;
     for (std::size_t i = 0; i < a.values->size(); ++i) {
       const double v = shown->GetTuple1(static_cast<vtkIdType>(i)), w = (*a.values)[i];
-      close += (std::isnan(v) && std::isnan(w)) || std::abs(v - w) <= a.absolute + 1e-4 * (1.0 + std::abs(w)) ? 1 : 0;
+      same += (std::isnan(v) && std::isnan(w)) || v == w ? 1 : 0;
     }
-    EXPECT_GE(static_cast<double>(close), 0.99 * static_cast<double>(a.values->size())) << HapticSession::errorArrayName(a.metric);
+    EXPECT_EQ(same, a.values->size()) << HapticSession::errorArrayName(a.metric);
   }
+  EXPECT_FALSE(s.model()->pipeline()->errorField()->GetBuiltExact());
   EXPECT_EQ(s.errorField()->probes, core.probes);
 }
 
