@@ -280,8 +280,10 @@ std::pair<int, QByteArray> runCli(const QStringList& args) {
 
 }  // namespace
 
-// The window's Bake at its default settings and `hapticbox bake MESH -o BOX` give the same
-// boxes: the same answers on the same probes (eval --json equal but for the box's name).
+// The window's Bake at its default settings (its pipeline's bake filter, hb::default_recipe()
+// through hb::bake_cached) and `hapticbox bake MESH -o BOX` give the same boxes: the window's
+// cache entry is the CLI's file byte for byte (the budget's wall time aside) and the answers on
+// the same probes are the same (eval --json equal but for the box's name).
 TEST(SessionJobsTest, DefaultBakeGivesTheCommandLinesBoxes) {
   hbtest::MeshDir data;
   // A coarse sphere (320 triangles): the default bake tunes on 20,000 probes whatever the size.
