@@ -41,7 +41,10 @@ protected:
   static CommandResult run_shell(const std::string& command) {
     const std::string err_path = path("mpi_stderr.txt");
     CommandResult r;
-    FILE* pipe = popen(("env -u DISPLAY " + command + " 2>" + err_path).c_str(), "r");
+    // A box cache of its own per call: every mpirun bakes across its ranks (never a cache hit).
+    static int call = 0;
+    const std::string cache = path("xdg-mpi-" + std::to_string(++call));
+    FILE* pipe = popen(("env -u DISPLAY XDG_CACHE_HOME=" + cache + " " + command + " 2>" + err_path).c_str(), "r");
     if (!pipe) return r;
     char buf[4096];
     std::size_t n;

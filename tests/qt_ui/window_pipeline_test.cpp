@@ -26,6 +26,7 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 using hbtest::pump;
 using hbtest::waitFor;
@@ -86,13 +87,28 @@ TEST(WindowPipelineTest, BakeRunsThePipelineAndCachesTheCommandLinesBox) {
   QProcess cli;
   cli.start(QStringLiteral(HB_CLI_PATH), {QStringLiteral("bake"), s.meshPath(), QStringLiteral("-o"), line,
                                           QStringLiteral("-m"), QStringLiteral("8"), QStringLiteral("-n"),
-                                          QStringLiteral("4"), QStringLiteral("--pieces"), QStringLiteral("auto")});
+                                          QStringLiteral("4"), QStringLiteral("--pieces"), QStringLiteral("auto"),
+                                          QStringLiteral("--no-cache")});
   ASSERT_TRUE(cli.waitForFinished(600000));
   ASSERT_EQ(cli.exitCode(), 0) << cli.readAllStandardError().toStdString();
   const QByteArray cached = fileBytes(QString::fromStdString(entry)), written = fileBytes(line);
   ASSERT_GT(cached.size(), 0);
   EXPECT_EQ(cached.size(), written.size());
   EXPECT_TRUE(cached == written) << "the window's cache entry differs from `hapticbox bake`'s file";
+  // One box cache for both front ends: the same command through the cache (the session's
+  // XDG_CACHE_HOME) finds the window's entry and copies it instead of baking.
+  const QString copied = data.dir.filePath(QStringLiteral("copied.hbox"));
+  QProcess hit;
+  hit.start(QStringLiteral(HB_CLI_PATH), {QStringLiteral("bake"), s.meshPath(), QStringLiteral("-o"), copied,
+                                          QStringLiteral("-m"), QStringLiteral("8"), QStringLiteral("-n"),
+                                          QStringLiteral("4"), QStringLiteral("--pieces"), QStringLiteral("auto"),
+                                          QStringLiteral("--json")});
+  ASSERT_TRUE(hit.waitForFinished(120000));
+  ASSERT_EQ(hit.exitCode(), 0) << hit.readAllStandardError().toStdString();
+  const nlohmann::json hitJson = nlohmann::json::parse(hit.readAllStandardOutput().toStdString(), nullptr, false);
+  EXPECT_EQ(hitJson.value("from_cache", false), true) << hitJson.dump();
+  EXPECT_EQ(hitJson.value("cache_path", std::string()), entry);
+  EXPECT_TRUE(fileBytes(copied) == cached);
 
   // The views draw the filters' outputs: the outlines are the bake filter's output 1 (shared
   // points), the piece ids its output 3's array.
