@@ -30,9 +30,9 @@ fuzz_seconds=${HB_FUZZ_SECONDS:-10}
 # comparisons, several-box refinement): they parse no input and take most of the sanitized
 # suite's time; the Release run above covers them.
 asan_skip='ErrorShrinksAsDensitiesGrow|EllipsoidDepthConvergesToExact|AutoDecompositionTest|QuadFetchEqualsPerSampleFetchOnArmadillo|QuadFetchEqualsPerSampleFetchAtEveryTileSize|SeamCrossingKeepsContact|ASceneOfSeveralRefinedBoxesAnswersExactly'
-# ... and the budgeted bakes, the stroke and many-probe agreement runs, the analytic sphere and the
+# ... and the budgeted bakes, a decomposition run twice, the stroke and many-probe agreement runs, the analytic sphere and the
 # codec's ratio search (4-30 s each under the sanitizers, the input they read is their own).
-asan_skip+='|QueryStateTest|ErrorBudgetTest|SphereDepthAndNormalMatchAnalyticAnswer|RoutedQueriesAskOneBox|SceneOfSeveralBoxesGivesTheSameAnswers|RefinedSphereHasNoGhosts|ContactNearestTheHandleWins|RatioTargetIsReached|ErrorBoundIsHonouredOnRealTables'
+asan_skip+='|QueryStateTest|ErrorBudgetTest|ResolvedAutomaticPiecesAreTheDecompositionsOwn|SphereDepthAndNormalMatchAnalyticAnswer|RoutedQueriesAskOneBox|SceneOfSeveralBoxesGivesTheSameAnswers|RefinedSphereHasNoGhosts|ContactNearestTheHandleWins|RatioTargetIsReached|ErrorBoundIsHonouredOnRealTables'
 start=$SECONDS
 bash scripts/build_sanitized.sh
 echo "test.sh: sanitizer build took $((SECONDS - start)) s"

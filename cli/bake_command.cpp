@@ -2,11 +2,15 @@
 // budgeted bake (hb::default_recipe); or, with any of -m, -n, --cell, --refine, a bake of exactly
 // that sampling: [-m 32] [-n 16] [--refine] [--cell C [--max-m 64]] [--pieces auto|FILE|none]
 // [--codec none|haar|block] [--max-error E | --ratio R].
+// Through the box cache (hb::bake_cached, the one the window, sweep and report use): a scene
+// cached for the model's hash and the whole recipe is copied to -o instead of baked; a bake is
+// stored there. [--cache DIR] [--no-cache].
 #include "cli_support.h"
 #include "figure_text.h"
 #include "commands.h"
 #include "errors.h"
 #include "haptic_box/bake_recipe.h"
+#include "haptic_box/box_cache.h"
 #include "haptic_box/box_file.h"
 #include "haptic_box/scene_codec_stats.h"
 #include "mesh/mesh_io.h"
@@ -14,6 +18,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 void add_bake_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("bake", "Bake a haptic box file from a mesh");
@@ -24,6 +29,8 @@ void add_bake_command(CLI::App& app) {
     std::string pieces;
     std::string codec = "none";
     std::string budget;
+    std::string cache = hb::default_box_cache_dir();
+    bool no_cache = false;
     bool json = false;
     bool strict = false;
   };
@@ -53,6 +60,9 @@ void add_bake_command(CLI::App& app) {
                   "Error budget the default bake meets at the lowest cost it finds, against exact Embree: "
                   "p95=PERCENT,median=PERCENT,dir99=DEGREES,agree=PERCENT (any subset; default "
                   "p95=7,median=2,dir99=10,agree=99.5). Not with -m, -n, --cell or --refine, which bake one given sampling");
+  cmd->add_option("--cache", opts->cache, "Box cache directory (shared with the window, sweep and report)")
+      ->capture_default_str();
+  cmd->add_flag("--no-cache", opts->no_cache, "Bake even when the cache holds the scene, and store nothing");
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
   cmd->callback([opts, max_error, cmd] {
     // Without a sampling option the bake is the default, budgeted one (hb::default_recipe):
@@ -92,12 +102,27 @@ void add_bake_command(CLI::App& app) {
     hb::Communicator& comm = hb::cli::communicator();
     opts->recipe.options.communicator = &comm;  // position points dealt across the ranks of an MPI job
     hb::cli::apply_pieces_spec(opts->pieces, opts->recipe, opts->model.face_ids);
-    const hb::BakeResult baked = hb::bake(mesh, opts->recipe, source);
+    std::optional<hb::BoxCache> cache;
+    if (!opts->no_cache) cache.emplace(opts->cache);
+    const hb::CachedBake cached = hb::bake_cached(mesh, opts->recipe, source, cache ? &*cache : nullptr);
     if (!comm.is_root()) return;  // rank 0 holds the tables and writes the file
-    hb::cli::print_decomposition(opts->recipe, baked);
+    const hb::BakeResult& baked = cached.result;
+    if (!cached.from_cache) hb::cli::print_decomposition(opts->recipe, baked);
+    if (!cached.warning.empty()) std::cerr << "warning: " << cached.warning << "\n";
     const hb::BoxScene& scene = baked.scene;
     const hb::BakeStats& stats = baked.stats;
-    hb::save_box_file(scene, opts->out);
+    namespace fs = std::filesystem;
+    std::error_code same_ec;
+    if (cached.from_cache && fs::equivalent(cached.path, opts->out, same_ec)) {
+      // -o is the cache entry itself: nothing to write.
+    } else if (cached.from_cache) {
+      // The cache entry is the bake's file byte for byte: copy it.
+      std::error_code ec;
+      fs::copy_file(cached.path, opts->out, fs::copy_options::overwrite_existing, ec);
+      if (ec) throw hb::IoError(opts->out + ": cannot write the box file (" + ec.message() + ")");
+    } else {
+      hb::save_box_file(scene, opts->out);
+    }
     const hb::SceneCodecStats cs = hb::scene_codec_stats(scene);
     const hb::BudgetReport& budget = scene.budget_report();
     const auto bytes = std::filesystem::file_size(opts->out);
@@ -118,6 +143,8 @@ void add_bake_command(CLI::App& app) {
                               {"n", budget.present ? box_n.back() : opts->recipe.options.params.n},
                               {"box_n", box_n},
                               {"refined_boxes", refined_boxes},
+                              {"from_cache", cached.from_cache},
+                              {"cache_path", cached.path},
                               {"seconds", stats.seconds},
                               {"rays", stats.rays},
                               {"rays_per_second", stats.rays_per_second},
@@ -163,17 +190,23 @@ void add_bake_command(CLI::App& app) {
     if (opts->json) {
       hb::cli::print_json(j);
     } else {
-      std::cout << "baked " << opts->out << ": " << scene.boxes().size() << " box(es), m=" << range(box_m)
-                << " n=" << range(box_n) << ", " << hb::count_text(double(stats.rays)) << " rays in "
-                << hb::duration_text(stats.seconds) << " (" << hb::count_text(stats.rays_per_second) << " rays/s), "
-                << hb::bytes_text(bytes);
+      if (cached.from_cache)
+        std::cout << "baked " << opts->out << " from cache (" << cached.path << "): " << scene.boxes().size()
+                  << " box(es), m=" << range(box_m) << " n=" << range(box_n) << ", " << hb::bytes_text(bytes);
+      else
+        std::cout << "baked " << opts->out << ": " << scene.boxes().size() << " box(es), m=" << range(box_m)
+                  << " n=" << range(box_n) << ", " << hb::count_text(double(stats.rays)) << " rays in "
+                  << hb::duration_text(stats.seconds) << " (" << hb::count_text(stats.rays_per_second) << " rays/s), "
+                  << hb::bytes_text(bytes);
       if (refined_boxes > 0)
         std::cout << " (" << (refined_boxes == scene.boxes().size() ? std::string("all") : std::to_string(refined_boxes))
                   << " box(es) with triangle ids and surface for exact refinement)";
       std::cout << "\n";
-      if (budget.present)
-        std::cout << "budget " << budget.summary() << "; " << budget.candidates_tried << " sampling bake(s), "
-                  << hb::duration_text(budget.seconds) << " in all\n";
+      if (budget.present) {
+        std::cout << "budget " << budget.summary() << "; " << budget.candidates_tried << " sampling bake(s)";
+        if (budget.seconds > 0) std::cout << ", " << hb::duration_text(budget.seconds) << " in all";
+        std::cout << "\n";
+      }
       if (comm.size() > 1)
         std::cout << comm.size() << " ranks: busiest " << hb::sig(j["load_balance"].get<double>()) << " x the mean; sent "
                   << hb::bytes_text(j["bytes_sent"].get<std::uint64_t>()) << ", "

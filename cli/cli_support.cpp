@@ -266,7 +266,7 @@ nlohmann::json budget_json(const BudgetReport& r) {
   nlohmann::json pieces = nlohmann::json::array();
   for (const PieceChoice& p : r.pieces)
     pieces.push_back({{"cell", p.cell}, {"n", p.n}, {"refine", p.refine}, {"tuning_probes", p.probes}});
-  return {{"budget", budget_spec(r.budget)},
+  nlohmann::json j = {{"budget", budget_spec(r.budget)},
           {"met", r.met},
           {"fresh_probes", r.probes},
           {"fresh_seed", r.seed},
@@ -280,9 +280,11 @@ nlohmann::json budget_json(const BudgetReport& r) {
           {"tuning_force_error_median", r.tuning_force_median},
           {"tuning_force_error_p95", r.tuning_force_p95},
           {"tuning_angle_error_p99_deg", r.tuning_direction_p99_deg},
-          {"seconds", r.seconds},
           {"sampling_bakes", r.candidates_tried},
           {"pieces", pieces}};
+  // The wall time is this run's (bake --json) or an older file's; a file written now holds none.
+  if (r.seconds > 0) j["seconds"] = r.seconds;
+  return j;
 }
 
 } // namespace hb::cli

@@ -1,22 +1,28 @@
 // SessionJobs: the window's long jobs.
-//  1. startBake runs hb::bake_cached (hb::bake through the shared box cache) on the worker with
-//     the recipe of the bake settings: hb::default_recipe() unless advanced, so the window's
-//     Bake is `hapticbox bake MESH -o BOX`'s.
-//  2. startErrorField runs the pipeline's vtkHapticBoxErrorFieldFilter on the model's surface
-//     and boxes (its output's arrays go to the view); startSweep and startReport run
-//     hb::run_sweep and the report request of `hapticbox report` (report/report_request.h)
-//     against the model's references.
-//  3. When the job ends, its result is installed into the model on the GUI thread.
+//  1. startBake runs the model's pipeline (SessionPipeline: reader -> decomposition filter ->
+//     vtkHapticBoxBakeFilter, which calls hb::bake_cached: hb::bake through the shared box
+//     cache) on the worker with the recipe of the bake settings: hb::default_recipe() unless
+//     advanced, so the window's Bake is `hapticbox bake MESH -o BOX`'s, and its cache entry is
+//     the one `sweep`, `report` and `cache` see. loadCachedBoxes runs the same bake filter,
+//     cache only (no decomposition, no bake on the GUI thread).
+//  2. startErrorField runs the pipeline's vtkHapticBoxErrorFieldFilter on the reader's surface
+//     and the bake filter's boxes against the model's shared exact reference (its output's
+//     arrays go to the view); startSweep and startReport run hb::run_sweep and the report
+//     request of `hapticbox report` (report/report_request.h) against the model's references.
+//  3. When the job ends, its result is installed into the model on the GUI thread: the
+//     boxes with the bake filter's outlines and piece ids, the field with its arrays.
 #include "SessionJobs.h"
 #include "BackgroundJob.h"
+#include "SessionPipeline.h"
+#include "vtkHapticBoxBakeFilter.h"
 #include "errors.h"
 #include "report_request.h"
 #include "vtkHapticBoxErrorFieldFilter.h"
 #include "vtkHapticBoxReferenceQueries.h"
 #include "vtkHapticBoxSet.h"
 #include <QFile>
-#include <vtkCallbackCommand.h>
-#include <vtkCommand.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
 #include <functional>
 #include <optional>
 
@@ -59,7 +65,8 @@ SessionJobs::~SessionJobs() {
 
 void SessionJobs::finished(bool ok) {
   if (ok && pendingBoxes_) {
-    model_->installBoxes(std::move(pendingBoxes_), pendingSeconds_, pendingFromCache_);
+    model_->installBoxes(std::move(pendingBoxes_), pendingSeconds_, pendingFromCache_, pendingOutlines_,
+                         pendingPieceIds_);
     if (!pendingCacheWarning_.isEmpty()) emit statusMessage(pendingCacheWarning_);
     emit cacheChanged();
   }
@@ -73,7 +80,20 @@ void SessionJobs::finished(bool ok) {
   pendingBoxes_.reset();
   pendingField_.reset();
   pendingFieldSurface_ = nullptr;
+  pendingOutlines_ = nullptr;
+  pendingPieceIds_ = nullptr;
   pendingCacheWarning_.clear();
+}
+
+void SessionJobs::takeBakeOutputs() {
+  vtkHapticBoxBakeFilter* bake = model_->pipeline()->bake();
+  pendingBoxes_ = bake->GetBoxSet()->GetScene();
+  pendingSeconds_ = bake->GetBakeSeconds();
+  pendingFromCache_ = bake->GetFromCache();
+  if (!bake->GetCacheWarning().empty()) pendingCacheWarning_ = QString::fromStdString(bake->GetCacheWarning());
+  pendingOutlines_ = vtkSmartPointer<vtkPolyData>::New();
+  pendingOutlines_->ShallowCopy(bake->GetOutput(1));
+  pendingPieceIds_ = bake->GetOutput(3)->GetCellData()->GetArray("PieceId");
 }
 
 bool SessionJobs::busy(QString* error) const {
@@ -99,16 +119,20 @@ bool SessionJobs::clearCache(QString* error) {
 }
 
 bool SessionJobs::loadCachedBoxes() {
-  if (!model_->hasMesh() || !bake_.useCache) return false;
+  if (!model_->hasMesh() || !bake_.useCache || job_->isRunning()) return false;
   try {
     const hb::BakeRecipe recipe = bake_.recipe();
-    std::optional<hb::BoxScene> scene = cache_.load(model_->meshHash(), recipe);
-    if (!scene) return false;
-    model_->installBoxes(std::make_shared<hb::BoxScene>(std::move(*scene)), 0.0, true);
-    emit statusMessage(tr("Loaded cached boxes %1")
-                           .arg(QString::fromStdString(cache_.path_for(model_->meshHash(), recipe))));
+    SessionPipeline* pipeline = model_->pipeline();
+    pipeline->prepareBake(recipe, cache_.dir());
+    if (!pipeline->hasCachedScene()) return false;
+    pipeline->runBake({}, /*cacheOnly=*/true);  // reads the entry: never decomposes or bakes here
+    takeBakeOutputs();
+    const QString path = QString::fromStdString(pipeline->bake()->GetCachePath());
+    finished(true);
+    emit statusMessage(tr("Loaded cached boxes %1").arg(path));
     return true;
   } catch (const std::exception& e) {
+    finished(false);
     emit statusMessage(tr("Ignoring the cached boxes: %1").arg(QString::fromStdString(e.what())));
     return false;
   }
@@ -127,22 +151,13 @@ bool SessionJobs::startBake(QString* error) {
     if (error) *error = QString::fromStdString(e.what());
     return false;
   }
-  auto mesh = model_->sharedMesh();
-  const hb::SourceInfo source = model_->sourceInfo();
-  const std::optional<hb::BoxCache> cache = bake_.useCache ? std::optional<hb::BoxCache>(cache_) : std::nullopt;
-  return job_->start(tr("Bake"), [this, mesh, recipe, source, cache](const auto& progress) mutable {
-    if (recipe.pieces.kind == hb::PiecesRecipe::Kind::automatic) {
-      // The decomposition takes the first third of the bar, the rays the rest.
-      recipe.pieces.automatic.progress = [progress](double f) { return progress(f / 3.0); };
-      recipe.options.progress = [progress](double f) { return progress((1.0 + 2.0 * f) / 3.0); };
-    } else {
-      recipe.options.progress = progress;
-    }
-    hb::CachedBake baked = hb::bake_cached(*mesh, recipe, source, cache ? &*cache : nullptr);
-    if (!baked.warning.empty()) pendingCacheWarning_ = QString::fromStdString(baked.warning);
-    pendingSeconds_ = baked.result.stats.seconds;
-    pendingFromCache_ = baked.from_cache;
-    pendingBoxes_ = std::make_shared<hb::BoxScene>(std::move(baked.result.scene));
+  // The pipeline: reader -> decomposition filter (automatic pieces not in the cache) ->
+  // bake filter (hb::bake_cached in the box cache), updated on the worker.
+  SessionPipeline* pipeline = model_->pipeline();
+  pipeline->prepareBake(recipe, bake_.useCache ? cache_.dir() : std::string());
+  return job_->start(tr("Bake"), [this, pipeline](const auto& progress) {
+    pipeline->runBake(progress);
+    takeBakeOutputs();
   });
 }
 
@@ -155,40 +170,20 @@ bool SessionJobs::startErrorField(int probesPerPoint, QString* error) {
   }
   if (busy(error)) return false;
   // The pipeline's error-field filter (a thin adapter over hb::compute_error_field) on the
-  // model's surface (a shallow copy: the view keeps drawing the original) and boxes; the
-  // view's arrays are its output's.
-  auto surface = vtkSmartPointer<vtkPolyData>::New();
-  surface->ShallowCopy(model_->surface());
-  auto boxes = vtkSmartPointer<vtkHapticBoxSet>::New();
-  boxes->SetScene(model_->sharedBoxes());
+  // reader's surface and the bake filter's boxes (or, for a box file opened by hand, the
+  // model's), against the model's exact reference (not built again); the view's arrays are
+  // its output's.
+  SessionPipeline* pipeline = model_->pipeline();
+  const bool fromBake =
+      pipeline->bakeCurrent() && pipeline->bake()->GetBoxSet()->GetScene() == model_->sharedBoxes();
+  const std::shared_ptr<const hb::BoxScene> boxes = fromBake ? nullptr : model_->sharedBoxes();
   const hb::ForceLaw law = model_->law();
-  return job_->start(tr("Error field"), [this, surface, boxes, law, probesPerPoint](const auto& progress) {
-    auto filter = vtkSmartPointer<vtkHapticBoxErrorFieldFilter>::New();
-    filter->SetInputData(0, surface);
-    filter->SetBoxSetData(boxes);
-    filter->SetSampleModeToVertices();
-    filter->SetProbesPerPoint(probesPerPoint);
-    filter->SetStiffness(law.stiffness_n_per_m);
-    filter->SetMetresPerUnit(law.metres_per_unit);
-    // The job's progress bar and cancel: a cancel aborts the filter at its next progress call.
-    bool cancelled = false;
-    auto onProgress = vtkSmartPointer<vtkCallbackCommand>::New();
-    onProgress->SetCallback([](vtkObject* caller, unsigned long, void* client, void* data) {
-      auto* state = static_cast<std::pair<const std::function<bool(double)>*, bool*>*>(client);
-      if (!(*state->first)(*static_cast<double*>(data))) {
-        *state->second = true;
-        static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
-      }
-    });
-    const std::function<bool(double)> forward = progress;
-    std::pair<const std::function<bool(double)>*, bool*> state{&forward, &cancelled};
-    onProgress->SetClientData(&state);
-    filter->AddObserver(vtkCommand::ProgressEvent, onProgress);
-    filter->AddObserver(vtkCommand::ErrorEvent, vtkSmartPointer<vtkCallbackCommand>::New());  // shown by the window
-    filter->Update();
-    if (cancelled) throw hb::Cancelled("error field cancelled");
-    if (!filter->GetErrorField()) throw hb::Error(filter->GetLastError().empty() ? "error field failed" : filter->GetLastError());
-    pendingFieldSurface_ = filter->GetOutput();
+  const SessionModel::References refsFuture = model_->references();
+  return job_->start(tr("Error field"), [this, pipeline, boxes, law, probesPerPoint, refsFuture](const auto& progress) {
+    pipeline->runErrorField(boxes, SessionModel::exactOf(refsFuture), law, probesPerPoint, progress);
+    vtkHapticBoxErrorFieldFilter* filter = pipeline->errorField();
+    pendingFieldSurface_ = vtkSmartPointer<vtkPolyData>::New();
+    pendingFieldSurface_->ShallowCopy(filter->GetOutput());
     pendingField_ = std::make_unique<hb::ErrorField>(*filter->GetErrorField());
   });
 }

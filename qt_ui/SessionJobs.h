@@ -1,7 +1,8 @@
 #pragma once
-// The window's long jobs (the "jobs" third of HapticSession): bake (hb::bake through the box
-// cache, with the default recipe of `hapticbox bake` unless the panel's advanced sampling is
-// chosen), error field, sweep and report, one at a time on the BackgroundJob worker. Their
+// The window's long jobs (the "jobs" third of HapticSession): bake (the model's pipeline:
+// decomposition and bake filters, hb::bake through the box cache, with the default recipe of
+// `hapticbox bake` unless the panel's advanced sampling is chosen), error field (the
+// error-field filter), sweep and report, one at a time on the BackgroundJob worker. Their
 // results are installed into the model on the GUI thread when the job ends.
 #include "SessionModel.h"
 #include "evaluation/sweep.h"
@@ -96,6 +97,8 @@ signals:
 
 private:
   void finished(bool ok);
+  /// The bake filter's result (scene, seconds, cache hit, outlines, piece ids) as pending.
+  void takeBakeOutputs();
 
   SessionModel* model_;
   BakeSettings bake_;
@@ -107,6 +110,8 @@ private:
   std::shared_ptr<const hb::BoxScene> pendingBoxes_;
   std::unique_ptr<hb::ErrorField> pendingField_;
   vtkSmartPointer<vtkPolyData> pendingFieldSurface_;  ///< the error-field filter's output.
+  vtkSmartPointer<vtkPolyData> pendingOutlines_;      ///< the bake filter's output 1.
+  vtkSmartPointer<vtkDataArray> pendingPieceIds_;     ///< the bake filter's output 3 "PieceId".
   double pendingSeconds_ = 0.0;
   bool pendingFromCache_ = false;
   QString pendingCacheWarning_;

@@ -3,13 +3,17 @@
 //     and scenes through hb::vtk::load_model, as the command line), hashes the input with
 //     hb::hash_model, starts the references (exact Embree, VTK locator) on their own thread,
 //     and takes the reader's output as the surface the views draw.
+//     The reader stays the head of the model's pipeline (SessionPipeline).
 //  2. installBoxes takes the boxes a job baked (or the cache or a file held); the piece ids
-//     and the PBB outlines the views show come from the scene.
+//     and the PBB outlines the views show are the bake filter's outputs (made from the scene
+//     the same way for a box file opened by hand).
 //  3. setErrorField adds the error-field filter's output arrays to the surface.
 #include "SessionModel.h"
+#include "SessionPipeline.h"
 #include "errors.h"
 #include "haptic_box/box_file.h"
 #include "mesh/file_hash.h"
+#include "model_loader.h"
 #include "vtkHapticBoxMeshReader.h"
 #include "vtkHapticBoxReferenceQueries.h"
 #include "vtkHapticBoxUtilities.h"
@@ -47,7 +51,8 @@ SessionModel::SessionModel(QObject* parent) : QObject(parent) { outlines_ = vtkS
 SessionModel::~SessionModel() = default;
 
 QString SessionModel::meshFileFilter() {
-  return tr("Meshes (*.off *.obj *.ply *.stl *.om *.vtp *.vtk);;All files (*)");
+  // Every format the pipeline's reader takes (meshes, volumes, CAD, scenes), as the CLI.
+  return tr("Models (%1);;All files (*)").arg(QString::fromStdString(hb::vtk::model_file_patterns()));
 }
 
 bool SessionModel::openMesh(const QString& path, QString* error, OpenTiming* timing) {
@@ -78,12 +83,19 @@ bool SessionModel::openMesh(const QString& path, QString* error, OpenTiming* tim
     const auto tHash = std::chrono::steady_clock::now();
     References references = std::async(std::launch::async, [mesh] { return buildReferences(mesh); }).share();
     const auto tExact = std::chrono::steady_clock::now();
+    hb::SourceInfo source;
+    source.mesh_path = QFile::encodeName(QFileInfo(path).absoluteFilePath()).toStdString();
+    source.mesh_hash = hash;
+    source.triangles = mesh->triangle_count();
+    source.diagonal = mesh->bounds().diagonal();
+    auto pipeline = std::make_unique<SessionPipeline>(reader, source);
 
     // Commit: nothing below throws on a valid mesh.
     boxes_.reset();
     errorField_.reset();
     boxPath_.clear();
     references_ = std::move(references);
+    pipeline_ = std::move(pipeline);
     mesh_ = std::move(mesh);
     meshHash_ = hash;
     meshPath_ = QFileInfo(path).absoluteFilePath();
@@ -128,6 +140,12 @@ hb::SourceInfo SessionModel::sourceInfo() const {
   return s;
 }
 
+std::shared_ptr<const hb::ExactQuery> SessionModel::exactOf(const References& references) {
+  if (!references.valid()) return nullptr;
+  const std::shared_ptr<const vtkHapticBoxReferenceQueries> refs = references.get();
+  return std::shared_ptr<const hb::ExactQuery>(refs, &refs->Exact());
+}
+
 const hb::ExactQuery* SessionModel::readyExact() const {
   if (!references_.valid() || references_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return nullptr;
   try {
@@ -139,7 +157,13 @@ const hb::ExactQuery* SessionModel::readyExact() const {
 
 // --- boxes -----------------------------------------------------------------------------
 
-void SessionModel::installBoxes(std::shared_ptr<const hb::BoxScene> boxes, double seconds, bool fromCache) {
+void SessionModel::setPieceArray(vtkDataArray* ids) {
+  surface_->GetCellData()->AddArray(ids);
+  surface_->Modified();
+}
+
+void SessionModel::installBoxes(std::shared_ptr<const hb::BoxScene> boxes, double seconds, bool fromCache,
+                                vtkPolyData* outlines, vtkDataArray* pieceIds) {
   boxes_ = std::move(boxes);
   bakeSeconds_ = seconds;
   boxesFromCache_ = fromCache;
@@ -148,8 +172,14 @@ void SessionModel::installBoxes(std::shared_ptr<const hb::BoxScene> boxes, doubl
   vtkPointData* pd = surface_->GetPointData();
   for (ErrorMetric m : {ErrorMetric::RelativeForce, ErrorMetric::Direction, ErrorMetric::ContactDisagreement})
     pd->RemoveArray(errorArrayName(m));
-  updatePieceArray(boxes_->piece_of_triangle());
-  outlines_ = vtkHapticBoxUtilities::BoxOutlines(*boxes_);
+  if (pieceIds && pieceIds->GetNumberOfTuples() == surface_->GetNumberOfCells()) setPieceArray(pieceIds);
+  else updatePieceArray(boxes_->piece_of_triangle());
+  if (outlines) {
+    outlines_ = vtkSmartPointer<vtkPolyData>::New();
+    outlines_->ShallowCopy(outlines);
+  } else {
+    outlines_ = vtkHapticBoxUtilities::BoxOutlines(*boxes_);
+  }
   emit boxesChanged();
   emit errorFieldChanged();
 }

@@ -1,6 +1,7 @@
 #pragma once
 // The window's model (the "model" third of HapticSession): the mesh read through the
 // pipeline's reader (vtkHapticBoxMeshReader), its hash (hb::hash_model, as the command line),
+// the pipeline downstream of the reader (SessionPipeline: decomposition, bake, error field),
 // the surface the views draw, the exact and VTK references, the boxes in use and their error
 // field. It runs nothing long and holds no widget: the jobs fill it, the device reads it.
 #include "evaluation/error_field.h"
@@ -18,6 +19,8 @@
 #include <memory>
 #include <vector>
 
+class SessionPipeline;
+class vtkDataArray;
 class vtkHapticBoxReferenceQueries;
 
 /// The surface metric the error-field view colours by.
@@ -52,7 +55,7 @@ public:
   vtkPolyData* surface() const { return surface_; }
   /// PBB outlines of the current boxes (12 lines per box, cell "BoxId"); empty when none.
   vtkPolyData* outlines() const { return outlines_; }
-  /// File filter of every format the reader takes.
+  /// File filter of every format the reader takes (hb::vtk::model_file_patterns).
   static QString meshFileFilter();
   /// The force law of the session (probe, servo, error field, report, sweep).
   const hb::ForceLaw& law() const { return law_; }
@@ -63,11 +66,21 @@ public:
   References references() const { return references_; }
   /// The exact query when it is built, else nullptr (never blocks).
   const hb::ExactQuery* readyExact() const;
+  /// The exact query of `references`, shared (waits until it is built; throws what building
+  /// it threw): the one the error field, the sweep and the report compare with. Call it with
+  /// the job's own copy of references().
+  static std::shared_ptr<const hb::ExactQuery> exactOf(const References& references);
+
+  /// The VTK pipeline over the model (null before a model is open).
+  SessionPipeline* pipeline() const { return pipeline_.get(); }
 
   // --- boxes ---------------------------------------------------------------------------
   /// Installs boxes baked or loaded for the mesh; drops the error field; emits boxesChanged
-  /// and errorFieldChanged.
-  void installBoxes(std::shared_ptr<const hb::BoxScene> boxes, double seconds, bool fromCache);
+  /// and errorFieldChanged. `outlines` and `pieceIds` (a cell array, one id per triangle) are
+  /// what the views show: the bake filter's outputs 1 and 3; null: made from the scene (a
+  /// box file opened by hand).
+  void installBoxes(std::shared_ptr<const hb::BoxScene> boxes, double seconds, bool fromCache,
+                    vtkPolyData* outlines = nullptr, vtkDataArray* pieceIds = nullptr);
   bool hasBoxes() const { return boxes_ != nullptr; }
   const hb::BoxScene* boxes() const { return boxes_.get(); }
   std::shared_ptr<const hb::BoxScene> sharedBoxes() const { return boxes_; }
@@ -97,6 +110,7 @@ signals:
 
 private:
   void updatePieceArray(const std::vector<std::uint32_t>& pieces);
+  void setPieceArray(vtkDataArray* ids);
 
   QString meshPath_;
   QStringList warnings_;
@@ -105,6 +119,7 @@ private:
   float diagonal_ = 0.f;
   hb::ForceLaw law_;
   References references_;
+  std::unique_ptr<SessionPipeline> pipeline_;
   vtkSmartPointer<vtkPolyData> surface_;
   vtkSmartPointer<vtkPolyData> outlines_;
   std::shared_ptr<const hb::BoxScene> boxes_;

@@ -1,25 +1,35 @@
 /**
  * @class   vtkHapticBoxBakeFilter
- * @brief   Bakes haptic boxes for a surface (a thin adapter over hb::bake with a
- *          hb::BakeRecipe: the same bake as `hapticbox bake` and the window).
+ * @brief   Bakes haptic boxes for a surface (a thin adapter over hb::bake_cached with a
+ *          hb::BakeRecipe: the same bake and the same box cache as `hapticbox bake`, the
+ *          sweep, the report and the window).
  *
  * Input: a triangle surface; when it carries an integer cell array named PieceArrayName
- * (default "PieceId", e.g. from the decomposition filter), one box is baked per piece
- * (distinct values are numbered 0..K-1 in increasing order; neighbouring pieces share their
- * seams per the recipe), otherwise one box in all, or the recipe's own pieces (automatic or
- * a piece file) when it names some.
+ * (default "PieceId"), one box is baked per piece (distinct values are numbered 0..K-1 in
+ * increasing order; neighbouring pieces share their seams per the recipe). Pieces made by
+ * vtkHapticBoxDecompositionFilter with the options of the recipe's automatic pieces (its
+ * field data "DecompositionOptions") are taken as the recipe's own: the bake does not
+ * decompose again and the recipe, hence the cache key, stays the automatic one. Without such
+ * an array: one box in all, or the recipe's own pieces (automatic or a piece file).
+ * With a cache directory (SetCacheDirectory, e.g. hb::default_box_cache_dir()) and a source
+ * mesh hash (SetSource: hb::hash_model of the file), a scene cached for (hash, recipe) is
+ * loaded instead of baked, and a bake is stored there (hb::bake_cached, hb::BoxCache).
  * Outputs:
  *  0: vtkHapticBoxSet, the boxes (an hb::BoxScene), for vtkHapticBoxErrorFieldFilter;
  *  1: vtkPolyData, the PBB outlines (12 lines per box, cell data "BoxId");
- *  2: vtkPolyData, the position points (vertex cells; point data "BoxId" and "Face").
- * Field data "BakeSeconds" and "TableBytes" on output 1. Progress events; abort honoured
- * (the bake stops within a few hundred rays per thread and the filter fails with an error).
+ *  2: vtkPolyData, the position points (vertex cells; point data "BoxId" and "Face");
+ *  3: vtkPolyData, the input surface with cell data "PieceId": the scene's piece (box) of
+ *     each triangle, 0 everywhere for one box (what the .hbox file stores, also when cached).
+ * Field data "BakeSeconds", "TableBytes" and "FromCache" on output 1. Progress events; abort
+ * honoured (the bake stops within a few hundred rays per thread and the filter fails with an
+ * error).
  */
 #ifndef vtkHapticBoxBakeFilter_h
 #define vtkHapticBoxBakeFilter_h
 
 #include "haptic_box/bake_recipe.h"
 #include <vtkPolyDataAlgorithm.h>
+#include <string>
 
 class vtkHapticBoxSet;
 
@@ -68,10 +78,43 @@ public:
   vtkGetStringMacro(PieceArrayName);
   ///@}
 
+  ///@{
+  /// The source mesh the scene records (path, hb::hash_model hash; triangles and diagonal are
+  /// the input's when zero). The cache is used only with a non-zero hash.
+  void SetSource(const hb::SourceInfo& source);
+  const hb::SourceInfo& GetSource() const { return this->Source; }
+  ///@}
+
+  ///@{
+  /// The box cache directory (hb::BoxCache); null or empty (the default): no cache.
+  vtkSetStringMacro(CacheDirectory);
+  vtkGetStringMacro(CacheDirectory);
+  ///@}
+
+  ///@{
+  /// Only load from the cache: when it holds no readable scene for the source and recipe the
+  /// update fails ("no cached scene") instead of baking (default off). For a front end that
+  /// opens a cached bake where a bake must not run (a window's GUI thread).
+  vtkSetMacro(CacheOnly, bool);
+  vtkGetMacro(CacheOnly, bool);
+  vtkBooleanMacro(CacheOnly, bool);
+  ///@}
+
+  /// True when the cache holds a scene for the source hash and the recipe (a cheap check of
+  /// the entry's file; it is read, and checked, by the next update).
+  bool HasCachedScene() const;
+  /// The cache entry of the last update (empty without a cache), whether its scene came
+  /// from there, and why a baked scene could not be stored (empty when it was).
+  const std::string& GetCachePath() const { return this->CachePath; }
+  bool GetFromCache() const { return this->FromCache; }
+  const std::string& GetCacheWarning() const { return this->CacheWarning; }
+
   /// The boxes of the last update (output 0).
   vtkHapticBoxSet* GetBoxSet();
-  /// Seconds the last bake took.
+  /// Seconds the last bake took (0 when the scene came from the cache).
   vtkGetMacro(BakeSeconds, double);
+  /// Why the last update failed (as vtkErrorMacro reported it, without its prefix), or empty.
+  const std::string& GetLastError() const { return this->LastError; }
 
 protected:
   vtkHapticBoxBakeFilter();
@@ -82,7 +125,14 @@ protected:
 
   hb::BakeRecipe Recipe;
   char* PieceArrayName = nullptr;
+  char* CacheDirectory = nullptr;
+  hb::SourceInfo Source;
   double BakeSeconds = 0.0;
+  bool CacheOnly = false;
+  bool FromCache = false;
+  std::string CachePath;
+  std::string CacheWarning;
+  std::string LastError;
 
 private:
   vtkHapticBoxBakeFilter(const vtkHapticBoxBakeFilter&) = delete;

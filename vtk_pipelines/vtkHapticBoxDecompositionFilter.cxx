@@ -10,26 +10,42 @@
 #include <vtkIntArray.h>
 #include <vtkObjectFactory.h>
 #include <vtkPolyData.h>
+#include <vtkStringArray.h>
 
 vtkStandardNewMacro(vtkHapticBoxDecompositionFilter);
 
 vtkHapticBoxDecompositionFilter::vtkHapticBoxDecompositionFilter() = default;
 vtkHapticBoxDecompositionFilter::~vtkHapticBoxDecompositionFilter() = default;
 
+void vtkHapticBoxDecompositionFilter::SetOptions(const hb::AutoDecompositionOptions& o) {
+  this->SetThreshold(o.threshold);
+  this->SetMinAreaFraction(o.min_area_fraction);
+  this->SetMaxPieces(o.max_pieces);
+  this->SetLeaves(o.leaves);
+  this->SetLines(o.lines);
+  this->SetSeed(o.seed);
+}
+
+hb::AutoDecompositionOptions vtkHapticBoxDecompositionFilter::GetOptions() const {
+  hb::AutoDecompositionOptions o;
+  o.threshold = this->Threshold;
+  o.min_area_fraction = this->MinAreaFraction;
+  o.max_pieces = this->MaxPieces;
+  o.leaves = this->Leaves;
+  o.lines = this->Lines;
+  o.seed = this->Seed;
+  return o;
+}
+
 int vtkHapticBoxDecompositionFilter::RequestData(vtkInformation*, vtkInformationVector** inputVector,
                                                  vtkInformationVector* outputVector) {
+  this->LastError.clear();
   try {
     vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
     vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
     this->UpdateProgress(0.0);
     const hb::TriangleMesh mesh = vtkHapticBoxUtilities::ToTriangleMesh(input);
-    hb::AutoDecompositionOptions options;
-    options.threshold = this->Threshold;
-    options.min_area_fraction = this->MinAreaFraction;
-    options.max_pieces = this->MaxPieces;
-    options.leaves = this->Leaves;
-    options.lines = this->Lines;
-    options.seed = this->Seed;
+    hb::AutoDecompositionOptions options = this->GetOptions();
     options.progress = vtkHapticBoxUtilities::MakeProgressCallback(this, 0.02, 0.98);
     const hb::Decomposition d = hb::decompose_auto(mesh, options);
 
@@ -52,9 +68,14 @@ int vtkHapticBoxDecompositionFilter::RequestData(vtkInformation*, vtkInformation
     count->SetName("PieceCount");
     count->InsertNextValue(int(d.piece_count));
     output->GetFieldData()->AddArray(count);
+    vtkNew<vtkStringArray> signature;
+    signature->SetName("DecompositionOptions");
+    signature->InsertNextValue(vtkHapticBoxUtilities::DecompositionSignature(options));
+    output->GetFieldData()->AddArray(signature);
     this->UpdateProgress(1.0);
     return 1;
   } catch (const std::exception& e) {
+    this->LastError = e.what();
     vtkErrorMacro(<< e.what());
     return 0;
   }

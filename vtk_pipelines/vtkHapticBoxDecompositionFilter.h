@@ -4,13 +4,17 @@
  *
  * Input: a triangle surface. Output: the triangulated surface (cell i = core triangle i) with
  * cell data "PieceId" (int, 0..K-1, what vtkHapticBoxBakeFilter reads) and
- * "PocketProbability" (the piece's estimated pocket probability), field data "PieceCount".
- * Progress events; abort honoured. Built only when the core has src/decomposition/.
+ * "PocketProbability" (the piece's estimated pocket probability), field data "PieceCount"
+ * and "DecompositionOptions" (vtkHapticBoxUtilities::DecompositionSignature of the options:
+ * vtkHapticBoxBakeFilter takes these pieces as its automatic recipe's own when they match).
+ * Progress events; abort honoured.
  */
 #ifndef vtkHapticBoxDecompositionFilter_h
 #define vtkHapticBoxDecompositionFilter_h
 
+#include "decomposition/auto_decomposition.h"
 #include <vtkPolyDataAlgorithm.h>
+#include <string>
 
 class vtkHapticBoxDecompositionFilter : public vtkPolyDataAlgorithm {
 public:
@@ -46,6 +50,16 @@ public:
   vtkGetMacro(Seed, vtkTypeUInt64);
   ///@}
 
+  ///@{
+  /// All of the above at once, as the core names them (a bake recipe's
+  /// hb::PiecesRecipe::automatic); the progress callback is ignored (the filter's own).
+  void SetOptions(const hb::AutoDecompositionOptions& options);
+  hb::AutoDecompositionOptions GetOptions() const;
+  ///@}
+
+  /// Why the last update failed (as vtkErrorMacro reported it, without its prefix), or empty.
+  const std::string& GetLastError() const { return this->LastError; }
+
 protected:
   vtkHapticBoxDecompositionFilter();
   ~vtkHapticBoxDecompositionFilter() override;
@@ -57,6 +71,7 @@ protected:
   int Leaves = 768;
   int Lines = 300000;
   vtkTypeUInt64 Seed = 1;
+  std::string LastError;
 
 private:
   vtkHapticBoxDecompositionFilter(const vtkHapticBoxDecompositionFilter&) = delete;

@@ -1,8 +1,10 @@
-// 1. convert the surface to the core mesh and build the exact reference on it;
+// 1. convert the surface to the core mesh; the exact reference is the one given (checked to
+//    be over the same mesh) or built on it;
 // 2. choose the points (vertices or an even sampling) and call hb::compute_error_field;
 // 3. convert the per-point statistics to point arrays.
 #include "vtkHapticBoxErrorFieldFilter.h"
 #include "errors.h"
+#include <algorithm>
 #include "polydata_files.h"
 #include "codec/codec.h"
 #include "evaluation/error_field.h"
@@ -30,6 +32,12 @@ vtkHapticBoxErrorFieldFilter::~vtkHapticBoxErrorFieldFilter() = default;
 
 void vtkHapticBoxErrorFieldFilter::SetBoxSetData(vtkHapticBoxSet* boxes) { this->SetInputData(1, boxes); }
 
+void vtkHapticBoxErrorFieldFilter::SetExactQuery(std::shared_ptr<const hb::ExactQuery> exact) {
+  if (exact == this->Exact) return;
+  this->Exact = std::move(exact);
+  this->Modified();
+}
+
 int vtkHapticBoxErrorFieldFilter::FillInputPortInformation(int port, vtkInformation* info) {
   if (port == 0) {
     info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
@@ -55,7 +63,21 @@ int vtkHapticBoxErrorFieldFilter::RequestData(vtkInformation*, vtkInformationVec
     this->UpdateProgress(0.0);
 
     const hb::TriangleMesh mesh = vtkHapticBoxUtilities::ToTriangleMesh(input);
-    const hb::ExactQuery exact(mesh);
+    std::unique_ptr<hb::ExactQuery> built;
+    if (this->Exact) {
+      const hb::TriangleMesh& over = this->Exact->mesh();
+      if (over.vertex_count() != mesh.vertex_count() || over.triangle_count() != mesh.triangle_count() ||
+          !std::equal(over.triangles.begin(), over.triangles.end(), mesh.triangles.begin()) ||
+          !std::equal(over.positions.begin(), over.positions.end(), mesh.positions.begin(),
+                      [](const hb::Vec3& a, const hb::Vec3& b) { return a.x() == b.x() && a.y() == b.y() && a.z() == b.z(); }))
+        throw hb::InvalidInput("the exact query was built over another mesh (" + std::to_string(over.vertex_count()) +
+                               " vertices, " + std::to_string(over.triangle_count()) + " triangles) than the input (" +
+                               std::to_string(mesh.vertex_count()) + ", " + std::to_string(mesh.triangle_count()) + ")");
+    } else {
+      built = std::make_unique<hb::ExactQuery>(mesh);
+    }
+    this->BuiltExact = built != nullptr;
+    const hb::ExactQuery& exact = built ? *built : *this->Exact;
     const float diagonal =
         boxes->GetScene()->source().diagonal > 0.f ? boxes->GetScene()->source().diagonal : mesh.bounds().diagonal();
 

@@ -20,7 +20,9 @@
  * Field data: "Units" ("Name: unit" per array; each array also carries UNITS_LABEL), "NoData"
  * (what NaN means), provenance (Boxes, MMin/MMax, NMin/NMax, Codec, Refined, SourceMesh,
  * ProbesPerPoint, Probes, Seed, Stiffness_N_per_m, MetresPerUnit, probe cone and lengths).
- * The exact reference is Embree on the input surface (hb::ExactQuery). Field data
+ * The exact reference is Embree on the input surface (hb::ExactQuery): the one given with
+ * SetExactQuery (the references a session or report already built over the same mesh), or
+ * one the filter builds for the update. Field data
  * "ErrorFieldSeconds" holds the computation's wall time. Progress events; abort honoured.
  */
 #ifndef vtkHapticBoxErrorFieldFilter_h
@@ -33,6 +35,7 @@
 
 namespace hb {
 class Communicator;
+class ExactQuery;
 struct ErrorField;
 }
 
@@ -106,6 +109,14 @@ public:
   void SetCommunicator(hb::Communicator* communicator) { this->Communicator = communicator; }
   hb::Communicator* GetCommunicator() const { return this->Communicator; }
 
+  /// The exact reference to compare with, built over the input surface's mesh (same vertices
+  /// and triangles; the update fails naming both counts otherwise), shared and kept alive by
+  /// the filter; null (the default): the filter builds its own Embree scene each update.
+  void SetExactQuery(std::shared_ptr<const hb::ExactQuery> exact);
+  std::shared_ptr<const hb::ExactQuery> GetExactQuery() const { return this->Exact; }
+  /// True when the last update built its own Embree scene (no exact query was set).
+  bool GetBuiltExact() const { return this->BuiltExact; }
+
   /// The field of the last successful update (its per-point figures are the output's arrays;
   /// probes and seconds besides), or nullptr. For front ends that show its summary.
   const hb::ErrorField* GetErrorField() const { return this->Field.get(); }
@@ -129,6 +140,8 @@ protected:
   double Stiffness = 500.0;
   double MetresPerUnit = 0.001;
   hb::Communicator* Communicator = nullptr;
+  std::shared_ptr<const hb::ExactQuery> Exact;
+  bool BuiltExact = false;
   std::unique_ptr<hb::ErrorField> Field;
   std::string LastError;
 

@@ -13,6 +13,7 @@
 #include <vtkPolyData.h>
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <cmath>
 #include <thread>
 
@@ -53,7 +54,11 @@ hb::TriangleMesh vtkHapticBoxUtilities::ToTriangleMesh(vtkPolyData* polyData) {
       normals->GetTuple(i, n);
       const hb::Vec3 v{float(n[0]), float(n[1]), float(n[2])};
       const float len = v.norm();
-      mesh.normals[std::size_t(i)] = (len > 0.f && std::isfinite(len)) ? hb::Vec3(v / len) : hb::Vec3::UnitZ();
+      // A normal already of unit length (the core's, through ToPolyData) is kept bit for bit:
+      // dividing by a length that rounds to 1 +- 1 ulp would change its last bits, and with
+      // them the bake (the window's box would not be the command line's).
+      if (std::abs(len - 1.f) <= 4e-6f) mesh.normals[std::size_t(i)] = v;
+      else mesh.normals[std::size_t(i)] = (len > 0.f && std::isfinite(len)) ? hb::Vec3(v / len) : hb::Vec3::UnitZ();
     }
   } else {
     mesh.compute_vertex_normals();
@@ -142,4 +147,11 @@ std::string vtkHapticBoxUtilities::Extension(const std::string& path) {
   std::string ext = path.substr(dot);
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   return ext;
+}
+
+std::string vtkHapticBoxUtilities::DecompositionSignature(const hb::AutoDecompositionOptions& o) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "auto %a %a %d %d %d %llu", o.threshold, o.min_area_fraction, o.max_pieces, o.leaves,
+                o.lines, static_cast<unsigned long long>(o.seed));
+  return buf;
 }

@@ -9,6 +9,7 @@
 #ifndef vtkHapticBoxUtilities_h
 #define vtkHapticBoxUtilities_h
 
+#include "decomposition/auto_decomposition.h"
 #include "mesh/triangle_mesh.h"
 #include "progress.h"
 #include <vtkSmartPointer.h>
@@ -28,7 +29,9 @@ public:
    * The polygons and triangle strips of `polyData` as a core triangle mesh (polygons are
    * fan-triangulated, triangles with a repeated index dropped; vertices and lines ignored).
    * Point normals are taken from the point data's normals when present with one tuple per
-   * point (normalised), otherwise computed as the core does (area-weighted).
+   * point (normalised; a normal already of unit length is kept bit for bit, so a core mesh
+   * through ToPolyData and back is the same mesh), otherwise computed as the core does
+   * (area-weighted).
    * Throws hb::InvalidInput on a null input, NaN/Inf coordinates or no triangles.
    */
   static hb::TriangleMesh ToTriangleMesh(vtkPolyData* polyData);
@@ -52,6 +55,12 @@ public:
    * operation (it throws hb::Cancelled). `begin`/`end` map the fraction into a sub-range.
    */
   static hb::ProgressCallback MakeProgressCallback(vtkAlgorithm* algorithm, double begin = 0.0, double end = 1.0);
+
+  /// The text that names a decomposition's options (every field that changes its pieces):
+  /// vtkHapticBoxDecompositionFilter writes it on its output as field data
+  /// "DecompositionOptions", and vtkHapticBoxBakeFilter reads it to know that the input's
+  /// "PieceId" are the pieces its automatic recipe asks for.
+  static std::string DecompositionSignature(const hb::AutoDecompositionOptions& options);
 
   /// Lower-case extension of a path, with the dot (".off"), or empty.
   static std::string Extension(const std::string& path);

@@ -14,6 +14,8 @@ public:
   /// The mesh must outlive this object and have vertex normals.
   explicit ExactQuery(const TriangleMesh& mesh) : scene_(mesh) {}
   Contact query(const Segment& segment, const ForceLaw& law) const noexcept override;
+  /// The mesh the scene was built over (it must outlive this query).
+  const TriangleMesh& mesh() const { return scene_.mesh(); }
 
 private:
   EmbreeScene scene_;

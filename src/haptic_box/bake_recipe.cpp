@@ -51,7 +51,12 @@ std::string pieces_spec(const PiecesRecipe& pieces) {
 std::vector<std::uint32_t> resolve_piece_ids(const TriangleMesh& mesh, const PiecesRecipe& pieces) {
   switch (pieces.kind) {
   case PiecesRecipe::Kind::none: return {};
-  case PiecesRecipe::Kind::automatic: return decompose_auto(mesh, pieces.automatic).piece_of_triangle;
+  case PiecesRecipe::Kind::automatic:
+    if (pieces.resolved.empty()) return decompose_auto(mesh, pieces.automatic).piece_of_triangle;
+    if (pieces.resolved.size() != mesh.triangle_count())
+      throw InvalidInput("bake: " + std::to_string(pieces.resolved.size()) + " decomposed piece ids for " +
+                         std::to_string(mesh.triangle_count()) + " triangles");
+    return compact(pieces.resolved);
   case PiecesRecipe::Kind::file: return compact(read_piece_file(pieces.file, mesh.triangle_count()));
   case PiecesRecipe::Kind::given:
     if (pieces.given.size() != mesh.triangle_count())

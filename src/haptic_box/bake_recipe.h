@@ -26,6 +26,11 @@ struct PiecesRecipe {
   std::string file;                       ///< Kind::file: .txt or .ply piece file.
   AutoDecompositionOptions automatic;     ///< Kind::automatic (its progress is the decomposition's).
   std::vector<std::uint32_t> given;       ///< Kind::given: one id per triangle, any values.
+  /// Kind::automatic only: the ids hb::decompose_auto gave for `automatic` on this mesh when
+  /// the caller already ran it (the VTK decomposition filter upstream of the bake filter), so
+  /// the bake does not run it again. Not part of the cache key (the same options give the
+  /// same ids); empty: the bake decomposes.
+  std::vector<std::uint32_t> resolved;
 };
 
 /// "none" (or empty): one box; "auto": automatic; anything else: a piece file path.

@@ -87,6 +87,9 @@ std::string budget_misses(const ComparisonStats& s, const ErrorBudget& b) {
   return out;
 }
 
+// The file form leaves out `seconds` (this run's wall time of the budgeted bake): the same
+// inputs then give the same bytes, which the box cache and the byte-for-byte tests rely on.
+// parse() still reads `seconds=` from files written before 2026-12-02.
 std::string BudgetReport::serialize() const {
   std::ostringstream os;
   os.precision(9);
@@ -98,7 +101,7 @@ std::string BudgetReport::serialize() const {
      << "tuning_probes=" << tuning_probes << "\ntuning_seed=" << tuning_seed << "\n"
      << "tuning_agreement=" << tuning_agreement << "\ntuning_force_median=" << tuning_force_median
      << "\ntuning_force_p95=" << tuning_force_p95 << "\ntuning_direction_p99_deg=" << tuning_direction_p99_deg << "\n"
-     << "seconds=" << seconds << "\ncandidates_tried=" << candidates_tried << "\n";
+     << "candidates_tried=" << candidates_tried << "\n";  // no wall time: same inputs, same bytes
   for (const PieceChoice& p : pieces)
     os << "piece=" << p.cell << " " << p.n << " " << (p.refine ? 1 : 0) << " " << p.probes << "\n";
   return os.str();
@@ -131,7 +134,7 @@ BudgetReport BudgetReport::parse(const std::string& text) {
     else if (key == "tuning_force_median") r.tuning_force_median = number(v, key, 0, 1e30);
     else if (key == "tuning_force_p95") r.tuning_force_p95 = number(v, key, 0, 1e30);
     else if (key == "tuning_direction_p99_deg") r.tuning_direction_p99_deg = number(v, key, 0, 180);
-    else if (key == "seconds") r.seconds = number(v, key, 0, 1e9);
+    else if (key == "seconds") r.seconds = number(v, key, 0, 1e9);  // files written before 2026-12-02
     else if (key == "candidates_tried") r.candidates_tried = std::uint32_t(number(v, key, 0, 1e6));
     else if (key == "piece") {
       std::stringstream ps(v);

@@ -10,6 +10,7 @@
 #include <array>
 #include <cctype>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -207,6 +208,67 @@ TEST_F(CliTest, CacheCommandShowsAndClearsTheSharedBoxCache) {
   EXPECT_EQ(cleared["files"], 0);
   EXPECT_EQ(cleared["removed"]["files"], 1);
   EXPECT_TRUE(fs::is_empty(boxes));
+}
+
+// `bake` goes through the box cache the window, sweep and report share (hb::bake_cached): a
+// miss bakes and stores the entry (the output file's very bytes), a hit copies the entry and says
+// so, --no-cache bakes again and stores nothing, and `cache` then lists and clears the entry.
+TEST_F(CliTest, BakeStoresInAndCopiesFromTheSharedBoxCache) {
+  const std::string cache = path("bake-cache");
+  fs::remove_all(cache);
+  const std::string bake = "bake " + path("sphere.off") + " -m 6 -n 4 --cache " + cache + " -o ";
+  const Result miss = run(bake + path("miss.hbox") + " --json");
+  ASSERT_EQ(miss.code, 0) << miss.err;
+  const auto m = nlohmann::json::parse(miss.out);
+  EXPECT_FALSE(m["from_cache"].get<bool>());
+  const std::string entry = m["cache_path"].get<std::string>();
+  EXPECT_EQ(fs::path(entry).parent_path(), fs::path(cache));
+  ASSERT_TRUE(fs::exists(entry)) << entry;
+  const auto bytes = [](const std::string& p) {
+    std::ifstream f(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  };
+  EXPECT_EQ(bytes(entry), bytes(path("miss.hbox")));
+
+  const Result hit = run(bake + path("hit.hbox"));
+  ASSERT_EQ(hit.code, 0) << hit.err;
+  EXPECT_NE(hit.out.find("from cache (" + entry + ")"), std::string::npos) << hit.out;
+  EXPECT_EQ(bytes(path("hit.hbox")), bytes(entry));
+  const auto h = nlohmann::json::parse(run(bake + path("hit2.hbox") + " --json").out);
+  EXPECT_TRUE(h["from_cache"].get<bool>());
+  EXPECT_EQ(h["cache_path"], entry);
+
+  // Another recipe is another entry; --no-cache bakes (the same bytes) and stores nothing.
+  fs::remove(entry);
+  const Result fresh = run(bake + path("fresh.hbox") + " --no-cache --json");
+  ASSERT_EQ(fresh.code, 0) << fresh.err;
+  const auto f = nlohmann::json::parse(fresh.out);
+  EXPECT_FALSE(f["from_cache"].get<bool>());
+  EXPECT_EQ(f["cache_path"], "");
+  EXPECT_FALSE(fs::exists(entry));
+  EXPECT_EQ(bytes(path("fresh.hbox")), bytes(path("miss.hbox"))) << "the same inputs must give the same file";
+  ASSERT_EQ(run("bake " + path("sphere.off") + " -m 6 -n 6 --cache " + cache + " -o " + path("other.hbox")).code, 0);
+  std::size_t entries = 0;
+  for (const auto& e : fs::directory_iterator(cache)) entries += e.path().extension() == ".hbox" ? 1 : 0;
+  EXPECT_EQ(entries, 1u);
+
+  // The bake's entry is what `cache` shows and clears (XDG_CACHE_HOME/hapticbox/boxes).
+  const std::string xdg = path("bake-xdg");
+  fs::remove_all(xdg);
+  const std::string env = "env XDG_CACHE_HOME=" + xdg + " " + HB_CLI_PATH + " ";
+  ASSERT_EQ(std::system((env + "bake " + path("sphere.off") + " -m 6 -n 4 -o " + path("xdg.hbox") + " >/dev/null").c_str()), 0);
+  const auto cache_json = [&](const std::string& args) {
+    std::string out;
+    FILE* p = popen((env + "cache --json " + args).c_str(), "r");
+    if (!p) return nlohmann::json();
+    for (int c; (c = fgetc(p)) != EOF;) out += char(c);
+    pclose(p);
+    return nlohmann::json::parse(out, nullptr, false);
+  };
+  const auto shown = cache_json("");
+  EXPECT_EQ(shown["files"], 1);
+  EXPECT_EQ(shown["bytes"].get<std::uint64_t>(), fs::file_size(path("xdg.hbox")));
+  EXPECT_EQ(cache_json("--clear")["files"], 0);
 }
 
 TEST_F(CliTest, MissingMeshFailsWithExitOneAndNamesTheFile) {

@@ -20,7 +20,12 @@ struct CommandResult {
 inline CommandResult run_cli(const std::string& args, const std::string& scratch_dir) {
   const std::string err_path = scratch_dir + "/stderr.txt";
   // No display: the command line must never need one.
-  const std::string cmd = "env -u DISPLAY " + std::string(HB_CLI_PATH) + " " + args + " 2>" + err_path;
+  // A box cache of its own per call (bake, sweep and report cache by default): no test reads
+  // the user's cache or another call's entry unless it names one with --cache DIR.
+  static int call = 0;
+  const std::string cache = scratch_dir + "/xdg-cache-" + std::to_string(++call);
+  const std::string cmd =
+      "env -u DISPLAY XDG_CACHE_HOME=" + cache + " " + std::string(HB_CLI_PATH) + " " + args + " 2>" + err_path;
   CommandResult r;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return r;

@@ -3,6 +3,7 @@
 #include "decomposition/plane_split.h"
 #include "errors.h"
 #include "haptic_box/bake_recipe.h"
+#include "haptic_box/box_cache.h"
 #include "haptic_box/box_file.h"
 #include "mesh/generators.h"
 #include <gtest/gtest.h>
@@ -45,6 +46,32 @@ TEST(BakeRecipeTest, BakeIsTheSeamedPiecesBakedAndCompressed) {
   EXPECT_GT(lists[0].size() + lists[1].size(), sphere.triangle_count());
   const BoxScene by_hand = bake_scene_from_lists(sphere, lists, recipe.options, {}).compressed(recipe.codec);
   EXPECT_TRUE(same_tables(baked.scene, by_hand));
+}
+
+// Automatic pieces the caller already decomposed (the VTK decomposition filter upstream of the
+// bake filter) stand for the decomposition: the same scene, and the same cache key, as the
+// recipe decomposing itself; ids for another triangle count are refused.
+TEST(BakeRecipeTest, ResolvedAutomaticPiecesAreTheDecompositionsOwn) {
+  TriangleMesh two = make_sphere(1.f, 2), other = make_sphere(1.f, 2);
+  const std::uint32_t offset = std::uint32_t(two.vertex_count());
+  for (Vec3& p : other.positions) p.x() += 3.f;
+  two.positions.insert(two.positions.end(), other.positions.begin(), other.positions.end());
+  for (Triangle t : other.triangles) two.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  two.compute_vertex_normals();
+  BakeRecipe recipe;
+  recipe.options.params = {4, 3};
+  recipe.pieces.kind = PiecesRecipe::Kind::automatic;
+  recipe.pieces.automatic.lines = 20000;
+  const BakeResult decomposing = bake(two, recipe);
+  ASSERT_GE(decomposing.scene.boxes().size(), 2u);
+  BakeRecipe given = recipe;
+  given.pieces.resolved = decompose_auto(two, recipe.pieces.automatic).piece_of_triangle;
+  EXPECT_EQ(recipe_key(given), recipe_key(recipe));
+  const BakeResult resolved = bake(two, given);
+  EXPECT_EQ(resolved.scene.piece_of_triangle(), decomposing.scene.piece_of_triangle());
+  EXPECT_TRUE(same_tables(resolved.scene, decomposing.scene));
+  given.pieces.resolved.pop_back();
+  EXPECT_THROW(bake(two, given), InvalidInput);
 }
 
 TEST(BakeRecipeTest, PieceFileIdsAreNumberedCompactlyLikeGivenOnes) {

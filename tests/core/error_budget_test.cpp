@@ -60,6 +60,11 @@ TEST(ErrorBudgetTest, ReportRoundTripsAndCorruptTextThrows) {
   r.agreement = 0.9971;
   r.force_p95 = 0.0012;
   r.pieces = {{0.032f, 6, false, 10}, {0.016f, 8, true, 300}};
+  r.seconds = 12.5;
+  // The wall time stays out of the file form (same inputs, same bytes); older files that hold
+  // it still read.
+  EXPECT_EQ(r.serialize().find("seconds"), std::string::npos) << r.serialize();
+  EXPECT_DOUBLE_EQ(BudgetReport::parse("met=1\nseconds=3.5\n").seconds, 3.5);
   const BudgetReport back = BudgetReport::parse(r.serialize());
   EXPECT_TRUE(back.present && back.met);
   EXPECT_EQ(back.probes, 2000u);

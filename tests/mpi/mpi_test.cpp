@@ -41,7 +41,10 @@ protected:
   static CommandResult run_shell(const std::string& command) {
     const std::string err_path = path("mpi_stderr.txt");
     CommandResult r;
-    FILE* pipe = popen(("env -u DISPLAY " + command + " 2>" + err_path).c_str(), "r");
+    // A box cache of its own per call: every mpirun bakes across its ranks (never a cache hit).
+    static int call = 0;
+    const std::string cache = path("xdg-mpi-" + std::to_string(++call));
+    FILE* pipe = popen(("env -u DISPLAY XDG_CACHE_HOME=" + cache + " " + command + " 2>" + err_path).c_str(), "r");
     if (!pipe) return r;
     char buf[4096];
     std::size_t n;
@@ -64,7 +67,7 @@ fs::path MpiTest::dir_;
 void expect_same_keys(const nlohmann::json& one, const nlohmann::json& many, const std::string& where = "") {
   static const std::set<std::string> kSkip = {"ranks", "seconds", "rays_per_second", "bake_seconds", "query_ns",
                                               "pareto", "rank_work", "load_balance", "bytes_sent",
-                                              "bytes_sent_over_tables", "output"};
+                                              "bytes_sent_over_tables", "output", "cache_path"};
   ASSERT_EQ(one.type(), many.type()) << where;
   if (one.is_object()) {
     for (const auto& [key, value] : one.items()) {
@@ -94,6 +97,10 @@ TEST_F(MpiTest, BakeOnTwoAndThreeRanksWritesTheBytesOfOneProcess) {
     // One JSON document, from rank 0, stating the ranks and what each did.
     const auto j = nlohmann::json::parse(many.out);
     EXPECT_EQ(j["ranks"], ranks);
+    // Baked across the ranks (each call has a cache of its own), under the same cache key.
+    EXPECT_FALSE(j["from_cache"].get<bool>());
+    EXPECT_EQ(fs::path(j["cache_path"].get<std::string>()).filename(),
+              fs::path(nlohmann::json::parse(one.out)["cache_path"].get<std::string>()).filename());
     ASSERT_EQ(j["rank_work"].size(), std::size_t(ranks));
     std::uint64_t rays = 0;
     for (const auto& w : j["rank_work"]) rays += w["rays"].get<std::uint64_t>();

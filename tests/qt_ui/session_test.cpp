@@ -5,7 +5,9 @@
 #include "SessionFile.h"
 #include "errors.h"
 #include "exact/exact_query.h"
+#include "SessionPipeline.h"
 #include "haptic_box/box_cache.h"
+#include "haptic_box/box_file.h"
 #include "mesh/file_hash.h"
 #include "ui_test_support.h"
 #include <QFile>
@@ -224,9 +226,10 @@ TEST(SessionJobsTest, DefaultBakeIsTheCommandLinesDefaultRecipe) {
   EXPECT_NE(hb::recipe_key(r), hb::recipe_key(hb::default_recipe()));
 }
 
-// The window's error field runs the pipeline's vtkHapticBoxErrorFieldFilter; the view's
-// arrays are its output's and hold what hb::compute_error_field gives on the same boxes (the
-// numbers the window showed when it called the core itself, to float rounding).
+// The window's error field runs the pipeline's vtkHapticBoxErrorFieldFilter on the bake
+// filter's boxes and the session's exact reference; the view's arrays are its output's and hold
+// what hb::compute_error_field gives on the same boxes, the same mesh (the reader's surface
+// converts back bit for bit) and a fresh exact query: the same numbers, bit for bit.
 TEST(SessionJobsTest, ErrorFieldArraysAreTheFiltersAndTheCoresNumbers) {
   hbtest::MeshDir data;
   HapticSession s;
@@ -247,23 +250,21 @@ TEST(SessionJobsTest, ErrorFieldArraysAreTheFiltersAndTheCoresNumbers) {
   const struct {
     ErrorMetric metric;
     const std::vector<float>* values;
-    double absolute;  // tolerance besides 1e-4 relative: an angle near 0 (acos) amplifies rounding
-  } arrays[] = {{ErrorMetric::RelativeForce, &core.force_error, 0.0},
-                {ErrorMetric::Direction, &core.direction_error, 0.05},
-                {ErrorMetric::ContactDisagreement, &core.contact_disagreement, 0.0}};
+  } arrays[] = {{ErrorMetric::RelativeForce, &core.force_error},
+                {ErrorMetric::Direction, &core.direction_error},
+                {ErrorMetric::ContactDisagreement, &core.contact_disagreement}};
   for (const auto& a : arrays) {
     vtkDataArray* shown = s.surface()->GetPointData()->GetArray(HapticSession::errorArrayName(a.metric));
     ASSERT_NE(shown, nullptr) << HapticSession::errorArrayName(a.metric);
     ASSERT_EQ(static_cast<std::size_t>(shown->GetNumberOfTuples()), a.values->size());
-    // The filter reads the surface back (unit normals renormalised, a rounding apart), so a
-    // value may differ in its last bits and a grazing probe may rarely flip its contact.
-    std::size_t close = 0;
+    std::size_t same = 0;
     for (std::size_t i = 0; i < a.values->size(); ++i) {
       const double v = shown->GetTuple1(static_cast<vtkIdType>(i)), w = (*a.values)[i];
-      close += (std::isnan(v) && std::isnan(w)) || std::abs(v - w) <= a.absolute + 1e-4 * (1.0 + std::abs(w)) ? 1 : 0;
+      same += (std::isnan(v) && std::isnan(w)) || v == w ? 1 : 0;
     }
-    EXPECT_GE(static_cast<double>(close), 0.99 * static_cast<double>(a.values->size())) << HapticSession::errorArrayName(a.metric);
+    EXPECT_EQ(same, a.values->size()) << HapticSession::errorArrayName(a.metric);
   }
+  EXPECT_FALSE(s.model()->pipeline()->errorField()->GetBuiltExact());
   EXPECT_EQ(s.errorField()->probes, core.probes);
 }
 
@@ -279,8 +280,11 @@ std::pair<int, QByteArray> runCli(const QStringList& args) {
 
 }  // namespace
 
-// The window's Bake at its default settings and `hapticbox bake MESH -o BOX` give the same
-// boxes: the same answers on the same probes (eval --json equal but for the box's name).
+// The window's Bake at its default settings (its pipeline's bake filter, hb::default_recipe()
+// through hb::bake_cached) and `hapticbox bake MESH -o BOX --no-cache` (a bake of its own, not
+// the window's cache entry) give the same boxes: the window's cache entry, the box the window
+// saves and the CLI's file are the same bytes (the budget report keeps no wall time, so the
+// same inputs give the same file). Same bytes, same answers: eval and query read nothing else.
 TEST(SessionJobsTest, DefaultBakeGivesTheCommandLinesBoxes) {
   hbtest::MeshDir data;
   // A coarse sphere (320 triangles): the default bake tunes on 20,000 probes whatever the size.
@@ -300,16 +304,17 @@ TEST(SessionJobsTest, DefaultBakeGivesTheCommandLinesBoxes) {
   const QString window = data.dir.filePath(QStringLiteral("window.hbox"));
   const QString line = data.dir.filePath(QStringLiteral("line.hbox"));
   ASSERT_TRUE(s.saveBoxFile(window));
-  ASSERT_EQ(runCli({QStringLiteral("bake"), s.meshPath(), QStringLiteral("-o"), line}).first, 0);
-  const auto evalJson = [&](const QString& box) {
-    const auto [code, out] = runCli({QStringLiteral("eval"), box, s.meshPath(), QStringLiteral("--samples"),
-                                     QStringLiteral("2000"), QStringLiteral("--json")});
-    EXPECT_EQ(code, 0);
-    nlohmann::json j = nlohmann::json::parse(out.toStdString(), nullptr, false);
-    if (j.is_object()) j.erase("box");
-    return j;
+  ASSERT_EQ(runCli({QStringLiteral("bake"), s.meshPath(), QStringLiteral("-o"), line, QStringLiteral("--no-cache")}).first, 0);
+  // The window baked through its pipeline's bake filter into the box cache entry of the mesh
+  // hash and the default recipe.
+  const std::string entry = hb::BoxCache().path_for(s.meshHash(), hb::default_recipe());
+  ASSERT_EQ(s.model()->pipeline()->bake()->GetCachePath(), entry);
+  const auto bytes = [](const QString& path) {
+    QFile f(path);
+    return f.open(QIODevice::ReadOnly) ? f.readAll() : QByteArray();
   };
-  const nlohmann::json a = evalJson(window), b = evalJson(line);
-  ASSERT_TRUE(a.is_object());
-  EXPECT_EQ(a.dump(1), b.dump(1));
+  const QByteArray cached = bytes(QString::fromStdString(entry)), written = bytes(line);
+  ASSERT_GT(cached.size(), 0);
+  EXPECT_TRUE(cached == written) << "the window's cache entry differs from `hapticbox bake`'s file";
+  EXPECT_TRUE(bytes(window) == written) << "the window's saved box differs from `hapticbox bake`'s file";
 }

@@ -1,9 +1,15 @@
+#include "haptic_box/box_cache.h"
+#include "haptic_box/box_file.h"
 #include "test_meshes.h"
 #include "vtkHapticBoxBakeFilter.h"
+#include "vtkHapticBoxDecompositionFilter.h"
 #include "vtkHapticBoxSet.h"
 #include "vtkHapticBoxUtilities.h"
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <gtest/gtest.h>
+#include <iterator>
 #include <vtkCallbackCommand.h>
 #include <vtkCellData.h>
 #include <vtkFieldData.h>
@@ -138,4 +144,121 @@ TEST(BakeFilterTest, AbortStopsTheBakeAndReportsProgress) {
   EXPECT_GT(events, 1);
   vtkHapticBoxSet* set = bake->GetBoxSet();
   EXPECT_TRUE(set == nullptr || set->GetNumberOfBoxes() == 0);
+}
+
+namespace {
+
+// A box file's bytes.
+std::string fileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+struct ScratchDir {
+  std::string path = hb::test::ScratchPath("cache");
+  ~ScratchDir() { std::filesystem::remove_all(path); }
+};
+
+}  // namespace
+
+// With a cache directory and a source hash the filter is hb::bake_cached: the entry is the box
+// cache's for (hash, recipe), holding hb::bake's scene; a second filter loads it (no bake);
+// CacheOnly fails on a miss instead of baking.
+TEST(BakeFilterTest, CacheDirectoryMakesItTheCoresCachedBake) {
+  ScratchDir dir;
+  vtkSmartPointer<vtkPolyData> sphere = hb::test::SpherePolyData(2);
+  hb::SourceInfo source;
+  source.mesh_path = "sphere.off";
+  source.mesh_hash = 0x1234abcdULL;
+  vtkNew<vtkHapticBoxBakeFilter> bake;
+  bake->SetInputData(sphere);
+  bake->SetM(4);
+  bake->SetN(3);
+  bake->SetSource(source);
+  bake->SetCacheDirectory(dir.path.c_str());
+  EXPECT_FALSE(bake->HasCachedScene());
+  bake->Update();
+  ASSERT_TRUE(bake->GetLastError().empty()) << bake->GetLastError();
+  EXPECT_FALSE(bake->GetFromCache());
+  const hb::BoxCache cache(dir.path);
+  EXPECT_EQ(bake->GetCachePath(), cache.path_for(source.mesh_hash, bake->GetRecipe()));
+  EXPECT_TRUE(bake->HasCachedScene());
+
+  // The entry is what hb::bake gives for the same mesh, recipe and source, byte for byte.
+  const hb::TriangleMesh mesh = vtkHapticBoxUtilities::ToTriangleMesh(sphere);
+  hb::SourceInfo full = source;
+  full.triangles = mesh.triangle_count();
+  full.diagonal = mesh.bounds().diagonal();
+  const std::string direct = dir.path + "/direct.hbox.tmp";
+  hb::save_box_file(hb::bake(mesh, bake->GetRecipe(), full).scene, direct);
+  EXPECT_EQ(fileBytes(bake->GetCachePath()), fileBytes(direct));
+
+  vtkNew<vtkHapticBoxBakeFilter> again;
+  again->SetInputData(sphere);
+  again->SetRecipe(bake->GetRecipe());
+  again->SetSource(source);
+  again->SetCacheDirectory(dir.path.c_str());
+  again->CacheOnlyOn();
+  again->Update();
+  ASSERT_TRUE(again->GetLastError().empty()) << again->GetLastError();
+  EXPECT_TRUE(again->GetFromCache());
+  EXPECT_EQ(again->GetBakeSeconds(), 0.0);
+  EXPECT_EQ(again->GetBoxSet()->GetScene()->table_bytes(), bake->GetBoxSet()->GetScene()->table_bytes());
+
+  again->SetM(5);  // another recipe: not cached
+  vtkObject::GlobalWarningDisplayOff();
+  again->Update();
+  vtkObject::GlobalWarningDisplayOn();
+  EXPECT_NE(again->GetLastError().find("no cached scene"), std::string::npos) << again->GetLastError();
+}
+
+// reader -> decomposition filter -> bake filter with an automatic recipe: the filter's pieces
+// stand for the recipe's (no second decomposition), so the scene, and the cache key, are those
+// of hb::bake with the automatic recipe, as `hapticbox bake --pieces auto` bakes; output 3
+// carries the scene's piece of each triangle.
+TEST(BakeFilterTest, DecompositionFilterPiecesAreTheAutomaticRecipes) {
+  ScratchDir dir;
+  vtkSmartPointer<vtkPolyData> sphere = vtkHapticBoxUtilities::ToPolyData(hb::test::TwoSpheres());
+  hb::BakeRecipe recipe;
+  recipe.options.params.m = 4;
+  recipe.options.params.n = 3;
+  recipe.pieces.kind = hb::PiecesRecipe::Kind::automatic;
+  recipe.pieces.automatic.lines = 20000;
+  vtkNew<vtkHapticBoxDecompositionFilter> decomposition;
+  decomposition->SetInputData(sphere);
+  decomposition->SetOptions(recipe.pieces.automatic);
+  vtkNew<vtkHapticBoxBakeFilter> bake;
+  bake->SetInputConnection(decomposition->GetOutputPort());
+  bake->SetRecipe(recipe);
+  hb::SourceInfo source;
+  source.mesh_hash = 0x42ULL;
+  bake->SetSource(source);
+  bake->SetCacheDirectory(dir.path.c_str());
+  bake->Update();
+  ASSERT_TRUE(bake->GetLastError().empty()) << bake->GetLastError();
+  const std::shared_ptr<const hb::BoxScene> scene = bake->GetBoxSet()->GetScene();
+  ASSERT_GT(scene->boxes().size(), 1u);
+  EXPECT_EQ(bake->GetCachePath(), hb::BoxCache(dir.path).path_for(source.mesh_hash, recipe));
+
+  const hb::TriangleMesh mesh = vtkHapticBoxUtilities::ToTriangleMesh(sphere);
+  hb::SourceInfo full = source;
+  full.triangles = mesh.triangle_count();
+  full.diagonal = mesh.bounds().diagonal();
+  const hb::BoxScene direct = hb::bake(mesh, recipe, full).scene;
+  EXPECT_EQ(scene->piece_of_triangle(), direct.piece_of_triangle());
+  const std::string path = dir.path + "/direct.hbox.tmp";
+  hb::save_box_file(direct, path);
+  EXPECT_EQ(fileBytes(bake->GetCachePath()), fileBytes(path));
+
+  vtkPolyData* pieces = vtkPolyData::SafeDownCast(bake->GetOutputDataObject(3));
+  vtkDataArray* ids = pieces->GetCellData()->GetArray("PieceId");
+  ASSERT_NE(ids, nullptr);
+  ASSERT_EQ(std::size_t(ids->GetNumberOfTuples()), mesh.triangle_count());
+  for (std::size_t t = 0; t < mesh.triangle_count(); ++t)
+    ASSERT_EQ(std::uint32_t(ids->GetTuple1(vtkIdType(t))), scene->piece_of_triangle()[t]) << t;
+
+  // Other decomposition options: the ids are given ones (another key), not the recipe's.
+  decomposition->SetMaxPieces(1);
+  bake->Update();
+  EXPECT_NE(bake->GetCachePath(), hb::BoxCache(dir.path).path_for(source.mesh_hash, recipe));
 }

@@ -8,8 +8,10 @@
 #include <gtest/gtest.h>
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
+#include <vtkFloatArray.h>
 #include <vtkPointData.h>
 #include <cmath>
+#include <memory>
 
 namespace {
 
@@ -143,4 +145,39 @@ TEST(ErrorFieldFilterTest, AbortFromAProgressObserverStopsTheField) {
   field->Update();
   vtkObject::GlobalWarningDisplayOn();
   EXPECT_EQ(field->GetOutput()->GetPointData()->GetArray("RelativeForceError"), nullptr);
+}
+
+// An exact query given to the filter (a session's or report's references, built once) is the
+// one compared with: no Embree scene of its own, the same values as when it builds one; an
+// exact query over another mesh is refused, naming both.
+TEST(ErrorFieldFilterTest, SharedExactQueryIsUsedNotBuiltAgain) {
+  Pipeline p;
+  p.field->SetSeed(4);
+  p.field->Update();
+  ASSERT_TRUE(p.field->GetBuiltExact());
+  vtkSmartPointer<vtkFloatArray> built = vtkFloatArray::SafeDownCast(p.field->GetOutput()->GetPointData()->GetArray("RelativeForceError"));
+  ASSERT_NE(built, nullptr);
+  vtkNew<vtkFloatArray> before;
+  before->DeepCopy(built);
+
+  auto mesh = std::make_shared<const hb::TriangleMesh>(vtkHapticBoxUtilities::ToTriangleMesh(p.surface));
+  auto exact = std::make_shared<const hb::ExactQuery>(*mesh);
+  p.field->SetExactQuery(std::shared_ptr<const hb::ExactQuery>(exact, exact.get()));
+  p.field->Update();
+  ASSERT_TRUE(p.field->GetLastError().empty()) << p.field->GetLastError();
+  EXPECT_FALSE(p.field->GetBuiltExact());
+  vtkDataArray* shared = p.field->GetOutput()->GetPointData()->GetArray("RelativeForceError");
+  ASSERT_EQ(shared->GetNumberOfTuples(), before->GetNumberOfTuples());
+  for (vtkIdType i = 0; i < shared->GetNumberOfTuples(); ++i) {
+    const double a = shared->GetTuple1(i), b = before->GetTuple1(i);
+    EXPECT_TRUE((std::isnan(a) && std::isnan(b)) || a == b) << i;
+  }
+
+  const hb::TriangleMesh other = hb::make_sphere(1.f, 2);
+  auto wrong = std::make_shared<const hb::ExactQuery>(other);
+  p.field->SetExactQuery(wrong);
+  vtkObject::GlobalWarningDisplayOff();
+  p.field->Update();
+  vtkObject::GlobalWarningDisplayOn();
+  EXPECT_NE(p.field->GetLastError().find("another mesh"), std::string::npos) << p.field->GetLastError();
 }
