@@ -157,7 +157,7 @@ TEST(RefinementTest, TheLongWalkConfirmsContactsFarFromTheSamplesHits) {
   }
   EXPECT_GT(missed[0], 0u);
   EXPECT_LT(missed[1], missed[0] / 4 + 1);
-  EXPECT_EQ(scene.boxes()[0].long_walk_steps(), 64);  // the default
+  EXPECT_EQ(scene.boxes()[0].long_walk_steps(), 256);  // the default
 }
 
 // The contact rule of a refined answer is exact's: a front-face crossing on the segment, even
