@@ -357,10 +357,14 @@ public:
             if (qb.contact && qb.force.norm() > kFloor) {
               if (!qe.contact || std::fabs(qb.depth_m - qe.depth_m) > 0.25e-3) ++other;
               // A ghost: no triangle of the mesh at the box's surface point (exact Embree on a
-              // 0.2 mm segment across it, both ways: front or back face).
+              // 0.2 mm segment across it, both ways: front or back face; and on 0.1 mm from
+              // just before the point each way, so that a face within a few microns on the other
+              // side, an ear touching the head, does not hide the one the point is on).
               const Vec3d a = qb.point_m - 1e-4 * dir, b = qb.point_m + 1e-4 * dir;
               const bool there = render(*s.exact, lw, s.map, b, dir, 2e-4).contact ||
-                                 render(*s.exact, lw, s.map, a, -dir, 2e-4).contact;
+                                 render(*s.exact, lw, s.map, a, -dir, 2e-4).contact ||
+                                 render(*s.exact, lw, s.map, b, dir, 1e-4 + 1e-6).contact ||
+                                 render(*s.exact, lw, s.map, a, -dir, 1e-4 + 1e-6).contact;
               if (!there) ++ghost;
             }
             std::size_t met = 0;

@@ -17,11 +17,14 @@
 //     blends a far exit distance into t0.
 //  6. Contact test (Figure 7): the surface point P1 + t0 l must lie between the handle and
 //     the tip, on the outside of the surface (n . l < 0); depth = d - t0; F = k depth n.
+//     A refined answer (step 7) is a front-face crossing: only the range is tested, as
+//     exact's rule does (a shaded normal can face along l at a thin sheet's rim).
 //  7. Exact refinement (optional, boxes baked with triangle ids; before the contact test of
 //     step 6): the triangles hit by the 16 samples of step 4 are candidates; the line is
 //     intersected with each exactly (when it crosses none, a walk from the candidate it
 //     passes nearest follows at most kWalkSteps edges; when that walk fails, one from each
-//     other candidate: set_walk_all_candidates), and the nearest front-face hit, when
+//     other candidate: set_walk_all_candidates; when every one fails, the nearest candidate's
+//     walk goes on up to set_long_walk_steps edges), and the nearest front-face hit, when
 //     it lies within two position cells of the blended t0 (or the blend was a miss), gives t0
 //     and the shaded normal instead of the blend. Refine::misses limits this to answers that
 //     could become contacts (scenes, see box_scene.cpp). The cost stays bounded whatever the
@@ -364,21 +367,30 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
       // walks, only here) and keep the nearest accepted crossing: at creases and grazing
       // strokes the nearest candidate is often on the other face (issue 11: the contacts
       // `reject` lost on slides, fandisk 8.3% of the ticks before, 3.5% after).
-      if (!walk_from_all_ || count < 2) return false;
       bool found = false;
-      float nearest = std::numeric_limits<float>::infinity();
-      for (int k = 0; k < count; ++k) {
-        if (candidates[k] == start) continue;
-        float s = 0.f;
-        Vec3 nrm;
-        bool front = false;
-        std::uint32_t id = kNoTriangle;
-        if (surface_->walk(candidates[k], p1, l, 0.f, kWalkSteps, s, nrm, front, &id) && accepted(s, front) &&
-            s < nearest) {
-          nearest = s;
-          best = s, best_normal = nrm, best_front = front, best_id = id;
-          found = true;
+      if (walk_from_all_ && count >= 2) {
+        float nearest = std::numeric_limits<float>::infinity();
+        for (int k = 0; k < count; ++k) {
+          if (candidates[k] == start) continue;
+          float s = 0.f;
+          Vec3 nrm;
+          bool front = false;
+          std::uint32_t id = kNoTriangle;
+          if (surface_->walk(candidates[k], p1, l, 0.f, kWalkSteps, s, nrm, front, &id) && accepted(s, front) &&
+              s < nearest) {
+            nearest = s;
+            best = s, best_normal = nrm, best_front = front, best_id = id;
+            found = true;
+          }
         }
+      }
+      // None accepted: the walk from the nearest candidate goes on (a surface far from the
+      // box face, where the samples' hits lie many triangles from the crossing: a handle deep
+      // in the PBB, a thin rim between samples). Rare (31-445 of 20,000 random probes on the
+      // default bakes); it cut the slides' lost contacts 10-20x (issue 11, docs/stability.md).
+      if (!found && long_walk_steps_ > kWalkSteps) {
+        found = surface_->walk(start, p1, l, 0.f, long_walk_steps_, best, best_normal, best_front, &best_id) &&
+                accepted(best, best_front);
       }
       if (!found) return false;
     }
@@ -623,7 +635,9 @@ bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceL
     if (refine(p00, a0, b0, sf, p1, l, blended_hit ? t0 : -1.f, refined_t, refined_normal, refined_triangle)) {
       t0 = refined_t;
       nx = refined_normal.x(), ny = refined_normal.y(), nz = refined_normal.z();
-      contact = in_contact(t0, nx, ny, nz);
+      // A refined crossing is a front face (refine() accepts no other): the contact test is
+      // exact's, the range only (the shaded normal may face along l at a thin sheet's rim).
+      contact = t_enter + t0 >= 0.f && t0 <= d;
       if (refined) *refined = true;
       if (triangle) *triangle = refined_triangle;
     }
@@ -698,8 +712,10 @@ struct NoFetch {
 static bool refined_contact(float sx, float sy, float sz, float lx, float ly, float lz, float t_enter, float d,
                             float t0, const Vec3& normal, const ForceLaw& law, Contact& out,
                             float& distance_from_handle) noexcept {
+  // The crossing is a front face (refine() and query_near accept no other); as exact's, the
+  // contact does not ask the shaded normal to face the line.
   const float nx = normal.x(), ny = normal.y(), nz = normal.z();
-  if (!(t_enter + t0 >= 0.f && t0 <= d && nx * lx + ny * ly + nz * lz < 0.f)) return false;
+  if (!(t_enter + t0 >= 0.f && t0 <= d)) return false;
   write_contact(sx, sy, sz, lx, ly, lz, t_enter, d, t0, nx, ny, nz, law, out, distance_from_handle);
   return true;
 }

@@ -72,6 +72,13 @@ public:
   /// only (the first refining boxes; docs/stability.md).
   void set_walk_all_candidates(bool on) noexcept { walk_from_all_ = on; }
   bool walk_all_candidates() const noexcept { return walk_from_all_; }
+  /// Refinement walks (step 7): when every bounded walk failed, the walk from the nearest
+  /// candidate goes on up to this many edges (a surface far from the box face, where the
+  /// samples' hits lie several triangles from the crossing; around a pole, the chess
+  /// piece's 256-triangle fan at its top). 8 or less: no long walk (the first refining boxes).
+  /// Default 256: 64 left 18 of the chess piece's 21 remaining lost slide ticks at the pole.
+  void set_long_walk_steps(int steps) noexcept { long_walk_steps_ = steps; }
+  int long_walk_steps() const noexcept { return long_walk_steps_; }
   const TriangleIds& triangle_ids() const { return triangle_ids_; }
   const std::shared_ptr<const SurfaceTriangles>& surface() const { return surface_; }
   /// Bytes of the triangle ids (0 without refinement); with the shared surface, per scene:
@@ -182,6 +189,7 @@ private:
   std::shared_ptr<const SurfaceTriangles> surface_;
   float refine_tolerance_ = 0.f;  // largest |refined t - blended t| accepted (attach_surface)
   bool walk_from_all_ = true;     // set_walk_all_candidates
+  int long_walk_steps_ = 256;     // set_long_walk_steps
 };
 
 } // namespace hb
