@@ -127,14 +127,11 @@ bool handle_inside(const HapticBox& box, const Segment& segment, const ForceLaw&
   return far_surface < contact_along;
 }
 
-// A handle in a surface cell lies outside the object when a point a little away from it is
-// in an outside cell and no refining box whose surface the short segment from there to the
-// handle crosses finds an entering crossing on it (the first crossing from outside enters).
-// The point is looked for behind the handle on the segment's line first, then along the six
-// axes (a handle whose line runs along a surface, or came through a thin part, mostly has
-// outside space beside it). False (undecided: the caller takes the unrouted path) when no
-// direction has an outside cell within kBehind cells, a listed box does not refine, or a
-// crossing is found.
+// A handle in a surface cell lies outside the object when a point a little behind it on the
+// segment's line is in an outside cell and no refining box whose surface the short segment
+// from there to the handle crosses finds an entering crossing on it (the first crossing from
+// outside enters). False (undecided: the caller takes the unrouted path) when no outside cell
+// is within kBehind cells, a listed box does not refine, or a crossing is found.
 bool handle_outside_behind(const SceneGrid& grid, const std::vector<HapticBox>& boxes, const Segment& segment,
                            const ForceLaw& law, std::size_t* asked_count) noexcept {
   constexpr int kBehind = 4;
@@ -143,42 +140,32 @@ bool handle_outside_behind(const SceneGrid& grid, const std::vector<HapticBox>& 
   const float length = delta.norm();
   if (!(length > 0.f) || !std::isfinite(length)) return false;
   const Vec3 l = delta / length;
-  const Vec3 directions[7] = {-l, Vec3::UnitX(), -Vec3::UnitX(), Vec3::UnitY(), -Vec3::UnitY(), Vec3::UnitZ(),
-                              -Vec3::UnitZ()};
-  for (const Vec3& dir : directions) {
-    Vec3 away = segment.start;
-    bool found = false;
-    for (int k = 1; k <= kBehind; ++k) {
-      away = segment.start + (float(k) * grid.cell()) * dir;
-      const std::uint16_t code = grid.code_at(away);
-      if (code == SceneGrid::kOutside) {
-        found = true;
-        break;
-      }
-      if (code < SceneGrid::kFirstSurface) break;  // inside or unknown that way
-    }
-    if (!found) continue;
-    const Segment back{away, segment.start};
-    std::uint32_t asked[kMaxAsked];
-    int n_asked = 0;
-    bool outside = true;
-    grid.walk_surface(back.start, back.end, [&](std::uint16_t code, float) {
-      for (const std::uint32_t* b = grid.boxes_begin(code); b != grid.boxes_end(code); ++b) {
-        if (std::find(asked, asked + n_asked, *b) != asked + n_asked) continue;
-        if (n_asked == kMaxAsked || !boxes[*b].refines()) return outside = false;
-        asked[n_asked++] = *b;
-        if (asked_count) ++*asked_count;
-        Contact c;
-        float along = 0.f;
-        if (boxes[*b].query_refined(back, law, c, along)) return outside = false;
-      }
-      return true;
-    });
-    // Shown outside, or a crossing (or a box that cannot tell) on the way: the unrouted
-    // path decides.
-    return outside;
+  Vec3 behind = segment.start;
+  bool found = false;
+  for (int k = 1; k <= kBehind && !found; ++k) {
+    behind = segment.start - (float(k) * grid.cell()) * l;
+    const std::uint16_t code = grid.code_at(behind);
+    if (code == SceneGrid::kOutside) found = true;
+    else if (code < SceneGrid::kFirstSurface) return false;  // inside or unknown behind
   }
-  return false;
+  if (!found) return false;
+  const Segment back{behind, segment.start};
+  std::uint32_t asked[kMaxAsked];
+  int n_asked = 0;
+  bool outside = true;
+  grid.walk_surface(back.start, back.end, [&](std::uint16_t code, float) {
+    for (const std::uint32_t* b = grid.boxes_begin(code); b != grid.boxes_end(code); ++b) {
+      if (std::find(asked, asked + n_asked, *b) != asked + n_asked) continue;
+      if (n_asked == kMaxAsked || !boxes[*b].refines()) return outside = false;
+      asked[n_asked++] = *b;
+      if (asked_count) ++*asked_count;
+      Contact c;
+      float along = 0.f;
+      if (boxes[*b].query_refined(back, law, c, along)) return outside = false;
+    }
+    return true;
+  });
+  return outside;
 }
 
 } // namespace
