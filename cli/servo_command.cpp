@@ -49,6 +49,7 @@ struct ServoArgs {
 };
 
 struct Scene {
+  std::unique_ptr<hb::BoxScene> box;  // the box file's scene (null for `plane`)
   std::unique_ptr<hb::ContactQuery> query;
   hb::Vec3 min{hb::Vec3::Constant(-40.f)}, max{hb::Vec3::Constant(40.f)};
   std::uint64_t mesh_hash = 0;  // of the mesh the box was baked from (0: unknown)
@@ -75,7 +76,10 @@ Scene load_scene(const std::string& box) {
     }
   }
   s.mesh_hash = scene->source().mesh_hash;
-  s.query = std::move(scene);
+  // The servo thread is one probe: its query state starts each tick from the last tick's
+  // contact (BoxScene::query with a SceneQueryState; the stateless answers, tested).
+  s.box = std::move(scene);
+  s.query = std::make_unique<hb::SceneProbe>(*s.box);
   return s;
 }
 

@@ -336,11 +336,29 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
   std::uint32_t best_id = kNoTriangle;
   std::uint32_t start = kNoTriangle;
   float nearest_outside = std::numeric_limits<float>::infinity();
+  // intersect() of every candidate, the plane crossings four at a time; the shading (three
+  // normal decodes) only for a crossing nearer than the best so far, the only ones that can
+  // change it. shade() fails only for s < 0, which is tested first, so a crossing skipped
+  // that way counts as crossed exactly as intersect() would have it.
+  float hu[16], hv[16], hs[16];
+  const unsigned planes = surface_->plane_hits(candidates, count, p1, l, hu, hv, hs);
   for (int k = 0; k < count; ++k) {
-    float s = 0.f, outside = 0.f;
+    float s = 0.f, outside = std::numeric_limits<float>::infinity();
     Vec3 nrm = Vec3::Zero();
     bool front = false;
-    const bool crossed = surface_->intersect(candidates[k], p1, l, 0.f, s, nrm, front, &outside);
+    bool crossed = false;
+    if ((planes >> k) & 1u) {
+      const float u = hu[k], v = hv[k];
+      const float w = std::min(std::min(u, v), 1.f - u - v);
+      if (w < 0.f) {
+        outside = -w;
+      } else {
+        outside = 0.f;
+        if (!(hs[k] >= 0.f)) crossed = false;
+        else if (hs[k] < best) crossed = surface_->shade(candidates[k], l, u, v, hs[k], 0.f, s, nrm, front);
+        else crossed = true, s = hs[k];
+      }
+    }
     if (!crossed && outside < nearest_outside) {
       nearest_outside = outside;
       start = candidates[k];
@@ -369,6 +387,16 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
       // `reject` lost on slides, fandisk 8.3% of the ticks before, 3.5% after).
       bool found = false;
       if (walk_from_all_ && count >= 2) {
+        // The walks mostly run into each other's paths: a memo of the triangles walked (the
+        // first walk's path recorded again) stops a walk where an earlier one went on with at
+        // least its budget, with the same answer (SurfaceTriangles::WalkMemo).
+        SurfaceTriangles::WalkMemo memo;
+        {
+          float s = 0.f;
+          Vec3 nrm;
+          bool front = false;
+          surface_->walk(start, p1, l, 0.f, kWalkSteps, s, nrm, front, nullptr, &memo);
+        }
         float nearest = std::numeric_limits<float>::infinity();
         for (int k = 0; k < count; ++k) {
           if (candidates[k] == start) continue;
@@ -376,8 +404,8 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
           Vec3 nrm;
           bool front = false;
           std::uint32_t id = kNoTriangle;
-          if (surface_->walk(candidates[k], p1, l, 0.f, kWalkSteps, s, nrm, front, &id) && accepted(s, front) &&
-              s < nearest) {
+          if (surface_->walk(candidates[k], p1, l, 0.f, kWalkSteps, s, nrm, front, &id, &memo) &&
+              accepted(s, front) && s < nearest) {
             nearest = s;
             best = s, best_normal = nrm, best_front = front, best_id = id;
             found = true;

@@ -125,6 +125,50 @@ void SceneGrid::compute_clearance() {
         const std::size_t c = index(x, y, z);
         cells_[cell_index(x, y, z)] = std::uint32_t(codes_[c]) | (std::uint32_t(clear[c]) << 16);
       }
+  // Brick summaries (bricks()): the shared state of a brick without surface (its cells are
+  // 6-connected and no triangle meets them, so the flood fill gave them one region; any
+  // disagreement is kept as "surface", which only costs the cell word load), then the
+  // chessboard distance in bricks to a brick with surface, by the same two raster passes.
+  const std::size_t brick_count = std::size_t(bricks_x_) * std::size_t(bricks_y_) * std::size_t(bricks_z);
+  std::vector<std::uint8_t> state(brick_count, 0xff);
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        const std::uint16_t code = codes_[index(x, y, z)];
+        std::uint8_t& b = state[brick_index(x, y, z)];
+        const std::uint8_t here = code >= kFirstSurface ? kBrickSurface : std::uint8_t(code);
+        b = b == 0xff || b == here ? here : kBrickSurface;
+      }
+  const int bx = bricks_x_, by = bricks_y_, bz = bricks_z;
+  const auto bindex = [&](int x, int y, int z) {
+    return (std::size_t(z) * std::size_t(by) + std::size_t(y)) * std::size_t(bx) + std::size_t(x);
+  };
+  std::vector<std::uint8_t> bclear(brick_count, 63);
+  for (std::size_t b = 0; b < brick_count; ++b)
+    if (state[b] == kBrickSurface) bclear[b] = 0;
+  const auto bpass = [&](int dir) {
+    const int x0 = dir > 0 ? 0 : bx - 1, y0 = dir > 0 ? 0 : by - 1, z0 = dir > 0 ? 0 : bz - 1;
+    for (int z = z0; z >= 0 && z < bz; z += dir)
+      for (int y = y0; y >= 0 && y < by; y += dir)
+        for (int x = x0; x >= 0 && x < bx; x += dir) {
+          std::uint8_t& here = bclear[bindex(x, y, z)];
+          if (here == 0) continue;
+          int best = here;
+          for (int dz = -1; dz <= 0; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+              for (int dx = -1; dx <= 1; ++dx) {
+                if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
+                const int X = x + dir * dx, Y = y + dir * dy, Z = z + dir * dz;
+                if (X < 0 || Y < 0 || Z < 0 || X >= bx || Y >= by || Z >= bz) continue;
+                best = std::min(best, int(bclear[bindex(X, Y, Z)]) + 1);
+              }
+          here = std::uint8_t(std::min(best, 63));
+        }
+  };
+  bpass(1);
+  bpass(-1);
+  bricks_.resize(brick_count);
+  for (std::size_t b = 0; b < brick_count; ++b) bricks_[b] = std::uint8_t(state[b] | (bclear[b] << 2));
 }
 
 std::vector<std::uint8_t> SceneGrid::clearance() const {

@@ -47,6 +47,10 @@ public:
     if (!(f.x() >= 0.f && f.y() >= 0.f && f.z() >= 0.f)) return kOutside;  // also NaN
     const int x = int(f.x()), y = int(f.y()), z = int(f.z());
     if (x >= dims_[0] || y >= dims_[1] || z >= dims_[2]) return kOutside;
+    // A brick without surface has one state (its cells are one connected region): no load
+    // of the cell words, whose bytes are mostly out of cache (bricks_ stays in L1/L2).
+    const std::uint8_t brick = bricks_[brick_index(x, y, z)];
+    if ((brick & kBrickSurface) != kBrickSurface) return std::uint16_t(brick & kBrickSurface);
     return std::uint16_t(cells_[cell_index(x, y, z)]);
   }
   /// The boxes of surface code `code` (>= kFirstSurface): [first, last).
@@ -88,6 +92,12 @@ public:
   }
   /// Bytes in memory beyond bytes(): the cell words the queries read (cells_).
   std::size_t query_bytes() const { return cells_.size() * 4; }
+  /// Per 4 x 4 x 4 brick of cells (x fastest): the state shared by all its cells when none
+  /// has surface (kOutside, kInside, kUnknown; kBrickSurface when one has), and in bits 2-7
+  /// the chessboard distance in bricks to the nearest brick with surface (capped at 63).
+  /// Derived from the codes when the grid is made.
+  const std::vector<std::uint8_t>& bricks() const { return bricks_; }
+  static constexpr std::uint8_t kBrickSurface = 3;
 
   /// The file form (box_file.cpp): a small header, the codes, the lists.
   std::vector<std::uint8_t> serialize() const;
@@ -113,11 +123,15 @@ private:
   // order and a separate clearance array cost two loads a step, one row apart in y and a
   // plane apart in z).
   std::vector<std::uint32_t> cells_;
+  // One byte a brick (bricks()): a walk crosses empty space and a handle far from the
+  // surface finds its state without touching cells_.
+  std::vector<std::uint8_t> bricks_;
   int bricks_x_ = 0, bricks_y_ = 0;
+  std::size_t brick_index(int x, int y, int z) const noexcept {
+    return (std::size_t(z >> 2) * std::size_t(bricks_y_) + std::size_t(y >> 2)) * std::size_t(bricks_x_) + std::size_t(x >> 2);
+  }
   std::size_t cell_index(int x, int y, int z) const noexcept {
-    const std::size_t brick =
-        (std::size_t(z >> 2) * std::size_t(bricks_y_) + std::size_t(y >> 2)) * std::size_t(bricks_x_) + std::size_t(x >> 2);
-    return brick * 64 + std::size_t(((z & 3) << 4) | ((y & 3) << 2) | (x & 3));
+    return brick_index(x, y, z) * 64 + std::size_t(((z & 3) << 4) | ((y & 3) << 2) | (x & 3));
   }
   void compute_clearance();
 };
@@ -206,6 +220,18 @@ void SceneGrid::walk_surface(const Vec3& a, const Vec3& b, Visit&& visit) const 
   float s = s0;
   const int limit = dims_[0] + dims_[1] + dims_[2];
   for (int it = 0; it < limit; ++it) {
+    const std::uint8_t brick = bricks_[brick_index(i[0], i[1], i[2])];
+    if ((brick & kBrickSurface) != kBrickSurface && (brick >> 2) >= 3) {
+      // Every brick within (brick >> 2) - 1 of this one has no surface. The point lies in
+      // this brick's closure widened by one cell (as below), so moving it at most
+      // 4 * ((brick >> 2) - 1) - 2 cells in every axis keeps it inside those bricks: no
+      // surface cell is skipped, and the landing cell has none either. No cell word is read.
+      const float jump = s + float(4 * (brick >> 2) - 6) * s_per_cell;
+      if (jump > s1) return;
+      start_at(jump);
+      s = jump;
+      continue;
+    }
     const std::uint32_t word = cells_[cell_index(i[0], i[1], i[2])];
     const std::uint16_t code = std::uint16_t(word);
     const int clearance = int(word >> 16);

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <tuple>
+#include <emmintrin.h>  // SSE2: the x86-64 baseline
+#include <xmmintrin.h>
 
 namespace hb {
 
@@ -151,6 +153,66 @@ bool SurfaceTriangles::plane_hit(const Record& r, const float o[3], const float 
   return std::isfinite(u) && std::isfinite(v) && std::isfinite(s);
 }
 
+unsigned SurfaceTriangles::plane_hits(const std::uint32_t* ids, int count, const float o[3], const float d[3],
+                                      float* u_out, float* v_out, float* s_out) const noexcept {
+  unsigned ok = 0;
+  const __m128 d0 = _mm_set1_ps(d[0]), d1 = _mm_set1_ps(d[1]), d2 = _mm_set1_ps(d[2]);
+  const __m128 o0 = _mm_set1_ps(o[0]), o1 = _mm_set1_ps(o[1]), o2 = _mm_set1_ps(o[2]);
+  const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+  const __m128 inf = _mm_set1_ps(std::numeric_limits<float>::infinity());
+  for (int first = 0; first < count; first += 4) {
+    // Four records (lanes beyond count or out of range read record 0 and are masked off;
+    // unaligned loads: a mapped file need not place the records on 16 bytes),
+    // transposed to a, e1, e2 per axis: each record's first 12 floats are a, e1, e2[0..2].
+    const Record* r[4];
+    unsigned in_range = 0;
+    for (int k = 0; k < 4; ++k) {
+      const bool valid = first + k < count && ids[first + k] < count_;
+      r[k] = records_ + (valid ? ids[first + k] : 0u);
+      in_range |= valid ? 1u << k : 0u;
+    }
+    __m128 ax = _mm_loadu_ps(r[0]->a), ay = _mm_loadu_ps(r[1]->a), az = _mm_loadu_ps(r[2]->a), e1x = _mm_loadu_ps(r[3]->a);
+    _MM_TRANSPOSE4_PS(ax, ay, az, e1x);  // ax = a.x of the 4 records, ay = a.y, az = a.z, e1x
+    __m128 e1y = _mm_loadu_ps(r[0]->a + 4), e1z = _mm_loadu_ps(r[1]->a + 4), e2x = _mm_loadu_ps(r[2]->a + 4),
+           e2y = _mm_loadu_ps(r[3]->a + 4);
+    _MM_TRANSPOSE4_PS(e1y, e1z, e2x, e2y);
+    __m128 e2z = _mm_loadu_ps(r[0]->a + 8), x1 = _mm_loadu_ps(r[1]->a + 8), x2 = _mm_loadu_ps(r[2]->a + 8),
+           x3 = _mm_loadu_ps(r[3]->a + 8);
+    _MM_TRANSPOSE4_PS(e2z, x1, x2, x3);
+    // plane_hit(), lane by lane.
+    const __m128 px = _mm_sub_ps(_mm_mul_ps(d1, e2z), _mm_mul_ps(d2, e2y));
+    const __m128 py = _mm_sub_ps(_mm_mul_ps(d2, e2x), _mm_mul_ps(d0, e2z));
+    const __m128 pz = _mm_sub_ps(_mm_mul_ps(d0, e2y), _mm_mul_ps(d1, e2x));
+    const __m128 det = _mm_add_ps(_mm_add_ps(_mm_mul_ps(e1x, px), _mm_mul_ps(e1y, py)), _mm_mul_ps(e1z, pz));
+    const __m128 big = _mm_cmpgt_ps(_mm_and_ps(det, abs_mask), _mm_set1_ps(1e-20f));
+    const __m128 inv = _mm_div_ps(_mm_set1_ps(1.f), det);
+    const __m128 tx = _mm_sub_ps(o0, ax), ty = _mm_sub_ps(o1, ay), tz = _mm_sub_ps(o2, az);
+    const __m128 u =
+        _mm_mul_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(tx, px), _mm_mul_ps(ty, py)), _mm_mul_ps(tz, pz)), inv);
+    const __m128 qx = _mm_sub_ps(_mm_mul_ps(ty, e1z), _mm_mul_ps(tz, e1y));
+    const __m128 qy = _mm_sub_ps(_mm_mul_ps(tz, e1x), _mm_mul_ps(tx, e1z));
+    const __m128 qz = _mm_sub_ps(_mm_mul_ps(tx, e1y), _mm_mul_ps(ty, e1x));
+    const __m128 v =
+        _mm_mul_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(d0, qx), _mm_mul_ps(d1, qy)), _mm_mul_ps(d2, qz)), inv);
+    const __m128 sv =
+        _mm_mul_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(e2x, qx), _mm_mul_ps(e2y, qy)), _mm_mul_ps(e2z, qz)), inv);
+    // Finite: |x| < infinity (false for NaN and both infinities).
+    const __m128 finite = _mm_and_ps(_mm_and_ps(_mm_cmplt_ps(_mm_and_ps(u, abs_mask), inf),
+                                                _mm_cmplt_ps(_mm_and_ps(v, abs_mask), inf)),
+                                     _mm_cmplt_ps(_mm_and_ps(sv, abs_mask), inf));
+    const unsigned lanes = unsigned(_mm_movemask_ps(_mm_and_ps(big, finite))) & in_range;
+    alignas(16) float ub[4], vb[4], sb[4];
+    _mm_store_ps(ub, u);
+    _mm_store_ps(vb, v);
+    _mm_store_ps(sb, sv);
+    for (int k = 0; k < 4 && first + k < count; ++k) {
+      u_out[first + k] = ub[k], v_out[first + k] = vb[k], s_out[first + k] = sb[k];
+    }
+    ok |= lanes << first;
+  }
+  return ok;
+}
+
 bool SurfaceTriangles::finish(const Record& r, const float d[3], float u, float v, float s, float s_min, float& s_out,
                               Vec3& normal, bool& front) noexcept {
   if (!(s >= s_min)) return false;
@@ -184,29 +246,73 @@ bool SurfaceTriangles::intersect(std::uint32_t id, const float o[3], const float
   return finish(r, d, u, v, hit, s_min, s, normal, front);
 }
 
+namespace {
+// The memo's slot of `id`: where it is, or the free slot it would take; -1 when full.
+int memo_slot(const SurfaceTriangles::WalkMemo& m, std::uint32_t id) noexcept {
+  constexpr int kSlots = SurfaceTriangles::WalkMemo::kSlots;
+  int h = int((id * 0x9E3779B1u) >> 24) & (kSlots - 1);
+  for (int probe = 0; probe < kSlots; ++probe, h = (h + 1) & (kSlots - 1))
+    if (m.id[h] == id || m.id[h] == kNoTriangle) return h;
+  return -1;
+}
+} // namespace
+
 bool SurfaceTriangles::walk(std::uint32_t start, const float o[3], const float d[3], float s_min, int max_steps,
-                            float& s, Vec3& normal, bool& front, std::uint32_t* crossed) const noexcept {
+                            float& s, Vec3& normal, bool& front, std::uint32_t* crossed, WalkMemo* memo) const noexcept {
+  constexpr int kMaxMemoPath = 32;
+  if (memo && max_steps >= kMaxMemoPath) memo = nullptr;
+  std::uint32_t path[kMaxMemoPath];
+  int path_len = 0;
+  bool settled = false, result = false;
   std::uint32_t id = start, previous = kNoTriangle;
   for (int step = 0; step <= max_steps; ++step) {
-    if (id >= count_) return false;
+    if (memo) {
+      // An earlier walk of this line went on from here with at least this budget, or to an
+      // end no budget changes: the same edges, the same end, nothing new.
+      const int slot = memo_slot(*memo, id);
+      if (slot >= 0 && memo->id[slot] == id &&
+          (memo->left[slot] == WalkMemo::kSettled || int(memo->left[slot]) >= max_steps - step))
+        return false;
+      path[path_len++] = id;
+    }
+    if (id >= count_) {
+      settled = true;
+      break;
+    }
     const Record& r = records_[id];
     for (std::uint32_t next : r.neighbour) prefetch(next);  // the next step's record is one of these
     float u, v, hit;
-    if (!plane_hit(r, o, d, u, v, hit)) return false;
+    if (!plane_hit(r, o, d, u, v, hit)) {
+      settled = true;
+      break;
+    }
     const float w[3] = {1.f - u - v, u, v};
     int worst = 0;
     for (int k = 1; k < 3; ++k)
       if (w[k] < w[worst]) worst = k;
     if (w[worst] >= 0.f) {
       if (crossed) *crossed = id;
-      return finish(r, d, u, v, hit, s_min, s, normal, front);
+      result = finish(r, d, u, v, hit, s_min, s, normal, front);
+      settled = true;
+      break;
     }
     const std::uint32_t next = r.neighbour[worst];
-    if (next == kNoTriangle || next == previous) return false;
+    if (next == kNoTriangle || next == previous) {
+      settled = true;
+      break;
+    }
     previous = id;
     id = next;
   }
-  return false;
+  if (memo)
+    for (int k = 0; k < path_len; ++k) {
+      const int slot = memo_slot(*memo, path[k]);
+      if (slot < 0) break;
+      if (memo->id[slot] == kNoTriangle) ++memo->used;
+      memo->id[slot] = path[k];
+      memo->left[slot] = settled ? WalkMemo::kSettled : std::uint8_t(max_steps - k);
+    }
+  return result;
 }
 
 } // namespace hb

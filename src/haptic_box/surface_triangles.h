@@ -74,17 +74,49 @@ public:
   bool intersect(std::uint32_t id, const float origin[3], const float dir[3], float s_min, float& s,
                  Vec3& normal, bool& front, float* outside = nullptr) const noexcept;
 
+  /// plane_hit() of up to 16 triangles at once, four side by side in SSE2 lanes with the
+  /// same float operations in the same order (the same bits as intersect()'s): per triangle
+  /// k of ids[0, count), u[k], v[k], s[k] and bit k of the result set when the line meets
+  /// its plane (the id in range, the determinant not tiny, all three finite).
+  unsigned plane_hits(const std::uint32_t* ids, int count, const float origin[3], const float dir[3], float* u,
+                      float* v, float* s) const noexcept;
+  /// The rest of intersect() for a plane crossing inside triangle `id` (u, v, s from
+  /// plane_hits): false when s < s_min; the shaded normal and the facing otherwise.
+  bool shade(std::uint32_t id, const float dir[3], float u, float v, float s, float s_min, float& s_out, Vec3& normal,
+             bool& front) const noexcept {
+    return id < count_ && finish(records_[id], dir, u, v, s, s_min, s_out, normal, front);
+  }
+
   /// Starts loading triangle `id`'s record (no effect when out of range).
   void prefetch(std::uint32_t id) const noexcept {
     if (id < count_) __builtin_prefetch(records_ + id);
   }
 
+  /// What the walks of one line have already explored (walk()'s `memo`): per triangle met,
+  /// whether a walk on through it ends the same whatever its budget (a crossing, a border, a
+  /// turn back: kSettled) or else the steps it still had. A walk of the same line reaching a
+  /// triangle it settled, or one it left with at least as many steps, follows the same edges
+  /// to the same end (a walk's next edge depends only on the triangle and the line), so it
+  /// stops there: it cannot find a crossing that walk did not. Not shared between lines.
+  struct WalkMemo {
+    static constexpr int kSlots = 256;
+    static constexpr std::uint8_t kSettled = 0xff;
+    std::uint32_t id[kSlots];
+    std::uint8_t left[kSlots];
+    int used = 0;
+    WalkMemo() noexcept {
+      for (std::uint32_t& i : id) i = kNoTriangle;
+    }
+  };
+
   /// As intersect(), but when the line passes beside triangle `start`, steps to the
   /// neighbour across the edge it passes (the most negative barycentric coordinate), at most
   /// `max_steps` times: finds the triangle the line crosses near a candidate that missed.
   /// `crossed`, when given, receives the triangle crossed.
+  /// `memo`, when given, stops the walk where an earlier walk of the same line (recorded in
+  /// the same memo) already went (false: nothing new there), and records this walk's path.
   bool walk(std::uint32_t start, const float origin[3], const float dir[3], float s_min, int max_steps, float& s,
-            Vec3& normal, bool& front, std::uint32_t* crossed = nullptr) const noexcept;
+            Vec3& normal, bool& front, std::uint32_t* crossed = nullptr, WalkMemo* memo = nullptr) const noexcept;
 
 private:
   // Line against one record: barycentrics (u, v) and the line parameter of the plane hit;
