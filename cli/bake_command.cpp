@@ -26,6 +26,8 @@ void add_bake_command(CLI::App& app) {
     std::string budget;
     bool json = false;
     bool strict = false;
+    bool simplify = false;
+    double simplify_shading = 0.0;
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
@@ -53,11 +55,20 @@ void add_bake_command(CLI::App& app) {
                   "Error budget the default bake meets at the lowest cost it finds, against exact Embree: "
                   "p95=PERCENT,median=PERCENT,dir99=DEGREES,agree=PERCENT (any subset; default "
                   "p95=7,median=2,dir99=10,agree=99.5). Not with -m, -n, --cell or --refine, which bake one given sampling");
+  cmd->add_flag("--simplify", opts->simplify,
+                "Default bake: above 200,000 triangles, bake and refine against the mesh simplified within the "
+                "budget's deviation (1.5e-5 of the diagonal by default); judged against the full mesh");
+  cmd->add_option("--simplify-shading", opts->simplify_shading,
+                  "With --simplify: keep a vertex whose neighbours' shaded normals differ from its own by more than "
+                  "this (degrees; 0: a fifth of the budget's dir99; 180: no check)")
+      ->check(hb::cli::finite_range(0.0, 180.0))->capture_default_str();
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
   cmd->callback([opts, max_error, cmd] {
     // Without a sampling option the bake is the default, budgeted one (hb::default_recipe):
     // the pieces, codec and seam options given still apply to it.
     const bool sampling_given = cmd->count("-m") + cmd->count("-n") + cmd->count("--cell") + cmd->count("--refine") > 0;
+    if (sampling_given && (cmd->count("--simplify") || cmd->count("--simplify-shading")))
+      throw hb::cli::UsageError("bake: --simplify belongs to the default bake; drop -m, -n, --cell and --refine, or --simplify");
     if (sampling_given && cmd->count("--budget"))
       throw hb::cli::UsageError("bake: --budget chooses -n, --cell and --refine per piece; drop -m, -n, --cell and --refine, or --budget");
     if (!sampling_given) {
@@ -67,6 +78,8 @@ void add_bake_command(CLI::App& app) {
       } catch (const hb::InvalidInput& e) {
         throw hb::cli::UsageError(std::string("bake: ") + e.what());
       }
+      r.budget.simplify = opts->simplify;
+      r.budget.simplify_shading_deg = opts->simplify_shading;
       if (cmd->count("--max-m")) r.options.density.max_m = opts->recipe.options.density.max_m;
       if (cmd->count("--padding")) r.options.obb.padding = opts->recipe.options.obb.padding;
       if (cmd->count("--threshold")) r.pieces.automatic.threshold = opts->recipe.pieces.automatic.threshold;

@@ -282,7 +282,15 @@ nlohmann::json budget_json(const BudgetReport& r) {
           {"tuning_angle_error_p99_deg", r.tuning_direction_p99_deg},
           {"seconds", r.seconds},
           {"sampling_bakes", r.candidates_tried},
-          {"pieces", pieces}};
+          {"pieces", pieces},
+          {"surface", r.surface_triangles == 0 ? nlohmann::json("full mesh")
+                                               : nlohmann::json{{"full_triangles", r.full_triangles},
+                                                                {"triangles", r.surface_triangles},
+                                                                {"deviation_bound", r.surface_bound},
+                                                                {"deviation_mean", r.surface_deviation_mean},
+                                                                {"deviation_p99", r.surface_deviation_p99},
+                                                                {"deviation_max", r.surface_deviation_max},
+                                                                {"seconds", r.simplify_seconds}}}};
 }
 
 } // namespace hb::cli
