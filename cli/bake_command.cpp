@@ -28,6 +28,7 @@ void add_bake_command(CLI::App& app) {
     bool strict = false;
     bool simplify = false;
     double simplify_shading = 0.0;
+    std::size_t simplify_above = hb::BudgetRecipe{}.simplify_above;
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
@@ -62,12 +63,14 @@ void add_bake_command(CLI::App& app) {
                   "With --simplify: keep a vertex whose neighbours' shaded normals differ from its own by more than "
                   "this (degrees; 0: a fifth of the budget's dir99; 180: no check)")
       ->check(hb::cli::finite_range(0.0, 180.0))->capture_default_str();
+  cmd->add_option("--simplify-above", opts->simplify_above, "With --simplify: simplify meshes of more triangles than this")
+      ->capture_default_str();
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
   cmd->callback([opts, max_error, cmd] {
     // Without a sampling option the bake is the default, budgeted one (hb::default_recipe):
     // the pieces, codec and seam options given still apply to it.
     const bool sampling_given = cmd->count("-m") + cmd->count("-n") + cmd->count("--cell") + cmd->count("--refine") > 0;
-    if (sampling_given && (cmd->count("--simplify") || cmd->count("--simplify-shading")))
+    if (sampling_given && (cmd->count("--simplify") || cmd->count("--simplify-shading") || cmd->count("--simplify-above")))
       throw hb::cli::UsageError("bake: --simplify belongs to the default bake; drop -m, -n, --cell and --refine, or --simplify");
     if (sampling_given && cmd->count("--budget"))
       throw hb::cli::UsageError("bake: --budget chooses -n, --cell and --refine per piece; drop -m, -n, --cell and --refine, or --budget");
@@ -80,6 +83,7 @@ void add_bake_command(CLI::App& app) {
       }
       r.budget.simplify = opts->simplify;
       r.budget.simplify_shading_deg = opts->simplify_shading;
+      r.budget.simplify_above = opts->simplify_above;
       if (cmd->count("--max-m")) r.options.density.max_m = opts->recipe.options.density.max_m;
       if (cmd->count("--padding")) r.options.obb.padding = opts->recipe.options.obb.padding;
       if (cmd->count("--threshold")) r.pieces.automatic.threshold = opts->recipe.pieces.automatic.threshold;
