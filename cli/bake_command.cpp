@@ -33,6 +33,9 @@ void add_bake_command(CLI::App& app) {
     bool no_cache = false;
     bool json = false;
     bool strict = false;
+    bool simplify = false;
+    double simplify_shading = 0.0;
+    std::size_t simplify_above = hb::BudgetRecipe{}.simplify_above;
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
@@ -63,11 +66,22 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--cache", opts->cache, "Box cache directory (shared with the window, sweep and report)")
       ->capture_default_str();
   cmd->add_flag("--no-cache", opts->no_cache, "Bake even when the cache holds the scene, and store nothing");
+  cmd->add_flag("--simplify", opts->simplify,
+                "Default bake: above 200,000 triangles, bake and refine against the mesh simplified within the "
+                "budget's deviation (1.5e-5 of the diagonal by default); judged against the full mesh");
+  cmd->add_option("--simplify-shading", opts->simplify_shading,
+                  "With --simplify: keep a vertex whose neighbours' shaded normals differ from its own by more than "
+                  "this (degrees; 0: a fifth of the budget's dir99; 180: no check)")
+      ->check(hb::cli::finite_range(0.0, 180.0))->capture_default_str();
+  cmd->add_option("--simplify-above", opts->simplify_above, "With --simplify: simplify meshes of more triangles than this")
+      ->capture_default_str();
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
   cmd->callback([opts, max_error, cmd] {
     // Without a sampling option the bake is the default, budgeted one (hb::default_recipe):
     // the pieces, codec and seam options given still apply to it.
     const bool sampling_given = cmd->count("-m") + cmd->count("-n") + cmd->count("--cell") + cmd->count("--refine") > 0;
+    if (sampling_given && (cmd->count("--simplify") || cmd->count("--simplify-shading") || cmd->count("--simplify-above")))
+      throw hb::cli::UsageError("bake: --simplify belongs to the default bake; drop -m, -n, --cell and --refine, or --simplify");
     if (sampling_given && cmd->count("--budget"))
       throw hb::cli::UsageError("bake: --budget chooses -n, --cell and --refine per piece; drop -m, -n, --cell and --refine, or --budget");
     if (!sampling_given) {
@@ -77,6 +91,9 @@ void add_bake_command(CLI::App& app) {
       } catch (const hb::InvalidInput& e) {
         throw hb::cli::UsageError(std::string("bake: ") + e.what());
       }
+      r.budget.simplify = opts->simplify;
+      r.budget.simplify_shading_deg = opts->simplify_shading;
+      r.budget.simplify_above = opts->simplify_above;
       if (cmd->count("--max-m")) r.options.density.max_m = opts->recipe.options.density.max_m;
       if (cmd->count("--padding")) r.options.obb.padding = opts->recipe.options.obb.padding;
       if (cmd->count("--threshold")) r.pieces.automatic.threshold = opts->recipe.pieces.automatic.threshold;

@@ -281,9 +281,17 @@ nlohmann::json budget_json(const BudgetReport& r) {
           {"tuning_force_error_p95", r.tuning_force_p95},
           {"tuning_angle_error_p99_deg", r.tuning_direction_p99_deg},
           {"sampling_bakes", r.candidates_tried},
-          {"pieces", pieces}};
-  // The wall time is this run's (bake --json) or an older file's; a file written now holds none.
+          {"pieces", pieces},
+          {"surface", r.surface_triangles == 0 ? nlohmann::json("full mesh")
+                                               : nlohmann::json{{"full_triangles", r.full_triangles},
+                                                                {"triangles", r.surface_triangles},
+                                                                {"deviation_bound", r.surface_bound},
+                                                                {"deviation_mean", r.surface_deviation_mean},
+                                                                {"deviation_p99", r.surface_deviation_p99},
+                                                                {"deviation_max", r.surface_deviation_max}}}};
+  // Wall times are this run's (bake --json) or an older file's; a file written now holds none.
   if (r.seconds > 0) j["seconds"] = r.seconds;
+  if (r.surface_triangles > 0 && r.simplify_seconds > 0) j["surface"]["seconds"] = r.simplify_seconds;
   return j;
 }
 

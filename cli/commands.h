@@ -9,6 +9,7 @@ void add_query_command(CLI::App& app);
 void add_eval_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 void add_subdivide_command(CLI::App& app);
+void add_simplify_command(CLI::App& app);
 void add_devices_command(CLI::App& app);
 void add_servo_command(CLI::App& app);
 void add_decompose_command(CLI::App& app);

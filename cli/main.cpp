@@ -103,6 +103,7 @@ int main(int argc, char** argv) {
   add_eval_command(app);
   add_bench_command(app);
   add_subdivide_command(app);
+  add_simplify_command(app);
   add_devices_command(app);
   add_servo_command(app);
   add_decompose_command(app);

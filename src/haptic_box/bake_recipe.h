@@ -64,7 +64,36 @@ struct BudgetRecipe {
   /// surface on a trajectory (issue 11, stability T2: 0.1 mm in the suite's 80 mm device
   /// space is 0.125% of the OBB diagonal). 0: no such check (the first budgeted bakes).
   double surface_tolerance = 0.001;
+  /// The surface the boxes are baked and refined against (issue 17: memory and bake time
+  /// that stop growing with the triangle count): with `simplify`, meshes of more than
+  /// `simplify_above` triangles are simplified (hb::decimate) within a deviation bound, and
+  /// the decomposition, the rays, the triangle ids, the refinement records and the scene grid
+  /// all use the simplified surface. The tuning and the fresh check compare against exact
+  /// Embree on the FULL mesh, so the budget report is what a user of the full mesh gets.
+  /// The bound is `simplify_deviation` x the diagonal, or with 0 the budget's share
+  /// (simplification_bound()). A simplification that keeps more than 90% of the triangles
+  /// is not used, nor is one for pieces from a file or given ids (they name the full
+  /// mesh's triangles).
+  /// Off by default (measured 2026-12-02, docs/speed.md): the armadillo subdivided to 832K
+  /// comes back to 52K triangles within 6e-6 of the diagonal, but the exact answers shade
+  /// with the subdivided mesh's own (faceted) vertex normals, which the simplified faces do
+  /// not reproduce (direction p99 17.6 deg); with the shading check almost nothing goes.
+  bool simplify = false;
+  std::size_t simplify_above = 200000;
+  double simplify_deviation = 0.0;
+  /// Shading check (DecimationOptions::max_shading_deviation_deg): degrees, 0 for a fifth
+  /// of the budget's direction p99, 180 for none.
+  double simplify_shading_deg = 0.0;
 };
+
+/// The deviation (fraction of the mesh diagonal) a budgeted bake may simplify its surface by:
+/// a tenth of the contact-agreement allowance and a fiftieth of the p95 force bound, of the
+/// deepest default probe (ProbeOptions::max_depth_fraction, 3% of the diagonal). Probes
+/// deeper than a deviation d see a relative depth error below d / depth, and probes shallower
+/// than d may change contact: for the default budget 1.5e-5 of the diagonal, at most 0.05%
+/// of the probes' contacts and 0.05% of force errors over 7% even where the whole deviation
+/// is reached (most of the surface is much closer).
+double simplification_bound(const ErrorBudget& budget);
 
 /// Everything a bake needs besides the mesh. Defaults: one m=32 n=16 raw box; the product's
 /// default (`hapticbox bake MESH`, the window's Bake, `./run.sh`) is default_recipe().

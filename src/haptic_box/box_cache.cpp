@@ -72,6 +72,9 @@ std::uint64_t recipe_key(const BakeRecipe& r) {
     k << " budget " << budget_spec(b.budget) << ' ' << b.probes << ' ' << b.tuning_seed << ' ' << b.check_seed;
     for (const Sampling& s : b.samplings) k << ' ' << hexfloat(s.cell) << ' ' << s.n;
     if (b.surface_tolerance > 0) k << " surface " << hexfloat(float(b.surface_tolerance));
+    if (b.simplify)
+      k << " simplify " << b.simplify_above << ' ' << hexfloat(float(b.simplify_deviation)) << ' '
+        << hexfloat(float(b.simplify_shading_deg));
   }
   const std::string text = k.str();
   return XXH3_64bits(text.data(), text.size());

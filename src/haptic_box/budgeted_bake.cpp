@@ -1,5 +1,10 @@
 // The budgeted bake (bake_recipe.h, BudgetRecipe): the cheapest scene found that meets an
 // error budget against exact Embree.
+//  0. The surface the boxes are baked and refined against: the mesh, or above
+//     BudgetRecipe::simplify_above triangles the mesh simplified within the budget's
+//     deviation (hb::decimate, simplification_bound), its deviation from the full surface
+//     measured. Steps 1-4 cut, cast, store ids and build grids on that surface; the probes
+//     and the exact answers they are judged by stay on the FULL mesh.
 //  1. Pieces as the recipe says (automatic by default), once. Tuning probes (the default
 //     distribution, BudgetRecipe::tuning_seed) and their exact answers, once.
 //  2. Every piece is baked at every sampling (seams in that sampling's cells), with one
@@ -29,7 +34,9 @@
 #include "stopwatch.h"
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
+#include "evaluation/surface_deviation.h"
 #include "exact/exact_query.h"
+#include "mesh/decimation.h"
 #include "haptic_box/bake_recipe.h"
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -86,6 +93,11 @@ bool off_surface(const Contact& exact, const Contact& approx, float tolerance) {
 
 } // namespace
 
+double simplification_bound(const ErrorBudget& budget) {
+  const double depth = double(ProbeOptions{}.max_depth_fraction);
+  return depth * std::max(0.0, std::min(0.1 * (1.0 - budget.agreement), 0.02 * budget.force_p95));
+}
+
 BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source) {
   const BudgetRecipe& br = recipe.budget;
   if (br.samplings.empty()) throw InvalidInput("bake: the budget has no samplings to try");
@@ -103,16 +115,49 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   };
 
   BakeResult result;
-  std::vector<std::uint32_t> ids = resolve_piece_ids(mesh, recipe.pieces);
-  if (recipe.pieces.kind == PiecesRecipe::Kind::automatic) result.decompose_seconds = seconds_since(t0);
+  const float diagonal = mesh.bounds().diagonal();
+  BudgetReport rep;
+  // Step 0: the surface to bake against (`base`), the full mesh or a simplified one.
+  TriangleMesh simplified;
+  bool use_simplified = false;
+  // Piece files and given ids name the full mesh's triangles: those bakes keep it.
+  const bool own_pieces = recipe.pieces.kind == PiecesRecipe::Kind::automatic || recipe.pieces.kind == PiecesRecipe::Kind::none;
+  if (br.simplify && own_pieces && mesh.triangle_count() > br.simplify_above) {
+    if (!(br.simplify_deviation >= 0.0 && br.simplify_deviation < 0.1))
+      throw InvalidInput("bake: simplify deviation " + std::to_string(br.simplify_deviation) +
+                         " out of range [0, 0.1) of the diagonal");
+    const auto ts = std::chrono::steady_clock::now();
+    DecimationOptions d;
+    d.max_deviation = double(diagonal) * (br.simplify_deviation > 0 ? br.simplify_deviation : simplification_bound(br.budget));
+    d.max_shading_deviation_deg = br.simplify_shading_deg > 0 ? br.simplify_shading_deg : 0.2 * br.budget.direction_p99_deg;
+    DecimationResult dr = decimate(mesh, d);
+    if (double(dr.mesh.triangle_count()) < 0.9 * double(mesh.triangle_count())) {
+      simplified = std::move(dr.mesh);
+      use_simplified = true;
+      const SurfaceDeviation dev = measure_deviation(mesh, simplified, 100000, 0.002 * double(diagonal));
+      rep.full_triangles = mesh.triangle_count();
+      rep.surface_triangles = simplified.triangle_count();
+      rep.surface_bound = d.max_deviation;
+      rep.surface_deviation_mean = dev.mean;
+      rep.surface_deviation_p99 = dev.p99;
+      rep.surface_deviation_max = dev.max;
+    }
+    rep.simplify_seconds = seconds_since(ts);
+  }
+  const TriangleMesh& base = use_simplified ? simplified : mesh;
+  const auto td = std::chrono::steady_clock::now();
+  std::vector<std::uint32_t> ids = resolve_piece_ids(base, recipe.pieces);
+  if (recipe.pieces.kind == PiecesRecipe::Kind::automatic) result.decompose_seconds = seconds_since(td);
   SourceInfo src = source;
   if (src.triangles == 0) src.triangles = mesh.triangle_count();
-  if (!(src.diagonal > 0.f)) src.diagonal = mesh.bounds().diagonal();
-  const float diagonal = mesh.bounds().diagonal();
+  if (!(src.diagonal > 0.f)) src.diagonal = diagonal;
   const ForceLaw law{};
   const ExactQuery exact(mesh);
   const Tuning tuning = tune_probes(mesh, exact, br.probes, br.tuning_seed, law);
-  const auto surface = std::make_shared<const SurfaceTriangles>(mesh);
+  const auto surface = std::make_shared<const SurfaceTriangles>(base);
+  // The piece ids the scene records are per triangle of the full mesh; a simplified
+  // surface's pieces are not (the scene then records none).
+  const std::vector<std::uint32_t> scene_ids = use_simplified ? std::vector<std::uint32_t>{} : ids;
 
   const std::size_t samplings = br.samplings.size();
   const auto options_for = [&](std::size_t c) {
@@ -130,7 +175,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   std::vector<std::vector<std::vector<std::uint32_t>>> lists(samplings);
   std::vector<std::map<std::size_t, HapticBox>> baked(samplings);
   const auto lists_at = [&](std::size_t c) -> const std::vector<std::vector<std::uint32_t>>& {
-    if (lists[c].empty()) lists[c] = seamed_piece_lists(mesh, ids, recipe.seams, options_for(c));
+    if (lists[c].empty()) lists[c] = seamed_piece_lists(base, ids, recipe.seams, options_for(c));
     return lists[c];
   };
   const std::size_t pieces = lists_at(0).size();
@@ -148,7 +193,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     if (pending.empty()) return;
     ++tried;
     BakeStats stats;
-    BoxScene part = bake_scene_from_lists(mesh, pending, options_for(c), src, &stats);
+    BoxScene part = bake_scene_from_lists(base, pending, options_for(c), src, &stats);
     if (recipe.codec.codec != CodecId::none) part = part.compressed(recipe.codec);
     rays += stats.rays;
     hits += stats.hits;
@@ -159,7 +204,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   // Ownership of the tuning probes: the grid of the first sampling's lists.
   std::vector<std::vector<std::size_t>> owned(pieces);
   if (pieces > 1) {
-    const SceneGrid grid = build_scene_grid(mesh, lists_at(0), recipe.options.grid);
+    const SceneGrid grid = build_scene_grid(base, lists_at(0), recipe.options.grid);
     for (std::size_t i = 0; i < tuning.probes.size(); ++i) {
       const std::uint32_t b = grid.empty() ? UINT32_MAX : routed_box(grid, tuning.probes[i]);
       if (b < pieces) owned[b].push_back(i);
@@ -201,8 +246,8 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     }
     std::shared_ptr<const SceneGrid> grid;
     if (recipe.options.scene_grid && pieces > 1)
-      grid = std::make_shared<const SceneGrid>(build_scene_grid(mesh, chosen_lists, recipe.options.grid));
-    return BoxScene(std::move(boxes), src, pieces > 1 ? ids : std::vector<std::uint32_t>{}, grid);
+      grid = std::make_shared<const SceneGrid>(build_scene_grid(base, chosen_lists, recipe.options.grid));
+    return BoxScene(std::move(boxes), src, pieces > 1 ? scene_ids : std::vector<std::uint32_t>{}, grid);
   };
   // Each variant's failures in the scene (every piece at that variant), probe by probe,
   // charged to the piece owning the probe: the scene answers a probe with more than the
@@ -383,7 +428,6 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   fresh.seed = br.check_seed;
   const std::vector<Segment> check = sample_probes(mesh, br.probes, fresh);
   const ComparisonStats checked = compare_queries(scene, exact, check, law, diagonal);
-  BudgetReport rep;
   rep.present = true;
   rep.budget = br.budget;
   rep.met = meets_budget(checked, br.budget);

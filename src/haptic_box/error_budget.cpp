@@ -102,6 +102,11 @@ std::string BudgetReport::serialize() const {
      << "tuning_agreement=" << tuning_agreement << "\ntuning_force_median=" << tuning_force_median
      << "\ntuning_force_p95=" << tuning_force_p95 << "\ntuning_direction_p99_deg=" << tuning_direction_p99_deg << "\n"
      << "candidates_tried=" << candidates_tried << "\n";  // no wall time: same inputs, same bytes
+  if (surface_triangles > 0)
+    os << "full_triangles=" << full_triangles << "\nsurface_triangles=" << surface_triangles
+       << "\nsurface_bound=" << surface_bound << "\nsurface_deviation_mean=" << surface_deviation_mean
+       << "\nsurface_deviation_p99=" << surface_deviation_p99 << "\nsurface_deviation_max=" << surface_deviation_max
+       << "\n";
   for (const PieceChoice& p : pieces)
     os << "piece=" << p.cell << " " << p.n << " " << (p.refine ? 1 : 0) << " " << p.probes << "\n";
   return os.str();
@@ -136,6 +141,13 @@ BudgetReport BudgetReport::parse(const std::string& text) {
     else if (key == "tuning_direction_p99_deg") r.tuning_direction_p99_deg = number(v, key, 0, 180);
     else if (key == "seconds") r.seconds = number(v, key, 0, 1e9);  // files written before 2026-12-02
     else if (key == "candidates_tried") r.candidates_tried = std::uint32_t(number(v, key, 0, 1e6));
+    else if (key == "full_triangles") r.full_triangles = count(v, key);
+    else if (key == "surface_triangles") r.surface_triangles = count(v, key);
+    else if (key == "surface_bound") r.surface_bound = number(v, key, 0, 1e30);
+    else if (key == "surface_deviation_mean") r.surface_deviation_mean = number(v, key, 0, 1e30);
+    else if (key == "surface_deviation_p99") r.surface_deviation_p99 = number(v, key, 0, 1e30);
+    else if (key == "surface_deviation_max") r.surface_deviation_max = number(v, key, 0, 1e30);
+    else if (key == "simplify_seconds") r.simplify_seconds = number(v, key, 0, 1e9);
     else if (key == "piece") {
       std::stringstream ps(v);
       std::string cell, n, refine, probes, extra;
@@ -161,6 +173,9 @@ std::string BudgetReport::summary() const {
   os << budget_spec(budget) << ": " << (met ? "met" : "MISSED") << " on " << probes << " fresh probes (seed " << seed
      << "): agreement " << agreement * 100.0 << "%, force error median " << force_median * 100.0 << "% p95 "
      << force_p95 * 100.0 << "%, direction p99 " << direction_p99_deg << " deg";
+  if (surface_triangles > 0)
+    os << "; refined against " << surface_triangles << " of " << full_triangles << " triangles (simplified within "
+       << surface_bound << ", measured max " << surface_deviation_max << ", p99 " << surface_deviation_p99 << ")";
   return os.str();
 }
 

@@ -55,6 +55,14 @@ struct BudgetReport {
   double seconds = 0;               ///< the whole budgeted bake.
   std::uint32_t candidates_tried = 0;
   std::vector<PieceChoice> pieces;  ///< one per box, in box order.
+  /// The surface the boxes were baked and refined against (BudgetRecipe::simplify):
+  /// surface_triangles 0 when it is the full mesh; otherwise the simplified triangle count,
+  /// the deviation bound asked (model units) and the deviation measured from the full surface
+  /// along its normals (hb::measure_deviation: mean, p99, max), the seconds it took.
+  std::uint64_t full_triangles = 0;
+  std::uint64_t surface_triangles = 0;
+  double surface_bound = 0, surface_deviation_mean = 0, surface_deviation_p99 = 0, surface_deviation_max = 0;
+  double simplify_seconds = 0;
 
   /// "key=value" lines (the file form); parse() reads them back and throws hb::InvalidInput on
   /// anything else, so a corrupt section cannot load.

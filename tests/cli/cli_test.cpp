@@ -70,6 +70,21 @@ TEST_F(CliTest, DefaultBakeMeetsTheBudgetAndInfoReportsIt) {
   EXPECT_NE(run("info " + path("sphere.hbox")).out.find("budget: none"), std::string::npos);
 }
 
+// `simplify`: a flat-subdivided sphere comes back to fewer triangles within its bound, the
+// figures in JSON; a bad deviation is a usage error; --simplify is the default bake's only.
+TEST_F(CliTest, SimplifyReducesAFlatSubdivisionAndReportsTheDeviation) {
+  ASSERT_EQ(run("subdivide " + path("sphere.off") + " -o " + path("fine.off") + " --levels 1").code, 0);
+  const Result r = run("simplify " + path("fine.off") + " -o " + path("simple.off") + " --shading 180 --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["triangles"].get<std::size_t>(), 20480u);
+  EXPECT_LT(j["simplified_triangles"].get<std::size_t>(), 20480u);
+  EXPECT_GE(j["deviation_max"].get<double>(), 0.0);
+  EXPECT_TRUE(fs::exists(path("simple.off")));
+  EXPECT_EQ(run("simplify " + path("fine.off") + " -o " + path("x.off") + " --deviation -1").code, 2);
+  EXPECT_EQ(run("bake " + path("fine.off") + " -o " + path("x.hbox") + " -n 4 --simplify").code, 2);
+}
+
 // A scene of several boxes: info names their count and the m/n range (not the first box's m),
 // its figures read with 4 significant digits, and an automatic decomposition's time reads with 3.
 TEST_F(CliTest, InfoShowsASceneAsItsBoxesAndFiguresReadable) {

@@ -1,0 +1,131 @@
+// Simplification within a deviation bound (hb::decimate) and the budgeted bake that refines
+// against the simplified surface while it is judged on the full mesh.
+#include "errors.h"
+#include "evaluation/comparison.h"
+#include "evaluation/probe_sampling.h"
+#include "evaluation/surface_deviation.h"
+#include "exact/exact_query.h"
+#include "haptic_box/bake_recipe.h"
+#include "mesh/decimation.h"
+#include "mesh/generators.h"
+#include "mesh/subdivision.h"
+#include <gtest/gtest.h>
+#include <map>
+#include <set>
+
+namespace hb {
+namespace {
+
+// A cube's faces split finely: flat, so it comes back to a few triangles per face; its
+// vertices are original vertices and the surface does not move.
+TEST(DecimationTest, FlatSubdivisionComesBackWithinTheBound) {
+  const TriangleMesh fine = subdivide_midpoint(make_cube(Vec3(1.f, 2.f, 0.5f), 2), 3);  // 1,536 triangles
+  DecimationOptions o;
+  o.max_deviation = 1e-4 * double(fine.bounds().diagonal());
+  const DecimationResult r = decimate(fine, o);
+  EXPECT_LE(r.mesh.triangle_count(), 200u) << r.mesh.triangle_count();
+  EXPECT_GE(r.mesh.triangle_count(), 12u);
+  std::set<std::tuple<float, float, float>> original;
+  for (const Vec3& p : fine.positions) original.insert({p.x(), p.y(), p.z()});
+  for (const Vec3& p : r.mesh.positions) EXPECT_TRUE(original.count({p.x(), p.y(), p.z()}));
+  EXPECT_EQ(r.mesh.normals.size(), r.mesh.positions.size());
+  const SurfaceDeviation d = measure_deviation(fine, r.mesh, 5000, 0.01 * double(fine.bounds().diagonal()));
+  EXPECT_EQ(d.samples, 5000u);
+  EXPECT_LE(d.max, 1e-5 * double(fine.bounds().diagonal()));
+  EXPECT_NEAR(r.mesh.area(), fine.area(), 1e-4 * fine.area());
+}
+
+// A sphere is curved everywhere: a tight bound keeps most of it, a loose one removes more,
+// and the measured deviation stays near the bound (the quadric bounds the kept vertices'
+// distance to the merged planes; a face between them can sag further: the bake reports the
+// measured figure); a bound of 0 changes nothing.
+TEST(DecimationTest, TheBoundLimitsHowFarTheSurfaceMoves) {
+  const TriangleMesh sphere = make_sphere(1.f, 4);  // 5,120 triangles
+  const double diagonal = double(sphere.bounds().diagonal());
+  DecimationOptions none;
+  EXPECT_EQ(decimate(sphere, none).mesh.triangle_count(), sphere.triangle_count());
+  DecimationOptions tight, loose;
+  tight.max_deviation = 1e-4 * diagonal;
+  loose.max_deviation = 3e-3 * diagonal;
+  const DecimationResult t = decimate(sphere, tight), l = decimate(sphere, loose);
+  EXPECT_LT(l.mesh.triangle_count(), t.mesh.triangle_count());
+  EXPECT_LT(l.mesh.triangle_count(), sphere.triangle_count() / 2);
+  const SurfaceDeviation dl = measure_deviation(sphere, l.mesh, 5000, 0.05 * diagonal);
+  // The shading check: a flat-subdivided sphere's vertex normals are faceted (a midpoint
+  // vertex has its face's normal), so a 2-degree check keeps most of it.
+  const TriangleMesh faceted = subdivide_midpoint(sphere, 1);
+  DecimationOptions shaded = loose, unshaded = loose;
+  shaded.max_shading_deviation_deg = 2.0;
+  EXPECT_GT(decimate(faceted, shaded).mesh.triangle_count(), 2 * decimate(faceted, unshaded).mesh.triangle_count());
+  EXPECT_GT(dl.max, 0.0);
+  EXPECT_LE(dl.max, 6.0 * loose.max_deviation) << dl.max;
+  EXPECT_THROW(decimate(TriangleMesh{}, tight), InvalidInput);
+  DecimationOptions bad;
+  bad.max_deviation = -1;
+  EXPECT_THROW(decimate(sphere, bad), InvalidInput);
+}
+
+// Chunks decimated in parallel and joined give a closed surface as small as one pass's,
+// within the same bound.
+TEST(DecimationTest, ChunkedDecimationJoinsItsChunks) {
+  const TriangleMesh fine = subdivide_midpoint(make_sphere(1.f, 3), 2);  // 20,480 triangles
+  const double diagonal = double(fine.bounds().diagonal());
+  DecimationOptions one, chunked;
+  one.max_deviation = chunked.max_deviation = 1e-3 * diagonal;
+  one.chunk_triangles = 0;
+  chunked.chunk_triangles = 3000;
+  const DecimationResult a = decimate(fine, one), b = decimate(fine, chunked);
+  EXPECT_EQ(a.chunks, 1u);
+  EXPECT_EQ(b.chunks, 7u);
+  EXPECT_LT(b.mesh.triangle_count(), fine.triangle_count() / 4);
+  EXPECT_LT(double(b.mesh.triangle_count()), 1.5 * double(a.mesh.triangle_count()));
+  // Closed: every edge has two faces.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+  for (const Triangle& t : b.mesh.triangles)
+    for (int k = 0; k < 3; ++k) ++edges[std::minmax(t[std::size_t(k)], t[std::size_t((k + 1) % 3)])];
+  for (const auto& [e, count] : edges) EXPECT_EQ(count, 2);
+  EXPECT_LE(measure_deviation(fine, b.mesh, 5000, 0.05 * diagonal).max, 6.0 * chunked.max_deviation);
+}
+
+// The budgeted bake of a finely subdivided sphere refines against a simplified surface,
+// reports it, and its budget report is the scene's error against the FULL mesh.
+TEST(DecimationTest, BudgetedBakeRefinesAgainstTheSimplifiedSurfaceAndIsJudgedOnTheFullMesh) {
+  const TriangleMesh fine = subdivide_midpoint(make_sphere(1.f, 3), 2);  // 20,480 triangles
+  BakeRecipe recipe = default_recipe();
+  recipe.pieces.kind = PiecesRecipe::Kind::none;
+  recipe.budget.probes = 2000;
+  recipe.budget.samplings = {{0.1f, 6}};
+  recipe.budget.simplify = true;
+  recipe.budget.simplify_above = 10000;
+  recipe.budget.simplify_shading_deg = 180;  // the subdivided sphere's shading is faceted
+  const BakeResult baked = bake(fine, recipe);
+  const BudgetReport& rep = baked.scene.budget_report();
+  ASSERT_TRUE(rep.present);
+  EXPECT_EQ(rep.full_triangles, fine.triangle_count());
+  EXPECT_GT(rep.surface_triangles, 0u);
+  EXPECT_LT(rep.surface_triangles, fine.triangle_count());
+  EXPECT_DOUBLE_EQ(rep.surface_bound, simplification_bound(recipe.budget.budget) * double(fine.bounds().diagonal()));
+  EXPECT_GT(rep.surface_deviation_max, 0.0);
+  ASSERT_EQ(baked.scene.boxes().size(), 1u);
+  EXPECT_TRUE(baked.scene.boxes()[0].refines());
+  EXPECT_EQ(baked.scene.source().triangles, fine.triangle_count());
+  EXPECT_NE(rep.summary().find("refined against"), std::string::npos) << rep.summary();
+  // What eval would say on the full mesh with the check's seed.
+  ProbeOptions po;
+  po.seed = recipe.budget.check_seed;
+  const ExactQuery exact(fine);
+  const ComparisonStats s = compare_queries(baked.scene, exact, sample_probes(fine, 2000, po), ForceLaw{},
+                                            fine.bounds().diagonal());
+  EXPECT_DOUBLE_EQ(s.contact_agreement, rep.agreement);
+  EXPECT_DOUBLE_EQ(s.force_error_p95, rep.force_p95);
+  EXPECT_TRUE(rep.met) << rep.summary();
+  const BudgetReport back = BudgetReport::parse(rep.serialize());
+  EXPECT_EQ(back.surface_triangles, rep.surface_triangles);
+  EXPECT_NEAR(back.surface_deviation_max, rep.surface_deviation_max, 1e-8 * rep.surface_deviation_max);
+  // Below the threshold the full mesh is the surface.
+  recipe.budget.simplify_above = fine.triangle_count();
+  EXPECT_EQ(bake(fine, recipe).scene.budget_report().surface_triangles, 0u);
+}
+
+} // namespace
+} // namespace hb
