@@ -149,7 +149,7 @@ TEST(RefinementTest, TheLongWalkConfirmsContactsFarFromTheSamplesHits) {
     std::vector<HapticBox> boxes = scene.boxes();
     for (HapticBox& b : boxes) b.set_long_walk_steps(on ? 64 : 0);
     const ComparisonStats r =
-        compare_queries(BoxScene(boxes, scene.source()), exact, probes, kLaw, mesh.bounds().diagonal());
+        compare_queries(BoxScene(boxes, scene.source()), exact, probes, kRefineLaw, mesh.bounds().diagonal());
     missed[on] = r.missed_contacts;
     if (on) {
       EXPECT_EQ(r.false_contacts, 0u);
@@ -180,7 +180,7 @@ TEST(RefinementTest, ARefinedContactIsAFrontFaceCrossingWhateverTheShadedNormal)
   const Vec3 l(0.5f, 0.f, -0.866f);
   const Vec3 p(0.6f, 0.2f, 0.f);
   const Segment probe{p - 0.5f * l, p + 0.1f * l};
-  const Contact e = exact.query(probe, kLaw), b = scene.query(probe, kLaw);
+  const Contact e = exact.query(probe, kRefineLaw), b = scene.query(probe, kRefineLaw);
   ASSERT_TRUE(e.contact);
   ASSERT_TRUE(b.contact);
   EXPECT_NEAR(b.depth, e.depth, 1e-5f);
