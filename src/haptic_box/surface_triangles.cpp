@@ -3,6 +3,7 @@
 #include "geometry/octahedral.h"
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <tuple>
 #include <emmintrin.h>  // SSE2: the x86-64 baseline
@@ -153,6 +154,10 @@ bool SurfaceTriangles::plane_hit(const Record& r, const float o[3], const float 
   return std::isfinite(u) && std::isfinite(v) && std::isfinite(s);
 }
 
+static_assert(offsetof(SurfaceTriangles::Record, a) == 0 && offsetof(SurfaceTriangles::Record, e1) == 12 &&
+                  offsetof(SurfaceTriangles::Record, e2) == 24 && offsetof(SurfaceTriangles::Record, normal) == 36,
+              "plane_hits reads a record's first 12 floats as one array");
+
 unsigned SurfaceTriangles::plane_hits(const std::uint32_t* ids, int count, const float o[3], const float d[3],
                                       float* u_out, float* v_out, float* s_out) const noexcept {
   unsigned ok = 0;
@@ -171,13 +176,17 @@ unsigned SurfaceTriangles::plane_hits(const std::uint32_t* ids, int count, const
       r[k] = records_ + (valid ? ids[first + k] : 0u);
       in_range |= valid ? 1u << k : 0u;
     }
-    __m128 ax = _mm_loadu_ps(r[0]->a), ay = _mm_loadu_ps(r[1]->a), az = _mm_loadu_ps(r[2]->a), e1x = _mm_loadu_ps(r[3]->a);
+    // The first 12 floats of a record as one array (a, e1, e2 are laid out back to back: the
+    // static_asserts below), so a load of floats 4-7 or 8-11 does not index past `a`.
+    const float* f[4];
+    for (int k = 0; k < 4; ++k) f[k] = reinterpret_cast<const float*>(r[k]);
+    __m128 ax = _mm_loadu_ps(f[0]), ay = _mm_loadu_ps(f[1]), az = _mm_loadu_ps(f[2]), e1x = _mm_loadu_ps(f[3]);
     _MM_TRANSPOSE4_PS(ax, ay, az, e1x);  // ax = a.x of the 4 records, ay = a.y, az = a.z, e1x
-    __m128 e1y = _mm_loadu_ps(r[0]->a + 4), e1z = _mm_loadu_ps(r[1]->a + 4), e2x = _mm_loadu_ps(r[2]->a + 4),
-           e2y = _mm_loadu_ps(r[3]->a + 4);
+    __m128 e1y = _mm_loadu_ps(f[0] + 4), e1z = _mm_loadu_ps(f[1] + 4), e2x = _mm_loadu_ps(f[2] + 4),
+           e2y = _mm_loadu_ps(f[3] + 4);
     _MM_TRANSPOSE4_PS(e1y, e1z, e2x, e2y);
-    __m128 e2z = _mm_loadu_ps(r[0]->a + 8), x1 = _mm_loadu_ps(r[1]->a + 8), x2 = _mm_loadu_ps(r[2]->a + 8),
-           x3 = _mm_loadu_ps(r[3]->a + 8);
+    __m128 e2z = _mm_loadu_ps(f[0] + 8), x1 = _mm_loadu_ps(f[1] + 8), x2 = _mm_loadu_ps(f[2] + 8),
+           x3 = _mm_loadu_ps(f[3] + 8);
     _MM_TRANSPOSE4_PS(e2z, x1, x2, x3);
     // plane_hit(), lane by lane.
     const __m128 px = _mm_sub_ps(_mm_mul_ps(d1, e2z), _mm_mul_ps(d2, e2y));
