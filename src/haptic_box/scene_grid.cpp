@@ -80,6 +80,38 @@ SceneGrid::SceneGrid(const Vec3& origin, float cell, const std::array<int, 3>& d
   compute_clearance();
 }
 
+namespace {
+
+// Chessboard distance over an nx x ny x nz grid (x fastest) from the cells holding 0 in `d`,
+// capped at `cap` (the other cells start at `cap`): a forward and a backward raster pass over
+// the 13 neighbours of the 3 x 3 x 3 mask visited before a cell in that pass's order.
+void chessboard_distance(std::vector<std::uint8_t>& d, int nx, int ny, int nz, int cap) {
+  const auto index = [&](int x, int y, int z) {
+    return (std::size_t(z) * std::size_t(ny) + std::size_t(y)) * std::size_t(nx) + std::size_t(x);
+  };
+  for (const int dir : {1, -1}) {
+    const int x0 = dir > 0 ? 0 : nx - 1, y0 = dir > 0 ? 0 : ny - 1, z0 = dir > 0 ? 0 : nz - 1;
+    for (int z = z0; z >= 0 && z < nz; z += dir)
+      for (int y = y0; y >= 0 && y < ny; y += dir)
+        for (int x = x0; x >= 0 && x < nx; x += dir) {
+          std::uint8_t& here = d[index(x, y, z)];
+          if (here == 0) continue;
+          int best = here;
+          for (int dz = -1; dz <= 0; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+              for (int dx = -1; dx <= 1; ++dx) {
+                if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
+                const int X = x + dir * dx, Y = y + dir * dy, Z = z + dir * dz;
+                if (X < 0 || Y < 0 || Z < 0 || X >= nx || Y >= ny || Z >= nz) continue;
+                best = std::min(best, int(d[index(X, Y, Z)]) + 1);
+              }
+          here = std::uint8_t(std::min(best, cap));
+        }
+  }
+}
+
+} // namespace
+
 // Chessboard (L-infinity) distance in cells from each cell to the nearest surface cell,
 // capped at 255: two raster passes over the 13 causal neighbours of the 3 x 3 x 3 mask are
 // exact for this metric. Derived from the codes, so files need not store it.
@@ -91,28 +123,7 @@ void SceneGrid::compute_clearance() {
   const auto index = [&](int x, int y, int z) {
     return (std::size_t(z) * std::size_t(ny) + std::size_t(y)) * std::size_t(nx) + std::size_t(x);
   };
-  const auto pass = [&](int dir) {
-    const int x0 = dir > 0 ? 0 : nx - 1, y0 = dir > 0 ? 0 : ny - 1, z0 = dir > 0 ? 0 : nz - 1;
-    for (int z = z0; z >= 0 && z < nz; z += dir)
-      for (int y = y0; y >= 0 && y < ny; y += dir)
-        for (int x = x0; x >= 0 && x < nx; x += dir) {
-          std::uint8_t& here = clear[index(x, y, z)];
-          if (here == 0) continue;
-          int best = here;
-          // The neighbours visited before (x, y, z) in this pass's raster order.
-          for (int dz = -1; dz <= 0; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-              for (int dx = -1; dx <= 1; ++dx) {
-                if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
-                const int X = x + dir * dx, Y = y + dir * dy, Z = z + dir * dz;
-                if (X < 0 || Y < 0 || Z < 0 || X >= nx || Y >= ny || Z >= nz) continue;
-                best = std::min(best, int(clear[index(X, Y, Z)]) + 1);
-              }
-          here = std::uint8_t(std::min(best, 255));
-        }
-  };
-  pass(1);
-  pass(-1);
+  chessboard_distance(clear, nx, ny, nz, 255);
   // The query words in bricks (scene_grid.h, cells_); the bricks' cells beyond the grid are
   // never read.
   bricks_x_ = (nx + 3) / 4;
@@ -140,33 +151,10 @@ void SceneGrid::compute_clearance() {
         b = b == 0xff || b == here ? here : kBrickSurface;
       }
   const int bx = bricks_x_, by = bricks_y_, bz = bricks_z;
-  const auto bindex = [&](int x, int y, int z) {
-    return (std::size_t(z) * std::size_t(by) + std::size_t(y)) * std::size_t(bx) + std::size_t(x);
-  };
   std::vector<std::uint8_t> bclear(brick_count, 63);
   for (std::size_t b = 0; b < brick_count; ++b)
     if (state[b] == kBrickSurface) bclear[b] = 0;
-  const auto bpass = [&](int dir) {
-    const int x0 = dir > 0 ? 0 : bx - 1, y0 = dir > 0 ? 0 : by - 1, z0 = dir > 0 ? 0 : bz - 1;
-    for (int z = z0; z >= 0 && z < bz; z += dir)
-      for (int y = y0; y >= 0 && y < by; y += dir)
-        for (int x = x0; x >= 0 && x < bx; x += dir) {
-          std::uint8_t& here = bclear[bindex(x, y, z)];
-          if (here == 0) continue;
-          int best = here;
-          for (int dz = -1; dz <= 0; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-              for (int dx = -1; dx <= 1; ++dx) {
-                if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
-                const int X = x + dir * dx, Y = y + dir * dy, Z = z + dir * dz;
-                if (X < 0 || Y < 0 || Z < 0 || X >= bx || Y >= by || Z >= bz) continue;
-                best = std::min(best, int(bclear[bindex(X, Y, Z)]) + 1);
-              }
-          here = std::uint8_t(std::min(best, 63));
-        }
-  };
-  bpass(1);
-  bpass(-1);
+  chessboard_distance(bclear, bx, by, bz, 63);
   bricks_.resize(brick_count);
   for (std::size_t b = 0; b < brick_count; ++b) bricks_[b] = std::uint8_t(state[b] | (bclear[b] << 2));
 }

@@ -117,6 +117,25 @@ private:
   OmMesh& mesh_;
 };
 
+// The three modules every pass uses: the quadric bound (squared: OpenMesh's quadric error is a
+// squared distance), no normal flip beyond `normal_deg`, and the shading check.
+struct DecimationModules {
+  OpenMesh::Decimater::ModQuadricT<OmMesh>::Handle quadric;
+  OpenMesh::Decimater::ModNormalFlippingT<OmMesh>::Handle flipping;
+  ModShadingT<OmMesh>::Handle shading;
+
+  template <class Decimater>
+  void attach(Decimater& d, const std::vector<Vec3>& normals, double bound, double normal_deg, double shading_deg) {
+    d.add(quadric);
+    d.add(flipping);
+    d.add(shading);
+    d.module(shading).set(normals.empty() ? nullptr : &normals, shading_deg);
+    d.module(quadric).set_max_err(bound * bound, false);
+    d.module(flipping).set_max_normal_deviation(normal_deg);
+    if (!d.initialize()) throw LibraryError("decimate: OpenMesh's decimater did not initialize");
+  }
+};
+
 // Decimates the faces `faces` (vertex ids into mesh.positions) with the vertices `locked`
 // (sorted) kept; returns the surviving faces (same vertex ids) in `out`, and counts the faces
 // OpenMesh refused (kept unchanged in `out`).
@@ -164,29 +183,13 @@ void decimate_faces(const TriangleMesh& mesh, const std::vector<Triangle>& faces
   om.update_face_normals();
   if (bound > 0.0 && greedy) {
     SweepDecimater sweeper(om);
-    OpenMesh::Decimater::ModQuadricT<OmMesh>::Handle quadric;
-    OpenMesh::Decimater::ModNormalFlippingT<OmMesh>::Handle flipping;
-    ModShadingT<OmMesh>::Handle shading;
-    sweeper.add(quadric);
-    sweeper.add(flipping);
-    sweeper.add(shading);
-    sweeper.module(shading).set(normals.empty() ? nullptr : &normals, shading_deg);
-    sweeper.module(quadric).set_max_err(bound * bound, false);
-    sweeper.module(flipping).set_max_normal_deviation(normal_deg);
-    if (!sweeper.initialize()) throw LibraryError("decimate: OpenMesh's decimater did not initialize");
+    DecimationModules modules;
+    modules.attach(sweeper, normals, bound, normal_deg, shading_deg);
     sweeper.sweep(seed);
   } else if (bound > 0.0) {
     OpenMesh::Decimater::DecimaterT<OmMesh> decimater(om);
-    OpenMesh::Decimater::ModQuadricT<OmMesh>::Handle quadric;
-    OpenMesh::Decimater::ModNormalFlippingT<OmMesh>::Handle flipping;
-    ModShadingT<OmMesh>::Handle shading;
-    decimater.add(quadric);
-    decimater.add(flipping);
-    decimater.add(shading);
-    decimater.module(shading).set(normals.empty() ? nullptr : &normals, shading_deg);
-    decimater.module(quadric).set_max_err(bound * bound, false);
-    decimater.module(flipping).set_max_normal_deviation(normal_deg);
-    if (!decimater.initialize()) throw LibraryError("decimate: OpenMesh's decimater did not initialize");
+    DecimationModules modules;
+    modules.attach(decimater, normals, bound, normal_deg, shading_deg);
     decimater.decimate(0);
   }
   for (const auto fh : om.faces()) {
