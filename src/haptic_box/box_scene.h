@@ -51,7 +51,10 @@ struct SceneQueryState {
 /// without a box query; outside, it walks the cells from the handle to the tip and asks
 /// only the boxes whose pieces have surface in the cells it crosses, stopping one cell past
 /// the nearest contact found: one box query in the common case. A handle in a cell with
-/// surface (or of unknown state) takes the path without the grid.
+/// surface is inside or outside by the triangles of its cell (SurfaceCells), and a box's
+/// contact stands only when the segment crosses no other triangle of those cells nearer
+/// (box_scene.cpp, step 7); a handle whose cell cannot tell (an open mesh) takes the path
+/// without the grid.
 class BoxScene final : public ContactQuery {
 public:
   BoxScene() = default;
@@ -73,6 +76,9 @@ public:
   /// query's wherever that box's refinement finds the same triangle (tests/core, strokes).
   Contact query(const Segment& segment, const ForceLaw& law, SceneQueryState& state) const noexcept;
   static constexpr int kStateWalkSteps = 4;
+  /// Two crossings of a segment closer than this fraction of its length are one (a triangle
+  /// tested from the handle and from a box's entry differ by rounding).
+  static constexpr float kSameCrossing = 1e-5f;
   /// The same answers as query() one by one. A one-box scene runs HapticBox::query_many
   /// (fetches of a group of queries overlapped); with several boxes, query() in a loop.
   void query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
@@ -101,6 +107,17 @@ public:
   /// Policy for unconfirmed blends of refining boxes (no effect without refinement).
   void set_unconfirmed_blend(UnconfirmedBlend policy) noexcept { unconfirmed_ = policy; }
   UnconfirmedBlend unconfirmed_blend() const noexcept { return unconfirmed_; }
+  /// Whether the routed query uses the triangles below the grid's surface cells
+  /// (SurfaceCells; default true, only for scenes with a grid whose boxes refine against one
+  /// shared surface and UnconfirmedBlend::reject): a handle in a surface cell is inside or
+  /// outside by a test on its cell's triangles (no backward box queries), and a box's
+  /// contact stands only when no triangle of the cells before it is crossed nearer (the
+  /// first crossing decides, as exact's rule). False: the grid alone (the routing before
+  /// 2026-12-02 noon, for before/after measurements).
+  void set_cell_triangles(bool on) noexcept { use_cells_ = on; }
+  bool cell_triangles() const noexcept { return use_cells_ && cells_ != nullptr; }
+  /// The triangles below the grid's surface cells, or nullptr (no grid, or no shared surface).
+  const std::shared_ptr<const SurfaceCells>& surface_cells() const { return cells_; }
   /// Every box's refinement walk policy (HapticBox::set_walk_all_candidates; default true).
   void set_walk_all_candidates(bool on) noexcept {
     for (HapticBox& b : boxes_) b.set_walk_all_candidates(on);
@@ -143,7 +160,14 @@ private:
   // Axis-aligned bounds of each PBB, structure of arrays: lo x, y, z then hi x, y, z.
   std::vector<float> bounds_[6];
   std::shared_ptr<const SceneGrid> grid_;
+  std::shared_ptr<const SurfaceCells> cells_;
+  bool use_cells_ = true;
   BudgetReport budget_;
+  // The routed query's cell-triangle steps (box_scene.cpp, step 7).
+  struct Visited;
+  bool settle_first_crossing(const Segment& segment, const ForceLaw& law, const Visited& visited, Contact& best,
+                             float& best_along, std::uint32_t& best_box, std::uint32_t& best_triangle,
+                             std::size_t* asked_count) const noexcept;
 };
 
 /// One probe querying a scene through its own SceneQueryState, as a ContactQuery (for timing

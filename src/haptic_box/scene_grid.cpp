@@ -438,3 +438,172 @@ SceneGrid build_scene_grid(const TriangleMesh& mesh, const std::vector<std::vect
 }
 
 } // namespace hb
+
+namespace hb {
+
+SurfaceCells::SurfaceCells(const SceneGrid& grid, std::shared_ptr<const SurfaceTriangles> surface)
+    : origin_(grid.origin()), cell_(grid.cell()), inv_cell_(1.f / grid.cell()), dims_(grid.dims()),
+      surface_(std::move(surface)) {
+  if (grid.empty() || !surface_) throw InvalidInput("surface cells: no grid or no surface");
+  const int nx = dims_[0], ny = dims_[1], nz = dims_[2];
+  const std::vector<std::uint16_t>& codes = grid.codes();
+  const auto flat = [&](int x, int y, int z) {
+    return (std::size_t(z) * std::size_t(ny) + std::size_t(y)) * std::size_t(nx) + std::size_t(x);
+  };
+  // 1. Surface cells, ranked per brick.
+  bricks_x_ = (nx + 3) / 4;
+  bricks_y_ = (ny + 3) / 4;
+  const int bricks_z = (nz + 3) / 4;
+  const std::size_t brick_count = std::size_t(bricks_x_) * std::size_t(bricks_y_) * std::size_t(bricks_z);
+  masks_.assign(brick_count, 0);
+  base_.assign(brick_count, 0);
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x)
+        if (codes[flat(x, y, z)] >= SceneGrid::kFirstSurface) {
+          const std::size_t b = (std::size_t(z >> 2) * std::size_t(bricks_y_) + std::size_t(y >> 2)) * std::size_t(bricks_x_) +
+                                std::size_t(x >> 2);
+          masks_[b] |= std::uint64_t(1) << (((z & 3) << 4) | ((y & 3) << 2) | (x & 3));
+        }
+  std::uint32_t total = 0;
+  for (std::size_t b = 0; b < brick_count; ++b) {
+    base_[b] = total;
+    total += std::uint32_t(__builtin_popcountll(masks_[b]));
+  }
+  // 2. The triangles meeting each surface cell: the grid's test (the same padded half), on
+  //    the records' vertices. A triangle meeting a cell the grid has without surface (a
+  //    surface other than the grid's mesh) is left out there.
+  const SurfaceTriangles& surf = *surface_;
+  const float half = 0.5f * cell_ * (1.f + 1e-4f);
+  std::vector<std::uint64_t> pairs;  // cell index << 32 | slot
+  for (std::size_t t = 0; t < surf.size(); ++t) {
+    const SurfaceTriangles::Record& r = surf.records()[t];
+    const Vec3 a(r.a[0], r.a[1], r.a[2]);
+    const Vec3 b = a + Vec3(r.e1[0], r.e1[1], r.e1[2]), c = a + Vec3(r.e2[0], r.e2[1], r.e2[2]);
+    if (!a.allFinite() || !b.allFinite() || !c.allFinite()) continue;
+    int lo[3], hi[3];
+    bool outside = false;
+    for (int k = 0; k < 3; ++k) {
+      const float mn = std::min({a[k], b[k], c[k]}), mx = std::max({a[k], b[k], c[k]});
+      lo[k] = std::max(0, int(std::floor((mn - origin_[k]) * inv_cell_ - 1e-3f)));
+      hi[k] = std::min(dims_[k] - 1, int(std::floor((mx - origin_[k]) * inv_cell_ + 1e-3f)));
+      outside |= lo[k] > hi[k];
+    }
+    if (outside) continue;
+    for (int z = lo[2]; z <= hi[2]; ++z)
+      for (int y = lo[1]; y <= hi[1]; ++y)
+        for (int x = lo[0]; x <= hi[0]; ++x) {
+          const std::uint32_t ci = index(x, y, z);
+          if (ci == kNone) continue;
+          const Vec3 centre = origin_ + cell_ * Vec3(float(x) + 0.5f, float(y) + 0.5f, float(z) + 0.5f);
+          if (triangle_meets_box(a, b, c, centre, half)) pairs.push_back(std::uint64_t(ci) << 32 | std::uint64_t(t));
+        }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  offsets_.assign(std::size_t(total) + 1, 0);
+  slots_.resize(pairs.size());
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    ++offsets_[(pairs[k] >> 32) + 1];
+    slots_[k] = std::uint32_t(pairs[k]);
+  }
+  for (std::size_t k = 0; k < total; ++k) offsets_[k + 1] += offsets_[k];
+  // 3. Centre states in waves from the cells without surface. kPending: not decided yet.
+  constexpr std::uint8_t kPending = 0xff;
+  states_.assign(total, kPending);
+  std::vector<std::array<int, 3>> cell_of(total);
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        const std::uint32_t ci = index(x, y, z);
+        if (ci != kNone) cell_of[ci] = {x, y, z};
+      }
+  const auto centre_of = [&](int x, int y, int z) -> Vec3 {  // a Vec3, not an expression of a temporary
+    return origin_ + cell_ * Vec3(float(x) + 0.5f, float(y) + 0.5f, float(z) + 0.5f);
+  };
+  // The state a decided neighbour (x, y, z) gives cell ci's centre, or kUnknown.
+  const auto vote = [&](std::uint32_t ci, int x, int y, int z, std::uint8_t neighbour_state) -> std::uint8_t {
+    const std::array<int, 3>& q = cell_of[ci];
+    const Vec3 from = centre_of(q[0], q[1], q[2]), to = centre_of(x, y, z);
+    std::uint32_t cells[2] = {ci, index(x, y, z)};
+    float s = 0.f;
+    bool front = false;
+    std::uint32_t tri = kNoTriangle;
+    if (!first_crossing(cells, cells[1] == kNone ? 1 : 2, from, to, 1.f, s, front, tri)) return neighbour_state;
+    return front ? SceneGrid::kOutside : SceneGrid::kInside;
+  };
+  std::vector<std::uint32_t> frontier;
+  std::vector<std::pair<std::uint32_t, std::uint8_t>> decided;
+  for (std::uint32_t ci = 0; ci < total; ++ci) frontier.push_back(ci);
+  const int nb[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+  for (;;) {
+    decided.clear();
+    std::vector<std::uint32_t> rest;
+    for (std::uint32_t ci : frontier) {
+      const std::array<int, 3>& q = cell_of[ci];
+      int votes = 0;
+      std::uint8_t state = kPending;
+      bool disagree = false;
+      for (const auto& o : nb) {
+        const int x = q[0] + o[0], y = q[1] + o[1], z = q[2] + o[2];
+        if (x < 0 || y < 0 || z < 0 || x >= nx || y >= ny || z >= nz) continue;
+        const std::uint32_t qi = index(x, y, z);
+        std::uint8_t known;
+        if (qi == kNone) {
+          const std::uint16_t code = codes[flat(x, y, z)];
+          if (code != SceneGrid::kInside && code != SceneGrid::kOutside) continue;
+          known = std::uint8_t(code);
+        } else {
+          known = states_[qi];
+          if (known != SceneGrid::kInside && known != SceneGrid::kOutside) continue;
+        }
+        const std::uint8_t v = vote(ci, x, y, z, known);
+        ++votes;
+        if (state == kPending) state = v;
+        else if (state != v) disagree = true;
+      }
+      if (votes == 0) rest.push_back(ci);
+      else decided.emplace_back(ci, disagree ? std::uint8_t(SceneGrid::kUnknown) : state);
+    }
+    for (const auto& d : decided) states_[d.first] = d.second;
+    if (decided.empty() || rest.empty()) {
+      for (std::uint32_t ci : rest) states_[ci] = SceneGrid::kUnknown;
+      break;
+    }
+    frontier.swap(rest);
+  }
+}
+
+bool SurfaceCells::first_crossing(const std::uint32_t* cells, std::size_t count, const Vec3& a, const Vec3& b,
+                                  float s_max, float& s, bool& front, std::uint32_t& triangle) const noexcept {
+  const float o[3] = {a.x(), a.y(), a.z()};
+  const float d[3] = {b.x() - a.x(), b.y() - a.y(), b.z() - a.z()};
+  bool found = false;
+  for (std::size_t k = 0; k < count; ++k) {
+    if (cells[k] >= states_.size()) continue;
+    float cs = 0.f;
+    bool cf = false;
+    std::uint32_t ct = kNoTriangle;
+    const std::uint32_t* first = begin(cells[k]);
+    if (!surface_->first_crossing(first, std::size_t(end(cells[k]) - first), o, d, 0.f, s_max, cs, cf, ct)) continue;
+    if (!found || cs < s) s = cs, front = cf, triangle = ct, found = true;
+  }
+  return found;
+}
+
+std::uint16_t SurfaceCells::state_at(const Vec3& p) const noexcept {
+  const Vec3 f = (p - origin_) * inv_cell_;
+  if (!(f.x() >= 0.f && f.y() >= 0.f && f.z() >= 0.f)) return SceneGrid::kUnknown;
+  const int x = int(f.x()), y = int(f.y()), z = int(f.z());
+  const std::uint32_t ci = index(x, y, z);
+  if (ci == kNone) return SceneGrid::kUnknown;
+  const std::uint16_t centre = states_[ci];
+  if (centre != SceneGrid::kInside && centre != SceneGrid::kOutside) return SceneGrid::kUnknown;
+  const Vec3 c = origin_ + cell_ * Vec3(float(x) + 0.5f, float(y) + 0.5f, float(z) + 0.5f);
+  float s = 0.f;
+  bool front = false;
+  std::uint32_t tri = kNoTriangle;
+  if (!first_crossing(&ci, 1, p, c, 1.f, s, front, tri)) return centre;
+  return front ? SceneGrid::kOutside : SceneGrid::kInside;
+}
+
+} // namespace hb

@@ -1,11 +1,14 @@
 #pragma once
 // The scene grid: a uniform grid baked with a scene of several boxes, which routes a probe to
 // the boxes whose pieces it can meet and answers "is the handle inside the object" in O(1).
+#include "haptic_box/surface_triangles.h"
 #include "mesh/triangle_mesh.h"
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <memory>
+#include <type_traits>
 #include <vector>
 
 namespace hb {
@@ -69,7 +72,8 @@ public:
   void walk(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept;
 
   /// As walk(), but visits only the surface cells (codes >= kFirstSurface), in the same
-  /// order and with the same s: runs of cells without surface are crossed in jumps as long as
+  /// order and with the same s (a visitor taking a third argument, const int cell[3], also
+  /// receives the cell's coordinates): runs of cells without surface are crossed in jumps as long as
   /// their clearance (clearance()) allows, instead of cell by cell. BoxScene's routing.
   template <class Visit>
   void walk_surface(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept;
@@ -134,6 +138,76 @@ private:
     return brick_index(x, y, z) * 64 + std::size_t(((z & 3) << 4) | ((y & 3) << 2) | (x & 3));
   }
   void compute_clearance();
+};
+
+/// Below the grid's surface cells (issues 11 and 17): per surface cell, the surface slots of
+/// the triangles meeting it (the grid's triangle-box test, on the triangles of the scene's
+/// shared SurfaceTriangles) and the inside/outside state of its centre. Built from the grid
+/// and the surface when a scene is made (bake or load: files need not store it, and files
+/// of every version get it). It answers, exactly for a closed mesh:
+/// - whether a point in a surface cell is inside the object (state_at): the crossing nearest
+///   the point on the short segment to its cell's centre decides (a back face: inside, a
+///   front face: outside), none gives the centre's state;
+/// - the first triangle a segment crosses in given surface cells (first_crossing).
+/// A centre's state comes from its 6 neighbours' in waves out from the grid's cells without
+/// surface (inside or outside): the crossing nearest the centre on the segment to a decided
+/// neighbour's centre (in the two cells), or that neighbour's state; neighbours that disagree
+/// (an open mesh, a hole, a degenerate crossing) leave it kUnknown, and the scene then takes
+/// its path without it. Immutable once built, queried through const noexcept methods.
+class SurfaceCells {
+public:
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+  SurfaceCells() = default;
+  /// Throws hb::InvalidInput when the grid is empty.
+  SurfaceCells(const SceneGrid& grid, std::shared_ptr<const SurfaceTriangles> surface);
+
+  bool empty() const { return offsets_.empty(); }
+  /// The surface cell index of cell (x, y, z), kNone for a cell without surface or beyond
+  /// the grid.
+  std::uint32_t index(int x, int y, int z) const noexcept {
+    if (x < 0 || y < 0 || z < 0 || x >= dims_[0] || y >= dims_[1] || z >= dims_[2]) return kNone;
+    const std::size_t b = (std::size_t(z >> 2) * std::size_t(bricks_y_) + std::size_t(y >> 2)) * std::size_t(bricks_x_) +
+                          std::size_t(x >> 2);
+    const std::uint64_t mask = masks_[b];
+    const unsigned bit = unsigned(((z & 3) << 4) | ((y & 3) << 2) | (x & 3));
+    if (!((mask >> bit) & 1u)) return kNone;
+    return base_[b] + std::uint32_t(__builtin_popcountll(mask & ((std::uint64_t(1) << bit) - 1)));
+  }
+  /// The surface cell index of the cell holding p (kNone: none).
+  std::uint32_t index_at(const Vec3& p) const noexcept {
+    const Vec3 f = (p - origin_) * inv_cell_;
+    if (!(f.x() >= 0.f && f.y() >= 0.f && f.z() >= 0.f)) return kNone;
+    return index(int(f.x()), int(f.y()), int(f.z()));
+  }
+  /// Whether p, in a surface cell, is inside the object: SceneGrid::kInside, kOutside, or
+  /// kUnknown (the cell's centre is undecided, or p is in no surface cell).
+  std::uint16_t state_at(const Vec3& p) const noexcept;
+  /// The state of surface cell `index`'s centre (SceneGrid::kInside, kOutside, kUnknown).
+  std::uint16_t centre_state(std::uint32_t index) const noexcept { return states_[index]; }
+  /// The triangles (surface slots) of surface cell `index`.
+  const std::uint32_t* begin(std::uint32_t index) const noexcept { return slots_.data() + offsets_[index]; }
+  const std::uint32_t* end(std::uint32_t index) const noexcept { return slots_.data() + offsets_[index + 1]; }
+  std::size_t cell_count() const { return states_.size(); }
+  /// The crossing nearest the handle of segment a -> b, s in [0, s_max], among the triangles
+  /// of the surface cells cells[0, count) (SurfaceTriangles::first_crossing).
+  bool first_crossing(const std::uint32_t* cells, std::size_t count, const Vec3& a, const Vec3& b, float s_max,
+                      float& s, bool& front, std::uint32_t& triangle) const noexcept;
+  const SurfaceTriangles& surface() const { return *surface_; }
+  /// Bytes in memory.
+  std::size_t bytes() const {
+    return masks_.size() * 8 + base_.size() * 4 + offsets_.size() * 4 + slots_.size() * 4 + states_.size();
+  }
+
+private:
+  Vec3 origin_{Vec3::Zero()};
+  float cell_ = 0.f, inv_cell_ = 0.f;
+  std::array<int, 3> dims_{{0, 0, 0}};
+  int bricks_x_ = 0, bricks_y_ = 0;
+  std::vector<std::uint64_t> masks_;   // per 4 x 4 x 4 brick: its surface cells (bit z y x)
+  std::vector<std::uint32_t> base_;    // per brick: the index of its first surface cell
+  std::vector<std::uint32_t> offsets_, slots_;
+  std::vector<std::uint8_t> states_;
+  std::shared_ptr<const SurfaceTriangles> surface_;
 };
 
 /// Builds the grid of a scene whose box b was baked from `box_triangles[b]` (ids into
@@ -236,7 +310,11 @@ void SceneGrid::walk_surface(const Vec3& a, const Vec3& b, Visit&& visit) const 
     const std::uint16_t code = std::uint16_t(word);
     const int clearance = int(word >> 16);
     if (code >= kFirstSurface) {
-      if (!visit(code, s)) return;
+      if constexpr (std::is_invocable_v<Visit&, std::uint16_t, float, const int*>) {
+        if (!visit(code, s, static_cast<const int*>(i))) return;
+      } else {
+        if (!visit(code, s)) return;
+      }
     } else if (clearance >= 4) {
       // Every cell within clearance - 1 of this one has no surface. The point lies in this
       // cell's closure (at most one cell past its low corner in each axis), so moving it at

@@ -255,6 +255,34 @@ bool SurfaceTriangles::intersect(std::uint32_t id, const float o[3], const float
   return finish(r, d, u, v, hit, s_min, s, normal, front);
 }
 
+bool SurfaceTriangles::first_crossing(const std::uint32_t* ids, std::size_t count, const float o[3], const float d[3],
+                                      float s_min, float s_max, float& s_out, bool& front,
+                                      std::uint32_t& id_out) const noexcept {
+  float best = std::numeric_limits<float>::infinity();
+  std::uint32_t best_id = kNoTriangle;
+  float hu[16], hv[16], hs[16];
+  for (std::size_t first = 0; first < count; first += 16) {
+    const int n = int(std::min<std::size_t>(16, count - first));
+    const unsigned planes = plane_hits(ids + first, n, o, d, hu, hv, hs);
+    for (int k = 0; k < n; ++k) {
+      if (!((planes >> k) & 1u)) continue;
+      const float u = hu[k], v = hv[k];
+      if (!(std::min(std::min(u, v), 1.f - u - v) >= 0.f)) continue;
+      if (!(hs[k] >= s_min && hs[k] <= s_max) || !(hs[k] < best)) continue;
+      best = hs[k];
+      best_id = ids[first + std::size_t(k)];
+    }
+  }
+  if (best_id == kNoTriangle) return false;
+  const Record& r = records_[best_id];  // in range: plane_hits sets no bit otherwise
+  const float gx = r.e1[1] * r.e2[2] - r.e1[2] * r.e2[1], gy = r.e1[2] * r.e2[0] - r.e1[0] * r.e2[2],
+              gz = r.e1[0] * r.e2[1] - r.e1[1] * r.e2[0];
+  front = gx * d[0] + gy * d[1] + gz * d[2] < 0.f;
+  s_out = best;
+  id_out = best_id;
+  return true;
+}
+
 namespace {
 // The memo's slot of `id`: where it is, or the free slot it would take; -1 when full.
 int memo_slot(const SurfaceTriangles::WalkMemo& m, std::uint32_t id) noexcept {

@@ -87,6 +87,13 @@ public:
     return id < count_ && finish(records_[id], dir, u, v, s, s_min, s_out, normal, front);
   }
 
+  /// The crossing nearest `o` of the segment o + s d, s in [s_min, s_max], among the
+  /// triangles ids[0, count), either face (the plane crossings of plane_hits(), 16 at a
+  /// time): true with its parameter `s`, whether it is a front face (the geometric normal
+  /// against d) and its id. No normals are decoded. Ties keep the first id listed.
+  bool first_crossing(const std::uint32_t* ids, std::size_t count, const float o[3], const float d[3], float s_min,
+                      float s_max, float& s, bool& front, std::uint32_t& id) const noexcept;
+
   /// Starts loading triangle `id`'s record (no effect when out of range).
   void prefetch(std::uint32_t id) const noexcept {
     if (id < count_) __builtin_prefetch(records_ + id);

@@ -1,6 +1,8 @@
 // The cheap routed path of a scene query: the refined box query from triangle ids alone (no
 // samples decoded) and the grid's bricked cell words.
+#include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
+#include "exact/exact_query.h"
 #include "haptic_box/bake.h"
 #include "haptic_box/scene_grid.h"
 #include "two_spheres.h"
@@ -79,6 +81,92 @@ TEST(RoutedQueryTest, HandlesInSurfaceCellsShownOutsideAreRoutedWithTheUnroutedA
   ASSERT_GT(probes, 200u);
   EXPECT_GE(double(same), 0.99 * double(probes)) << same << " of " << probes;
   EXPECT_GT(routed, probes / 4) << routed << " of " << probes;
+}
+
+TEST(RoutedQueryTest, HandlesInSurfaceCellsGetExactsAnswerFromAtMostOneBoxQuery) {
+  const test::TwoSpheres two = test::two_spheres(2.5f);
+  BakeOptions o;
+  o.params = {12, 6};
+  o.refine = true;
+  const BoxScene scene = bake_scene(two.mesh, two.piece, o, SourceInfo{});
+  ASSERT_NE(scene.surface_cells(), nullptr);
+  ASSERT_TRUE(scene.cell_triangles());
+  BoxScene grid_only = scene;
+  grid_only.set_cell_triangles(false);
+  const SceneGrid& grid = *scene.grid();
+  const ExactQuery exact(two.mesh);
+  // Handles in surface cells just outside and inside the spheres, segments against the
+  // normal (a contact ahead from outside) and along it.
+  std::size_t probes = 0, agree = 0, agree_before = 0, inside = 0, inside_free = 0;
+  double asked = 0, asked_before = 0;
+  for (std::size_t t = 0; t < two.mesh.triangle_count(); t += 2) {
+    const Triangle& tri = two.mesh.triangles[t];
+    const Vec3 &p0 = two.mesh.positions[tri[0]], &p1 = two.mesh.positions[tri[1]], &p2 = two.mesh.positions[tri[2]];
+    const Vec3 c = (p0 + p1 + p2) / 3.f;
+    const Vec3 n = (p1 - p0).cross(p2 - p0).normalized();
+    for (float off : {0.15f, 0.45f, -0.15f, -0.45f}) {
+      const Vec3 handle = c + (off * grid.cell()) * n;
+      if (grid.code_at(handle) < SceneGrid::kFirstSurface) continue;
+      for (float dir : {-1.f, 1.f}) {
+        const Segment s{handle, handle + (dir * 0.1f) * n};
+        const Contact want = exact.query(s, kRoutedLaw);
+        ++probes;
+        agree += scene.query(s, kRoutedLaw).contact == want.contact ? 1 : 0;
+        agree_before += grid_only.query(s, kRoutedLaw).contact == want.contact ? 1 : 0;
+        const std::size_t q = scene.box_queries(s, kRoutedLaw);
+        asked += double(q);
+        asked_before += double(grid_only.box_queries(s, kRoutedLaw));
+        if (off < 0.f) {
+          ++inside;
+          inside_free += q == 0 ? 1 : 0;
+        }
+      }
+    }
+  }
+  ASSERT_GT(probes, 400u);
+  EXPECT_EQ(agree, probes) << "before: " << agree_before;
+  EXPECT_GE(agree, agree_before);
+  // A handle inside asks no box; one outside asks one in the common case.
+  EXPECT_EQ(inside_free, inside);
+  EXPECT_LT(asked / double(probes), 0.75);
+  EXPECT_LT(asked, asked_before);
+}
+
+TEST(RoutedQueryTest, AContactBehindANearerSheetYieldsToTheFirstCrossing) {
+  // Sphere B (centre x = 1) in front of sphere A (x = 0) for a probe coming from +x. The
+  // grid claims box 0 (baked from A alone) holds every triangle, so it names box 0 in B's
+  // cells: box 0 answers A's surface, behind B's. The first crossing (B) must win.
+  const test::TwoSpheres two = test::two_spheres(1.f);
+  BakeOptions o;
+  o.params = {12, 6};
+  o.refine = true;
+  const BoxScene baked = bake_scene(two.mesh, two.piece, o, SourceInfo{});
+  std::vector<std::vector<std::uint32_t>> lists(2);
+  for (std::uint32_t t = 0; t < two.piece.size(); ++t)
+    if (two.piece[t] == 1) lists[1].push_back(t);  // lists[0] empty: all triangles
+  auto grid = std::make_shared<const SceneGrid>(build_scene_grid(two.mesh, lists, SceneGridOptions{1.f / 40.f}));
+  const BoxScene scene(baked.boxes(), SourceInfo{}, {}, grid);
+  BoxScene grid_only = scene;
+  grid_only.set_cell_triangles(false);
+  const ExactQuery exact(two.mesh);
+  std::size_t probes = 0, right = 0, wrong_before = 0;
+  for (float y = -0.3f; y <= 0.3f; y += 0.05f)
+    for (float z = -0.3f; z <= 0.3f; z += 0.05f) {
+      const Segment s{Vec3(2.2f, y, z), Vec3(0.4f, y, z)};
+      if (grid->code_at(s.start) != SceneGrid::kOutside) continue;
+      const std::uint16_t code = grid->code_at(Vec3(2.f - 0.5f * (y * y + z * z), y, z));
+      ASSERT_GE(code, SceneGrid::kFirstSurface);
+      ASSERT_EQ(*grid->boxes_begin(code), 0u);
+      const Contact want = exact.query(s, kRoutedLaw);
+      ASSERT_TRUE(want.contact);
+      ++probes;
+      const Contact got = scene.query(s, kRoutedLaw), before = grid_only.query(s, kRoutedLaw);
+      right += got.contact && (got.point - want.point).norm() < 1e-3f ? 1 : 0;
+      wrong_before += !before.contact || (before.point - want.point).norm() > 0.1f ? 1 : 0;
+    }
+  ASSERT_GT(probes, 100u);
+  EXPECT_EQ(right, probes);
+  EXPECT_GT(wrong_before, probes / 2);  // the grid alone answered the sheet behind
 }
 
 TEST(RoutedQueryTest, BrickedCellWordsGiveTheCodeOfEveryCell) {

@@ -71,6 +71,64 @@ TEST(SceneGridTest, EveryCellWithoutSurfaceHasTheStateOfItsPoints) {
   EXPECT_GT(surface, 0u);
 }
 
+// Two spheres' scene, baked refined: the surface its boxes share.
+BoxScene refined_two_spheres(const test::TwoSpheres& two) {
+  BakeOptions o;
+  o.params = {12, 6};
+  o.refine = true;
+  return bake_scene(two.mesh, two.piece, o, SourceInfo{});
+}
+
+TEST(SurfaceCellsTest, EveryPointOfASurfaceCellIsInsideExactlyWhenItIsInsideTheMesh) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  const BoxScene scene = refined_two_spheres(two);
+  ASSERT_NE(scene.surface_cells(), nullptr);
+  const SurfaceCells& cells = *scene.surface_cells();
+  const SceneGrid& grid = *scene.grid();
+  ASSERT_GT(cells.cell_count(), 0u);
+  // Points of surface cells, clear of the polyhedron (inscribed in the unit spheres, within
+  // 0.01 of them at this subdivision) by 0.02: inside exactly when inside a sphere.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1.3f, 4.3f), v(-1.3f, 1.3f);
+  std::size_t tested = 0, decided = 0, right = 0;
+  for (int i = 0; i < 2000000 && tested < 20000; ++i) {
+    const Vec3 p(u(rng), v(rng), v(rng));
+    if (grid.code_at(p) < SceneGrid::kFirstSurface) continue;
+    const float r = std::min(p.norm(), (p - Vec3(3.f, 0.f, 0.f)).norm());
+    if (std::fabs(r - 1.f) < 0.02f) continue;
+    ++tested;
+    const std::uint16_t state = cells.state_at(p);
+    if (state == SceneGrid::kUnknown) continue;
+    ++decided;
+    right += (state == SceneGrid::kInside) == (r < 1.f) ? 1 : 0;
+  }
+  ASSERT_GT(tested, 5000u);
+  EXPECT_EQ(decided, tested);  // a closed mesh: every centre decided
+  EXPECT_EQ(right, decided);
+  // Beyond the surface cells it does not tell.
+  EXPECT_EQ(cells.state_at(Vec3(0.f, 0.f, 0.f)), SceneGrid::kUnknown);
+  EXPECT_EQ(cells.state_at(Vec3(std::nanf(""), 0.f, 0.f)), SceneGrid::kUnknown);
+}
+
+TEST(SurfaceCellsTest, ASurfaceCellListsEveryTriangleThatMeetsIt) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  const BoxScene scene = refined_two_spheres(two);
+  ASSERT_NE(scene.surface_cells(), nullptr);
+  const SurfaceCells& cells = *scene.surface_cells();
+  const SurfaceTriangles& surface = cells.surface();
+  for (std::uint32_t t = 0; t < two.mesh.triangle_count(); ++t) {
+    const Triangle& tri = two.mesh.triangles[t];
+    // The centroid and points near the corners: each cell holding one lists the triangle.
+    const Vec3 c = (two.mesh.positions[tri[0]] + two.mesh.positions[tri[1]] + two.mesh.positions[tri[2]]) / 3.f;
+    for (int k = 0; k < 4; ++k) {
+      const Vec3 p = k == 3 ? c : c + 0.98f * (two.mesh.positions[tri[k]] - c);
+      const std::uint32_t index = cells.index_at(p);
+      ASSERT_NE(index, SurfaceCells::kNone) << t;
+      EXPECT_NE(std::find(cells.begin(index), cells.end(index), surface.slot(t)), cells.end(index)) << t << " " << k;
+    }
+  }
+}
+
 TEST(SceneGridTest, WalkVisitsTheCrossedCellsInOrder) {
   const test::TwoSpheres two = test::two_spheres(3.f);
   const SceneGrid grid = build_scene_grid(two.mesh, lists_of(two));
