@@ -362,7 +362,7 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
     return s < std::numeric_limits<float>::infinity() && front &&
            (t_blend < 0.f || std::fabs(s - t_blend) <= refine_tolerance_);
   };
-  {
+  if (nearest_first_) {
     // The common case first: the nearest crossing by the planes alone (first among equals),
     // shaded once. When its shading succeeds, the loop below would pick the same candidate
     // (every candidate before it is farther, or shaded and then farther), with the same s;
