@@ -44,6 +44,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 #include <emmintrin.h>  // SSE2: the x86-64 baseline
 
 namespace hb {
@@ -315,18 +316,33 @@ constexpr int kWalkSteps = 8;
 // when it is a front face and agrees with the blend within the tolerance, replaces the blend.
 bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const float p1[3], const float l[3],
                        float t_blend, float& t0, Vec3& normal, std::uint32_t& triangle) const noexcept {
+  // The 16 samples' ids (4 corners x the 2 x 2 quad), then the distinct ones in the order
+  // first seen (misses dropped), without a branch a sample: id k is kept when no id before it
+  // is equal (one 16-lane equality mask per id) and it is not a miss.
   const std::size_t n = std::size_t(params_.n);
-  std::uint32_t candidates[16];
-  int count = 0;
+  alignas(16) std::uint32_t ids[16];
   for (int c = 0; c < 4; ++c) {
     const std::size_t first = layout_.first_sample(p00 + layout_.corner_step(c), sf, a0, b0);
-    const std::uint32_t quad[4] = {triangle_ids_.at(first), triangle_ids_.at(first + 1), triangle_ids_.at(first + n),
-                                   triangle_ids_.at(first + n + 1)};
-    for (std::uint32_t id : quad) {
-      if (id == kNoTriangle) continue;
-      bool seen = false;
-      for (int k = 0; k < count; ++k) seen |= candidates[k] == id;
-      if (!seen) candidates[count++] = id;
+    ids[4 * c] = triangle_ids_.at(first);
+    ids[4 * c + 1] = triangle_ids_.at(first + 1);
+    ids[4 * c + 2] = triangle_ids_.at(first + n);
+    ids[4 * c + 3] = triangle_ids_.at(first + n + 1);
+  }
+  std::uint32_t candidates[16];
+  int count = 0;
+  {
+    const __m128i i0 = _mm_load_si128(reinterpret_cast<const __m128i*>(ids));
+    const __m128i i1 = _mm_load_si128(reinterpret_cast<const __m128i*>(ids + 4));
+    const __m128i i2 = _mm_load_si128(reinterpret_cast<const __m128i*>(ids + 8));
+    const __m128i i3 = _mm_load_si128(reinterpret_cast<const __m128i*>(ids + 12));
+    for (int k = 0; k < 16; ++k) {
+      const __m128i v = _mm_set1_epi32(int(ids[k]));
+      const __m128i lo = _mm_packs_epi32(_mm_cmpeq_epi32(v, i0), _mm_cmpeq_epi32(v, i1));
+      const __m128i hi = _mm_packs_epi32(_mm_cmpeq_epi32(v, i2), _mm_cmpeq_epi32(v, i3));
+      const unsigned equal = unsigned(_mm_movemask_epi8(_mm_packs_epi16(lo, hi)));
+      const bool keep = (equal & ((1u << k) - 1u)) == 0u && ids[k] != kNoTriangle;
+      candidates[count] = ids[k];
+      count += keep ? 1 : 0;
     }
   }
   for (int k = 0; k < count; ++k) surface_->prefetch(candidates[k]);
@@ -342,6 +358,36 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
   // that way counts as crossed exactly as intersect() would have it.
   float hu[16], hv[16], hs[16];
   const unsigned planes = surface_->plane_hits(candidates, count, p1, l, hu, hv, hs);
+  const auto accepted = [&](float s, bool front) {
+    return s < std::numeric_limits<float>::infinity() && front &&
+           (t_blend < 0.f || std::fabs(s - t_blend) <= refine_tolerance_);
+  };
+  if (nearest_first_) {
+    // The common case first: the nearest crossing by the planes alone (first among equals),
+    // shaded once. When its shading succeeds, the loop below would pick the same candidate
+    // (every candidate before it is farther, or shaded and then farther), with the same s;
+    // when it is also accepted, no walk runs and that is the answer, bit for bit. Otherwise
+    // (a failed shading, a back face, beyond the tolerance) the loop below decides.
+    int nearest = -1;
+    float nearest_s = std::numeric_limits<float>::infinity();
+    for (int k = 0; k < count; ++k) {
+      const float u = hu[k], v = hv[k], sk = hs[k];
+      const bool inside = ((planes >> k) & 1u) && std::min(std::min(u, v), 1.f - u - v) >= 0.f && sk >= 0.f;
+      if (inside && sk < nearest_s) nearest_s = sk, nearest = k;
+    }
+    if (nearest >= 0) {
+      float s = 0.f;
+      Vec3 nrm;
+      bool front = false;
+      if (surface_->shade(candidates[nearest], l, hu[nearest], hv[nearest], hs[nearest], 0.f, s, nrm, front) &&
+          accepted(s, front)) {
+        t0 = s;
+        normal = nrm;
+        triangle = candidates[nearest];
+        return true;
+      }
+    }
+  }
   for (int k = 0; k < count; ++k) {
     float s = 0.f, outside = std::numeric_limits<float>::infinity();
     Vec3 nrm = Vec3::Zero();
@@ -370,10 +416,6 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
       best_id = candidates[k];
     }
   }
-  const auto accepted = [&](float s, bool front) {
-    return s < std::numeric_limits<float>::infinity() && front &&
-           (t_blend < 0.f || std::fabs(s - t_blend) <= refine_tolerance_);
-  };
   if (!accepted(best, best_front)) {
     // No candidate is crossed: the line passes between them. Walk from the candidate it
     // passes nearest, across the edges it passes, to the triangle it crosses.
@@ -452,6 +494,10 @@ bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact&
   }
 }
 
+
+// Whether locate() starts loading the four quads' triangle ids (every policy but the
+// geometry-only one of query_near, which reads no ids).
+template <class Fetch> struct prefetches_ids : std::true_type {};
 
 // A query between its two phases: the geometry (steps 1-3) is done and the corners'
 // samples are being fetched (step 4 began); finish() blends them.
@@ -548,7 +594,7 @@ bool HapticBox::locate(const Fetch& fetch, const Segment& segment, Located<Fetch
   // 4. Corners (P2..P5 of eq. 1): start all four corners' loads before using any
   // (memory-level parallelism instead of four serial misses).
   const std::size_t p00 = layout_.position_index(face, i0, j0);
-  if (triangle_ids_.data) {
+  if (triangle_ids_.data && prefetches_ids<Fetch>::value) {
     // The triangle ids of the four quads (refinement), loaded now so they arrive with the samples.
     const std::size_t n = std::size_t(params_.n);
     for (int c = 0; c < 4; ++c) {
@@ -728,13 +774,16 @@ void HapticBox::query_many(const Segment* segments, std::size_t count, const For
 }
 
 namespace {
-// A fetch policy that reads nothing (query_near needs the geometry of locate() only).
+// A fetch policy that reads no samples (query_refined: the triangle ids alone).
 struct NoFetch {
   struct Corner {};
   void begin(std::size_t, std::size_t, int, int, Corner&) const noexcept {}
   void resolve(Corner&) const noexcept {}
 };
+// Nor triangle ids (query_near needs the geometry of locate() only).
+struct GeometryOnly : NoFetch {};
 } // namespace
+template <> struct prefetches_ids<GeometryOnly> : std::false_type {};
 
 // Step 6's contact on a refined answer: the same arithmetic as finish().
 static bool refined_contact(float sx, float sy, float sz, float lx, float ly, float lz, float t_enter, float d,
@@ -752,8 +801,8 @@ bool HapticBox::query_near(const Segment& segment, const ForceLaw& law, std::uin
                            Contact& out, float& distance_from_handle, std::uint32_t* crossed) const noexcept {
   out = Contact{};
   if (!surface_) return false;
-  Located<NoFetch> q;
-  if (!locate(NoFetch{}, segment, q)) return false;
+  Located<GeometryOnly> q;
+  if (!locate(GeometryOnly{}, segment, q)) return false;
   const float p1[3] = {q.sx + q.t_enter * q.lx, q.sy + q.t_enter * q.ly, q.sz + q.t_enter * q.lz};
   const float l[3] = {q.lx, q.ly, q.lz};
   float t0 = 0.f;

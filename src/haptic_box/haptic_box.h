@@ -79,6 +79,12 @@ public:
   /// Default 256: 64 left 18 of the chess piece's 21 remaining lost slide ticks at the pole.
   void set_long_walk_steps(int steps) noexcept { long_walk_steps_ = steps; }
   int long_walk_steps() const noexcept { return long_walk_steps_; }
+  /// Refinement (step 7): test the candidate whose plane the line crosses nearest first and
+  /// shade it alone, answering at once when it is accepted (true, the default), or shade
+  /// every nearer crossing in candidate order (false: the loop before 2026-12-02). The same
+  /// answers either way, bit for bit (tests/core/refinement_test.cpp); for tests and timing.
+  void set_nearest_first(bool on) noexcept { nearest_first_ = on; }
+  bool nearest_first() const noexcept { return nearest_first_; }
   const TriangleIds& triangle_ids() const { return triangle_ids_; }
   const std::shared_ptr<const SurfaceTriangles>& surface() const { return surface_; }
   /// Bytes of the triangle ids (0 without refinement); with the shared surface, per scene:
@@ -190,6 +196,7 @@ private:
   float refine_tolerance_ = 0.f;  // largest |refined t - blended t| accepted (attach_surface)
   bool walk_from_all_ = true;     // set_walk_all_candidates
   int long_walk_steps_ = 256;     // set_long_walk_steps
+  bool nearest_first_ = true;     // set_nearest_first
 };
 
 } // namespace hb

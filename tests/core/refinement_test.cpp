@@ -160,6 +160,74 @@ TEST(RefinementTest, TheLongWalkConfirmsContactsFarFromTheSamplesHits) {
   EXPECT_EQ(scene.boxes()[0].long_walk_steps(), 256);  // the default
 }
 
+// Bit-for-bit equality of two answers (contact flag, every float, the distance).
+void expect_same_answer(const Contact& a, float along_a, const Contact& b, float along_b, std::size_t probe) {
+  const auto bits = [](float x) {
+    std::uint32_t u;
+    std::memcpy(&u, &x, sizeof u);
+    return u;
+  };
+  ASSERT_EQ(a.contact, b.contact) << "probe " << probe;
+  if (!a.contact) return;
+  ASSERT_EQ(bits(a.depth), bits(b.depth)) << "probe " << probe;
+  ASSERT_EQ(bits(along_a), bits(along_b)) << "probe " << probe;
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_EQ(bits(a.point[k]), bits(b.point[k])) << "probe " << probe;
+    ASSERT_EQ(bits(a.normal[k]), bits(b.normal[k])) << "probe " << probe;
+    ASSERT_EQ(bits(a.force[k]), bits(b.force[k])) << "probe " << probe;
+  }
+}
+
+// Step 7 shades the candidate crossed nearest alone and answers at once when it is accepted;
+// the loop that shades every nearer crossing in candidate order gives the same answers, bit
+// for bit, on random probes, on probes aimed at mesh vertices (several candidates crossed at
+// one point: ties), backwards from inside and with every refinement mode.
+TEST(RefinementTest, ShadingTheNearestCrossingFirstGivesTheSameAnswersBitForBit) {
+  const TriangleMesh& mesh = bumpy_mesh();
+  const BoxScene scene = bake_bumpy(true, 8, 4);
+  std::vector<Segment> probes = sample_probes(mesh, 3000);
+  ProbeOptions grazing;
+  grazing.cone_degrees = 85.f;
+  for (const Segment& s : sample_probes(mesh, 2000, grazing)) probes.push_back(s);
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<std::size_t> vertex(0, mesh.positions.size() - 1);
+  std::normal_distribution<float> gauss;
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3 p = mesh.positions[vertex(rng)];
+    const Vec3 d = Vec3(gauss(rng), gauss(rng), gauss(rng)).normalized();
+    probes.push_back({p - 0.2f * d, p + 0.05f * d});  // through a vertex
+    probes.push_back({p + 0.05f * d, p - 0.2f * d});  // from inside out
+  }
+  for (const HapticBox& fast : scene.boxes()) {
+    ASSERT_TRUE(fast.nearest_first());
+    HapticBox loop = fast;
+    loop.set_nearest_first(false);
+    std::size_t contacts = 0;
+    for (std::size_t i = 0; i < probes.size(); ++i) {
+      for (Refine mode : {Refine::all, Refine::misses}) {
+        Contact a, b;
+        float along_a = 0.f, along_b = 0.f;
+        bool refined_a = false, refined_b = false;
+        std::uint32_t tri_a = 0, tri_b = 1;
+        fast.query_into(probes[i], kRefineLaw, a, along_a, mode, &refined_a, &tri_a);
+        loop.query_into(probes[i], kRefineLaw, b, along_b, mode, &refined_b, &tri_b);
+        expect_same_answer(a, along_a, b, along_b, i);
+        ASSERT_EQ(refined_a, refined_b) << "probe " << i;
+        ASSERT_EQ(tri_a, tri_b) << "probe " << i;
+        contacts += a.contact ? 1 : 0;
+      }
+      Contact a, b;
+      float along_a = 0.f, along_b = 0.f;
+      std::uint32_t tri_a = 0, tri_b = 1;
+      fast.query_refined(probes[i], kRefineLaw, a, along_a, &tri_a);
+      loop.query_refined(probes[i], kRefineLaw, b, along_b, &tri_b);
+      expect_same_answer(a, along_a, b, along_b, i);
+      ASSERT_EQ(tri_a, tri_b) << "probe " << i;
+    }
+    EXPECT_GT(contacts, probes.size() / 4);  // the probes do reach the surface
+  }
+}
+
 // The contact rule of a refined answer is exact's: a front-face crossing on the segment, even
 // where the shaded normal faces along the line (a thin sheet's rim, a tilted stylus).
 TEST(RefinementTest, ARefinedContactIsAFrontFaceCrossingWhateverTheShadedNormal) {
