@@ -35,6 +35,7 @@ void add_bake_command(CLI::App& app) {
     bool strict = false;
     bool simplify = false;
     double simplify_shading = 0.0;
+    std::string simplify_shading_check = "fit";
     std::size_t simplify_above = hb::BudgetRecipe{}.simplify_above;
   };
   auto opts = std::make_shared<Opts>();
@@ -70,9 +71,15 @@ void add_bake_command(CLI::App& app) {
                 "Default bake: above 200,000 triangles, bake and refine against the mesh simplified within the "
                 "budget's deviation (1.5e-5 of the diagonal by default); judged against the full mesh");
   cmd->add_option("--simplify-shading", opts->simplify_shading,
-                  "With --simplify: keep a vertex whose neighbours' shaded normals differ from its own by more than "
-                  "this (degrees; 0: a fifth of the budget's dir99; 180: no check)")
+                  "With --simplify: the shading check's bound (degrees; 0: 0.3 x the budget's dir99 with the fit "
+                  "check, 0.2 x with the ring check; 180: no check)")
       ->check(hb::cli::finite_range(0.0, 180.0))->capture_default_str();
+  cmd->add_option("--simplify-shading-check", opts->simplify_shading_check,
+                  "With --simplify: fit (a collapse is legal when each new face's own corner normals fit the full "
+                  "mesh's shading of the vertices it replaced within the bound) or ring (a removed vertex's "
+                  "neighbours' normals within the bound of its own: the first check). Either way the simplified "
+                  "surface's corner normals are then fitted to the full mesh's shading")
+      ->check(CLI::IsMember({"fit", "ring"}))->capture_default_str();
   cmd->add_option("--simplify-above", opts->simplify_above, "With --simplify: simplify meshes of more triangles than this")
       ->capture_default_str();
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
@@ -80,7 +87,8 @@ void add_bake_command(CLI::App& app) {
     // Without a sampling option the bake is the default, budgeted one (hb::default_recipe):
     // the pieces, codec and seam options given still apply to it.
     const bool sampling_given = cmd->count("-m") + cmd->count("-n") + cmd->count("--cell") + cmd->count("--refine") > 0;
-    if (sampling_given && (cmd->count("--simplify") || cmd->count("--simplify-shading") || cmd->count("--simplify-above")))
+    if (sampling_given && (cmd->count("--simplify") || cmd->count("--simplify-shading") || cmd->count("--simplify-above") ||
+                           cmd->count("--simplify-shading-check")))
       throw hb::cli::UsageError("bake: --simplify belongs to the default bake; drop -m, -n, --cell and --refine, or --simplify");
     if (sampling_given && cmd->count("--budget"))
       throw hb::cli::UsageError("bake: --budget chooses -n, --cell and --refine per piece; drop -m, -n, --cell and --refine, or --budget");
@@ -93,6 +101,8 @@ void add_bake_command(CLI::App& app) {
       }
       r.budget.simplify = opts->simplify;
       r.budget.simplify_shading_deg = opts->simplify_shading;
+      r.budget.simplify_shading_check = opts->simplify_shading_check == "ring" ? hb::DecimationOptions::ShadingCheck::ring
+                                                                               : hb::DecimationOptions::ShadingCheck::fit;
       r.budget.simplify_above = opts->simplify_above;
       if (cmd->count("--max-m")) r.options.density.max_m = opts->recipe.options.density.max_m;
       if (cmd->count("--padding")) r.options.obb.padding = opts->recipe.options.obb.padding;

@@ -1,15 +1,20 @@
 #pragma once
-// How far a simplified surface (hb::decimate) is from the full one, measured.
+// How far a simplified surface (hb::decimate) is from the full one, measured, and the
+// simplified surface's shading fitted to the full one's.
 #include "mesh/triangle_mesh.h"
 #include <cstddef>
 #include <cstdint>
 
 namespace hb {
 
-/// Distances from the full surface to the simplified one (model units).
+/// Distances from the full surface to the simplified one (model units), and the angles
+/// between their shaded normals there (degrees).
 struct SurfaceDeviation {
   std::size_t samples = 0;
   double mean = 0.0, p99 = 0.0, max = 0.0;
+  /// Angle between the full mesh's shaded normal at the sample and the simplified mesh's
+  /// shaded normal where the sample's normal line meets it (samples that meet it only).
+  double normal_median_deg = 0.0, normal_p95_deg = 0.0, normal_p99_deg = 0.0;
 };
 
 /// From `samples` points on `full` (uniform by area, seed `seed`), the distance along the
@@ -18,5 +23,26 @@ struct SurfaceDeviation {
 /// over-state the deviation. On all cores. Throws hb::InvalidInput on an empty mesh.
 SurfaceDeviation measure_deviation(const TriangleMesh& full, const TriangleMesh& simplified, std::size_t samples,
                                    double cap, std::uint64_t seed = 7);
+
+/// What fit_shading() did.
+struct ShadingFitStats {
+  std::size_t triangles = 0;  ///< triangles of the simplified surface.
+  std::size_t fitted = 0;     ///< of them, those whose corner normals were fitted (the rest keep their vertex normals).
+  double seconds = 0.0;
+};
+
+/// The simplified surface with its shading fitted to the full mesh's: each triangle of
+/// `simplified` gets three vertices of its own (same positions, same triangle order, so
+/// triangle ids and the welded-by-position neighbours of SurfaceTriangles are unchanged)
+/// whose normals are the least-squares fit, over a barycentric grid of `grid` steps a side,
+/// of the full mesh's shaded normal where the triangle's normal line through the grid point
+/// meets the full mesh (within `cap`, the nearest hit facing the same way). The exact answer
+/// shades with the full mesh's normals; a simplified triangle that spans many of its
+/// triangles (a flat-subdivided mesh's faceted shading, a curved region) then interpolates
+/// the shading that region has rather than the normals of the kept vertices. A triangle
+/// with fewer than 3 grid points met keeps its vertex normals. On all cores. Throws
+/// hb::InvalidInput on an empty mesh, a simplified mesh without normals or grid < 1.
+TriangleMesh fit_shading(const TriangleMesh& full, const TriangleMesh& simplified, double cap, int grid = 6,
+                         ShadingFitStats* stats = nullptr);
 
 } // namespace hb

@@ -8,6 +8,7 @@
 #include "decomposition/seam_overlap.h"
 #include "haptic_box/bake.h"
 #include "haptic_box/error_budget.h"
+#include "mesh/decimation.h"
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -81,9 +82,14 @@ struct BudgetRecipe {
   bool simplify = false;
   std::size_t simplify_above = 200000;
   double simplify_deviation = 0.0;
-  /// Shading check (DecimationOptions::max_shading_deviation_deg): degrees, 0 for a fifth
-  /// of the budget's direction p99, 180 for none.
+  /// Shading check (DecimationOptions::max_shading_deviation_deg): degrees, 0 for the
+  /// default (fit check: 0.3 x the budget's direction p99; ring check: 0.2 x), 180 for none.
   double simplify_shading_deg = 0.0;
+  /// How the shading is checked while simplifying (DecimationOptions::shading_check): by
+  /// default `fit` (each face's corner normals fitted to the shading of the vertices it
+  /// replaced); `ring` is the first check (2026-12-02 morning). Either way the simplified
+  /// surface's corner normals are then fitted to the full mesh's shading (hb::fit_shading).
+  DecimationOptions::ShadingCheck simplify_shading_check = DecimationOptions::ShadingCheck::fit;
 };
 
 /// The deviation (fraction of the mesh diagonal) a budgeted bake may simplify its surface by:

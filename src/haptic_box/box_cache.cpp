@@ -74,7 +74,8 @@ std::uint64_t recipe_key(const BakeRecipe& r) {
     if (b.surface_tolerance > 0) k << " surface " << hexfloat(float(b.surface_tolerance));
     if (b.simplify)
       k << " simplify " << b.simplify_above << ' ' << hexfloat(float(b.simplify_deviation)) << ' '
-        << hexfloat(float(b.simplify_shading_deg));
+        << hexfloat(float(b.simplify_shading_deg)) << " fitted-shading "
+        << (b.simplify_shading_check == DecimationOptions::ShadingCheck::fit ? "fit" : "ring");
   }
   const std::string text = k.str();
   return XXH3_64bits(text.data(), text.size());

@@ -119,6 +119,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   BudgetReport rep;
   // Step 0: the surface to bake against (`base`), the full mesh or a simplified one.
   TriangleMesh simplified;
+  TriangleMesh shaded;  // `simplified` with corner normals of its own fitted to the full mesh's shading
   bool use_simplified = false;
   // Piece files and given ids name the full mesh's triangles: those bakes keep it.
   const bool own_pieces = recipe.pieces.kind == PiecesRecipe::Kind::automatic || recipe.pieces.kind == PiecesRecipe::Kind::none;
@@ -129,22 +130,32 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     const auto ts = std::chrono::steady_clock::now();
     DecimationOptions d;
     d.max_deviation = double(diagonal) * (br.simplify_deviation > 0 ? br.simplify_deviation : simplification_bound(br.budget));
-    d.max_shading_deviation_deg = br.simplify_shading_deg > 0 ? br.simplify_shading_deg : 0.2 * br.budget.direction_p99_deg;
+    d.shading_check = br.simplify_shading_check;
+    const bool fit_check = d.shading_check == DecimationOptions::ShadingCheck::fit;
+    d.max_shading_deviation_deg = br.simplify_shading_deg > 0 ? br.simplify_shading_deg
+                                                              : (fit_check ? 0.3 : 0.2) * br.budget.direction_p99_deg;
     DecimationResult dr = decimate(mesh, d);
     if (double(dr.mesh.triangle_count()) < 0.9 * double(mesh.triangle_count())) {
       simplified = std::move(dr.mesh);
       use_simplified = true;
-      const SurfaceDeviation dev = measure_deviation(mesh, simplified, 100000, 0.002 * double(diagonal));
+      // The exact answers shade with the full mesh's normals: the refinement records and the
+      // rays' samples take corner normals fitted to them (the decomposition, the lists and
+      // the grid keep the shared-vertex surface; same triangles in the same order).
+      shaded = fit_shading(mesh, simplified, 0.002 * double(diagonal));
+      const SurfaceDeviation dev = measure_deviation(mesh, shaded, 100000, 0.002 * double(diagonal));
       rep.full_triangles = mesh.triangle_count();
       rep.surface_triangles = simplified.triangle_count();
       rep.surface_bound = d.max_deviation;
       rep.surface_deviation_mean = dev.mean;
       rep.surface_deviation_p99 = dev.p99;
       rep.surface_deviation_max = dev.max;
+      rep.surface_normal_median_deg = dev.normal_median_deg;
+      rep.surface_normal_p99_deg = dev.normal_p99_deg;
     }
     rep.simplify_seconds = seconds_since(ts);
   }
   const TriangleMesh& base = use_simplified ? simplified : mesh;
+  const TriangleMesh& cast = use_simplified ? shaded : mesh;  // what the rays hit and the refinement shades with
   const auto td = std::chrono::steady_clock::now();
   std::vector<std::uint32_t> ids = resolve_piece_ids(base, recipe.pieces);
   if (recipe.pieces.kind == PiecesRecipe::Kind::automatic) result.decompose_seconds = seconds_since(td);
@@ -154,7 +165,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   const ForceLaw law{};
   const ExactQuery exact(mesh);
   const Tuning tuning = tune_probes(mesh, exact, br.probes, br.tuning_seed, law);
-  const auto surface = std::make_shared<const SurfaceTriangles>(base);
+  const auto surface = std::make_shared<const SurfaceTriangles>(cast);
   // The piece ids the scene records are per triangle of the full mesh; a simplified
   // surface's pieces are not (the scene then records none).
   const std::vector<std::uint32_t> scene_ids = use_simplified ? std::vector<std::uint32_t>{} : ids;
@@ -193,7 +204,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     if (pending.empty()) return;
     ++tried;
     BakeStats stats;
-    BoxScene part = bake_scene_from_lists(base, pending, options_for(c), src, &stats);
+    BoxScene part = bake_scene_from_lists(cast, pending, options_for(c), src, &stats);
     if (recipe.codec.codec != CodecId::none) part = part.compressed(recipe.codec);
     rays += stats.rays;
     hits += stats.hits;

@@ -106,7 +106,8 @@ std::string BudgetReport::serialize() const {
     os << "full_triangles=" << full_triangles << "\nsurface_triangles=" << surface_triangles
        << "\nsurface_bound=" << surface_bound << "\nsurface_deviation_mean=" << surface_deviation_mean
        << "\nsurface_deviation_p99=" << surface_deviation_p99 << "\nsurface_deviation_max=" << surface_deviation_max
-       << "\n";
+       << "\nsurface_normal_median_deg=" << surface_normal_median_deg
+       << "\nsurface_normal_p99_deg=" << surface_normal_p99_deg << "\n";
   for (const PieceChoice& p : pieces)
     os << "piece=" << p.cell << " " << p.n << " " << (p.refine ? 1 : 0) << " " << p.probes << "\n";
   return os.str();
@@ -147,6 +148,8 @@ BudgetReport BudgetReport::parse(const std::string& text) {
     else if (key == "surface_deviation_mean") r.surface_deviation_mean = number(v, key, 0, 1e30);
     else if (key == "surface_deviation_p99") r.surface_deviation_p99 = number(v, key, 0, 1e30);
     else if (key == "surface_deviation_max") r.surface_deviation_max = number(v, key, 0, 1e30);
+    else if (key == "surface_normal_median_deg") r.surface_normal_median_deg = number(v, key, 0, 180);
+    else if (key == "surface_normal_p99_deg") r.surface_normal_p99_deg = number(v, key, 0, 180);
     else if (key == "simplify_seconds") r.simplify_seconds = number(v, key, 0, 1e9);
     else if (key == "piece") {
       std::stringstream ps(v);
@@ -175,7 +178,9 @@ std::string BudgetReport::summary() const {
      << force_p95 * 100.0 << "%, direction p99 " << direction_p99_deg << " deg";
   if (surface_triangles > 0)
     os << "; refined against " << surface_triangles << " of " << full_triangles << " triangles (simplified within "
-       << surface_bound << ", measured max " << surface_deviation_max << ", p99 " << surface_deviation_p99 << ")";
+       << surface_bound << ", measured max " << surface_deviation_max << ", p99 " << surface_deviation_p99
+       << "; shading fitted, normals within " << surface_normal_median_deg << " deg median, " << surface_normal_p99_deg
+       << " p99)";
   return os.str();
 }
 

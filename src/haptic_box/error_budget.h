@@ -62,6 +62,9 @@ struct BudgetReport {
   std::uint64_t full_triangles = 0;
   std::uint64_t surface_triangles = 0;
   double surface_bound = 0, surface_deviation_mean = 0, surface_deviation_p99 = 0, surface_deviation_max = 0;
+  /// The angle between the full mesh's shaded normals and the surface's (its corner normals
+  /// fitted to them, hb::fit_shading) at the same points (median, p99; degrees).
+  double surface_normal_median_deg = 0, surface_normal_p99_deg = 0;
   double simplify_seconds = 0;
 
   /// "key=value" lines (the file form); parse() reads them back and throws hb::InvalidInput on

@@ -23,6 +23,20 @@ struct DecimationOptions {
   /// this of its own (degrees; 180: no such check): the normals interpolated across the
   /// faces that replace it then stay near the full mesh's shading, which exact answers use.
   double max_shading_deviation_deg = 180.0;
+  /// How max_shading_deviation_deg is checked (both: no check at 180).
+  enum class ShadingCheck {
+    /// A vertex is removed only when its one-ring's shaded normals are within the bound of its
+    /// own (the first check; conservative: a flat-subdivided mesh's faceted normals keep
+    /// almost every vertex).
+    ring,
+    /// Every face keeps the removed vertices it covers (as OpenMesh's ModHausdorffT keeps
+    /// points); a collapse is legal when each new face's corner normals can be fitted (least
+    /// squares, corner normals of its own, as hb::fit_shading fits them afterwards) to the
+    /// full mesh's shaded normals of those vertices and its corners within the bound. The
+    /// vertices are carried from pass to pass.
+    fit,
+  };
+  ShadingCheck shading_check = ShadingCheck::ring;
   /// Meshes of more triangles than this are cut into spatial chunks (Morton order of the
   /// centroids) decimated in parallel (TBB) with the vertices they share locked, then the
   /// joined mesh is decimated once more across the chunk borders. 0: never chunked.
