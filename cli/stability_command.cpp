@@ -58,7 +58,8 @@ void add_stability_command(CLI::App& app) {
                                  "Trajectory stability suite: box and exact side by side (calibration gate, T1-T8)");
   struct Opts {
     std::string box, mesh, device = "falcon", tests, safety = "hold", depth = "normal", unconfirmed = "reject",
-                walk = "all";
+                walk = "all",
+                law = "penalty";
     std::size_t sites = 12;
     std::uint64_t seed = 1;
     bool json = false, no_generated = false, energy_guard = false, strict = false;
@@ -83,6 +84,12 @@ void add_stability_command(CLI::App& app) {
   cmd->add_option("--depth-law", o->depth, "Force law depth: normal (default) or along (the paper's eq. 2)")
       ->check(CLI::IsMember({"normal", "along"}))
       ->capture_default_str();
+  cmd->add_option("--law", o->law,
+                  "How answers become forces along a trajectory: penalty (default: the depth law on each answer) "
+                  "or proxy (a god-object over the same answerer, box and exact alike)")
+      ->check(CLI::IsMember({"penalty", "proxy"}))
+      ->capture_default_str();
+  cmd->add_flag_callback("--proxy", [o] { o->law = "proxy"; }, "Same as --law proxy");
   cmd->add_option("--unconfirmed", o->unconfirmed,
                   "Refined scenes' unconfirmed blends: reject (default) or keep (the first refined scenes)")
       ->check(CLI::IsMember({"reject", "keep"}))
@@ -108,6 +115,7 @@ void add_stability_command(CLI::App& app) {
     so.sites = o->sites;
     so.seed = o->seed;
     so.depth_law = o->depth == "along" ? hb::DepthLaw::along_segment : hb::DepthLaw::normal;
+    so.contact_law = hb::contact_law(o->law);
     so.generated = !o->no_generated;
     so.generated_refine = scene.refines();
     so.model_name = o->mesh.substr(o->mesh.find_last_of('/') + 1);
@@ -138,11 +146,12 @@ void add_stability_command(CLI::App& app) {
       j["mesh"] = o->mesh;
       j["unconfirmed"] = o->unconfirmed;
       j["refine_walk"] = o->walk;
+      j["contact_law"] = rep.contact_law;
       hb::cli::print_json(j);
     } else if (comm.is_root()) {
-      std::printf("stability %s vs %s: device %s, depth law %s, unconfirmed blends %s, refinement walks %s, "
-                  "T6/T8 filter: %s\n",
-                  o->box.c_str(), o->mesh.c_str(), rep.device.c_str(), rep.depth_law.c_str(),
+      std::printf("stability %s vs %s: device %s, contact law %s, depth law %s, unconfirmed blends %s, refinement "
+                  "walks %s, T6/T8 filter: %s\n",
+                  o->box.c_str(), o->mesh.c_str(), rep.device.c_str(), rep.contact_law.c_str(), rep.depth_law.c_str(),
                   o->unconfirmed.c_str(), o->walk.c_str(), rep.filter.c_str());
       std::printf("calibration gate: %s\n", rep.calibration_pass ? "pass" : "FAIL (the harness is wrong)");
       print_table(rep.calibration);

@@ -55,8 +55,10 @@ struct Bounce {
 
 Bounce free_bounce(const ContactQuery& q, const ForceLaw& law, const DeviceSpaceMap& map, const DeviceProfile& dev,
                    const Vec3d& surface_m, const Vec3d& inward, double v0, double stylus_m,
-                   const std::vector<Stall>& stalls = {}, TickFilter* filter = nullptr) {
+                   const std::vector<Stall>& stalls = {}, TickFilter* filter = nullptr,
+                   ContactLaw contact_law = ContactLaw::penalty) {
   ClosedLoopRun run;
+  run.contact_law = contact_law;
   run.device = dev;
   run.start_m = surface_m - 1e-9 * inward;  // at the surface: v0 is the entry speed
   run.start_velocity = v0 * inward;
@@ -230,6 +232,7 @@ public:
     return l;
   }
   double k_max() const { return o_.device.max_stiffness_n_per_m; }
+  ContactLaw cl() const { return o_.contact_law; }
   double k_half() const { return 0.5 * k_max(); }
 
   std::unique_ptr<TickFilter> filter() const {
@@ -252,6 +255,7 @@ public:
     run.seconds = seconds;
     run.stylus_dir = site.inward;
     run.stylus_m = o_.stylus_m;
+    run.contact_law = cl();
     return run;
   }
 
@@ -260,16 +264,16 @@ public:
   // T1: free bounces at k = K_max with b = 0 and b at the passivity bound; hold and release.
   void t1(const Scene& s) {
     const ForceLaw lw = law(s, k_max());
-    double worst_diff = -1e9, box0 = 0, ex0 = 0, boxb = 0, exb = 0;
+    double worst_diff = -1e9, box0 = 0, ex0 = 0, boxb = 0, exb = 0, boxf = 0, exf = 0;
     std::size_t n = 0, both_bounce = 0, box_pops = 0, exact_pops = 0;
     for (const Site& site : s.sites) {
       DeviceProfile dev = o_.device;
       dev.damping_n_s_per_m = 0;
-      const Bounce bb = free_bounce(*s.box, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m);
-      const Bounce be = free_bounce(*s.exact, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m);
+      const Bounce bb = free_bounce(*s.box, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {}, nullptr, cl());
+      const Bounce be = free_bounce(*s.exact, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {}, nullptr, cl());
       dev.damping_n_s_per_m = dev.passivity_damping(k_max());
-      const Bounce db = free_bounce(*s.box, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m);
-      const Bounce de = free_bounce(*s.exact, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m);
+      const Bounce db = free_bounce(*s.box, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {}, nullptr, cl());
+      const Bounce de = free_bounce(*s.exact, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {}, nullptr, cl());
       // A bounce that went through (the tip slid off an edge and went on inward) has no
       // restitution: the difference is over the sites where both bounce, and the sites where
       // only one goes through are counted apart (the box going through where exact bounces
@@ -279,6 +283,14 @@ public:
         worst_diff = bb.restitution - be.restitution, box0 = bb.restitution, ex0 = be.restitution;
       both_bounce += !bb.popped && !be.popped;
       boxb = std::max(boxb, db.restitution), exb = std::max(exb, de.restitution);
+      if (o_.filter) {  // the same bounce through the servo's force path (energy guard, safety)
+        auto fb = filter(), fe = filter();
+        const Bounce gb = free_bounce(*s.box, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {},
+                                      fb.get(), cl());
+        const Bounce ge = free_bounce(*s.exact, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {},
+                                      fe.get(), cl());
+        boxf = std::max(boxf, gb.restitution), exf = std::max(exf, ge.restitution);
+      }
       ++n;
     }
     if (n == 0) return;
@@ -289,6 +301,9 @@ public:
                    " sites", "", double(box_pops), double(exact_pops), StabilityRule::at_most, 0));
     add(metric("T1", s.name, "free bounce restitution, b = kT/2 (passivity bound), worst site", "", boxb, exb,
                StabilityRule::at_most, 1.0));
+    if (o_.filter)
+      add(metric("T1", s.name, "same, through the servo's filter (" + o_.filter_name + "), worst site", "", boxf, exf,
+                 StabilityRule::at_most, 1.0));
     // Hold and release: light grip pushing about 1.5 N at k = K_max / 2, then letting go.
     const ForceLaw lh = law(s, k_half());
     double decay_b = 0, decay_e = 0;
@@ -343,8 +358,8 @@ public:
           const Vec3d dir = tilt > 0 ? tilted(site.inward, tilt, i) : site.inward;
           const auto tips = surface_path(s, site, dir, speed, 150, i + std::size_t(speed * 100));
           if (tips.size() < 10) continue;
-          const auto rb = play_positions(*s.box, lw, s.map, tips, dir, o_.stylus_m, o_.device.period_s);
-          const auto re = play_positions(*s.exact, lw, s.map, tips, dir, o_.stylus_m, o_.device.period_s);
+          const auto rb = play_positions(*s.box, lw, s.map, tips, dir, o_.stylus_m, o_.device.period_s, cl());
+          const auto re = play_positions(*s.exact, lw, s.map, tips, dir, o_.stylus_m, o_.device.period_s, cl());
           std::size_t prev_met = 0;
           for (std::size_t k = 0; k < tips.size(); ++k) {
             const bool cb = rb[k].contact, ce = re[k].contact;
@@ -440,7 +455,7 @@ public:
       for (double d = -0.001; d <= 0.012; d += 0.1 * o_.device.period_s) tips.push_back(top + d * dir);
       for (int which = 0; which < 2; ++which) {
         const auto r = play_positions(which ? *s.exact : *s.box, lw, s.map, tips, dir, o_.stylus_m,
-                                      o_.device.period_s);
+                                      o_.device.period_s, cl());
         bool began = false;
         for (std::size_t k = 0; k < r.size(); ++k) {
           if (r[k].force.z() < -kFloor) ++flips[which];
@@ -474,6 +489,7 @@ public:
       run.seconds = 2.0;
       run.stylus_dir = Vec3d(0, 0, -1);
       run.stylus_m = o_.stylus_m;
+      run.contact_law = cl();
       const auto ticks = run_closed_loop(which ? *s.exact : *s.box, lw, s.map, run);
       double lat2 = 0, fsum = 0;
       int n = 0, sw = 0, last = 0;
@@ -506,7 +522,7 @@ public:
     const double step = 0.1 * o_.device.period_s;
     for (double d = -0.0005; d < 0.001; d += step) tips.push_back(site.surface_m + d * site.inward);
     for (double d = 0.001; d > -0.0005; d -= step) tips.push_back(site.surface_m + d * site.inward);
-    const auto r = play_positions(q, lw, s.map, tips, dir, o_.stylus_m, o_.device.period_s);
+    const auto r = play_positions(q, lw, s.map, tips, dir, o_.stylus_m, o_.device.period_s, cl());
     return passivity_equivalent_stiffness(r, o_.device.period_s) / k;
   }
 
@@ -540,8 +556,9 @@ public:
           auto f = o_.filter ? o_.filter() : nullptr;  // a servo (re)starting: its ramp runs
           const Vec3d tip = site.surface_m + depth * site.inward;
           std::vector<double> mags;
+          TrajectoryRenderer rend(q, lw, s.map, cl());
           for (int k = 0; k < 300; ++k) {
-            const Rendered r = render(q, lw, s.map, tip, site.inward, o_.stylus_m);
+            const Rendered r = rend(tip, site.inward, o_.stylus_m);
             Vec3d out = f ? f->apply(r.force, tip, Vec3d::Zero(), 0.0) : r.force;
             if (out.norm() > o_.device.max_force_n) out *= o_.device.max_force_n / out.norm();
             mags.push_back(out.norm());
@@ -591,8 +608,8 @@ public:
         std::vector<Vec3d> tips;
         for (double d = 0.001; d > -0.002; d -= speed * o_.device.period_s)
           tips.push_back(site.surface_m + d * site.inward);
-        const auto rb = play_positions(*s.box, lw, s.map, tips, site.inward, o_.stylus_m, o_.device.period_s);
-        const auto re = play_positions(*s.exact, lw, s.map, tips, site.inward, o_.stylus_m, o_.device.period_s);
+        const auto rb = play_positions(*s.box, lw, s.map, tips, site.inward, o_.stylus_m, o_.device.period_s, cl());
+        const auto re = play_positions(*s.exact, lw, s.map, tips, site.inward, o_.stylus_m, o_.device.period_s, cl());
         std::size_t end_e = 0, end_b = 0;
         for (std::size_t k = 0; k < tips.size(); ++k) {
           if (re[k].contact) end_e = k + 1;
@@ -649,8 +666,8 @@ public:
           const double quarter = 0.5 * kPi * std::sqrt(dev.mass_kg / k_max()) / dev.period_s;
           const std::vector<Stall> stall{Stall{std::size_t(std::llround(1.2 * quarter)) + 1, ticks}};
           auto g = filter();
-          const Bounce b = free_bounce(q, lb, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, stall, g.get());
-          const Bounce n = free_bounce(q, lb, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, stall);
+          const Bounce b = free_bounce(q, lb, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, stall, g.get(), cl());
+          const Bounce n = free_bounce(q, lb, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, stall, nullptr, cl());
           const double rb = b.popped ? 9.0 : b.restitution, rn = n.popped ? 9.0 : n.restitution;
           added[which] = std::max(added[which], rb - rn);
           with[which] = std::max(with[which], rb);
@@ -809,6 +826,7 @@ StabilityReport run_stability_suite(const BoxScene& box, const TriangleMesh& mes
   rep.device = o.device.name;
   rep.filter = o.filter_name;
   rep.depth_law = o.depth_law == DepthLaw::normal ? "normal" : "along_segment";
+  rep.contact_law = to_string(o.contact_law);
   const Suite wanted(o);
 
   // The model (every rank fits it and picks the same sites: both are deterministic).

@@ -53,6 +53,9 @@ struct StabilityOptions {
   double stylus_m = 0.008;       ///< the virtual stylus, handle to tip (the project's 8 mm).
   double diagonal_m = 0.08;      ///< the model's OBB diagonal in device space.
   DepthLaw depth_law = DepthLaw::normal;
+  /// How answers become forces along a trajectory: the penalty law (default) or a proxy
+  /// (god-object) over the same answerer, box and exact alike.
+  ContactLaw contact_law = ContactLaw::penalty;
   /// The servo's per-tick filter (hb::device's safety, with or without the energy guard) for
   /// T6 and T8; empty: the force law goes to the device unfiltered.
   TickFilterFactory filter;
@@ -69,7 +72,7 @@ struct StabilityOptions {
 };
 
 struct StabilityReport {
-  std::string device, filter, depth_law;
+  std::string device, filter, depth_law, contact_law = "penalty";
   std::vector<StabilityMetric> calibration;
   bool calibration_pass = false;
   std::vector<StabilityMetric> metrics;

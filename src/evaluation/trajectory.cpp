@@ -50,11 +50,14 @@ DeviceSpaceMap fit_device_space(const TriangleMesh& mesh, double diagonal_m) {
   return m;
 }
 
-Rendered render(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map, const Vec3d& tip_m,
-                const Vec3d& dir, double stylus_m) {
+namespace {
+
+Segment trajectory_segment(const DeviceSpaceMap& map, const Vec3d& tip_m, const Vec3d& dir, double stylus_m) {
   const Vec3 tip = map.to_model(tip_m);
-  const Vec3 start = tip - (dir * (stylus_m / map.metres_per_unit)).cast<float>();
-  const Contact c = query.query(Segment{start, tip}, law);
+  return Segment{tip - (dir * (stylus_m / map.metres_per_unit)).cast<float>(), tip};
+}
+
+Rendered rendered_answer(const Contact& c, const DeviceSpaceMap& map) {
   Rendered r;
   if (!c.contact) return r;
   r.contact = true;
@@ -63,6 +66,30 @@ Rendered render(const ContactQuery& query, const ForceLaw& law, const DeviceSpac
   r.depth_m = c.depth * map.metres_per_unit;
   r.point_m = map.to_device(c.point);
   return r;
+}
+
+} // namespace
+
+Rendered render(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map, const Vec3d& tip_m,
+                const Vec3d& dir, double stylus_m) {
+  return rendered_answer(query.query(trajectory_segment(map, tip_m, dir, stylus_m), law), map);
+}
+
+const char* to_string(ContactLaw law) noexcept { return law == ContactLaw::proxy ? "proxy" : "penalty"; }
+
+ContactLaw contact_law(const std::string& name) {
+  if (name == "penalty") return ContactLaw::penalty;
+  if (name == "proxy") return ContactLaw::proxy;
+  throw InvalidInput("contact law '" + name + "': expected penalty or proxy");
+}
+
+TrajectoryRenderer::TrajectoryRenderer(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map,
+                                       ContactLaw kind, GodObjectOptions proxy_options)
+    : query_(query), law_(law), map_(map), kind_(kind), proxy_(query, proxy_options) {}
+
+Rendered TrajectoryRenderer::operator()(const Vec3d& tip_m, const Vec3d& dir, double stylus_m) noexcept {
+  const Segment s = trajectory_segment(map_, tip_m, dir, stylus_m);
+  return rendered_answer(kind_ == ContactLaw::proxy ? proxy_.step(s, law_) : query_.query(s, law_), map_);
 }
 
 Contact AnalyticWall::query(const Segment& segment, const ForceLaw& law) const noexcept {
@@ -96,6 +123,7 @@ std::vector<TickRecord> run_closed_loop(const ContactQuery& query, const ForceLa
   out.reserve(ticks);
   std::deque<Vec3d> pending(std::size_t(dev.delay_ticks), Vec3d::Zero());
   Vec3d x = run.start_m, v = run.start_velocity, applied = Vec3d::Zero(), prev_sample = x;
+  TrajectoryRenderer renderer(query, law, map, run.contact_law);
   std::size_t contact_ticks = 0, stall_left = 0, stall_length = 0, next_stall = 0;
   for (std::size_t k = 0; k < ticks; ++k) {
     const double t = k * T;
@@ -114,7 +142,7 @@ std::vector<TickRecord> run_closed_loop(const ContactQuery& query, const ForceLa
       Vec3d xs = x;
       if (dev.quantum_m > 0)
         for (int a = 0; a < 3; ++a) xs[a] = dev.quantum_m * std::floor(x[a] / dev.quantum_m);
-      const Rendered r = render(query, law, map, xs, run.stylus_dir, run.stylus_m);
+      const Rendered r = renderer(xs, run.stylus_dir, run.stylus_m);
       rec.desired = r.force;
       rec.normal = r.normal;
       rec.contact = r.contact;
@@ -163,15 +191,16 @@ std::vector<TickRecord> run_closed_loop(const ContactQuery& query, const ForceLa
 
 std::vector<TickRecord> play_positions(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map,
                                        const std::vector<Vec3d>& tips_m, const Vec3d& stylus_dir, double stylus_m,
-                                       double period_s) {
+                                       double period_s, ContactLaw contact_law) {
   std::vector<TickRecord> out(tips_m.size());
+  TrajectoryRenderer renderer(query, law, map, contact_law);
   for (std::size_t k = 0; k < tips_m.size(); ++k) {
     TickRecord& r = out[k];
     r.t = k * period_s;
     r.x = tips_m[k];
     if (k + 1 < tips_m.size()) r.v = (tips_m[k + 1] - tips_m[k]) / period_s;
     else if (k > 0) r.v = (tips_m[k] - tips_m[k - 1]) / period_s;
-    const Rendered q = render(query, law, map, tips_m[k], stylus_dir, stylus_m);
+    const Rendered q = renderer(tips_m[k], stylus_dir, stylus_m);
     r.contact = q.contact;
     r.force = r.desired = q.force;
     r.normal = q.normal;

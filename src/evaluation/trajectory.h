@@ -4,6 +4,8 @@
 // driving any ContactQuery (the box, exact Embree, an analytic wall) in device space.
 // The protocol and its reference figures: docs/stability.md.
 #include "haptic_box/contact.h"
+#include "haptic_box/god_object.h"
+#include <cstdint>
 #include <Eigen/Core>
 #include <limits>
 #include <memory>
@@ -73,6 +75,34 @@ struct Rendered {
 Rendered render(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map, const Vec3d& tip_m,
                 const Vec3d& dir, double stylus_m);
 
+/// How a trajectory's answers become forces.
+enum class ContactLaw : std::uint8_t {
+  penalty,  ///< the force law on each tick's answer (ForceLaw::depth), stateless: the default.
+  proxy,    ///< a god-object over the answers (haptic_box/god_object.h), one per trajectory.
+};
+/// "penalty" or "proxy".
+const char* to_string(ContactLaw law) noexcept;
+/// Parses "penalty" or "proxy"; throws hb::InvalidInput naming the value otherwise.
+ContactLaw contact_law(const std::string& name);
+
+/// Renders the ticks of one trajectory, in order: render() with the penalty law, through a
+/// GodObject (created per renderer: its state is the trajectory's) with the proxy.
+class TrajectoryRenderer {
+public:
+  TrajectoryRenderer(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map, ContactLaw kind,
+                     GodObjectOptions proxy_options = {});
+  Rendered operator()(const Vec3d& tip_m, const Vec3d& dir, double stylus_m) noexcept;
+  /// The proxy (nullptr with the penalty law).
+  const GodObject* proxy() const noexcept { return kind_ == ContactLaw::proxy ? &proxy_ : nullptr; }
+
+private:
+  const ContactQuery& query_;
+  ForceLaw law_;
+  DeviceSpaceMap map_;
+  ContactLaw kind_;
+  GodObject proxy_;
+};
+
 /// A flat analytic wall (plane through `point`, outward `normal`), answering segments with
 /// the project's contact definition: the calibration reference of the suite.
 class AnalyticWall final : public ContactQuery {
@@ -121,6 +151,7 @@ struct ClosedLoopRun {
   /// Stop at the first tick out of contact after `stop_after_contact_ticks` ticks of contact
   /// (0: never stop early): free bounces end when the tip leaves.
   std::size_t stop_after_contact_ticks = 0;
+  ContactLaw contact_law = ContactLaw::penalty;
 };
 
 /// One tick of a run: state at the tick (sampled position), the force applied over the tick.
@@ -142,7 +173,7 @@ std::vector<TickRecord> run_closed_loop(const ContactQuery& query, const ForceLa
 /// Work and velocity fields follow the positions (v from finite differences).
 std::vector<TickRecord> play_positions(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map,
                                        const std::vector<Vec3d>& tips_m, const Vec3d& stylus_dir, double stylus_m,
-                                       double period_s);
+                                       double period_s, ContactLaw contact_law = ContactLaw::penalty);
 
 /// Passivity-equivalent stiffness of a prescribed run: K_eff = W_net / ((T/2) sum_contact |v|^2 T),
 /// W_net = sum F_k . (x_{k+1} - x_k) the work of the held force on the probe (N/m). For an
