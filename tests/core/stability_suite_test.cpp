@@ -36,6 +36,20 @@ double wall_keff_ratio(DepthLaw depth, double tilt_degrees) {
   return passivity_equivalent_stiffness(r, 1e-3) / 1000.0;
 }
 
+// T4 alone (the generated grooves) with `law`, on a small refined sphere's scene.
+StabilityReport grooves_t4(ContactLaw law) {
+  const TriangleMesh mesh = make_sphere(20.f, 3);
+  BakeOptions bo;
+  bo.params.m = 8;
+  bo.params.n = 4;
+  bo.refine = true;
+  const BoxScene box = bake_scene(mesh, {}, bo, SourceInfo{});
+  StabilityOptions o;
+  o.tests = {"T4"};
+  o.contact_law = law;
+  return run_stability_suite(box, mesh, o);
+}
+
 } // namespace
 
 TEST(StabilityTrajectoryTest, CalibrationGateReproducesTheReferenceSimulation) {
@@ -123,15 +137,7 @@ TEST(StabilitySuiteTest, RefinedSphereHasNoGhostsAndPassesTheGeometryTests) {
 // before, the refinement could not cross the crease and the box lost the corner, reported as
 // 99). The crisp grooves chatter for exact too (the force law's limit).
 TEST(StabilitySuiteTest, RefinedBoxesOfWeldedGroovesHoldTheCornerAsCalmlyAsExact) {
-  const TriangleMesh mesh = make_sphere(20.f, 3);
-  BakeOptions bo;
-  bo.params.m = 8;
-  bo.params.n = 4;
-  bo.refine = true;
-  const BoxScene box = bake_scene(mesh, {}, bo, SourceInfo{});
-  StabilityOptions o;
-  o.tests = {"T4"};
-  const StabilityReport r = run_stability_suite(box, mesh, o);
+  const StabilityReport r = grooves_t4(ContactLaw::penalty);
   std::size_t welded = 0;
   for (const StabilityMetric& m : r.metrics) {
     ASSERT_EQ(m.test, "T4");
@@ -265,16 +271,7 @@ TEST(StabilityProxyTest, BouncesOffAWallWithThePenaltyLawsRestitution) {
 }
 
 TEST(StabilitySuiteTest, RefinedBoxesOfCrispGroovesHoldTheCornerCalmlyWithTheProxyAsExactDoes) {
-  const TriangleMesh mesh = make_sphere(20.f, 3);
-  BakeOptions bo;
-  bo.params.m = 8;
-  bo.params.n = 4;
-  bo.refine = true;
-  const BoxScene box = bake_scene(mesh, {}, bo, SourceInfo{});
-  StabilityOptions o;
-  o.tests = {"T4"};
-  o.contact_law = ContactLaw::proxy;
-  const StabilityReport r = run_stability_suite(box, mesh, o);
+  const StabilityReport r = grooves_t4(ContactLaw::proxy);
   EXPECT_EQ(r.contact_law, "proxy");
   std::size_t crisp = 0;
   for (const StabilityMetric& m : r.metrics) {
