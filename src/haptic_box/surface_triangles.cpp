@@ -231,8 +231,15 @@ bool SurfaceTriangles::finish(const Record& r, const float d[3], float u, float 
   Vec3 shaded = (1.f - u - v) * decode_octahedral32(r.normal[0]) + u * decode_octahedral32(r.normal[1]) +
                 v * decode_octahedral32(r.normal[2]);
   if (shaded.dot(g) < 0.f || shaded.squaredNorm() < 1e-12f) shaded = g;
-  const float len = shaded.norm();
+  float len = shaded.norm();
   if (!(len > 0.f)) return false;
+  if (!(len <= std::numeric_limits<float>::max())) {
+    // Edges so long that |g|^2 overflows (only a damaged or absurd file has them: the norm
+    // would be infinite and the normal zero): scale g down first.
+    shaded /= shaded.cwiseAbs().maxCoeff();
+    len = shaded.norm();
+    if (!(len > 0.f && len <= std::numeric_limits<float>::max())) return false;
+  }
   s_out = s;
   normal = shaded / len;
   front = g.x() * d[0] + g.y() * d[1] + g.z() * d[2] < 0.f;

@@ -8,6 +8,7 @@
 #include "exact/exact_query.h"
 #include "haptic_box/bake.h"
 #include "haptic_box/box_file.h"
+#include "haptic_box/surface_triangles.h"
 #include "mesh/generators.h"
 #include <gtest/gtest.h>
 #include <cstring>
@@ -253,6 +254,25 @@ TEST(RefinementTest, ARefinedContactIsAFrontFaceCrossingWhateverTheShadedNormal)
   ASSERT_TRUE(b.contact);
   EXPECT_NEAR(b.depth, e.depth, 1e-5f);
   EXPECT_NEAR((b.force - e.force).norm(), 0.f, 1e-4f);
+}
+
+TEST(RefinementTest, ATriangleWithHugeEdgesStillGivesAUnitNormal) {
+  // Edges of 1e13: the geometric normal's squared length overflows float (a damaged box file
+  // had such records; the fuzzer found the normal coming out zero).
+  TriangleMesh m;
+  m.positions = {Vec3(-1e13f, -1e13f, 0), Vec3(1e13f, -1e13f, 0), Vec3(0, 1e13f, 0)};
+  m.normals = {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 0, -1)};  // shading that cancels out
+  m.triangles = {{0, 1, 2}};
+  const SurfaceTriangles surface(m);
+  const float o[3] = {0.f, 0.f, 5.f}, d[3] = {0.f, 0.f, -1.f};
+  float s = 0.f;
+  Vec3 normal;
+  bool front = false;
+  ASSERT_TRUE(surface.intersect(0, o, d, 0.f, s, normal, front));
+  EXPECT_FLOAT_EQ(s, 5.f);
+  EXPECT_TRUE(front);
+  EXPECT_NEAR(normal.norm(), 1.f, 1e-5f);
+  EXPECT_NEAR(normal.z(), 1.f, 1e-5f);
 }
 
 TEST(RefinementTest, CompressionKeepsTheRefinement) {
