@@ -28,6 +28,7 @@ void add_bench_command(CLI::App& app) {
     bool no_huge_pages = false;
     bool no_grid = false;
     std::string walk = "all";
+    std::string route = "boxes";
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
@@ -46,12 +47,14 @@ void add_bench_command(CLI::App& app) {
                   "candidate) or nearest (the first refined scenes; for before/after figures)")
       ->check(CLI::IsMember({"all", "nearest"}))
       ->capture_default_str();
+  hb::cli::add_route_option(*cmd, opts->route);
   cmd->callback([opts] {
     hb::LoadOptions load;
     load.huge_pages = !opts->no_huge_pages;
     const hb::BoxScene loaded = hb::load_box_file(opts->box, load);
     hb::BoxScene scene = opts->no_grid ? loaded.without_grid() : loaded;
     scene.set_walk_all_candidates(opts->walk == "all");
+    hb::cli::apply_route(scene, opts->route);
     const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh, opts->model);
     const hb::ExactQuery exact(mesh);
     const auto probes = hb::sample_probes(mesh, opts->samples, opts->probes);
@@ -159,6 +162,7 @@ void add_bench_command(CLI::App& app) {
                               {"boxes", scene.boxes().size()},
                               {"mean_boxes_met", mean_met},
                               {"scene_grid", scene.grid() != nullptr},
+                              {"route", opts->route},
                               {"mean_box_queries", mean_asked},
                               {"max_box_queries", asked_max},
                               {"share_at_most_one_box_query", share_one},
@@ -169,7 +173,7 @@ void add_bench_command(CLI::App& app) {
       return;
     }
     std::cout << std::fixed << std::setprecision(1) << "bench " << opts->box << " (" << mesh.triangle_count()
-              << " triangles, " << probes.size() << " probes, one core, random order)\n"
+              << " triangles, " << probes.size() << " probes, one core, random order, route " << opts->route << ")\n"
               << "  haptic box  " << box_ns << " ns/query (" << 1e9 / box_ns / 1e6 << " M queries/s)\n"
               << "  exact       " << exact_ns << " ns/query\n"
               << "  box is      " << hb::speed_verdict(box_ns, exact_ns) << " (same probes, one at a time)\n"

@@ -50,6 +50,12 @@ CLI::Option* add_codec_bound_options(CLI::App& cmd, CodecOptions& options, bool*
 /// Adds --stiffness and --metres-per-unit to a command.
 void add_force_law_options(CLI::App& cmd, ForceLaw& law);
 
+/// Adds --route boxes|cells (hb::SceneRoute) to a command; `route` holds the name.
+void add_route_option(CLI::App& cmd, std::string& route);
+/// Sets `scene`'s route from --route's name; warns on stderr when the scene has no surface
+/// cells (then every query takes the boxes' path).
+void apply_route(BoxScene& scene, const std::string& route);
+
 /// Prints JSON to stdout (indented), with `ranks`: how many ranks shared the work (only rank
 /// 0 prints: the other ranks' standard output is discarded by main).
 void print_json(const nlohmann::json& j);

@@ -21,6 +21,7 @@ void add_eval_command(CLI::App& app) {
     hb::ForceLaw law;
     bool json = false;
     bool force = false;
+    std::string route = "boxes";
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
@@ -31,8 +32,10 @@ void add_eval_command(CLI::App& app) {
   hb::cli::add_force_law_options(*cmd, opts->law);
   cmd->add_flag("--json", opts->json, "Print JSON");
   cmd->add_flag("--force", opts->force, "Evaluate even when the box was baked from a different mesh (its hash differs)");
+  hb::cli::add_route_option(*cmd, opts->route);
   cmd->callback([opts] {
-    const hb::BoxScene scene = hb::load_box_file(opts->box);
+    hb::BoxScene scene = hb::load_box_file(opts->box);
+    hb::cli::apply_route(scene, opts->route);
     const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh, opts->model);
     hb::cli::check_same_mesh(scene, opts->box, opts->mesh, hb::cli::hash_model(opts->mesh, opts->model), opts->force);
     const hb::ExactQuery exact(mesh);
@@ -41,13 +44,14 @@ void add_eval_command(CLI::App& app) {
     // Probes dealt across the ranks of an MPI job; the figures are one process's.
     const hb::ComparisonStats s = hb::compare_queries(scene, exact, probes, opts->law, diag, nullptr,
                                                       &hb::cli::communicator());
-    const nlohmann::json j = hb::eval_json(s, opts->box, opts->mesh, opts->probes.seed);
+    nlohmann::json j = hb::eval_json(s, opts->box, opts->mesh, opts->probes.seed);
+    j["route"] = opts->route;
     if (opts->json) {
       hb::cli::print_json(j);
       return;
     }
     std::cout << "eval " << opts->box << " vs " << opts->mesh << " (" << s.samples << " probes, seed "
-              << opts->probes.seed << ")\n"
+              << opts->probes.seed << ", route " << opts->route << ")\n"
               << "  contact agreement   " << hb::agreement_percent(s.contact_agreement) << "  (false "
               << s.false_contacts << ", missed " << s.missed_contacts << ", exact contacts " << s.exact_contacts << ")\n"
               << "  force error         median " << hb::percent(s.force_error_median) << ", p95 "

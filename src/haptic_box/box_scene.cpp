@@ -55,6 +55,7 @@
 #include "errors.h"
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hb {
 
@@ -308,6 +309,12 @@ bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact
   }
   const float length = (segment.end - segment.start).norm();
   if (!(length > 0.f) || !std::isfinite(length)) return false;
+  if (cells && route_ == SceneRoute::cells) {
+    out = first_crossing_contact(segment, length, law);
+    if (out_box) *out_box = SceneQueryState::kNone;
+    if (out_triangle) *out_triangle = kNoTriangle;
+    return true;
+  }
   constexpr int kMaxAsked = 8;
   std::uint32_t asked[kMaxAsked];
   int n_asked = 0;
@@ -403,6 +410,42 @@ bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact
   if (out_box) *out_box = best_box;
   if (out_triangle) *out_triangle = best_triangle;
   return true;
+}
+
+Contact BoxScene::first_crossing_contact(const Segment& segment, float length, const ForceLaw& law) const noexcept {
+  // The surface cells in the order the segment enters them; a cell entered beyond the nearest
+  // crossing so far cannot hold a nearer one (every triangle is listed in each cell it meets).
+  float best_s = std::numeric_limits<float>::infinity();
+  bool best_front = false;
+  std::uint32_t best_id = kNoTriangle;
+  grid_->walk_surface(segment.start, segment.end, [&](std::uint16_t code, float s, const int* i) {
+    if (s > best_s) return false;
+    if (code < SceneGrid::kFirstSurface) return true;
+    const std::uint32_t cell = cells_->index(i[0], i[1], i[2]);
+    float cs = 0.f;
+    bool front = false;
+    std::uint32_t id = kNoTriangle;
+    if (cells_->first_crossing(&cell, 1, segment.start, segment.end, std::min(best_s, 1.f), cs, front, id) &&
+        cs < best_s)
+      best_s = cs, best_front = front, best_id = id;
+    return true;
+  });
+  // No crossing, or the first one leaves the object (the handle is inside): no contact.
+  if (best_id == kNoTriangle || !best_front) return Contact{};
+  // Exact's contact on that triangle: the crossing along the unit direction, its shading.
+  const Vec3 dir = (segment.end - segment.start) / length;
+  const float o[3] = {segment.start.x(), segment.start.y(), segment.start.z()}, d[3] = {dir.x(), dir.y(), dir.z()};
+  float t = 0.f;
+  Vec3 normal;
+  bool front = false;
+  if (!cells_->surface().intersect(best_id, o, d, 0.f, t, normal, front) || !front || !(t <= length)) return Contact{};
+  Contact c;
+  c.contact = true;
+  c.depth = length - t;
+  c.point = segment.start + t * dir;
+  c.normal = normal;
+  apply_force_law(c, law, dir);
+  return c;
 }
 
 bool BoxScene::settle_first_crossing(const Segment& segment, const ForceLaw& law, const Visited& visited, Contact& best,

@@ -18,6 +18,19 @@ struct SourceInfo {
 
 /// What a refining scene does with a blended answer its exact refinement cannot confirm
 /// (the refinement finds no triangle of the box's samples near the blended surface).
+/// How a routed query of a scene whose boxes refine finds the contact.
+enum class SceneRoute : std::uint8_t {
+  /// The boxes the grid names answer (their samples' triangle ids, refined exactly), then the
+  /// triangles of the surface cells before the contact confirm it (the default).
+  boxes,
+  /// The triangles listed in the surface cells the segment crosses answer directly: the first
+  /// crossing, cell by cell from the handle, shaded as exact's (no box is asked). The same
+  /// contacts as `boxes` (both apply exact's first-crossing rule), about twice as fast on the
+  /// default bakes (docs/speed.md). Only with the surface cells (SurfaceCells) and
+  /// UnconfirmedBlend::reject; a handle the cells cannot place takes the boxes' path.
+  cells,
+};
+
 enum class UnconfirmedBlend : std::uint8_t {
   /// Never answers with it: the next box's confirmed contact along the segment answers
   /// instead, or none. No force where no triangle is (the default; docs/stability.md).
@@ -116,6 +129,9 @@ public:
   /// 2026-12-02 noon, for before/after measurements).
   void set_cell_triangles(bool on) noexcept { use_cells_ = on; }
   bool cell_triangles() const noexcept { return use_cells_ && cells_ != nullptr; }
+  /// See SceneRoute (no effect without surface cells).
+  void set_route(SceneRoute route) noexcept { route_ = route; }
+  SceneRoute route() const noexcept { return route_; }
   /// The triangles below the grid's surface cells, or nullptr (no grid, or no shared surface).
   const std::shared_ptr<const SurfaceCells>& surface_cells() const { return cells_; }
   /// Every box's refinement walk policy (HapticBox::set_walk_all_candidates; default true).
@@ -162,9 +178,13 @@ private:
   std::shared_ptr<const SceneGrid> grid_;
   std::shared_ptr<const SurfaceCells> cells_;
   bool use_cells_ = true;
+  SceneRoute route_ = SceneRoute::boxes;
   BudgetReport budget_;
   // The routed query's cell-triangle steps (box_scene.cpp, step 7).
   struct Visited;
+  // SceneRoute::cells: the contact of the segment's first crossing among the surface cells'
+  // triangles (none when it leaves the object).
+  Contact first_crossing_contact(const Segment& segment, float length, const ForceLaw& law) const noexcept;
   bool settle_first_crossing(const Segment& segment, const ForceLaw& law, const Visited& visited, Contact& best,
                              float& best_along, std::uint32_t& best_box, std::uint32_t& best_triangle,
                              std::size_t* asked_count) const noexcept;

@@ -169,6 +169,47 @@ TEST(RoutedQueryTest, AContactBehindANearerSheetYieldsToTheFirstCrossing) {
   EXPECT_GT(wrong_before, probes / 2);  // the grid alone answered the sheet behind
 }
 
+TEST(RoutedQueryTest, TheCellsRouteGivesExactsContactsWithoutAskingABox) {
+  // Two spheres apart, one piece each, random probes and probes from just inside and outside the
+  // surface: the cells route answers from the surface cells' triangles alone, exact's
+  // contacts and forces, and the boxes' route's contact decisions.
+  const test::TwoSpheres two = test::two_spheres(2.5f);
+  BakeOptions o;
+  o.params = {12, 6};
+  o.refine = true;
+  const BoxScene boxes = bake_scene(two.mesh, two.piece, o, SourceInfo{});
+  ASSERT_NE(boxes.surface_cells(), nullptr);
+  BoxScene cells = boxes;
+  cells.set_route(SceneRoute::cells);
+  EXPECT_EQ(cells.route(), SceneRoute::cells);
+  const ExactQuery exact(two.mesh);
+  std::vector<Segment> probes = sample_probes(two.mesh, 3000, ProbeOptions{});
+  const float cell = boxes.grid()->cell();
+  for (std::size_t t = 0; t < two.mesh.triangle_count(); t += 3) {
+    const Triangle& tri = two.mesh.triangles[t];
+    const Vec3 &p0 = two.mesh.positions[tri[0]], &p1 = two.mesh.positions[tri[1]], &p2 = two.mesh.positions[tri[2]];
+    const Vec3 c = (p0 + p1 + p2) / 3.f, n = (p1 - p0).cross(p2 - p0).normalized();
+    for (float off : {0.3f, -0.3f, 2.5f}) probes.push_back({c + off * cell * n, c - 0.1f * n});
+  }
+  std::size_t contacts = 0, same_as_exact = 0, same_as_boxes = 0, asked = 0;
+  for (const Segment& s : probes) {
+    const Contact e = exact.query(s, kRoutedLaw), c = cells.query(s, kRoutedLaw), b = boxes.query(s, kRoutedLaw);
+    contacts += e.contact ? 1 : 0;
+    same_as_boxes += c.contact == b.contact ? 1 : 0;
+    asked += cells.box_queries(s, kRoutedLaw);
+    if (c.contact != e.contact) continue;
+    if (!e.contact || ((c.point - e.point).norm() < 1e-4f && std::fabs(c.depth - e.depth) < 1e-4f &&
+                       (c.force - e.force).norm() <= 1e-3f * e.force.norm() + 1e-6f &&
+                       (c.normal - e.normal).norm() < 1e-3f))
+      ++same_as_exact;
+  }
+  ASSERT_GT(contacts, probes.size() / 3);
+  EXPECT_EQ(same_as_exact, probes.size());
+  EXPECT_EQ(same_as_boxes, probes.size());
+  // Handles the cells cannot place (an undecided cell centre) take the boxes' path: rare.
+  EXPECT_LT(double(asked), 0.01 * double(probes.size()));
+}
+
 TEST(RoutedQueryTest, BrickedCellWordsGiveTheCodeOfEveryCell) {
   const test::TwoSpheres two = test::two_spheres(3.f);
   std::vector<std::vector<std::uint32_t>> lists(2);
