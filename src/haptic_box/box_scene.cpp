@@ -418,10 +418,11 @@ Contact BoxScene::first_crossing_contact(const Segment& segment, float length, c
   float best_s = std::numeric_limits<float>::infinity();
   bool best_front = false;
   std::uint32_t best_id = kNoTriangle;
-  grid_->walk_surface(segment.start, segment.end, [&](std::uint16_t code, float s, const int* i) {
+  // The walk reads the cells' brick masks (in cache), not the grid's cell words.
+  const SurfaceCells& sc = *cells_;
+  const auto index_of = [&sc](int x, int y, int z) { return sc.index(x, y, z); };
+  grid_->walk_surface_by(segment.start, segment.end, index_of, [&](std::uint32_t cell, float s) {
     if (s > best_s) return false;
-    if (code < SceneGrid::kFirstSurface) return true;
-    const std::uint32_t cell = cells_->index(i[0], i[1], i[2]);
     float cs = 0.f;
     bool front = false;
     std::uint32_t id = kNoTriangle;

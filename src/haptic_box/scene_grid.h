@@ -77,6 +77,12 @@ public:
   /// their clearance (clearance()) allows, instead of cell by cell. BoxScene's routing.
   template <class Visit>
   void walk_surface(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept;
+  /// As walk_surface, but a cell is a surface cell when `index_of(x, y, z)` names it (not
+  /// 0xffffffff: e.g. SurfaceCells::index, whose brick masks stay in cache): no cell word is
+  /// read, and `visit(index, s)` gets that index. Bricks far from the surface are jumped as
+  /// walk_surface does; the cells of the others are stepped one by one.
+  template <class IndexOf, class Visit>
+  void walk_surface_by(const Vec3& a, const Vec3& b, IndexOf&& index_of, Visit&& visit) const noexcept;
 
   /// Per cell (x fastest, as codes()), the chessboard distance in cells to the nearest
   /// surface cell (0 for one), capped at 255; computed from the codes when the grid is made.
@@ -328,6 +334,41 @@ void SceneGrid::walk_surface(const Vec3& a, const Vec3& b, Visit&& visit) const 
       s = jump;
       continue;
     }
+    const int k = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
+    s = next[k];
+    if (s > s1) return;
+    i[k] += step[k];
+    if (i[k] < 0 || i[k] >= dims_[k]) return;
+    next[k] += delta[k];
+  }
+}
+
+template <class IndexOf, class Visit>
+void SceneGrid::walk_surface_by(const Vec3& a, const Vec3& b, IndexOf&& index_of, Visit&& visit) const noexcept {
+  if (codes_.empty()) return;
+  const Vec3 d = b - a;
+  float s0 = 0.f, s1 = 1.f;
+  if (!clip(a, d, s0, s1)) return;
+  const float max_d = std::max({std::fabs(d.x()), std::fabs(d.y()), std::fabs(d.z())});
+  const float s_per_cell = max_d > 0.f ? cell_ / max_d : 2.f;
+  int i[3], step[3];
+  float next[3], delta[3];
+  const auto start_at = [&](float s) { dda_start(a, d, s, i, step, next, delta); };
+  start_at(s0);
+  float s = s0;
+  const int limit = dims_[0] + dims_[1] + dims_[2];
+  for (int it = 0; it < limit; ++it) {
+    const std::uint8_t brick = bricks_[brick_index(i[0], i[1], i[2])];
+    if ((brick & kBrickSurface) != kBrickSurface && (brick >> 2) >= 3) {
+      // As walk_surface: every brick within (brick >> 2) - 1 of this one has no surface.
+      const float jump = s + float(4 * (brick >> 2) - 6) * s_per_cell;
+      if (jump > s1) return;
+      start_at(jump);
+      s = jump;
+      continue;
+    }
+    const std::uint32_t index = index_of(i[0], i[1], i[2]);
+    if (index != 0xffffffffu && !visit(index, s)) return;
     const int k = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
     s = next[k];
     if (s > s1) return;
