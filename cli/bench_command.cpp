@@ -28,7 +28,7 @@ void add_bench_command(CLI::App& app) {
     bool no_huge_pages = false;
     bool no_grid = false;
     std::string walk = "all";
-    std::string route = "boxes";
+    std::string route = "cells";
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
@@ -162,7 +162,7 @@ void add_bench_command(CLI::App& app) {
                               {"boxes", scene.boxes().size()},
                               {"mean_boxes_met", mean_met},
                               {"scene_grid", scene.grid() != nullptr},
-                              {"route", opts->route},
+                              {"route", hb::route_name(scene.answering_route())},
                               {"mean_box_queries", mean_asked},
                               {"max_box_queries", asked_max},
                               {"share_at_most_one_box_query", share_one},
@@ -173,7 +173,7 @@ void add_bench_command(CLI::App& app) {
       return;
     }
     std::cout << std::fixed << std::setprecision(1) << "bench " << opts->box << " (" << mesh.triangle_count()
-              << " triangles, " << probes.size() << " probes, one core, random order, route " << opts->route << ")\n"
+              << " triangles, " << probes.size() << " probes, one core, random order, route " << hb::route_name(scene.answering_route()) << ")\n"
               << "  haptic box  " << box_ns << " ns/query (" << 1e9 / box_ns / 1e6 << " M queries/s)\n"
               << "  exact       " << exact_ns << " ns/query\n"
               << "  box is      " << hb::speed_verdict(box_ns, exact_ns) << " (same probes, one at a time)\n"

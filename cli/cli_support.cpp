@@ -152,15 +152,15 @@ void add_force_law_options(CLI::App& cmd, ForceLaw& law) {
 
 void add_route_option(CLI::App& cmd, std::string& route) {
   cmd.add_option("--route", route,
-                 "Refined scenes: boxes (default: the grid's boxes answer, the cells' triangles confirm) or cells "
-                 "(the first crossing among the surface cells' triangles answers, no box asked)")
+                 "Refined scenes: cells (default: the first crossing among the surface cells' triangles answers, no "
+                 "box asked) or boxes (the grid's boxes answer from their triangle ids, the cells' triangles confirm)")
       ->check(CLI::IsMember({"boxes", "cells"}))
       ->capture_default_str();
 }
 
 void apply_route(BoxScene& scene, const std::string& route) {
   scene.set_route(route == "cells" ? SceneRoute::cells : SceneRoute::boxes);
-  if (route == "cells" && !scene.surface_cells())
+  if (route == "cells" && scene.answering_route() != SceneRoute::cells && scene.refines())
     std::fprintf(stderr, "warning: --route cells: this scene has no surface cells (no grid, or no shared refined "
                          "surface); the boxes answer\n");
 }

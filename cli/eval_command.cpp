@@ -21,7 +21,7 @@ void add_eval_command(CLI::App& app) {
     hb::ForceLaw law;
     bool json = false;
     bool force = false;
-    std::string route = "boxes";
+    std::string route = "cells";
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
@@ -44,14 +44,13 @@ void add_eval_command(CLI::App& app) {
     // Probes dealt across the ranks of an MPI job; the figures are one process's.
     const hb::ComparisonStats s = hb::compare_queries(scene, exact, probes, opts->law, diag, nullptr,
                                                       &hb::cli::communicator());
-    nlohmann::json j = hb::eval_json(s, opts->box, opts->mesh, opts->probes.seed);
-    j["route"] = opts->route;
+    const nlohmann::json j = hb::eval_json(s, opts->box, opts->mesh, opts->probes.seed, hb::route_name(scene.answering_route()));
     if (opts->json) {
       hb::cli::print_json(j);
       return;
     }
     std::cout << "eval " << opts->box << " vs " << opts->mesh << " (" << s.samples << " probes, seed "
-              << opts->probes.seed << ", route " << opts->route << ")\n"
+              << opts->probes.seed << ", route " << hb::route_name(scene.answering_route()) << ")\n"
               << "  contact agreement   " << hb::agreement_percent(s.contact_agreement) << "  (false "
               << s.false_contacts << ", missed " << s.missed_contacts << ", exact contacts " << s.exact_contacts << ")\n"
               << "  force error         median " << hb::percent(s.force_error_median) << ", p95 "

@@ -59,7 +59,7 @@ void add_stability_command(CLI::App& app) {
   struct Opts {
     std::string box, mesh, device = "falcon", tests, safety = "hold", depth = "normal", unconfirmed = "reject",
                 walk = "all",
-                law = "penalty", route = "boxes";
+                law = "penalty", route = "cells";
     std::size_t sites = 12;
     std::uint64_t seed = 1;
     bool json = false, no_generated = false, energy_guard = false, strict = false;
@@ -111,7 +111,7 @@ void add_stability_command(CLI::App& app) {
       std::cerr << "hapticbox: warning: " << o->box << " was baked from a different file than " << o->mesh << "\n";
     scene.set_unconfirmed_blend(o->unconfirmed == "keep" ? hb::UnconfirmedBlend::keep : hb::UnconfirmedBlend::reject);
     scene.set_walk_all_candidates(o->walk == "all");
-    hb::cli::apply_route(scene, o->route);  // the model's scene; the generated ones keep the boxes' route
+    hb::cli::apply_route(scene, o->route);  // the generated walls, plates and grooves take the same route
     hb::StabilityOptions so;
     so.device = hb::device_profile(o->device);
     so.sites = o->sites;
@@ -148,14 +148,14 @@ void add_stability_command(CLI::App& app) {
       j["mesh"] = o->mesh;
       j["unconfirmed"] = o->unconfirmed;
       j["refine_walk"] = o->walk;
-      j["route"] = o->route;
+      j["route"] = hb::route_name(scene.answering_route());
       j["contact_law"] = rep.contact_law;
       hb::cli::print_json(j);
     } else if (comm.is_root()) {
       std::printf("stability %s vs %s: device %s, contact law %s, depth law %s, unconfirmed blends %s, refinement "
                   "walks %s, route %s, T6/T8 filter: %s\n",
                   o->box.c_str(), o->mesh.c_str(), rep.device.c_str(), rep.contact_law.c_str(), rep.depth_law.c_str(),
-                  o->unconfirmed.c_str(), o->walk.c_str(), o->route.c_str(), rep.filter.c_str());
+                  o->unconfirmed.c_str(), o->walk.c_str(), hb::route_name(scene.answering_route()), rep.filter.c_str());
       std::printf("calibration gate: %s\n", rep.calibration_pass ? "pass" : "FAIL (the harness is wrong)");
       print_table(rep.calibration);
       std::printf("tests: %zu pass, %zu fail (%zu of them exact fails too: the law, not the box), %.1f s\n",

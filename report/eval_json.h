@@ -9,8 +9,9 @@
 namespace hb {
 
 inline nlohmann::json eval_json(const ComparisonStats& s, const std::string& box, const std::string& mesh,
-                                std::uint64_t seed) {
+                                std::uint64_t seed, const std::string& route) {
   return {{"box", box},
+          {"route", route},
           {"mesh", mesh},
           {"seed", seed},
           {"samples", s.samples},

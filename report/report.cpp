@@ -105,6 +105,7 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   d.bake_seconds = bake_seconds;
   d.codec = codec_name(scene.boxes().front().codec());
   d.refine = scene.refines();
+  d.route = route_name(scene.answering_route());
   d.m_min = d.m_max = d.params.m;
   d.n_min = d.n_max = d.params.n;
   for (const HapticBox& b : scene.boxes()) {
@@ -235,7 +236,7 @@ std::string report_json(const ReportData& d) {
   for (const SweepConfig& c : o.sweep_configs)
     j["parameters"]["sweep_configs"].push_back({{"m", c.m}, {"n", c.n}, {"codec", c.codec}, {"refine", c.refine}});
   // The keys of `hapticbox eval --json`, with the same values for the same input and seed.
-  j["eval"] = eval_json(s, d.box_path, d.mesh_path, o.probes.seed);
+  j["eval"] = eval_json(s, d.box_path, d.mesh_path, o.probes.seed, d.route);
   j["eval"]["ranks"] = d.ranks;  // as `eval --json` states it
   j["ranks"] = d.ranks;
   nlohmann::json timing = {{"box_ns", d.box_ns}};

@@ -59,6 +59,7 @@ struct ReportData {
   int m_min = 0, m_max = 0, n_min = 0, n_max = 0; ///< densities over the scene's boxes.
   std::string codec = "none";
   bool refine = false;                   ///< the boxes refine exactly (bake --refine).
+  std::string route = "boxes";           ///< the scene's route (hb::SceneRoute) the figures were measured on.
   std::size_t memory_bytes = 0;          ///< box tables, plus triangle ids and surface when refining.
   double bake_seconds = 0.0;             ///< 0 when loaded from a file.
   ComparisonStats stats;                 ///< the report's box against the exact reference.

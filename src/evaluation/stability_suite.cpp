@@ -855,6 +855,7 @@ StabilityReport run_stability_suite(const BoxScene& box, const TriangleMesh& mes
     g->mesh = std::move(m);
     g->box = std::make_unique<BoxScene>(bake_scene(g->mesh, {}, bo, SourceInfo{}));
     g->box->set_unconfirmed_blend(box.unconfirmed_blend());
+    g->box->set_route(box.route());
     g->box->set_walk_all_candidates(box.boxes().empty() || box.boxes()[0].walk_all_candidates());
     g->exact = std::make_unique<ExactQuery>(g->mesh);
     return g;

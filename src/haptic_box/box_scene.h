@@ -21,15 +21,19 @@ struct SourceInfo {
 /// How a routed query of a scene whose boxes refine finds the contact.
 enum class SceneRoute : std::uint8_t {
   /// The boxes the grid names answer (their samples' triangle ids, refined exactly), then the
-  /// triangles of the surface cells before the contact confirm it (the default).
+  /// triangles of the surface cells before the contact confirm it (the route until
+  /// 2026-12-02; the per-probe query state resumes this route only).
   boxes,
   /// The triangles listed in the surface cells the segment crosses answer directly: the first
   /// crossing, cell by cell from the handle, shaded as exact's (no box is asked). The same
-  /// contacts as `boxes` (both apply exact's first-crossing rule), about twice as fast on the
-  /// default bakes (docs/speed.md). Only with the surface cells (SurfaceCells) and
-  /// UnconfirmedBlend::reject; a handle the cells cannot place takes the boxes' path.
+  /// contacts as `boxes` (both apply exact's first-crossing rule), 1.4-2.5x faster on the
+  /// default bakes (docs/speed.md). The default. Only with the surface cells (SurfaceCells)
+  /// and UnconfirmedBlend::reject; a handle the cells cannot place takes the boxes' path.
   cells,
 };
+
+/// "boxes" or "cells".
+inline const char* route_name(SceneRoute route) noexcept { return route == SceneRoute::cells ? "cells" : "boxes"; }
 
 enum class UnconfirmedBlend : std::uint8_t {
   /// Never answers with it: the next box's confirmed contact along the segment answers
@@ -132,6 +136,13 @@ public:
   /// See SceneRoute (no effect without surface cells).
   void set_route(SceneRoute route) noexcept { route_ = route; }
   SceneRoute route() const noexcept { return route_; }
+  /// The route the queries take: `route()` when the scene has what it needs (the cells route
+  /// needs surface cells, set_cell_triangles and UnconfirmedBlend::reject), boxes otherwise.
+  SceneRoute answering_route() const noexcept {
+    return route_ == SceneRoute::cells && use_cells_ && cells_ && unconfirmed_ == UnconfirmedBlend::reject
+               ? SceneRoute::cells
+               : SceneRoute::boxes;
+  }
   /// The triangles below the grid's surface cells, or nullptr (no grid, or no shared surface).
   const std::shared_ptr<const SurfaceCells>& surface_cells() const { return cells_; }
   /// Every box's refinement walk policy (HapticBox::set_walk_all_candidates; default true).
@@ -178,7 +189,7 @@ private:
   std::shared_ptr<const SceneGrid> grid_;
   std::shared_ptr<const SurfaceCells> cells_;
   bool use_cells_ = true;
-  SceneRoute route_ = SceneRoute::boxes;
+  SceneRoute route_ = SceneRoute::cells;
   BudgetReport budget_;
   // The routed query's cell-triangle steps (box_scene.cpp, step 7).
   struct Visited;

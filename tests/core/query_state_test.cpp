@@ -11,11 +11,13 @@ namespace {
 
 const ForceLaw kStateLaw{};
 
-void expect_same_answers_along_strokes(const test::TwoSpheres& two, std::size_t& from_state, std::size_t& ticks) {
+void expect_same_answers_along_strokes(const test::TwoSpheres& two, std::size_t& from_state, std::size_t& ticks,
+                                       SceneRoute route = SceneRoute::boxes) {
   BakeOptions o;
   o.params = {12, 6};
   o.refine = true;
-  const BoxScene scene = bake_scene(two.mesh, two.piece, o, SourceInfo{});
+  BoxScene scene = bake_scene(two.mesh, two.piece, o, SourceInfo{});
+  scene.set_route(route);
   ASSERT_TRUE(scene.grid() != nullptr);
   const std::vector<Segment> strokes = sample_strokes(two.mesh, 20, 200, 0.02f);
   SceneQueryState state;
@@ -42,10 +44,21 @@ void expect_same_answers_along_strokes(const test::TwoSpheres& two, std::size_t&
 }
 
 TEST(QueryStateTest, StrokesGetTheStatelessAnswersMostlyFromTheLastContact) {
+  // The state resumes the boxes' route (SceneRoute::boxes): a bounded walk from the last
+  // tick's triangle in the last tick's box.
   std::size_t from_state = 0, ticks = 0;
   expect_same_answers_along_strokes(test::two_spheres(3.f), from_state, ticks);
   expect_same_answers_along_strokes(test::two_spheres(1.6f), from_state, ticks);  // overlapping pieces: seams
   EXPECT_GT(from_state, ticks / 2) << from_state << " of " << ticks;
+}
+
+TEST(QueryStateTest, TheCellsRouteGivesTheStatelessAnswersAlongStrokes) {
+  // The default route answers every tick in full (the cells' walk from the handle): a state
+  // changes nothing.
+  std::size_t from_state = 0, ticks = 0;
+  expect_same_answers_along_strokes(test::two_spheres(3.f), from_state, ticks, SceneRoute::cells);
+  expect_same_answers_along_strokes(test::two_spheres(1.6f), from_state, ticks, SceneRoute::cells);
+  EXPECT_EQ(from_state, 0u);
 }
 
 TEST(QueryStateTest, ScenesWithoutAGridAndUnknownStatesTakeTheFullQuery) {
