@@ -15,6 +15,9 @@
 #include "haptic_box/box_scene.h"
 #include <gtest/gtest.h>
 #include <chrono>
+#include <cstdio>
+#include <string>
+#include <unistd.h>
 #include <cmath>
 #include <memory>
 #include <thread>
@@ -73,7 +76,10 @@ std::vector<ProxyTick> run_groove(HapticDevice& device, const ServoOptions& o, s
                                   ServoReport* report = nullptr) {
   const ProxyGroove& g = proxy_groove();
   const SceneProbe box(*g.box);
-  const std::string path = ::testing::TempDir() + "hb_proxy_groove.hblog";
+  // One file per test and process: ctest runs the tests in parallel processes.
+  const std::string path = ::testing::TempDir() + "hb_proxy_" +
+                           ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+                           std::to_string(::getpid()) + ".hblog";
   ServoLog log;
   {
     LogRecorder rec(path, o.rate_hz, device.spec(), RenderedAnswer::box);
@@ -87,6 +93,7 @@ std::vector<ProxyTick> run_groove(HapticDevice& device, const ServoOptions& o, s
     if (report) *report = loop.report();
   }
   log = read_servo_log(path);
+  std::remove(path.c_str());
   std::vector<ProxyTick> out;
   if (!log.comparison || log.shadow.size() != log.records.size()) return out;
   for (std::size_t i = 0; i < log.records.size(); ++i) {
