@@ -164,7 +164,7 @@ nlohmann::json shadow_json(const ServoArgs& a, const hb::ServoReport& r) {
   const BoxVsExact c = box_vs_exact(a, r);
   return {{"rendered", a.render},
           {"mesh", a.exact},
-          {"law", hb::to_string(r.contact_law)},
+          {"contact_law", hb::to_string(r.contact_law)},
           {"box_query_p50_us", c.box_query.p50_us},
           {"box_query_p99_us", c.box_query.p99_us},
           {"exact_query_p50_us", c.exact_query.p50_us},
@@ -271,7 +271,7 @@ void run_servo(const ServoArgs& a) {
     j["realtime_message"] = r.realtime_message;
     j["stiffness_n_per_m"] = r.stiffness_n_per_m;
     j["stiffness_limited"] = r.stiffness_limited;
-    j["law"] = hb::to_string(r.contact_law);
+    j["contact_law"] = hb::to_string(r.contact_law);
     if (r.contact_law == hb::ContactLaw::proxy) {
       j["proxy"] = proxy_json(r.proxy);
       if (exact) j["shadow_proxy"] = proxy_json(r.shadow_proxy);

@@ -480,7 +480,7 @@ TEST_F(CliTest, ServoWithExactComparesBoxAndExactOnOneTrajectoryAndLogsBoth) {
 TEST_F(CliTest, ServoLawIsChosenNamedAndABadOneRefusedNamingTheValue) {
   const Result penalty = run("servo plane --no-realtime --seconds 0.1 --json");
   ASSERT_EQ(penalty.code, 0) << penalty.err;
-  EXPECT_EQ(nlohmann::json::parse(penalty.out)["law"], "penalty");
+  EXPECT_EQ(nlohmann::json::parse(penalty.out)["contact_law"], "penalty");
   const Result text = run("servo plane --no-realtime --seconds 0.1 --law proxy");
   ASSERT_EQ(text.code, 0) << text.err;
   EXPECT_NE(text.out.find("contact law: proxy"), std::string::npos) << text.out;
@@ -489,8 +489,8 @@ TEST_F(CliTest, ServoLawIsChosenNamedAndABadOneRefusedNamingTheValue) {
                           " --law proxy --no-realtime --seconds 0.3 --units-per-metre 400 --json");
   ASSERT_EQ(both.code, 0) << both.err;
   const auto j = nlohmann::json::parse(both.out);
-  EXPECT_EQ(j["law"], "proxy");
-  EXPECT_EQ(j["box_vs_exact"]["law"], "proxy");
+  EXPECT_EQ(j["contact_law"], "proxy");
+  EXPECT_EQ(j["box_vs_exact"]["contact_law"], "proxy");
   ASSERT_TRUE(j.contains("proxy") && j.contains("shadow_proxy")) << both.out;
   EXPECT_GT(j["proxy"]["contact_ticks"].get<std::uint64_t>(), 0u) << both.out;  // the circle runs inside the sphere
   EXPECT_EQ(j["proxy"]["contact_ticks"], j["box_vs_exact"]["contact_both"].get<std::uint64_t>() +
