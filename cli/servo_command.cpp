@@ -1,7 +1,9 @@
 // `hapticbox servo BOX --device virtual|replay:LOG|falcon --seconds S [--record LOG] [--json]
-//  [--exact MESH [--render box|exact]] [--csv FILE]`:
+//  [--exact MESH [--render box|exact]] [--csv FILE] [--law penalty|proxy]`:
 // runs the servo loop over a box file (or the built-in analytic scene `plane`) and prints the
-// timing histogram and the safety events. With --exact, the exact Embree answer on MESH runs
+// timing histogram and the safety events. --law chooses how answers become forces (the
+// penalty law, or a god-object proxy kept by the loop: ServoOptions::contact_law); with
+// --exact both answers are rendered by it, each with its own proxy. With --exact, the exact Embree answer on MESH runs
 // in the same loop: one of the two drives the device (--render, box by default), the other is
 // computed in shadow on the same segment in the same tick; the summary compares them (query
 // times, contact agreement, force difference) and --record / --csv log both per tick.
@@ -46,6 +48,7 @@ struct ServoArgs {
   std::string exact;             // the mesh for the exact answer (empty: none)
   std::string render = "box";    // which answer drives the device with --exact
   std::string csv;
+  std::string law = "penalty";   // the contact law: penalty | proxy (hb::contact_law)
 };
 
 struct Scene {
@@ -140,8 +143,8 @@ BoxVsExact box_vs_exact(const ServoArgs& a, const hb::ServoReport& r) {
 void print_shadow(const ServoArgs& a, const hb::ServoReport& r) {
   const hb::ShadowReport& sh = r.shadow;
   const BoxVsExact c = box_vs_exact(a, r);
-  std::printf("  box vs exact (%s drives the device, %s in shadow, same segment every tick):\n",
-              c.box_drives ? "box" : "exact", c.box_drives ? "exact" : "box");
+  std::printf("  box vs exact (%s drives the device, %s in shadow, same segment and %s law every tick):\n",
+              c.box_drives ? "box" : "exact", c.box_drives ? "exact" : "box", hb::to_string(r.contact_law));
   print_stats("box", c.box_query);
   print_stats("exact", c.exact_query);
   std::printf("  query time exact / box: p50 %.2fx, p99 %.2fx\n",
@@ -161,6 +164,7 @@ nlohmann::json shadow_json(const ServoArgs& a, const hb::ServoReport& r) {
   const BoxVsExact c = box_vs_exact(a, r);
   return {{"rendered", a.render},
           {"mesh", a.exact},
+          {"contact_law", hb::to_string(r.contact_law)},
           {"box_query_p50_us", c.box_query.p50_us},
           {"box_query_p99_us", c.box_query.p99_us},
           {"exact_query_p50_us", c.exact_query.p50_us},
@@ -176,6 +180,20 @@ nlohmann::json shadow_json(const ServoArgs& a, const hb::ServoReport& r) {
           {"angle_p50_deg", sh.angle_p50_deg},
           {"angle_p99_deg", sh.angle_p99_deg},
           {"angle_max_deg", sh.angle_max_deg}};
+}
+
+nlohmann::json proxy_json(const hb::GodObjectStats& p) {
+  return {{"contact_ticks", p.contact_ticks}, {"queries", p.queries},   {"seeds", p.seeds},
+          {"reseeds", p.reseeds},             {"fallbacks", p.fallbacks}, {"max_planes", p.max_planes}};
+}
+
+void print_proxy(const char* what, const hb::GodObjectStats& p) {
+  std::printf("    %s: contact ticks %llu, queries %.2f a tick, episodes %llu, reseeds %llu, penalty fallbacks %llu, "
+              "at most %llu planes\n",
+              what, static_cast<unsigned long long>(p.contact_ticks),
+              p.ticks ? static_cast<double>(p.queries + p.ticks) / static_cast<double>(p.ticks) : 0.0,
+              static_cast<unsigned long long>(p.seeds), static_cast<unsigned long long>(p.reseeds),
+              static_cast<unsigned long long>(p.fallbacks), static_cast<unsigned long long>(p.max_planes));
 }
 
 void run_servo(const ServoArgs& a) {
@@ -197,6 +215,7 @@ void run_servo(const ServoArgs& a) {
   o.mapping = hb::fit_workspace(scene.min, scene.max, device->spec());
   if (a.units_per_metre > 0) o.mapping.model_units_per_metre = a.units_per_metre;
   o.law.stiffness_n_per_m = a.stiffness;
+  o.contact_law = hb::contact_law(a.law);  // checked by the option already
   if (opened.rate_hz > 0) o.rate_hz = opened.rate_hz;  // a replay: same dt, same safety ramps, same forces
 
   std::unique_ptr<hb::LogRecorder> recorder;
@@ -252,6 +271,11 @@ void run_servo(const ServoArgs& a) {
     j["realtime_message"] = r.realtime_message;
     j["stiffness_n_per_m"] = r.stiffness_n_per_m;
     j["stiffness_limited"] = r.stiffness_limited;
+    j["contact_law"] = hb::to_string(r.contact_law);
+    if (r.contact_law == hb::ContactLaw::proxy) {
+      j["proxy"] = proxy_json(r.proxy);
+      if (exact) j["shadow_proxy"] = proxy_json(r.shadow_proxy);
+    }
     for (std::size_t i = 0; i < hb::safety_event_count; ++i)
       j["safety_events"][hb::to_string(static_cast<hb::SafetyEvent>(i))] = r.safety[i];
     j["exit"] = hb::to_string(r.exit);
@@ -282,6 +306,14 @@ void run_servo(const ServoArgs& a) {
                 r.realtime_message.c_str());
     std::printf("  stiffness %.1f N/m%s\n", r.stiffness_n_per_m,
                 r.stiffness_limited ? " (limited to the device's maximum)" : "");
+    if (r.contact_law == hb::ContactLaw::proxy) {
+      std::printf("  contact law: proxy (god-object kept by the loop%s)\n", exact ? ", one for each answer" : "");
+      const bool box_drives = a.render != "exact";
+      print_proxy(!exact ? "proxy" : box_drives ? "box proxy" : "exact proxy", r.proxy);
+      if (exact) print_proxy(box_drives ? "exact proxy (shadow)" : "box proxy (shadow)", r.shadow_proxy);
+    } else {
+      std::printf("  contact law: penalty (the force law on each tick's answer)\n");
+    }
     std::printf("  safety events:");
     for (std::size_t i = 0; i < hb::safety_event_count; ++i)
       std::printf(" %s %llu", hb::to_string(static_cast<hb::SafetyEvent>(i)),
@@ -330,6 +362,18 @@ void add_servo_command(CLI::App& app) {
                   "segment every tick, compared with the box in the summary and logged by --record/--csv");
   cmd->add_option("--render", a->render, "With --exact: which answer drives the device (the other runs in shadow)")
       ->check(CLI::IsMember({"box", "exact"}))
+      ->capture_default_str();
+  cmd->add_option("--law", a->law,
+                  "Contact law: penalty (the force law on each tick's answer) or proxy (a god-object kept by the "
+                  "loop; with --exact, one for each answer)")
+      ->check([](const std::string& v) {
+        try {
+          hb::contact_law(v);
+          return std::string();
+        } catch (const hb::InvalidInput& e) {
+          return std::string(e.what());
+        }
+      })
       ->capture_default_str();
   auto* record = cmd->get_option("--record");
   cmd->add_option("--csv", a->csv, "Also write the recorded log as CSV (one row a tick; box_* and exact_* "

@@ -10,6 +10,9 @@
 // 5. Disconnect or end of stream ends the loop: zero force (when possible), report, exit.
 // 6. With a shadow query (set_shadow), after the force is written the same segment is asked
 //    of it too; the two answers are compared (counts, |dF| and angle histograms) and logged.
+// 7. ContactLaw::proxy: start() makes a GodObject over the scene (and one over the shadow);
+//    each tick steps it with the tick's segment instead of asking the scene once, so the
+//    driving and the shadow answer are the same law, each with its own proxy state.
 #include "device/servo_loop.h"
 #include "device/servo_log.h"
 #include <pthread.h>
@@ -121,6 +124,9 @@ void ServoLoop::start() {
       options_.mapping.probe_direction.norm() < 1e-6f)
     throw InvalidInput("servo loop: workspace mapping needs a positive scale, a positive probe "
                        "length and a non-zero probe direction");
+  if (options_.contact_law == ContactLaw::proxy &&
+      !(std::isfinite(options_.proxy.clearance_m) && options_.proxy.clearance_m > 0.f && options_.proxy.max_queries >= 1))
+    throw InvalidInput("servo loop: the proxy needs a finite positive clearance and at least one query a tick");
   options_.mapping.probe_direction.normalize();
 
   report_ = ServoReport{};
@@ -138,6 +144,13 @@ void ServoLoop::start() {
     report_.stiffness_limited = true;
   }
   report_.stiffness_n_per_m = options_.law.stiffness_n_per_m;
+  report_.contact_law = options_.contact_law;
+  proxy_.reset();
+  shadow_proxy_.reset();
+  if (options_.contact_law == ContactLaw::proxy) {
+    proxy_.emplace(scene_, options_.proxy);
+    if (shadow_) shadow_proxy_.emplace(*shadow_, options_.proxy);
+  }
   safety_ = SafetyFilter(spec, options_.safety, 1.0 / options_.rate_hz);
   guard_ = EnergyGuard(options_.energy_guard, 1.0 / options_.rate_hz);
   for (auto* h : {&period_hist_, &period_error_hist_, &compute_hist_, &query_hist_, &shadow_query_hist_,
@@ -245,7 +258,7 @@ void ServoLoop::run() noexcept {
 
     const std::int64_t c0 = now_ns();
     const Segment seg = map.probe(state.position_m);
-    const Contact contact = scene_.query(seg, law);
+    const Contact contact = proxy_ ? proxy_->step(seg, law) : scene_.query(seg, law);
     const std::int64_t q1 = now_ns();
     SafetyInput in;
     in.desired_force_n = guard_.apply(contact.force, state.position_m);
@@ -269,7 +282,7 @@ void ServoLoop::run() noexcept {
     std::int64_t shadow_ns = 0;
     if (shadow_) {
       const std::int64_t s0 = now_ns();
-      other = shadow_->query(seg, law);
+      other = shadow_proxy_ ? shadow_proxy_->step(seg, law) : shadow_->query(seg, law);
       shadow_ns = now_ns() - s0;
       shadow_query_hist_.add(shadow_ns);
       if (contact.contact && other.contact) ++sh.both_contact;
@@ -357,6 +370,8 @@ void ServoLoop::run() noexcept {
   rep.compute = timing_stats(compute_hist_);
   rep.query = timing_stats(query_hist_);
   rep.safety = safety_.counters();
+  if (proxy_) rep.proxy = proxy_->stats();
+  if (shadow_proxy_) rep.shadow_proxy = shadow_proxy_->stats();
   if (sh.enabled) {
     sh.query = timing_stats(shadow_query_hist_);
     sh.force_diff_mean_n = force_diff_hist_.mean_ns() * 1e-4;

@@ -8,7 +8,9 @@
 #include "device/seqlock.h"
 #include "device/timing_histogram.h"
 #include "haptic_box/contact.h"
+#include "haptic_box/god_object.h"
 #include <atomic>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -51,6 +53,15 @@ struct ServoOptions {
   EnergyGuardOptions energy_guard;  ///< passivity observer / controller, off by default.
   WorkspaceMapping mapping;
   SafetyOptions safety;
+  /// How each tick's answer becomes the force (`servo --law`): ContactLaw::penalty, the force
+  /// law on the scene's answer (stateless; the default for now), or ContactLaw::proxy, a
+  /// GodObject kept by the loop (Zilles and Salisbury 1995; haptic_box/god_object.h) fed each
+  /// tick's segment over the scene, and a second one over the shadow (set_shadow), so both
+  /// answers are rendered by the same law. Either way the force then goes through the energy
+  /// guard and the safety filter. The stiffness limit is the penalty law's (the proxy falls
+  /// back to the penalty answer when it finds no constraint).
+  ContactLaw contact_law = ContactLaw::penalty;
+  GodObjectOptions proxy;           ///< with ContactLaw::proxy (clearance > 0, max_queries >= 1).
 };
 
 /// Latest servo state, published every tick (trivially copyable for the seqlock).
@@ -111,7 +122,7 @@ struct ServoReport {
   TimingStats period;               ///< wake-to-wake.
   TimingStats period_error;         ///< |period - nominal|.
   TimingStats compute;              ///< query + safety.
-  TimingStats query;                ///< contact query alone.
+  TimingStats query;                ///< the contact law's answer alone (the proxy: all its queries).
   std::uint64_t overruns = 0;       ///< ticks that ended after the next tick's deadline.
   std::uint64_t skipped = 0;        ///< deadlines skipped to resynchronise after an overrun.
   bool realtime_requested = false;
@@ -124,9 +135,13 @@ struct ServoReport {
   std::string exit_message;
   std::uint64_t log_records = 0, log_dropped = 0;
   ShadowReport shadow;
+  ContactLaw contact_law = ContactLaw::penalty;  ///< the law the run used.
+  /// With ContactLaw::proxy: what the driving answer's proxy and the shadow's did (zero else).
+  GodObjectStats proxy, shadow_proxy;
 };
 
 /// Runs the servo loop on its own thread. The device and the scene must outlive the loop.
+/// Each tick's force comes from `scene` by options.contact_law (penalty or a proxy).
 class ServoLoop {
 public:
   ServoLoop(HapticDevice& device, const ContactQuery& scene, ServoOptions options = {});
@@ -170,6 +185,9 @@ private:
   ServoOptions options_;
   LogRecorder* recorder_ = nullptr;
   const ContactQuery* shadow_ = nullptr;
+  // ContactLaw::proxy: the driving answer's proxy and the shadow's, made afresh by start()
+  // (in place: the tick allocates nothing).
+  std::optional<GodObject> proxy_, shadow_proxy_;
   SafetyFilter safety_;
   EnergyGuard guard_;
   TimingHistogram period_hist_, period_error_hist_, compute_hist_, query_hist_;

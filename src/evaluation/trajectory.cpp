@@ -75,14 +75,6 @@ Rendered render(const ContactQuery& query, const ForceLaw& law, const DeviceSpac
   return rendered_answer(query.query(trajectory_segment(map, tip_m, dir, stylus_m), law), map);
 }
 
-const char* to_string(ContactLaw law) noexcept { return law == ContactLaw::proxy ? "proxy" : "penalty"; }
-
-ContactLaw contact_law(const std::string& name) {
-  if (name == "penalty") return ContactLaw::penalty;
-  if (name == "proxy") return ContactLaw::proxy;
-  throw InvalidInput("contact law '" + name + "': expected penalty or proxy");
-}
-
 TrajectoryRenderer::TrajectoryRenderer(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map,
                                        ContactLaw kind, GodObjectOptions proxy_options)
     : query_(query), law_(law), map_(map), kind_(kind), proxy_(query, proxy_options) {}

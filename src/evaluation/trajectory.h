@@ -75,15 +75,7 @@ struct Rendered {
 Rendered render(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map, const Vec3d& tip_m,
                 const Vec3d& dir, double stylus_m);
 
-/// How a trajectory's answers become forces.
-enum class ContactLaw : std::uint8_t {
-  penalty,  ///< the force law on each tick's answer (ForceLaw::depth), stateless: the default.
-  proxy,    ///< a god-object over the answers (haptic_box/god_object.h), one per trajectory.
-};
-/// "penalty" or "proxy".
-const char* to_string(ContactLaw law) noexcept;
-/// Parses "penalty" or "proxy"; throws hb::InvalidInput naming the value otherwise.
-ContactLaw contact_law(const std::string& name);
+// How a trajectory's answers become forces: ContactLaw (haptic_box/god_object.h).
 
 /// Renders the ticks of one trajectory, in order: render() with the penalty law, through a
 /// GodObject (created per renderer: its state is the trajectory's) with the proxy.

@@ -10,6 +10,7 @@
 //    back at the stylus's surface point and solve again; still none: the penalty answer.
 // 5. Force k (proxy - tip).
 #include "haptic_box/god_object.h"
+#include "errors.h"
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -61,6 +62,14 @@ bool proxy_nearest_feasible(const ProxyPlane* planes, int count, const ProxyVec&
 }
 
 } // namespace
+
+const char* to_string(ContactLaw law) noexcept { return law == ContactLaw::proxy ? "proxy" : "penalty"; }
+
+ContactLaw contact_law(const std::string& name) {
+  if (name == "penalty") return ContactLaw::penalty;
+  if (name == "proxy") return ContactLaw::proxy;
+  throw InvalidInput("contact law '" + name + "': expected penalty or proxy");
+}
 
 int GodObject::solve(const Vec3& goal_f, const ForceLaw& law, float clearance_f, const Vec3& l,
                      float stylus_length) noexcept {

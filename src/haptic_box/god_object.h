@@ -9,8 +9,20 @@
 // force turns smoothly with the tip.
 #include "haptic_box/contact.h"
 #include <cstdint>
+#include <string>
 
 namespace hb {
+
+/// How answers become forces, along a trajectory or in the servo loop (`stability --law`,
+/// `servo --law`, ServoOptions::contact_law).
+enum class ContactLaw : std::uint8_t {
+  penalty,  ///< the force law on each tick's answer (ForceLaw::depth), stateless: the default.
+  proxy,    ///< a GodObject over the answers, one per trajectory (per servo loop).
+};
+/// "penalty" or "proxy".
+const char* to_string(ContactLaw law) noexcept;
+/// Parses "penalty" or "proxy"; throws hb::InvalidInput naming the value otherwise.
+ContactLaw contact_law(const std::string& name);
 
 /// Options of GodObject.
 struct GodObjectOptions {
@@ -72,7 +84,8 @@ private:
 };
 
 /// A ContactQuery that answers through a GodObject: each query() is one tick of the proxy.
-/// Stateful, so not for many threads, and one per trajectory; the servo's `--proxy`.
+/// Stateful, so not for many threads, and one per trajectory. (The servo loop keeps its own
+/// GodObjects: ServoOptions::contact_law.)
 class GodObjectQuery final : public ContactQuery {
 public:
   explicit GodObjectQuery(const ContactQuery& query, GodObjectOptions options = {}) noexcept

@@ -475,6 +475,33 @@ TEST_F(CliTest, ServoWithExactComparesBoxAndExactOnOneTrajectoryAndLogsBoth) {
   EXPECT_EQ(run("servo " + path("sphere.hbox") + " --exact " + path("nope.off") + " --no-realtime --seconds 0.1").code, 1);
 }
 
+// `servo --law penalty|proxy`: the contact law of the loop, named in the summary and the JSON;
+// with --exact both answers are rendered by it (each its own proxy).
+TEST_F(CliTest, ServoLawIsChosenNamedAndABadOneRefusedNamingTheValue) {
+  const Result penalty = run("servo plane --no-realtime --seconds 0.1 --json");
+  ASSERT_EQ(penalty.code, 0) << penalty.err;
+  EXPECT_EQ(nlohmann::json::parse(penalty.out)["contact_law"], "penalty");
+  const Result text = run("servo plane --no-realtime --seconds 0.1 --law proxy");
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("contact law: proxy"), std::string::npos) << text.out;
+  bake_once();
+  const Result both = run("servo " + path("sphere.hbox") + " --exact " + path("sphere.off") +
+                          " --law proxy --no-realtime --seconds 0.3 --units-per-metre 400 --json");
+  ASSERT_EQ(both.code, 0) << both.err;
+  const auto j = nlohmann::json::parse(both.out);
+  EXPECT_EQ(j["contact_law"], "proxy");
+  EXPECT_EQ(j["box_vs_exact"]["contact_law"], "proxy");
+  ASSERT_TRUE(j.contains("proxy") && j.contains("shadow_proxy")) << both.out;
+  EXPECT_GT(j["proxy"]["contact_ticks"].get<std::uint64_t>(), 0u) << both.out;  // the circle runs inside the sphere
+  EXPECT_EQ(j["proxy"]["contact_ticks"], j["box_vs_exact"]["contact_both"].get<std::uint64_t>() +
+                                             j["box_vs_exact"]["contact_box_only"].get<std::uint64_t>());
+  EXPECT_GT(j["shadow_proxy"]["contact_ticks"].get<std::uint64_t>(), 0u);
+  const Result bad = run("servo plane --no-realtime --seconds 0.1 --law spring");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("'spring'"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("penalty or proxy"), std::string::npos) << bad.err;
+}
+
 } // namespace
 
 TEST_F(CliTest, UnknownCommandIsNamedAndTheCommandsListed) {
