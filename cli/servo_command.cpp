@@ -49,6 +49,7 @@ struct ServoArgs {
   std::string render = "box";    // which answer drives the device with --exact
   std::string csv;
   std::string law = "penalty";   // the contact law: penalty | proxy (hb::contact_law)
+  std::string route = "cells";   // the box scene's route (hb::SceneRoute)
 };
 
 struct Scene {
@@ -58,7 +59,7 @@ struct Scene {
   std::uint64_t mesh_hash = 0;  // of the mesh the box was baked from (0: unknown)
 };
 
-Scene load_scene(const std::string& box) {
+Scene load_scene(const std::string& box, const std::string& route) {
   Scene s;
   if (box == "plane") {
     s.query = std::make_unique<hb::PlaneScene>(0.f);  // 80 mm cube around the plane z = 0
@@ -79,6 +80,7 @@ Scene load_scene(const std::string& box) {
     }
   }
   s.mesh_hash = scene->source().mesh_hash;
+  hb::cli::apply_route(*scene, route);
   // The servo thread is one probe: its query state starts each tick from the last tick's
   // contact (BoxScene::query with a SceneQueryState; the stateless answers, tested).
   s.box = std::move(scene);
@@ -198,7 +200,7 @@ void print_proxy(const char* what, const hb::GodObjectStats& p) {
 
 void run_servo(const ServoArgs& a) {
   if (a.render == "exact" && a.exact.empty()) throw hb::cli::UsageError("--render exact needs --exact MESH");
-  Scene scene = load_scene(a.box);
+  Scene scene = load_scene(a.box, a.route);
   const std::unique_ptr<ExactScene> exact = load_exact(a, scene);
   const hb::ContactQuery* drive = scene.query.get();
   const hb::ContactQuery* shadow = nullptr;
@@ -272,6 +274,7 @@ void run_servo(const ServoArgs& a) {
     j["stiffness_n_per_m"] = r.stiffness_n_per_m;
     j["stiffness_limited"] = r.stiffness_limited;
     j["contact_law"] = hb::to_string(r.contact_law);
+    if (scene.box) j["route"] = hb::route_name(scene.box->answering_route());
     if (r.contact_law == hb::ContactLaw::proxy) {
       j["proxy"] = proxy_json(r.proxy);
       if (exact) j["shadow_proxy"] = proxy_json(r.shadow_proxy);
@@ -293,7 +296,8 @@ void run_servo(const ServoArgs& a) {
     if (exact) j["box_vs_exact"] = shadow_json(a, r);
     std::cout << j.dump(2) << "\n";
   } else {
-    std::printf("servo: %s, scene %s, %.0f Hz nominal\n", device->spec().name.c_str(), a.box.c_str(),
+    std::printf("servo: %s, scene %s%s%s, %.0f Hz nominal\n", device->spec().name.c_str(), a.box.c_str(),
+                scene.box ? ", route " : "", scene.box ? hb::route_name(scene.box->answering_route()) : "",
                 r.nominal_rate_hz);
     std::printf("  ticks %llu, measured rate %.2f Hz, overruns %llu (skipped %llu)\n",
                 static_cast<unsigned long long>(r.ticks), r.rate_hz,
@@ -375,6 +379,7 @@ void add_servo_command(CLI::App& app) {
         }
       })
       ->capture_default_str();
+  hb::cli::add_route_option(*cmd, a->route);
   auto* record = cmd->get_option("--record");
   cmd->add_option("--csv", a->csv, "Also write the recorded log as CSV (one row a tick; box_* and exact_* "
                                    "columns with --exact)")
