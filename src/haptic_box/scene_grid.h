@@ -122,6 +122,11 @@ private:
   /// parameter of the next boundary per axis and the parameter per cell.
   void dda_start(const Vec3& a, const Vec3& d, float s, int i[3], int step[3], float next[3],
                  float delta[3]) const noexcept;
+  /// The walk of walk_surface and walk_surface_by: bricks far from the surface are jumped;
+  /// in the others `on_cell(cell, s)` returns -1 (stop), 0 (the next cell) or the cells to
+  /// jump (a clearance).
+  template <class OnCell>
+  void walk_bricks(const Vec3& a, const Vec3& b, OnCell&& on_cell) const noexcept;
   Vec3 origin_{Vec3::Zero()};
   float cell_ = 0.f, inv_cell_ = 0.f;
   std::array<int, 3> dims_{{0, 0, 0}};
@@ -282,8 +287,8 @@ void SceneGrid::walk(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept
   }
 }
 
-template <class Visit>
-void SceneGrid::walk_surface(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept {
+template <class OnCell>
+void SceneGrid::walk_bricks(const Vec3& a, const Vec3& b, OnCell&& on_cell) const noexcept {
   if (codes_.empty()) return;
   const Vec3 d = b - a;
   float s0 = 0.f, s1 = 1.f;
@@ -301,33 +306,19 @@ void SceneGrid::walk_surface(const Vec3& a, const Vec3& b, Visit&& visit) const 
   const int limit = dims_[0] + dims_[1] + dims_[2];
   for (int it = 0; it < limit; ++it) {
     const std::uint8_t brick = bricks_[brick_index(i[0], i[1], i[2])];
+    int jump_cells = 0;
     if ((brick & kBrickSurface) != kBrickSurface && (brick >> 2) >= 3) {
       // Every brick within (brick >> 2) - 1 of this one has no surface. The point lies in
       // this brick's closure widened by one cell (as below), so moving it at most
       // 4 * ((brick >> 2) - 1) - 2 cells in every axis keeps it inside those bricks: no
-      // surface cell is skipped, and the landing cell has none either. No cell word is read.
-      const float jump = s + float(4 * (brick >> 2) - 6) * s_per_cell;
-      if (jump > s1) return;
-      start_at(jump);
-      s = jump;
-      continue;
+      // surface cell is skipped, and the landing cell has none either. No cell is read.
+      jump_cells = 4 * (brick >> 2) - 6;
+    } else {
+      jump_cells = on_cell(static_cast<const int*>(i), s);
+      if (jump_cells < 0) return;
     }
-    const std::uint32_t word = cells_[cell_index(i[0], i[1], i[2])];
-    const std::uint16_t code = std::uint16_t(word);
-    const int clearance = int(word >> 16);
-    if (code >= kFirstSurface) {
-      if constexpr (std::is_invocable_v<Visit&, std::uint16_t, float, const int*>) {
-        if (!visit(code, s, static_cast<const int*>(i))) return;
-      } else {
-        if (!visit(code, s)) return;
-      }
-    } else if (clearance >= 4) {
-      // Every cell within clearance - 1 of this one has no surface. The point lies in this
-      // cell's closure (at most one cell past its low corner in each axis), so moving it at
-      // most clearance - 2 cells in every axis keeps it strictly within clearance - 1 cells:
-      // no surface cell is skipped. The landing cell has no surface either, so its inexact
-      // entry parameter is never reported.
-      const float jump = s + float(clearance - 2) * s_per_cell;
+    if (jump_cells > 0) {
+      const float jump = s + float(jump_cells) * s_per_cell;
       if (jump > s1) return;
       start_at(jump);
       // The landing cell is beyond the boundaries already crossed: keep s monotone.
@@ -343,39 +334,36 @@ void SceneGrid::walk_surface(const Vec3& a, const Vec3& b, Visit&& visit) const 
   }
 }
 
+template <class Visit>
+void SceneGrid::walk_surface(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept {
+  walk_bricks(a, b, [&](const int* i, float s) {
+    const std::uint32_t word = cells_[cell_index(i[0], i[1], i[2])];
+    const std::uint16_t code = std::uint16_t(word);
+    const int clearance = int(word >> 16);
+    if (code >= kFirstSurface) {
+      bool go_on = true;
+      if constexpr (std::is_invocable_v<Visit&, std::uint16_t, float, const int*>) {
+        go_on = visit(code, s, i);
+      } else {
+        go_on = visit(code, s);
+      }
+      return go_on ? 0 : -1;
+    }
+    // Every cell within clearance - 1 of this one has no surface. The point lies in this
+    // cell's closure (at most one cell past its low corner in each axis), so moving it at
+    // most clearance - 2 cells in every axis keeps it strictly within clearance - 1 cells:
+    // no surface cell is skipped. The landing cell has no surface either, so its inexact
+    // entry parameter is never reported.
+    return clearance >= 4 ? clearance - 2 : 0;
+  });
+}
+
 template <class IndexOf, class Visit>
 void SceneGrid::walk_surface_by(const Vec3& a, const Vec3& b, IndexOf&& index_of, Visit&& visit) const noexcept {
-  if (codes_.empty()) return;
-  const Vec3 d = b - a;
-  float s0 = 0.f, s1 = 1.f;
-  if (!clip(a, d, s0, s1)) return;
-  const float max_d = std::max({std::fabs(d.x()), std::fabs(d.y()), std::fabs(d.z())});
-  const float s_per_cell = max_d > 0.f ? cell_ / max_d : 2.f;
-  int i[3], step[3];
-  float next[3], delta[3];
-  const auto start_at = [&](float s) { dda_start(a, d, s, i, step, next, delta); };
-  start_at(s0);
-  float s = s0;
-  const int limit = dims_[0] + dims_[1] + dims_[2];
-  for (int it = 0; it < limit; ++it) {
-    const std::uint8_t brick = bricks_[brick_index(i[0], i[1], i[2])];
-    if ((brick & kBrickSurface) != kBrickSurface && (brick >> 2) >= 3) {
-      // As walk_surface: every brick within (brick >> 2) - 1 of this one has no surface.
-      const float jump = s + float(4 * (brick >> 2) - 6) * s_per_cell;
-      if (jump > s1) return;
-      start_at(jump);
-      s = jump;
-      continue;
-    }
+  walk_bricks(a, b, [&](const int* i, float s) {
     const std::uint32_t index = index_of(i[0], i[1], i[2]);
-    if (index != 0xffffffffu && !visit(index, s)) return;
-    const int k = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
-    s = next[k];
-    if (s > s1) return;
-    i[k] += step[k];
-    if (i[k] < 0 || i[k] >= dims_[k]) return;
-    next[k] += delta[k];
-  }
+    return index != 0xffffffffu && !visit(index, s) ? -1 : 0;
+  });
 }
 
 } // namespace hb

@@ -354,7 +354,9 @@ TEST(ServoProxyTest, StallWhileInContactWithTheProxyDoesNotPopThrough) {
       EXPECT_NEAR(t.force[which].norm(), k_distance, 2e-3f) << "tick " << i << " answer " << which;
     }
     // What the device gets keeps pushing out of the groove through the stall and after it.
-    if (i > first + 10) EXPECT_GT(t.sent.z(), 0.05f) << "tick " << i;
+    if (i > first + 10) {
+      EXPECT_GT(t.sent.z(), 0.05f) << "tick " << i;
+    }
   }
   // After the ramp the full force is back.
   EXPECT_NEAR(ticks.back().sent.z(), 3.f, 0.05f);
