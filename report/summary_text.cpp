@@ -17,7 +17,8 @@ std::string report_summary_text(const ReportData& d, const std::string& dir) {
   const std::string mesh = std::filesystem::path(d.mesh_path).filename().string();
   o << "measured: the haptic box (" << (d.box_path.empty() ? std::string("baked for the report") : d.box_path) << ": "
     << d.pieces << (d.pieces == 1 ? " box, " : " boxes, ") << densities_text(d) << ", codec " << d.codec
-    << (d.refine ? ", exact refinement" : "") << ") against the exact answer (Embree on the "
+    << (d.refine ? ", exact refinement" : "")
+    << (d.route == "cells" ? ", answered from the grid's surface-cell triangles" : "") << ") against the exact answer (Embree on the "
     << count_text(double(d.triangles)) << "-triangle mesh " << mesh << "), on the same " << count_text(double(s.samples))
     << " random probes (seed " << d.options.probes.seed << ")\n";
   o << "accuracy: contact agreement " << agreement_percent(s.contact_agreement) << " (" << s.false_contacts
