@@ -95,12 +95,7 @@ Contact AnalyticWall::query(const Segment& segment, const ForceLaw& law) const n
   if (hs < 0.f || !(ln < 0.f)) return c;                    // handle inside, or moving away
   const float t = hs / -ln;
   if (t > length) return c;
-  c.contact = true;
-  c.depth = length - t;
-  c.point = segment.start + t * l;
-  c.normal = normal_;
-  apply_force_law(c, law, l);
-  return c;
+  return contact_along(segment.start, l, length, t, normal_, law);
 }
 
 std::vector<TickRecord> run_closed_loop(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map,

@@ -10,12 +10,7 @@ Contact ExactQuery::query(const Segment& segment, const ForceLaw& law) const noe
   const Vec3 dir = delta / length;
   const RayHit hit = scene_.intersect(segment.start, dir, 0.f, length);
   if (!hit.hit || hit.back_face) return c;
-  c.contact = true;
-  c.depth = length - hit.t;
-  c.point = segment.start + hit.t * dir;
-  c.normal = hit.normal;
-  apply_force_law(c, law, dir);
-  return c;
+  return contact_along(segment.start, dir, length, hit.t, hit.normal, law);
 }
 
 } // namespace hb

@@ -309,7 +309,7 @@ bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact
   }
   const float length = (segment.end - segment.start).norm();
   if (!(length > 0.f) || !std::isfinite(length)) return false;
-  if (cells && route_ == SceneRoute::cells) {
+  if (answering_route() == SceneRoute::cells) {
     out = first_crossing_contact(segment, length, law);
     if (out_box) *out_box = SceneQueryState::kNone;
     if (out_triangle) *out_triangle = kNoTriangle;
@@ -440,13 +440,7 @@ Contact BoxScene::first_crossing_contact(const Segment& segment, float length, c
   Vec3 normal;
   bool front = false;
   if (!cells_->surface().intersect(best_id, o, d, 0.f, t, normal, front) || !front || !(t <= length)) return Contact{};
-  Contact c;
-  c.contact = true;
-  c.depth = length - t;
-  c.point = segment.start + t * dir;
-  c.normal = normal;
-  apply_force_law(c, law, dir);
-  return c;
+  return contact_along(segment.start, dir, length, t, normal, law);
 }
 
 bool BoxScene::settle_first_crossing(const Segment& segment, const ForceLaw& law, const Visited& visited, Contact& best,

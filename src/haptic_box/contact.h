@@ -85,4 +85,17 @@ inline void apply_force_law(Contact& c, const ForceLaw& law, const Vec3& l) noex
   if (c.contact && law.depth == DepthLaw::normal) c.force *= depth_law_scale(law, l.x(), l.y(), l.z(), c.normal);
 }
 
+/// The contact of a surface crossed at distance t (<= length) from the handle `start` along
+/// unit direction l, with outward `normal` there: depth length - t, the point, the force law.
+inline Contact contact_along(const Vec3& start, const Vec3& l, float length, float t, const Vec3& normal,
+                             const ForceLaw& law) noexcept {
+  Contact c;
+  c.contact = true;
+  c.depth = length - t;
+  c.point = start + t * l;
+  c.normal = normal;
+  apply_force_law(c, law, l);
+  return c;
+}
+
 } // namespace hb

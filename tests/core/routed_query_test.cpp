@@ -13,12 +13,17 @@ namespace {
 
 const ForceLaw kRoutedLaw{};
 
-TEST(RoutedQueryTest, IdsOnlyRefinedQueryEqualsTheConfirmedRefinedQuery) {
-  const test::TwoSpheres two = test::two_spheres(3.f);
+// The two spheres baked refined at m 12, n 6: one box (pieces = false) or one a sphere.
+BoxScene refined_scene(const test::TwoSpheres& two, bool pieces = true) {
   BakeOptions o;
   o.params = {12, 6};
   o.refine = true;
-  const BoxScene scene = bake_scene(two.mesh, {}, o, SourceInfo{});
+  return bake_scene(two.mesh, pieces ? two.piece : std::vector<std::uint32_t>{}, o, SourceInfo{});
+}
+
+TEST(RoutedQueryTest, IdsOnlyRefinedQueryEqualsTheConfirmedRefinedQuery) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  const BoxScene scene = refined_scene(two, false);
   ASSERT_EQ(scene.boxes().size(), 1u);
   const HapticBox& box = scene.boxes()[0];
   ASSERT_TRUE(box.refines());
@@ -51,10 +56,7 @@ TEST(RoutedQueryTest, IdsOnlyRefinedQueryEqualsTheConfirmedRefinedQuery) {
 
 TEST(RoutedQueryTest, HandlesInSurfaceCellsShownOutsideAreRoutedWithTheUnroutedAnswers) {
   const test::TwoSpheres two = test::two_spheres(2.5f);
-  BakeOptions o;
-  o.params = {12, 6};
-  o.refine = true;
-  const BoxScene scene = bake_scene(two.mesh, two.piece, o, SourceInfo{});
+  const BoxScene scene = refined_scene(two);
   ASSERT_NE(scene.grid(), nullptr);
   const BoxScene plain = scene.without_grid();
   const SceneGrid& grid = *scene.grid();
@@ -85,10 +87,7 @@ TEST(RoutedQueryTest, HandlesInSurfaceCellsShownOutsideAreRoutedWithTheUnroutedA
 
 TEST(RoutedQueryTest, HandlesInSurfaceCellsGetExactsAnswerFromAtMostOneBoxQuery) {
   const test::TwoSpheres two = test::two_spheres(2.5f);
-  BakeOptions o;
-  o.params = {12, 6};
-  o.refine = true;
-  const BoxScene scene = bake_scene(two.mesh, two.piece, o, SourceInfo{});
+  const BoxScene scene = refined_scene(two);
   ASSERT_NE(scene.surface_cells(), nullptr);
   ASSERT_TRUE(scene.cell_triangles());
   BoxScene grid_only = scene;
@@ -137,10 +136,7 @@ TEST(RoutedQueryTest, AContactBehindANearerSheetYieldsToTheFirstCrossing) {
   // grid claims box 0 (baked from A alone) holds every triangle, so it names box 0 in B's
   // cells: box 0 answers A's surface, behind B's. The first crossing (B) must win.
   const test::TwoSpheres two = test::two_spheres(1.f);
-  BakeOptions o;
-  o.params = {12, 6};
-  o.refine = true;
-  const BoxScene baked = bake_scene(two.mesh, two.piece, o, SourceInfo{});
+  const BoxScene baked = refined_scene(two);
   std::vector<std::vector<std::uint32_t>> lists(2);
   for (std::uint32_t t = 0; t < two.piece.size(); ++t)
     if (two.piece[t] == 1) lists[1].push_back(t);  // lists[0] empty: all triangles
@@ -174,10 +170,7 @@ TEST(RoutedQueryTest, TheCellsRouteGivesExactsContactsWithoutAskingABox) {
   // surface: the cells route answers from the surface cells' triangles alone, exact's
   // contacts and forces, and the boxes' route's contact decisions.
   const test::TwoSpheres two = test::two_spheres(2.5f);
-  BakeOptions o;
-  o.params = {12, 6};
-  o.refine = true;
-  const BoxScene boxes = bake_scene(two.mesh, two.piece, o, SourceInfo{});
+  const BoxScene boxes = refined_scene(two);
   ASSERT_NE(boxes.surface_cells(), nullptr);
   BoxScene cells = boxes;
   cells.set_route(SceneRoute::cells);
