@@ -444,7 +444,7 @@ Contact BoxScene::first_crossing_contact(const Segment& segment, float length, c
   Vec3 normal;
   bool front = false;
   if (!cells_->surface().intersect(best_id, o, d, 0.f, t, normal, front) || !front || !(t <= length)) return Contact{};
-  return contact_along(segment.start, dir, length, t, normal, law);
+  return contact_along(segment.start, dir, length, t, normal, law, cells_->surface().face_normal(best_id));
 }
 
 bool BoxScene::settle_first_crossing(const Segment& segment, const ForceLaw& law, const Visited& visited, Contact& best,
