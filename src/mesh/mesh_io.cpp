@@ -16,6 +16,7 @@
 // Writing: mesh_writers.cpp (OFF directly, other formats through OpenMesh).
 #include "mesh/mesh_io.h"
 
+#include "mesh/mapped_file.h"
 #include "mesh/mesh_readers.h"
 #include "mesh/mesh_validation.h"
 #include "mesh/mesh_writers.h"
@@ -51,7 +52,7 @@ Format format_of(const std::string& path) {
 
 detail::PolygonSoup read_soup(const std::string& path, Format format, MeshReadReport& report) {
   switch (format) {
-  case Format::Off: return detail::read_off(path, detail::read_whole_file(path), report);
+  case Format::Off: return detail::read_off(path, detail::MappedFile(path), report);
   case Format::Obj: return detail::read_obj(path, report);
   case Format::Ply: return detail::read_ply(path, report);
   case Format::Stl: return detail::read_stl(path, report);
