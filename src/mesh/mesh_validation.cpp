@@ -16,11 +16,10 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cstdio>
-#include <memory>
 #include <filesystem>
 #include <fstream>
 
@@ -175,31 +174,38 @@ TriangleMesh triangulate(const std::string& path, PolygonSoup& soup, MeshReadRep
 void analyse_edges(const std::string& path, const TriangleMesh& mesh, MeshReadReport& report) {
   // Every triangle edge filed under its lower vertex (a bucket per vertex, counting sort),
   // as (higher vertex << 1 | direction): the same undirected keys as one global sort of
-  // edges would group, for about half its memory and without its n log n. Buckets are filled
-  // in parallel (any order) and then sorted one by one, which makes the counts exact.
+  // edges would group, for about half its memory and without its n log n. Each task owns a
+  // range of vertices and scans all triangles for the edges it owns: the triangle list is
+  // read a few times in order, but no two tasks write the same counter, so there are no
+  // atomics (which would serialise the cache misses of the scattered writes).
   const std::size_t nv = mesh.positions.size();
   const auto& T = mesh.triangles;
-  std::unique_ptr<std::atomic<std::uint32_t>[]> fill(new std::atomic<std::uint32_t>[nv]());
-  const auto for_triangles = [&](const auto& edge) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, T.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t i = r.begin(); i != r.end(); ++i)
-        for (int k = 0; k < 3; ++k) edge(T[i][k], T[i][(k + 1) % 3]);
+  const std::size_t parts =
+      std::max<std::size_t>(1, std::min<std::size_t>(2 * std::size_t(tbb::this_task_arena::max_concurrency()), nv / 4096));
+  const auto for_owned_edges = [&](const auto& edge) {
+    tbb::parallel_for(std::size_t(0), parts, [&](std::size_t part) {
+      const std::uint32_t v0 = std::uint32_t(nv * part / parts), v1 = std::uint32_t(nv * (part + 1) / parts);
+      for (const Triangle& t : T)
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t a = t[k], b = t[(k + 1) % 3], lo = std::min(a, b);
+          if (lo >= v0 && lo < v1) edge(a, b, lo);
+        }
     });
   };
-  for_triangles([&](std::uint32_t a, std::uint32_t b) { fill[std::min(a, b)].fetch_add(1, std::memory_order_relaxed); });
+  std::vector<std::uint32_t> fill(nv, 0);
+  for_owned_edges([&](std::uint32_t, std::uint32_t, std::uint32_t lo) { ++fill[lo]; });
   std::vector<std::size_t> start(nv + 1);
   start[0] = 0;
   for (std::size_t v = 0; v < nv; ++v) {
-    start[v + 1] = start[v] + fill[v].load(std::memory_order_relaxed);
-    fill[v].store(0, std::memory_order_relaxed);
+    start[v + 1] = start[v] + fill[v];
+    fill[v] = 0;
   }
   // < 2^31 vertices (triangulate), so (hi << 1 | direction) fits 32 bits; the bit says a > b.
   std::vector<std::uint32_t> edges(start[nv]);
-  for_triangles([&](std::uint32_t a, std::uint32_t b) {
-    const std::uint32_t lo = std::min(a, b), hi = std::max(a, b);
-    edges[start[lo] + fill[lo].fetch_add(1, std::memory_order_relaxed)] = (hi << 1) | (a > b ? 1u : 0u);
+  for_owned_edges([&](std::uint32_t a, std::uint32_t b, std::uint32_t lo) {
+    edges[start[lo] + fill[lo]++] = (std::max(a, b) << 1) | (a > b ? 1u : 0u);
   });
-  fill.reset();
+  fill = std::vector<std::uint32_t>();
   struct Counts {
     std::size_t boundary = 0, non_manifold = 0, misoriented = 0;
   };

@@ -16,7 +16,9 @@
 //  6. Parse: vertices 3 numbers each (extra values ignored); faces a corner count then that
 //     many indices in range (a colour after them ignored). Each chunk keeps its first error;
 //     the error of the earliest chunk is thrown, which is the first in the file, as a
-//     sequential read would report. Parsed chunks give their pages back (MappedFile::release).
+//     sequential read would report.
+// Every pass gives its chunks' pages back as it goes (MappedFile::release), so the file is
+// never resident as a whole next to the soup.
 #include "mesh/mapped_file.h"
 #include "mesh/mesh_readers.h"
 #include "mesh/text_tokens.h"
@@ -146,6 +148,9 @@ PolygonSoup read_off(const std::string& path, const MappedFile& file, MeshReadRe
     std::string_view l;
     while (r.next(l)) ++c.content_lines;
     c.physical_lines = r.line_number();
+    // Released after every pass: the soup is allocated in between, and the file's pages
+    // should not be resident next to it (they fault back in from the page cache).
+    file.release(c.begin, c.end);
   });
   std::size_t available = 0, line_number = lines.line_number();
   for (Chunk& c : chunks) {
@@ -188,6 +193,7 @@ PolygonSoup read_off(const std::string& path, const MappedFile& file, MeshReadRe
       c.corners += std::size_t(k);
       ++c.faces_kept;
     }
+    file.release(c.begin, c.end);
   });
   std::size_t corners = 0, kept = 0;
   for (Chunk& c : chunks) {
