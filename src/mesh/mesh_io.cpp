@@ -5,7 +5,8 @@
 //  1. Check the extension (case-insensitive) and the file itself: missing, directory, empty.
 //  2. Load a polygon soup (positions + index lists), not a half-edge mesh, so nothing is lost:
 //     off_reader.cpp, obj_reader.cpp, stl_reader.cpp, ply_reader.cpp (strict parsers of our
-//     own: declared counts checked against the file, every value parsed, lines named) and
+//     own: declared counts checked against the file, every value parsed, lines named; OFF,
+//     the format of big models here, is parsed in parallel from a mapped file) and
 //     om_reader.cpp (OpenMesh's half-edge format, through OpenMesh).
 //  3. Validate: finite coordinates within kMaxCoordinate, indices in range (else
 //     hb::InvalidInput).
