@@ -61,6 +61,29 @@ void grid_routing(benchmark::State& state) {
     if (++i == g->probes.size()) i = 0;
   }
 }
+// The cells route's walk alone (no triangle tested): from the handle to the first surface
+// cell, as SurfaceCells' brick masks name them.
+void cells_walk(benchmark::State& state) {
+  std::size_t i = 0;
+  const hb::SceneGrid& grid = *g->scene.grid();
+  const hb::SurfaceCells& sc = *g->scene.surface_cells();
+  for (auto _ : state) {
+    std::uint32_t first = hb::SurfaceCells::kNone;
+    grid.walk_surface_by(g->probes[i].start, g->probes[i].end,
+                         [&sc](int x, int y, int z) { return sc.index_or_empty_brick(x, y, z); },
+                         [&](std::uint32_t cell, float) { return (first = cell, false); });
+    benchmark::DoNotOptimize(first);
+    if (++i == g->probes.size()) i = 0;
+  }
+}
+// The scene and exact on the first 64 probes only: caches warm, as on a stroke.
+void warm_query(benchmark::State& state, bool exact) {
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(exact ? g->exact->query(g->probes[i], g->law) : g->scene.query(g->probes[i], g->law));
+    i = (i + 1) & 63;
+  }
+}
 void box_query(benchmark::State& state, hb::Refine refine) {
   std::size_t i = 0;
   for (auto _ : state) {
@@ -152,7 +175,10 @@ int main(int argc, char** argv) {
   }
   benchmark::RegisterBenchmark("exact", exact_query);
   benchmark::RegisterBenchmark("scene", scene_query);
+  benchmark::RegisterBenchmark("exact_warm", warm_query, true);
+  benchmark::RegisterBenchmark("scene_warm", warm_query, false);
   if (f.scene.grid()) benchmark::RegisterBenchmark("grid_routing", grid_routing);
+  if (f.scene.grid() && f.scene.surface_cells()) benchmark::RegisterBenchmark("cells_walk", cells_walk);
   benchmark::RegisterBenchmark("first_box_blend_only", box_query, hb::Refine::off);
   benchmark::RegisterBenchmark("first_box_refined", box_query, hb::Refine::all);
   benchmark::RunSpecifiedBenchmarks();

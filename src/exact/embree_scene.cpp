@@ -139,6 +139,8 @@ RayHit EmbreeScene::intersect(const Vec3& origin, const Vec3& dir, float t_near,
   const float len = shaded.norm();
   out.normal = len > 0.f ? Vec3(shaded / len) : Vec3(-dir);
   out.back_face = geometric.dot(dir) > 0.f;
+  const float glen = geometric.norm();
+  if (glen > 0.f && glen <= std::numeric_limits<float>::max()) out.face_normal = geometric / glen;
   return out;
 }
 

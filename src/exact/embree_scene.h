@@ -15,6 +15,7 @@ struct RayHit {
   float t = 0.f;
   std::uint32_t triangle = 0;   ///< id in the mesh given to the scene.
   Vec3 normal{Vec3::Zero()};    ///< unit shaded normal, outward.
+  Vec3 face_normal{Vec3::Zero()};  ///< unit geometric normal (the triangle's winding), zero for a degenerate one.
   bool back_face = false;       ///< geometric normal points along the ray.
 };
 

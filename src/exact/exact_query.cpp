@@ -10,7 +10,7 @@ Contact ExactQuery::query(const Segment& segment, const ForceLaw& law) const noe
   const Vec3 dir = delta / length;
   const RayHit hit = scene_.intersect(segment.start, dir, 0.f, length);
   if (!hit.hit || hit.back_face) return c;
-  return contact_along(segment.start, dir, length, hit.t, hit.normal, law);
+  return contact_along(segment.start, dir, length, hit.t, hit.normal, law, hit.face_normal);
 }
 
 } // namespace hb

@@ -290,6 +290,16 @@ bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact
     out = Contact{};
     return true;
   }
+  // The cells route needs no state of the handle: the first crossing's facing is exact's rule
+  // (a back face: the handle is inside, no contact), whatever cell the handle is in.
+  if (answering_route() == SceneRoute::cells) {
+    const float length = (segment.end - segment.start).norm();
+    if (!(length > 0.f) || !std::isfinite(length)) return false;
+    out = first_crossing_contact(segment, length, law);
+    if (out_box) *out_box = SceneQueryState::kNone;
+    if (out_triangle) *out_triangle = kNoTriangle;
+    return true;
+  }
   const bool cells = use_cells_ && cells_ && unconfirmed_ == UnconfirmedBlend::reject;
   // A handle in a surface cell: its cell's triangles say whether it is inside (no contact)
   // or outside (routed); without them, or when they cannot tell, it is routed when shown
@@ -309,12 +319,6 @@ bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact
   }
   const float length = (segment.end - segment.start).norm();
   if (!(length > 0.f) || !std::isfinite(length)) return false;
-  if (answering_route() == SceneRoute::cells) {
-    out = first_crossing_contact(segment, length, law);
-    if (out_box) *out_box = SceneQueryState::kNone;
-    if (out_triangle) *out_triangle = kNoTriangle;
-    return true;
-  }
   constexpr int kMaxAsked = 8;
   std::uint32_t asked[kMaxAsked];
   int n_asked = 0;
@@ -420,7 +424,7 @@ Contact BoxScene::first_crossing_contact(const Segment& segment, float length, c
   std::uint32_t best_id = kNoTriangle;
   // The walk reads the cells' brick masks (in cache), not the grid's cell words.
   const SurfaceCells& sc = *cells_;
-  const auto index_of = [&sc](int x, int y, int z) { return sc.index(x, y, z); };
+  const auto index_of = [&sc](int x, int y, int z) { return sc.index_or_empty_brick(x, y, z); };
   grid_->walk_surface_by(segment.start, segment.end, index_of, [&](std::uint32_t cell, float s) {
     if (s > best_s) return false;
     float cs = 0.f;
@@ -440,7 +444,7 @@ Contact BoxScene::first_crossing_contact(const Segment& segment, float length, c
   Vec3 normal;
   bool front = false;
   if (!cells_->surface().intersect(best_id, o, d, 0.f, t, normal, front) || !front || !(t <= length)) return Contact{};
-  return contact_along(segment.start, dir, length, t, normal, law);
+  return contact_along(segment.start, dir, length, t, normal, law, cells_->surface().face_normal(best_id));
 }
 
 bool BoxScene::settle_first_crossing(const Segment& segment, const ForceLaw& law, const Visited& visited, Contact& best,

@@ -26,7 +26,8 @@ enum class SceneRoute : std::uint8_t {
   /// crossing, cell by cell from the handle, shaded as exact's (no box is asked). The same
   /// contacts as `boxes` (both apply exact's first-crossing rule), 2.3-4.7x faster in random
   /// order on the default bakes (docs/speed.md). The default. Only with the surface cells (SurfaceCells)
-  /// and UnconfirmedBlend::reject; a handle the cells cannot place takes the boxes' path.
+  /// and UnconfirmedBlend::reject. Needs no handle state: a handle outside every box or in a
+  /// surface cell is answered by the same walk (only a handle in an inside cell exits early).
   cells,
 };
 

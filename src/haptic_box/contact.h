@@ -55,6 +55,11 @@ struct Contact {
   Vec3 point{Vec3::Zero()};     ///< surface point on the segment, model units.
   Vec3 normal{Vec3::Zero()};    ///< unit outward (shaded) surface normal at `point`.
   Vec3 force{Vec3::Zero()};     ///< k * depth * metres_per_unit * normal, in N.
+  /// Unit outward geometric normal of the triangle crossed, where the answerer knows the
+  /// triangle (exact Embree, the scene's cells route); zero otherwise (a box's interpolated
+  /// answer). A proxy's constraint planes are the faces' planes: the shaded normal's plane
+  /// through the point cuts into a faceted surface (GodObject).
+  Vec3 face_normal{Vec3::Zero()};
 };
 
 /// Anything that answers a probe segment: the exact reference, one haptic box, a scene of
@@ -86,14 +91,16 @@ inline void apply_force_law(Contact& c, const ForceLaw& law, const Vec3& l) noex
 }
 
 /// The contact of a surface crossed at distance t (<= length) from the handle `start` along
-/// unit direction l, with outward `normal` there: depth length - t, the point, the force law.
+/// unit direction l, with outward `normal` there: depth length - t, the point, the force law;
+/// `face_normal` the crossed triangle's unit geometric normal when known (else zero).
 inline Contact contact_along(const Vec3& start, const Vec3& l, float length, float t, const Vec3& normal,
-                             const ForceLaw& law) noexcept {
+                             const ForceLaw& law, const Vec3& face_normal = Vec3::Zero()) noexcept {
   Contact c;
   c.contact = true;
   c.depth = length - t;
   c.point = start + t * l;
   c.normal = normal;
+  c.face_normal = face_normal;
   apply_force_law(c, law, l);
   return c;
 }

@@ -61,6 +61,15 @@ bool proxy_nearest_feasible(const ProxyPlane* planes, int count, const ProxyVec&
   return best < std::numeric_limits<double>::infinity();
 }
 
+// The normal of a hit's constraint plane: the face's where the answerer knows it. The shaded
+// normal's plane through the point is tilted against the facet it is on (by several degrees
+// on the armadillo), so a path along it meets that facet within a few clearances; each such
+// grazing hit made a plane, and the proxy crept along the crossings of those planes at rest
+// instead of settling, chaotically enough that the box's and exact's proxies parted.
+ProxyVec plane_normal(const Contact& c) noexcept {
+  return (c.face_normal.squaredNorm() > 0.f ? c.face_normal : c.normal).cast<double>();
+}
+
 } // namespace
 
 const char* to_string(ContactLaw law) noexcept { return law == ContactLaw::proxy ? "proxy" : "penalty"; }
@@ -96,16 +105,16 @@ int GodObject::solve(const Vec3& goal_f, const ForceLaw& law, float clearance_f,
       const Vec3 t = target.cast<float>();
       c = query_->query(Segment{t - l * stylus_length, t}, law);
       ++stats_.queries;
-      by_stylus = c.contact && c.normal.cast<double>().dot(c.point.cast<double>() - target) > 2.0 * clearance;
+      by_stylus = c.contact && plane_normal(c).dot(c.point.cast<double>() - target) > 2.0 * clearance;
       if (!by_stylus) c.contact = false;
     }
     if (!c.contact) {
       p = target;
       break;
     }
-    ProxyVec n = c.normal.cast<double>();
-    // A front-face crossing whose shaded normal does not oppose the motion (thin sheets): the
-    // plane must still stop it.
+    ProxyVec n = plane_normal(c);
+    // A front-face crossing met at a grazing angle, or whose shaded normal does not oppose the
+    // motion (an answer without the face's normal; thin sheets): the plane must still stop it.
     if (!by_stylus && !(n.dot(dir) < -0.05)) n = (n - (n.dot(dir) + 0.05) * dir).normalized();
     if (!n.allFinite()) break;
     const ProxyVec at = c.point.cast<double>();

@@ -699,6 +699,7 @@ bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceL
   bool contact = blended_hit && in_contact(t0, nx, ny, nz);
   // Refine::misses: only answers the refinement could turn into a contact (an accepted
   // refinement stays within refine_tolerance_ of a blended hit).
+  std::uint32_t crossed_face = kNoTriangle;  // the triangle a refinement crossed
   const bool could_flip = !contact && (!blended_hit || (t0 <= d + refine_tolerance_ && t_enter + t0 >= -refine_tolerance_));
   if (surface_ && (refine_hit == Refine::all || (refine_hit == Refine::misses && could_flip)) &&
       _mm_movemask_ps(_mm_cmpgt_ps(W, zero)) != 0) {
@@ -714,10 +715,12 @@ bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceL
       contact = t_enter + t0 >= 0.f && t0 <= d;
       if (refined) *refined = true;
       if (triangle) *triangle = refined_triangle;
+      crossed_face = refined_triangle;
     }
   }
   if (!contact) return false;
   write_contact(sx, sy, sz, lx, ly, lz, t_enter, d, t0, nx, ny, nz, law, out, distance_from_handle);
+  if (crossed_face != kNoTriangle) out.face_normal = surface_->face_normal(crossed_face);
   return true;
 }
 
@@ -808,8 +811,13 @@ bool HapticBox::query_near(const Segment& segment, const ForceLaw& law, std::uin
   float t0 = 0.f;
   Vec3 normal;
   bool front = false;
-  if (!surface_->walk(triangle, p1, l, 0.f, max_steps, t0, normal, front, crossed) || !front) return false;
-  return refined_contact(q.sx, q.sy, q.sz, q.lx, q.ly, q.lz, q.t_enter, q.d, t0, normal, law, out, distance_from_handle);
+  std::uint32_t face = kNoTriangle;
+  if (!surface_->walk(triangle, p1, l, 0.f, max_steps, t0, normal, front, &face) || !front) return false;
+  if (crossed) *crossed = face;
+  if (!refined_contact(q.sx, q.sy, q.sz, q.lx, q.ly, q.lz, q.t_enter, q.d, t0, normal, law, out, distance_from_handle))
+    return false;
+  out.face_normal = surface_->face_normal(face);
+  return true;
 }
 
 bool HapticBox::query_refined(const Segment& segment, const ForceLaw& law, Contact& out, float& distance_from_handle,
@@ -827,6 +835,7 @@ bool HapticBox::query_refined(const Segment& segment, const ForceLaw& law, Conta
   if (!refine(q.p00, q.a0, q.b0, q.sf, p1, l, -1.f, t0, normal, id)) return false;
   if (!refined_contact(q.sx, q.sy, q.sz, q.lx, q.ly, q.lz, q.t_enter, q.d, t0, normal, law, out, distance_from_handle))
     return false;
+  out.face_normal = surface_->face_normal(id);
   if (triangle) *triangle = id;
   return true;
 }

@@ -80,7 +80,10 @@ public:
   /// As walk_surface, but a cell is a surface cell when `index_of(x, y, z)` names it (not
   /// 0xffffffff: e.g. SurfaceCells::index, whose brick masks stay in cache): no cell word is
   /// read, and `visit(index, s)` gets that index. Bricks far from the surface are jumped as
-  /// walk_surface does; the cells of the others are stepped one by one.
+  /// walk_surface does; a brick for which `index_of` returns kEmptyBrick (none of its cells
+  /// has surface) is crossed without asking for its other cells; the cells of the others are
+  /// stepped one by one.
+  static constexpr std::uint32_t kEmptyBrick = 0xfffffffeu;
   template <class IndexOf, class Visit>
   void walk_surface_by(const Vec3& a, const Vec3& b, IndexOf&& index_of, Visit&& visit) const noexcept;
 
@@ -123,8 +126,10 @@ private:
   void dda_start(const Vec3& a, const Vec3& d, float s, int i[3], int step[3], float next[3],
                  float delta[3]) const noexcept;
   /// The walk of walk_surface and walk_surface_by: bricks far from the surface are jumped;
-  /// in the others `on_cell(cell, s)` returns -1 (stop), 0 (the next cell) or the cells to
-  /// jump (a clearance).
+  /// in the others `on_cell(cell, s)` returns -1 (stop), 0 (the next cell), kLeaveBrick (no
+  /// cell of this brick has surface: on to the first cell beyond it) or the cells to jump (a
+  /// clearance).
+  static constexpr int kLeaveBrick = -2;
   template <class OnCell>
   void walk_bricks(const Vec3& a, const Vec3& b, OnCell&& on_cell) const noexcept;
   Vec3 origin_{Vec3::Zero()};
@@ -180,6 +185,18 @@ public:
     const std::size_t b = (std::size_t(z >> 2) * std::size_t(bricks_y_) + std::size_t(y >> 2)) * std::size_t(bricks_x_) +
                           std::size_t(x >> 2);
     const std::uint64_t mask = masks_[b];
+    const unsigned bit = unsigned(((z & 3) << 4) | ((y & 3) << 2) | (x & 3));
+    if (!((mask >> bit) & 1u)) return kNone;
+    return base_[b] + std::uint32_t(__builtin_popcountll(mask & ((std::uint64_t(1) << bit) - 1)));
+  }
+  /// As index(), but SceneGrid::kEmptyBrick when no cell of (x, y, z)'s 4 x 4 x 4 brick has
+  /// surface (for SceneGrid::walk_surface_by).
+  std::uint32_t index_or_empty_brick(int x, int y, int z) const noexcept {
+    if (x < 0 || y < 0 || z < 0 || x >= dims_[0] || y >= dims_[1] || z >= dims_[2]) return kNone;
+    const std::size_t b = (std::size_t(z >> 2) * std::size_t(bricks_y_) + std::size_t(y >> 2)) * std::size_t(bricks_x_) +
+                          std::size_t(x >> 2);
+    const std::uint64_t mask = masks_[b];
+    if (mask == 0) return SceneGrid::kEmptyBrick;
     const unsigned bit = unsigned(((z & 3) << 4) | ((y & 3) << 2) | (x & 3));
     if (!((mask >> bit) & 1u)) return kNone;
     return base_[b] + std::uint32_t(__builtin_popcountll(mask & ((std::uint64_t(1) << bit) - 1)));
@@ -315,7 +332,22 @@ void SceneGrid::walk_bricks(const Vec3& a, const Vec3& b, OnCell&& on_cell) cons
       jump_cells = 4 * (brick >> 2) - 6;
     } else {
       jump_cells = on_cell(static_cast<const int*>(i), s);
-      if (jump_cells < 0) return;
+      if (jump_cells < 0 && jump_cells != kLeaveBrick) return;
+    }
+    if (jump_cells == kLeaveBrick) {
+      // No cell of this brick has surface: cross its cells in the DDA's order without
+      // visiting them (the same steps as below, so the same cells and parameters after).
+      const int brick_of[3] = {i[0] >> 2, i[1] >> 2, i[2] >> 2};
+      for (;;) {
+        const int k = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
+        s = next[k];
+        if (s > s1) return;
+        i[k] += step[k];
+        if (i[k] < 0 || i[k] >= dims_[k]) return;
+        next[k] += delta[k];
+        if ((i[k] >> 2) != brick_of[k]) break;
+      }
+      continue;
     }
     if (jump_cells > 0) {
       const float jump = s + float(jump_cells) * s_per_cell;
@@ -362,6 +394,7 @@ template <class IndexOf, class Visit>
 void SceneGrid::walk_surface_by(const Vec3& a, const Vec3& b, IndexOf&& index_of, Visit&& visit) const noexcept {
   walk_bricks(a, b, [&](const int* i, float s) {
     const std::uint32_t index = index_of(i[0], i[1], i[2]);
+    if (index == kEmptyBrick) return kLeaveBrick;
     return index != 0xffffffffu && !visit(index, s) ? -1 : 0;
   });
 }

@@ -246,6 +246,14 @@ bool SurfaceTriangles::finish(const Record& r, const float d[3], float u, float 
   return true;
 }
 
+Vec3 SurfaceTriangles::face_normal(std::uint32_t id) const noexcept {
+  if (id >= count_) return Vec3::Zero();
+  const Record& r = records_[id];
+  const Vec3 g = Vec3(r.e1[0], r.e1[1], r.e1[2]).cross(Vec3(r.e2[0], r.e2[1], r.e2[2]));
+  const float len = g.norm();
+  return len > 0.f && len <= std::numeric_limits<float>::max() ? Vec3(g / len) : Vec3(Vec3::Zero());
+}
+
 bool SurfaceTriangles::intersect(std::uint32_t id, const float o[3], const float d[3], float s_min, float& s,
                                  Vec3& normal, bool& front, float* outside) const noexcept {
   if (outside) *outside = std::numeric_limits<float>::infinity();

@@ -74,6 +74,11 @@ public:
   bool intersect(std::uint32_t id, const float origin[3], const float dir[3], float s_min, float& s,
                  Vec3& normal, bool& front, float* outside = nullptr) const noexcept;
 
+  /// Unit geometric normal (e1 x e2, the winding's outward side) of triangle `id`; zero when
+  /// out of range or degenerate. The same float operations as EmbreeScene's on the mesh, so
+  /// the same bits for the same triangle.
+  Vec3 face_normal(std::uint32_t id) const noexcept;
+
   /// plane_hit() of up to 16 triangles at once, four side by side in SSE2 lanes with the
   /// same float operations in the same order (the same bits as intersect()'s): per triangle
   /// k of ids[0, count), u[k], v[k], s[k] and bit k of the result set when the line meets

@@ -3,9 +3,14 @@
 #include "errors.h"
 #include "exact/exact_query.h"
 #include "haptic_box/bake.h"
+#include "evaluation/probe_sampling.h"
 #include "mesh/generators.h"
+#include "mesh/mesh_io.h"
 #include <gtest/gtest.h>
 #include <cmath>
+#include <fstream>
+#include <string>
+#include <vector>
 #include <utility>
 
 using namespace hb;
@@ -284,4 +289,108 @@ TEST(StabilitySuiteTest, RefinedBoxesOfCrispGroovesHoldTheCornerCalmlyWithThePro
     EXPECT_TRUE(m.pass) << m.scene << ": " << m.metric << " box " << m.box;
   }
   EXPECT_EQ(crisp, 6u);
+}
+
+namespace {
+
+// The armadillo (datasets/data/meshes), fitted into the device space as the suite fits it,
+// with the suite's second T1 site (seed 1, sites by area): a point under an overhang.
+struct ArmadilloSite {
+  TriangleMesh mesh;
+  DeviceSpaceMap map;
+  ForceLaw law;  // k = K_max / 2, T1's hold
+  Vec3d surface{Vec3d::Zero()}, inward{Vec3d::Zero()};
+};
+
+bool armadillo_site(ArmadilloSite& a) {
+  const std::string file = std::string(HB_DATASETS_DIR) + "/meshes/armadillo.off";
+  if (!std::ifstream(file)) return false;
+  a.mesh = read_mesh(file);
+  const ExactQuery exact(a.mesh);
+  a.map = fit_device_space(a.mesh, 0.08);
+  a.law.stiffness_n_per_m = float(0.5 * falcon_profile().max_stiffness_n_per_m);
+  a.law.metres_per_unit = float(a.map.metres_per_unit);
+  ProbeOptions po;
+  po.cone_degrees = 0.f;
+  po.max_depth_fraction = 0.f;
+  po.length_fraction = 0.05f;
+  po.seed = 1;
+  int kept = 0;
+  for (const Segment& s : sample_probes(a.mesh, 12 * 8, po)) {
+    const Vec3d surface = a.map.to_device(s.end), inward = (s.end - s.start).cast<double>().normalized();
+    bool ok = true;
+    for (double depth : {0.001, 0.002}) {
+      const Rendered r = render(exact, a.law, a.map, surface + depth * inward, inward, 0.008);
+      ok = ok && r.contact && std::fabs(r.depth_m - depth) < 0.2e-3;
+    }
+    if (ok && ++kept == 2) {
+      a.surface = surface, a.inward = inward;
+      return true;
+    }
+  }
+  return false;
+}
+
+// T1's hold there: a light grip from 2 mm outside pulling 30 mm in (reached in 0.5 s), the
+// stylus (8 mm) along the inward normal, through a proxy over `q`, for 2.5 s.
+std::vector<TickRecord> armadillo_hold(const ContactQuery& q, const ArmadilloSite& a) {
+  ClosedLoopRun run;
+  run.device = falcon_profile();
+  run.hand = light_grip();
+  run.contact_law = ContactLaw::proxy;
+  run.start_m = a.surface - 0.002 * a.inward;
+  const Vec3d from = run.start_m, to = a.surface + 0.03 * a.inward;
+  run.set_point = [from, to](double t) { return t < 0.5 ? from + (to - from) * (t / 0.5) : to; };
+  run.seconds = 2.5;
+  run.stylus_dir = a.inward;
+  run.stylus_m = 0.008;
+  return run_closed_loop(q, a.law, a.map, run);
+}
+
+} // namespace
+
+TEST(StabilityProxyTest, LightGripHoldUnderTheArmadillosOverhangDecays) {
+  // With the planes on the shaded normals the proxy crept along the crossings of the planes
+  // its grazing paths made, the hand kept moving, and the rms speed of 1.75-2.5 s was 0.48
+  // of that of 1-1.75 s on exact (0.85 for the box's proxy, parting from exact's); settled,
+  // the grip's own damping gives 0.096, as on the flat wall.
+  ArmadilloSite a;
+  if (!armadillo_site(a)) GTEST_SKIP() << HB_DATASETS_DIR << "/meshes/armadillo.off is absent: run datasets/fetch.sh";
+  const ExactQuery exact(a.mesh);
+  const auto ticks = armadillo_hold(exact, a);
+  double early = 0, late = 0;
+  int ne = 0, nl = 0;
+  for (const auto& r : ticks) {
+    if (r.t >= 1.0 && r.t < 1.75) early += r.v.squaredNorm(), ++ne;
+    if (r.t >= 1.75) late += r.v.squaredNorm(), ++nl;
+  }
+  ASSERT_GT(ne, 0);
+  ASSERT_GT(nl, 0);
+  EXPECT_LT(std::sqrt(late / nl) / std::sqrt(early / ne), 0.2);
+}
+
+TEST(StabilityProxyTest, BoxAndExactProxiesHoldTogetherUnderTheArmadillosOverhang) {
+  // The box's answers are exact's up to float rounding and its normals' 32-bit code (about
+  // 1e-5). The proxy that crept amplified that: at this site the two parted by 0.01 mm
+  // within 0.25 s. A refined box of the mesh's triangles within 12 mm of the site (baked as
+  // the suite bakes its generated objects) against exact on the whole mesh.
+  ArmadilloSite a;
+  if (!armadillo_site(a)) GTEST_SKIP() << HB_DATASETS_DIR << "/meshes/armadillo.off is absent: run datasets/fetch.sh";
+  const ExactQuery exact(a.mesh);
+  std::vector<std::uint32_t> near;
+  for (std::uint32_t t = 0; t < a.mesh.triangles.size(); ++t)
+    if ((a.map.to_device(a.mesh.positions[a.mesh.triangles[t][0]]) - a.surface).norm() < 0.012) near.push_back(t);
+  BakeOptions bo;
+  bo.params.m = 16;
+  bo.params.n = 8;
+  bo.refine = true;
+  const BoxScene box = bake_scene_from_lists(a.mesh, {near}, bo, SourceInfo{});
+  const auto tb = armadillo_hold(box, a), te = armadillo_hold(exact, a);
+  ASSERT_EQ(tb.size(), te.size());
+  double worst = 0;
+  for (std::size_t k = 0; k < tb.size(); ++k) {
+    EXPECT_EQ(tb[k].contact, te[k].contact) << "tick " << k;
+    worst = std::max(worst, (tb[k].x - te[k].x).norm());
+  }
+  EXPECT_LT(worst, 1e-6);  // metres: the device's paths within 1 um
 }
