@@ -5,7 +5,8 @@
 //  1. Check the extension (case-insensitive) and the file itself: missing, directory, empty.
 //  2. Load a polygon soup (positions + index lists), not a half-edge mesh, so nothing is lost:
 //     off_reader.cpp, obj_reader.cpp, stl_reader.cpp, ply_reader.cpp (strict parsers of our
-//     own: declared counts checked against the file, every value parsed, lines named) and
+//     own: declared counts checked against the file, every value parsed, lines named; OFF,
+//     the format of big models here, is parsed in parallel from a mapped file) and
 //     om_reader.cpp (OpenMesh's half-edge format, through OpenMesh).
 //  3. Validate: finite coordinates within kMaxCoordinate, indices in range (else
 //     hb::InvalidInput).
@@ -16,6 +17,7 @@
 // Writing: mesh_writers.cpp (OFF directly, other formats through OpenMesh).
 #include "mesh/mesh_io.h"
 
+#include "mesh/mapped_file.h"
 #include "mesh/mesh_readers.h"
 #include "mesh/mesh_validation.h"
 #include "mesh/mesh_writers.h"
@@ -51,7 +53,7 @@ Format format_of(const std::string& path) {
 
 detail::PolygonSoup read_soup(const std::string& path, Format format, MeshReadReport& report) {
   switch (format) {
-  case Format::Off: return detail::read_off(path, detail::read_whole_file(path), report);
+  case Format::Off: return detail::read_off(path, detail::MappedFile(path), report);
   case Format::Obj: return detail::read_obj(path, report);
   case Format::Ply: return detail::read_ply(path, report);
   case Format::Stl: return detail::read_stl(path, report);

@@ -10,8 +10,11 @@
 
 namespace hb::detail {
 
-/// OFF, strict parser of our own (off_reader.cpp). `text`: the whole file.
-PolygonSoup read_off(const std::string& path, const std::string& text, MeshReadReport& report);
+class MappedFile;
+
+/// OFF, strict parser of our own, parallel over chunks of lines (off_reader.cpp). `file`: the
+/// whole file; the pages of the parsed part are released from the resident set as it goes.
+PolygonSoup read_off(const std::string& path, const MappedFile& file, MeshReadReport& report);
 /// Wavefront OBJ, strict parser of our own (obj_reader.cpp).
 PolygonSoup read_obj(const std::string& path, MeshReadReport& report);
 /// PLY, ASCII or binary, strict parser of our own (ply_reader.cpp).

@@ -19,7 +19,7 @@ std::string read_whole_file(const std::string& path);
 
 /// Validates the soup (finite coordinates, indices in range; else hb::InvalidInput), fan-
 /// triangulates polygons and drops (and counts) degenerate triangles. Throws hb::InvalidInput
-/// when no triangle is left. Consumes `soup.positions`.
+/// when no triangle is left. Consumes the soup (left empty: its memory is freed).
 TriangleMesh triangulate(const std::string& path, PolygonSoup& soup, MeshReadReport& report);
 
 /// Marks open / non-manifold / inconsistently oriented edges in the report (with warnings).

@@ -1,29 +1,100 @@
-// OFF reader: a strict line-based parser of our own.
+// OFF reader: a strict line-based parser of our own, parallel over chunks of lines.
 //
 //  1. Refuse NUL bytes (binary OFF) and find the header keyword: [ST][C][N]OFF, or the counts
 //     alone (some writers omit the keyword); 4OFF / nOFF (other dimensions) are refused.
 //  2. Read 'vertices faces [edges]' (on the header line or the next one).
-//  3. Check the declared counts against the content lines actually present before reserving
-//     anything, so an absurd header cannot trigger a huge allocation or a long loop.
-//  4. Vertices: 3 numbers each (extra values ignored); faces: a corner count then that many
-//     indices in range (a colour after them ignored). Errors name the line.
+//  3. Cut the rest into chunks of whole lines (about 1 MB) and count each chunk's content
+//     lines and physical lines in parallel; prefix sums give every content line its role
+//     (vertex v, face f, or trailing and ignored) and every line its number, so the chunks
+//     can then be parsed independently and errors still name the right line.
+//  4. Check the declared counts against the content lines present before reserving anything,
+//     so an absurd header cannot trigger a huge allocation or a long loop.
+//  5. Count the corners of the faces each chunk holds (first token only), so that every
+//     chunk writes its vertices, indices and face offsets straight into the soup at known
+//     places: the result is the sequential reader's, element for element, with no per-chunk
+//     buffers to merge.
+//  6. Parse: vertices 3 numbers each (extra values ignored); faces a corner count then that
+//     many indices in range (a colour after them ignored). Each chunk keeps its first error;
+//     the error of the earliest chunk is thrown, which is the first in the file, as a
+//     sequential read would report.
+// Every pass gives its chunks' pages back as it goes (MappedFile::release), so the file is
+// never resident as a whole next to the soup.
+#include "mesh/mapped_file.h"
 #include "mesh/mesh_readers.h"
 #include "mesh/text_tokens.h"
 
 #include "errors.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <cstdint>
+#include <cstring>
 #include <limits>
+#include <optional>
 #include <string_view>
 #include <vector>
 
 namespace hb::detail {
+namespace {
 
-PolygonSoup read_off(const std::string& path, const std::string& text, MeshReadReport& report) {
+/// Lines of about this many bytes make one chunk: large enough that a chunk's bookkeeping is
+/// negligible, small enough for two threads to balance and for released pages to matter.
+constexpr std::size_t kChunkBytes = std::size_t(1) << 20;
+
+struct Chunk {
+  std::size_t begin = 0, end = 0;  ///< byte range in the file: whole lines
+  // Pass 1 (step 3)
+  std::size_t content_lines = 0;
+  std::size_t physical_lines = 0;
+  // Prefix sums
+  std::size_t first_content = 0;   ///< index of its first content line after the header
+  std::size_t line_before = 0;     ///< number of the line just before the chunk
+  // Pass 2 (step 5)
+  std::size_t corners = 0;         ///< indices it stores (faces with 3 or more corners)
+  std::size_t faces_kept = 0;      ///< faces with 3 or more corners
+  std::size_t first_corner = 0, first_kept = 0;
+  // Pass 3 (step 6)
+  std::size_t short_faces = 0;
+  std::optional<std::size_t> error_line;
+  std::string error;
+};
+
+/// Cuts [begin, text.size()) into chunks ending just after a '\n' (the last at the end).
+std::vector<Chunk> cut_chunks(std::string_view text, std::size_t begin) {
+  std::vector<Chunk> chunks;
+  while (begin < text.size()) {
+    std::size_t end = begin + kChunkBytes;
+    if (end >= text.size()) {
+      end = text.size();
+    } else {
+      const void* nl = std::memchr(text.data() + end, '\n', text.size() - end);
+      end = nl ? std::size_t(static_cast<const char*>(nl) - text.data()) + 1 : text.size();
+    }
+    Chunk c;
+    c.begin = begin;
+    c.end = end;
+    chunks.push_back(c);
+    begin = end;
+  }
+  return chunks;
+}
+
+template <typename Body>
+void for_each_chunk(std::vector<Chunk>& chunks, const Body& body) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) body(chunks[i]);
+  });
+}
+
+} // namespace
+
+PolygonSoup read_off(const std::string& path, const MappedFile& file, MeshReadReport& report) {
+  const std::string_view text = file.text();
   const auto invalid = [&](std::size_t line, const std::string& cause) {
     return InvalidInput(path + ":" + std::to_string(line) + ": " + cause);
   };
-  if (text.find('\0') != std::string::npos)
+  if (std::memchr(text.data(), '\0', text.size()))
     throw InvalidInput(path + ": not a text OFF file (contains NUL bytes; binary OFF is not supported)");
 
   LineReader lines(text);
@@ -70,9 +141,26 @@ PolygonSoup read_off(const std::string& path, const std::string& text, MeshReadR
     throw invalid(lines.line_number(), "expected 'vertices faces [edges]' counts");
   if (counts[0] < 0 || counts[1] < 0) throw invalid(lines.line_number(), "negative vertex or face count");
 
-  // Check the declared counts against the lines present before reserving anything, so an
-  // absurd header cannot trigger a huge allocation or a long loop.
-  const std::size_t available = count_content_lines(lines);
+  // Step 3: chunks of whole lines, their content and physical lines counted in parallel.
+  std::vector<Chunk> chunks = cut_chunks(text, lines.position());
+  for_each_chunk(chunks, [&](Chunk& c) {
+    LineReader r(text.substr(c.begin, c.end - c.begin));
+    std::string_view l;
+    while (r.next(l)) ++c.content_lines;
+    c.physical_lines = r.line_number();
+    // Released after every pass: the soup is allocated in between, and the file's pages
+    // should not be resident next to it (they fault back in from the page cache).
+    file.release(c.begin, c.end);
+  });
+  std::size_t available = 0, line_number = lines.line_number();
+  for (Chunk& c : chunks) {
+    c.first_content = available;
+    c.line_before = line_number;
+    available += c.content_lines;
+    line_number += c.physical_lines;
+  }
+
+  // Step 4: the declared counts against the lines present, before reserving anything.
   const auto n_vertices = static_cast<std::size_t>(counts[0]);
   const auto n_faces = static_cast<std::size_t>(counts[1]);
   if (n_vertices > std::numeric_limits<std::uint32_t>::max())
@@ -83,50 +171,114 @@ PolygonSoup read_off(const std::string& path, const std::string& text, MeshReadR
                   " data lines follow");
   report.input_vertices = n_vertices;
   report.input_faces = n_faces;
+  const std::size_t n_lines = n_vertices + n_faces;  // content lines read; any after: ignored
+  // Only the chunks that hold a vertex or a face line take part from here on.
+  while (!chunks.empty() && chunks.back().first_content >= n_lines) chunks.pop_back();
 
-  PolygonSoup soup;
-  soup.positions.reserve(n_vertices);
-  for (std::size_t v = 0; v < n_vertices; ++v) {
-    lines.next(line);
-    Tokens t(line);
-    double c[3];
-    for (double& x : c) {
-      if (!t.next(tok) || !parse_number(tok, x))
-        throw invalid(lines.line_number(), "vertex " + std::to_string(v) + ": expected 3 numeric coordinates");
+  // Step 5: the corners each chunk stores. A face line that does not parse counts nothing
+  // here; step 6 stops its chunk at that line with the error, before writing anything of it.
+  const auto corner_count = [](std::string_view face_line, long long& k) {
+    Tokens t(face_line);
+    std::string_view first;
+    return t.next(first) && parse_number(first, k) && k >= 0 &&
+           static_cast<unsigned long long>(k) <= face_line.size();
+  };
+  for_each_chunk(chunks, [&](Chunk& c) {
+    if (c.first_content + c.content_lines <= n_vertices) return;
+    LineReader r(text.substr(c.begin, c.end - c.begin));
+    std::string_view l;
+    for (std::size_t g = c.first_content; g < n_lines && r.next(l); ++g) {
+      long long k;
+      if (g < n_vertices || !corner_count(l, k) || k < 3) continue;
+      c.corners += std::size_t(k);
+      ++c.faces_kept;
     }
-    // Extra values (normals, colours, texture coordinates) are ignored.
-    soup.positions.emplace_back(float(c[0]), float(c[1]), float(c[2]));
+    file.release(c.begin, c.end);
+  });
+  std::size_t corners = 0, kept = 0;
+  for (Chunk& c : chunks) {
+    c.first_corner = corners;
+    c.first_kept = kept;
+    corners += c.corners;
+    kept += c.faces_kept;
   }
 
-  soup.offsets.reserve(n_faces + 1);
-  soup.indices.reserve(3 * n_faces);
-  for (std::size_t f = 0; f < n_faces; ++f) {
-    lines.next(line);
-    Tokens t(line);
-    long long k;
-    if (!t.next(tok) || !parse_number(tok, k) || k < 0)
-      throw invalid(lines.line_number(), "face " + std::to_string(f) + ": expected a corner count");
-    if (static_cast<unsigned long long>(k) > line.size())  // each index needs >= 2 characters
-      throw invalid(lines.line_number(), "face " + std::to_string(f) + ": corner count " + std::to_string(k) +
-                                             " exceeds the line");
-    for (long long i = 0; i < k; ++i) {
-      long long idx;
-      if (!t.next(tok) || !parse_number(tok, idx))
-        throw invalid(lines.line_number(), "face " + std::to_string(f) + ": expected " + std::to_string(k) +
-                                               " integer vertex indices");
-      if (idx < 0 || idx >= static_cast<long long>(n_vertices))
-        throw invalid(lines.line_number(), "face " + std::to_string(f) + ": vertex index " +
-                                               std::to_string(idx) + " out of range [0, " +
-                                               std::to_string(n_vertices) + ")");
-      soup.indices.push_back(idx);
+  PolygonSoup soup;
+  soup.positions.resize(n_vertices);
+  soup.indices.resize(corners);
+  soup.offsets.resize(kept + 1);
+  soup.offsets[0] = 0;
+
+  // Step 6: every chunk parses into its own places; the first error of each is kept.
+  for_each_chunk(chunks, [&](Chunk& c) {
+    LineReader r(text.substr(c.begin, c.end - c.begin));
+    std::string_view l, t_tok;
+    std::size_t corner = c.first_corner, face_kept = c.first_kept;
+    const auto fail = [&](const std::string& cause) {
+      c.error_line = c.line_before + r.line_number();
+      c.error = cause;
+    };
+    for (std::size_t g = c.first_content; g < n_lines && r.next(l); ++g) {
+      Tokens t(l);
+      if (g < n_vertices) {
+        const std::size_t v = g;
+        double x[3];
+        bool ok = true;
+        for (double& xi : x)
+          if (!t.next(t_tok) || !parse_number(t_tok, xi)) {
+            ok = false;
+            break;
+          }
+        if (!ok) {
+          fail("vertex " + std::to_string(v) + ": expected 3 numeric coordinates");
+          break;
+        }
+        // Extra values (normals, colours, texture coordinates) are ignored.
+        soup.positions[v] = Vec3(float(x[0]), float(x[1]), float(x[2]));
+        continue;
+      }
+      const std::size_t f = g - n_vertices;
+      long long k;
+      if (!t.next(t_tok) || !parse_number(t_tok, k) || k < 0) {
+        fail("face " + std::to_string(f) + ": expected a corner count");
+        break;
+      }
+      if (static_cast<unsigned long long>(k) > l.size()) {  // each index needs >= 2 characters
+        fail("face " + std::to_string(f) + ": corner count " + std::to_string(k) + " exceeds the line");
+        break;
+      }
+      // Faces with fewer than 3 corners are checked but not stored (skipped, counted).
+      const bool store = k >= 3;
+      bool ok = true;
+      for (long long i = 0; i < k; ++i) {
+        long long idx;
+        if (!t.next(t_tok) || !parse_number(t_tok, idx)) {
+          fail("face " + std::to_string(f) + ": expected " + std::to_string(k) + " integer vertex indices");
+          ok = false;
+          break;
+        }
+        if (idx < 0 || idx >= static_cast<long long>(n_vertices)) {
+          fail("face " + std::to_string(f) + ": vertex index " + std::to_string(idx) + " out of range [0, " +
+               std::to_string(n_vertices) + ")");
+          ok = false;
+          break;
+        }
+        if (store) soup.indices[corner + std::size_t(i)] = idx;
+      }
+      if (!ok) break;
+      // Anything after the indices is a face colour: ignored.
+      if (!store) {
+        ++c.short_faces;
+        continue;
+      }
+      corner += std::size_t(k);
+      soup.offsets[++face_kept] = corner;
     }
-    // Anything after the indices is a face colour: ignored.
-    if (k < 3) {
-      soup.indices.resize(soup.offsets.back());
-      ++soup.short_faces;
-      continue;
-    }
-    soup.offsets.push_back(soup.indices.size());
+    file.release(c.begin, c.end);
+  });
+  for (const Chunk& c : chunks) {
+    if (c.error_line) throw invalid(*c.error_line, c.error);
+    soup.short_faces += c.short_faces;
   }
   return soup;
 }

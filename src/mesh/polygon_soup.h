@@ -10,7 +10,8 @@
 namespace hb::detail {
 
 /// Faces as flat index lists: face f has corners indices[offsets[f] .. offsets[f+1]).
-/// Indices are kept as read (int64, possibly out of range): validation checks them.
+/// Indices are kept as read (int64, possibly out of range): validation checks them. Every
+/// face listed has 3 or more corners (readers count shorter ones in short_faces instead).
 struct PolygonSoup {
   std::vector<Vec3> positions;
   std::vector<std::int64_t> indices;

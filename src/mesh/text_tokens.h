@@ -82,12 +82,4 @@ bool parse_number(std::string_view tok, T& value) {
   return r.ec == std::errc() && r.ptr == e;
 }
 
-/// Counts the remaining content lines without consuming them (to check declared counts).
-inline std::size_t count_content_lines(LineReader reader) {
-  std::size_t n = 0;
-  std::string_view l;
-  while (reader.next(l)) ++n;
-  return n;
-}
-
 } // namespace hb::detail
