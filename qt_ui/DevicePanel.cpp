@@ -24,6 +24,11 @@ DevicePanel::DevicePanel(HapticSession* session, QWidget* parent) : QWidget(pare
   row->addWidget(replay_);
   row->addWidget(browse_);
   apply_ = new QPushButton(tr("Use this device"));
+  law_ = new QComboBox;
+  law_->addItem(tr("Penalty (depth law)"), int(hb::ContactLaw::penalty));
+  law_->addItem(tr("Proxy (god-object)"), int(hb::ContactLaw::proxy));
+  law_->setToolTip(tr("How the servo turns answers into forces (hapticbox servo --law): the proxy holds "
+                      "the tip on the surface and stays calm in crisp creases; a change restarts the servo"));
   depth_ = new QSlider(Qt::Horizontal);
   depth_->setRange(-50, 100);  // thousandths of the diagonal
   depth_->setToolTip(tr("Tip depth past the surface point (also Ctrl+wheel, [ and ])"));
@@ -36,12 +41,15 @@ DevicePanel::DevicePanel(HapticSession* session, QWidget* parent) : QWidget(pare
   form->addRow(tr("Device"), kind_);
   form->addRow(tr("Log"), row);
   form->addRow(apply_);
+  form->addRow(tr("Contact law"), law_);
   form->addRow(tr("Depth"), depth_);
   form->addRow(QString(), depthLabel_);
   form->addRow(tilt);
   form->addRow(status_);
 
   connect(apply_, &QPushButton::clicked, this, &DevicePanel::applyDevice);
+  connect(law_, qOverload<int>(&QComboBox::currentIndexChanged), this,
+          [this] { session_->setContactLaw(static_cast<hb::ContactLaw>(law_->currentData().toInt())); });
   connect(tilt, &QPushButton::clicked, this, &DevicePanel::tiltRequested);
   connect(browse_, &QPushButton::clicked, this, [this] {
     const QString p = QFileDialog::getOpenFileName(this, tr("Servo log"), QString(), tr("Servo logs (*.hblog);;All files (*)"));

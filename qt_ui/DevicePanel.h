@@ -1,6 +1,6 @@
 #pragma once
 // The device panel: virtual (mouse), replay a recorded trajectory, or a connected Falcon;
-// probe depth and tilt.
+// the servo's contact law (penalty or proxy); probe depth and tilt.
 #include "HapticSession.h"
 #include <QWidget>
 
@@ -17,6 +17,8 @@ public:
   /// Applies the chosen device (shows the fallback note once when there is no hardware).
   void applyDevice();
   void showDepth();
+  /// The servo's contact law (as `hapticbox servo --law`).
+  QComboBox* lawBox() const { return law_; }
 
 signals:
   void message(const QString& text);
@@ -25,6 +27,7 @@ signals:
 private:
   HapticSession* session_;
   QComboBox* kind_;
+  QComboBox* law_;
   QLineEdit* replay_;
   QPushButton* browse_;
   QPushButton* apply_;

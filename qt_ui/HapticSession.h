@@ -83,8 +83,9 @@ public:
     return jobs_->startReport(dir, errorFieldImage, samples, error);
   }
   /// Runs the stability suite on the model's boxes (SessionJobs::startStability).
-  bool startStability(std::size_t sites = 12, bool generated = true, QString* error = nullptr) {
-    return jobs_->startStability(sites, generated, error);
+  bool startStability(std::size_t sites = 12, bool generated = true, QString* error = nullptr,
+                      hb::ContactLaw law = hb::ContactLaw::penalty) {
+    return jobs_->startStability(sites, generated, error, law);
   }
   const hb::StabilityReport* stabilityReport() const { return jobs_->stabilityReport(); }
   const std::vector<hb::SweepRow>& sweepRows() const { return jobs_->sweepRows(); }
@@ -110,6 +111,8 @@ public:
   }
   DeviceKind deviceKind() const { return device_->deviceKind(); }
   bool servoRunning() const { return device_->servoRunning(); }
+  void setContactLaw(hb::ContactLaw law) { device_->setContactLaw(law); }
+  hb::ContactLaw contactLaw() const { return device_->contactLaw(); }
   void setEmergencyStop(bool on) { device_->setEmergencyStop(on); }
   bool emergencyStopped() const { return device_->emergencyStopped(); }
 

@@ -179,6 +179,7 @@ void SessionDevice::startServo() {
   }
   hb::ServoOptions o;
   o.law = model_->law();
+  o.contact_law = contactLaw_;
   o.mapping = mapping_;
   o.request_realtime = sessionRunSettings().realtime;
   // No busy-wait before each deadline: the window renders on the same cores (software GL
@@ -196,6 +197,21 @@ void SessionDevice::startServo() {
     servoBoxes_.reset();
     emit statusMessage(tr("Device thread not started: %1").arg(QString::fromStdString(e.what())));
   }
+}
+
+void SessionDevice::setContactLaw(hb::ContactLaw law) {
+  if (law == contactLaw_) return;
+  contactLaw_ = law;
+  if (loop_) {
+    stopServo();
+    startServo();
+  }
+  emit statusMessage(tr("Contact law: %1").arg(QString::fromLatin1(hb::to_string(law))));
+}
+
+std::optional<hb::ContactLaw> SessionDevice::servoContactLaw() const {
+  if (!servoRunning()) return std::nullopt;
+  return loop_->options().contact_law;
 }
 
 void SessionDevice::setEmergencyStop(bool on) {

@@ -76,6 +76,13 @@ public:
   /// new boxes, another device).
   void setEmergencyStop(bool on);
   bool emergencyStopped() const { return estop_; }
+  /// How the servo turns answers into forces (`servo --law`): the penalty law (default) or a
+  /// proxy (god-object, calm in crisp creases; docs/stability.md). A change restarts the servo
+  /// thread, which ramps its force in again.
+  void setContactLaw(hb::ContactLaw law);
+  hb::ContactLaw contactLaw() const { return contactLaw_; }
+  /// The law the running servo thread uses (the chosen one; nullopt when it is not running).
+  std::optional<hb::ContactLaw> servoContactLaw() const;
 
 signals:
   void deviceChanged(const QString& description);
@@ -101,4 +108,5 @@ private:
   std::shared_ptr<const hb::BoxScene> servoBoxes_;
   std::unique_ptr<hb::ServoLoop> loop_;
   bool estop_ = false;
+  hb::ContactLaw contactLaw_ = hb::ContactLaw::penalty;
 };

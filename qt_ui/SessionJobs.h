@@ -8,6 +8,7 @@
 #include "evaluation/sweep.h"
 #include "haptic_box/bake_recipe.h"
 #include "haptic_box/box_cache.h"
+#include "haptic_box/god_object.h"
 #include <QObject>
 #include <QString>
 #include <memory>
@@ -81,7 +82,8 @@ public:
   /// (`hapticbox stability`'s defaults: hb::default_stability_options), `sites` trajectories
   /// per test, one test at a time (progress and cancel between tests); `generated` false: the
   /// model alone (as `--no-generated`). Implemented in SessionStability.cpp.
-  bool startStability(std::size_t sites = 12, bool generated = true, QString* error = nullptr);
+  bool startStability(std::size_t sites = 12, bool generated = true, QString* error = nullptr,
+                      hb::ContactLaw law = hb::ContactLaw::penalty);
   /// The last suite's report (null before one finished).
   const hb::StabilityReport* stabilityReport() const { return stability_.get(); }
   /// Sweep rows of the last report or sweep (the charts).

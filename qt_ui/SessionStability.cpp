@@ -7,7 +7,7 @@
 #include <QFileInfo>
 #include <memory>
 
-bool SessionJobs::startStability(std::size_t sites, bool generated, QString* error) {
+bool SessionJobs::startStability(std::size_t sites, bool generated, QString* error, hb::ContactLaw law) {
   if (!model_->hasMesh() || !model_->hasBoxes()) {
     if (error) *error = tr("Bake (or open) the boxes first: the suite runs the box against exact on the same trajectories");
     return false;
@@ -24,9 +24,10 @@ bool SessionJobs::startStability(std::size_t sites, bool generated, QString* err
     stability_ = result;
     emit stabilityChanged();
   });
-  const bool started = job_->start(tr("Stability"), [mesh, boxes, name, sites, generated, result](const auto& progress) {
+  const bool started = job_->start(tr("Stability"), [mesh, boxes, name, sites, generated, law, result](const auto& progress) {
     hb::StabilityOptions so = hb::default_stability_options(*boxes, name, sites);
     so.generated = generated;
+    so.contact_law = law;
     // One test at a time: the suite has no progress of its own; between tests the bar moves
     // and a cancel is seen. The calibration gate runs with each; the first one's is kept.
     const char* tests[] = {"T1", "T2", "T3", "T4", "T5", "T6", "T7", "T8"};
@@ -38,6 +39,7 @@ bool SessionJobs::startStability(std::size_t sites, bool generated, QString* err
         result->device = part.device;
         result->filter = part.filter;
         result->depth_law = part.depth_law;
+        result->contact_law = part.contact_law;
         result->calibration = part.calibration;
         result->calibration_pass = part.calibration_pass;
       }

@@ -4,6 +4,7 @@
 #include "evaluation/stability_suite.h"
 #include "figure_text.h"
 #include <QCheckBox>
+#include <QComboBox>
 #include <QFileInfo>
 #include <QFormLayout>
 #include <QHBoxLayout>
@@ -34,11 +35,15 @@ QString threshold(const hb::StabilityMetric& m) {
 }  // namespace
 
 StabilityPanel::StabilityPanel(HapticSession* session, QWidget* parent)
-    : QWidget(parent), session_(session), sites_(new QSpinBox), generated_(new QCheckBox(tr("Also generated walls, plates and grooves"))), run_(new QPushButton(tr("Run Stability Suite"))),
+    : QWidget(parent), session_(session), sites_(new QSpinBox), generated_(new QCheckBox(tr("Also generated walls, plates and grooves"))), law_(new QComboBox), run_(new QPushButton(tr("Run Stability Suite"))),
       summary_(new QLabel), table_(new QTableWidget(0, 7)) {
   sites_->setRange(1, 1000);
   sites_->setValue(12);
   sites_->setToolTip(tr("Trajectories per test on the model (surface points by area), as hapticbox stability --sites"));
+  law_->addItem(tr("Penalty (depth law on each answer)"), int(hb::ContactLaw::penalty));
+  law_->addItem(tr("Proxy (god-object)"), int(hb::ContactLaw::proxy));
+  law_->setToolTip(tr("How answers become forces along the trajectories, box and exact alike "
+                      "(hapticbox stability --law): the proxy stays calm in crisp creases"));
   run_->setToolTip(tr("The calibration gate, then T1-T8 on the model and on generated walls, plates and grooves: "
                       "the box and exact Embree on the same trajectories (docs/stability.md)"));
   summary_->setWordWrap(true);
@@ -56,6 +61,7 @@ StabilityPanel::StabilityPanel(HapticSession* session, QWidget* parent)
   table_->verticalHeader()->setDefaultSectionSize(table_->fontMetrics().height() + 6);
   auto* form = new QFormLayout;
   form->addRow(tr("Sites per test"), sites_);
+  form->addRow(tr("Contact law"), law_);
   generated_->setChecked(true);
   form->addRow(generated_);
   auto* layout = new QVBoxLayout(this);
@@ -65,7 +71,9 @@ StabilityPanel::StabilityPanel(HapticSession* session, QWidget* parent)
   layout->addWidget(table_, 1);
   connect(run_, &QPushButton::clicked, this, [this] {
     QString error;
-    if (!session_->startStability(static_cast<std::size_t>(sites_->value()), generated_->isChecked(), &error)) emit message(error);
+    const auto law = static_cast<hb::ContactLaw>(law_->currentData().toInt());
+    if (!session_->startStability(static_cast<std::size_t>(sites_->value()), generated_->isChecked(), &error, law))
+      emit message(error);
     updateState();
   });
   connect(session_, &HapticSession::stabilityChanged, this, &StabilityPanel::showReport);
@@ -103,13 +111,14 @@ void StabilityPanel::showReport() {
   table_->setColumnWidth(1, std::min(table_->columnWidth(1), 110));
   table_->setColumnWidth(2, std::min(table_->columnWidth(2), 420));
   summary_->setText(tr("%1: calibration %2; %3 passed, %4 failed (box), %5 failed by the law (exact fails too); "
-                       "%6 device, filter %7; %8")
+                       "%6 device, %7 law, filter %8; %9")
                         .arg(QFileInfo(session_->meshPath()).fileName())
                         .arg(r->calibration_pass ? tr("pass") : tr("FAIL"))
                         .arg(r->passed)
                         .arg(r->failed - std::min(r->failed, r->failed_law))
                         .arg(r->failed_law)
                         .arg(QString::fromStdString(r->device))
+                        .arg(QString::fromStdString(r->contact_law))
                         .arg(QString::fromStdString(r->filter))
                         .arg(QString::fromStdString(hb::duration_text(r->seconds))));
 }

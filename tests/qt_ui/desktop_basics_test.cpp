@@ -11,6 +11,7 @@
 #include "window_test_support.h"
 #include <QAction>
 #include <QCheckBox>
+#include <QComboBox>
 #include <QDir>
 #include <QDockWidget>
 #include <QFile>
@@ -289,6 +290,49 @@ TEST(DesktopBasicsTest, DocksKeepTheirWidthWhenTextsGrow) {
   if (const char* keep = std::getenv("HB_SCREENSHOT_DIR")) w.grab().save(QString::fromLocal8Bit(keep) + "/long_texts_window.png");
   EXPECT_EQ(dock->width(), width);
   EXPECT_EQ(w.probeView()->width(), viewWidth);
+}
+
+TEST(DesktopBasicsTest, StabilityTabRunsTheSuiteWithTheProxyLawWhenChosen) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  openAndBake(w, data.mesh);
+  StabilityPanel* panel = w.stabilityPanel();
+  ASSERT_EQ(panel->lawBox()->currentData().toInt(), int(hb::ContactLaw::penalty));  // the default
+  panel->lawBox()->setCurrentIndex(panel->lawBox()->findData(int(hb::ContactLaw::proxy)));
+  panel->sitesBox()->setValue(1);
+  panel->generatedBox()->setChecked(false);
+  panel->runButton()->click();
+  ASSERT_TRUE(w.session()->job()->isRunning());
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 300));
+  const hb::StabilityReport* r = w.session()->stabilityReport();
+  ASSERT_NE(r, nullptr);
+  EXPECT_EQ(r->contact_law, "proxy");
+  EXPECT_TRUE(r->calibration_pass);
+  EXPECT_GT(r->metrics.size(), 8u);
+  EXPECT_TRUE(panel->summaryLabel()->text().contains(QStringLiteral("proxy law"))) << panel->summaryLabel()->text().toStdString();
+}
+
+TEST(DesktopBasicsTest, DevicePanelsContactLawRestartsTheServoWithTheProxyWhichPushesBack) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  openAndBake(w, data.mesh);
+  ASSERT_TRUE(w.session()->servoRunning());
+  EXPECT_EQ(w.session()->device()->servoContactLaw(), hb::ContactLaw::penalty);
+  QComboBox* law = w.devicePanel()->lawBox();
+  law->setCurrentIndex(law->findData(int(hb::ContactLaw::proxy)));
+  EXPECT_EQ(w.session()->contactLaw(), hb::ContactLaw::proxy);
+  ASSERT_TRUE(w.session()->servoRunning());
+  EXPECT_EQ(w.session()->device()->servoContactLaw(), hb::ContactLaw::proxy);
+  // The proxy's force reaches the readout: the tip pushed past the surface is pushed back.
+  ASSERT_TRUE(placeProbe(w));
+  ASSERT_TRUE(waitFor([&] {
+    const ProbeReading r = w.session()->reading();
+    return r.approx.contact && r.approx.force.norm() > 0.f;
+  }, 10.0));
+  law->setCurrentIndex(law->findData(int(hb::ContactLaw::penalty)));
+  EXPECT_EQ(w.session()->device()->servoContactLaw(), hb::ContactLaw::penalty);
 }
 
 TEST(DesktopBasicsTest, StabilityTabRunsTheSuiteOnTheOpenModelAndShowsItsTable) {
