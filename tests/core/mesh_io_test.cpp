@@ -4,6 +4,8 @@
 #include "mesh/generators.h"
 #include "mesh_checks.h"
 
+#include "scratch_dir_test.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -19,26 +21,10 @@ namespace {
 namespace fs = std::filesystem;
 
 /// Gives each test its own scratch folder, removed afterwards.
-class MeshReadTest : public ::testing::Test {
+class MeshReadTest : public test::ScratchDirTest {
 protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("hb_mesh_io_" + std::string(info->name()) + "_" +
-                                        std::to_string(std::random_device{}()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  std::string write(const std::string& name, const std::string& bytes) const {
-    const std::string path = (dir_ / name).string();
-    std::ofstream(path, std::ios::binary) << bytes;
-    return path;
-  }
+  MeshReadTest() : ScratchDirTest("hb_mesh_io_") {}
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
-  fs::path dir_;
 };
 
 /// Reads `path` expecting exception type E whose message names the file.

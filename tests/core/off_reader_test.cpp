@@ -7,6 +7,8 @@
 
 #include "errors.h"
 
+#include "scratch_dir_test.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -23,23 +25,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class OffReaderTest : public ::testing::Test {
+class OffReaderTest : public test::ScratchDirTest {
 protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("hb_off_reader_" + std::string(info->name()) + "_" +
-                                        std::to_string(std::random_device{}()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  std::string write(const std::string& name, const std::string& bytes) const {
-    const std::string path = (dir_ / name).string();
-    std::ofstream(path, std::ios::binary) << bytes;
-    return path;
-  }
+  OffReaderTest() : ScratchDirTest("hb_off_reader_") {}
   /// The message read_mesh throws for `path` (empty when it reads).
   static std::string error_of(const std::string& path) {
     try {
@@ -49,8 +37,6 @@ protected:
     }
     return {};
   }
-
-  fs::path dir_;
 };
 
 /// A planar grid of nx x ny vertices written as OFF with the oddities a reader meets in the
