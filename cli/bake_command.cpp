@@ -233,6 +233,11 @@ void add_bake_command(CLI::App& app) {
         std::cout << "budget " << budget.summary() << "; " << budget.candidates_tried << " sampling bake(s)";
         if (budget.seconds > 0) std::cout << ", " << hb::duration_text(budget.seconds) << " in all";
         std::cout << "\n";
+        if (!budget.stage_seconds.empty()) {
+          std::cout << "stages:";
+          for (const auto& st : budget.stage_seconds) std::cout << " " << st.first << " " << hb::duration_text(st.second);
+          std::cout << "\n";
+        }
       }
       if (comm.size() > 1)
         std::cout << comm.size() << " ranks: busiest " << hb::sig(j["load_balance"].get<double>()) << " x the mean; sent "

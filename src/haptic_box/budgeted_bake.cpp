@@ -134,15 +134,21 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     const bool fit_check = d.shading_check == DecimationOptions::ShadingCheck::fit;
     d.max_shading_deviation_deg = br.simplify_shading_deg > 0 ? br.simplify_shading_deg
                                                               : (fit_check ? 0.3 : 0.2) * br.budget.direction_p99_deg;
+    auto tstage = std::chrono::steady_clock::now();
     DecimationResult dr = decimate(mesh, d);
+    rep.add_stage("decimate", seconds_since(tstage));
     if (double(dr.mesh.triangle_count()) < 0.9 * double(mesh.triangle_count())) {
       simplified = std::move(dr.mesh);
       use_simplified = true;
       // The exact answers shade with the full mesh's normals: the refinement records and the
       // rays' samples take corner normals fitted to them (the decomposition, the lists and
       // the grid keep the shared-vertex surface; same triangles in the same order).
+      tstage = std::chrono::steady_clock::now();
       shaded = fit_shading(mesh, simplified, 0.002 * double(diagonal));
+      rep.add_stage("fit_shading", seconds_since(tstage));
+      tstage = std::chrono::steady_clock::now();
       const SurfaceDeviation dev = measure_deviation(mesh, shaded, 100000, 0.002 * double(diagonal));
+      rep.add_stage("deviation", seconds_since(tstage));
       rep.full_triangles = mesh.triangle_count();
       rep.surface_triangles = simplified.triangle_count();
       rep.surface_bound = d.max_deviation;
@@ -159,13 +165,20 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   const auto td = std::chrono::steady_clock::now();
   std::vector<std::uint32_t> ids = resolve_piece_ids(base, recipe.pieces);
   if (recipe.pieces.kind == PiecesRecipe::Kind::automatic) result.decompose_seconds = seconds_since(td);
+  rep.add_stage("decompose", seconds_since(td));
   SourceInfo src = source;
   if (src.triangles == 0) src.triangles = mesh.triangle_count();
   if (!(src.diagonal > 0.f)) src.diagonal = diagonal;
   const ForceLaw law{};
+  auto tstage = std::chrono::steady_clock::now();
   const ExactQuery exact(mesh);
+  rep.add_stage("exact_build", seconds_since(tstage));
+  tstage = std::chrono::steady_clock::now();
   const Tuning tuning = tune_probes(mesh, exact, br.probes, br.tuning_seed, law);
+  rep.add_stage("tuning_probes", seconds_since(tstage));
+  tstage = std::chrono::steady_clock::now();
   const auto surface = std::make_shared<const SurfaceTriangles>(cast);
+  rep.add_stage("surface", seconds_since(tstage));
   // The piece ids the scene records are per triangle of the full mesh; a simplified
   // surface's pieces are not (the scene then records none).
   const std::vector<std::uint32_t> scene_ids = use_simplified ? std::vector<std::uint32_t>{} : ids;
@@ -186,7 +199,11 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   std::vector<std::vector<std::vector<std::uint32_t>>> lists(samplings);
   std::vector<std::map<std::size_t, HapticBox>> baked(samplings);
   const auto lists_at = [&](std::size_t c) -> const std::vector<std::vector<std::uint32_t>>& {
-    if (lists[c].empty()) lists[c] = seamed_piece_lists(base, ids, recipe.seams, options_for(c));
+    if (lists[c].empty()) {
+      const auto tl = std::chrono::steady_clock::now();
+      lists[c] = seamed_piece_lists(base, ids, recipe.seams, options_for(c));
+      rep.add_stage("lists", seconds_since(tl));
+    }
     return lists[c];
   };
   const std::size_t pieces = lists_at(0).size();
@@ -204,8 +221,14 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     if (pending.empty()) return;
     ++tried;
     BakeStats stats;
+    auto tb = std::chrono::steady_clock::now();
     BoxScene part = bake_scene_from_lists(cast, pending, options_for(c), src, &stats);
-    if (recipe.codec.codec != CodecId::none) part = part.compressed(recipe.codec);
+    rep.add_stage("tables", seconds_since(tb));
+    if (recipe.codec.codec != CodecId::none) {
+      tb = std::chrono::steady_clock::now();
+      part = part.compressed(recipe.codec);
+      rep.add_stage("compress", seconds_since(tb));
+    }
     rays += stats.rays;
     hits += stats.hits;
     ray_seconds += stats.seconds;
@@ -214,6 +237,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
 
   // Ownership of the tuning probes: the grid of the first sampling's lists.
   std::vector<std::vector<std::size_t>> owned(pieces);
+  tstage = std::chrono::steady_clock::now();
   if (pieces > 1) {
     const SceneGrid grid = build_scene_grid(base, lists_at(0), recipe.options.grid);
     for (std::size_t i = 0; i < tuning.probes.size(); ++i) {
@@ -223,6 +247,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   } else {
     for (std::size_t i = 0; i < tuning.probes.size(); ++i) owned[0].push_back(i);
   }
+  rep.add_stage("ownership", seconds_since(tstage));
 
   // Variants, cheapest first: (sampling c, unrefined) then (c, refined). Every piece is
   // baked at every sampling (the coarse ones cost a fraction of the finest).
@@ -256,13 +281,16 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
       chosen_lists.push_back(lists_at(choice[p] / 2)[p]);
     }
     std::shared_ptr<const SceneGrid> grid;
+    const auto tg = std::chrono::steady_clock::now();
     if (recipe.options.scene_grid && pieces > 1)
       grid = std::make_shared<const SceneGrid>(build_scene_grid(base, chosen_lists, recipe.options.grid));
+    rep.add_stage("grids", seconds_since(tg));
     return BoxScene(std::move(boxes), src, pieces > 1 ? scene_ids : std::vector<std::uint32_t>{}, grid);
   };
   // Each variant's failures in the scene (every piece at that variant), probe by probe,
   // charged to the piece owning the probe: the scene answers a probe with more than the
   // routed box alone (other boxes, fallbacks), so a box asked alone is no proxy for it.
+  tstage = std::chrono::steady_clock::now();
   for (std::size_t v = 0; v < variants; ++v) {
     choice.assign(pieces, v);
     const BoxScene uniform = compose();
@@ -292,6 +320,8 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     }
     report_progress(0.7 + 0.1 * double(v + 1) / double(variants));
   }
+  rep.add_stage("variant_scoring", seconds_since(tstage));  // includes its scenes' grids
+  tstage = std::chrono::steady_clock::now();
   choice.assign(pieces, 0);
   // The budget as allowances over all owned probes, with a margin for the probes the choice
   // does not see (the fresh check, the scene's own routing); failures add up over pieces.
@@ -383,8 +413,10 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   // its sampling (its refined variant is the next one).
   for (std::size_t p = 0; p < pieces; ++p)
     if (choice[p] % 2 == 0 && counts[p][choice[p]].off_surface > 0) choice[p] += 1;
+  rep.add_stage("selection", seconds_since(tstage));
   report_progress(0.8);
 
+  tstage = std::chrono::steady_clock::now();
   BoxScene scene = compose();
   std::vector<std::uint32_t> owner(tuning.probes.size(), UINT32_MAX);
   for (std::size_t p = 0; p < pieces; ++p)
@@ -432,13 +464,16 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     if (!moved) break;
     scene = compose();
   }
+  rep.add_stage("tuning_check", seconds_since(tstage));  // includes its re-bakes and grids
   report_progress(0.9);
 
+  tstage = std::chrono::steady_clock::now();
   // Fresh probes: what the scene achieves on probes the choice never saw.
   ProbeOptions fresh;
   fresh.seed = br.check_seed;
   const std::vector<Segment> check = sample_probes(mesh, br.probes, fresh);
   const ComparisonStats checked = compare_queries(scene, exact, check, law, diagonal);
+  rep.add_stage("fresh_check", seconds_since(tstage));
   rep.present = true;
   rep.budget = br.budget;
   rep.met = meets_budget(checked, br.budget);
