@@ -22,7 +22,10 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <numeric>
 #include <queue>
 #include <random>
@@ -387,12 +390,20 @@ void Merger::merge(const Candidate& c) {
 }
 
 Decomposition Merger::run() {
+  const auto tq = std::chrono::steady_clock::now();
+  const auto lap = [&](const char* what) {
+    if (std::getenv("HB_DECOMPOSE_TIMES"))
+      std::fprintf(stderr, "decompose %s at %.2f s\n", what, std::chrono::duration<double>(std::chrono::steady_clock::now() - tq).count());
+  };
   report(0.0);
   build_clusters();
+  lap("clusters");
   report(0.05);
   build_lines();
+  lap("lines");
   report(0.3);
   build_pieces();
+  lap("pieces");
   report(0.4);
   {
     std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
@@ -476,6 +487,7 @@ Decomposition Merger::run() {
       }
     merge(pick);
   }
+  lap("merged");
   report(0.97);
 
   // Relabel by lowest triangle id.

@@ -235,11 +235,26 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     for (std::size_t k = 0; k < pending_ids.size(); ++k) baked[c].emplace(pending_ids[k], part.boxes()[k]);
   };
 
+  // Scene grids by the sampling each piece's lists come from: a grid depends on the lists
+  // only, so a variant and its refined twin, the ownership grid and the final scene share
+  // one (each build is seconds at 832K triangles; it was built 6+ times per bake).
+  std::map<std::vector<std::size_t>, std::shared_ptr<const SceneGrid>> grids;
+  const auto grid_for = [&](const std::vector<std::size_t>& sampling_of_piece) {
+    auto& g = grids[sampling_of_piece];
+    if (!g) {
+      const auto tg = std::chrono::steady_clock::now();
+      std::vector<std::vector<std::uint32_t>> chosen_lists;
+      for (std::size_t p = 0; p < pieces; ++p) chosen_lists.push_back(lists_at(sampling_of_piece[p])[p]);
+      g = std::make_shared<const SceneGrid>(build_scene_grid(base, chosen_lists, recipe.options.grid));
+      rep.add_stage("grids", seconds_since(tg));
+    }
+    return g;
+  };
   // Ownership of the tuning probes: the grid of the first sampling's lists.
   std::vector<std::vector<std::size_t>> owned(pieces);
   tstage = std::chrono::steady_clock::now();
   if (pieces > 1) {
-    const SceneGrid grid = build_scene_grid(base, lists_at(0), recipe.options.grid);
+    const SceneGrid& grid = *grid_for(std::vector<std::size_t>(pieces, 0));
     for (std::size_t i = 0; i < tuning.probes.size(); ++i) {
       const std::uint32_t b = grid.empty() ? UINT32_MAX : routed_box(grid, tuning.probes[i]);
       if (b < pieces) owned[b].push_back(i);
@@ -274,17 +289,14 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   // The scene of the chosen boxes, checked whole; pieces owning failing probes move up.
   const auto compose = [&]() {
     std::vector<HapticBox> boxes;
-    std::vector<std::vector<std::uint32_t>> chosen_lists;
+    std::vector<std::size_t> sampling_of_piece;
     for (std::size_t p = 0; p < pieces; ++p) {
       const HapticBox& box = baked[choice[p] / 2].at(p);
       boxes.push_back(choice[p] % 2 ? box : box.without_refinement());
-      chosen_lists.push_back(lists_at(choice[p] / 2)[p]);
+      sampling_of_piece.push_back(choice[p] / 2);
     }
     std::shared_ptr<const SceneGrid> grid;
-    const auto tg = std::chrono::steady_clock::now();
-    if (recipe.options.scene_grid && pieces > 1)
-      grid = std::make_shared<const SceneGrid>(build_scene_grid(base, chosen_lists, recipe.options.grid));
-    rep.add_stage("grids", seconds_since(tg));
+    if (recipe.options.scene_grid && pieces > 1) grid = grid_for(sampling_of_piece);
     return BoxScene(std::move(boxes), src, pieces > 1 ? scene_ids : std::vector<std::uint32_t>{}, grid);
   };
   // Each variant's failures in the scene (every piece at that variant), probe by probe,
