@@ -10,6 +10,7 @@
 #include "haptic_box/error_budget.h"
 #include "mesh/decimation.h"
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -90,6 +91,10 @@ struct BudgetRecipe {
   /// replaced); `ring` is the first check (2026-12-02 morning). Either way the simplified
   /// surface's corner normals are then fitted to the full mesh's shading (hb::fit_shading).
   DecimationOptions::ShadingCheck simplify_shading_check = DecimationOptions::ShadingCheck::fit;
+  /// Called on the bake's thread as each stage's work finishes (name as in
+  /// BudgetReport::stage_seconds, the seconds of that part): `bake` prints them as it goes, so
+  /// a bake of minutes shows where it is spending them before it ends. May be empty.
+  std::function<void(const std::string& stage, double seconds)> on_stage;
 };
 
 /// The deviation (fraction of the mesh diagonal) a budgeted bake may simplify its surface by:

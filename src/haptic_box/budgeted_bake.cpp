@@ -117,6 +117,10 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   BakeResult result;
   const float diagonal = mesh.bounds().diagonal();
   BudgetReport rep;
+  const auto stage_done = [&](const char* name, double seconds) {
+    rep.add_stage(name, seconds);
+    if (br.on_stage) br.on_stage(name, seconds);
+  };
   // Step 0: the surface to bake against (`base`), the full mesh or a simplified one.
   TriangleMesh simplified;
   TriangleMesh shaded;  // `simplified` with corner normals of its own fitted to the full mesh's shading
@@ -136,7 +140,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
                                                               : (fit_check ? 0.3 : 0.2) * br.budget.direction_p99_deg;
     auto tstage = std::chrono::steady_clock::now();
     DecimationResult dr = decimate(mesh, d);
-    rep.add_stage("decimate", seconds_since(tstage));
+    stage_done("decimate", seconds_since(tstage));
     if (double(dr.mesh.triangle_count()) < 0.9 * double(mesh.triangle_count())) {
       simplified = std::move(dr.mesh);
       use_simplified = true;
@@ -145,10 +149,10 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
       // the grid keep the shared-vertex surface; same triangles in the same order).
       tstage = std::chrono::steady_clock::now();
       shaded = fit_shading(mesh, simplified, 0.002 * double(diagonal));
-      rep.add_stage("fit_shading", seconds_since(tstage));
+      stage_done("fit_shading", seconds_since(tstage));
       tstage = std::chrono::steady_clock::now();
       const SurfaceDeviation dev = measure_deviation(mesh, shaded, 100000, 0.002 * double(diagonal));
-      rep.add_stage("deviation", seconds_since(tstage));
+      stage_done("deviation", seconds_since(tstage));
       rep.full_triangles = mesh.triangle_count();
       rep.surface_triangles = simplified.triangle_count();
       rep.surface_bound = d.max_deviation;
@@ -165,20 +169,20 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   const auto td = std::chrono::steady_clock::now();
   std::vector<std::uint32_t> ids = resolve_piece_ids(base, recipe.pieces);
   if (recipe.pieces.kind == PiecesRecipe::Kind::automatic) result.decompose_seconds = seconds_since(td);
-  rep.add_stage("decompose", seconds_since(td));
+  stage_done("decompose", seconds_since(td));
   SourceInfo src = source;
   if (src.triangles == 0) src.triangles = mesh.triangle_count();
   if (!(src.diagonal > 0.f)) src.diagonal = diagonal;
   const ForceLaw law{};
   auto tstage = std::chrono::steady_clock::now();
   const ExactQuery exact(mesh);
-  rep.add_stage("exact_build", seconds_since(tstage));
+  stage_done("exact_build", seconds_since(tstage));
   tstage = std::chrono::steady_clock::now();
   const Tuning tuning = tune_probes(mesh, exact, br.probes, br.tuning_seed, law);
-  rep.add_stage("tuning_probes", seconds_since(tstage));
+  stage_done("tuning_probes", seconds_since(tstage));
   tstage = std::chrono::steady_clock::now();
   const auto surface = std::make_shared<const SurfaceTriangles>(cast);
-  rep.add_stage("surface", seconds_since(tstage));
+  stage_done("surface", seconds_since(tstage));
   // The piece ids the scene records are per triangle of the full mesh; a simplified
   // surface's pieces are not (the scene then records none).
   const std::vector<std::uint32_t> scene_ids = use_simplified ? std::vector<std::uint32_t>{} : ids;
@@ -202,7 +206,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     if (lists[c].empty()) {
       const auto tl = std::chrono::steady_clock::now();
       lists[c] = seamed_piece_lists(base, ids, recipe.seams, options_for(c));
-      rep.add_stage("lists", seconds_since(tl));
+      stage_done("lists", seconds_since(tl));
     }
     return lists[c];
   };
@@ -223,11 +227,11 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     BakeStats stats;
     auto tb = std::chrono::steady_clock::now();
     BoxScene part = bake_scene_from_lists(cast, pending, options_for(c), src, &stats);
-    rep.add_stage("tables", seconds_since(tb));
+    stage_done("tables", seconds_since(tb));
     if (recipe.codec.codec != CodecId::none) {
       tb = std::chrono::steady_clock::now();
       part = part.compressed(recipe.codec);
-      rep.add_stage("compress", seconds_since(tb));
+      stage_done("compress", seconds_since(tb));
     }
     rays += stats.rays;
     hits += stats.hits;
@@ -246,7 +250,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
       std::vector<std::vector<std::uint32_t>> chosen_lists;
       for (std::size_t p = 0; p < pieces; ++p) chosen_lists.push_back(lists_at(sampling_of_piece[p])[p]);
       g = std::make_shared<const SceneGrid>(build_scene_grid(base, chosen_lists, recipe.options.grid));
-      rep.add_stage("grids", seconds_since(tg));
+      stage_done("grids", seconds_since(tg));
     }
     return g;
   };
@@ -262,7 +266,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   } else {
     for (std::size_t i = 0; i < tuning.probes.size(); ++i) owned[0].push_back(i);
   }
-  rep.add_stage("ownership", seconds_since(tstage));
+  stage_done("ownership", seconds_since(tstage));
 
   // Variants, cheapest first: (sampling c, unrefined) then (c, refined). Every piece is
   // baked at every sampling (the coarse ones cost a fraction of the finest).
@@ -332,7 +336,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     }
     report_progress(0.7 + 0.1 * double(v + 1) / double(variants));
   }
-  rep.add_stage("variant_scoring", seconds_since(tstage));  // includes its scenes' grids
+  stage_done("variant_scoring", seconds_since(tstage));  // includes its scenes' grids
   tstage = std::chrono::steady_clock::now();
   choice.assign(pieces, 0);
   // The budget as allowances over all owned probes, with a margin for the probes the choice
@@ -425,7 +429,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   // its sampling (its refined variant is the next one).
   for (std::size_t p = 0; p < pieces; ++p)
     if (choice[p] % 2 == 0 && counts[p][choice[p]].off_surface > 0) choice[p] += 1;
-  rep.add_stage("selection", seconds_since(tstage));
+  stage_done("selection", seconds_since(tstage));
   report_progress(0.8);
 
   tstage = std::chrono::steady_clock::now();
@@ -476,7 +480,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     if (!moved) break;
     scene = compose();
   }
-  rep.add_stage("tuning_check", seconds_since(tstage));  // includes its re-bakes and grids
+  stage_done("tuning_check", seconds_since(tstage));  // includes its re-bakes and grids
   report_progress(0.9);
 
   tstage = std::chrono::steady_clock::now();
@@ -485,7 +489,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   fresh.seed = br.check_seed;
   const std::vector<Segment> check = sample_probes(mesh, br.probes, fresh);
   const ComparisonStats checked = compare_queries(scene, exact, check, law, diagonal);
-  rep.add_stage("fresh_check", seconds_since(tstage));
+  stage_done("fresh_check", seconds_since(tstage));
   rep.present = true;
   rep.budget = br.budget;
   rep.met = meets_budget(checked, br.budget);
