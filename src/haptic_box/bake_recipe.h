@@ -138,7 +138,10 @@ struct BakeResult {
 /// A piece id per triangle for `pieces`, numbered 0..K-1 in increasing order of the original
 /// ids (empty for Kind::none: one piece). Throws what the piece reader or the decomposition
 /// throws, hb::InvalidInput when given ids do not match the triangle count.
-std::vector<std::uint32_t> resolve_piece_ids(const TriangleMesh& mesh, const PiecesRecipe& pieces);
+/// `scene`: an Embree scene of all of `mesh` the automatic decomposition may cast against
+/// (decompose_auto's), or null.
+std::vector<std::uint32_t> resolve_piece_ids(const TriangleMesh& mesh, const PiecesRecipe& pieces,
+                                             const EmbreeScene* scene = nullptr);
 
 /// The triangle lists to bake, one per piece (compact ids 0..K-1, empty: one piece), each grown
 /// past its seams by `seams` measured in the cells of the box `options` would bake for it.

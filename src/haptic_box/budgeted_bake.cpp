@@ -166,17 +166,19 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   }
   const TriangleMesh& base = use_simplified ? simplified : mesh;
   const TriangleMesh& cast = use_simplified ? shaded : mesh;  // what the rays hit and the refinement shades with
+  // The exact answers' BVH of the full mesh first: a decomposition of the full mesh casts its
+  // lines against it instead of building its own (one 13M-triangle BVH build fewer).
+  auto tstage = std::chrono::steady_clock::now();
+  const ExactQuery exact(mesh);
+  stage_done("exact_build", seconds_since(tstage));
   const auto td = std::chrono::steady_clock::now();
-  std::vector<std::uint32_t> ids = resolve_piece_ids(base, recipe.pieces);
+  std::vector<std::uint32_t> ids = resolve_piece_ids(base, recipe.pieces, use_simplified ? nullptr : &exact.scene());
   if (recipe.pieces.kind == PiecesRecipe::Kind::automatic) result.decompose_seconds = seconds_since(td);
   stage_done("decompose", seconds_since(td));
   SourceInfo src = source;
   if (src.triangles == 0) src.triangles = mesh.triangle_count();
   if (!(src.diagonal > 0.f)) src.diagonal = diagonal;
   const ForceLaw law{};
-  auto tstage = std::chrono::steady_clock::now();
-  const ExactQuery exact(mesh);
-  stage_done("exact_build", seconds_since(tstage));
   tstage = std::chrono::steady_clock::now();
   const Tuning tuning = tune_probes(mesh, exact, br.probes, br.tuning_seed, law);
   stage_done("tuning_probes", seconds_since(tstage));
