@@ -16,9 +16,11 @@
 #include "mesh/mesh_io.h"
 #include "pieces_option.h"
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <unistd.h>
 
 void add_bake_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("bake", "Bake a haptic box file from a mesh");
@@ -125,6 +127,16 @@ void add_bake_command(CLI::App& app) {
     const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh, opts->model);
     hb::SourceInfo source{opts->mesh, hb::cli::hash_model(opts->mesh, opts->model), mesh.triangle_count(), mesh.bounds().diagonal()};
     opts->recipe.options.progress = hb::cli::terminal_progress("baking");
+    // Each stage of a budgeted bake as it finishes (on stderr, over the progress bar when there
+    // is one), so a long bake shows where its minutes go before it ends.
+    if (hb::cli::communicator().is_root()) {
+      const bool tty = isatty(STDERR_FILENO);
+      opts->recipe.budget.on_stage = [tty](const std::string& stage, double seconds) {
+        std::fprintf(stderr, "%sstage %s: %s%s\n", tty ? "\r" : "", stage.c_str(), hb::duration_text(seconds).c_str(),
+                     tty ? "\033[K" : "");
+        std::fflush(stderr);
+      };
+    }
     opts->recipe.options.density.min_m = std::min(opts->recipe.options.density.min_m, opts->recipe.options.density.max_m);
     hb::Communicator& comm = hb::cli::communicator();
     opts->recipe.options.communicator = &comm;  // position points dealt across the ranks of an MPI job
@@ -233,6 +245,11 @@ void add_bake_command(CLI::App& app) {
         std::cout << "budget " << budget.summary() << "; " << budget.candidates_tried << " sampling bake(s)";
         if (budget.seconds > 0) std::cout << ", " << hb::duration_text(budget.seconds) << " in all";
         std::cout << "\n";
+        if (!budget.stage_seconds.empty()) {
+          std::cout << "stages:";
+          for (const auto& st : budget.stage_seconds) std::cout << " " << st.first << " " << hb::duration_text(st.second);
+          std::cout << "\n";
+        }
       }
       if (comm.size() > 1)
         std::cout << comm.size() << " ranks: busiest " << hb::sig(j["load_balance"].get<double>()) << " x the mean; sent "

@@ -16,6 +16,9 @@ public:
   Contact query(const Segment& segment, const ForceLaw& law) const noexcept override;
   /// The mesh the scene was built over (it must outlive this query).
   const TriangleMesh& mesh() const { return scene_.mesh(); }
+  /// Its Embree scene of the whole mesh (the budgeted bake's decomposition casts its lines
+  /// against it rather than building a second BVH of the same triangles).
+  const EmbreeScene& scene() const { return scene_; }
 
 private:
   EmbreeScene scene_;

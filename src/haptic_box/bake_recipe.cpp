@@ -48,11 +48,11 @@ std::string pieces_spec(const PiecesRecipe& pieces) {
   return "none";
 }
 
-std::vector<std::uint32_t> resolve_piece_ids(const TriangleMesh& mesh, const PiecesRecipe& pieces) {
+std::vector<std::uint32_t> resolve_piece_ids(const TriangleMesh& mesh, const PiecesRecipe& pieces, const EmbreeScene* scene) {
   switch (pieces.kind) {
   case PiecesRecipe::Kind::none: return {};
   case PiecesRecipe::Kind::automatic:
-    if (pieces.resolved.empty()) return decompose_auto(mesh, pieces.automatic).piece_of_triangle;
+    if (pieces.resolved.empty()) return decompose_auto(mesh, pieces.automatic, scene).piece_of_triangle;
     if (pieces.resolved.size() != mesh.triangle_count())
       throw InvalidInput("bake: " + std::to_string(pieces.resolved.size()) + " decomposed piece ids for " +
                          std::to_string(mesh.triangle_count()) + " triangles");

@@ -10,6 +10,7 @@
 #include "haptic_box/error_budget.h"
 #include "mesh/decimation.h"
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -90,6 +91,10 @@ struct BudgetRecipe {
   /// replaced); `ring` is the first check (2026-12-02 morning). Either way the simplified
   /// surface's corner normals are then fitted to the full mesh's shading (hb::fit_shading).
   DecimationOptions::ShadingCheck simplify_shading_check = DecimationOptions::ShadingCheck::fit;
+  /// Called on the bake's thread as each stage's work finishes (name as in
+  /// BudgetReport::stage_seconds, the seconds of that part): `bake` prints them as it goes, so
+  /// a bake of minutes shows where it is spending them before it ends. May be empty.
+  std::function<void(const std::string& stage, double seconds)> on_stage;
 };
 
 /// The deviation (fraction of the mesh diagonal) a budgeted bake may simplify its surface by:
@@ -133,7 +138,10 @@ struct BakeResult {
 /// A piece id per triangle for `pieces`, numbered 0..K-1 in increasing order of the original
 /// ids (empty for Kind::none: one piece). Throws what the piece reader or the decomposition
 /// throws, hb::InvalidInput when given ids do not match the triangle count.
-std::vector<std::uint32_t> resolve_piece_ids(const TriangleMesh& mesh, const PiecesRecipe& pieces);
+/// `scene`: an Embree scene of all of `mesh` the automatic decomposition may cast against
+/// (decompose_auto's), or null.
+std::vector<std::uint32_t> resolve_piece_ids(const TriangleMesh& mesh, const PiecesRecipe& pieces,
+                                             const EmbreeScene* scene = nullptr);
 
 /// The triangle lists to bake, one per piece (compact ids 0..K-1, empty: one piece), each grown
 /// past its seams by `seams` measured in the cells of the box `options` would bake for it.

@@ -117,6 +117,10 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   BakeResult result;
   const float diagonal = mesh.bounds().diagonal();
   BudgetReport rep;
+  const auto stage_done = [&](const char* name, double seconds) {
+    rep.add_stage(name, seconds);
+    if (br.on_stage) br.on_stage(name, seconds);
+  };
   // Step 0: the surface to bake against (`base`), the full mesh or a simplified one.
   TriangleMesh simplified;
   TriangleMesh shaded;  // `simplified` with corner normals of its own fitted to the full mesh's shading
@@ -134,15 +138,21 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     const bool fit_check = d.shading_check == DecimationOptions::ShadingCheck::fit;
     d.max_shading_deviation_deg = br.simplify_shading_deg > 0 ? br.simplify_shading_deg
                                                               : (fit_check ? 0.3 : 0.2) * br.budget.direction_p99_deg;
+    auto tstage = std::chrono::steady_clock::now();
     DecimationResult dr = decimate(mesh, d);
+    stage_done("decimate", seconds_since(tstage));
     if (double(dr.mesh.triangle_count()) < 0.9 * double(mesh.triangle_count())) {
       simplified = std::move(dr.mesh);
       use_simplified = true;
       // The exact answers shade with the full mesh's normals: the refinement records and the
       // rays' samples take corner normals fitted to them (the decomposition, the lists and
       // the grid keep the shared-vertex surface; same triangles in the same order).
+      tstage = std::chrono::steady_clock::now();
       shaded = fit_shading(mesh, simplified, 0.002 * double(diagonal));
+      stage_done("fit_shading", seconds_since(tstage));
+      tstage = std::chrono::steady_clock::now();
       const SurfaceDeviation dev = measure_deviation(mesh, shaded, 100000, 0.002 * double(diagonal));
+      stage_done("deviation", seconds_since(tstage));
       rep.full_triangles = mesh.triangle_count();
       rep.surface_triangles = simplified.triangle_count();
       rep.surface_bound = d.max_deviation;
@@ -156,16 +166,25 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   }
   const TriangleMesh& base = use_simplified ? simplified : mesh;
   const TriangleMesh& cast = use_simplified ? shaded : mesh;  // what the rays hit and the refinement shades with
+  // The exact answers' BVH of the full mesh first: a decomposition of the full mesh casts its
+  // lines against it instead of building its own (one 13M-triangle BVH build fewer).
+  auto tstage = std::chrono::steady_clock::now();
+  const ExactQuery exact(mesh);
+  stage_done("exact_build", seconds_since(tstage));
   const auto td = std::chrono::steady_clock::now();
-  std::vector<std::uint32_t> ids = resolve_piece_ids(base, recipe.pieces);
+  std::vector<std::uint32_t> ids = resolve_piece_ids(base, recipe.pieces, use_simplified ? nullptr : &exact.scene());
   if (recipe.pieces.kind == PiecesRecipe::Kind::automatic) result.decompose_seconds = seconds_since(td);
+  stage_done("decompose", seconds_since(td));
   SourceInfo src = source;
   if (src.triangles == 0) src.triangles = mesh.triangle_count();
   if (!(src.diagonal > 0.f)) src.diagonal = diagonal;
   const ForceLaw law{};
-  const ExactQuery exact(mesh);
+  tstage = std::chrono::steady_clock::now();
   const Tuning tuning = tune_probes(mesh, exact, br.probes, br.tuning_seed, law);
+  stage_done("tuning_probes", seconds_since(tstage));
+  tstage = std::chrono::steady_clock::now();
   const auto surface = std::make_shared<const SurfaceTriangles>(cast);
+  stage_done("surface", seconds_since(tstage));
   // The piece ids the scene records are per triangle of the full mesh; a simplified
   // surface's pieces are not (the scene then records none).
   const std::vector<std::uint32_t> scene_ids = use_simplified ? std::vector<std::uint32_t>{} : ids;
@@ -186,7 +205,11 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   std::vector<std::vector<std::vector<std::uint32_t>>> lists(samplings);
   std::vector<std::map<std::size_t, HapticBox>> baked(samplings);
   const auto lists_at = [&](std::size_t c) -> const std::vector<std::vector<std::uint32_t>>& {
-    if (lists[c].empty()) lists[c] = seamed_piece_lists(base, ids, recipe.seams, options_for(c));
+    if (lists[c].empty()) {
+      const auto tl = std::chrono::steady_clock::now();
+      lists[c] = seamed_piece_lists(base, ids, recipe.seams, options_for(c));
+      stage_done("lists", seconds_since(tl));
+    }
     return lists[c];
   };
   const std::size_t pieces = lists_at(0).size();
@@ -204,18 +227,40 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     if (pending.empty()) return;
     ++tried;
     BakeStats stats;
+    auto tb = std::chrono::steady_clock::now();
     BoxScene part = bake_scene_from_lists(cast, pending, options_for(c), src, &stats);
-    if (recipe.codec.codec != CodecId::none) part = part.compressed(recipe.codec);
+    stage_done("tables", seconds_since(tb));
+    if (recipe.codec.codec != CodecId::none) {
+      tb = std::chrono::steady_clock::now();
+      part = part.compressed(recipe.codec);
+      stage_done("compress", seconds_since(tb));
+    }
     rays += stats.rays;
     hits += stats.hits;
     ray_seconds += stats.seconds;
     for (std::size_t k = 0; k < pending_ids.size(); ++k) baked[c].emplace(pending_ids[k], part.boxes()[k]);
   };
 
+  // Scene grids by the sampling each piece's lists come from: a grid depends on the lists
+  // only, so a variant and its refined twin, the ownership grid and the final scene share
+  // one (each build is seconds at 832K triangles; it was built 6+ times per bake).
+  std::map<std::vector<std::size_t>, std::shared_ptr<const SceneGrid>> grids;
+  const auto grid_for = [&](const std::vector<std::size_t>& sampling_of_piece) {
+    auto& g = grids[sampling_of_piece];
+    if (!g) {
+      const auto tg = std::chrono::steady_clock::now();
+      std::vector<std::vector<std::uint32_t>> chosen_lists;
+      for (std::size_t p = 0; p < pieces; ++p) chosen_lists.push_back(lists_at(sampling_of_piece[p])[p]);
+      g = std::make_shared<const SceneGrid>(build_scene_grid(base, chosen_lists, recipe.options.grid));
+      stage_done("grids", seconds_since(tg));
+    }
+    return g;
+  };
   // Ownership of the tuning probes: the grid of the first sampling's lists.
   std::vector<std::vector<std::size_t>> owned(pieces);
+  tstage = std::chrono::steady_clock::now();
   if (pieces > 1) {
-    const SceneGrid grid = build_scene_grid(base, lists_at(0), recipe.options.grid);
+    const SceneGrid& grid = *grid_for(std::vector<std::size_t>(pieces, 0));
     for (std::size_t i = 0; i < tuning.probes.size(); ++i) {
       const std::uint32_t b = grid.empty() ? UINT32_MAX : routed_box(grid, tuning.probes[i]);
       if (b < pieces) owned[b].push_back(i);
@@ -223,6 +268,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   } else {
     for (std::size_t i = 0; i < tuning.probes.size(); ++i) owned[0].push_back(i);
   }
+  stage_done("ownership", seconds_since(tstage));
 
   // Variants, cheapest first: (sampling c, unrefined) then (c, refined). Every piece is
   // baked at every sampling (the coarse ones cost a fraction of the finest).
@@ -249,20 +295,20 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   // The scene of the chosen boxes, checked whole; pieces owning failing probes move up.
   const auto compose = [&]() {
     std::vector<HapticBox> boxes;
-    std::vector<std::vector<std::uint32_t>> chosen_lists;
+    std::vector<std::size_t> sampling_of_piece;
     for (std::size_t p = 0; p < pieces; ++p) {
       const HapticBox& box = baked[choice[p] / 2].at(p);
       boxes.push_back(choice[p] % 2 ? box : box.without_refinement());
-      chosen_lists.push_back(lists_at(choice[p] / 2)[p]);
+      sampling_of_piece.push_back(choice[p] / 2);
     }
     std::shared_ptr<const SceneGrid> grid;
-    if (recipe.options.scene_grid && pieces > 1)
-      grid = std::make_shared<const SceneGrid>(build_scene_grid(base, chosen_lists, recipe.options.grid));
+    if (recipe.options.scene_grid && pieces > 1) grid = grid_for(sampling_of_piece);
     return BoxScene(std::move(boxes), src, pieces > 1 ? scene_ids : std::vector<std::uint32_t>{}, grid);
   };
   // Each variant's failures in the scene (every piece at that variant), probe by probe,
   // charged to the piece owning the probe: the scene answers a probe with more than the
   // routed box alone (other boxes, fallbacks), so a box asked alone is no proxy for it.
+  tstage = std::chrono::steady_clock::now();
   for (std::size_t v = 0; v < variants; ++v) {
     choice.assign(pieces, v);
     const BoxScene uniform = compose();
@@ -292,6 +338,8 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     }
     report_progress(0.7 + 0.1 * double(v + 1) / double(variants));
   }
+  stage_done("variant_scoring", seconds_since(tstage));  // includes its scenes' grids
+  tstage = std::chrono::steady_clock::now();
   choice.assign(pieces, 0);
   // The budget as allowances over all owned probes, with a margin for the probes the choice
   // does not see (the fresh check, the scene's own routing); failures add up over pieces.
@@ -383,8 +431,10 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   // its sampling (its refined variant is the next one).
   for (std::size_t p = 0; p < pieces; ++p)
     if (choice[p] % 2 == 0 && counts[p][choice[p]].off_surface > 0) choice[p] += 1;
+  stage_done("selection", seconds_since(tstage));
   report_progress(0.8);
 
+  tstage = std::chrono::steady_clock::now();
   BoxScene scene = compose();
   std::vector<std::uint32_t> owner(tuning.probes.size(), UINT32_MAX);
   for (std::size_t p = 0; p < pieces; ++p)
@@ -432,13 +482,16 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     if (!moved) break;
     scene = compose();
   }
+  stage_done("tuning_check", seconds_since(tstage));  // includes its re-bakes and grids
   report_progress(0.9);
 
+  tstage = std::chrono::steady_clock::now();
   // Fresh probes: what the scene achieves on probes the choice never saw.
   ProbeOptions fresh;
   fresh.seed = br.check_seed;
   const std::vector<Segment> check = sample_probes(mesh, br.probes, fresh);
   const ComparisonStats checked = compare_queries(scene, exact, check, law, diagonal);
+  stage_done("fresh_check", seconds_since(tstage));
   rep.present = true;
   rep.budget = br.budget;
   rep.met = meets_budget(checked, br.budget);

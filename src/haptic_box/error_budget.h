@@ -3,6 +3,7 @@
 // the record of what a bake achieved against it, stored in the box file (version 6).
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hb {
@@ -66,6 +67,20 @@ struct BudgetReport {
   /// fitted to them, hb::fit_shading) at the same points (median, p99; degrees).
   double surface_normal_median_deg = 0, surface_normal_p99_deg = 0;
   double simplify_seconds = 0;
+  /// This run's wall seconds per stage of the budgeted bake, in step order ("simplify",
+  /// "decompose", "tables", ...; budgeted_bake.cpp names them), so anyone can see where a
+  /// bake's time goes. Like `seconds`, not in the file form (same inputs, same bytes): `bake`
+  /// prints them, `bake --json` holds them; a box file read back has none.
+  std::vector<std::pair<std::string, double>> stage_seconds;
+  /// Adds `s` to the stage `name` (appended the first time it is named).
+  void add_stage(const std::string& name, double s) {
+    for (auto& st : stage_seconds)
+      if (st.first == name) {
+        st.second += s;
+        return;
+      }
+    stage_seconds.emplace_back(name, s);
+  }
 
   /// "key=value" lines (the file form); parse() reads them back and throws hb::InvalidInput on
   /// anything else, so a corrupt section cannot load.

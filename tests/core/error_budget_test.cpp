@@ -8,6 +8,7 @@
 #include "haptic_box/box_file.h"
 #include "two_spheres.h"
 #include <gtest/gtest.h>
+#include <algorithm>
 #include <filesystem>
 #include <unistd.h>
 
@@ -123,6 +124,26 @@ TEST(ErrorBudgetTest, BudgetedBakeMeetsTheBudgetOnFreshProbesAndTheFileKeepsIt) 
   ASSERT_TRUE(loaded.budget_report().present);
   EXPECT_EQ(loaded.budget_report().serialize(), rep.serialize());
   ASSERT_TRUE(loaded.grid() != nullptr);
+}
+
+// The bake records where its time went, stage by stage in step order (issue 17: the 13M bake's
+// minutes must be attributable); the times stay out of the file form like `seconds`.
+TEST(ErrorBudgetTest, BudgetedBakeRecordsItsStageTimesButTheFileDoesNot) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  BakeRecipe recipe = two_piece_recipe(two, 1000);
+  recipe.budget.samplings = {{0.2f, 4}};
+  const BakeResult baked = bake(two.mesh, recipe);
+  const BudgetReport& rep = baked.scene.budget_report();
+  std::vector<std::string> names;
+  for (const auto& st : rep.stage_seconds) {
+    names.push_back(st.first);
+    EXPECT_GE(st.second, 0.0) << st.first;
+  }
+  for (const char* must : {"decompose", "exact_build", "tuning_probes", "tables", "variant_scoring", "fresh_check"})
+    EXPECT_NE(std::find(names.begin(), names.end(), must), names.end()) << must;
+  EXPECT_LT(std::find(names.begin(), names.end(), "decompose"), std::find(names.begin(), names.end(), "fresh_check"));
+  EXPECT_EQ(rep.serialize().find("tables"), std::string::npos);
+  EXPECT_TRUE(BudgetReport::parse(rep.serialize()).stage_seconds.empty());
 }
 
 // A coarse unrefined sampling meets a lax budget, but its blends answer probes from off the
