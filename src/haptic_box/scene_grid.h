@@ -172,6 +172,21 @@ private:
 /// its path without it. Immutable once built, queried through const noexcept methods.
 class SurfaceCells {
 public:
+  /// The set bits of `mask` below bit `bit`: a cell's rank in its brick. Every step of a
+  /// segment's walk asks it; the build targets plain x86-64 (no POPCNT instruction), where
+  /// __builtin_popcountll is a call into libgcc, so without POPCNT this is the SWAR count
+  /// inline (the same integer).
+  static std::uint32_t cells_below(std::uint64_t mask, unsigned bit) noexcept {
+    std::uint64_t m = mask & ((std::uint64_t(1) << bit) - 1);
+#if defined(__POPCNT__)
+    return std::uint32_t(__builtin_popcountll(m));
+#else
+    m = m - ((m >> 1) & 0x5555555555555555ull);
+    m = (m & 0x3333333333333333ull) + ((m >> 2) & 0x3333333333333333ull);
+    m = (m + (m >> 4)) & 0x0f0f0f0f0f0f0f0full;
+    return std::uint32_t((m * 0x0101010101010101ull) >> 56);
+#endif
+  }
   static constexpr std::uint32_t kNone = 0xffffffffu;
   SurfaceCells() = default;
   /// Throws hb::InvalidInput when the grid is empty.
@@ -187,7 +202,7 @@ public:
     const std::uint64_t mask = masks_[b];
     const unsigned bit = unsigned(((z & 3) << 4) | ((y & 3) << 2) | (x & 3));
     if (!((mask >> bit) & 1u)) return kNone;
-    return base_[b] + std::uint32_t(__builtin_popcountll(mask & ((std::uint64_t(1) << bit) - 1)));
+    return base_[b] + std::uint32_t(cells_below(mask, bit));
   }
   /// As index(), but SceneGrid::kEmptyBrick when no cell of (x, y, z)'s 4 x 4 x 4 brick has
   /// surface (for SceneGrid::walk_surface_by).
@@ -199,7 +214,7 @@ public:
     if (mask == 0) return SceneGrid::kEmptyBrick;
     const unsigned bit = unsigned(((z & 3) << 4) | ((y & 3) << 2) | (x & 3));
     if (!((mask >> bit) & 1u)) return kNone;
-    return base_[b] + std::uint32_t(__builtin_popcountll(mask & ((std::uint64_t(1) << bit) - 1)));
+    return base_[b] + std::uint32_t(cells_below(mask, bit));
   }
   /// The surface cell index of the cell holding p (kNone: none).
   std::uint32_t index_at(const Vec3& p) const noexcept {

@@ -273,23 +273,78 @@ bool SurfaceTriangles::intersect(std::uint32_t id, const float o[3], const float
 bool SurfaceTriangles::first_crossing(const std::uint32_t* ids, std::size_t count, const float o[3], const float d[3],
                                       float s_min, float s_max, float& s_out, bool& front,
                                       std::uint32_t& id_out) const noexcept {
+  // plane_hits()' lanes with the inside and range tests kept in the registers too: the
+  // candidates come out as a 4-bit mask, so the scalar loop only sees real crossings (most
+  // lanes of a cell miss) and no u, v, s round trip through memory. The same float
+  // operations in the same order as plane_hits() and the scalar tests it replaces (all
+  // values finite there, so min(min(u, v), 1 - u - v) >= 0 is the three comparisons), and
+  // candidates are taken in list order with a strict `<`: the same crossing, bit for bit.
   float best = std::numeric_limits<float>::infinity();
   std::uint32_t best_id = kNoTriangle;
-  float hu[16], hv[16], hs[16];
-  for (std::size_t first = 0; first < count; first += 16) {
-    const int n = int(std::min<std::size_t>(16, count - first));
-    const unsigned planes = plane_hits(ids + first, n, o, d, hu, hv, hs);
-    for (int k = 0; k < n; ++k) {
-      if (!((planes >> k) & 1u)) continue;
-      const float u = hu[k], v = hv[k];
-      if (!(std::min(std::min(u, v), 1.f - u - v) >= 0.f)) continue;
-      if (!(hs[k] >= s_min && hs[k] <= s_max) || !(hs[k] < best)) continue;
-      best = hs[k];
+  const __m128 d0 = _mm_set1_ps(d[0]), d1 = _mm_set1_ps(d[1]), d2 = _mm_set1_ps(d[2]);
+  const __m128 o0 = _mm_set1_ps(o[0]), o1 = _mm_set1_ps(o[1]), o2 = _mm_set1_ps(o[2]);
+  const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+  const __m128 inf = _mm_set1_ps(std::numeric_limits<float>::infinity());
+  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.f), tiny = _mm_set1_ps(1e-20f);
+  const __m128 lo = _mm_set1_ps(s_min), hi = _mm_set1_ps(s_max);
+  for (std::size_t first = 0; first < count; first += 4) {
+    const Record* r[4];
+    unsigned in_range = 0;
+    for (int k = 0; k < 4; ++k) {
+      const bool valid = first + std::size_t(k) < count && ids[first + std::size_t(k)] < count_;
+      r[k] = records_ + (valid ? ids[first + std::size_t(k)] : 0u);
+      in_range |= valid ? 1u << k : 0u;
+    }
+    if (first + 4 < count)
+      for (int k = 4; k < 8 && first + std::size_t(k) < count; ++k)
+        if (ids[first + std::size_t(k)] < count_) __builtin_prefetch(records_ + ids[first + std::size_t(k)]);
+    const float* f[4];
+    for (int k = 0; k < 4; ++k) f[k] = reinterpret_cast<const float*>(r[k]);
+    __m128 ax = _mm_loadu_ps(f[0]), ay = _mm_loadu_ps(f[1]), az = _mm_loadu_ps(f[2]), e1x = _mm_loadu_ps(f[3]);
+    _MM_TRANSPOSE4_PS(ax, ay, az, e1x);
+    __m128 e1y = _mm_loadu_ps(f[0] + 4), e1z = _mm_loadu_ps(f[1] + 4), e2x = _mm_loadu_ps(f[2] + 4),
+           e2y = _mm_loadu_ps(f[3] + 4);
+    _MM_TRANSPOSE4_PS(e1y, e1z, e2x, e2y);
+    __m128 e2z = _mm_loadu_ps(f[0] + 8), x1 = _mm_loadu_ps(f[1] + 8), x2 = _mm_loadu_ps(f[2] + 8),
+           x3 = _mm_loadu_ps(f[3] + 8);
+    _MM_TRANSPOSE4_PS(e2z, x1, x2, x3);
+    const __m128 px = _mm_sub_ps(_mm_mul_ps(d1, e2z), _mm_mul_ps(d2, e2y));
+    const __m128 py = _mm_sub_ps(_mm_mul_ps(d2, e2x), _mm_mul_ps(d0, e2z));
+    const __m128 pz = _mm_sub_ps(_mm_mul_ps(d0, e2y), _mm_mul_ps(d1, e2x));
+    const __m128 det = _mm_add_ps(_mm_add_ps(_mm_mul_ps(e1x, px), _mm_mul_ps(e1y, py)), _mm_mul_ps(e1z, pz));
+    const __m128 big = _mm_cmpgt_ps(_mm_and_ps(det, abs_mask), tiny);
+    const __m128 inv = _mm_div_ps(one, det);
+    const __m128 tx = _mm_sub_ps(o0, ax), ty = _mm_sub_ps(o1, ay), tz = _mm_sub_ps(o2, az);
+    const __m128 u =
+        _mm_mul_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(tx, px), _mm_mul_ps(ty, py)), _mm_mul_ps(tz, pz)), inv);
+    const __m128 qx = _mm_sub_ps(_mm_mul_ps(ty, e1z), _mm_mul_ps(tz, e1y));
+    const __m128 qy = _mm_sub_ps(_mm_mul_ps(tz, e1x), _mm_mul_ps(tx, e1z));
+    const __m128 qz = _mm_sub_ps(_mm_mul_ps(tx, e1y), _mm_mul_ps(ty, e1x));
+    const __m128 v =
+        _mm_mul_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(d0, qx), _mm_mul_ps(d1, qy)), _mm_mul_ps(d2, qz)), inv);
+    const __m128 sv =
+        _mm_mul_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(e2x, qx), _mm_mul_ps(e2y, qy)), _mm_mul_ps(e2z, qz)), inv);
+    const __m128 finite = _mm_and_ps(_mm_and_ps(_mm_cmplt_ps(_mm_and_ps(u, abs_mask), inf),
+                                                _mm_cmplt_ps(_mm_and_ps(v, abs_mask), inf)),
+                                     _mm_cmplt_ps(_mm_and_ps(sv, abs_mask), inf));
+    const __m128 w = _mm_sub_ps(_mm_sub_ps(one, u), v);
+    const __m128 inside =
+        _mm_and_ps(_mm_and_ps(_mm_cmpge_ps(u, zero), _mm_cmpge_ps(v, zero)), _mm_cmpge_ps(w, zero));
+    const __m128 in_s = _mm_and_ps(_mm_cmpge_ps(sv, lo), _mm_cmple_ps(sv, hi));
+    unsigned lanes =
+        unsigned(_mm_movemask_ps(_mm_and_ps(_mm_and_ps(big, finite), _mm_and_ps(inside, in_s)))) & in_range;
+    if (!lanes) continue;
+    alignas(16) float sb[4];
+    _mm_store_ps(sb, sv);
+    for (; lanes; lanes &= lanes - 1) {
+      const int k = __builtin_ctz(lanes);
+      if (!(sb[k] < best)) continue;
+      best = sb[k];
       best_id = ids[first + std::size_t(k)];
     }
   }
   if (best_id == kNoTriangle) return false;
-  const Record& r = records_[best_id];  // in range: plane_hits sets no bit otherwise
+  const Record& r = records_[best_id];  // in range: in_range masks the others off
   const float gx = r.e1[1] * r.e2[2] - r.e1[2] * r.e2[1], gy = r.e1[2] * r.e2[0] - r.e1[0] * r.e2[2],
               gz = r.e1[0] * r.e2[1] - r.e1[1] * r.e2[0];
   front = gx * d[0] + gy * d[1] + gz * d[2] < 0.f;

@@ -11,7 +11,9 @@
 #include "haptic_box/surface_triangles.h"
 #include "mesh/generators.h"
 #include <gtest/gtest.h>
+#include <algorithm>
 #include <cstring>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -398,3 +400,59 @@ TEST_F(RefinedBoxFileTest, CorruptTriangleIdsAreCaughtByVerifyAndNeverReadOutOfB
 
 } // namespace
 } // namespace hb
+
+// first_crossing() keeps plane_hits()' lane tests in the registers; it must still pick the
+// crossing a plain loop over intersect() picks: the same parameter bits, the same triangle
+// (the first listed on a tie), the same facing, including ids out of range and lists whose
+// length is not a multiple of four.
+TEST(RefinementTest, FirstCrossingPicksTheNearestCrossingOfAPlainIntersectLoopBitForBit) {
+  const TriangleMesh& mesh = bumpy_mesh();
+  const SurfaceTriangles surface(mesh);
+  std::vector<Segment> probes = sample_probes(mesh, 3000);
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<std::uint32_t> slot(0, std::uint32_t(surface.size()) + 3);
+  std::uniform_int_distribution<int> length(1, 37);
+  std::uniform_real_distribution<float> range(0.f, 1.f);
+  std::size_t found = 0;
+  for (std::size_t i = 0; i < probes.size(); ++i) {
+    const Segment& seg = probes[i];
+    const float o[3] = {seg.start.x(), seg.start.y(), seg.start.z()};
+    const float d[3] = {seg.end.x() - o[0], seg.end.y() - o[1], seg.end.z() - o[2]};
+    // The triangles near the segment (so that some lists are crossed), some far, some twice,
+    // some out of range.
+    std::vector<std::uint32_t> ids;
+    const int n = length(rng);
+    for (int k = 0; k < n; ++k) ids.push_back(slot(rng));
+    for (std::uint32_t t = 0; t < surface.size() && ids.size() < 64; ++t) {
+      float s = 0.f, outside = 0.f;
+      Vec3 normal;
+      bool front = false;
+      surface.intersect(t, o, d, -1.f, s, normal, front, &outside);
+      if (outside < 0.05f) ids.push_back(t);
+    }
+    if (i % 3 == 0 && !ids.empty()) ids.push_back(ids.front());
+    std::shuffle(ids.begin(), ids.end(), rng);
+    const float s_min = i % 4 == 0 ? 0.1f * range(rng) : 0.f, s_max = i % 5 == 0 ? range(rng) : 1.f;
+    float want = std::numeric_limits<float>::infinity();
+    std::uint32_t want_id = kNoTriangle;
+    bool want_front = false;
+    for (std::uint32_t t : ids) {
+      float s = 0.f;
+      Vec3 normal;
+      bool front = false;
+      if (!surface.intersect(t, o, d, s_min, s, normal, front) || !(s <= s_max) || !(s < want)) continue;
+      want = s, want_id = t, want_front = front;
+    }
+    float s = 0.f;
+    bool front = false;
+    std::uint32_t id = kNoTriangle;
+    const bool hit = surface.first_crossing(ids.data(), ids.size(), o, d, s_min, s_max, s, front, id);
+    ASSERT_EQ(hit, want_id != kNoTriangle) << "probe " << i;
+    if (!hit) continue;
+    ++found;
+    ASSERT_EQ(id, want_id) << "probe " << i;
+    ASSERT_EQ(std::memcmp(&s, &want, sizeof s), 0) << "probe " << i;
+    ASSERT_EQ(front, want_front) << "probe " << i;
+  }
+  EXPECT_GT(found, probes.size() / 4);
+}
