@@ -398,8 +398,6 @@ TEST_F(RefinedBoxFileTest, CorruptTriangleIdsAreCaughtByVerifyAndNeverReadOutOfB
   }
 }
 
-} // namespace
-} // namespace hb
 
 // first_crossing() keeps plane_hits()' lane tests in the registers; it must still pick the
 // crossing a plain loop over intersect() picks: the same parameter bits, the same triangle
@@ -456,3 +454,6 @@ TEST(RefinementTest, FirstCrossingPicksTheNearestCrossingOfAPlainIntersectLoopBi
   }
   EXPECT_GT(found, probes.size() / 4);
 }
+
+} // namespace
+} // namespace hb
