@@ -422,19 +422,9 @@ Contact BoxScene::first_crossing_contact(const Segment& segment, float length, c
   float best_s = std::numeric_limits<float>::infinity();
   bool best_front = false;
   std::uint32_t best_id = kNoTriangle;
-  // The walk reads the cells' brick masks (in cache), not the grid's cell words.
-  const SurfaceCells& sc = *cells_;
-  const auto index_of = [&sc](int x, int y, int z) { return sc.index_or_empty_brick(x, y, z); };
-  grid_->walk_surface_by(segment.start, segment.end, index_of, [&](std::uint32_t cell, float s) {
-    if (s > best_s) return false;
-    float cs = 0.f;
-    bool front = false;
-    std::uint32_t id = kNoTriangle;
-    if (cells_->first_crossing(&cell, 1, segment.start, segment.end, std::min(best_s, 1.f), cs, front, id) &&
-        cs < best_s)
-      best_s = cs, best_front = front, best_id = id;
-    return true;
-  });
+  // The walk jumps over empty space by the cells' clearance and steps cell by cell near the
+  // surface (SurfaceCells::first_crossing_along).
+  cells_->first_crossing_along(segment.start, segment.end, 1.f, best_s, best_front, best_id);
   // No crossing, or the first one leaves the object (the handle is inside): no contact.
   if (best_id == kNoTriangle || !best_front) return Contact{};
   // Exact's contact on that triangle: the crossing along the unit direction, its shading.

@@ -21,6 +21,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <mutex>
 
@@ -453,7 +454,7 @@ SurfaceCells::SurfaceCells(const SceneGrid& grid, std::shared_ptr<const SurfaceT
   // 1. Surface cells, ranked per brick.
   bricks_x_ = (nx + 3) / 4;
   bricks_y_ = (ny + 3) / 4;
-  const int bricks_z = (nz + 3) / 4;
+  const int bricks_z = bricks_z_ = (nz + 3) / 4;
   const std::size_t brick_count = std::size_t(bricks_x_) * std::size_t(bricks_y_) * std::size_t(bricks_z);
   masks_.assign(brick_count, 0);
   base_.assign(brick_count, 0);
@@ -465,6 +466,19 @@ SurfaceCells::SurfaceCells(const SceneGrid& grid, std::shared_ptr<const SurfaceT
                                 std::size_t(x >> 2);
           masks_[b] |= std::uint64_t(1) << (((z & 3) << 4) | ((y & 3) << 2) | (x & 3));
         }
+  {
+    // The chessboard clearance of each cell, in the masks' order (a byte a cell, for
+    // first_crossing_along's jumps over empty space).
+    const std::vector<std::uint8_t> clear = grid.clearance();
+    clear_.assign(brick_count * 64, 0);
+    for (int z = 0; z < nz; ++z)
+      for (int y = 0; y < ny; ++y)
+        for (int x = 0; x < nx; ++x) {
+          const std::size_t b = (std::size_t(z >> 2) * std::size_t(bricks_y_) + std::size_t(y >> 2)) * std::size_t(bricks_x_) +
+                                std::size_t(x >> 2);
+          clear_[b * 64 + (((z & 3) << 4) | ((y & 3) << 2) | (x & 3))] = clear[flat(x, y, z)];
+        }
+  }
   std::uint32_t total = 0;
   for (std::size_t b = 0; b < brick_count; ++b) {
     base_[b] = total;
@@ -588,6 +602,95 @@ bool SurfaceCells::first_crossing(const std::uint32_t* cells, std::size_t count,
     if (!found || cs < s) s = cs, front = cf, triangle = ct, found = true;
   }
   return found;
+}
+
+
+bool SurfaceCells::first_crossing_along(const Vec3& a, const Vec3& b, float s_max, float& s_out, bool& front_out,
+                                        std::uint32_t& tri_out) const noexcept {
+  if (masks_.empty()) return false;
+  // In cell units from the grid's origin.
+  const Vec3 fa = (a - origin_) * inv_cell_, fd = (b - a) * inv_cell_;
+  float s0 = 0.f, s1 = std::min(s_max, 1.f);
+  for (int k = 0; k < 3; ++k) {
+    const float hi = float(dims_[k]);
+    if (std::fabs(fd[k]) < 1e-30f) {
+      if (!(fa[k] >= 0.f && fa[k] <= hi)) return false;
+      continue;
+    }
+    float u = (0.f - fa[k]) / fd[k], v = (hi - fa[k]) / fd[k];
+    if (u > v) std::swap(u, v);
+    s0 = std::max(s0, u);
+    s1 = std::min(s1, v);
+  }
+  if (!(s0 <= s1)) return false;
+  const float max_d = std::max({std::fabs(fd.x()), std::fabs(fd.y()), std::fabs(fd.z())});
+  const float s_per_cell = max_d > 0.f ? 1.f / max_d : 2.f;
+  const float o[3] = {a.x(), a.y(), a.z()};
+  const float d[3] = {b.x() - a.x(), b.y() - a.y(), b.z() - a.z()};
+  // The DDA (cell by cell) with its divisions done once: a jump restarts it at a new s.
+  int i[3], step[3];
+  float next[3], delta[3], inv[3];
+  for (int k = 0; k < 3; ++k) {
+    step[k] = fd[k] > 1e-30f ? 1 : fd[k] < -1e-30f ? -1 : 0;
+    inv[k] = step[k] != 0 ? 1.f / fd[k] : 0.f;
+    delta[k] = std::fabs(inv[k]);
+  }
+  const auto start_at = [&](float s) {
+    const Vec3 p = fa + s * fd;
+    for (int k = 0; k < 3; ++k) {
+      // p is inside the grid up to rounding: truncation is floor after the clamp.
+      i[k] = std::min(std::max(int(p[k]), 0), dims_[k] - 1);
+      next[k] = step[k] > 0   ? (float(i[k] + 1) - fa[k]) * inv[k]
+                : step[k] < 0 ? (float(i[k]) - fa[k]) * inv[k]
+                              : std::numeric_limits<float>::infinity();
+    }
+  };
+  float best = std::numeric_limits<float>::infinity();
+  bool best_front = false;
+  std::uint32_t best_id = kNoTriangle;
+  float s = s0;
+  start_at(s);
+  const int limit = dims_[0] + dims_[1] + dims_[2];
+  for (int it = 0; it < limit; ++it) {
+    if (s > best) break;  // a cell entered beyond the nearest crossing holds no nearer one
+    const std::size_t brick = (std::size_t(i[2] >> 2) * std::size_t(bricks_y_) + std::size_t(i[1] >> 2)) *
+                                  std::size_t(bricks_x_) + std::size_t(i[0] >> 2);
+    const unsigned bit = unsigned(((i[2] & 3) << 4) | ((i[1] & 3) << 2) | (i[0] & 3));
+    const int clear = clear_[brick * 64 + bit];
+    if (clear >= 2) {
+      // Every cell within clear - 1 of this one (chessboard) has no surface; the point is in
+      // this cell, so moving it by less than clear - 1 cells in every axis keeps it, and the
+      // part of the segment crossed, among them.
+      const float jump = s + (float(clear - 1) - 0.01f) * s_per_cell;
+      if (jump > s1) break;
+      s = jump;
+      start_at(s);
+      continue;
+    }
+    const std::uint64_t mask = masks_[brick];
+    if ((mask >> bit) & 1u) {
+      const std::uint32_t index = base_[brick] + cells_below(mask, bit);
+      const std::uint32_t* first = slots_.data() + offsets_[index];
+      float cs = 0.f;
+      bool cf = false;
+      std::uint32_t ct = kNoTriangle;
+      if (surface_->first_crossing(first, std::size_t(offsets_[index + 1] - offsets_[index]), o, d, 0.f,
+                                   std::min(best, s1), cs, cf, ct) &&
+          cs < best)
+        best = cs, best_front = cf, best_id = ct;
+    }
+    const int k = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
+    s = next[k];
+    if (s > s1) break;
+    i[k] += step[k];
+    if (i[k] < 0 || i[k] >= dims_[k]) break;
+    next[k] += delta[k];
+  }
+  if (best_id == kNoTriangle) return false;
+  s_out = best;
+  front_out = best_front;
+  tri_out = best_id;
+  return true;
 }
 
 std::uint16_t SurfaceCells::state_at(const Vec3& p) const noexcept {

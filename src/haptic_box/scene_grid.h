@@ -235,6 +235,14 @@ public:
   /// of the surface cells cells[0, count) (SurfaceTriangles::first_crossing).
   bool first_crossing(const std::uint32_t* cells, std::size_t count, const Vec3& a, const Vec3& b, float s_max,
                       float& s, bool& front, std::uint32_t& triangle) const noexcept;
+  /// The crossing nearest a of segment a -> b, s in [0, s_max] (s_max <= 1), among the
+  /// triangles of every surface cell the segment passes through: the same crossing as
+  /// first_crossing() over the cells SceneGrid::walk_surface_by visits, in the same order
+  /// (cell by cell from a, stopping at the first cell entered beyond the nearest crossing),
+  /// but empty space is jumped by each cell's chessboard clearance (a byte a cell, in the
+  /// masks' brick order) instead of stepped, and the DDA's divisions are done once.
+  bool first_crossing_along(const Vec3& a, const Vec3& b, float s_max, float& s, bool& front,
+                            std::uint32_t& triangle) const noexcept;
   const SurfaceTriangles& surface() const { return *surface_; }
   /// Bytes in memory.
   std::size_t bytes() const {
@@ -245,11 +253,12 @@ private:
   Vec3 origin_{Vec3::Zero()};
   float cell_ = 0.f, inv_cell_ = 0.f;
   std::array<int, 3> dims_{{0, 0, 0}};
-  int bricks_x_ = 0, bricks_y_ = 0;
+  int bricks_x_ = 0, bricks_y_ = 0, bricks_z_ = 0;
   std::vector<std::uint64_t> masks_;   // per 4 x 4 x 4 brick: its surface cells (bit z y x)
   std::vector<std::uint32_t> base_;    // per brick: the index of its first surface cell
   std::vector<std::uint32_t> offsets_, slots_;
   std::vector<std::uint8_t> states_;
+  std::vector<std::uint8_t> clear_;    // per cell (brick order, as masks_): chessboard clearance
   std::shared_ptr<const SurfaceTriangles> surface_;
 };
 
