@@ -18,6 +18,7 @@
 #include "haptic_box/scene_grid.h"
 #include "errors.h"
 #include "exact/embree_scene.h"
+#include "geometry/triangle_box.h"
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <cstring>
@@ -26,35 +27,6 @@
 #include <mutex>
 
 namespace hb {
-namespace {
-
-// Separating-axis test of a triangle against an axis-aligned box (centre c, half extent h).
-bool triangle_meets_box(const Vec3& a, const Vec3& b, const Vec3& c3, const Vec3& c, float h) {
-  const Vec3 v0 = a - c, v1 = b - c, v2 = c3 - c;
-  for (int k = 0; k < 3; ++k) {
-    const float lo = std::min({v0[k], v1[k], v2[k]}), hi = std::max({v0[k], v1[k], v2[k]});
-    if (lo > h || hi < -h) return false;
-  }
-  const Vec3 e[3] = {v1 - v0, v2 - v1, v0 - v2};
-  const Vec3 n = e[0].cross(e[1]);
-  {
-    const float r = h * (std::fabs(n.x()) + std::fabs(n.y()) + std::fabs(n.z()));
-    const float s = n.dot(v0);
-    if (s > r || s < -r) return false;
-  }
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) {
-      Vec3 axis = Vec3::Zero();
-      axis[k] = 1.f;
-      const Vec3 ax = axis.cross(e[i]);
-      const float p0 = ax.dot(v0), p1 = ax.dot(v1), p2 = ax.dot(v2);
-      const float r = h * (std::fabs(ax.x()) + std::fabs(ax.y()) + std::fabs(ax.z()));
-      if (std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r) return false;
-    }
-  return true;
-}
-
-} // namespace
 
 SceneGrid::SceneGrid(const Vec3& origin, float cell, const std::array<int, 3>& dims, std::vector<std::uint16_t> codes,
                      std::vector<std::uint32_t> list_offsets, std::vector<std::uint32_t> list_boxes)
@@ -531,6 +503,8 @@ SurfaceCells::SurfaceCells(const SceneGrid& grid, std::shared_ptr<const SurfaceT
         const std::uint32_t ci = index(x, y, z);
         if (ci != kNone) cell_of[ci] = {x, y, z};
       }
+  // 3a. Sub-cells for the cells listing many triangles (first_crossing_along).
+  subcells_ = SurfaceSubcells(origin_, cell_, cell_of, offsets_, slots_, surf);
   const auto centre_of = [&](int x, int y, int z) -> Vec3 {  // a Vec3, not an expression of a temporary
     return origin_ + cell_ * Vec3(float(x) + 0.5f, float(y) + 0.5f, float(z) + 0.5f);
   };
@@ -668,18 +642,25 @@ bool SurfaceCells::first_crossing_along(const Vec3& a, const Vec3& b, float s_ma
       continue;
     }
     const std::uint64_t mask = masks_[brick];
+    const int k = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
     if ((mask >> bit) & 1u) {
       const std::uint32_t index = base_[brick] + cells_below(mask, bit);
-      const std::uint32_t* first = slots_.data() + offsets_[index];
-      float cs = 0.f;
-      bool cf = false;
-      std::uint32_t ct = kNoTriangle;
-      if (surface_->first_crossing(first, std::size_t(offsets_[index + 1] - offsets_[index]), o, d, 0.f,
-                                   std::min(best, s1), cs, cf, ct) &&
-          cs < best)
-        best = cs, best_front = cf, best_id = ct;
+      const std::uint32_t crowded = subcells_.crowded(index);
+      if (crowded != SurfaceSubcells::kNone) {
+        // Only the sub-cells the segment passes in this cell.
+        subcells_.first_crossing(crowded, i, fa, fd, inv, s, std::min(next[k], s1), s1, o, d, *surface_, best, best_front,
+                                 best_id);
+      } else {
+        const std::uint32_t* first = slots_.data() + offsets_[index];
+        float cs = 0.f;
+        bool cf = false;
+        std::uint32_t ct = kNoTriangle;
+        if (surface_->first_crossing(first, std::size_t(offsets_[index + 1] - offsets_[index]), o, d, 0.f,
+                                     std::min(best, s1), cs, cf, ct) &&
+            cs < best)
+          best = cs, best_front = cf, best_id = ct;
+      }
     }
-    const int k = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
     s = next[k];
     if (s > s1) break;
     i[k] += step[k];

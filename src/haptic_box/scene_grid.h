@@ -1,6 +1,7 @@
 #pragma once
 // The scene grid: a uniform grid baked with a scene of several boxes, which routes a probe to
 // the boxes whose pieces it can meet and answers "is the handle inside the object" in O(1).
+#include "haptic_box/surface_subcells.h"
 #include "haptic_box/surface_triangles.h"
 #include "mesh/triangle_mesh.h"
 #include <algorithm>
@@ -244,9 +245,12 @@ public:
   bool first_crossing_along(const Vec3& a, const Vec3& b, float s_max, float& s, bool& front,
                             std::uint32_t& triangle) const noexcept;
   const SurfaceTriangles& surface() const { return *surface_; }
+  /// The sub-cells of the crowded cells.
+  const SurfaceSubcells& subcells() const { return subcells_; }
   /// Bytes in memory.
   std::size_t bytes() const {
-    return masks_.size() * 8 + base_.size() * 4 + offsets_.size() * 4 + slots_.size() * 4 + states_.size();
+    return masks_.size() * 8 + base_.size() * 4 + offsets_.size() * 4 + slots_.size() * 4 + states_.size() +
+           clear_.size() + subcells_.bytes();
   }
 
 private:
@@ -259,6 +263,7 @@ private:
   std::vector<std::uint32_t> offsets_, slots_;
   std::vector<std::uint8_t> states_;
   std::vector<std::uint8_t> clear_;    // per cell (brick order, as masks_): chessboard clearance
+  SurfaceSubcells subcells_;           // the crowded cells' sub-cells
   std::shared_ptr<const SurfaceTriangles> surface_;
 };
 

@@ -11,6 +11,7 @@
 #include <array>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <random>
 #include <unistd.h>
 
@@ -126,6 +127,45 @@ TEST(SurfaceCellsTest, ASurfaceCellListsEveryTriangleThatMeetsIt) {
       ASSERT_NE(index, SurfaceCells::kNone) << t;
       EXPECT_NE(std::find(cells.begin(index), cells.end(index), surface.slot(t)), cells.end(index)) << t << " " << k;
     }
+  }
+}
+
+TEST(SurfaceCellsTest, FirstCrossingAlongFindsTheNearestCrossingOfAllTrianglesWithAndWithoutSubcells) {
+  // A coarse grid (cells listing dozens of triangles: cut into sub-cells) and a fine one
+  // (none cut): the crossing of the clearance walk, with or without sub-cells, is the
+  // nearest crossing among all the surface's triangles, on segments through the surface,
+  // inside, outside and beyond the grid.
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  const auto surface = std::make_shared<const SurfaceTriangles>(two.mesh);
+  std::vector<std::uint32_t> all(surface->size());
+  for (std::uint32_t t = 0; t < all.size(); ++t) all[t] = t;
+  for (const float cell : {1.f / 12.f, 1.f / 100.f}) {
+    const SceneGrid grid = build_scene_grid(two.mesh, lists_of(two), SceneGridOptions{cell});
+    const SurfaceCells cells(grid, surface);
+    if (cell > 0.05f) {
+      EXPECT_GT(cells.subcells().crowded_count(), 0u);
+    } else {
+      EXPECT_EQ(cells.subcells().crowded_count(), 0u);
+    }
+    std::mt19937 rng(13);
+    std::uniform_real_distribution<float> ux(-1.3f, 4.3f), uyz(-1.3f, 1.3f), far(-3.f, 6.f), dir(-1.f, 1.f);
+    std::size_t crossed = 0;
+    for (int k = 0; k < 4000; ++k) {
+      const Vec3 a(ux(rng), uyz(rng), uyz(rng));
+      const Vec3 b = k % 3 == 0 ? Vec3(far(rng), far(rng), far(rng)) : Vec3(a + 0.6f * Vec3(dir(rng), dir(rng), dir(rng)));
+      const float o[3] = {a.x(), a.y(), a.z()}, d[3] = {b.x() - a.x(), b.y() - a.y(), b.z() - a.z()};
+      float want_s = 0.f, got_s = 0.f;
+      bool want_front = false, got_front = false;
+      std::uint32_t want_id = kNoTriangle, got_id = kNoTriangle;
+      const bool want = surface->first_crossing(all.data(), all.size(), o, d, 0.f, 1.f, want_s, want_front, want_id);
+      const bool got = cells.first_crossing_along(a, b, 1.f, got_s, got_front, got_id);
+      ASSERT_EQ(got, want) << cell << " " << k;
+      if (!want) continue;
+      ++crossed;
+      EXPECT_EQ(got_s, want_s) << cell << " " << k;
+      EXPECT_EQ(got_front, want_front) << cell << " " << k;
+    }
+    EXPECT_GT(crossed, 1000u) << cell;
   }
 }
 
