@@ -133,5 +133,17 @@ TEST(QueryManyTest, SceneOfSeveralBoxesGivesTheSameAnswersAsSingleQueries) {
   expect_same_as_single(one, mixed_probes(make_sphere(1.f, 4)));
 }
 
+TEST(QueryManyTest, ARefinedSceneOnTheCellsRouteGivesTheSameAnswersAsSingleQueries) {
+  // The cells route's batch starts loading a few probes ahead: the answers stay the
+  // single queries', bit for bit.
+  const test::TwoSpheres two = test::two_spheres(1.5f);
+  BakeOptions options;
+  options.params = {12, 6};
+  options.refine = true;
+  const BoxScene scene = bake_scene(two.mesh, two.piece, options, {});
+  ASSERT_EQ(scene.answering_route(), SceneRoute::cells);
+  EXPECT_GT(expect_same_as_single(scene, mixed_probes(two.mesh)), 0u);
+}
+
 } // namespace
 } // namespace hb
