@@ -61,18 +61,17 @@ void grid_routing(benchmark::State& state) {
     if (++i == g->probes.size()) i = 0;
   }
 }
-// The cells route's walk alone (no triangle tested): from the handle to the first surface
-// cell, as SurfaceCells' brick masks name them.
+// The cells route's first crossing alone (no shading, no force): the clearance walk from the
+// handle and the triangles of the surface cells (and sub-cells) it passes.
 void cells_walk(benchmark::State& state) {
   std::size_t i = 0;
-  const hb::SceneGrid& grid = *g->scene.grid();
   const hb::SurfaceCells& sc = *g->scene.surface_cells();
   for (auto _ : state) {
-    std::uint32_t first = hb::SurfaceCells::kNone;
-    grid.walk_surface_by(g->probes[i].start, g->probes[i].end,
-                         [&sc](int x, int y, int z) { return sc.index_or_empty_brick(x, y, z); },
-                         [&](std::uint32_t cell, float) { return (first = cell, false); });
-    benchmark::DoNotOptimize(first);
+    float s = 0.f;
+    bool front = false;
+    std::uint32_t id = hb::kNoTriangle;
+    benchmark::DoNotOptimize(sc.first_crossing_along(g->probes[i].start, g->probes[i].end, 1.f, s, front, id));
+    benchmark::DoNotOptimize(s);
     if (++i == g->probes.size()) i = 0;
   }
 }

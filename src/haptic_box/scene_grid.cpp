@@ -18,6 +18,7 @@
 #include "haptic_box/scene_grid.h"
 #include "errors.h"
 #include "exact/embree_scene.h"
+#include "geometry/cell_dda.h"
 #include "geometry/triangle_box.h"
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -602,28 +603,17 @@ bool SurfaceCells::first_crossing_along(const Vec3& a, const Vec3& b, float s_ma
   const float o[3] = {a.x(), a.y(), a.z()};
   const float d[3] = {b.x() - a.x(), b.y() - a.y(), b.z() - a.z()};
   // The DDA (cell by cell) with its divisions done once: a jump restarts it at a new s.
-  int i[3], step[3];
-  float next[3], delta[3], inv[3];
-  for (int k = 0; k < 3; ++k) {
-    step[k] = fd[k] > 1e-30f ? 1 : fd[k] < -1e-30f ? -1 : 0;
-    inv[k] = step[k] != 0 ? 1.f / fd[k] : 0.f;
-    delta[k] = std::fabs(inv[k]);
-  }
-  const auto start_at = [&](float s) {
-    const Vec3 p = fa + s * fd;
-    for (int k = 0; k < 3; ++k) {
-      // p is inside the grid up to rounding: truncation is floor after the clamp.
-      i[k] = std::min(std::max(int(p[k]), 0), dims_[k] - 1);
-      next[k] = step[k] > 0   ? (float(i[k] + 1) - fa[k]) * inv[k]
-                : step[k] < 0 ? (float(i[k]) - fa[k]) * inv[k]
-                              : std::numeric_limits<float>::infinity();
-    }
-  };
+  float inv[3];
+  for (int k = 0; k < 3; ++k) inv[k] = fd[k] > 1e-30f || fd[k] < -1e-30f ? 1.f / fd[k] : 0.f;
+  const float fa3[3] = {fa.x(), fa.y(), fa.z()}, fd3[3] = {fd.x(), fd.y(), fd.z()};
+  const int* n = dims_.data();
+  CellDda dda(inv);
+  const int* i = dda.i;
   float best = std::numeric_limits<float>::infinity();
   bool best_front = false;
   std::uint32_t best_id = kNoTriangle;
   float s = s0;
-  start_at(s);
+  dda.start(fa3, fd3, inv, s, n);
   const int limit = dims_[0] + dims_[1] + dims_[2];
   for (int it = 0; it < limit; ++it) {
     if (s > best) break;  // a cell entered beyond the nearest crossing holds no nearer one
@@ -638,18 +628,18 @@ bool SurfaceCells::first_crossing_along(const Vec3& a, const Vec3& b, float s_ma
       const float jump = s + (float(clear - 1) - 0.01f) * s_per_cell;
       if (jump > s1) break;
       s = jump;
-      start_at(s);
+      dda.start(fa3, fd3, inv, s, n);
       continue;
     }
     const std::uint64_t mask = masks_[brick];
-    const int k = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
+    const int k = dda.axis();
     if ((mask >> bit) & 1u) {
       const std::uint32_t index = base_[brick] + cells_below(mask, bit);
       const std::uint32_t crowded = subcells_.crowded(index);
       if (crowded != SurfaceSubcells::kNone) {
         // Only the sub-cells the segment passes in this cell.
-        subcells_.first_crossing(crowded, i, fa, fd, inv, s, std::min(next[k], s1), s1, o, d, *surface_, best, best_front,
-                                 best_id);
+        subcells_.first_crossing(crowded, i, fa, fd, inv, s, std::min(dda.next[k], s1), s1, o, d, *surface_, best,
+                                 best_front, best_id);
       } else {
         const std::uint32_t* first = slots_.data() + offsets_[index];
         float cs = 0.f;
@@ -661,11 +651,8 @@ bool SurfaceCells::first_crossing_along(const Vec3& a, const Vec3& b, float s_ma
           best = cs, best_front = cf, best_id = ct;
       }
     }
-    s = next[k];
-    if (s > s1) break;
-    i[k] += step[k];
-    if (i[k] < 0 || i[k] >= dims_[k]) break;
-    next[k] += delta[k];
+    s = dda.next[k];
+    if (s > s1 || !dda.advance(k, n)) break;
   }
   if (best_id == kNoTriangle) return false;
   s_out = best;

@@ -78,15 +78,6 @@ public:
   /// their clearance (clearance()) allows, instead of cell by cell. BoxScene's routing.
   template <class Visit>
   void walk_surface(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept;
-  /// As walk_surface, but a cell is a surface cell when `index_of(x, y, z)` names it (not
-  /// 0xffffffff: e.g. SurfaceCells::index, whose brick masks stay in cache): no cell word is
-  /// read, and `visit(index, s)` gets that index. Bricks far from the surface are jumped as
-  /// walk_surface does; a brick for which `index_of` returns kEmptyBrick (none of its cells
-  /// has surface) is crossed without asking for its other cells; the cells of the others are
-  /// stepped one by one.
-  static constexpr std::uint32_t kEmptyBrick = 0xfffffffeu;
-  template <class IndexOf, class Visit>
-  void walk_surface_by(const Vec3& a, const Vec3& b, IndexOf&& index_of, Visit&& visit) const noexcept;
 
   /// Per cell (x fastest, as codes()), the chessboard distance in cells to the nearest
   /// surface cell (0 for one), capped at 255; computed from the codes when the grid is made.
@@ -126,11 +117,9 @@ private:
   /// parameter of the next boundary per axis and the parameter per cell.
   void dda_start(const Vec3& a, const Vec3& d, float s, int i[3], int step[3], float next[3],
                  float delta[3]) const noexcept;
-  /// The walk of walk_surface and walk_surface_by: bricks far from the surface are jumped;
-  /// in the others `on_cell(cell, s)` returns -1 (stop), 0 (the next cell), kLeaveBrick (no
-  /// cell of this brick has surface: on to the first cell beyond it) or the cells to jump (a
+  /// The walk of walk_surface: bricks far from the surface are jumped; in the others
+  /// `on_cell(cell, s)` returns -1 (stop), 0 (the next cell) or the cells to jump (a
   /// clearance).
-  static constexpr int kLeaveBrick = -2;
   template <class OnCell>
   void walk_bricks(const Vec3& a, const Vec3& b, OnCell&& on_cell) const noexcept;
   Vec3 origin_{Vec3::Zero()};
@@ -205,18 +194,6 @@ public:
     if (!((mask >> bit) & 1u)) return kNone;
     return base_[b] + std::uint32_t(cells_below(mask, bit));
   }
-  /// As index(), but SceneGrid::kEmptyBrick when no cell of (x, y, z)'s 4 x 4 x 4 brick has
-  /// surface (for SceneGrid::walk_surface_by).
-  std::uint32_t index_or_empty_brick(int x, int y, int z) const noexcept {
-    if (x < 0 || y < 0 || z < 0 || x >= dims_[0] || y >= dims_[1] || z >= dims_[2]) return kNone;
-    const std::size_t b = (std::size_t(z >> 2) * std::size_t(bricks_y_) + std::size_t(y >> 2)) * std::size_t(bricks_x_) +
-                          std::size_t(x >> 2);
-    const std::uint64_t mask = masks_[b];
-    if (mask == 0) return SceneGrid::kEmptyBrick;
-    const unsigned bit = unsigned(((z & 3) << 4) | ((y & 3) << 2) | (x & 3));
-    if (!((mask >> bit) & 1u)) return kNone;
-    return base_[b] + std::uint32_t(cells_below(mask, bit));
-  }
   /// The surface cell index of the cell holding p (kNone: none).
   std::uint32_t index_at(const Vec3& p) const noexcept {
     const Vec3 f = (p - origin_) * inv_cell_;
@@ -237,11 +214,11 @@ public:
   bool first_crossing(const std::uint32_t* cells, std::size_t count, const Vec3& a, const Vec3& b, float s_max,
                       float& s, bool& front, std::uint32_t& triangle) const noexcept;
   /// The crossing nearest a of segment a -> b, s in [0, s_max] (s_max <= 1), among the
-  /// triangles of every surface cell the segment passes through: the same crossing as
-  /// first_crossing() over the cells SceneGrid::walk_surface_by visits, in the same order
-  /// (cell by cell from a, stopping at the first cell entered beyond the nearest crossing),
-  /// but empty space is jumped by each cell's chessboard clearance (a byte a cell, in the
-  /// masks' brick order) instead of stepped, and the DDA's divisions are done once.
+  /// triangles of every surface cell the segment passes through, visited cell by cell from a
+  /// (SceneGrid::walk's order) and stopping at the first cell entered beyond the nearest
+  /// crossing; empty space is jumped by each cell's chessboard clearance (a byte a cell, in
+  /// the masks' brick order), the DDA's divisions are done once (CellDda), and a crowded
+  /// cell is walked through its sub-cells (SurfaceSubcells).
   bool first_crossing_along(const Vec3& a, const Vec3& b, float s_max, float& s, bool& front,
                             std::uint32_t& triangle) const noexcept;
   const SurfaceTriangles& surface() const { return *surface_; }
@@ -361,22 +338,7 @@ void SceneGrid::walk_bricks(const Vec3& a, const Vec3& b, OnCell&& on_cell) cons
       jump_cells = 4 * (brick >> 2) - 6;
     } else {
       jump_cells = on_cell(static_cast<const int*>(i), s);
-      if (jump_cells < 0 && jump_cells != kLeaveBrick) return;
-    }
-    if (jump_cells == kLeaveBrick) {
-      // No cell of this brick has surface: cross its cells in the DDA's order without
-      // visiting them (the same steps as below, so the same cells and parameters after).
-      const int brick_of[3] = {i[0] >> 2, i[1] >> 2, i[2] >> 2};
-      for (;;) {
-        const int k = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
-        s = next[k];
-        if (s > s1) return;
-        i[k] += step[k];
-        if (i[k] < 0 || i[k] >= dims_[k]) return;
-        next[k] += delta[k];
-        if ((i[k] >> 2) != brick_of[k]) break;
-      }
-      continue;
+      if (jump_cells < 0) return;
     }
     if (jump_cells > 0) {
       const float jump = s + float(jump_cells) * s_per_cell;
@@ -416,15 +378,6 @@ void SceneGrid::walk_surface(const Vec3& a, const Vec3& b, Visit&& visit) const 
     // no surface cell is skipped. The landing cell has no surface either, so its inexact
     // entry parameter is never reported.
     return clearance >= 4 ? clearance - 2 : 0;
-  });
-}
-
-template <class IndexOf, class Visit>
-void SceneGrid::walk_surface_by(const Vec3& a, const Vec3& b, IndexOf&& index_of, Visit&& visit) const noexcept {
-  walk_bricks(a, b, [&](const int* i, float s) {
-    const std::uint32_t index = index_of(i[0], i[1], i[2]);
-    if (index == kEmptyBrick) return kLeaveBrick;
-    return index != 0xffffffffu && !visit(index, s) ? -1 : 0;
   });
 }
 

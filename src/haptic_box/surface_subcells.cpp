@@ -1,5 +1,6 @@
 // The sub-cells of crowded surface cells (surface_subcells.h).
 #include "haptic_box/surface_subcells.h"
+#include "geometry/cell_dda.h"
 #include "geometry/triangle_box.h"
 #include "haptic_box/scene_grid.h"
 #include <tbb/blocked_range.h>
@@ -96,37 +97,25 @@ SurfaceSubcells::SurfaceSubcells(const Vec3& origin, float cell, const std::vect
 }
 
 bool SurfaceSubcells::first_crossing(std::uint32_t crowded, const int cell[3], const Vec3& fa, const Vec3& fd,
-                                     const float inv[3], float s_enter, float s_exit, float s_cap, const float o[3], const float d[3],
-                                     const SurfaceTriangles& surface, float& best, bool& front,
+                                     const float inv[3], float s_enter, float s_exit, float s_cap, const float o[3],
+                                     const float d[3], const SurfaceTriangles& surface, float& best, bool& front,
                                      std::uint32_t& id) const noexcept {
   if (crowded >= crowded_count()) return false;
   const std::size_t word0 = std::size_t(crowded) * std::size_t(words_);
   const int side = side_;
-  // The DDA over the sub-cells, in sub-cell units from the cell's low corner.
-  int i[3], step[3];
-  float next[3], delta[3];
+  // The DDA over the sub-cells, in sub-cell units from the cell's low corner: a = (fa -
+  // cell) side, the direction fd side, and 1 / (fd side) = inv / side (no division here).
   const float to_sub = 1.f / float(side);
+  float a[3], ds[3], inv_sub[3];
   for (int k = 0; k < 3; ++k) {
-    // In sub-cell units a = (fa - cell) side and the direction fd side: 1 / (fd side) is
-    // inv / side, so no division here.
-    const float a = (fa[k] - float(cell[k])) * float(side);
-    const float p = a + s_enter * (fd[k] * float(side));
-    i[k] = std::min(std::max(int(p), 0), side - 1);  // p >= 0 up to rounding: truncation is floor after the clamp
-    const float inv_k = inv[k] * to_sub;
-    if (inv[k] > 0.f) {
-      step[k] = 1;
-      next[k] = (float(i[k] + 1) - a) * inv_k;
-      delta[k] = inv_k;
-    } else if (inv[k] < 0.f) {
-      step[k] = -1;
-      next[k] = (float(i[k]) - a) * inv_k;
-      delta[k] = -inv_k;
-    } else {
-      step[k] = 0;
-      next[k] = std::numeric_limits<float>::infinity();
-      delta[k] = 0.f;
-    }
+    a[k] = (fa[k] - float(cell[k])) * float(side);
+    ds[k] = fd[k] * float(side);
+    inv_sub[k] = inv[k] * to_sub;
   }
+  const int n[3] = {side, side, side};
+  CellDda dda(inv_sub);
+  dda.start(a, ds, inv_sub, s_enter, n);
+  const int* i = dda.i;
   bool found = false;
   float s = s_enter;
   for (int it = 0; it < 3 * side; ++it) {
@@ -146,12 +135,9 @@ bool SurfaceSubcells::first_crossing(std::uint32_t crowded, const int cell[3], c
         found = true;
       }
     }
-    const int k = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
-    s = next[k];
-    if (s > s_exit) break;
-    i[k] += step[k];
-    if (i[k] < 0 || i[k] >= side) break;
-    next[k] += delta[k];
+    const int k = dda.axis();
+    s = dda.next[k];
+    if (s > s_exit || !dda.advance(k, n)) break;
   }
   return found;
 }

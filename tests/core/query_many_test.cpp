@@ -134,13 +134,10 @@ TEST(QueryManyTest, SceneOfSeveralBoxesGivesTheSameAnswersAsSingleQueries) {
 }
 
 TEST(QueryManyTest, ARefinedSceneOnTheCellsRouteGivesTheSameAnswersAsSingleQueries) {
-  // The cells route's batch starts loading a few probes ahead: the answers stay the
-  // single queries', bit for bit.
+  // The batch of a scene on the cells route (overlapping pieces): the single queries'
+  // answers, bit for bit.
   const test::TwoSpheres two = test::two_spheres(1.5f);
-  BakeOptions options;
-  options.params = {12, 6};
-  options.refine = true;
-  const BoxScene scene = bake_scene(two.mesh, two.piece, options, {});
+  const BoxScene scene = test::refined_two_spheres(two);
   ASSERT_EQ(scene.answering_route(), SceneRoute::cells);
   EXPECT_GT(expect_same_as_single(scene, mixed_probes(two.mesh)), 0u);
 }

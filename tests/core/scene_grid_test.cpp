@@ -72,17 +72,10 @@ TEST(SceneGridTest, EveryCellWithoutSurfaceHasTheStateOfItsPoints) {
   EXPECT_GT(surface, 0u);
 }
 
-// Two spheres' scene, baked refined: the surface its boxes share.
-BoxScene refined_two_spheres(const test::TwoSpheres& two) {
-  BakeOptions o;
-  o.params = {12, 6};
-  o.refine = true;
-  return bake_scene(two.mesh, two.piece, o, SourceInfo{});
-}
 
 TEST(SurfaceCellsTest, EveryPointOfASurfaceCellIsInsideExactlyWhenItIsInsideTheMesh) {
   const test::TwoSpheres two = test::two_spheres(3.f);
-  const BoxScene scene = refined_two_spheres(two);
+  const BoxScene scene = test::refined_two_spheres(two);
   ASSERT_NE(scene.surface_cells(), nullptr);
   const SurfaceCells& cells = *scene.surface_cells();
   const SceneGrid& grid = *scene.grid();
@@ -113,7 +106,7 @@ TEST(SurfaceCellsTest, EveryPointOfASurfaceCellIsInsideExactlyWhenItIsInsideTheM
 
 TEST(SurfaceCellsTest, ASurfaceCellListsEveryTriangleThatMeetsIt) {
   const test::TwoSpheres two = test::two_spheres(3.f);
-  const BoxScene scene = refined_two_spheres(two);
+  const BoxScene scene = test::refined_two_spheres(two);
   ASSERT_NE(scene.surface_cells(), nullptr);
   const SurfaceCells& cells = *scene.surface_cells();
   const SurfaceTriangles& surface = cells.surface();
@@ -276,10 +269,7 @@ TEST(SceneGridTest, BytesRoundTripAndBadBytesThrow) {
 
 TEST(BoxSceneGridTest, RoutedQueriesAskOneBoxAndAgreeWithExactAsWellAsAllBoxes) {
   const test::TwoSpheres two = test::two_spheres(2.5f);
-  BakeOptions options;
-  options.params = {12, 6};
-  options.refine = true;
-  const BoxScene scene = bake_scene(two.mesh, two.piece, options, {});
+  const BoxScene scene = test::refined_two_spheres(two);
   ASSERT_NE(scene.grid(), nullptr);
   const BoxScene plain = scene.without_grid();
   ASSERT_EQ(plain.grid(), nullptr);

@@ -1,6 +1,7 @@
 #pragma once
 // Two unit spheres on the x axis as one mesh, a piece id per triangle (0: the first, 1: the
 // second): the smallest scene of several boxes.
+#include "haptic_box/bake.h"
 #include "mesh/generators.h"
 #include <cstdint>
 #include <vector>
@@ -25,6 +26,15 @@ inline TwoSpheres two_spheres(float dx) {
   out.piece.assign(both.triangle_count(), 0);
   for (std::size_t t = a.triangle_count(); t < both.triangle_count(); ++t) out.piece[t] = 1;
   return out;
+}
+
+/// The two spheres' scene baked refined (m 12, n 6): a scene grid, surface cells, the cells
+/// route.
+inline BoxScene refined_two_spheres(const TwoSpheres& two) {
+  BakeOptions o;
+  o.params = {12, 6};
+  o.refine = true;
+  return bake_scene(two.mesh, two.piece, o, SourceInfo{});
 }
 
 } // namespace hb::test
