@@ -42,6 +42,7 @@ struct ServoArgs {
   double rate_hz = 1000.0;
   bool no_realtime = false;
   double spin_us = 50.0;
+  bool no_prime = false;
   float stiffness = 500.f;
   float units_per_metre = 0.f;   // 0 = fit the workspace to the scene
   std::string firmware;
@@ -214,6 +215,7 @@ void run_servo(const ServoArgs& a) {
   o.rate_hz = a.rate_hz;
   o.request_realtime = !a.no_realtime;
   o.spin_s = a.spin_us * 1e-6;
+  o.prime = !a.no_prime;
   o.mapping = hb::fit_workspace(scene.min, scene.max, device->spec());
   if (a.units_per_metre > 0) o.mapping.model_units_per_metre = a.units_per_metre;
   o.law.stiffness_n_per_m = a.stiffness;
@@ -271,6 +273,7 @@ void run_servo(const ServoArgs& a) {
     j["query_p99_us"] = r.query.p99_us;
     j["realtime_granted"] = r.realtime_granted;
     j["realtime_message"] = r.realtime_message;
+    j["cache_priming"] = a.no_prime ? "off" : "on";
     j["stiffness_n_per_m"] = r.stiffness_n_per_m;
     j["stiffness_limited"] = r.stiffness_limited;
     j["contact_law"] = hb::to_string(r.contact_law);
@@ -308,6 +311,8 @@ void run_servo(const ServoArgs& a) {
     print_stats("query", r.query);
     std::printf("  real-time: %s (%s)\n", r.realtime_granted ? "granted" : "not granted",
                 r.realtime_message.c_str());
+    std::printf("  cache priming: %s\n", a.no_prime ? "off (--no-prime)"
+                                                      : "on (the last segment's query at the start of the busy-wait)");
     std::printf("  stiffness %.1f N/m%s\n", r.stiffness_n_per_m,
                 r.stiffness_limited ? " (limited to the device's maximum)" : "");
     if (r.contact_law == hb::ContactLaw::proxy) {
@@ -355,6 +360,8 @@ void add_servo_command(CLI::App& app) {
   cmd->add_flag("--no-realtime", a->no_realtime, "Do not ask for SCHED_FIFO");
   cmd->add_option("--spin-us", a->spin_us, "Busy-wait the last N us before each deadline")
       ->check(hb::cli::finite_range(0.0, 1000.0))->capture_default_str();
+  cmd->add_flag("--no-prime", a->no_prime,
+                "Do not query the last segment at the start of the busy-wait (the caches stay as the sleep left them)");
   cmd->add_option("--stiffness", a->stiffness, "Force-law stiffness, N/m (limited to the device's)")
       ->check(hb::cli::finite_range(1e-6, 1e7))->capture_default_str();
   cmd->add_option("--units-per-metre", a->units_per_metre,

@@ -45,6 +45,10 @@ struct ServoOptions {
   bool request_realtime = true;     ///< ask for SCHED_FIFO; the report says whether granted.
   int realtime_priority = 80;       ///< SCHED_FIFO priority, 1..99.
   double spin_s = 50e-6;            ///< sleep until deadline - spin, then busy-wait, s (0 = none).
+  bool prime = true;                ///< at the start of the busy-wait, ask the scene's prime()
+                                    ///< with the last tick's segment (answer discarded), so the
+                                    ///< tick's query finds the scene's data in cache; no effect
+                                    ///< on any answer (`servo --no-prime`: the figures without).
   ForceLaw law;                     ///< stiffness and model units; see limit_stiffness.
   bool limit_stiffness = true;      ///< lower law.stiffness so the stiffness felt at the device
                                     ///< stays <= spec.max_stiffness_n_per_m, for any stylus

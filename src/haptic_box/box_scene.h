@@ -210,6 +210,11 @@ public:
   Contact query(const Segment& segment, const ForceLaw& law) const noexcept override {
     return scene_.query(segment, law, state_);
   }
+  /// The stateless query: the state stays the last tick's.
+  void prime(const Segment& segment, const ForceLaw& law) const noexcept override {
+    const Contact c = scene_.query(segment, law);
+    asm volatile("" : : "r"(&c) : "memory");
+  }
   const SceneQueryState& state() const { return state_; }
   void reset() { state_ = SceneQueryState{}; }
 

@@ -75,6 +75,15 @@ public:
                           Contact* out) const noexcept {
     for (std::size_t i = 0; i < count; ++i) out[i] = query(segments[i], law);
   }
+  /// Reads what a query of `segment` reads and discards the answer, leaving any state of
+  /// this object as it was: a servo loop primes its caches with the last tick's segment in
+  /// the busy-wait before the next tick (ServoOptions::prime), so that tick's query, a few
+  /// micrometres away, finds its cells and triangles in cache instead of evicted by a
+  /// millisecond's sleep. This default asks query(), for queries without state.
+  virtual void prime(const Segment& segment, const ForceLaw& law) const noexcept {
+    const Contact c = query(segment, law);
+    asm volatile("" : : "r"(&c) : "memory");  // keep the query
+  }
 };
 
 /// Fills `c.force` from `c.depth` and `c.normal`, the depth along the segment (eq. 2 as

@@ -61,6 +61,32 @@ TEST(QueryStateTest, TheCellsRouteGivesTheStatelessAnswersAlongStrokes) {
   EXPECT_EQ(from_state, 0u);
 }
 
+TEST(QueryStateTest, PrimingAProbeLeavesItsStateAndItsAnswersAsTheyWere) {
+  // The servo loop primes its caches with the last tick's segment (ContactQuery::prime):
+  // on the boxes' route, where the state answers most ticks, a probe primed before every
+  // tick answers as one never primed, and its state counts the real ticks only.
+  const test::TwoSpheres two = test::two_spheres(1.6f);
+  BakeOptions o;
+  o.params = {12, 6};
+  o.refine = true;
+  BoxScene scene = bake_scene(two.mesh, two.piece, o, SourceInfo{});
+  scene.set_route(SceneRoute::boxes);
+  const std::vector<Segment> strokes = sample_strokes(two.mesh, 4, 200, 0.02f);
+  SceneProbe primed(scene), plain(scene);
+  std::size_t contacts = 0;
+  for (std::size_t i = 0; i < strokes.size(); ++i) {
+    if (i > 0) primed.prime(strokes[i - 1], kStateLaw);
+    const Contact a = primed.query(strokes[i], kStateLaw), b = plain.query(strokes[i], kStateLaw);
+    ASSERT_EQ(a.contact, b.contact) << i;
+    ASSERT_EQ(a.force, b.force) << i;
+    contacts += a.contact;
+  }
+  EXPECT_GT(contacts, strokes.size() / 2);
+  EXPECT_EQ(primed.state().from_state + primed.state().full, strokes.size());
+  EXPECT_EQ(primed.state().from_state, plain.state().from_state);
+  EXPECT_GT(primed.state().from_state, 0u);
+}
+
 TEST(QueryStateTest, ScenesWithoutAGridAndUnknownStatesTakeTheFullQuery) {
   const test::TwoSpheres two = test::two_spheres(3.f);
   BakeOptions o;

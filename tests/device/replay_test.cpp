@@ -80,6 +80,75 @@ TEST(ReplayTest, ReplayingALogGivesTheSameForcesBitForBit) {
   std::remove(rec2.c_str());
 }
 
+namespace {
+// The half-space, counting the primes and whether each primed the previous tick's segment.
+class PrimeCountingScene final : public ContactQuery {
+public:
+  Contact query(const Segment& s, const ForceLaw& law) const noexcept override {
+    last_ = s;
+    ++queries_;
+    return plane_.query(s, law);
+  }
+  void prime(const Segment& s, const ForceLaw& law) const noexcept override {
+    ++primes_;
+    if (queries_ == 0 || s.start != last_.start || s.end != last_.end) ++not_last_;
+    plane_.prime(s, law);
+  }
+  test::HalfSpaceScene plane_{0.f};
+  mutable Segment last_{};
+  mutable std::size_t queries_ = 0, primes_ = 0, not_last_ = 0;
+};
+} // namespace
+
+TEST(ReplayTest, PrimingTheCachesBeforeEachTickChangesNoForce) {
+  // Record with priming off, replay with it on (the default): the same forces bit for bit,
+  // and every tick after the first was primed with the tick before's segment.
+  const std::string rec1 = temp("hb_prime_1.hblog"), rec2 = temp("hb_prime_2.hblog");
+  test::HalfSpaceScene scene(0.f);
+  {
+    VirtualDevice dev(circle_probe_trajectory(0.01f, 0.004f, 0.1), 1e-3);
+    LogRecorder recorder(rec1, 1000.0, dev.spec());
+    ServoOptions o = options();
+    o.prime = false;
+    ServoLoop loop(dev, scene, o);
+    loop.set_recorder(&recorder);
+    loop.start();
+    run_until_done(loop, 300);
+    loop.stop();
+    recorder.finish();
+  }
+  const ServoLog original = read_servo_log(rec1);
+  ASSERT_GE(original.records.size(), 300u);
+  PrimeCountingScene counting;
+  {
+    ReplayDevice dev(rec1);
+    LogRecorder recorder(rec2, original.rate_hz, dev.spec());
+    ServoOptions o = options();
+    ASSERT_TRUE(o.prime);
+    ServoLoop loop(dev, counting, o);
+    loop.set_recorder(&recorder);
+    loop.start();
+    for (int i = 0; i < 10000 && loop.running(); ++i) std::this_thread::sleep_for(1ms);
+    loop.stop();
+    recorder.finish();
+  }
+  const ServoLog replay = read_servo_log(rec2);
+  ASSERT_EQ(replay.records.size(), original.records.size());
+  std::size_t contacts = 0;
+  for (std::size_t i = 0; i < original.records.size(); ++i) {
+    ASSERT_EQ(std::memcmp(original.records[i].force_n, replay.records[i].force_n, sizeof(float) * 3), 0) << "tick " << i;
+    contacts += original.records[i].contact;
+  }
+  EXPECT_GT(contacts, 0u);
+  // Every tick but the first (and the end of the stream, after a prime) was primed.
+  EXPECT_GE(counting.primes_ + 1, counting.queries_);
+  EXPECT_LE(counting.primes_, counting.queries_);
+  EXPECT_GE(counting.queries_, original.records.size());
+  EXPECT_EQ(counting.not_last_, 0u);
+  std::remove(rec1.c_str());
+  std::remove(rec2.c_str());
+}
+
 TEST(ReplayTest, LogRoundTripsRecords) {
   const std::string path = temp("hb_log_roundtrip.hblog");
   DeviceSpec spec = virtual_device_spec();
