@@ -608,7 +608,6 @@ bool SurfaceCells::first_crossing_along(const Vec3& a, const Vec3& b, float s_ma
   const float fa3[3] = {fa.x(), fa.y(), fa.z()}, fd3[3] = {fd.x(), fd.y(), fd.z()};
   const int* n = dims_.data();
   CellDda dda(inv);
-  const int* i = dda.i;
   float best = std::numeric_limits<float>::infinity();
   bool best_front = false;
   std::uint32_t best_id = kNoTriangle;
@@ -617,9 +616,9 @@ bool SurfaceCells::first_crossing_along(const Vec3& a, const Vec3& b, float s_ma
   const int limit = dims_[0] + dims_[1] + dims_[2];
   for (int it = 0; it < limit; ++it) {
     if (s > best) break;  // a cell entered beyond the nearest crossing holds no nearer one
-    const std::size_t brick = (std::size_t(i[2] >> 2) * std::size_t(bricks_y_) + std::size_t(i[1] >> 2)) *
-                                  std::size_t(bricks_x_) + std::size_t(i[0] >> 2);
-    const unsigned bit = unsigned(((i[2] & 3) << 4) | ((i[1] & 3) << 2) | (i[0] & 3));
+    const std::size_t brick = (std::size_t(dda.z >> 2) * std::size_t(bricks_y_) + std::size_t(dda.y >> 2)) *
+                                  std::size_t(bricks_x_) + std::size_t(dda.x >> 2);
+    const unsigned bit = unsigned(((dda.z & 3) << 4) | ((dda.y & 3) << 2) | (dda.x & 3));
     const int clear = clear_[brick * 64 + bit];
     if (clear >= 2) {
       // Every cell within clear - 1 of this one (chessboard) has no surface; the point is in
@@ -631,28 +630,29 @@ bool SurfaceCells::first_crossing_along(const Vec3& a, const Vec3& b, float s_ma
       dda.start(fa3, fd3, inv, s, n);
       continue;
     }
-    const std::uint64_t mask = masks_[brick];
-    const int k = dda.axis();
-    if ((mask >> bit) & 1u) {
+    if (clear == 0) {
+      // A surface cell (clearance 0 exactly there: both come from the grid's codes).
+      const std::uint64_t mask = masks_[brick];
       const std::uint32_t index = base_[brick] + cells_below(mask, bit);
-      const std::uint32_t crowded = subcells_.crowded(index);
+      const std::uint32_t begin = offsets_[index], count = offsets_[index + 1] - begin;
+      const std::uint32_t crowded = subcells_.may_be_crowded(count) ? subcells_.crowded(index) : SurfaceSubcells::kNone;
       if (crowded != SurfaceSubcells::kNone) {
         // Only the sub-cells the segment passes in this cell.
-        subcells_.first_crossing(crowded, i, fa, fd, inv, s, std::min(dda.next[k], s1), s1, o, d, *surface_, best,
+        const int cell[3] = {dda.x, dda.y, dda.z};
+        subcells_.first_crossing(crowded, cell, fa, fd, inv, s, std::min(dda.exit(), s1), s1, o, d, *surface_, best,
                                  best_front, best_id);
       } else {
-        const std::uint32_t* first = slots_.data() + offsets_[index];
         float cs = 0.f;
         bool cf = false;
         std::uint32_t ct = kNoTriangle;
-        if (surface_->first_crossing(first, std::size_t(offsets_[index + 1] - offsets_[index]), o, d, 0.f,
-                                     std::min(best, s1), cs, cf, ct) &&
+        if (surface_->first_crossing(slots_.data() + begin, count, o, d, 0.f, std::min(best, s1), cs, cf, ct) &&
             cs < best)
           best = cs, best_front = cf, best_id = ct;
       }
     }
-    s = dda.next[k];
-    if (s > s1 || !dda.advance(k, n)) break;
+    bool inside = true;
+    s = dda.step(n, inside);
+    if (s > s1 || !inside) break;
   }
   if (best_id == kNoTriangle) return false;
   s_out = best;

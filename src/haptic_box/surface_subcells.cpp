@@ -27,6 +27,7 @@ SurfaceSubcells::SurfaceSubcells(const Vec3& origin, float cell, const std::vect
     entry_.clear();
     return;
   }
+  threshold_ = crowded;
   // The side: listings per sub-cell fall about with the square of the side.
   double listed = 0.0;
   for (std::uint32_t c : crowded_cells) listed += double(offsets[c + 1] - offsets[c]);
@@ -115,12 +116,11 @@ bool SurfaceSubcells::first_crossing(std::uint32_t crowded, const int cell[3], c
   const int n[3] = {side, side, side};
   CellDda dda(inv_sub);
   dda.start(a, ds, inv_sub, s_enter, n);
-  const int* i = dda.i;
   bool found = false;
   float s = s_enter;
   for (int it = 0; it < 3 * side; ++it) {
     if (s > best) break;
-    const unsigned bit = unsigned((i[2] * side + i[1]) * side + i[0]);
+    const unsigned bit = unsigned((dda.z * side + dda.y) * side + dda.x);
     const std::size_t word = word0 + (bit >> 6);
     const std::uint64_t mask = mask_[word];
     if ((mask >> (bit & 63)) & 1u) {
@@ -135,9 +135,9 @@ bool SurfaceSubcells::first_crossing(std::uint32_t crowded, const int cell[3], c
         found = true;
       }
     }
-    const int k = dda.axis();
-    s = dda.next[k];
-    if (s > s_exit || !dda.advance(k, n)) break;
+    bool inside = true;
+    s = dda.step(n, inside);
+    if (s > s_exit || !inside) break;
   }
   return found;
 }

@@ -38,6 +38,9 @@ public:
 
   /// The crowded index of surface cell `cell` (kNone: not cut).
   std::uint32_t crowded(std::uint32_t cell) const noexcept { return cell < entry_.size() ? entry_[cell] : kNone; }
+  /// Whether a cell listing `count` triangles may be cut (only then is crowded() asked: a
+  /// walk's cells mostly list fewer, and skip that load).
+  bool may_be_crowded(std::uint32_t count) const noexcept { return count > threshold_; }
   std::size_t crowded_count() const { return words_ > 0 ? mask_.size() / std::size_t(words_) : 0; }
   int side() const { return side_; }
 
@@ -58,6 +61,7 @@ public:
 
 private:
   std::vector<std::uint32_t> entry_;    // per surface cell: its crowded index, or kNone
+  std::uint32_t threshold_ = 0xffffffffu;  // the cells listing more are cut (none: the largest)
   int side_ = 4, words_ = 1;            // sub-cells an edge; 64-bit mask words a crowded cell
   std::vector<std::uint64_t> mask_;     // per crowded cell, words_ words: its sub-cells with triangles (bit (z s + y) s + x)
   std::vector<std::uint32_t> rank_;     // per mask word: the list index of its first sub-cell
