@@ -20,6 +20,7 @@
 #include "device/servo_loop.h"
 #include "device/servo_log.h"
 #include <pthread.h>
+#include <sys/prctl.h>
 #include <sched.h>
 #include <time.h>
 #include <algorithm>
@@ -30,6 +31,9 @@
 
 namespace hb {
 namespace {
+
+// Priming is skipped when the thread wakes this close to the deadline (a query is 0.2-2 us).
+constexpr std::int64_t kPrimeMarginNs = 10000;
 
 std::int64_t now_ns() noexcept {
   timespec ts;
@@ -186,6 +190,9 @@ void ServoLoop::stop() {
 
 void ServoLoop::run() noexcept {
   ServoReport& rep = report_;
+  // Wake-ups on time without SCHED_FIFO too: a normal thread's sleeps may end up to its timer
+  // slack (50 us by default) late, which is the whole busy-wait window (and its priming).
+  prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
   rep.realtime_requested = options_.request_realtime;
   if (options_.request_realtime) {
     sched_param sp{};
@@ -224,7 +231,8 @@ void ServoLoop::run() noexcept {
     if (deadline - spin > now_ns()) sleep_until_ns(deadline - spin);
     // The last segment's query in the busy-wait: the lines this tick's query reads were
     // mostly evicted while the thread slept (step 2b).
-    if (options_.prime && primed_once) scene_.prime(last_segment, law);
+    // Only with time to spare before the deadline: priming never delays a tick.
+    if (options_.prime && primed_once && now_ns() < deadline - kPrimeMarginNs) scene_.prime(last_segment, law);
     std::int64_t wake = now_ns();
     while (wake < deadline) {
       cpu_relax();
