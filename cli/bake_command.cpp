@@ -36,6 +36,7 @@ void add_bake_command(CLI::App& app) {
     bool json = false;
     bool strict = false;
     bool simplify = false;
+    bool keep_ids = false;
     double simplify_shading = 0.0;
     std::string simplify_shading_check = "fit";
     std::size_t simplify_above = hb::BudgetRecipe{}.simplify_above;
@@ -84,6 +85,9 @@ void add_bake_command(CLI::App& app) {
       ->check(CLI::IsMember({"fit", "ring"}))->capture_default_str();
   cmd->add_option("--simplify-above", opts->simplify_above, "With --simplify: simplify meshes of more triangles than this")
       ->capture_default_str();
+  cmd->add_flag("--keep-ids", opts->keep_ids,
+                "Default bake: keep every refined box's triangle ids (2-4 bytes a sample) although the surface "
+                "cells answer without them, to compare --route boxes on the same bake");
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
   cmd->callback([opts, max_error, cmd] {
     // Without a sampling option the bake is the default, budgeted one (hb::default_recipe):
@@ -92,6 +96,8 @@ void add_bake_command(CLI::App& app) {
     if (sampling_given && (cmd->count("--simplify") || cmd->count("--simplify-shading") || cmd->count("--simplify-above") ||
                            cmd->count("--simplify-shading-check")))
       throw hb::cli::UsageError("bake: --simplify belongs to the default bake; drop -m, -n, --cell and --refine, or --simplify");
+    if (sampling_given && opts->keep_ids)
+      throw hb::cli::UsageError("bake: --keep-ids belongs to the default bake (a --refine bake always keeps its ids); drop it");
     if (sampling_given && cmd->count("--budget"))
       throw hb::cli::UsageError("bake: --budget chooses -n, --cell and --refine per piece; drop -m, -n, --cell and --refine, or --budget");
     if (!sampling_given) {
@@ -106,6 +112,7 @@ void add_bake_command(CLI::App& app) {
       r.budget.simplify_shading_check = opts->simplify_shading_check == "ring" ? hb::DecimationOptions::ShadingCheck::ring
                                                                                : hb::DecimationOptions::ShadingCheck::fit;
       r.budget.simplify_above = opts->simplify_above;
+      r.budget.keep_triangle_ids = opts->keep_ids;
       if (cmd->count("--max-m")) r.options.density.max_m = opts->recipe.options.density.max_m;
       if (cmd->count("--padding")) r.options.obb.padding = opts->recipe.options.obb.padding;
       if (cmd->count("--threshold")) r.pieces.automatic.threshold = opts->recipe.pieces.automatic.threshold;
@@ -189,7 +196,8 @@ void add_bake_command(CLI::App& app) {
                               {"rays_per_second", stats.rays_per_second},
                               {"hit_fraction", stats.rays ? double(stats.hits) / double(stats.rays) : 0.0},
                               {"bytes", bytes},
-                              {"refine", refined_boxes > 0},
+                              {"refine", scene.refines()},
+                              {"triangle_id_bytes", scene.refinement_bytes() - (scene.surface() ? scene.surface()->bytes() : 0)},
                               {"codec", opts->codec},
                               {"table_bytes", cs.table_bytes},
                               {"raw_table_bytes", cs.raw_bytes},
@@ -240,6 +248,9 @@ void add_bake_command(CLI::App& app) {
       if (refined_boxes > 0)
         std::cout << " (" << (refined_boxes == scene.boxes().size() ? std::string("all") : std::to_string(refined_boxes))
                   << " box(es) with triangle ids and surface for exact refinement)";
+      else if (scene.refines())
+        std::cout << " (exact through the surface cells: surface " << hb::bytes_text(scene.surface()->bytes())
+                  << ", no triangle ids)";
       std::cout << "\n";
       if (budget.present) {
         std::cout << "budget " << budget.summary() << "; " << budget.candidates_tried << " sampling bake(s)";

@@ -159,6 +159,9 @@ void add_route_option(CLI::App& cmd, std::string& route) {
 }
 
 void apply_route(BoxScene& scene, const std::string& route) {
+  if (route == "boxes" && scene.refines() && !scene.has_triangle_ids())
+    throw UsageError("--route boxes: this scene holds no triangle ids (the default bake drops them: the cells route "
+                     "does not read them); bake it with --keep-ids to compare the routes");
   scene.set_route(route == "cells" ? SceneRoute::cells : SceneRoute::boxes);
   if (route == "cells" && scene.answering_route() != SceneRoute::cells && scene.refines())
     std::fprintf(stderr, "warning: --route cells: this scene has no surface cells (no grid, or no shared refined "

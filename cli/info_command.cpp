@@ -107,7 +107,10 @@ nlohmann::json box_info(const std::string& path, bool verify) {
           {"t_error_max", codec.t_error_max},
           {"normal_error_mean_deg", codec.normal_error_mean_deg},
           {"normal_error_max_deg", codec.normal_error_max_deg},
-          {"refine", refined == scene.boxes().size() ? "yes" : refined == 0 ? "no" : "some boxes"},
+          {"refine", refined == scene.boxes().size() ? "yes"
+                     : refined > 0                  ? "some boxes"
+                     : scene.refines()              ? "yes (the surface cells; no triangle ids)"
+                                                    : "no"},
           {"triangle_id_bytes", id_bytes},
           {"surface_bytes", scene.refinement_bytes() - id_bytes},
           {"scene_grid_bytes", scene.grid() ? scene.grid()->bytes() : 0},

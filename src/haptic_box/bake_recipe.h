@@ -91,6 +91,12 @@ struct BudgetRecipe {
   /// replaced); `ring` is the first check (2026-12-02 morning). Either way the simplified
   /// surface's corner normals are then fitted to the full mesh's shading (hb::fit_shading).
   DecimationOptions::ShadingCheck simplify_shading_check = DecimationOptions::ShadingCheck::fit;
+  /// Whether the chosen scene keeps its boxes' triangle ids. By default a scene whose grid's
+  /// surface cells answer (SceneRoute::cells, every scene of several pieces with a refined
+  /// one) drops them (BoxScene::without_triangle_ids): the cells route never reads them, and
+  /// they were two thirds of a default file (bunny 20.4 of 32.2 MB, 2026-12-04). Keep them
+  /// to compare `--route boxes` on the default recipe (`bake --keep-ids`).
+  bool keep_triangle_ids = false;
   /// Called on the bake's thread as each stage's work finishes (name as in
   /// BudgetReport::stage_seconds, the seconds of that part): `bake` prints them as it goes, so
   /// a bake of minutes shows where it is spending them before it ends. May be empty.

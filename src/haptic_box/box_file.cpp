@@ -115,8 +115,9 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
   const auto& boxes = scene.boxes();
   const SourceInfo& src = scene.source();
   // Header size is known once written with placeholder offsets; compute offsets after.
-  // The surface shared by the refined boxes (a scene has one, or none).
-  const SurfaceTriangles* surface = nullptr;
+  // The surface shared by the refined boxes, or the scene's own without triangle ids (a
+  // scene has one, or none).
+  const SurfaceTriangles* surface = scene.surface().get();
   for (const HapticBox& box : boxes)
     if (box.refines()) {
       if (surface && surface != box.surface().get())
@@ -486,7 +487,7 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
     }
   }
   try {
-    BoxScene scene(std::move(boxes), src, std::move(pieces), std::move(grid));
+    BoxScene scene(std::move(boxes), src, std::move(pieces), std::move(grid), surface);
     scene.set_budget_report(std::move(budget));
     return scene;
   } catch (const InvalidInput& err) {

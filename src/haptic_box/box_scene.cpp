@@ -70,24 +70,26 @@ struct BoxScene::Visited {
 };
 
 BoxScene::BoxScene(std::vector<HapticBox> boxes, SourceInfo source, std::vector<std::uint32_t> piece_of_triangle,
-                   std::shared_ptr<const SceneGrid> grid)
-    : boxes_(std::move(boxes)), source_(std::move(source)), grid_(std::move(grid)) {
+                   std::shared_ptr<const SceneGrid> grid, std::shared_ptr<const SurfaceTriangles> surface)
+    : boxes_(std::move(boxes)), source_(std::move(source)), grid_(std::move(grid)), surface_(std::move(surface)) {
   set_piece_of_triangle(std::move(piece_of_triangle));
   if (grid_ && grid_->empty()) grid_.reset();
   if (grid_ && grid_->list_count() > 0 && grid_->max_box() >= boxes_.size())
     throw InvalidInput("box scene: the scene grid names box " + std::to_string(grid_->max_box()) + ", the scene has " +
                        std::to_string(boxes_.size()));
-  // The triangles below the grid's surface cells, from the surface the refining boxes share.
-  if (grid_) {
-    std::shared_ptr<const SurfaceTriangles> surface;
-    bool shared = true;
-    for (const HapticBox& box : boxes_)
-      if (box.refines()) {
-        if (surface && surface != box.surface()) shared = false;
-        surface = box.surface();
-      }
-    if (surface && shared) cells_ = std::make_shared<const SurfaceCells>(*grid_, surface);
-  }
+  // The surface the refining boxes share (or the one given), and the triangles below the
+  // grid's surface cells from it.
+  bool shared = true;
+  const bool given = surface_ != nullptr;
+  for (const HapticBox& box : boxes_)
+    if (box.refines()) {
+      if (given && surface_ != box.surface())
+        throw InvalidInput("box scene: a box refines against another surface than the scene's");
+      if (surface_ && surface_ != box.surface()) shared = false;
+      surface_ = box.surface();
+    }
+  if (!shared) surface_.reset();
+  if (grid_ && surface_) cells_ = std::make_shared<const SurfaceCells>(*grid_, surface_);
   for (auto& b : bounds_) b.reserve(boxes_.size());
   for (const HapticBox& box : boxes_) {
     const Obb& o = box.obb();
@@ -207,10 +209,25 @@ bool handle_outside_behind(const SceneGrid& grid, const std::vector<HapticBox>& 
 
 } // namespace
 
-bool BoxScene::refines() const noexcept {
+bool BoxScene::has_triangle_ids() const noexcept {
   for (const HapticBox& b : boxes_)
     if (b.refines()) return true;
   return false;
+}
+
+bool BoxScene::refines() const noexcept { return cells_ != nullptr || has_triangle_ids(); }
+
+BoxScene BoxScene::without_triangle_ids() const {
+  if (!cells_) return *this;
+  std::vector<HapticBox> boxes;
+  boxes.reserve(boxes_.size());
+  for (const HapticBox& b : boxes_) boxes.push_back(b.without_refinement());
+  BoxScene s(std::move(boxes), source_, piece_of_triangle_, grid_, surface_);
+  s.unconfirmed_ = unconfirmed_;
+  s.use_cells_ = use_cells_;
+  s.route_ = route_;
+  s.budget_ = budget_;
+  return s;
 }
 
 Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexcept {
@@ -601,13 +618,13 @@ std::size_t BoxScene::table_bytes() const {
 }
 
 std::size_t BoxScene::refinement_bytes() const {
-  std::size_t sum = 0;
-  const SurfaceTriangles* surface = nullptr;
+  std::size_t sum = surface_ ? surface_->bytes() : 0;
+  const SurfaceTriangles* counted = surface_.get();
   for (const HapticBox& box : boxes_) {
     sum += box.triangle_id_bytes();
-    if (box.refines() && box.surface().get() != surface) {
-      surface = box.surface().get();
-      sum += surface->bytes();
+    if (!surface_ && box.refines() && box.surface().get() != counted) {  // boxes on different surfaces
+      counted = box.surface().get();
+      sum += counted->bytes();
     }
   }
   return sum;
@@ -617,7 +634,7 @@ BoxScene BoxScene::compressed(const CodecOptions& options) const {
   std::vector<HapticBox> boxes;
   boxes.reserve(boxes_.size());
   for (const HapticBox& box : boxes_) boxes.push_back(box.compressed(options));
-  BoxScene s(std::move(boxes), source_, piece_of_triangle_, grid_);
+  BoxScene s(std::move(boxes), source_, piece_of_triangle_, grid_, has_triangle_ids() ? nullptr : surface_);
   s.budget_ = budget_;
   return s;
 }

@@ -79,9 +79,14 @@ public:
   /// `piece_of_triangle`: see piece_of_triangle(); empty when unknown or one box. `grid`,
   /// when given, must name only boxes of `boxes`. Throws hb::InvalidInput when either names a
   /// box the scene does not have.
+  /// `surface`, when given, is the mesh the scene answers exactly from through the grid's
+  /// surface cells (SceneRoute::cells) although no box holds triangle ids (see
+  /// without_triangle_ids()); refining boxes must refine against it. Throws hb::InvalidInput
+  /// when it differs from theirs.
   explicit BoxScene(std::vector<HapticBox> boxes, SourceInfo source = {},
                     std::vector<std::uint32_t> piece_of_triangle = {},
-                    std::shared_ptr<const SceneGrid> grid = nullptr);
+                    std::shared_ptr<const SceneGrid> grid = nullptr,
+                    std::shared_ptr<const SurfaceTriangles> surface = nullptr);
 
   Contact query(const Segment& segment, const ForceLaw& law) const noexcept override;
   /// The query of a probe that moves a little between calls (see SceneQueryState): when the
@@ -113,10 +118,19 @@ public:
   /// The same boxes without the grid (every query takes the path without it; for
   /// before/after measurements).
   BoxScene without_grid() const {
-    BoxScene s(boxes_, source_, piece_of_triangle_);
+    BoxScene s(boxes_, source_, piece_of_triangle_, nullptr, has_triangle_ids() ? nullptr : surface_);
     s.budget_ = budget_;
     return s;
   }
+  /// The same scene with no box holding triangle ids, the surface kept for the grid's
+  /// surface cells: what the cells route reads (the default bake stores this, issue 17: the
+  /// ids were two thirds of a file and no default query read them). The cells route's
+  /// answers are unchanged; `--route boxes` then has only the blends. A scene without
+  /// surface cells is returned as it is (its boxes' ids are what refines it).
+  BoxScene without_triangle_ids() const;
+  /// Whether any box holds triangle ids (HapticBox::refines): what SceneRoute::boxes and the
+  /// per-probe query state refine with.
+  bool has_triangle_ids() const noexcept;
 
   /// A copy with every box's table compressed (see HapticBox::compressed); throws
   /// hb::InvalidInput when a box is already compressed or the options are out of range.
@@ -150,8 +164,12 @@ public:
   void set_walk_all_candidates(bool on) noexcept {
     for (HapticBox& b : boxes_) b.set_walk_all_candidates(on);
   }
-  /// Whether any box refines (HapticBox::refines).
+  /// Whether the scene answers exactly: a box refines (HapticBox::refines), or the grid's
+  /// surface cells answer (a scene without triangle ids, see without_triangle_ids()).
   bool refines() const noexcept;
+  /// The surface the scene refines against (its refining boxes' one, or the one given to
+  /// the constructor), or nullptr.
+  const std::shared_ptr<const SurfaceTriangles>& surface() const { return surface_; }
 
   const std::vector<HapticBox>& boxes() const { return boxes_; }
   const SourceInfo& source() const { return source_; }
@@ -188,6 +206,7 @@ private:
   // Axis-aligned bounds of each PBB, structure of arrays: lo x, y, z then hi x, y, z.
   std::vector<float> bounds_[6];
   std::shared_ptr<const SceneGrid> grid_;
+  std::shared_ptr<const SurfaceTriangles> surface_;
   std::shared_ptr<const SurfaceCells> cells_;
   bool use_cells_ = true;
   SceneRoute route_ = SceneRoute::cells;

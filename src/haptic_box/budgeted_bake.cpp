@@ -28,7 +28,9 @@
 //     whole scene is checked on the tuning probes; while it misses the budget, each piece
 //     owning a failing probe moves up one variant (at most as many rounds as variants), and
 //     an unrefined piece owning a probe answered off the surface is refined.
-//  5. The scene is measured on fresh probes (BudgetRecipe::check_seed) and the figures are
+//  5. A scene the surface cells answer (SceneRoute::cells) drops its boxes' triangle ids
+//     (BudgetRecipe::keep_triangle_ids): that route never reads them.
+//  6. The scene is measured on fresh probes (BudgetRecipe::check_seed) and the figures are
 //     recorded in BudgetReport (the box file, `info`, `--json`, the report).
 #include "errors.h"
 #include "stopwatch.h"
@@ -484,6 +486,9 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   }
   stage_done("tuning_check", seconds_since(tstage));  // includes its re-bakes and grids
   report_progress(0.9);
+  // The cells route reads the surface and the grid, never the boxes' triangle ids: a scene
+  // it answers keeps no ids (the same answers; the fresh check below is this scene's).
+  if (!br.keep_triangle_ids && scene.answering_route() == SceneRoute::cells) scene = scene.without_triangle_ids();
 
   tstage = std::chrono::steady_clock::now();
   // Fresh probes: what the scene achieves on probes the choice never saw.

@@ -70,6 +70,34 @@ TEST_F(CliTest, DefaultBakeMeetsTheBudgetAndInfoReportsIt) {
   EXPECT_NE(run("info " + path("sphere.hbox")).out.find("budget: none"), std::string::npos);
 }
 
+// The default bake of several pieces answers through the surface cells and stores no
+// triangle ids (info says so); `--route boxes` on it is a usage error that says why and what
+// to do; `--keep-ids` keeps them (and belongs to the default bake only).
+TEST_F(CliTest, DefaultBakeOfPiecesStoresNoTriangleIdsUnlessKept) {
+  ASSERT_EQ(run("decompose " + path("sphere.off") + " -o " + path("halves.txt") + " --plane 0,0,0,1,0,0").code, 0);
+  const std::string bake = "bake " + path("sphere.off") + " --pieces " + path("halves.txt") + " --budget agree=99 ";
+  const Result lean = run(bake + "-o " + path("lean.hbox"));
+  ASSERT_EQ(lean.code, 0) << lean.err;
+  EXPECT_NE(lean.out.find("no triangle ids"), std::string::npos) << lean.out;
+  const auto li = nlohmann::json::parse(run("info " + path("lean.hbox") + " --json").out);
+  EXPECT_EQ(li["triangle_id_bytes"].get<std::uint64_t>(), 0u);
+  EXPECT_GT(li["surface_bytes"].get<std::uint64_t>(), 0u);
+  EXPECT_EQ(li["refine"].get<std::string>().rfind("yes", 0), 0u) << li["refine"];
+  const Result cells = run("eval " + path("lean.hbox") + " " + path("sphere.off") + " --samples 2000 --json");
+  ASSERT_EQ(cells.code, 0) << cells.err;
+  EXPECT_GE(nlohmann::json::parse(cells.out)["contact_agreement"].get<double>(), 0.99);
+  const Result boxes = run("eval " + path("lean.hbox") + " " + path("sphere.off") + " --samples 200 --route boxes");
+  EXPECT_EQ(boxes.code, 2);
+  EXPECT_NE(boxes.err.find("--keep-ids"), std::string::npos) << boxes.err;
+  const Result kept = run(bake + "--keep-ids -o " + path("kept.hbox") + " --json");
+  ASSERT_EQ(kept.code, 0) << kept.err;
+  const auto kj = nlohmann::json::parse(kept.out);
+  EXPECT_GT(kj["triangle_id_bytes"].get<std::uint64_t>(), 0u);
+  EXPECT_GT(kj["bytes"].get<std::uint64_t>(), li["bytes"].get<std::uint64_t>());
+  EXPECT_EQ(run("eval " + path("kept.hbox") + " " + path("sphere.off") + " --samples 200 --route boxes").code, 0);
+  EXPECT_EQ(run("bake " + path("sphere.off") + " -o " + path("x.hbox") + " -n 4 --keep-ids").code, 2);
+}
+
 // `simplify`: a flat-subdivided sphere comes back to fewer triangles within its bound, the
 // figures in JSON; a bad deviation is a usage error; --simplify is the default bake's only.
 TEST_F(CliTest, SimplifyReducesAFlatSubdivisionAndReportsTheDeviation) {

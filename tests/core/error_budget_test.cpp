@@ -102,11 +102,15 @@ TEST(ErrorBudgetTest, BudgetedBakeMeetsTheBudgetOnFreshProbesAndTheFileKeepsIt) 
   EXPECT_EQ(rep.seed, recipe.budget.check_seed);
   ASSERT_EQ(rep.pieces.size(), 2u);
   ASSERT_EQ(baked.scene.boxes().size(), 2u);
+  bool any_refined = false;
   for (std::size_t b = 0; b < 2; ++b) {
     EXPECT_EQ(baked.scene.boxes()[b].params().n, rep.pieces[b].n);
-    EXPECT_EQ(baked.scene.boxes()[b].refines(), rep.pieces[b].refine);
+    // The surface cells answer a refined scene: no box keeps triangle ids.
+    EXPECT_FALSE(baked.scene.boxes()[b].refines());
     EXPECT_GT(rep.pieces[b].probes, 0u);
+    any_refined = any_refined || rep.pieces[b].refine;
   }
+  EXPECT_EQ(baked.scene.refines(), any_refined);
   // The recorded figures are the scene's own on those probes.
   ProbeOptions po;
   po.seed = recipe.budget.check_seed;
@@ -124,6 +128,47 @@ TEST(ErrorBudgetTest, BudgetedBakeMeetsTheBudgetOnFreshProbesAndTheFileKeepsIt) 
   ASSERT_TRUE(loaded.budget_report().present);
   EXPECT_EQ(loaded.budget_report().serialize(), rep.serialize());
   ASSERT_TRUE(loaded.grid() != nullptr);
+}
+
+// The default bake keeps no triangle ids where the surface cells answer: the same answers,
+// probe for probe, as the same bake with them, in fewer bytes, through a file round trip;
+// --keep-ids keeps them for the boxes' route.
+TEST(ErrorBudgetTest, DefaultBakeDropsTheTriangleIdsTheCellsRouteDoesNotRead) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  BakeRecipe recipe = two_piece_recipe(two, 2000);
+  recipe.budget.samplings = {{0.1f, 6}};
+  const BakeResult dropped = bake(two.mesh, recipe);
+  recipe.budget.keep_triangle_ids = true;
+  const BakeResult kept = bake(two.mesh, recipe);
+  ASSERT_EQ(kept.scene.answering_route(), SceneRoute::cells);
+  ASSERT_TRUE(kept.scene.has_triangle_ids());
+  EXPECT_FALSE(dropped.scene.has_triangle_ids());
+  EXPECT_TRUE(dropped.scene.refines());
+  EXPECT_EQ(dropped.scene.answering_route(), SceneRoute::cells);
+  ASSERT_TRUE(dropped.scene.surface() != nullptr);
+  EXPECT_EQ(dropped.scene.refinement_bytes(), dropped.scene.surface()->bytes());
+  EXPECT_LT(dropped.scene.refinement_bytes(), kept.scene.refinement_bytes());
+  EXPECT_EQ(dropped.scene.budget_report().serialize(), kept.scene.budget_report().serialize());
+
+  const std::string path = "/tmp/hb_ids_test_" + std::to_string(::getpid()) + ".hbox";
+  save_box_file(dropped.scene, path);
+  const BoxScene loaded = load_box_file(path, LoadOptions{true});
+  std::filesystem::remove(path);
+  EXPECT_FALSE(loaded.has_triangle_ids());
+  EXPECT_EQ(loaded.answering_route(), SceneRoute::cells);
+  ProbeOptions po;
+  po.seed = 7;
+  std::size_t contacts = 0;
+  for (const Segment& s : sample_probes(two.mesh, 3000, po)) {
+    const Contact a = kept.scene.query(s, ForceLaw{}), b = loaded.query(s, ForceLaw{});
+    ASSERT_EQ(a.contact, b.contact);
+    if (!a.contact) continue;
+    ++contacts;
+    EXPECT_EQ(a.depth, b.depth);
+    EXPECT_EQ(a.force, b.force);
+    EXPECT_EQ(a.normal, b.normal);
+  }
+  EXPECT_GT(contacts, 300u);
 }
 
 // The bake records where its time went, stage by stage in step order (issue 17: the 13M bake's
