@@ -178,8 +178,11 @@ void add_bake_command(CLI::App& app) {
       const int lo = *std::min_element(v.begin(), v.end()), hi = *std::max_element(v.begin(), v.end());
       return lo == hi ? std::to_string(lo) : std::to_string(lo) + ".." + std::to_string(hi);
     };
-    std::size_t refined_boxes = 0;
-    for (const hb::HapticBox& box : scene.boxes()) refined_boxes += box.refines() ? 1 : 0;
+    std::size_t refined_boxes = 0, id_bytes = 0;
+    for (const hb::HapticBox& box : scene.boxes()) {
+      refined_boxes += box.refines() ? 1 : 0;
+      id_bytes += box.triangle_id_bytes();
+    }
     const nlohmann::json jj = {{"mesh", opts->mesh},
                               {"output", opts->out},
                               {"triangles", mesh.triangle_count()},
@@ -197,7 +200,7 @@ void add_bake_command(CLI::App& app) {
                               {"hit_fraction", stats.rays ? double(stats.hits) / double(stats.rays) : 0.0},
                               {"bytes", bytes},
                               {"refine", scene.refines()},
-                              {"triangle_id_bytes", scene.refinement_bytes() - (scene.surface() ? scene.surface()->bytes() : 0)},
+                              {"triangle_id_bytes", id_bytes},
                               {"codec", opts->codec},
                               {"table_bytes", cs.table_bytes},
                               {"raw_table_bytes", cs.raw_bytes},

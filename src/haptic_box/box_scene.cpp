@@ -634,7 +634,7 @@ BoxScene BoxScene::compressed(const CodecOptions& options) const {
   std::vector<HapticBox> boxes;
   boxes.reserve(boxes_.size());
   for (const HapticBox& box : boxes_) boxes.push_back(box.compressed(options));
-  BoxScene s(std::move(boxes), source_, piece_of_triangle_, grid_, has_triangle_ids() ? nullptr : surface_);
+  BoxScene s(std::move(boxes), source_, piece_of_triangle_, grid_, surface_);
   s.budget_ = budget_;
   return s;
 }

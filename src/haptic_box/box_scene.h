@@ -118,7 +118,7 @@ public:
   /// The same boxes without the grid (every query takes the path without it; for
   /// before/after measurements).
   BoxScene without_grid() const {
-    BoxScene s(boxes_, source_, piece_of_triangle_, nullptr, has_triangle_ids() ? nullptr : surface_);
+    BoxScene s(boxes_, source_, piece_of_triangle_, nullptr, surface_);
     s.budget_ = budget_;
     return s;
   }
