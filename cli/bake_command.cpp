@@ -37,6 +37,7 @@ void add_bake_command(CLI::App& app) {
     bool strict = false;
     bool simplify = false;
     bool keep_ids = false;
+    bool full_search = false;
     double simplify_shading = 0.0;
     std::string simplify_shading_check = "fit";
     std::size_t simplify_above = hb::BudgetRecipe{}.simplify_above;
@@ -88,6 +89,9 @@ void add_bake_command(CLI::App& app) {
   cmd->add_flag("--keep-ids", opts->keep_ids,
                 "Default bake: keep every refined box's triangle ids (2-4 bytes a sample) although the surface "
                 "cells answer without them, to compare --route boxes on the same bake");
+  cmd->add_flag("--full-search", opts->full_search,
+                "Default bake: bake every piece at every sampling and search them all although the surface cells "
+                "answer the scene exactly at the coarsest (the bakes before 2026-12-04; for before/after figures)");
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
   cmd->callback([opts, max_error, cmd] {
     // Without a sampling option the bake is the default, budgeted one (hb::default_recipe):
@@ -96,6 +100,8 @@ void add_bake_command(CLI::App& app) {
     if (sampling_given && (cmd->count("--simplify") || cmd->count("--simplify-shading") || cmd->count("--simplify-above") ||
                            cmd->count("--simplify-shading-check")))
       throw hb::cli::UsageError("bake: --simplify belongs to the default bake; drop -m, -n, --cell and --refine, or --simplify");
+    if (sampling_given && opts->full_search)
+      throw hb::cli::UsageError("bake: --full-search belongs to the default bake (-m, -n, --cell and --refine bake one sampling); drop it");
     if (sampling_given && opts->keep_ids)
       throw hb::cli::UsageError("bake: --keep-ids belongs to the default bake (a --refine bake always keeps its ids); drop it");
     if (sampling_given && cmd->count("--budget"))
@@ -113,6 +119,7 @@ void add_bake_command(CLI::App& app) {
                                                                                : hb::DecimationOptions::ShadingCheck::fit;
       r.budget.simplify_above = opts->simplify_above;
       r.budget.keep_triangle_ids = opts->keep_ids;
+      r.budget.full_search = opts->full_search;
       if (cmd->count("--max-m")) r.options.density.max_m = opts->recipe.options.density.max_m;
       if (cmd->count("--padding")) r.options.obb.padding = opts->recipe.options.obb.padding;
       if (cmd->count("--threshold")) r.pieces.automatic.threshold = opts->recipe.pieces.automatic.threshold;

@@ -97,6 +97,11 @@ struct BudgetRecipe {
   /// they were two thirds of a default file (bunny 20.4 of 32.2 MB, 2026-12-04). Keep them
   /// to compare `--route boxes` on the default recipe (`bake --keep-ids`).
   bool keep_triangle_ids = false;
+  /// Bake every piece at every sampling and search them all even when the surface cells
+  /// answer the scene exactly (budgeted_bake.cpp step 2a): the bakes before 2026-12-04, for
+  /// before/after figures (`bake --full-search`). Off: such a scene is baked at the coarsest
+  /// sampling only, unless the coarsest blend alone already meets the budget.
+  bool full_search = false;
   /// Called on the bake's thread as each stage's work finishes (name as in
   /// BudgetReport::stage_seconds, the seconds of that part): `bake` prints them as it goes, so
   /// a bake of minutes shows where it is spending them before it ends. May be empty.

@@ -73,6 +73,7 @@ std::uint64_t recipe_key(const BakeRecipe& r) {
     for (const Sampling& s : b.samplings) k << ' ' << hexfloat(s.cell) << ' ' << s.n;
     if (b.surface_tolerance > 0) k << " surface " << hexfloat(float(b.surface_tolerance));
     k << (b.keep_triangle_ids ? " ids kept" : " ids dropped");
+    if (b.full_search) k << " full search";
     if (b.simplify)
       k << " simplify " << b.simplify_above << ' ' << hexfloat(float(b.simplify_deviation)) << ' '
         << hexfloat(float(b.simplify_shading_deg)) << " fitted-shading "

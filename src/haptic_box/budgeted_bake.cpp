@@ -10,6 +10,10 @@
 //  2. Every piece is baked at every sampling (seams in that sampling's cells), with one
 //     shared refinement surface and the recipe's codec; each bake is also tried without its
 //     triangle ids. These are a piece's variants, costed in bytes.
+//     2a. First the coarsest sampling alone: a scene the surface cells answer gives exact's
+//     answers whatever its pieces' samplings, so unless the coarsest blend already meets
+//     the budget (where a scene without any surface may cost less), that scene, every piece
+//     refined at the coarsest sampling, is taken and steps 2-3 end there.
 //  3. A piece owns the tuning probes the scene grid routes to it (the first box named by the
 //     first surface cell the probe crosses, the handle outside). On its probes each variant
 //     is asked alone and its failures counted (contact disagreements; force errors over the
@@ -272,15 +276,10 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   }
   stage_done("ownership", seconds_since(tstage));
 
-  // Variants, cheapest first: (sampling c, unrefined) then (c, refined). Every piece is
-  // baked at every sampling (the coarse ones cost a fraction of the finest).
+  // Variants, cheapest first: (sampling c, unrefined) then (c, refined).
   const std::size_t variants = 2 * samplings;
   std::vector<std::size_t> all(pieces);
   for (std::size_t p = 0; p < pieces; ++p) all[p] = p;
-  for (std::size_t c = 0; c < samplings; ++c) {
-    bake_pieces(c, all);
-    report_progress(0.7 * double(c + 1) / double(samplings));
-  }
 
   // Per piece and variant: its bytes and, on the probes it owns, the counts the budget
   // limits: contact disagreements, and among probes in contact on both sides those whose
@@ -307,11 +306,11 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     if (recipe.options.scene_grid && pieces > 1) grid = grid_for(sampling_of_piece);
     return BoxScene(std::move(boxes), src, pieces > 1 ? scene_ids : std::vector<std::uint32_t>{}, grid);
   };
-  // Each variant's failures in the scene (every piece at that variant), probe by probe,
-  // charged to the piece owning the probe: the scene answers a probe with more than the
-  // routed box alone (other boxes, fallbacks), so a box asked alone is no proxy for it.
-  tstage = std::chrono::steady_clock::now();
-  for (std::size_t v = 0; v < variants; ++v) {
+  // A variant's failures in the scene (every piece at that variant), probe by probe, charged
+  // to the piece owning the probe: the scene answers a probe with more than the routed box
+  // alone (other boxes, fallbacks), so a box asked alone is no proxy for it. Returns the
+  // scene's answering route.
+  const auto score = [&](std::size_t v) {
     choice.assign(pieces, v);
     const BoxScene uniform = compose();
     std::vector<Contact> answers(tuning.probes.size());
@@ -321,6 +320,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     for (std::size_t p = 0; p < pieces; ++p) {
       const HapticBox& box = uniform.boxes()[p];
       Counts& n = counts[p][v];
+      n = Counts{};
       n.bytes = double(box.table_bytes() + box.triangle_id_bytes());
       for (std::size_t i : owned[p]) {
         const Contact& a = answers[i];
@@ -338,11 +338,8 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
         n.over_dir += angle_error_degrees(e, a) > br.budget.direction_p99_deg ? 1 : 0;
       }
     }
-    report_progress(0.7 + 0.1 * double(v + 1) / double(variants));
-  }
-  stage_done("variant_scoring", seconds_since(tstage));  // includes its scenes' grids
-  tstage = std::chrono::steady_clock::now();
-  choice.assign(pieces, 0);
+    return uniform.answering_route();
+  };
   // The budget as allowances over all owned probes, with a margin for the probes the choice
   // does not see (the fresh check, the scene's own routing); failures add up over pieces.
   constexpr double kMargin = 0.8;
@@ -351,7 +348,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     for (std::size_t p = 0; p < pieces; ++p) {
       const Counts& n = counts[p][choice[p]];
       t.disagree += n.disagree, t.both += n.both, t.over_median += n.over_median;
-      t.over_p95 += n.over_p95, t.over_dir += n.over_dir;
+      t.over_p95 += n.over_p95, t.over_dir += n.over_dir, t.off_surface += n.off_surface;
     }
     return t;
   };
@@ -366,73 +363,114 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     return over(t.disagree, allow_disagree) + over(t.over_median, kMargin * allow_median) + over(t.over_p95, allow_p95) +
            over(t.over_dir, allow_dir);
   };
-  // Start from the cheapest uniform variant that is within the allowances (or, when none
-  // is, the one with the least excess), then take each piece, largest first, down to the
-  // cheapest of its variants that keeps the scene within them.
-  const auto piece_bytes = [&](std::size_t p, std::size_t v) { return counts[p][v].bytes; };
-  {
-    std::size_t start = variants;
-    double start_bytes = 0, least = 0;
-    std::size_t least_v = variants - 1;
+
+  bake_pieces(0, all);
+  report_progress(0.7 / double(samplings));
+  double scoring_seconds = 0.0;
+  const auto timed_score = [&](std::size_t v) {
+    const auto ts = std::chrono::steady_clock::now();
+    const SceneRoute route = score(v);
+    scoring_seconds += seconds_since(ts);
+    return route;
+  };
+  // Step 2a. A scene the surface cells answer (several pieces, a grid, one refined box) gives
+  // exact's answer to every probe, whatever each piece's sampling and refinement: its boxes'
+  // tables answer only the boxes' route (--route boxes, the window's blend view). Its
+  // cheapest form is every piece at the coarsest sampling, refined (the surface is shared).
+  // Only a scene with no refined piece, which needs no surface at all, could cost less; when
+  // the coarsest blend misses the budget or answers off the surface (every piece of the six
+  // models of issue 17 under the default budget), the finer samplings are not baked and that
+  // exact scene is taken (BudgetRecipe::full_search bakes and searches them all).
+  bool exact_scene = false;
+  if (!br.full_search && pieces > 1 && recipe.options.scene_grid) {
+    timed_score(0);
+    const Counts blend = totals();
+    if (timed_score(1) == SceneRoute::cells && (excess(blend) > 0.0 || blend.off_surface > 0)) {
+      exact_scene = true;
+      choice.assign(pieces, 1);
+    }
+  }
+  if (!exact_scene) {
+    for (std::size_t c = 1; c < samplings; ++c) {
+      bake_pieces(c, all);
+      report_progress(0.7 * double(c + 1) / double(samplings));
+    }
     for (std::size_t v = 0; v < variants; ++v) {
-      choice.assign(pieces, v);
-      const double e = excess(totals());
-      double bytes = 0;
-      for (std::size_t p = 0; p < pieces; ++p) bytes += piece_bytes(p, v);
-      if (e <= 0.0 && (start == variants || bytes < start_bytes)) start = v, start_bytes = bytes;
-      if (v == 0 || e < least) least = e, least_v = v;
-    }
-    choice.assign(pieces, start < variants ? start : least_v);
-  }
-  std::vector<std::size_t> by_size(pieces);
-  for (std::size_t p = 0; p < pieces; ++p) by_size[p] = p;
-  std::sort(by_size.begin(), by_size.end(),
-            [&](std::size_t x, std::size_t y) { return piece_bytes(x, choice[x]) > piece_bytes(y, choice[y]); });
-  if (excess(totals()) <= 0.0) {
-    for (std::size_t p : by_size) {
-      // A piece that owns no probe is not measured: it keeps its refinement (its blends
-      // could answer other pieces' probes, uncharged).
-      if (owned[p].empty()) {
-        choice[p] = std::min(choice[p], std::size_t(1));
-        continue;
-      }
-      std::vector<std::size_t> cheaper;
-      for (std::size_t v = 0; v < variants; ++v)
-        if (piece_bytes(p, v) < piece_bytes(p, choice[p])) cheaper.push_back(v);
-      std::sort(cheaper.begin(), cheaper.end(), [&](std::size_t x, std::size_t y) { return piece_bytes(p, x) < piece_bytes(p, y); });
-      const std::size_t keep = choice[p];
-      for (std::size_t v : cheaper) {
-        choice[p] = v;
-        if (excess(totals()) <= 0.0) break;
-        choice[p] = keep;
-      }
+      timed_score(v);
+      report_progress(0.7 + 0.1 * double(v + 1) / double(variants));
     }
   }
-  // Still beyond the allowances (no uniform variant met them): the move that removes the
-  // most excess per byte added, until within them or no move helps.
-  for (std::size_t step = 0; step < pieces * variants; ++step) {
-    const Counts t = totals();
-    const double now = excess(t);
-    if (now <= 0.0) break;
-    double best_gain = 0.0;
-    std::size_t best_p = pieces, best_v = 0;
+  stage_done("variant_scoring", scoring_seconds);  // includes its scenes' grids
+  tstage = std::chrono::steady_clock::now();
+  if (!exact_scene) {
+    // Start from the cheapest uniform variant that is within the allowances (or, when none
+    // is, the one with the least excess), then take each piece, largest first, down to the
+    // cheapest of its variants that keeps the scene within them.
+    const auto piece_bytes = [&](std::size_t p, std::size_t v) { return counts[p][v].bytes; };
+    {
+      std::size_t start = variants;
+      double start_bytes = 0, least = 0;
+      std::size_t least_v = variants - 1;
+      for (std::size_t v = 0; v < variants; ++v) {
+        choice.assign(pieces, v);
+        const double e = excess(totals());
+        double bytes = 0;
+        for (std::size_t p = 0; p < pieces; ++p) bytes += piece_bytes(p, v);
+        if (e <= 0.0 && (start == variants || bytes < start_bytes)) start = v, start_bytes = bytes;
+        if (v == 0 || e < least) least = e, least_v = v;
+      }
+      choice.assign(pieces, start < variants ? start : least_v);
+    }
+    std::vector<std::size_t> by_size(pieces);
+    for (std::size_t p = 0; p < pieces; ++p) by_size[p] = p;
+    std::sort(by_size.begin(), by_size.end(),
+              [&](std::size_t x, std::size_t y) { return piece_bytes(x, choice[x]) > piece_bytes(y, choice[y]); });
+    if (excess(totals()) <= 0.0) {
+      for (std::size_t p : by_size) {
+        // A piece that owns no probe is not measured: it keeps its refinement (its blends
+        // could answer other pieces' probes, uncharged).
+        if (owned[p].empty()) {
+          choice[p] = std::min(choice[p], std::size_t(1));
+          continue;
+        }
+        std::vector<std::size_t> cheaper;
+        for (std::size_t v = 0; v < variants; ++v)
+          if (piece_bytes(p, v) < piece_bytes(p, choice[p])) cheaper.push_back(v);
+        std::sort(cheaper.begin(), cheaper.end(), [&](std::size_t x, std::size_t y) { return piece_bytes(p, x) < piece_bytes(p, y); });
+        const std::size_t keep = choice[p];
+        for (std::size_t v : cheaper) {
+          choice[p] = v;
+          if (excess(totals()) <= 0.0) break;
+          choice[p] = keep;
+        }
+      }
+    }
+    // Still beyond the allowances (no uniform variant met them): the move that removes the
+    // most excess per byte added, until within them or no move helps.
+    for (std::size_t step = 0; step < pieces * variants; ++step) {
+      const Counts t = totals();
+      const double now = excess(t);
+      if (now <= 0.0) break;
+      double best_gain = 0.0;
+      std::size_t best_p = pieces, best_v = 0;
+      for (std::size_t p = 0; p < pieces; ++p)
+        for (std::size_t v = choice[p] + 1; v < variants; ++v) {
+          Counts u = t;
+          const Counts &from = counts[p][choice[p]], &to = counts[p][v];
+          u.disagree += to.disagree - from.disagree, u.both += to.both - from.both;
+          u.over_median += to.over_median - from.over_median, u.over_p95 += to.over_p95 - from.over_p95;
+          u.over_dir += to.over_dir - from.over_dir;
+          const double gain = (now - excess(u)) / std::max(1.0, to.bytes - from.bytes);
+          if (gain > best_gain) best_gain = gain, best_p = p, best_v = v;
+        }
+      if (best_p == pieces) break;  // no move helps: the finest variants are the best there is
+      choice[best_p] = best_v;
+    }
+    // An unrefined piece whose blends answer its probes from off the surface is refined at
+    // its sampling (its refined variant is the next one).
     for (std::size_t p = 0; p < pieces; ++p)
-      for (std::size_t v = choice[p] + 1; v < variants; ++v) {
-        Counts u = t;
-        const Counts &from = counts[p][choice[p]], &to = counts[p][v];
-        u.disagree += to.disagree - from.disagree, u.both += to.both - from.both;
-        u.over_median += to.over_median - from.over_median, u.over_p95 += to.over_p95 - from.over_p95;
-        u.over_dir += to.over_dir - from.over_dir;
-        const double gain = (now - excess(u)) / std::max(1.0, to.bytes - from.bytes);
-        if (gain > best_gain) best_gain = gain, best_p = p, best_v = v;
-      }
-    if (best_p == pieces) break;  // no move helps: the finest variants are the best there is
-    choice[best_p] = best_v;
+      if (choice[p] % 2 == 0 && counts[p][choice[p]].off_surface > 0) choice[p] += 1;
   }
-  // An unrefined piece whose blends answer its probes from off the surface is refined at
-  // its sampling (its refined variant is the next one).
-  for (std::size_t p = 0; p < pieces; ++p)
-    if (choice[p] % 2 == 0 && counts[p][choice[p]].off_surface > 0) choice[p] += 1;
   stage_done("selection", seconds_since(tstage));
   report_progress(0.8);
 

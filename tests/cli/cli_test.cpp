@@ -96,6 +96,12 @@ TEST_F(CliTest, DefaultBakeOfPiecesStoresNoTriangleIdsUnlessKept) {
   EXPECT_GT(kj["bytes"].get<std::uint64_t>(), li["bytes"].get<std::uint64_t>());
   EXPECT_EQ(run("eval " + path("kept.hbox") + " " + path("sphere.off") + " --samples 200 --route boxes").code, 0);
   EXPECT_EQ(run("bake " + path("sphere.off") + " -o " + path("x.hbox") + " -n 4 --keep-ids").code, 2);
+  // --full-search bakes every sampling for the same exact answers; it too is the default bake's.
+  const Result full = run(bake + "--full-search -o " + path("full.hbox") + " --json");
+  ASSERT_EQ(full.code, 0) << full.err;
+  EXPECT_GE(nlohmann::json::parse(full.out)["budget"]["sampling_bakes"].get<int>(),
+            kj["budget"]["sampling_bakes"].get<int>());
+  EXPECT_EQ(run("bake " + path("sphere.off") + " -o " + path("x.hbox") + " -n 4 --full-search").code, 2);
 }
 
 // `simplify`: a flat-subdivided sphere comes back to fewer triangles within its bound, the

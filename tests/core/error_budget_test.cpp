@@ -171,6 +171,48 @@ TEST(ErrorBudgetTest, DefaultBakeDropsTheTriangleIdsTheCellsRouteDoesNotRead) {
   EXPECT_GT(contacts, 300u);
 }
 
+// A scene the surface cells answer gives exact's answers whatever its pieces' samplings: the
+// default bake takes it at the coarsest sampling alone (one sampling baked, every piece
+// refined there), with the same answers probe for probe as the search over every sampling
+// and no larger tables.
+TEST(ErrorBudgetTest, ASceneTheSurfaceCellsAnswerIsBakedAtTheCoarsestSamplingOnly) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  BakeRecipe recipe = two_piece_recipe(two, 2000);
+  recipe.budget.samplings = {{0.2f, 4}, {0.1f, 6}, {0.07f, 8}};
+  const BakeResult quick = bake(two.mesh, recipe);
+  recipe.budget.full_search = true;
+  const BakeResult full = bake(two.mesh, recipe);
+  const BudgetReport& rep = quick.scene.budget_report();
+  ASSERT_EQ(quick.scene.answering_route(), SceneRoute::cells);
+  ASSERT_EQ(full.scene.answering_route(), SceneRoute::cells);
+  EXPECT_TRUE(rep.met) << rep.summary();
+  EXPECT_EQ(rep.candidates_tried, 1u);
+  EXPECT_GT(full.scene.budget_report().candidates_tried, 1u);
+  ASSERT_EQ(rep.pieces.size(), 2u);
+  for (std::size_t b = 0; b < 2; ++b) {
+    EXPECT_TRUE(rep.pieces[b].refine);
+    EXPECT_FLOAT_EQ(rep.pieces[b].cell, 0.2f);
+    EXPECT_EQ(rep.pieces[b].n, 4);
+    EXPECT_EQ(quick.scene.boxes()[b].params().n, 4);
+  }
+  std::size_t quick_tables = 0, full_tables = 0;
+  for (const HapticBox& b : quick.scene.boxes()) quick_tables += b.table_bytes();
+  for (const HapticBox& b : full.scene.boxes()) full_tables += b.table_bytes();
+  EXPECT_LE(quick_tables, full_tables);
+  ProbeOptions po;
+  po.seed = 9;
+  std::size_t contacts = 0;
+  for (const Segment& s : sample_probes(two.mesh, 3000, po)) {
+    const Contact a = quick.scene.query(s, ForceLaw{}), b = full.scene.query(s, ForceLaw{});
+    ASSERT_EQ(a.contact, b.contact);
+    if (!a.contact) continue;
+    ++contacts;
+    EXPECT_EQ(a.depth, b.depth);
+    EXPECT_EQ(a.force, b.force);
+  }
+  EXPECT_GT(contacts, 300u);
+}
+
 // The bake records where its time went, stage by stage in step order (issue 17: the 13M bake's
 // minutes must be attributable); the times stay out of the file form like `seconds`.
 TEST(ErrorBudgetTest, BudgetedBakeRecordsItsStageTimesButTheFileDoesNot) {
