@@ -6,6 +6,7 @@
 //  3. intersect() refuses (misses) rays outside Embree's valid range, uses rtcIntersect1 (single rays were faster than packets here) and
 //     interpolates the vertex normals at the hit's barycentric coordinates.
 #include "exact/embree_scene.h"
+#include <algorithm>
 #include "errors.h"
 #include <embree3/rtcore.h>
 #include <cmath>
@@ -71,23 +72,44 @@ EmbreeScene::EmbreeScene(const TriangleMesh& mesh, const std::vector<std::uint32
   if (mesh.normals.size() != mesh.positions.size())
     throw InvalidInput("EmbreeScene: mesh has no vertex normals (call compute_vertex_normals)");
 
-  for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
-    if (!(mesh.positions[v].cwiseAbs().maxCoeff() <= kMaxCoordinate))
+  // A scene of some triangles holds only their vertices (a piece of a 13M-triangle mesh would
+  // otherwise copy all of them, once per piece): the same positions in the same triangles,
+  // so the same BVH and the same hits.
+  std::vector<std::uint32_t> used;  // the vertices of a subset, ascending (empty: all)
+  if (!triangles.empty()) {
+    used.reserve(3 * count);
+    for (std::uint32_t k : triangles) {
+      if (k >= mesh.triangle_count())
+        throw InvalidInput("EmbreeScene: triangle " + std::to_string(k) + " is beyond the mesh's " +
+                           std::to_string(mesh.triangle_count()));
+      for (int c = 0; c < 3; ++c) used.push_back(mesh.triangles[k][c]);
+    }
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+  }
+  const std::size_t vertex_count = used.empty() ? mesh.vertex_count() : used.size();
+  for (std::size_t i = 0; i < vertex_count; ++i) {
+    const std::size_t v = used.empty() ? i : used[i];
+    if (!(v < mesh.vertex_count() && mesh.positions[v].cwiseAbs().maxCoeff() <= kMaxCoordinate))
       throw InvalidInput("EmbreeScene: vertex " + std::to_string(v) +
                          " is non-finite or beyond the supported range (|x| <= 1e15)");
+  }
   impl_->scene = rtcNewScene(device);
   rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
   RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-      geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertex_count()));
+      geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), vertex_count));
   auto* indices = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
       geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), count));
   holder.throw_if_error("EmbreeScene: allocating buffers");
-  for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
-    for (int c = 0; c < 3; ++c) vertices[3 * v + c] = mesh.positions[v][c];
+  for (std::size_t i = 0; i < vertex_count; ++i)
+    for (int c = 0; c < 3; ++c) vertices[3 * i + c] = mesh.positions[used.empty() ? i : used[i]][c];
+  const auto local = [&](std::uint32_t v) {
+    return used.empty() ? v : std::uint32_t(std::lower_bound(used.begin(), used.end(), v) - used.begin());
+  };
   for (std::size_t k = 0; k < count; ++k) {
     const Triangle& t = mesh.triangles[triangles.empty() ? k : triangles[k]];
-    for (int c = 0; c < 3; ++c) indices[3 * k + c] = t[c];
+    for (int c = 0; c < 3; ++c) indices[3 * k + c] = local(t[c]);
   }
   if (!triangles.empty()) impl_->prim_to_triangle = triangles;
   rtcCommitGeometry(geom);
