@@ -73,24 +73,32 @@ EmbreeScene::EmbreeScene(const TriangleMesh& mesh, const std::vector<std::uint32
     throw InvalidInput("EmbreeScene: mesh has no vertex normals (call compute_vertex_normals)");
 
   // A scene of some triangles holds only their vertices (a piece of a 13M-triangle mesh would
-  // otherwise copy all of them, once per piece): the same positions in the same triangles,
-  // so the same BVH and the same hits.
-  std::vector<std::uint32_t> used;  // the vertices of a subset, ascending (empty: all)
+  // otherwise copy and check all of them, once per piece): the same positions in the same
+  // triangles, so the same BVH and the same hits.
+  std::vector<std::uint32_t> used;   // a subset's vertices in first-use order (empty: all)
+  std::vector<std::uint32_t> local;  // mesh vertex -> index in `used`
   if (!triangles.empty()) {
-    used.reserve(3 * count);
+    local.assign(mesh.vertex_count(), 0xffffffffu);
     for (std::uint32_t k : triangles) {
       if (k >= mesh.triangle_count())
         throw InvalidInput("EmbreeScene: triangle " + std::to_string(k) + " is beyond the mesh's " +
                            std::to_string(mesh.triangle_count()));
-      for (int c = 0; c < 3; ++c) used.push_back(mesh.triangles[k][c]);
+      for (int c = 0; c < 3; ++c) {
+        const std::uint32_t v = mesh.triangles[k][c];
+        if (v >= local.size())
+          throw InvalidInput("EmbreeScene: triangle " + std::to_string(k) + " names vertex " + std::to_string(v) +
+                             ", the mesh has " + std::to_string(local.size()));
+        if (local[v] == 0xffffffffu) {
+          local[v] = std::uint32_t(used.size());
+          used.push_back(v);
+        }
+      }
     }
-    std::sort(used.begin(), used.end());
-    used.erase(std::unique(used.begin(), used.end()), used.end());
   }
-  const std::size_t vertex_count = used.empty() ? mesh.vertex_count() : used.size();
+  const std::size_t vertex_count = triangles.empty() ? mesh.vertex_count() : used.size();
   for (std::size_t i = 0; i < vertex_count; ++i) {
     const std::size_t v = used.empty() ? i : used[i];
-    if (!(v < mesh.vertex_count() && mesh.positions[v].cwiseAbs().maxCoeff() <= kMaxCoordinate))
+    if (!(mesh.positions[v].cwiseAbs().maxCoeff() <= kMaxCoordinate))
       throw InvalidInput("EmbreeScene: vertex " + std::to_string(v) +
                          " is non-finite or beyond the supported range (|x| <= 1e15)");
   }
@@ -104,12 +112,9 @@ EmbreeScene::EmbreeScene(const TriangleMesh& mesh, const std::vector<std::uint32
   holder.throw_if_error("EmbreeScene: allocating buffers");
   for (std::size_t i = 0; i < vertex_count; ++i)
     for (int c = 0; c < 3; ++c) vertices[3 * i + c] = mesh.positions[used.empty() ? i : used[i]][c];
-  const auto local = [&](std::uint32_t v) {
-    return used.empty() ? v : std::uint32_t(std::lower_bound(used.begin(), used.end(), v) - used.begin());
-  };
   for (std::size_t k = 0; k < count; ++k) {
     const Triangle& t = mesh.triangles[triangles.empty() ? k : triangles[k]];
-    for (int c = 0; c < 3; ++c) indices[3 * k + c] = local(t[c]);
+    for (int c = 0; c < 3; ++c) indices[3 * k + c] = local.empty() ? t[c] : local[t[c]];
   }
   if (!triangles.empty()) impl_->prim_to_triangle = triangles;
   rtcCommitGeometry(geom);

@@ -56,6 +56,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 
 namespace hb {
 
@@ -68,6 +69,31 @@ struct BoxScene::Visited {
   int count = 0;
   bool overflow = false;
 };
+
+namespace {
+// The surface cells of a grid and a surface: built once for the pair however many scenes hold
+// them (a budgeted bake composes three or more; at 13M triangles each build takes seconds).
+// Both are immutable once built; the last pair's cells are kept while something holds them,
+// and weak pointers make sure the pair is the same objects, not new ones at old addresses.
+std::shared_ptr<const SurfaceCells> surface_cells_of(const std::shared_ptr<const SceneGrid>& grid,
+                                                     const std::shared_ptr<const SurfaceTriangles>& surface) {
+  static std::mutex mutex;
+  static std::weak_ptr<const SceneGrid> last_grid;
+  static std::weak_ptr<const SurfaceTriangles> last_surface;
+  static std::weak_ptr<const SurfaceCells> last_cells;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (last_grid.lock() == grid && last_surface.lock() == surface)
+      if (auto cells = last_cells.lock()) return cells;
+  }
+  auto cells = std::make_shared<const SurfaceCells>(*grid, surface);
+  std::lock_guard<std::mutex> lock(mutex);
+  last_grid = grid;
+  last_surface = surface;
+  last_cells = cells;
+  return cells;
+}
+} // namespace
 
 BoxScene::BoxScene(std::vector<HapticBox> boxes, SourceInfo source, std::vector<std::uint32_t> piece_of_triangle,
                    std::shared_ptr<const SceneGrid> grid, std::shared_ptr<const SurfaceTriangles> surface)
@@ -89,7 +115,7 @@ BoxScene::BoxScene(std::vector<HapticBox> boxes, SourceInfo source, std::vector<
       surface_ = box.surface();
     }
   if (!shared) surface_.reset();
-  if (grid_ && surface_) cells_ = std::make_shared<const SurfaceCells>(*grid_, surface_);
+  if (grid_ && surface_) cells_ = surface_cells_of(grid_, surface_);
   for (auto& b : bounds_) b.reserve(boxes_.size());
   for (const HapticBox& box : boxes_) {
     const Obb& o = box.obb();

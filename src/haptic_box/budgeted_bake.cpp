@@ -310,9 +310,9 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   // to the piece owning the probe: the scene answers a probe with more than the routed box
   // alone (other boxes, fallbacks), so a box asked alone is no proxy for it. Returns the
   // scene's answering route.
-  const auto score = [&](std::size_t v) {
+  const auto score = [&](std::size_t v, BoxScene* keep = nullptr) {
     choice.assign(pieces, v);
-    const BoxScene uniform = compose();
+    BoxScene uniform = compose();
     std::vector<Contact> answers(tuning.probes.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tuning.probes.size(), 256), [&](const auto& r) {
       for (std::size_t i = r.begin(); i != r.end(); ++i) answers[i] = uniform.query(tuning.probes[i], law);
@@ -338,7 +338,9 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
         n.over_dir += angle_error_degrees(e, a) > br.budget.direction_p99_deg ? 1 : 0;
       }
     }
-    return uniform.answering_route();
+    const SceneRoute route = uniform.answering_route();
+    if (keep) *keep = std::move(uniform);
+    return route;
   };
   // The budget as allowances over all owned probes, with a margin for the probes the choice
   // does not see (the fresh check, the scene's own routing); failures add up over pieces.
@@ -367,9 +369,9 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   bake_pieces(0, all);
   report_progress(0.7 / double(samplings));
   double scoring_seconds = 0.0;
-  const auto timed_score = [&](std::size_t v) {
+  const auto timed_score = [&](std::size_t v, BoxScene* keep = nullptr) {
     const auto ts = std::chrono::steady_clock::now();
-    const SceneRoute route = score(v);
+    const SceneRoute route = score(v, keep);
     scoring_seconds += seconds_since(ts);
     return route;
   };
@@ -382,10 +384,11 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   // models of issue 17 under the default budget), the finer samplings are not baked and that
   // exact scene is taken (BudgetRecipe::full_search bakes and searches them all).
   bool exact_scene = false;
+  BoxScene held;  // the exact scene while the scene of the same boxes is composed again (its surface cells are reused)
   if (!br.full_search && pieces > 1 && recipe.options.scene_grid) {
     timed_score(0);
     const Counts blend = totals();
-    if (timed_score(1) == SceneRoute::cells && (excess(blend) > 0.0 || blend.off_surface > 0)) {
+    if (timed_score(1, &held) == SceneRoute::cells && (excess(blend) > 0.0 || blend.off_surface > 0)) {
       exact_scene = true;
       choice.assign(pieces, 1);
     }
@@ -523,6 +526,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     scene = compose();
   }
   stage_done("tuning_check", seconds_since(tstage));  // includes its re-bakes and grids
+  held = BoxScene{};
   report_progress(0.9);
   // The cells route reads the surface and the grid, never the boxes' triangle ids: a scene
   // it answers keeps no ids (the same answers; the fresh check below is this scene's).
