@@ -1,4 +1,5 @@
 // The exact reference agrees with a brute-force triangle test.
+#include "errors.h"
 #include "exact/exact_query.h"
 #include "mesh/generators.h"
 #include <gtest/gtest.h>
@@ -70,3 +71,32 @@ TEST(ExactQueryTest, HandleInsideTheObjectHasNoContact) {
 
 } // namespace
 } // namespace hb
+
+// A scene of some of the mesh's triangles holds only their vertices: each ray hits what the
+// whole mesh's scene hits among those triangles (same triangle, same t, same normal), and a
+// triangle id beyond the mesh is an error naming it.
+TEST(ExactQueryTest, ASceneOfSomeTrianglesHitsAsTheWholeMeshDoesOnThem) {
+  const hb::TriangleMesh mesh = hb::make_sphere(1.f, 3);
+  std::vector<std::uint32_t> half;
+  for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t)
+    if (mesh.positions[mesh.triangles[t][0]].x() > 0.f) half.push_back(t);
+  ASSERT_GT(half.size(), 10u);
+  const hb::EmbreeScene all(mesh), some(mesh, half);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-1.f, 1.f);
+  std::size_t hits = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const hb::Vec3 dir = hb::Vec3(u(rng), u(rng), u(rng)).normalized();
+    const hb::RayHit a = all.intersect(-3.f * dir, dir, 0.f, 10.f), b = some.intersect(-3.f * dir, dir, 0.f, 10.f);
+    // From outside towards the centre the first hit of the whole sphere is on the near side:
+    // where that is the +x half, the half scene hits the same triangle.
+    if (!a.hit || !std::binary_search(half.begin(), half.end(), a.triangle)) continue;
+    ASSERT_TRUE(b.hit) << i;
+    EXPECT_EQ(a.triangle, b.triangle);
+    EXPECT_EQ(a.t, b.t);
+    EXPECT_EQ(a.normal, b.normal);
+    ++hits;
+  }
+  EXPECT_GT(hits, 300u);
+  EXPECT_THROW(hb::EmbreeScene(mesh, {std::uint32_t(mesh.triangle_count())}), hb::InvalidInput);
+}

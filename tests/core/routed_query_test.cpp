@@ -225,3 +225,28 @@ TEST(RoutedQueryTest, BrickedCellWordsGiveTheCodeOfEveryCell) {
 
 } // namespace
 } // namespace hb
+
+namespace hb {
+namespace {
+
+// Scenes of the same grid and surface share one set of surface cells (a budgeted bake composes
+// the same scene several times; at 13M triangles each build took seconds), while the cells
+// of another grid and surface are their own.
+TEST(RoutedQueryTest, ScenesOfOneGridAndSurfaceShareTheirSurfaceCells) {
+  const test::TwoSpheres two = test::two_spheres(2.5f);
+  const BoxScene scene = refined_scene(two);
+  ASSERT_NE(scene.surface_cells(), nullptr);
+  const BoxScene lean = scene.without_triangle_ids();
+  EXPECT_EQ(lean.surface_cells().get(), scene.surface_cells().get());
+  const BoxScene other = refined_scene(two);  // its own grid and surface
+  ASSERT_NE(other.surface_cells(), nullptr);
+  EXPECT_NE(other.surface_cells().get(), scene.surface_cells().get());
+  for (const Segment& s : sample_probes(two.mesh, 500, ProbeOptions{})) {
+    const Contact a = scene.query(s, kRoutedLaw), b = lean.query(s, kRoutedLaw);
+    ASSERT_EQ(a.contact, b.contact);
+    ASSERT_EQ(a.force, b.force);
+  }
+}
+
+} // namespace
+} // namespace hb
