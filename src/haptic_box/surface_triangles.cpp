@@ -1,6 +1,7 @@
 #include "haptic_box/surface_triangles.h"
 #include "errors.h"
 #include "geometry/octahedral.h"
+#include <tbb/parallel_sort.h>
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -36,7 +37,7 @@ SurfaceTriangles::SurfaceTriangles(const TriangleMesh& mesh) {
     const Vec3 q = ((c - bounds.min).cwiseQuotient(extent) * 1023.f).cwiseMax(Vec3::Zero()).cwiseMin(Vec3::Constant(1023.f));
     keyed[t] = {spread(std::uint32_t(q.x())) | (spread(std::uint32_t(q.y())) << 1) | (spread(std::uint32_t(q.z())) << 2), t};
   }
-  std::sort(keyed.begin(), keyed.end());
+  tbb::parallel_sort(keyed.begin(), keyed.end());  // keys unique (the triangle breaks ties): the order std::sort gives
   slot_of_.resize(count);
   for (std::uint32_t s = 0; s < count; ++s) slot_of_[keyed[s].second] = s;
 
@@ -69,7 +70,7 @@ SurfaceTriangles::SurfaceTriangles(const TriangleMesh& mesh) {
       const Vec3& p = mesh.positions[v];
       return std::make_tuple(p.x(), p.y(), p.z(), v);
     };
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
+    tbb::parallel_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
     for (std::size_t i = 0; i < order.size(); ++i)
       weld[order[i]] = i > 0 && mesh.positions[order[i]] == mesh.positions[order[i - 1]] ? weld[order[i - 1]] : order[i];
   }
@@ -88,7 +89,7 @@ SurfaceTriangles::SurfaceTriangles(const TriangleMesh& mesh) {
       uses.push_back({(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b), t, k});
     }
   }
-  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
+  tbb::parallel_sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
     return x.edge != y.edge ? x.edge < y.edge : x.triangle < y.triangle;
   });
   for (std::size_t i = 0; i < uses.size();) {
