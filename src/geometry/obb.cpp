@@ -57,11 +57,11 @@ Obb fit_obb(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangle
   const std::size_t count = triangles.empty() ? mesh.triangle_count() : triangles.size();
   if (count == 0) throw InvalidInput("fit_obb: no triangles selected");
 
-  // 1. Area-weighted covariance of the surface.
-  // The extents (step 2) come from the vertices, each once: a closed mesh has about half as
-  // many vertices as triangles, so a sixth of the three corners per triangle.
-  std::vector<std::uint32_t> corners;
-  corners.reserve(count * 3);
+  // 1. Area-weighted covariance of the surface. The extents (step 2) come from the vertices,
+  // each once: a closed mesh has about half as many vertices as triangles, so a sixth of the
+  // three corners per triangle.
+  std::vector<Vec3> points;
+  std::vector<bool> seen(mesh.vertex_count(), false);  // first use, no sort: the extremes do not depend on order
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
   double area_sum = 0.0;
@@ -70,7 +70,11 @@ Obb fit_obb(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangle
     const Eigen::Vector3d a = mesh.positions[t[0]].cast<double>();
     const Eigen::Vector3d b = mesh.positions[t[1]].cast<double>();
     const Eigen::Vector3d c = mesh.positions[t[2]].cast<double>();
-    for (auto v : t) corners.push_back(v);
+    for (auto v : t)
+      if (!seen[v]) {
+        seen[v] = true;
+        points.push_back(mesh.positions[v]);
+      }
     const double area = 0.5 * (b - a).cross(c - a).norm();
     const Eigen::Vector3d centroid = (a + b + c) / 3.0;
     mean += area * centroid;
@@ -87,11 +91,6 @@ Obb fit_obb(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangle
     if (solver.info() == Eigen::Success) axes = solver.eigenvectors().cast<float>();
   }
   axes = right_handed(axes);
-  std::sort(corners.begin(), corners.end());
-  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-  std::vector<Vec3> points;
-  points.reserve(corners.size());
-  for (std::uint32_t v : corners) points.push_back(mesh.positions[v]);
 
   // 2. Volume-shrinking local rotation search.
   Extent best = extent_along(points, axes);
