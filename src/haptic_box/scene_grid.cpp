@@ -22,6 +22,7 @@
 #include "geometry/triangle_box.h"
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 #include <cstring>
 #include <limits>
 #include <map>
@@ -306,7 +307,8 @@ SceneGrid build_scene_grid(const TriangleMesh& mesh, const std::vector<std::vect
     std::lock_guard<std::mutex> lock(counts_mutex);
     counts.insert(counts.end(), runs.begin(), runs.end());
   });
-  std::sort(counts.begin(), counts.end(), [](const Count& x, const Count& y) { return x.key < y.key; });
+  // Equal keys (one cell and box from several blocks) are summed below: any order of them gives the same counts.
+  tbb::parallel_sort(counts.begin(), counts.end(), [](const Count& x, const Count& y) { return x.key < y.key; });
   {
     std::size_t w = 0;
     for (std::size_t i = 0; i < counts.size(); ++i) {
@@ -462,31 +464,37 @@ SurfaceCells::SurfaceCells(const SceneGrid& grid, std::shared_ptr<const SurfaceT
   //    surface other than the grid's mesh) is left out there.
   const SurfaceTriangles& surf = *surface_;
   const float half = 0.5f * cell_ * (1.f + 1e-4f);
-  std::vector<std::uint64_t> pairs;  // cell index << 32 | slot
-  for (std::size_t t = 0; t < surf.size(); ++t) {
-    const SurfaceTriangles::Record& r = surf.records()[t];
-    const Vec3 a(r.a[0], r.a[1], r.a[2]);
-    const Vec3 b = a + Vec3(r.e1[0], r.e1[1], r.e1[2]), c = a + Vec3(r.e2[0], r.e2[1], r.e2[2]);
-    if (!a.allFinite() || !b.allFinite() || !c.allFinite()) continue;
-    int lo[3], hi[3];
-    bool outside = false;
-    for (int k = 0; k < 3; ++k) {
-      const float mn = std::min({a[k], b[k], c[k]}), mx = std::max({a[k], b[k], c[k]});
-      lo[k] = std::max(0, int(std::floor((mn - origin_[k]) * inv_cell_ - 1e-3f)));
-      hi[k] = std::min(dims_[k] - 1, int(std::floor((mx - origin_[k]) * inv_cell_ + 1e-3f)));
-      outside |= lo[k] > hi[k];
+  std::vector<std::uint64_t> pairs;  // cell index << 32 | slot: unique, so sorted they are in one order
+  std::mutex pairs_mutex;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, surf.size(), 8192), [&](const tbb::blocked_range<std::size_t>& range) {
+    std::vector<std::uint64_t> local;
+    for (std::size_t t = range.begin(); t != range.end(); ++t) {
+      const SurfaceTriangles::Record& r = surf.records()[t];
+      const Vec3 a(r.a[0], r.a[1], r.a[2]);
+      const Vec3 b = a + Vec3(r.e1[0], r.e1[1], r.e1[2]), c = a + Vec3(r.e2[0], r.e2[1], r.e2[2]);
+      if (!a.allFinite() || !b.allFinite() || !c.allFinite()) continue;
+      int lo[3], hi[3];
+      bool outside = false;
+      for (int k = 0; k < 3; ++k) {
+        const float mn = std::min({a[k], b[k], c[k]}), mx = std::max({a[k], b[k], c[k]});
+        lo[k] = std::max(0, int(std::floor((mn - origin_[k]) * inv_cell_ - 1e-3f)));
+        hi[k] = std::min(dims_[k] - 1, int(std::floor((mx - origin_[k]) * inv_cell_ + 1e-3f)));
+        outside |= lo[k] > hi[k];
+      }
+      if (outside) continue;
+      for (int z = lo[2]; z <= hi[2]; ++z)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+          for (int x = lo[0]; x <= hi[0]; ++x) {
+            const std::uint32_t ci = index(x, y, z);
+            if (ci == kNone) continue;
+            const Vec3 centre = origin_ + cell_ * Vec3(float(x) + 0.5f, float(y) + 0.5f, float(z) + 0.5f);
+            if (triangle_meets_box(a, b, c, centre, half)) local.push_back(std::uint64_t(ci) << 32 | std::uint64_t(t));
+          }
     }
-    if (outside) continue;
-    for (int z = lo[2]; z <= hi[2]; ++z)
-      for (int y = lo[1]; y <= hi[1]; ++y)
-        for (int x = lo[0]; x <= hi[0]; ++x) {
-          const std::uint32_t ci = index(x, y, z);
-          if (ci == kNone) continue;
-          const Vec3 centre = origin_ + cell_ * Vec3(float(x) + 0.5f, float(y) + 0.5f, float(z) + 0.5f);
-          if (triangle_meets_box(a, b, c, centre, half)) pairs.push_back(std::uint64_t(ci) << 32 | std::uint64_t(t));
-        }
-  }
-  std::sort(pairs.begin(), pairs.end());
+    std::lock_guard<std::mutex> lock(pairs_mutex);
+    pairs.insert(pairs.end(), local.begin(), local.end());
+  });
+  tbb::parallel_sort(pairs.begin(), pairs.end());
   offsets_.assign(std::size_t(total) + 1, 0);
   slots_.resize(pairs.size());
   for (std::size_t k = 0; k < pairs.size(); ++k) {
