@@ -257,7 +257,8 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
       const auto tg = std::chrono::steady_clock::now();
       std::vector<std::vector<std::uint32_t>> chosen_lists;
       for (std::size_t p = 0; p < pieces; ++p) chosen_lists.push_back(lists_at(sampling_of_piece[p])[p]);
-      g = std::make_shared<const SceneGrid>(build_scene_grid(base, chosen_lists, recipe.options.grid));
+      g = std::make_shared<const SceneGrid>(
+          build_scene_grid(base, chosen_lists, recipe.options.grid, use_simplified ? nullptr : &exact.scene()));
       stage_done("grids", seconds_since(tg));
     }
     return g;

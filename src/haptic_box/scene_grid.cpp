@@ -216,7 +216,7 @@ SceneGrid SceneGrid::deserialize(const std::uint8_t* data, std::size_t bytes) {
 }
 
 SceneGrid build_scene_grid(const TriangleMesh& mesh, const std::vector<std::vector<std::uint32_t>>& box_triangles,
-                           const SceneGridOptions& options) {
+                           const SceneGridOptions& options, const EmbreeScene* given_scene) {
   if (mesh.triangle_count() == 0) throw InvalidInput("scene grid: mesh has no triangles");
   if (box_triangles.empty()) throw InvalidInput("scene grid: no boxes");
   if (!(options.cell > 0.f && options.cell <= 1.f)) throw InvalidInput("scene grid: cell must be in (0, 1]");
@@ -378,7 +378,9 @@ SceneGrid build_scene_grid(const TriangleMesh& mesh, const std::vector<std::vect
   }
 
   // 3. Regions without surface, one state each.
-  const EmbreeScene scene(mesh);
+  std::unique_ptr<const EmbreeScene> own_scene;
+  if (!given_scene) own_scene = std::make_unique<const EmbreeScene>(mesh);
+  const EmbreeScene& scene = given_scene ? *given_scene : *own_scene;
   const Vec3 dirs[6] = {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)};
   std::vector<std::uint8_t> seen(cells, 0);
   std::vector<std::size_t> stack;
