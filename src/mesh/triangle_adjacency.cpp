@@ -22,6 +22,7 @@ TriangleAdjacency triangle_adjacency(const TriangleMesh& mesh) {
   // two sorts of 40M pairs were most of the decomposition's serial start).
   tbb::parallel_sort(edges.begin(), edges.end());
   std::vector<std::pair<std::uint32_t, std::uint32_t>> links;
+  links.reserve(edges.size());  // two links per interior edge, one use each: about as many
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i;
     while (j < edges.size() && edges[j].first == edges[i].first) ++j;
