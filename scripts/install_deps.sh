@@ -16,7 +16,7 @@ PACKAGES=(
   libvtk9-dev libvtk9-qt-dev qtbase5-dev
   libusb-1.0-0-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libcli11-dev nlohmann-json3-dev libfmt-dev libxxhash-dev libzstd-dev
+  libcli11-dev nlohmann-json3-dev libfmt-dev libxxhash-dev libzstd-dev libqhull-dev
   libplplot-dev plplot-driver-cairo
   libopenmpi-dev openmpi-bin
   xvfb xauth

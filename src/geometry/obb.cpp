@@ -6,6 +6,7 @@
 //  3. Pad every half extent by options.padding * diagonal.
 // obb_problem() checks a box from elsewhere (a file) before any query uses it.
 #include "geometry/obb.h"
+#include "geometry/convex_hull.h"
 #include "errors.h"
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -42,6 +43,7 @@ Extent extent_along(const std::vector<Vec3>& points, const Eigen::Matrix3f& axes
 }
 
 float volume_of(const Extent& e) { return (e.hi - e.lo).prod(); }
+
 
 Eigen::Matrix3f right_handed(Eigen::Matrix3f axes) {
   for (int c = 0; c < 3; ++c) axes.col(c).normalize();
@@ -92,7 +94,11 @@ Obb fit_obb(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangle
   }
   axes = right_handed(axes);
 
-  // 2. Volume-shrinking local rotation search.
+  // 2. Volume-shrinking local rotation search, over the points that can be extreme; the
+  //    extents are then taken over all of them (the box holds every point whatever Qhull's
+  //    roundoff left out).
+  const std::vector<Vec3> all_points = std::move(points);
+  points = hull_candidates(all_points);
   Extent best = extent_along(points, axes);
   float best_volume = volume_of(best);
   float step = 0.2f;  // radians
@@ -114,6 +120,8 @@ Obb fit_obb(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangle
     }
     if (!improved) step *= 0.5f;
   }
+
+  if (points.size() != all_points.size()) best = extent_along(all_points, axes);
 
   // 3. Centre, half extents, padding.
   Obb box;
