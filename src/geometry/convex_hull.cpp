@@ -11,6 +11,8 @@ namespace hb {
 
 std::vector<Vec3> hull_candidates(const std::vector<Vec3>& points) {
   if (points.size() < 4096) return points;
+  for (const Vec3& p : points)
+    if (!p.allFinite()) return points;  // no hull of a non-finite point: the caller sees them all
   std::vector<coordT> coords(points.size() * 3);
   for (std::size_t k = 0; k < points.size(); ++k)
     for (int c = 0; c < 3; ++c) coords[3 * k + std::size_t(c)] = coordT(points[k][c]);
