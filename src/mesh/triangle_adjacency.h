@@ -18,7 +18,8 @@ struct TriangleAdjacency {
   const std::uint32_t* end(std::uint32_t t) const { return neighbours.data() + offsets[t + 1]; }
 };
 
-/// Builds the edge adjacency in O(T log T).
+/// Builds the edge adjacency in O(T) (through each vertex's triangles; vertex ids beyond the
+/// mesh join nothing).
 TriangleAdjacency triangle_adjacency(const TriangleMesh& mesh);
 
 } // namespace hb
