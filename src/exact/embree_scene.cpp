@@ -64,6 +64,9 @@ struct EmbreeScene::Impl {
 };
 
 EmbreeScene::EmbreeScene(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles)
+    : EmbreeScene(mesh, triangles, triangles.empty() ? BvhBuild::best : BvhBuild::quick) {}
+
+EmbreeScene::EmbreeScene(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, BvhBuild build)
     : mesh_(mesh), impl_(std::make_unique<Impl>()) {
   DeviceHolder& holder = device_holder();
   RTCDevice device = holder.device;
@@ -103,10 +106,9 @@ EmbreeScene::EmbreeScene(const TriangleMesh& mesh, const std::vector<std::uint32
                          " is non-finite or beyond the supported range (|x| <= 1e15)");
   }
   impl_->scene = rtcNewScene(device);
-  // The whole mesh (the exact answers, queried millions of times) gets the best tree; a
-  // piece's scene, built once to cast its box's rays, the quicker build (half the 832K bake's
-  // table time; the same tables on six models, byte for byte: the same nearest hits).
-  rtcSetSceneBuildQuality(impl_->scene, triangles.empty() ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
+  // A piece's scene, built once to cast its box's rays, takes the quick build (half the 832K
+  // bake's table time; the same tables on six models, byte for byte: the same nearest hits).
+  rtcSetSceneBuildQuality(impl_->scene, build == BvhBuild::best ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
   RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
       geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), vertex_count));

@@ -100,3 +100,24 @@ TEST(ExactQueryTest, ASceneOfSomeTrianglesHitsAsTheWholeMeshDoesOnThem) {
   EXPECT_GT(hits, 300u);
   EXPECT_THROW(hb::EmbreeScene(mesh, {std::uint32_t(mesh.triangle_count())}), hb::InvalidInput);
 }
+
+// The quick tree (the budgeted bake's own reference) answers as the best one: the same
+// contacts, depths and forces on random segments.
+TEST(ExactQueryTest, TheQuickTreeAnswersAsTheBestOne) {
+  const hb::TriangleMesh mesh = hb::make_torus(1.f, 0.4f, 48, 24);
+  const hb::ExactQuery best(mesh), quick(mesh, hb::BvhBuild::quick);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1.6f, 1.6f);
+  const hb::ForceLaw law{100.f, 1.f};
+  std::size_t contacts = 0;
+  for (int i = 0; i < 5000; ++i) {
+    const hb::Segment s{hb::Vec3(u(rng), u(rng), u(rng)), hb::Vec3(u(rng), u(rng), u(rng))};
+    const hb::Contact a = best.query(s, law), b = quick.query(s, law);
+    ASSERT_EQ(a.contact, b.contact) << i;
+    if (!a.contact) continue;
+    ++contacts;
+    EXPECT_EQ(a.depth, b.depth);
+    EXPECT_EQ(a.force, b.force);
+  }
+  EXPECT_GT(contacts, 500u);
+}
