@@ -6,9 +6,9 @@
 //  3. intersect() refuses (misses) rays outside Embree's valid range, uses rtcIntersect1 (single rays were faster than packets here) and
 //     interpolates the vertex normals at the hit's barycentric coordinates.
 #include "exact/embree_scene.h"
-#include <algorithm>
 #include "errors.h"
 #include <embree3/rtcore.h>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <mutex>

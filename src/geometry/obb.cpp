@@ -44,7 +44,6 @@ Extent extent_along(const std::vector<Vec3>& points, const Eigen::Matrix3f& axes
 
 float volume_of(const Extent& e) { return (e.hi - e.lo).prod(); }
 
-
 Eigen::Matrix3f right_handed(Eigen::Matrix3f axes) {
   for (int c = 0; c < 3; ++c) axes.col(c).normalize();
   axes.col(2) = axes.col(0).cross(axes.col(1)).normalized();

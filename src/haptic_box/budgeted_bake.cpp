@@ -385,21 +385,22 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   // models of issue 17 under the default budget), the finer samplings are not baked and that
   // exact scene is taken (BudgetRecipe::full_search bakes and searches them all).
   bool exact_scene = false;
-  BoxScene held;  // the exact scene while the scene of the same boxes is composed again (its surface cells are reused)
+  std::size_t scored = 0;   // variants [0, scored) are counted
+  BoxScene refined_coarse;  // variant 1's scene: the exact scene when taken (composed once, its surface cells built once)
   if (!br.full_search && pieces > 1 && recipe.options.scene_grid) {
     timed_score(0);
     const Counts blend = totals();
-    if (timed_score(1, &held) == SceneRoute::cells && (excess(blend) > 0.0 || blend.off_surface > 0)) {
-      exact_scene = true;
-      choice.assign(pieces, 1);
-    }
+    exact_scene = timed_score(1, &refined_coarse) == SceneRoute::cells && (excess(blend) > 0.0 || blend.off_surface > 0);
+    scored = 2;
+    if (exact_scene) choice.assign(pieces, 1);
+    else refined_coarse = BoxScene{};
   }
   if (!exact_scene) {
     for (std::size_t c = 1; c < samplings; ++c) {
       bake_pieces(c, all);
       report_progress(0.7 * double(c + 1) / double(samplings));
     }
-    for (std::size_t v = 0; v < variants; ++v) {
+    for (std::size_t v = scored; v < variants; ++v) {
       timed_score(v);
       report_progress(0.7 + 0.1 * double(v + 1) / double(variants));
     }
@@ -479,7 +480,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   report_progress(0.8);
 
   tstage = std::chrono::steady_clock::now();
-  BoxScene scene = compose();
+  BoxScene scene = exact_scene ? std::move(refined_coarse) : compose();
   std::vector<std::uint32_t> owner(tuning.probes.size(), UINT32_MAX);
   for (std::size_t p = 0; p < pieces; ++p)
     for (std::size_t i : owned[p]) owner[i] = std::uint32_t(p);
@@ -527,7 +528,6 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     scene = compose();
   }
   stage_done("tuning_check", seconds_since(tstage));  // includes its re-bakes and grids
-  held = BoxScene{};
   report_progress(0.9);
   // The cells route reads the surface and the grid, never the boxes' triangle ids: a scene
   // it answers keeps no ids (the same answers; the fresh check below is this scene's).

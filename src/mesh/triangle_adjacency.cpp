@@ -3,7 +3,6 @@
 // the 3T edge uses (at 13M triangles two sorts of 40M pairs took about 4 s a call, and a bake
 // made two calls); every triangle's row is found on its own, so the rows run in parallel.
 #include "mesh/triangle_adjacency.h"
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <algorithm>
 
@@ -27,7 +26,7 @@ TriangleAdjacency triangle_adjacency(const TriangleMesh& mesh) {
     for (int c = 0; c < 3; ++c)
       if (distinct(mesh.triangles[t], c)) held[fill[mesh.triangles[t][c]]++] = t;
   // 2. Per triangle: the other triangles holding both ends of one of its edges, sorted,
-  //    without repeats (the rows the sort of (edge, triangle) pairs gave). Counted, then written.
+  //    without repeats (the rows the sort of (edge, triangle) pairs gave).
   const auto row = [&](std::uint32_t t, std::vector<std::uint32_t>& out) {
     out.clear();
     const Triangle& tri = mesh.triangles[t];
@@ -48,24 +47,28 @@ TriangleAdjacency triangle_adjacency(const TriangleMesh& mesh) {
     std::sort(out.begin(), out.end());
     out.erase(std::unique(out.begin(), out.end()), out.end());
   };
+  // Fixed blocks of triangles, each block's rows found once into its own list, then joined
+  // in block order: the same rows whatever the threads do.
+  constexpr std::size_t kBlock = 16384;
+  const std::size_t blocks = (count + kBlock - 1) / kBlock;
+  std::vector<std::vector<std::uint32_t>> block_rows(blocks);
   TriangleAdjacency adj;
   adj.offsets.assign(count + 1, 0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 16384), [&](const tbb::blocked_range<std::size_t>& r) {
+  tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t k) {
     std::vector<std::uint32_t> out;
-    for (std::size_t t = r.begin(); t != r.end(); ++t) {
+    std::vector<std::uint32_t>& rows = block_rows[k];
+    for (std::size_t t = k * kBlock; t < std::min(count, (k + 1) * kBlock); ++t) {
       row(std::uint32_t(t), out);
       adj.offsets[t + 1] = std::uint32_t(out.size());
+      rows.insert(rows.end(), out.begin(), out.end());
     }
   });
   for (std::size_t t = 0; t < count; ++t) adj.offsets[t + 1] += adj.offsets[t];
-  adj.neighbours.resize(adj.offsets.back());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 16384), [&](const tbb::blocked_range<std::size_t>& r) {
-    std::vector<std::uint32_t> out;
-    for (std::size_t t = r.begin(); t != r.end(); ++t) {
-      row(std::uint32_t(t), out);
-      std::copy(out.begin(), out.end(), adj.neighbours.begin() + adj.offsets[t]);
-    }
-  });
+  adj.neighbours.reserve(adj.offsets.back());
+  for (std::vector<std::uint32_t>& rows : block_rows) {
+    adj.neighbours.insert(adj.neighbours.end(), rows.begin(), rows.end());
+    std::vector<std::uint32_t>().swap(rows);
+  }
   return adj;
 }
 
