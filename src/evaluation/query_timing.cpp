@@ -73,6 +73,19 @@ QueryLatency single_query_latency(const ContactQuery& query, const std::vector<S
   out.p99_ns = quantile(ns, 0.99);
   out.p999_ns = quantile(ns, 0.999);
   out.max_ns = *std::max_element(ns.begin(), ns.end());
+  // Each probe's median over the rounds (ns is round-major: round r's probe i at r P + i).
+  const std::size_t count = probes.size();
+  std::vector<double> per_probe(count), round_ns(static_cast<std::size_t>(rounds));
+  for (std::size_t i = 0; i < count; ++i) {
+    for (int r = 0; r < rounds; ++r) round_ns[std::size_t(r)] = ns[std::size_t(r) * count + i];
+    const auto mid = round_ns.begin() + (rounds - 1) / 2;  // the lower median of an even count
+    std::nth_element(round_ns.begin(), mid, round_ns.end());
+    per_probe[i] = *mid;
+  }
+  out.probe_p50_ns = quantile(per_probe, 0.5);
+  out.probe_p99_ns = quantile(per_probe, 0.99);
+  out.probe_p999_ns = quantile(per_probe, 0.999);
+  out.probe_max_ns = *std::max_element(per_probe.begin(), per_probe.end());
   return out;
 }
 

@@ -22,6 +22,12 @@ double median_query_many_ns(const ContactQuery& query, const std::vector<Segment
 /// them. What a 1 kHz loop must budget for is the tail, not the median.
 struct QueryLatency {
   double p50_ns = 0.0, p99_ns = 0.0, p999_ns = 0.0, max_ns = 0.0;
+  /// The same quantiles over each probe's median time across the rounds: the tail the probes
+  /// themselves cause (long walks, crowded cells, a deep BVH descent), with the machine's
+  /// one-off stalls (an interrupt, a neighbour's burst on a shared VM) filtered out, since
+  /// they seldom hit one probe in most rounds. With one or two rounds, each probe's lower time.
+  /// Pooled minus per-probe is what the machine added.
+  double probe_p50_ns = 0.0, probe_p99_ns = 0.0, probe_p999_ns = 0.0, probe_max_ns = 0.0;
   double clock_ns = 0.0;        ///< median cost of one clock read pair (subtracted above).
   std::size_t queries = 0;      ///< timed queries (probes x rounds).
 };

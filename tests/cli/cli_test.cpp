@@ -189,8 +189,11 @@ TEST_F(CliTest, BakeInfoEvalBenchProduceDocumentedJson) {
     EXPECT_LE(t["p50_ns"].get<double>(), t["p99_ns"].get<double>());
     EXPECT_LE(t["p99_ns"].get<double>(), t["p999_ns"].get<double>());
     EXPECT_LE(t["p999_ns"].get<double>(), t["max_ns"].get<double>());
+    // One round: each probe's median is its only time, so the probes' tail is the pooled one.
+    for (const char* q : {"p50_ns", "p99_ns", "p999_ns", "max_ns"})
+      EXPECT_EQ(t[std::string("probe_") + q].get<double>(), t[q].get<double>()) << tail << " " << q;
   }
-  for (const char* order : {"random", "batched", "coherent", "strokes", "p99", "p999"}) {
+  for (const char* order : {"random", "batched", "coherent", "strokes", "p99", "p999", "probe_p999"}) {
     const std::string v = k["verdict"][order].get<std::string>();
     EXPECT_TRUE(v.rfind("faster than exact, ", 0) == 0 || v.rfind("SLOWER than exact, ", 0) == 0) << order << ": " << v;
   }
