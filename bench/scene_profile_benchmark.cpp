@@ -75,6 +75,22 @@ void cells_walk(benchmark::State& state) {
     if (++i == g->probes.size()) i = 0;
   }
 }
+// The scene's batched query (query_many, 1000 probes a call, as `bench`'s batched order), the
+// walks side by side or one at a time; the time is per probe.
+void scene_many(benchmark::State& state, hb::BoxScene::SideBySide mode) {
+  g->scene.set_side_by_side(mode);
+  constexpr std::size_t kBatch = 1000;
+  std::vector<hb::Contact> out(kBatch);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const std::size_t n = std::min(kBatch, g->probes.size() - i);
+    g->scene.query_many(g->probes.data() + i, n, g->law, out.data());
+    benchmark::DoNotOptimize(out.data());
+    i = i + n == g->probes.size() ? 0 : i + n;
+  }
+  state.SetItemsProcessed(state.iterations() * std::int64_t(kBatch));
+  g->scene.set_side_by_side(hb::BoxScene::SideBySide::automatic);
+}
 // The scene and exact on the first 64 probes only: caches warm, as on a stroke.
 void warm_query(benchmark::State& state, bool exact) {
   std::size_t i = 0;
@@ -174,6 +190,8 @@ int main(int argc, char** argv) {
   }
   benchmark::RegisterBenchmark("exact", exact_query);
   benchmark::RegisterBenchmark("scene", scene_query);
+  benchmark::RegisterBenchmark("scene_many_side_by_side", scene_many, hb::BoxScene::SideBySide::always);
+  benchmark::RegisterBenchmark("scene_many_one_at_a_time", scene_many, hb::BoxScene::SideBySide::never);
   benchmark::RegisterBenchmark("exact_warm", warm_query, true);
   benchmark::RegisterBenchmark("scene_warm", warm_query, false);
   if (f.scene.grid()) benchmark::RegisterBenchmark("grid_routing", grid_routing);

@@ -468,6 +468,11 @@ Contact BoxScene::first_crossing_contact(const Segment& segment, float length, c
   // The walk jumps over empty space by the cells' clearance and steps cell by cell near the
   // surface (SurfaceCells::first_crossing_along).
   cells_->first_crossing_along(segment.start, segment.end, 1.f, best_s, best_front, best_id);
+  return crossing_contact(segment, length, law, best_id, best_front);
+}
+
+Contact BoxScene::crossing_contact(const Segment& segment, float length, const ForceLaw& law, std::uint32_t best_id,
+                                   bool best_front) const noexcept {
   // No crossing, or the first one leaves the object (the handle is inside): no contact.
   if (best_id == kNoTriangle || !best_front) return Contact{};
   // Exact's contact on that triangle: the crossing along the unit direction, its shading.
@@ -626,7 +631,43 @@ Contact BoxScene::query_met(const Segment& segment, const ForceLaw& law, std::si
 void BoxScene::query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
                           Contact* out) const noexcept {
   if (boxes_.size() == 1) return boxes_[0].query_many(segments, count, law, out);
-  for (std::size_t i = 0; i < count; ++i) out[i] = query(segments[i], law);
+  const bool side_by_side = side_by_side_ == SideBySide::always ||
+                            (side_by_side_ == SideBySide::automatic && cells_ && cells_->walks_side_by_side());
+  if (!grid_ || answering_route() != SceneRoute::cells || !side_by_side) {
+    for (std::size_t i = 0; i < count; ++i) out[i] = query(segments[i], law);
+    return;
+  }
+  // The cells route (query_routed's first lines), its walks run side by side a chunk at a
+  // time (SurfaceCells::first_crossings_along): the same answers as query().
+  constexpr std::size_t kChunk = 64;
+  Vec3 a[kChunk], b[kChunk];
+  float length[kChunk];
+  std::uint32_t which[kChunk];
+  SurfaceCells::Crossing crossing[kChunk];
+  for (std::size_t first = 0; first < count; first += kChunk) {
+    const std::size_t last = std::min(count, first + kChunk);
+    std::size_t walks = 0;
+    for (std::size_t i = first; i < last; ++i) {
+      const Segment& segment = segments[i];
+      if (grid_->code_at(segment.start) == SceneGrid::kInside) {
+        out[i] = Contact{};
+        continue;
+      }
+      const float l = (segment.end - segment.start).norm();
+      if (!(l > 0.f) || !std::isfinite(l)) {
+        out[i] = query(segment, law);  // the path without the grid answers
+        continue;
+      }
+      a[walks] = segment.start;
+      b[walks] = segment.end;
+      length[walks] = l;
+      which[walks++] = std::uint32_t(i);
+    }
+    cells_->first_crossings_along(a, b, walks, crossing);
+    for (std::size_t k = 0; k < walks; ++k)
+      out[which[k]] = crossing_contact(segments[which[k]], length[k], law,
+                                       crossing[k].found ? crossing[k].triangle : kNoTriangle, crossing[k].front);
+  }
 }
 
 void BoxScene::set_piece_of_triangle(std::vector<std::uint32_t> piece_of_triangle) {

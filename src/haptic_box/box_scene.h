@@ -103,7 +103,9 @@ public:
   /// tested from the handle and from a box's entry differ by rounding).
   static constexpr float kSameCrossing = 1e-5f;
   /// The same answers as query() one by one. A one-box scene runs HapticBox::query_many
-  /// (fetches of a group of queries overlapped); with several boxes, query() in a loop.
+  /// (fetches of a group of queries overlapped); the cells route on a surface larger than the
+  /// last-level cache runs several queries' walks side by side (SurfaceCells::
+  /// first_crossings_along); otherwise query() in a loop.
   void query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
                   Contact* out) const noexcept override;
 
@@ -151,6 +153,11 @@ public:
   /// See SceneRoute (no effect without surface cells).
   void set_route(SceneRoute route) noexcept { route_ = route; }
   SceneRoute route() const noexcept { return route_; }
+  /// Whether query_many() on the cells route runs its walks side by side: when the surface
+  /// exceeds the last-level cache (automatic, SurfaceCells::walks_side_by_side), always or
+  /// never (for tests and before/after figures). The same answers either way.
+  enum class SideBySide { automatic, always, never };
+  void set_side_by_side(SideBySide mode) noexcept { side_by_side_ = mode; }
   /// The route the queries take: `route()` when the scene has what it needs (the cells route
   /// needs surface cells, set_cell_triangles and UnconfirmedBlend::reject), boxes otherwise.
   SceneRoute answering_route() const noexcept {
@@ -210,12 +217,17 @@ private:
   std::shared_ptr<const SurfaceCells> cells_;
   bool use_cells_ = true;
   SceneRoute route_ = SceneRoute::cells;
+  SideBySide side_by_side_ = SideBySide::automatic;
   BudgetReport budget_;
   // The routed query's cell-triangle steps (box_scene.cpp, step 7).
   struct Visited;
   // SceneRoute::cells: the contact of the segment's first crossing among the surface cells'
   // triangles (none when it leaves the object).
   Contact first_crossing_contact(const Segment& segment, float length, const ForceLaw& law) const noexcept;
+  // The contact of the segment's first crossing `triangle` (kNoTriangle: none), found by the
+  // surface cells' walk; `front`: it enters the object.
+  Contact crossing_contact(const Segment& segment, float length, const ForceLaw& law, std::uint32_t triangle,
+                           bool front) const noexcept;
   bool settle_first_crossing(const Segment& segment, const ForceLaw& law, const Visited& visited, Contact& best,
                              float& best_along, std::uint32_t& best_box, std::uint32_t& best_triangle,
                              std::size_t* asked_count) const noexcept;

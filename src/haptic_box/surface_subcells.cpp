@@ -97,6 +97,63 @@ SurfaceSubcells::SurfaceSubcells(const Vec3& origin, float cell, const std::vect
   }
 }
 
+void SurfaceSubcells::prefetch(std::uint32_t crowded, int stage) const noexcept {
+  if (crowded >= crowded_count()) return;
+  const std::size_t word0 = std::size_t(crowded) * std::size_t(words_), next = word0 + std::size_t(words_);
+  if (stage == 0) {
+    for (std::size_t w = word0; w < next; w += 8) {
+      __builtin_prefetch(mask_.data() + w);
+      __builtin_prefetch(rank_.data() + w);
+    }
+    if (next < rank_.size()) __builtin_prefetch(rank_.data() + next);
+    return;
+  }
+  // The cell's lists are [first, last): the next crowded cell's first, or the end.
+  const std::uint32_t first = rank_[word0];
+  const std::uint32_t last = next < rank_.size() ? rank_[next] : std::uint32_t(offsets_.size() - 1);
+  if (first > last || last >= offsets_.size()) return;
+  if (stage == 1) {
+    for (std::uint32_t k = first; k <= last; k += 16) __builtin_prefetch(offsets_.data() + k);
+    __builtin_prefetch(offsets_.data() + last);
+    return;
+  }
+  const std::uint32_t from = offsets_[first], to = std::min<std::uint32_t>(offsets_[last], from + 256);
+  for (std::uint32_t k = from; k < to; k += 16) __builtin_prefetch(slots_.data() + k);
+}
+
+int SurfaceSubcells::lists_along(std::uint32_t crowded, const int cell[3], const Vec3& fa, const Vec3& fd,
+                                 const float inv[3], float s_enter, float s_exit, std::uint32_t* first,
+                                 std::uint32_t* count, int max) const noexcept {
+  if (crowded >= crowded_count()) return 0;
+  const std::size_t word0 = std::size_t(crowded) * std::size_t(words_);
+  const int side = side_;
+  const float to_sub = 1.f / float(side);
+  float a[3], ds[3], inv_sub[3];
+  for (int k = 0; k < 3; ++k) {
+    a[k] = (fa[k] - float(cell[k])) * float(side);
+    ds[k] = fd[k] * float(side);
+    inv_sub[k] = inv[k] * to_sub;
+  }
+  const int n[3] = {side, side, side};
+  CellDda dda(inv_sub);
+  dda.start(a, ds, inv_sub, s_enter, n);
+  int found = 0;
+  for (int it = 0; it < 3 * side && found < max; ++it) {
+    const unsigned bit = unsigned((dda.z * side + dda.y) * side + dda.x);
+    const std::size_t word = word0 + (bit >> 6);
+    const std::uint64_t mask = mask_[word];
+    if ((mask >> (bit & 63)) & 1u) {
+      const std::uint32_t list = rank_[word] + SurfaceCells::cells_below(mask, bit & 63);
+      first[found] = offsets_[list];
+      count[found++] = offsets_[list + 1] - offsets_[list];
+    }
+    bool inside = true;
+    const float s = dda.step(n, inside);
+    if (s > s_exit || !inside) break;
+  }
+  return found;
+}
+
 bool SurfaceSubcells::first_crossing(std::uint32_t crowded, const int cell[3], const Vec3& fa, const Vec3& fd,
                                      const float inv[3], float s_enter, float s_exit, float s_cap, const float o[3],
                                      const float d[3], const SurfaceTriangles& surface, float& best, bool& front,

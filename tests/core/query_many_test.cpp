@@ -137,8 +137,12 @@ TEST(QueryManyTest, ARefinedSceneOnTheCellsRouteGivesTheSameAnswersAsSingleQueri
   // The batch of a scene on the cells route (overlapping pieces): the single queries'
   // answers, bit for bit.
   const test::TwoSpheres two = test::two_spheres(1.5f);
-  const BoxScene scene = test::refined_two_spheres(two);
+  BoxScene scene = test::refined_two_spheres(two);
   ASSERT_EQ(scene.answering_route(), SceneRoute::cells);
+  EXPECT_GT(expect_same_as_single(scene, mixed_probes(two.mesh)), 0u);
+  // The walks side by side (automatic leaves so small a surface to one at a time).
+  ASSERT_FALSE(scene.surface_cells()->walks_side_by_side());
+  scene.set_side_by_side(BoxScene::SideBySide::always);
   EXPECT_GT(expect_same_as_single(scene, mixed_probes(two.mesh)), 0u);
 }
 

@@ -9,6 +9,7 @@
 #include "two_spheres.h"
 #include <gtest/gtest.h>
 #include <array>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -159,6 +160,47 @@ TEST(SurfaceCellsTest, FirstCrossingAlongFindsTheNearestCrossingOfAllTrianglesWi
       EXPECT_EQ(got_front, want_front) << cell << " " << k;
     }
     EXPECT_GT(crossed, 1000u) << cell;
+  }
+}
+
+TEST(SurfaceCellsTest, WalksSideBySideFindTheSameCrossingsAsOneByOne) {
+  // first_crossings_along (several walks in flight, each stopping where it waits for memory)
+  // against first_crossing_along one segment at a time, bit for bit: on a grid with crowded
+  // cells cut into sub-cells and on one without, segments through the surface, inside,
+  // outside, beyond the grid and degenerate, in a count that is no multiple of the walks in
+  // flight.
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  const auto surface = std::make_shared<const SurfaceTriangles>(two.mesh);
+  for (const float cell : {1.f / 12.f, 1.f / 100.f}) {
+    const SceneGrid grid = build_scene_grid(two.mesh, lists_of(two), SceneGridOptions{cell});
+    const SurfaceCells cells(grid, surface);
+    std::mt19937 rng(29);
+    std::uniform_real_distribution<float> ux(-1.3f, 4.3f), uyz(-1.3f, 1.3f), far(-3.f, 6.f), dir(-1.f, 1.f);
+    std::vector<Vec3> a, b;
+    for (int k = 0; k < 3001; ++k) {
+      a.emplace_back(ux(rng), uyz(rng), uyz(rng));
+      b.push_back(k % 3 == 0 ? Vec3(far(rng), far(rng), far(rng)) : Vec3(a.back() + 0.6f * Vec3(dir(rng), dir(rng), dir(rng))));
+    }
+    a.emplace_back(0.5f, 0.2f, 0.1f);  // degenerate: handle and tip the same point
+    b.push_back(a.back());
+    a.emplace_back(-50.f, -50.f, -50.f);  // far beyond the grid
+    b.emplace_back(-40.f, -50.f, -50.f);
+    std::vector<SurfaceCells::Crossing> many(a.size());
+    cells.first_crossings_along(a.data(), b.data(), a.size(), many.data());
+    std::size_t found = 0;
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      float s = 0.f;
+      bool front = false;
+      std::uint32_t id = kNoTriangle;
+      const bool one = cells.first_crossing_along(a[k], b[k], 1.f, s, front, id);
+      ASSERT_EQ(many[k].found, one) << cell << " " << k;
+      if (!one) continue;
+      ++found;
+      EXPECT_EQ(std::memcmp(&many[k].s, &s, sizeof s), 0) << cell << " " << k;
+      EXPECT_EQ(many[k].front, front) << cell << " " << k;
+      EXPECT_EQ(many[k].triangle, id) << cell << " " << k;
+    }
+    EXPECT_GT(found, 500u) << cell;
   }
 }
 

@@ -1,0 +1,254 @@
+// SurfaceCells::first_crossings_along: many segments' walks through the surface cells, several
+// in flight at a time (asynchronous memory access chaining). A walk is first_crossing_along's
+// loop cut where it waits for memory: the clearance byte of its next cell, the brick's mask
+// and base, the cell's list bounds, the list, the records. At each cut it prefetches what it
+// reads next and the next walk in the round goes on, so the loads of many walks overlap. The
+// float operations are first_crossing_along's, in its order: the same crossings bit for bit.
+#include "haptic_box/scene_grid.h"
+#include "geometry/cell_dda.h"
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unistd.h>
+
+namespace hb {
+
+namespace {
+
+// Where a walk stands: what it reads when it runs next (prefetched when it stopped).
+enum class Phase : std::uint8_t { clearance, cell, list, records, crowded_entry, crowded_bounds, crowded_lists,
+                                  crowded_records, test };
+
+struct Walk {
+  float fa[3], fd[3], inv[3], o[3], d[3];
+  float s = 0.f, s1 = 0.f, s_per_cell = 0.f;
+  float best = std::numeric_limits<float>::infinity();
+  bool best_front = false;
+  std::uint32_t best_id = kNoTriangle;
+  CellDda dda{kNoStep};
+  int it = 0;
+  std::size_t brick = 0;
+  unsigned bit = 0;
+  std::uint32_t index = 0, begin = 0, count = 0, crowded = SurfaceSubcells::kNone;
+  Phase phase = Phase::clearance;
+  static constexpr int kMaxLists = 16;
+  std::uint32_t list_first[kMaxLists], list_count[kMaxLists];  // a crowded cell's sub-cell lists passed
+  int lists = 0;
+  std::size_t segment = 0;
+  static constexpr float kNoStep[3] = {0.f, 0.f, 0.f};
+};
+
+// The last-level cache's bytes (the process's first call reads it).
+std::size_t last_level_cache_bytes() noexcept {
+  static const std::size_t bytes = [] {
+    const long l3 = ::sysconf(_SC_LEVEL3_CACHE_SIZE);
+    return l3 > 0 ? std::size_t(l3) : std::size_t(32) << 20;
+  }();
+  return bytes;
+}
+
+} // namespace
+
+bool SurfaceCells::walks_side_by_side() const noexcept {
+  return surface_ && surface_->bytes() + bytes() > last_level_cache_bytes();
+}
+
+void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size_t count,
+                                         Crossing* out) const noexcept {
+  for (std::size_t i = 0; i < count; ++i) out[i] = Crossing{};
+  if (masks_.empty()) return;
+  const int* n = dims_.data();
+  const int limit = dims_[0] + dims_[1] + dims_[2];
+  const auto brick_of = [&](const CellDda& dda) {
+    return (std::size_t(dda.z >> 2) * std::size_t(bricks_y_) + std::size_t(dda.y >> 2)) * std::size_t(bricks_x_) +
+           std::size_t(dda.x >> 2);
+  };
+  const auto bit_of = [](const CellDda& dda) {
+    return unsigned(((dda.z & 3) << 4) | ((dda.y & 3) << 2) | (dda.x & 3));
+  };
+  // first_crossing_along's start: false when the segment misses the grid (no crossing).
+  const auto start = [&](Walk& w, std::size_t i) {
+    const Vec3 fa = (a[i] - origin_) * inv_cell_, fd = (b[i] - a[i]) * inv_cell_;
+    float s0 = 0.f, s1 = 1.f;
+    for (int k = 0; k < 3; ++k) {
+      const float hi = float(dims_[k]);
+      if (std::fabs(fd[k]) < 1e-30f) {
+        if (!(fa[k] >= 0.f && fa[k] <= hi)) return false;
+        continue;
+      }
+      float u = (0.f - fa[k]) / fd[k], v = (hi - fa[k]) / fd[k];
+      if (u > v) std::swap(u, v);
+      s0 = std::max(s0, u);
+      s1 = std::min(s1, v);
+    }
+    if (!(s0 <= s1)) return false;
+    const float max_d = std::max({std::fabs(fd.x()), std::fabs(fd.y()), std::fabs(fd.z())});
+    w.s_per_cell = max_d > 0.f ? 1.f / max_d : 2.f;
+    for (int k = 0; k < 3; ++k) {
+      w.o[k] = a[i][k];
+      w.d[k] = b[i][k] - a[i][k];
+      w.inv[k] = fd[k] > 1e-30f || fd[k] < -1e-30f ? 1.f / fd[k] : 0.f;
+      w.fa[k] = fa[k];
+      w.fd[k] = fd[k];
+    }
+    w.dda = CellDda(w.inv);
+    w.best = std::numeric_limits<float>::infinity();
+    w.best_front = false;
+    w.best_id = kNoTriangle;
+    w.s = s0;
+    w.s1 = s1;
+    w.dda.start(w.fa, w.fd, w.inv, w.s, n);
+    w.it = 0;
+    w.phase = Phase::clearance;
+    w.segment = i;
+    __builtin_prefetch(clear_.data() + brick_of(w.dda) * 64);
+    return true;
+  };
+  // Runs walk w up to its next wait for memory: true while it walks on, false when done.
+  const auto advance = [&](Walk& w) {
+    switch (w.phase) {
+    case Phase::clearance:
+      for (;;) {
+        if (w.it >= limit || w.s > w.best) return false;
+        w.brick = brick_of(w.dda);
+        w.bit = bit_of(w.dda);
+        const int clear = clear_[w.brick * 64 + w.bit];
+        if (clear >= 2) {
+          const float jump = w.s + (float(clear - 1) - 0.01f) * w.s_per_cell;
+          if (jump > w.s1) return false;
+          w.s = jump;
+          w.dda.start(w.fa, w.fd, w.inv, w.s, n);
+          ++w.it;
+          __builtin_prefetch(clear_.data() + brick_of(w.dda) * 64);
+          return true;
+        }
+        if (clear == 0) {
+          __builtin_prefetch(masks_.data() + w.brick);
+          __builtin_prefetch(base_.data() + w.brick);
+          w.phase = Phase::cell;
+          return true;
+        }
+        bool inside = true;
+        w.s = w.dda.step(n, inside);
+        ++w.it;
+        if (w.s > w.s1 || !inside) return false;
+        const std::size_t next = brick_of(w.dda);
+        if (next != w.brick) {  // another brick's clearance line: wait for it
+          __builtin_prefetch(clear_.data() + next * 64);
+          return true;
+        }
+      }
+    case Phase::cell:
+      w.index = base_[w.brick] + cells_below(masks_[w.brick], w.bit);
+      __builtin_prefetch(offsets_.data() + w.index);
+      w.phase = Phase::list;
+      return true;
+    case Phase::list:
+      w.begin = offsets_[w.index];
+      w.count = offsets_[w.index + 1] - w.begin;
+      for (std::uint32_t k = 0; k < std::min<std::uint32_t>(w.count, 64); k += 16)
+        __builtin_prefetch(slots_.data() + w.begin + k);
+      w.crowded = SurfaceSubcells::kNone;
+      if (subcells_.may_be_crowded(w.count)) {
+        subcells_.prefetch_entry(w.index);
+        w.phase = Phase::crowded_entry;
+      } else {
+        w.phase = Phase::records;
+      }
+      return true;
+    case Phase::records: {
+      const std::uint32_t* ids = slots_.data() + w.begin;
+      for (std::uint32_t k = 0; k < std::min<std::uint32_t>(w.count, 32); ++k) surface_->prefetch(ids[k]);
+      w.phase = Phase::test;
+      return true;
+    }
+    case Phase::crowded_entry:
+      w.crowded = subcells_.crowded(w.index);
+      if (w.crowded == SurfaceSubcells::kNone) {  // the list was prefetched with the entry
+        const std::uint32_t* ids = slots_.data() + w.begin;
+        for (std::uint32_t k = 0; k < std::min<std::uint32_t>(w.count, 32); ++k) surface_->prefetch(ids[k]);
+        w.phase = Phase::test;
+        return true;
+      }
+      subcells_.prefetch(w.crowded, 0);
+      w.phase = Phase::crowded_bounds;
+      return true;
+    case Phase::crowded_bounds:
+      subcells_.prefetch(w.crowded, 1);
+      w.phase = Phase::crowded_lists;
+      return true;
+    case Phase::crowded_lists: {
+      // The lists of the sub-cells the segment passes in this cell (what the test reads).
+      const int cell[3] = {w.dda.x, w.dda.y, w.dda.z};
+      const Vec3 fa(w.fa[0], w.fa[1], w.fa[2]), fd(w.fd[0], w.fd[1], w.fd[2]);
+      w.lists = subcells_.lists_along(w.crowded, cell, fa, fd, w.inv, w.s, std::min(w.dda.exit(), w.s1), w.list_first,
+                                      w.list_count, Walk::kMaxLists);
+      for (int k = 0; k < w.lists; ++k)
+        for (std::uint32_t j = 0; j < w.list_count[k]; j += 16) __builtin_prefetch(subcells_.slots() + w.list_first[k] + j);
+      w.phase = Phase::crowded_records;
+      return true;
+    }
+    case Phase::crowded_records: {
+      int prefetched = 0;
+      for (int k = 0; k < w.lists && prefetched < 48; ++k)
+        for (std::uint32_t j = 0; j < w.list_count[k] && prefetched < 48; ++j, ++prefetched)
+          surface_->prefetch(subcells_.slots()[w.list_first[k] + j]);
+      w.phase = Phase::test;
+      return true;
+    }
+    case Phase::test: {
+      const std::uint32_t crowded = w.crowded;
+      if (crowded != SurfaceSubcells::kNone) {
+        const int cell[3] = {w.dda.x, w.dda.y, w.dda.z};
+        const Vec3 fa(w.fa[0], w.fa[1], w.fa[2]), fd(w.fd[0], w.fd[1], w.fd[2]);
+        subcells_.first_crossing(crowded, cell, fa, fd, w.inv, w.s, std::min(w.dda.exit(), w.s1), w.s1, w.o, w.d,
+                                 *surface_, w.best, w.best_front, w.best_id);
+      } else {
+        float cs = 0.f;
+        bool cf = false;
+        std::uint32_t ct = kNoTriangle;
+        if (surface_->first_crossing(slots_.data() + w.begin, w.count, w.o, w.d, 0.f, std::min(w.best, w.s1), cs, cf,
+                                     ct) &&
+            cs < w.best)
+          w.best = cs, w.best_front = cf, w.best_id = ct;
+      }
+      bool inside = true;
+      w.s = w.dda.step(n, inside);
+      ++w.it;
+      if (w.s > w.s1 || !inside) return false;
+      w.phase = Phase::clearance;
+      __builtin_prefetch(clear_.data() + brick_of(w.dda) * 64);
+      return true;
+    }
+    }
+    return false;
+  };
+  constexpr int kInFlight = 8;
+  Walk walks[kInFlight];
+  bool live[kInFlight] = {};
+  int running = 0;
+  std::size_t next = 0;
+  const auto refill = [&](int k) {
+    while (next < count) {
+      const std::size_t i = next++;
+      if (start(walks[k], i)) {
+        live[k] = true;
+        ++running;
+        return;
+      }
+    }
+  };
+  for (int k = 0; k < kInFlight; ++k) refill(k);
+  while (running > 0) {
+    for (int k = 0; k < kInFlight; ++k) {
+      if (!live[k] || advance(walks[k])) continue;
+      const Walk& w = walks[k];
+      if (w.best_id != kNoTriangle) out[w.segment] = Crossing{true, w.best_front, w.best, w.best_id};
+      live[k] = false;
+      --running;
+      refill(k);
+    }
+  }
+}
+
+} // namespace hb
