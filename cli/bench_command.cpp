@@ -113,6 +113,10 @@ void add_bench_command(CLI::App& app) {
     // query_many runs queries side by side in SIMD lanes for one raw, unrefined box only.
     const auto& boxes = scene.boxes();
     const bool lanes = boxes.size() == 1 && boxes[0].codec() == hb::CodecId::none && !boxes[0].refines();
+    // ... and, on the cells route, runs several queries' walks side by side on a surface
+    // larger than the last-level cache.
+    const bool walks = scene.grid() && scene.answering_route() == hb::SceneRoute::cells &&
+                       scene.surface_cells()->walks_side_by_side();
     const double mean_met = probes.empty() ? 0.0 : met_sum / double(probes.size());
     const double mean_asked = probes.empty() ? 0.0 : asked_sum / double(probes.size());
     const double share_one = probes.empty() ? 0.0 : double(asked_one) / double(probes.size());
@@ -151,6 +155,7 @@ void add_bench_command(CLI::App& app) {
                               {"speedup_batched", box_many_ns > 0 ? exact_many_ns / box_many_ns : 0.0},
                               {"batched_isa", isa_name},
                               {"batched_lanes", lanes},
+                              {"batched_walks_side_by_side", walks},
                               {"box_coherent_ns", box_coherent_ns},
                               {"exact_coherent_ns", exact_coherent_ns},
                               {"speedup_coherent", box_coherent_ns > 0 ? exact_coherent_ns / box_coherent_ns : 0.0},
@@ -196,8 +201,10 @@ void add_bench_command(CLI::App& app) {
               << exact_tail.probe_p999_ns << "  max " << exact_tail.probe_max_ns << " ns\n"
               << "    p99.9: " << verdicts["probe_p999"].get<std::string>() << "\n"
               << std::setprecision(1) << "batched (query_many, 1000 probes a call, random order; "
-              << (lanes ? std::string("queries side by side in ") + isa_name + " lanes"
-                        : std::string("one query at a time: SIMD lanes serve one raw unrefined box"))
+              << (lanes   ? std::string("queries side by side in ") + isa_name + " lanes"
+                  : walks ? std::string("the cells route's walks side by side, each prefetching its next step")
+                          : std::string("one query at a time: SIMD lanes serve one raw unrefined box, walks side by "
+                                        "side a surface larger than the last-level cache"))
               << "):\n"
               << "  haptic box  " << box_many_ns << " ns/query, exact " << exact_many_ns
               << " ns/query (single rays: Embree packets were slower here): box is "

@@ -179,7 +179,8 @@ TEST_F(CliTest, BakeInfoEvalBenchProduceDocumentedJson) {
   ASSERT_EQ(bench.code, 0) << bench.err;
   const auto k = nlohmann::json::parse(bench.out);
   for (const char* key : {"box_ns", "exact_ns", "speedup", "box_batched_ns", "exact_batched_ns", "speedup_batched", "box_stroke_ns",
-                          "exact_stroke_ns", "speedup_stroke", "triangles", "batched_isa", "batched_lanes"})
+                          "exact_stroke_ns", "speedup_stroke", "triangles", "batched_isa", "batched_lanes",
+                          "batched_walks_side_by_side"})
     EXPECT_TRUE(k.contains(key)) << key;
   // The tail of single queries, ordered, and a verdict per order.
   for (const char* tail : {"box_single_tail", "exact_single_tail"}) {
