@@ -516,6 +516,45 @@ SurfaceCells::SurfaceCells(const SceneGrid& grid, std::shared_ptr<const SurfaceT
       }
   // 3a. Sub-cells for the cells listing many triangles (first_crossing_along).
   subcells_ = SurfaceSubcells(origin_, cell_, cell_of, offsets_, slots_, surf);
+  // 3b. Each cell's slab: the area-weighted mean normal of its triangles (none when they
+  //     cancel, as on two sheets facing away), their vertices' extent along it, cut to the
+  //     cell's extent along it (the triangles' parts in the cell lie in both), widened by a
+  //     thousandth of a cell for rounding.
+  slabs_.assign(total, Slab{{0.f, 0.f, 1.f}, -std::numeric_limits<float>::infinity(),
+                            std::numeric_limits<float>::infinity()});
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, total, 1024), [&](const tbb::blocked_range<std::uint32_t>& range) {
+    for (std::uint32_t ci = range.begin(); ci != range.end(); ++ci) {
+      Vec3 sum = Vec3::Zero();
+      float area = 0.f;
+      for (std::uint32_t k = offsets_[ci]; k < offsets_[ci + 1]; ++k) {
+        const SurfaceTriangles::Record& r = surf.records()[slots_[k]];
+        const Vec3 g = Vec3(r.e1[0], r.e1[1], r.e1[2]).cross(Vec3(r.e2[0], r.e2[1], r.e2[2]));
+        sum += g;
+        area += g.norm();
+      }
+      const float len = sum.norm();
+      if (!(len > 0.5f * area) || !std::isfinite(len) || !(area > 0.f)) continue;  // no one side
+      const Vec3 n = sum / len;
+      float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+      for (std::uint32_t k = offsets_[ci]; k < offsets_[ci + 1]; ++k) {
+        const SurfaceTriangles::Record& r = surf.records()[slots_[k]];
+        const Vec3 a(r.a[0], r.a[1], r.a[2]);
+        for (const Vec3& v : {a, Vec3(a + Vec3(r.e1[0], r.e1[1], r.e1[2])), Vec3(a + Vec3(r.e2[0], r.e2[1], r.e2[2]))}) {
+          const float dv = n.dot(v);
+          lo = std::min(lo, dv);
+          hi = std::max(hi, dv);
+        }
+      }
+      const std::array<int, 3>& q = cell_of[ci];
+      const Vec3 centre = origin_ + cell_ * Vec3(float(q[0]) + 0.5f, float(q[1]) + 0.5f, float(q[2]) + 0.5f);
+      const float reach = 0.5f * cell_ * (std::fabs(n.x()) + std::fabs(n.y()) + std::fabs(n.z()));
+      const float margin = 1e-3f * cell_;
+      lo = std::max(lo, n.dot(centre) - reach) - margin;
+      hi = std::min(hi, n.dot(centre) + reach) + margin;
+      if (!std::isfinite(lo) || !std::isfinite(hi)) continue;
+      slabs_[ci] = Slab{{n.x(), n.y(), n.z()}, lo, hi};
+    }
+  });
   const auto centre_of = [&](int x, int y, int z) -> Vec3 {  // a Vec3, not an expression of a temporary
     return origin_ + cell_ * Vec3(float(x) + 0.5f, float(y) + 0.5f, float(z) + 0.5f);
   };
@@ -640,10 +679,10 @@ bool SurfaceCells::first_crossing_along(const Vec3& a, const Vec3& b, float s_ma
       dda.start(fa3, fd3, inv, s, n);
       continue;
     }
-    if (clear == 0) {
-      // A surface cell (clearance 0 exactly there: both come from the grid's codes).
-      const std::uint64_t mask = masks_[brick];
-      const std::uint32_t index = base_[brick] + cells_below(mask, bit);
+    // A surface cell (clearance 0 exactly there: both come from the grid's codes), unless
+    // the segment passes its triangles by (its slab): then none is crossed here.
+    const std::uint32_t index = clear == 0 ? base_[brick] + cells_below(masks_[brick], bit) : kNone;
+    if (clear == 0 && slab_may_cross(index, o, d, s, std::min(dda.exit(), s1))) {
       const std::uint32_t begin = offsets_[index], count = offsets_[index + 1] - begin;
       const std::uint32_t crowded = subcells_.may_be_crowded(count) ? subcells_.crowded(index) : SurfaceSubcells::kNone;
       if (crowded != SurfaceSubcells::kNone) {

@@ -244,10 +244,29 @@ public:
   const SurfaceTriangles& surface() const { return *surface_; }
   /// The sub-cells of the crowded cells.
   const SurfaceSubcells& subcells() const { return subcells_; }
+  /// Where surface cell `index`'s triangles can be within it: between two parallel planes,
+  /// n . p in [lo, hi] (n unit: the mean of their normals; lo, hi: their vertices' extent
+  /// along n cut to the cell's, with a margin). A segment whose part in the cell stays on one
+  /// side crosses none of them there, so the walks skip the cell's tests: a triangle crossed
+  /// elsewhere is listed (and tested) in the cell holding that crossing. lo > hi: none.
+  struct Slab {
+    float n[3];
+    float lo, hi;
+  };
+  /// Whether the part s in [s_a, s_b] of segment o + s d may meet surface cell `index`'s
+  /// triangles (its slab); true for an index out of range.
+  bool slab_may_cross(std::uint32_t index, const float o[3], const float d[3], float s_a, float s_b) const noexcept {
+    if (index >= slabs_.size()) return true;
+    const Slab& c = slabs_[index];
+    const float no = c.n[0] * o[0] + c.n[1] * o[1] + c.n[2] * o[2];
+    const float nd = c.n[0] * d[0] + c.n[1] * d[1] + c.n[2] * d[2];
+    const float da = no + s_a * nd, db = no + s_b * nd;
+    return !(std::max(da, db) < c.lo || std::min(da, db) > c.hi);
+  }
   /// Bytes in memory.
   std::size_t bytes() const {
     return masks_.size() * 8 + base_.size() * 4 + offsets_.size() * 4 + slots_.size() * 4 + states_.size() +
-           clear_.size() + subcells_.bytes();
+           clear_.size() + slabs_.size() * sizeof(Slab) + subcells_.bytes();
   }
 
 private:
@@ -261,6 +280,7 @@ private:
   std::vector<std::uint8_t> states_;
   std::vector<std::uint8_t> clear_;    // per cell (brick order, as masks_): chessboard clearance
   SurfaceSubcells subcells_;           // the crowded cells' sub-cells
+  std::vector<Slab> slabs_;            // per surface cell: where its triangles are (slab_may_cross)
   std::shared_ptr<const SurfaceTriangles> surface_;
 };
 

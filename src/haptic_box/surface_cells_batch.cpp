@@ -104,6 +104,16 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
     __builtin_prefetch(clear_.data() + brick_of(w.dda) * 64);
     return true;
   };
+  // Steps walk w past a surface cell: false at the segment's or the grid's end.
+  const auto step_on = [&](Walk& w) {
+    bool inside = true;
+    w.s = w.dda.step(n, inside);
+    ++w.it;
+    if (w.s > w.s1 || !inside) return false;
+    w.phase = Phase::clearance;
+    __builtin_prefetch(clear_.data() + brick_of(w.dda) * 64);
+    return true;
+  };
   // Runs walk w up to its next wait for memory: true while it walks on, false when done.
   const auto advance = [&](Walk& w) {
     switch (w.phase) {
@@ -141,9 +151,11 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
     case Phase::cell:
       w.index = base_[w.brick] + cells_below(masks_[w.brick], w.bit);
       __builtin_prefetch(offsets_.data() + w.index);
+      __builtin_prefetch(slabs_.data() + w.index);
       w.phase = Phase::list;
       return true;
     case Phase::list:
+      if (!slab_may_cross(w.index, w.o, w.d, w.s, std::min(w.dda.exit(), w.s1))) return step_on(w);
       w.begin = offsets_[w.index];
       w.count = offsets_[w.index + 1] - w.begin;
       for (std::uint32_t k = 0; k < std::min<std::uint32_t>(w.count, 64); k += 16)
@@ -184,7 +196,7 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
       w.lists = subcells_.lists_along(w.crowded, cell, fa, fd, w.inv, w.s, std::min(w.dda.exit(), w.s1), w.list_first,
                                       w.list_count, Walk::kMaxLists);
       for (int k = 0; k < w.lists; ++k)
-        for (std::uint32_t j = 0; j < w.list_count[k]; j += 16) __builtin_prefetch(subcells_.slots() + w.list_first[k] + j);
+        for (std::uint32_t j = 0; j < w.list_count[k]; j += 16) __builtin_prefetch(subcells_.list_slots() + w.list_first[k] + j);
       w.phase = Phase::crowded_records;
       return true;
     }
@@ -192,7 +204,7 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
       int prefetched = 0;
       for (int k = 0; k < w.lists && prefetched < 48; ++k)
         for (std::uint32_t j = 0; j < w.list_count[k] && prefetched < 48; ++j, ++prefetched)
-          surface_->prefetch(subcells_.slots()[w.list_first[k] + j]);
+          surface_->prefetch(subcells_.list_slots()[w.list_first[k] + j]);
       w.phase = Phase::test;
       return true;
     }
@@ -212,13 +224,7 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
             cs < w.best)
           w.best = cs, w.best_front = cf, w.best_id = ct;
       }
-      bool inside = true;
-      w.s = w.dda.step(n, inside);
-      ++w.it;
-      if (w.s > w.s1 || !inside) return false;
-      w.phase = Phase::clearance;
-      __builtin_prefetch(clear_.data() + brick_of(w.dda) * 64);
-      return true;
+      return step_on(w);
     }
     }
     return false;

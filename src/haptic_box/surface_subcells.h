@@ -61,12 +61,12 @@ public:
   void prefetch(std::uint32_t crowded, int stage) const noexcept;
   /// The lists of the sub-cells of crowded cell `crowded` (at grid coordinates `cell`) that
   /// segment fa + s fd (cell units, `inv` as first_crossing's) passes between s_enter and
-  /// s_exit, in order, as slot ranges: slots()[first[k], first[k] + count[k]) for k < the
+  /// s_exit, in order, as slot ranges: list_slots()[first[k], first[k] + count[k]) for k < the
   /// number returned (at most `max`). What first_crossing() would test there, for a walk
   /// that prefetches them first; reads what prefetch() stages 0 and 1 load.
   int lists_along(std::uint32_t crowded, const int cell[3], const Vec3& fa, const Vec3& fd, const float inv[3],
                   float s_enter, float s_exit, std::uint32_t* first, std::uint32_t* count, int max) const noexcept;
-  const std::uint32_t* slots() const noexcept { return slots_.data(); }
+  const std::uint32_t* list_slots() const noexcept { return slots_.data(); }
   /// Starts loading crowded(cell)'s entry.
   void prefetch_entry(std::uint32_t cell) const noexcept {
     if (cell < entry_.size()) __builtin_prefetch(entry_.data() + cell);
