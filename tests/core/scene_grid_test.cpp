@@ -163,6 +163,27 @@ TEST(SurfaceCellsTest, FirstCrossingAlongFindsTheNearestCrossingOfAllTrianglesWi
   }
 }
 
+TEST(SurfaceCellsTest, ASegmentThatStaysOffACellsSlabIsNotTestedThereAndOneThroughItIs) {
+  // The cell holding a point of the sphere (normal +x there): a segment three cells out along
+  // the normal, moving sideways, passes its triangles by; one through the point does not; an
+  // index beyond the cells is never skipped.
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  const auto surface = std::make_shared<const SurfaceTriangles>(two.mesh);
+  const SceneGrid grid = build_scene_grid(two.mesh, lists_of(two), SceneGridOptions{1.f / 40.f});
+  const SurfaceCells cells(grid, surface);
+  const Vec3 p(-1.f, 0.f, 0.f), n(-1.f, 0.f, 0.f);
+  const std::uint32_t index = cells.index_at(p);
+  ASSERT_NE(index, SurfaceCells::kNone);
+  const float cell = grid.cell();
+  const Vec3 off = p + 3.f * cell * n;
+  const float o1[3] = {off.x(), off.y(), off.z()}, d1[3] = {0.f, cell, 0.f};
+  EXPECT_FALSE(cells.slab_may_cross(index, o1, d1, 0.f, 1.f));
+  const Vec3 from = p + 2.f * cell * n;
+  const float o2[3] = {from.x(), from.y(), from.z()}, d2[3] = {4.f * cell, 0.f, 0.f};
+  EXPECT_TRUE(cells.slab_may_cross(index, o2, d2, 0.f, 1.f));
+  EXPECT_TRUE(cells.slab_may_cross(std::uint32_t(cells.cell_count()), o1, d1, 0.f, 1.f));
+}
+
 TEST(SurfaceCellsTest, WalksSideBySideFindTheSameCrossingsAsOneByOne) {
   // first_crossings_along (several walks in flight, each stopping where it waits for memory)
   // against first_crossing_along one segment at a time, bit for bit: on a grid with crowded
