@@ -629,9 +629,7 @@ bool SurfaceCells::first_crossing(const std::uint32_t* cells, std::size_t count,
 }
 
 
-bool SurfaceCells::first_crossing_along(const Vec3& a, const Vec3& b, float s_max, float& s_out, bool& front_out,
-                                        std::uint32_t& tri_out) const noexcept {
-  if (masks_.empty()) return false;
+bool SurfaceCells::walk_start(const Vec3& a, const Vec3& b, float s_max, WalkStart& w) const noexcept {
   // In cell units from the grid's origin.
   const Vec3 fa = (a - origin_) * inv_cell_, fd = (b - a) * inv_cell_;
   float s0 = 0.f, s1 = std::min(s_max, 1.f);
@@ -648,13 +646,27 @@ bool SurfaceCells::first_crossing_along(const Vec3& a, const Vec3& b, float s_ma
   }
   if (!(s0 <= s1)) return false;
   const float max_d = std::max({std::fabs(fd.x()), std::fabs(fd.y()), std::fabs(fd.z())});
-  const float s_per_cell = max_d > 0.f ? 1.f / max_d : 2.f;
-  const float o[3] = {a.x(), a.y(), a.z()};
-  const float d[3] = {b.x() - a.x(), b.y() - a.y(), b.z() - a.z()};
-  // The DDA (cell by cell) with its divisions done once: a jump restarts it at a new s.
-  float inv[3];
-  for (int k = 0; k < 3; ++k) inv[k] = fd[k] > 1e-30f || fd[k] < -1e-30f ? 1.f / fd[k] : 0.f;
-  const float fa3[3] = {fa.x(), fa.y(), fa.z()}, fd3[3] = {fd.x(), fd.y(), fd.z()};
+  w.s_per_cell = max_d > 0.f ? 1.f / max_d : 2.f;
+  w.s0 = s0;
+  w.s1 = s1;
+  for (int k = 0; k < 3; ++k) {
+    w.o[k] = a[k];
+    w.d[k] = b[k] - a[k];
+    w.fa[k] = fa[k];
+    w.fd[k] = fd[k];
+    // The DDA's divisions done once: a jump restarts it at a new s.
+    w.inv[k] = fd[k] > 1e-30f || fd[k] < -1e-30f ? 1.f / fd[k] : 0.f;
+  }
+  return true;
+}
+
+bool SurfaceCells::first_crossing_along(const Vec3& a, const Vec3& b, float s_max, float& s_out, bool& front_out,
+                                        std::uint32_t& tri_out) const noexcept {
+  WalkStart w;
+  if (masks_.empty() || !walk_start(a, b, s_max, w)) return false;
+  const float s0 = w.s0, s1 = w.s1, s_per_cell = w.s_per_cell;
+  const float *o = w.o, *d = w.d, *inv = w.inv, *fa3 = w.fa, *fd3 = w.fd;
+  const Vec3 fa(fa3[0], fa3[1], fa3[2]), fd(fd3[0], fd3[1], fd3[2]);
   const int* n = dims_.data();
   CellDda dda(inv);
   float best = std::numeric_limits<float>::infinity();

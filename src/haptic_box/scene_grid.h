@@ -223,6 +223,15 @@ public:
   /// cell is walked through its sub-cells (SurfaceSubcells).
   bool first_crossing_along(const Vec3& a, const Vec3& b, float s_max, float& s, bool& front,
                             std::uint32_t& triangle) const noexcept;
+  /// A segment a -> b set up for a walk through the cells: a, b - a (o, d), the same in cell
+  /// units from the grid's origin (fa, fd), 1 / fd per axis (inv, 0 where fd is 0), its part
+  /// in the grid, s in [s0, s1] (s1 <= s_max), and the s a chessboard cell takes.
+  struct WalkStart {
+    float o[3], d[3], fa[3], fd[3], inv[3];
+    float s0, s1, s_per_cell;
+  };
+  /// false when the segment misses the grid (then no walk).
+  bool walk_start(const Vec3& a, const Vec3& b, float s_max, WalkStart& w) const noexcept;
   /// One segment's answer of first_crossings_along.
   struct Crossing {
     bool found = false;

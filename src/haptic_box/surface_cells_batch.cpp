@@ -20,8 +20,8 @@ enum class Phase : std::uint8_t { clearance, cell, list, records, crowded_entry,
                                   crowded_records, test };
 
 struct Walk {
-  float fa[3], fd[3], inv[3], o[3], d[3];
-  float s = 0.f, s1 = 0.f, s_per_cell = 0.f;
+  SurfaceCells::WalkStart seg;  // the segment and its part in the grid
+  float s = 0.f;
   float best = std::numeric_limits<float>::infinity();
   bool best_front = false;
   std::uint32_t best_id = kNoTriangle;
@@ -68,36 +68,13 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
   };
   // first_crossing_along's start: false when the segment misses the grid (no crossing).
   const auto start = [&](Walk& w, std::size_t i) {
-    const Vec3 fa = (a[i] - origin_) * inv_cell_, fd = (b[i] - a[i]) * inv_cell_;
-    float s0 = 0.f, s1 = 1.f;
-    for (int k = 0; k < 3; ++k) {
-      const float hi = float(dims_[k]);
-      if (std::fabs(fd[k]) < 1e-30f) {
-        if (!(fa[k] >= 0.f && fa[k] <= hi)) return false;
-        continue;
-      }
-      float u = (0.f - fa[k]) / fd[k], v = (hi - fa[k]) / fd[k];
-      if (u > v) std::swap(u, v);
-      s0 = std::max(s0, u);
-      s1 = std::min(s1, v);
-    }
-    if (!(s0 <= s1)) return false;
-    const float max_d = std::max({std::fabs(fd.x()), std::fabs(fd.y()), std::fabs(fd.z())});
-    w.s_per_cell = max_d > 0.f ? 1.f / max_d : 2.f;
-    for (int k = 0; k < 3; ++k) {
-      w.o[k] = a[i][k];
-      w.d[k] = b[i][k] - a[i][k];
-      w.inv[k] = fd[k] > 1e-30f || fd[k] < -1e-30f ? 1.f / fd[k] : 0.f;
-      w.fa[k] = fa[k];
-      w.fd[k] = fd[k];
-    }
-    w.dda = CellDda(w.inv);
+    if (!walk_start(a[i], b[i], 1.f, w.seg)) return false;
+    w.dda = CellDda(w.seg.inv);
     w.best = std::numeric_limits<float>::infinity();
     w.best_front = false;
     w.best_id = kNoTriangle;
-    w.s = s0;
-    w.s1 = s1;
-    w.dda.start(w.fa, w.fd, w.inv, w.s, n);
+    w.s = w.seg.s0;
+    w.dda.start(w.seg.fa, w.seg.fd, w.seg.inv, w.s, n);
     w.it = 0;
     w.phase = Phase::clearance;
     w.segment = i;
@@ -109,7 +86,7 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
     bool inside = true;
     w.s = w.dda.step(n, inside);
     ++w.it;
-    if (w.s > w.s1 || !inside) return false;
+    if (w.s > w.seg.s1 || !inside) return false;
     w.phase = Phase::clearance;
     __builtin_prefetch(clear_.data() + brick_of(w.dda) * 64);
     return true;
@@ -124,10 +101,10 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
         w.bit = bit_of(w.dda);
         const int clear = clear_[w.brick * 64 + w.bit];
         if (clear >= 2) {
-          const float jump = w.s + (float(clear - 1) - 0.01f) * w.s_per_cell;
-          if (jump > w.s1) return false;
+          const float jump = w.s + (float(clear - 1) - 0.01f) * w.seg.s_per_cell;
+          if (jump > w.seg.s1) return false;
           w.s = jump;
-          w.dda.start(w.fa, w.fd, w.inv, w.s, n);
+          w.dda.start(w.seg.fa, w.seg.fd, w.seg.inv, w.s, n);
           ++w.it;
           __builtin_prefetch(clear_.data() + brick_of(w.dda) * 64);
           return true;
@@ -141,7 +118,7 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
         bool inside = true;
         w.s = w.dda.step(n, inside);
         ++w.it;
-        if (w.s > w.s1 || !inside) return false;
+        if (w.s > w.seg.s1 || !inside) return false;
         const std::size_t next = brick_of(w.dda);
         if (next != w.brick) {  // another brick's clearance line: wait for it
           __builtin_prefetch(clear_.data() + next * 64);
@@ -155,7 +132,7 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
       w.phase = Phase::list;
       return true;
     case Phase::list:
-      if (!slab_may_cross(w.index, w.o, w.d, w.s, std::min(w.dda.exit(), w.s1))) return step_on(w);
+      if (!slab_may_cross(w.index, w.seg.o, w.seg.d, w.s, std::min(w.dda.exit(), w.seg.s1))) return step_on(w);
       w.begin = offsets_[w.index];
       w.count = offsets_[w.index + 1] - w.begin;
       for (std::uint32_t k = 0; k < std::min<std::uint32_t>(w.count, 64); k += 16)
@@ -192,8 +169,8 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
     case Phase::crowded_lists: {
       // The lists of the sub-cells the segment passes in this cell (what the test reads).
       const int cell[3] = {w.dda.x, w.dda.y, w.dda.z};
-      const Vec3 fa(w.fa[0], w.fa[1], w.fa[2]), fd(w.fd[0], w.fd[1], w.fd[2]);
-      w.lists = subcells_.lists_along(w.crowded, cell, fa, fd, w.inv, w.s, std::min(w.dda.exit(), w.s1), w.list_first,
+      const Vec3 fa(w.seg.fa[0], w.seg.fa[1], w.seg.fa[2]), fd(w.seg.fd[0], w.seg.fd[1], w.seg.fd[2]);
+      w.lists = subcells_.lists_along(w.crowded, cell, fa, fd, w.seg.inv, w.s, std::min(w.dda.exit(), w.seg.s1), w.list_first,
                                       w.list_count, Walk::kMaxLists);
       for (int k = 0; k < w.lists; ++k)
         for (std::uint32_t j = 0; j < w.list_count[k]; j += 16) __builtin_prefetch(subcells_.list_slots() + w.list_first[k] + j);
@@ -212,14 +189,14 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
       const std::uint32_t crowded = w.crowded;
       if (crowded != SurfaceSubcells::kNone) {
         const int cell[3] = {w.dda.x, w.dda.y, w.dda.z};
-        const Vec3 fa(w.fa[0], w.fa[1], w.fa[2]), fd(w.fd[0], w.fd[1], w.fd[2]);
-        subcells_.first_crossing(crowded, cell, fa, fd, w.inv, w.s, std::min(w.dda.exit(), w.s1), w.s1, w.o, w.d,
+        const Vec3 fa(w.seg.fa[0], w.seg.fa[1], w.seg.fa[2]), fd(w.seg.fd[0], w.seg.fd[1], w.seg.fd[2]);
+        subcells_.first_crossing(crowded, cell, fa, fd, w.seg.inv, w.s, std::min(w.dda.exit(), w.seg.s1), w.seg.s1, w.seg.o, w.seg.d,
                                  *surface_, w.best, w.best_front, w.best_id);
       } else {
         float cs = 0.f;
         bool cf = false;
         std::uint32_t ct = kNoTriangle;
-        if (surface_->first_crossing(slots_.data() + w.begin, w.count, w.o, w.d, 0.f, std::min(w.best, w.s1), cs, cf,
+        if (surface_->first_crossing(slots_.data() + w.begin, w.count, w.seg.o, w.seg.d, 0.f, std::min(w.best, w.seg.s1), cs, cf,
                                      ct) &&
             cs < w.best)
           w.best = cs, w.best_front = cf, w.best_id = ct;

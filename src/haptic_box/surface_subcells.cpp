@@ -97,6 +97,31 @@ SurfaceSubcells::SurfaceSubcells(const Vec3& origin, float cell, const std::vect
   }
 }
 
+namespace {
+
+// The DDA over a crowded cell's sub-cells, in sub-cell units from the cell's low corner: a =
+// (fa - cell) side, the direction fd side, and 1 / (fd side) = inv / side (no division here),
+// started at s_enter. One setup for the tests' walk and the prefetching walk's.
+struct SubWalk {
+  float a[3], ds[3], inv[3];
+  int n[3];
+  CellDda dda;
+  SubWalk(int side, const int cell[3], const Vec3& fa, const Vec3& fd, const float inv_cell[3], float s_enter) noexcept
+      : n{side, side, side}, dda(kZero) {
+    const float to_sub = 1.f / float(side);
+    for (int k = 0; k < 3; ++k) {
+      a[k] = (fa[k] - float(cell[k])) * float(side);
+      ds[k] = fd[k] * float(side);
+      inv[k] = inv_cell[k] * to_sub;
+    }
+    dda = CellDda(inv);
+    dda.start(a, ds, inv, s_enter, n);
+  }
+  static constexpr float kZero[3] = {0.f, 0.f, 0.f};
+};
+
+} // namespace
+
 void SurfaceSubcells::prefetch(std::uint32_t crowded, int stage) const noexcept {
   if (crowded >= crowded_count()) return;
   const std::size_t word0 = std::size_t(crowded) * std::size_t(words_), next = word0 + std::size_t(words_);
@@ -127,16 +152,9 @@ int SurfaceSubcells::lists_along(std::uint32_t crowded, const int cell[3], const
   if (crowded >= crowded_count()) return 0;
   const std::size_t word0 = std::size_t(crowded) * std::size_t(words_);
   const int side = side_;
-  const float to_sub = 1.f / float(side);
-  float a[3], ds[3], inv_sub[3];
-  for (int k = 0; k < 3; ++k) {
-    a[k] = (fa[k] - float(cell[k])) * float(side);
-    ds[k] = fd[k] * float(side);
-    inv_sub[k] = inv[k] * to_sub;
-  }
-  const int n[3] = {side, side, side};
-  CellDda dda(inv_sub);
-  dda.start(a, ds, inv_sub, s_enter, n);
+  SubWalk walk(side, cell, fa, fd, inv, s_enter);
+  CellDda& dda = walk.dda;
+  const int* n = walk.n;
   int found = 0;
   for (int it = 0; it < 3 * side && found < max; ++it) {
     const unsigned bit = unsigned((dda.z * side + dda.y) * side + dda.x);
@@ -161,18 +179,9 @@ bool SurfaceSubcells::first_crossing(std::uint32_t crowded, const int cell[3], c
   if (crowded >= crowded_count()) return false;
   const std::size_t word0 = std::size_t(crowded) * std::size_t(words_);
   const int side = side_;
-  // The DDA over the sub-cells, in sub-cell units from the cell's low corner: a = (fa -
-  // cell) side, the direction fd side, and 1 / (fd side) = inv / side (no division here).
-  const float to_sub = 1.f / float(side);
-  float a[3], ds[3], inv_sub[3];
-  for (int k = 0; k < 3; ++k) {
-    a[k] = (fa[k] - float(cell[k])) * float(side);
-    ds[k] = fd[k] * float(side);
-    inv_sub[k] = inv[k] * to_sub;
-  }
-  const int n[3] = {side, side, side};
-  CellDda dda(inv_sub);
-  dda.start(a, ds, inv_sub, s_enter, n);
+  SubWalk walk(side, cell, fa, fd, inv, s_enter);
+  CellDda& dda = walk.dda;
+  const int* n = walk.n;
   bool found = false;
   float s = s_enter;
   for (int it = 0; it < 3 * side; ++it) {
