@@ -1,9 +1,11 @@
 // SurfaceCells::first_crossings_along: many segments' walks through the surface cells, several
 // in flight at a time (asynchronous memory access chaining). A walk is first_crossing_along's
 // loop cut where it waits for memory: the clearance byte of its next cell, the brick's mask
-// and base, the cell's list bounds, the list, the records. At each cut it prefetches what it
-// reads next and the next walk in the round goes on, so the loads of many walks overlap. The
-// float operations are first_crossing_along's, in its order: the same crossings bit for bit.
+// and base, the cell's list bounds and slab, the list, the records; in a crowded cell its mask
+// and rank words, its lists' bounds, the lists of the sub-cells the segment passes and their
+// records. At each cut it prefetches what it reads next and the next walk in the round goes
+// on, so the loads of many walks overlap. The float operations and the cells skipped are
+// first_crossing_along's, in its order: the same crossings bit for bit.
 #include "haptic_box/scene_grid.h"
 #include "geometry/cell_dda.h"
 #include <algorithm>
