@@ -203,8 +203,8 @@ void add_bench_command(CLI::App& app) {
               << std::setprecision(1) << "batched (query_many, 1000 probes a call, random order; "
               << (lanes   ? std::string("queries side by side in ") + isa_name + " lanes"
                   : walks ? std::string("the cells route's walks side by side, each prefetching its next step")
-                          : std::string("one query at a time: SIMD lanes serve one raw unrefined box, walks side by "
-                                        "side a surface larger than the last-level cache"))
+                          : std::string("one query at a time: SIMD lanes serve one raw unrefined box, side-by-side "
+                                        "walks a surface larger than the last-level cache"))
               << "):\n"
               << "  haptic box  " << box_many_ns << " ns/query, exact " << exact_many_ns
               << " ns/query (single rays: Embree packets were slower here): box is "

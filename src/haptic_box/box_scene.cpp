@@ -665,8 +665,7 @@ void BoxScene::query_many(const Segment* segments, std::size_t count, const Forc
     }
     cells_->first_crossings_along(a, b, walks, crossing);
     for (std::size_t k = 0; k < walks; ++k)
-      out[which[k]] = crossing_contact(segments[which[k]], length[k], law,
-                                       crossing[k].found ? crossing[k].triangle : kNoTriangle, crossing[k].front);
+      out[which[k]] = crossing_contact(segments[which[k]], length[k], law, crossing[k].triangle, crossing[k].front);
   }
 }
 

@@ -232,9 +232,8 @@ public:
   };
   /// false when the segment misses the grid (then no walk).
   bool walk_start(const Vec3& a, const Vec3& b, float s_max, WalkStart& w) const noexcept;
-  /// One segment's answer of first_crossings_along.
+  /// One segment's answer of first_crossings_along (triangle kNoTriangle: no crossing).
   struct Crossing {
-    bool found = false;
     bool front = false;
     float s = 0.f;
     std::uint32_t triangle = kNoTriangle;
@@ -257,7 +256,8 @@ public:
   /// n . p in [lo, hi] (n unit: the mean of their normals; lo, hi: their vertices' extent
   /// along n cut to the cell's, with a margin). A segment whose part in the cell stays on one
   /// side crosses none of them there, so the walks skip the cell's tests: a triangle crossed
-  /// elsewhere is listed (and tested) in the cell holding that crossing. lo > hi: none.
+  /// elsewhere is listed (and tested) in the cell holding that crossing. A cell whose
+  /// normals cancel (two sheets facing away) has an unbounded slab: never skipped.
   struct Slab {
     float n[3];
     float lo, hi;

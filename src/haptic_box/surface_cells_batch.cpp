@@ -93,6 +93,13 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
     __builtin_prefetch(clear_.data() + brick_of(w.dda) * 64);
     return true;
   };
+  // Starts loading the records of walk w's cell list (up to 32), to be tested next.
+  const auto prefetch_records = [&](Walk& w) {
+    const std::uint32_t* ids = slots_.data() + w.begin;
+    for (std::uint32_t k = 0; k < std::min<std::uint32_t>(w.count, 32); ++k) surface_->prefetch(ids[k]);
+    w.phase = Phase::test;
+    return true;
+  };
   // Runs walk w up to its next wait for memory: true while it walks on, false when done.
   const auto advance = [&](Walk& w) {
     switch (w.phase) {
@@ -147,20 +154,11 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
         w.phase = Phase::records;
       }
       return true;
-    case Phase::records: {
-      const std::uint32_t* ids = slots_.data() + w.begin;
-      for (std::uint32_t k = 0; k < std::min<std::uint32_t>(w.count, 32); ++k) surface_->prefetch(ids[k]);
-      w.phase = Phase::test;
-      return true;
-    }
+    case Phase::records:
+      return prefetch_records(w);
     case Phase::crowded_entry:
       w.crowded = subcells_.crowded(w.index);
-      if (w.crowded == SurfaceSubcells::kNone) {  // the list was prefetched with the entry
-        const std::uint32_t* ids = slots_.data() + w.begin;
-        for (std::uint32_t k = 0; k < std::min<std::uint32_t>(w.count, 32); ++k) surface_->prefetch(ids[k]);
-        w.phase = Phase::test;
-        return true;
-      }
+      if (w.crowded == SurfaceSubcells::kNone) return prefetch_records(w);  // its list came with the entry
       subcells_.prefetch(w.crowded, 0);
       w.phase = Phase::crowded_bounds;
       return true;
@@ -228,7 +226,7 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
     for (int k = 0; k < kInFlight; ++k) {
       if (!live[k] || advance(walks[k])) continue;
       const Walk& w = walks[k];
-      if (w.best_id != kNoTriangle) out[w.segment] = Crossing{true, w.best_front, w.best, w.best_id};
+      if (w.best_id != kNoTriangle) out[w.segment] = Crossing{w.best_front, w.best, w.best_id};
       live[k] = false;
       --running;
       refill(k);

@@ -137,13 +137,8 @@ void SurfaceSubcells::prefetch(std::uint32_t crowded, int stage) const noexcept 
   const std::uint32_t first = rank_[word0];
   const std::uint32_t last = next < rank_.size() ? rank_[next] : std::uint32_t(offsets_.size() - 1);
   if (first > last || last >= offsets_.size()) return;
-  if (stage == 1) {
-    for (std::uint32_t k = first; k <= last; k += 16) __builtin_prefetch(offsets_.data() + k);
-    __builtin_prefetch(offsets_.data() + last);
-    return;
-  }
-  const std::uint32_t from = offsets_[first], to = std::min<std::uint32_t>(offsets_[last], from + 256);
-  for (std::uint32_t k = from; k < to; k += 16) __builtin_prefetch(slots_.data() + k);
+  for (std::uint32_t k = first; k <= last; k += 16) __builtin_prefetch(offsets_.data() + k);
+  __builtin_prefetch(offsets_.data() + last);
 }
 
 int SurfaceSubcells::lists_along(std::uint32_t crowded, const int cell[3], const Vec3& fa, const Vec3& fd,

@@ -55,9 +55,10 @@ public:
                       const SurfaceTriangles& surface, float& best, bool& front, std::uint32_t& id) const noexcept;
 
   /// For walks that prefetch ahead (SurfaceCells::first_crossings_along): starts loading
-  /// what first_crossing() reads of crowded cell `crowded`, one stage a call, each stage
-  /// reading only what the stage before prefetched: 0 the cell's mask and rank words, 1 its
-  /// lists' bounds, 2 its lists (up to 256 slots). No effect for an index out of range.
+  /// what first_crossing() reads of crowded cell `crowded`, one stage a call, the second
+  /// reading only what the first prefetched: 0 the cell's mask and rank words, 1 its lists'
+  /// bounds (then lists_along names the lists the segment passes). No effect for an index
+  /// out of range.
   void prefetch(std::uint32_t crowded, int stage) const noexcept;
   /// The lists of the sub-cells of crowded cell `crowded` (at grid coordinates `cell`) that
   /// segment fa + s fd (cell units, `inv` as first_crossing's) passes between s_enter and
