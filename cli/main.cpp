@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "errors.h"
 #include "mpi_communicator.h"
+#include "parallel/huge_pages.h"
 #include "parallel/thread_limit.h"
 #include <algorithm>
 #include <cstring>
@@ -64,6 +65,7 @@ std::string first_word(int argc, char** argv) {
 } // namespace
 
 int main(int argc, char** argv) {
+  hb::use_huge_page_heap(argv);  // may re-execute this program once (parallel/huge_pages.h)
   std::unique_ptr<hb::Communicator> comm;
   try {
     comm = hb::mpi::start(&argc, &argv);
@@ -86,7 +88,7 @@ int main(int argc, char** argv) {
   };
 
   CLI::App app{"HapticBox: haptic rendering via directional sampling"};
-  app.set_version_flag("--version", std::string("hapticbox ") + HB_VERSION);
+  app.set_version_flag("--version", std::string("hapticbox ") + HB_VERSION + " (heap: " + hb::heap_pages() + ")");
   app.require_subcommand(1);
   // Threads per process: by default all cores, shared among the ranks on one node.
   std::optional<hb::ThreadLimit> threads;
