@@ -65,7 +65,7 @@ std::string first_word(int argc, char** argv) {
 } // namespace
 
 int main(int argc, char** argv) {
-  hb::use_huge_page_heap(argv);  // may re-execute this program once (parallel/huge_pages.h)
+  hb::use_huge_page_heap(argc, argv);  // may re-execute this program once (parallel/huge_pages.h)
   std::unique_ptr<hb::Communicator> comm;
   try {
     comm = hb::mpi::start(&argc, &argv);

@@ -4,7 +4,8 @@
 //    clock_nanosleep(TIMER_ABSTIME) to `deadline - spin`, busy-wait to the deadline.
 // 2b. With ServoOptions::prime, the busy-wait begins with the scene's prime() of the last
 //    tick's segment: after a millisecond's sleep the caches hold other processes' lines, and
-//    the tick's query (a few micrometres from the last) then finds its own. Measured on the
+//    the tick's query (a few micrometres from the last) then finds its own. When the probe
+//    moved, the segment one more tick's motion ahead is primed too (the cells it enters). Measured on the
 //    armadillo (servo --device virtual): see the README's servo figures.
 // 3. Tick: read device -> map to a probe segment -> scene.query -> safety -> write force;
 //    record period, |period error|, query and compute (query + safety) in preallocated
@@ -220,8 +221,8 @@ void ServoLoop::run() noexcept {
   window_hist_.clear();
   std::uint64_t tick = 0;
   bool estop_applied = false;
-  Segment last_segment{};
-  bool primed_once = false;
+  Segment last_segment{}, predicted{};
+  bool primed_once = false, moved = false;
   rep.exit = ServoExit::stopped;
 
   while (!stop_.load(std::memory_order_acquire)) {
@@ -232,7 +233,13 @@ void ServoLoop::run() noexcept {
     // costs a fraction of a microsecond (measured on the armadillo: skipping the prime when
     // woken less than 2 or 10 us before the deadline left compute p99 at 2.6-7 us instead of
     // 1.6-2.1; this VM's sleeps often end 40 us or more late).
-    if (options_.prime && primed_once) scene_.prime(last_segment, law);
+    if (options_.prime && primed_once) {
+      scene_.prime(last_segment, law);
+      // And where the probe is heading: the last tick's motion once more (step 2b). A probe
+      // entering new cells would otherwise meet them cold (at 13M triangles the lines a new
+      // cell's walk reads are mostly outside every cache).
+      if (moved) scene_.prime(predicted, law);
+    }
     std::int64_t wake = now_ns();
     while (wake < deadline) {
       cpu_relax();
@@ -275,6 +282,8 @@ void ServoLoop::run() noexcept {
 
     const std::int64_t c0 = now_ns();
     const Segment seg = map.probe(state.position_m);
+    moved = primed_once && !(seg.start == last_segment.start && seg.end == last_segment.end);
+    if (moved) predicted = Segment{seg.start + (seg.start - last_segment.start), seg.end + (seg.end - last_segment.end)};
     last_segment = seg;
     primed_once = true;
     const Contact contact = proxy_ ? proxy_->step(seg, law) : scene_.query(seg, law);

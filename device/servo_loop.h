@@ -46,7 +46,8 @@ struct ServoOptions {
   int realtime_priority = 80;       ///< SCHED_FIFO priority, 1..99.
   double spin_s = 50e-6;            ///< sleep until deadline - spin, then busy-wait, s (0 = none).
   bool prime = true;                ///< at the start of the busy-wait, ask the scene's prime()
-                                    ///< with the last tick's segment (answer discarded), so the
+                                    ///< with the last tick's segment and, when the probe moved,
+                                    ///< that segment moved once more (answers discarded), so the
                                     ///< tick's query finds the scene's data in cache; no effect
                                     ///< on any answer (`servo --no-prime`: the figures without).
   ForceLaw law;                     ///< stiffness and model units; see limit_stiffness.

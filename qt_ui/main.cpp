@@ -34,7 +34,7 @@ bool waitFor(F done, double seconds) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  hb::use_huge_page_heap(argv);  // may re-execute this program once (parallel/huge_pages.h)
+  hb::use_huge_page_heap(argc, argv);  // may re-execute this program once (parallel/huge_pages.h)
   if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY") && !std::getenv("QT_QPA_PLATFORM")) {
     std::fprintf(stderr, "hapticbox-gui: no display (DISPLAY is not set); use the hapticbox command, or "
                          "./run.sh for the headless main job\n");

@@ -1,5 +1,7 @@
 #include "parallel/huge_pages.h"
+#include <sys/stat.h>
 #include <unistd.h>
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -28,7 +30,8 @@ std::string thp_enabled() {
 
 } // namespace
 
-std::string huge_page_tunables(const char* current, const std::string& thp_enabled) {
+std::string huge_page_tunables(const char* current, const std::string& thp_enabled, std::uint64_t largest_input) {
+  if (largest_input < kHugePageInputBytes) return "";
   // Only "madvise" needs the advice: "always" gives huge pages without it, "never" refuses.
   if (thp_enabled.find("[madvise]") == std::string::npos) return "";
   const std::string now = current ? current : "";
@@ -36,10 +39,17 @@ std::string huge_page_tunables(const char* current, const std::string& thp_enabl
   return now.empty() ? "glibc.malloc.hugetlb=1" : now + ":glibc.malloc.hugetlb=1";
 }
 
-void use_huge_page_heap(char** argv) noexcept {
+void use_huge_page_heap(int argc, char** argv) noexcept {
   if (kSanitizerHeap || argv == nullptr || argv[0] == nullptr) return;  // not glibc's malloc
   try {
-    const std::string value = huge_page_tunables(std::getenv("GLIBC_TUNABLES"), thp_enabled());
+    std::uint64_t largest = 0;
+    for (int i = 1; i < argc; ++i) {
+      struct stat st;
+      if (argv[i] && ::stat(argv[i], &st) == 0 && S_ISREG(st.st_mode))
+        largest = std::max<std::uint64_t>(largest, std::uint64_t(st.st_size));
+    }
+    if (largest < kHugePageInputBytes) return;
+    const std::string value = huge_page_tunables(std::getenv("GLIBC_TUNABLES"), thp_enabled(), largest);
     if (value.empty()) return;
     if (::setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
     ::execv("/proc/self/exe", argv);

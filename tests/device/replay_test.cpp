@@ -88,28 +88,36 @@ TEST(ReplayTest, ReplayingALogGivesTheSameForcesBitForBit) {
 }
 
 namespace {
-// The half-space, counting the primes and whether each primed the previous tick's segment.
+// The half-space, counting the primes: with the previous tick's segment, with that segment
+// moved once more by the last tick's motion (where the probe is heading), or another.
 class PrimeCountingScene final : public ContactQuery {
 public:
   Contact query(const Segment& s, const ForceLaw& law) const noexcept override {
+    before_ = last_;
     last_ = s;
     ++queries_;
     return plane_.query(s, law);
   }
   void prime(const Segment& s, const ForceLaw& law) const noexcept override {
-    ++primes_;
-    if (queries_ == 0 || s.start != last_.start || s.end != last_.end) ++not_last_;
+    const Segment ahead{last_.start + (last_.start - before_.start), last_.end + (last_.end - before_.end)};
+    if (queries_ > 0 && s.start == last_.start && s.end == last_.end)
+      ++primes_;
+    else if (queries_ > 1 && s.start == ahead.start && s.end == ahead.end)
+      ++ahead_;
+    else
+      ++not_last_;
     plane_.prime(s, law);
   }
   test::HalfSpaceScene plane_{0.f};
-  mutable Segment last_{};
-  mutable std::size_t queries_ = 0, primes_ = 0, not_last_ = 0;
+  mutable Segment last_{}, before_{};
+  mutable std::size_t queries_ = 0, primes_ = 0, ahead_ = 0, not_last_ = 0;
 };
 } // namespace
 
-TEST(ReplayTest, PrimingTheCachesBeforeEachTickChangesNoForce) {
+TEST(ReplayTest, PrimingTheCachesWhereTheProbeIsAndIsHeadingChangesNoForce) {
   // Record with priming off, replay with it on (the default): the same forces bit for bit,
-  // and every tick after the first primed with the tick before's segment.
+  // and every tick after the first primed with the tick before's segment, and after the
+  // second with that segment moved by the last tick's motion.
   const std::string rec1 = temp("hb_prime_1.hblog"), rec2 = temp("hb_prime_2.hblog");
   test::HalfSpaceScene scene(0.f);
   ServoOptions unprimed = options();
@@ -130,11 +138,13 @@ TEST(ReplayTest, PrimingTheCachesBeforeEachTickChangesNoForce) {
   }
   EXPECT_GT(contacts, 0u);
   // Every tick but the first was primed (and the end of the stream, found after a prime),
-  // always with the tick before's segment.
+  // with the tick before's segment and, the probe moving on a circle, with it moved ahead.
   EXPECT_GE(counting.primes_ + 1, counting.queries_);
   EXPECT_LE(counting.primes_, counting.queries_);
   EXPECT_GE(counting.queries_, original.records.size());
   EXPECT_EQ(counting.not_last_, 0u);
+  EXPECT_GE(counting.ahead_ + 2, counting.primes_);
+  EXPECT_LE(counting.ahead_, counting.primes_);
   std::remove(rec1.c_str());
   std::remove(rec2.c_str());
 }
