@@ -88,7 +88,8 @@ int main(int argc, char** argv) {
   };
 
   CLI::App app{"HapticBox: haptic rendering via directional sampling"};
-  app.set_version_flag("--version", std::string("hapticbox ") + HB_VERSION + " (heap: " + hb::heap_pages() + ")");
+  // What the heap got is read only when asked (a /sys read at every start otherwise).
+  app.set_version_flag("--version", [] { return std::string("hapticbox ") + HB_VERSION + " (heap: " + hb::heap_pages() + ")"; });
   app.require_subcommand(1);
   // Threads per process: by default all cores, shared among the ranks on one node.
   std::optional<hb::ThreadLimit> threads;

@@ -221,8 +221,8 @@ void ServoLoop::run() noexcept {
   window_hist_.clear();
   std::uint64_t tick = 0;
   bool estop_applied = false;
-  Segment last_segment{}, predicted{};
-  bool primed_once = false, moved = false;
+  Segment last_segment{}, before_last{};  // the last two ticks' segments (step 2b)
+  std::uint64_t queried = 0;
   rep.exit = ServoExit::stopped;
 
   while (!stop_.load(std::memory_order_acquire)) {
@@ -233,12 +233,14 @@ void ServoLoop::run() noexcept {
     // costs a fraction of a microsecond (measured on the armadillo: skipping the prime when
     // woken less than 2 or 10 us before the deadline left compute p99 at 2.6-7 us instead of
     // 1.6-2.1; this VM's sleeps often end 40 us or more late).
-    if (options_.prime && primed_once) {
+    if (options_.prime && queried > 0) {
       scene_.prime(last_segment, law);
       // And where the probe is heading: the last tick's motion once more (step 2b). A probe
       // entering new cells would otherwise meet them cold (at 13M triangles the lines a new
       // cell's walk reads are mostly outside every cache).
-      if (moved) scene_.prime(predicted, law);
+      const Vec3 step_start = last_segment.start - before_last.start, step_end = last_segment.end - before_last.end;
+      if (queried > 1 && !(step_start.isZero(0.f) && step_end.isZero(0.f)))
+        scene_.prime(Segment{last_segment.start + step_start, last_segment.end + step_end}, law);
     }
     std::int64_t wake = now_ns();
     while (wake < deadline) {
@@ -282,10 +284,9 @@ void ServoLoop::run() noexcept {
 
     const std::int64_t c0 = now_ns();
     const Segment seg = map.probe(state.position_m);
-    moved = primed_once && !(seg.start == last_segment.start && seg.end == last_segment.end);
-    if (moved) predicted = Segment{seg.start + (seg.start - last_segment.start), seg.end + (seg.end - last_segment.end)};
+    before_last = last_segment;
     last_segment = seg;
-    primed_once = true;
+    ++queried;
     const Contact contact = proxy_ ? proxy_->step(seg, law) : scene_.query(seg, law);
     const std::int64_t q1 = now_ns();
     SafetyInput in;
