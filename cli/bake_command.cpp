@@ -41,6 +41,7 @@ void add_bake_command(CLI::App& app) {
     double simplify_shading = 0.0;
     std::string simplify_shading_check = "fit";
     std::size_t simplify_above = hb::BudgetRecipe{}.simplify_above;
+    int shading_map = 0;
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
@@ -84,6 +85,11 @@ void add_bake_command(CLI::App& app) {
                   "neighbours' normals within the bound of its own: the first check). Either way the simplified "
                   "surface's corner normals are then fitted to the full mesh's shading")
       ->check(CLI::IsMember({"fit", "ring"}))->capture_default_str();
+  cmd->add_option("--shading-map", opts->shading_map,
+                  "With --simplify: the side of the normal map that carries the full mesh's shading over each "
+                  "simplified triangle (0: automatic, the power of two above sqrt(full / simplified triangles), at "
+                  "most 16; -1: none, corner normals fitted per face and the shading check while simplifying)")
+      ->check(CLI::Range(-1, 64))->capture_default_str();
   cmd->add_option("--simplify-above", opts->simplify_above, "With --simplify: simplify meshes of more triangles than this")
       ->capture_default_str();
   cmd->add_flag("--keep-ids", opts->keep_ids,
@@ -98,7 +104,7 @@ void add_bake_command(CLI::App& app) {
     // the pieces, codec and seam options given still apply to it.
     const bool sampling_given = cmd->count("-m") + cmd->count("-n") + cmd->count("--cell") + cmd->count("--refine") > 0;
     if (sampling_given && (cmd->count("--simplify") || cmd->count("--simplify-shading") || cmd->count("--simplify-above") ||
-                           cmd->count("--simplify-shading-check")))
+                           cmd->count("--simplify-shading-check") || cmd->count("--shading-map")))
       throw hb::cli::UsageError("bake: --simplify belongs to the default bake; drop -m, -n, --cell and --refine, or --simplify");
     if (sampling_given && opts->full_search)
       throw hb::cli::UsageError("bake: --full-search belongs to the default bake (-m, -n, --cell and --refine bake one sampling); drop it");
@@ -118,6 +124,7 @@ void add_bake_command(CLI::App& app) {
       r.budget.simplify_shading_check = opts->simplify_shading_check == "ring" ? hb::DecimationOptions::ShadingCheck::ring
                                                                                : hb::DecimationOptions::ShadingCheck::fit;
       r.budget.simplify_above = opts->simplify_above;
+      r.budget.shading_map_side = opts->shading_map;
       r.budget.keep_triangle_ids = opts->keep_ids;
       r.budget.full_search = opts->full_search;
       if (cmd->count("--max-m")) r.options.density.max_m = opts->recipe.options.density.max_m;

@@ -308,7 +308,8 @@ nlohmann::json budget_json(const BudgetReport& r) {
                                                                 {"deviation_p99", r.surface_deviation_p99},
                                                                 {"deviation_max", r.surface_deviation_max},
                                                                 {"normal_median_deg", r.surface_normal_median_deg},
-                                                                {"normal_p99_deg", r.surface_normal_p99_deg}}}};
+                                                                {"normal_p99_deg", r.surface_normal_p99_deg},
+                                                                {"normal_map_side", r.surface_map_side}}}};
   // Wall times are this run's (bake --json) or an older file's; a file written now holds none.
   if (r.seconds > 0) j["seconds"] = r.seconds;
   if (r.surface_triangles > 0 && r.simplify_seconds > 0) j["surface"]["seconds"] = r.simplify_seconds;

@@ -3,12 +3,14 @@
 #include "errors.h"
 #include "stopwatch.h"
 #include "exact/embree_scene.h"
+#include "geometry/octahedral.h"
 #include <Eigen/Dense>
 #include <tbb/parallel_for.h>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <random>
 
 namespace hb {
@@ -192,6 +194,71 @@ TriangleMesh fit_shading(const TriangleMesh& full, const TriangleMesh& simplifie
     stats->seconds = seconds_since(t0);
   }
   return out;
+}
+
+std::vector<std::uint32_t> fit_normal_map(const TriangleMesh& full, const TriangleMesh& simplified, int side,
+                                          double cap, const EmbreeScene* scene, ShadingFitStats* stats) {
+  if (full.triangle_count() == 0 || simplified.triangle_count() == 0)
+    throw InvalidInput("fit_normal_map: a mesh has no triangles");
+  if (simplified.normals.size() != simplified.positions.size() || full.normals.size() != full.positions.size())
+    throw InvalidInput("fit_normal_map: both meshes need vertex normals");
+  if (side < 1 || side > 64) throw InvalidInput("fit_normal_map: side must be in [1, 64], got " + std::to_string(side));
+  const auto t0 = std::chrono::steady_clock::now();
+  std::unique_ptr<EmbreeScene> own;
+  if (!scene) {
+    own = std::make_unique<EmbreeScene>(full);
+    scene = own.get();
+  }
+  const std::size_t n = simplified.triangle_count();
+  const std::size_t per = std::size_t(side + 1) * std::size_t(side + 2) / 2;
+  std::vector<std::uint32_t> map(n * per);
+  std::atomic<std::size_t> fitted{0};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const auto& r) {
+    std::size_t met_all = 0;
+    for (std::size_t t = r.begin(); t != r.end(); ++t) {
+      const Triangle& tri = simplified.triangles[t];
+      const Vec3 a = simplified.positions[tri[0]], e1 = simplified.positions[tri[1]] - a,
+                 e2 = simplified.positions[tri[2]] - a;
+      const Vec3 na = simplified.normals[tri[0]], nb = simplified.normals[tri[1]], nc = simplified.normals[tri[2]];
+      const Vec3 g = e1.cross(e2);
+      const bool flat = g.squaredNorm() > 0.f && std::isfinite(g.squaredNorm());
+      const Vec3 u = flat ? Vec3(g.normalized()) : Vec3::Zero();
+      std::uint32_t* out = map.data() + t * per;
+      bool all = flat;
+      for (int j = 0; j <= side; ++j)
+        for (int i = 0; i + j <= side; ++i) {
+          const float bu = float(i) / float(side), bv = float(j) / float(side);
+          Vec3 normal = (1.f - bu - bv) * na + bu * nb + bv * nc;
+          if (flat) {
+            // A line through a vertex or along an edge of `full` can slip between its
+            // triangles: then the point moved a little towards the centroid (the shading is
+            // continuous, so the normal there is the point's up to that little).
+            const Vec3 p = a + bu * e1 + bv * e2, towards = (a + (e1 + e2) * (1.f / 3.f)) - p;
+            bool met = false;
+            for (const float nudge : {0.f, 1e-5f, 1e-4f, 1e-3f}) {
+              double distance = 0.0;
+              const RayHit h = nearest_hit_along(*scene, p + nudge * towards, u, cap, distance);
+              if (h.hit && h.normal.dot(u) > 0.f) {
+                normal = h.normal;
+                met = true;
+                break;
+              }
+            }
+            all = all && met;
+          }
+          if (!(normal.squaredNorm() > 1e-24f) || !normal.allFinite()) normal = flat ? u : Vec3(0.f, 0.f, 1.f);
+          *out++ = encode_octahedral32(normal.normalized());
+        }
+      met_all += all ? 1 : 0;
+    }
+    fitted += met_all;
+  });
+  if (stats) {
+    stats->triangles = n;
+    stats->fitted = fitted.load();
+    stats->seconds = seconds_since(t0);
+  }
+  return map;
 }
 
 } // namespace hb

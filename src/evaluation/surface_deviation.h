@@ -4,8 +4,11 @@
 #include "mesh/triangle_mesh.h"
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace hb {
+
+class EmbreeScene;
 
 /// Distances from the full surface to the simplified one (model units), and the angles
 /// between their shaded normals there (degrees).
@@ -44,5 +47,19 @@ struct ShadingFitStats {
 /// hb::InvalidInput on an empty mesh, a simplified mesh without normals or grid < 1.
 TriangleMesh fit_shading(const TriangleMesh& full, const TriangleMesh& simplified, double cap, int grid = 6,
                          ShadingFitStats* stats = nullptr);
+
+/// The normal map (SurfaceTriangles::set_normal_map) that shades `simplified` as `full`
+/// shades: per triangle of `simplified` (mesh order, from its corner 0, u along corner 1 and v
+/// along corner 2), the (side + 1)(side + 2) / 2 points of the barycentric lattice of `side`
+/// steps, row j after row j - 1, each the octahedral32 code of the full mesh's shaded normal
+/// where the triangle's normal line through the point meets it (within `cap`, the nearest
+/// hit facing the same way), or else of `simplified`'s vertex normals interpolated there.
+/// Where `simplified` is a coarser mesh that `full` flat-subdivides log2(side) times, every
+/// lattice point is a vertex of `full` and the map reproduces its shading. `scene`, when
+/// given, is an EmbreeScene of `full` (else one is built). On all cores. Throws
+/// hb::InvalidInput on an empty mesh, missing normals or a side outside [1, 64].
+std::vector<std::uint32_t> fit_normal_map(const TriangleMesh& full, const TriangleMesh& simplified, int side,
+                                          double cap, const EmbreeScene* scene = nullptr,
+                                          ShadingFitStats* stats = nullptr);
 
 } // namespace hb

@@ -82,6 +82,14 @@ struct BudgetRecipe {
   /// not reproduce (direction p99 17.6 deg); with the shading check almost nothing goes.
   bool simplify = false;
   std::size_t simplify_above = 200000;
+  /// With `simplify`: the simplified surface shades through a normal map of this side
+  /// (SurfaceTriangles::set_normal_map, hb::fit_normal_map: the full mesh's shading on a
+  /// lattice over each simplified triangle, continuous across its edges), so the decimation
+  /// is bounded by geometry alone (no shading check unless simplify_shading_deg is given).
+  /// 0: automatic, the power of two nearest above sqrt(full / simplified triangles), at most
+  /// 16 (a mesh flat-subdivided L times comes back with side 2^L, its shading exactly);
+  /// -1: no map (corner normals fitted per face, the checks above).
+  int shading_map_side = 0;
   double simplify_deviation = 0.0;
   /// Shading check (DecimationOptions::max_shading_deviation_deg): degrees, 0 for the
   /// default (fit check: 0.3 x the budget's direction p99; ring check: 0.2 x), 180 for none.

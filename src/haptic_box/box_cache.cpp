@@ -77,7 +77,8 @@ std::uint64_t recipe_key(const BakeRecipe& r) {
     if (b.simplify)
       k << " simplify " << b.simplify_above << ' ' << hexfloat(float(b.simplify_deviation)) << ' '
         << hexfloat(float(b.simplify_shading_deg)) << " fitted-shading "
-        << (b.simplify_shading_check == DecimationOptions::ShadingCheck::fit ? "fit" : "ring");
+        << (b.simplify_shading_check == DecimationOptions::ShadingCheck::fit ? "fit" : "ring") << " map "
+        << b.shading_map_side;
   }
   const std::string text = k.str();
   return XXH3_64bits(text.data(), text.size());

@@ -1,4 +1,4 @@
-// The .hbox file format, version 6 (little-endian; versions 1 to 5 are still read):
+// The .hbox file format, version 7 (little-endian; versions 1 to 6 are still read):
 //  1. Header: magic "HBOXFILE", u32 version, u32 box count, u64 mesh hash, u64 triangles,
 //     f32 diagonal, u32 path length + path bytes; then per box: u32 codec (CodecId: 0 raw
 //     8-byte samples, 1 Haar, 2 block), i32 m, i32 n, f32 centre[3], axes[9] (columns),
@@ -12,12 +12,15 @@
 //     source mesh, u64 hash; BoxScene::piece_of_triangle); version 5 adds the scene grid (u64
 //     offset, u64 bytes: 0 without one, u64 hash; its bytes: SceneGrid::serialize); version 6
 //     adds the budget report (u64 offset, u64 bytes: 0 for a scene not baked to a budget,
-//     u64 hash; its bytes: BudgetReport::serialize, key=value text); then u64 hash of all
+//     u64 hash; its bytes: BudgetReport::serialize, key=value text); version 7 adds the
+//     surface's normal map (u32 side: 0 without one, u64 offset, u64 bytes, u64 hash; its
+//     bytes: u32 octahedral codes, SurfaceTriangles::set_normal_map); then u64 hash of all
 //     header bytes before it.
 //  2. Tables at 64-byte aligned offsets: raw records in BoxLayout::sample_index order (box_layout.h), or a
 //     compressed payload (codec/table_payload.h); then each refined box's triangle ids
 //     (same order; u16 offsets or u32 slots), then the SurfaceTriangles records, then the
-//     piece ids (u32 per triangle), then the scene grid, then the budget report.
+//     piece ids (u32 per triangle), then the scene grid, then the budget report, then the
+//     normal map.
 //  3. Loading maps the file read-only (mmap); boxes point into the mapping, which stays
 //     alive while any box of the scene does. Always checked: the header hash, sizes and
 //     offsets, every OBB (finite, positive half extents, orthonormal right-handed axes: see
@@ -42,7 +45,7 @@ namespace hb {
 namespace {
 
 constexpr char kMagic[8] = {'H', 'B', 'O', 'X', 'F', 'I', 'L', 'E'};
-constexpr std::uint32_t kVersion = 6;
+constexpr std::uint32_t kVersion = 7;
 constexpr std::size_t kAlign = 64;
 
 class Writer {
@@ -138,6 +141,8 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
   const std::uint64_t grid_hash = grid_bytes.empty() ? 0 : XXH3_64bits(grid_bytes.data(), grid_bytes.size());
   const std::string budget_text = scene.budget_report().present ? scene.budget_report().serialize() : std::string();
   const std::uint64_t budget_hash = budget_text.empty() ? 0 : XXH3_64bits(budget_text.data(), budget_text.size());
+  const std::size_t map_bytes = surface ? surface->normal_map_bytes() : 0;
+  const std::uint64_t map_hash = map_bytes ? XXH3_64bits(surface->normal_map(), map_bytes) : 0;
   // offsets: the tables, then the ids of each box, then the surface, then the grid (zeros
   // while sizing).
   auto write_header = [&](const std::vector<std::uint64_t>& offsets) {
@@ -186,6 +191,10 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
     w.put(std::uint64_t(offsets.empty() || budget_text.empty() ? 0 : offsets[2 * boxes.size() + 3]));
     w.put(std::uint64_t(budget_text.size()));
     w.put(budget_hash);
+    w.put(std::uint32_t(map_bytes > 0 ? surface->normal_map_side() : 0));
+    w.put(std::uint64_t(offsets.empty() || map_bytes == 0 ? 0 : offsets[2 * boxes.size() + 4]));
+    w.put(std::uint64_t(map_bytes));
+    w.put(map_hash);
     const std::uint64_t header_hash = XXH3_64bits(w.bytes().data(), w.bytes().size());
     w.put(header_hash);
     return std::move(w.bytes());
@@ -199,6 +208,7 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
   blocks.emplace_back(pieces.data(), piece_bytes);
   blocks.emplace_back(grid_bytes.empty() ? nullptr : grid_bytes.data(), grid_bytes.size());
   blocks.emplace_back(budget_text.empty() ? nullptr : budget_text.data(), budget_text.size());
+  blocks.emplace_back(map_bytes ? static_cast<const void*>(surface->normal_map()) : nullptr, map_bytes);
   std::vector<std::uint64_t> offsets;
   std::size_t pos = align_up(write_header({}).size());
   for (const auto& block : blocks) {
@@ -331,6 +341,14 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
     budget_bytes = r.get<std::uint64_t>();
     budget_hash = r.get<std::uint64_t>();
   }
+  std::uint32_t map_side = 0;
+  std::uint64_t map_offset = 0, map_bytes = 0, map_hash = 0;
+  if (version >= 7) {
+    map_side = r.get<std::uint32_t>();
+    map_offset = r.get<std::uint64_t>();
+    map_bytes = r.get<std::uint64_t>();
+    map_hash = r.get<std::uint64_t>();
+  }
   const std::size_t header_end = r.pos();
   const auto stored_hash = r.get<std::uint64_t>();
   if (XXH3_64bits(data, header_end) != stored_hash)
@@ -363,9 +381,27 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
       throw InvalidInput(path + ": truncated box file (the surface triangles are cut short)");
     if (options.verify && XXH3_64bits(data + surface_offset, surface_bytes) != surface_hash)
       throw InvalidInput(path + ": corrupt box file (surface triangles checksum mismatch)");
-    surface = std::make_shared<const SurfaceTriangles>(
+    auto records = std::make_shared<SurfaceTriangles>(
         reinterpret_cast<const SurfaceTriangles::Record*>(data + surface_offset),
         std::size_t(surface_bytes / sizeof(SurfaceTriangles::Record)), keep);
+    if (map_bytes > 0 || map_side > 0) {
+      // The normal map: small next to the records (4 bytes a lattice point), always hashed.
+      const std::size_t count = records->size();
+      if (map_side < 1 || map_side > std::uint32_t(SurfaceTriangles::kMaxMapSide) || map_offset % kAlign != 0 ||
+          map_bytes / 4 / SurfaceTriangles::lattice_points(int(map_side)) != count ||
+          map_bytes != std::uint64_t(count) * SurfaceTriangles::lattice_points(int(map_side)) * 4)
+        throw InvalidInput(path + ": corrupt box file (the normal map (side " + std::to_string(map_side) + ", " +
+                           std::to_string(map_bytes) + " bytes) does not fit " + std::to_string(count) +
+                           " surface triangles)");
+      if (map_offset > map->size || map_bytes > map->size - map_offset)
+        throw InvalidInput(path + ": truncated box file (the normal map is cut short)");
+      if (XXH3_64bits(data + map_offset, map_bytes) != map_hash)
+        throw InvalidInput(path + ": corrupt box file (normal map checksum mismatch)");
+      records->set_normal_map(int(map_side), reinterpret_cast<const std::uint32_t*>(data + map_offset), keep);
+    }
+    surface = std::move(records);
+  } else if (map_bytes > 0 || map_side > 0) {
+    throw InvalidInput(path + ": corrupt box file (a normal map without surface triangles)");
   }
 
   // Every value the query trusts, before any box is built: the OBB (a NaN or an unbounded
@@ -394,6 +430,7 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
   section_end(pieces_offset, pieces_bytes);
   section_end(grid_offset, grid_bytes);
   section_end(budget_offset, budget_bytes);
+  section_end(map_offset, map_bytes);
   // Bytes after the last section are no part of any box file this program writes.
   if (options.verify && map->size > end_of_data)
     throw InvalidInput(path + ": corrupt box file (" + std::to_string(map->size - end_of_data) +

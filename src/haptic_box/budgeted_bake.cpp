@@ -143,7 +143,8 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     d.shading_check = br.simplify_shading_check;
     const bool fit_check = d.shading_check == DecimationOptions::ShadingCheck::fit;
     d.max_shading_deviation_deg = br.simplify_shading_deg > 0 ? br.simplify_shading_deg
-                                                              : (fit_check ? 0.3 : 0.2) * br.budget.direction_p99_deg;
+                                  : br.shading_map_side >= 0   ? 180.0  // the map carries the shading
+                                                               : (fit_check ? 0.3 : 0.2) * br.budget.direction_p99_deg;
     auto tstage = std::chrono::steady_clock::now();
     DecimationResult dr = decimate(mesh, d);
     stage_done("decimate", seconds_since(tstage));
@@ -189,7 +190,30 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   const Tuning tuning = tune_probes(mesh, exact, br.probes, br.tuning_seed, law);
   stage_done("tuning_probes", seconds_since(tstage));
   tstage = std::chrono::steady_clock::now();
-  const auto surface = std::make_shared<const SurfaceTriangles>(cast);
+  std::shared_ptr<const SurfaceTriangles> surface;
+  {
+    auto records = std::make_shared<SurfaceTriangles>(cast);
+    if (use_simplified && br.shading_map_side >= 0) {
+      // The full mesh's shading on a lattice over each simplified triangle (slot order).
+      int side = br.shading_map_side;
+      if (side == 0) {
+        const double ratio = std::sqrt(double(mesh.triangle_count()) / double(base.triangle_count()));
+        side = 1;
+        while (side < 16 && double(side) < ratio - 1e-9) side *= 2;
+      }
+      const auto tm = std::chrono::steady_clock::now();
+      const std::vector<std::uint32_t> by_triangle =
+          fit_normal_map(mesh, base, side, 0.002 * double(diagonal), &exact.scene());
+      const std::size_t per = SurfaceTriangles::lattice_points(side);
+      auto map = std::make_shared<std::vector<std::uint32_t>>(by_triangle.size());
+      for (std::uint32_t t = 0; t < base.triangle_count(); ++t)
+        std::copy_n(by_triangle.data() + std::size_t(t) * per, per, map->data() + std::size_t(records->slot(t)) * per);
+      records->set_normal_map(side, map->data(), map);
+      rep.surface_map_side = std::uint32_t(side);
+      stage_done("normal_map", seconds_since(tm));
+    }
+    surface = std::move(records);
+  }
   stage_done("surface", seconds_since(tstage));
   // The piece ids the scene records are per triangle of the full mesh; a simplified
   // surface's pieces are not (the scene then records none).

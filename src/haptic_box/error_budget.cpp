@@ -108,6 +108,7 @@ std::string BudgetReport::serialize() const {
        << "\nsurface_deviation_p99=" << surface_deviation_p99 << "\nsurface_deviation_max=" << surface_deviation_max
        << "\nsurface_normal_median_deg=" << surface_normal_median_deg
        << "\nsurface_normal_p99_deg=" << surface_normal_p99_deg << "\n";
+  if (surface_map_side > 0) os << "surface_map_side=" << surface_map_side << "\n";
   for (const PieceChoice& p : pieces)
     os << "piece=" << p.cell << " " << p.n << " " << (p.refine ? 1 : 0) << " " << p.probes << "\n";
   return os.str();
@@ -150,6 +151,7 @@ BudgetReport BudgetReport::parse(const std::string& text) {
     else if (key == "surface_deviation_max") r.surface_deviation_max = number(v, key, 0, 1e30);
     else if (key == "surface_normal_median_deg") r.surface_normal_median_deg = number(v, key, 0, 180);
     else if (key == "surface_normal_p99_deg") r.surface_normal_p99_deg = number(v, key, 0, 180);
+    else if (key == "surface_map_side") r.surface_map_side = std::uint32_t(number(v, key, 1, 64));
     else if (key == "simplify_seconds") r.simplify_seconds = number(v, key, 0, 1e9);
     else if (key == "piece") {
       std::stringstream ps(v);
@@ -180,7 +182,7 @@ std::string BudgetReport::summary() const {
     os << "; refined against " << surface_triangles << " of " << full_triangles << " triangles (simplified within "
        << surface_bound << ", measured max " << surface_deviation_max << ", p99 " << surface_deviation_p99
        << "; shading fitted, normals within " << surface_normal_median_deg << " deg median, " << surface_normal_p99_deg
-       << " p99)";
+       << " p99" << (surface_map_side > 0 ? "; normal map of side " + std::to_string(surface_map_side) : std::string()) << ")";
   return os.str();
 }
 

@@ -66,6 +66,9 @@ struct BudgetReport {
   /// The angle between the full mesh's shaded normals and the surface's (its corner normals
   /// fitted to them, hb::fit_shading) at the same points (median, p99; degrees).
   double surface_normal_median_deg = 0, surface_normal_p99_deg = 0;
+  /// The side of the surface's normal map (SurfaceTriangles::set_normal_map: the full mesh's
+  /// shading on a lattice over each simplified triangle, hb::fit_normal_map); 0 for none.
+  std::uint32_t surface_map_side = 0;
   double simplify_seconds = 0;
   /// This run's wall seconds per stage of the budgeted bake, in step order ("simplify",
   /// "decompose", "tables", ...; budgeted_bake.cpp names them), so anyone can see where a

@@ -223,14 +223,48 @@ unsigned SurfaceTriangles::plane_hits(const std::uint32_t* ids, int count, const
   return ok;
 }
 
+void SurfaceTriangles::set_normal_map(int side, const std::uint32_t* map, std::shared_ptr<const void> owner) {
+  if (side < 1 || side > kMaxMapSide)
+    throw InvalidInput("SurfaceTriangles: normal map side " + std::to_string(side) + " outside [1, " +
+                       std::to_string(kMaxMapSide) + "]");
+  if (!map) throw InvalidInput("SurfaceTriangles: no normal map");
+  map_ = map;
+  map_side_ = side;
+  map_owner_ = std::move(owner);
+}
+
+Vec3 SurfaceTriangles::shading_at(std::uint32_t id, float u, float v) const noexcept {
+  const Record& r = records_[id];
+  if (!map_)
+    return (1.f - u - v) * decode_octahedral32(r.normal[0]) + u * decode_octahedral32(r.normal[1]) +
+           v * decode_octahedral32(r.normal[2]);
+  const int k = map_side_;
+  const std::uint32_t* p = map_ + std::size_t(id) * lattice_points(k);
+  const float fu_all = u * float(k), fv_all = v * float(k);
+  // The lattice cell (i, j), i + j <= k - 1 (a point on the far edge belongs to the last
+  // cell's lower triangle, whose weights there are those of the edge).
+  int i = std::min(std::max(int(std::floor(fu_all)), 0), k - 1);
+  int j = std::min(std::max(int(std::floor(fv_all)), 0), k - 1);
+  if (i + j > k - 1) {
+    if (fu_all - float(i) >= fv_all - float(j)) j = k - 1 - i;
+    else i = k - 1 - j;
+    if (i < 0) i = 0, j = k - 1;
+    if (j < 0) j = 0, i = k - 1;
+  }
+  const float fu = fu_all - float(i), fv = fv_all - float(j);
+  const auto at = [&](int a, int b) { return decode_octahedral32(p[std::size_t(b * (k + 1) - b * (b - 1) / 2 + a)]); };
+  if (fu + fv <= 1.f || i + j == k - 1)
+    return (1.f - fu - fv) * at(i, j) + fu * at(i + 1, j) + fv * at(i, j + 1);
+  return (fu + fv - 1.f) * at(i + 1, j + 1) + (1.f - fv) * at(i + 1, j) + (1.f - fu) * at(i, j + 1);
+}
+
 bool SurfaceTriangles::finish(const Record& r, const float d[3], float u, float v, float s, float s_min, float& s_out,
-                              Vec3& normal, bool& front) noexcept {
+                              Vec3& normal, bool& front) const noexcept {
   if (!(s >= s_min)) return false;
   // Geometric normal e1 x e2 (outward for a consistently oriented mesh).
   const Vec3 g(r.e1[1] * r.e2[2] - r.e1[2] * r.e2[1], r.e1[2] * r.e2[0] - r.e1[0] * r.e2[2],
                r.e1[0] * r.e2[1] - r.e1[1] * r.e2[0]);
-  Vec3 shaded = (1.f - u - v) * decode_octahedral32(r.normal[0]) + u * decode_octahedral32(r.normal[1]) +
-                v * decode_octahedral32(r.normal[2]);
+  Vec3 shaded = shading_at(std::uint32_t(&r - records_), u, v);
   if (shaded.dot(g) < 0.f || shaded.squaredNorm() < 1e-12f) shaded = g;
   float len = shaded.norm();
   if (!(len > 0.f)) return false;

@@ -56,6 +56,31 @@ public:
   SurfaceTriangles(const Record* records, std::size_t count, std::shared_ptr<const void> owner);
 
   std::size_t size() const { return count_; }
+
+  /// Shading from a normal map: a simplified surface standing in for a finer mesh whose
+  /// vertex normals the exact answer interpolates (hb::fit_normal_map). Per triangle, in
+  /// slot order, the octahedral32 normals of a barycentric lattice of `side` steps an edge,
+  /// lattice_points(side) of them: point (i, j), at u = i / side along e1 and v = j / side
+  /// along e2 (i + j <= side), is number j (side + 1) - j (j - 1) / 2 + i. The shaded normal
+  /// at (u, v) interpolates the three points of the lattice triangle holding it (the cell's
+  /// lower triangle (i, j) (i+1, j) (i, j+1), or its upper one (i+1, j) (i+1, j+1) (i, j+1)):
+  /// exactly how the finer mesh shades where its triangles are the lattice's, as where a
+  /// mesh was flat-subdivided log2(side) times. Without a map (side 0, the default) the
+  /// three corner normals of each record. `map` (count * lattice_points(side) codes) stays
+  /// alive with `owner`. Throws hb::InvalidInput for a side outside [1, kMaxMapSide] or a
+  /// null map. Call before the surface is shared: queries read the map unsynchronised.
+  static constexpr int kMaxMapSide = 64;
+  static std::size_t lattice_points(int side) noexcept {
+    return std::size_t(side + 1) * std::size_t(side + 2) / 2;
+  }
+  void set_normal_map(int side, const std::uint32_t* map, std::shared_ptr<const void> owner);
+  int normal_map_side() const noexcept { return map_side_; }
+  const std::uint32_t* normal_map() const noexcept { return map_; }
+  /// Bytes of the normal map (0 without one).
+  std::size_t normal_map_bytes() const noexcept { return map_ ? count_ * lattice_points(map_side_) * 4 : 0; }
+  /// The shading of triangle `id` at barycentric (u, v) before normalisation: the map's
+  /// interpolation, or the corner normals'.
+  Vec3 shading_at(std::uint32_t id, float u, float v) const noexcept;
   /// The slot (record index) of mesh triangle `triangle`: records are stored in Morton order
   /// of the triangle centroids, not in the mesh's order. Only for surfaces built from a mesh
   /// (kNoTriangle otherwise, or for an unknown triangle).
@@ -134,13 +159,17 @@ private:
   // Line against one record: barycentrics (u, v) and the line parameter of the plane hit;
   // false for a line parallel to the plane.
   static bool plane_hit(const Record& r, const float o[3], const float d[3], float& u, float& v, float& s) noexcept;
-  static bool finish(const Record& r, const float d[3], float u, float v, float s, float s_min, float& s_out,
-                     Vec3& normal, bool& front) noexcept;
+  // `r` is one of records_ (the map is found by its slot).
+  bool finish(const Record& r, const float d[3], float u, float v, float s, float s_min, float& s_out, Vec3& normal,
+              bool& front) const noexcept;
 
   const Record* records_ = nullptr;
   std::size_t count_ = 0;
   std::shared_ptr<const void> owner_;
   std::vector<std::uint32_t> slot_of_;  // mesh triangle -> slot (built from a mesh only)
+  const std::uint32_t* map_ = nullptr;  // normal map (set_normal_map), slot order
+  int map_side_ = 0;
+  std::shared_ptr<const void> map_owner_;
 };
 
 } // namespace hb

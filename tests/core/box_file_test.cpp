@@ -50,11 +50,11 @@ protected:
     }
   }
 
-  // Layout of this one-box version-6 file (box_file.cpp): the prefix, the box's entry, the
-  // surface, piece-id, scene-grid and budget-report sections.
+  // Layout of this one-box version-7 file (box_file.cpp): the prefix, the box's entry, the
+  // surface, piece-id, scene-grid, budget-report and normal-map sections.
   static constexpr std::size_t kPrefix = 8 + 4 + 4 + 8 + 8 + 4 + 4 + 10;  // path "sphere.off"
   static constexpr std::size_t kCenter = kPrefix + 12, kAxes = kCenter + 12, kHalf = kAxes + 36;
-  static constexpr std::size_t kHeaderEnd = kPrefix + 72 + 24 + 28 + 28 + 24 + 24 + 24 + 24;
+  static constexpr std::size_t kHeaderEnd = kPrefix + 72 + 24 + 28 + 28 + 24 + 24 + 24 + 24 + 28;
   static void put_float(std::vector<char>& data, std::size_t at, float v) { std::memcpy(&data[at], &v, 4); }
   // Re-signs the header, as a file corrupted before it was written would be signed.
   static void resign(std::vector<char>& data) {
