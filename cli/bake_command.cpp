@@ -35,7 +35,7 @@ void add_bake_command(CLI::App& app) {
     bool no_cache = false;
     bool json = false;
     bool strict = false;
-    bool simplify = false;
+    bool simplify = hb::BudgetRecipe{}.simplify;
     bool keep_ids = false;
     bool full_search = false;
     double simplify_shading = 0.0;
@@ -72,12 +72,14 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--cache", opts->cache, "Box cache directory (shared with the window, sweep and report)")
       ->capture_default_str();
   cmd->add_flag("--no-cache", opts->no_cache, "Bake even when the cache holds the scene, and store nothing");
-  cmd->add_flag("--simplify", opts->simplify,
-                "Default bake: above 200,000 triangles, bake and refine against the mesh simplified within the "
-                "budget's deviation (1.5e-5 of the diagonal by default); judged against the full mesh");
+  cmd->add_flag("--simplify,!--no-simplify", opts->simplify,
+                "Default bake (on by default): above 200,000 triangles, bake and refine against the mesh simplified "
+                "within the budget's deviation (1.5e-5 of the diagonal by default), shaded by a normal map of the "
+                "full mesh's normals; judged against the full mesh, and the full mesh baked instead when it misses "
+                "the budget. --no-simplify: always the full mesh");
   cmd->add_option("--simplify-shading", opts->simplify_shading,
-                  "With --simplify: the shading check's bound (degrees; 0: 0.3 x the budget's dir99 with the fit "
-                  "check, 0.2 x with the ring check; 180: no check)")
+                  "With --simplify: the shading check's bound while simplifying (degrees; 0: none with the normal map, "
+                  "else 0.3 x the budget's dir99 with the fit check, 0.2 x with the ring check; 180: no check)")
       ->check(hb::cli::finite_range(0.0, 180.0))->capture_default_str();
   cmd->add_option("--simplify-shading-check", opts->simplify_shading_check,
                   "With --simplify: fit (a collapse is legal when each new face's own corner normals fit the full "
@@ -105,7 +107,7 @@ void add_bake_command(CLI::App& app) {
     const bool sampling_given = cmd->count("-m") + cmd->count("-n") + cmd->count("--cell") + cmd->count("--refine") > 0;
     if (sampling_given && (cmd->count("--simplify") || cmd->count("--simplify-shading") || cmd->count("--simplify-above") ||
                            cmd->count("--simplify-shading-check") || cmd->count("--shading-map")))
-      throw hb::cli::UsageError("bake: --simplify belongs to the default bake; drop -m, -n, --cell and --refine, or --simplify");
+      throw hb::cli::UsageError("bake: --simplify and its options belong to the default bake; drop -m, -n, --cell and --refine, or them");
     if (sampling_given && opts->full_search)
       throw hb::cli::UsageError("bake: --full-search belongs to the default bake (-m, -n, --cell and --refine bake one sampling); drop it");
     if (sampling_given && opts->keep_ids)

@@ -76,11 +76,14 @@ struct BudgetRecipe {
   /// (simplification_bound()). A simplification that keeps more than 90% of the triangles
   /// is not used, nor is one for pieces from a file or given ids (they name the full
   /// mesh's triangles).
-  /// Off by default (measured 2026-12-02, docs/speed.md): the armadillo subdivided to 832K
-  /// comes back to 52K triangles within 6e-6 of the diagonal, but the exact answers shade
-  /// with the subdivided mesh's own (faceted) vertex normals, which the simplified faces do
-  /// not reproduce (direction p99 17.6 deg); with the shading check almost nothing goes.
-  bool simplify = false;
+  /// On by default since 2026-12-05 (docs/speed.md, "The simplified surface's normal
+  /// map"): with the normal map below, the armadillo subdivided to 832K comes back to 52K
+  /// triangles with the full mesh's shading (14 MB instead of 64, faster than exact), the
+  /// 13M one to 79K (62 MB instead of 914). Before the map the exact answers' faceted
+  /// shading was lost (direction p99 17.6 deg). A simplified surface whose bake misses the
+  /// budget on the fresh probes is dropped and the full mesh baked (BudgetReport::
+  /// surface_rejected): the bake then costs the attempt too.
+  bool simplify = true;
   std::size_t simplify_above = 200000;
   /// With `simplify`: the simplified surface shades through a normal map of this side
   /// (SurfaceTriangles::set_normal_map, hb::fit_normal_map: the full mesh's shading on a

@@ -104,7 +104,31 @@ double simplification_bound(const ErrorBudget& budget) {
   return depth * std::max(0.0, std::min(0.1 * (1.0 - budget.agreement), 0.02 * budget.force_p95));
 }
 
+namespace {
+BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source);
+}
+
 BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source) {
+  BakeResult result = bake_to_budget_on_one_surface(mesh, recipe, source);
+  const BudgetReport& tried = result.scene.budget_report();
+  if (tried.surface_triangles == 0 || tried.met) return result;
+  // The simplified surface missed the budget on the fresh probes (a curved surface whose
+  // faces sag between the kept vertices more than the bound says): the full mesh, as
+  // without simplify, and the report says what was tried.
+  const double seconds = tried.seconds;
+  const std::uint64_t rejected = tried.surface_triangles;
+  BakeRecipe full = recipe;
+  full.budget.simplify = false;
+  result = bake_to_budget_on_one_surface(mesh, full, source);
+  BudgetReport rep = result.scene.budget_report();
+  rep.surface_rejected = rejected;
+  rep.seconds += seconds;
+  result.scene.set_budget_report(std::move(rep));
+  return result;
+}
+
+namespace {
+BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source) {
   const BudgetRecipe& br = recipe.budget;
   if (br.samplings.empty()) throw InvalidInput("bake: the budget has no samplings to try");
   for (const Sampling& s : br.samplings)
@@ -151,14 +175,20 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     if (double(dr.mesh.triangle_count()) < 0.9 * double(mesh.triangle_count())) {
       simplified = std::move(dr.mesh);
       use_simplified = true;
-      // The exact answers shade with the full mesh's normals: the refinement records and the
-      // rays' samples take corner normals fitted to them (the decomposition, the lists and
-      // the grid keep the shared-vertex surface; same triangles in the same order).
+      // The exact answers shade with the full mesh's normals. With a normal map (the
+      // default) the refinement shades through it (built once the exact BVH is, below) and
+      // the rays' samples keep the simplified mesh's own normals (they serve only the boxes'
+      // route and the blend view); without one, the refinement records and the rays' samples
+      // take corner normals fitted to them (the decomposition, the lists and the grid keep
+      // the shared-vertex surface; same triangles in the same order).
+      if (br.shading_map_side < 0) {
+        tstage = std::chrono::steady_clock::now();
+        shaded = fit_shading(mesh, simplified, 0.002 * double(diagonal));
+        stage_done("fit_shading", seconds_since(tstage));
+      }
       tstage = std::chrono::steady_clock::now();
-      shaded = fit_shading(mesh, simplified, 0.002 * double(diagonal));
-      stage_done("fit_shading", seconds_since(tstage));
-      tstage = std::chrono::steady_clock::now();
-      const SurfaceDeviation dev = measure_deviation(mesh, shaded, 100000, 0.002 * double(diagonal));
+      const SurfaceDeviation dev =
+          measure_deviation(mesh, br.shading_map_side < 0 ? shaded : simplified, 100000, 0.002 * double(diagonal));
       stage_done("deviation", seconds_since(tstage));
       rep.full_triangles = mesh.triangle_count();
       rep.surface_triangles = simplified.triangle_count();
@@ -166,13 +196,15 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
       rep.surface_deviation_mean = dev.mean;
       rep.surface_deviation_p99 = dev.p99;
       rep.surface_deviation_max = dev.max;
-      rep.surface_normal_median_deg = dev.normal_median_deg;
-      rep.surface_normal_p99_deg = dev.normal_p99_deg;
+      // The fitted corner normals' angles; a map's shading is judged by the fresh check.
+      rep.surface_normal_median_deg = br.shading_map_side < 0 ? dev.normal_median_deg : 0.0;
+      rep.surface_normal_p99_deg = br.shading_map_side < 0 ? dev.normal_p99_deg : 0.0;
     }
     rep.simplify_seconds = seconds_since(ts);
   }
   const TriangleMesh& base = use_simplified ? simplified : mesh;
-  const TriangleMesh& cast = use_simplified ? shaded : mesh;  // what the rays hit and the refinement shades with
+  // What the rays hit and the refinement's records shade with (a map, when fitted, overrides).
+  const TriangleMesh& cast = use_simplified && br.shading_map_side < 0 ? shaded : use_simplified ? simplified : mesh;
   // The exact answers' BVH of the full mesh first: a decomposition of the full mesh casts its
   // lines against it instead of building its own (one 13M-triangle BVH build fewer).
   auto tstage = std::chrono::steady_clock::now();
@@ -596,5 +628,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   report_progress(1.0);
   return result;
 }
+
+} // namespace
 
 } // namespace hb

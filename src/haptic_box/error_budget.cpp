@@ -109,6 +109,7 @@ std::string BudgetReport::serialize() const {
        << "\nsurface_normal_median_deg=" << surface_normal_median_deg
        << "\nsurface_normal_p99_deg=" << surface_normal_p99_deg << "\n";
   if (surface_map_side > 0) os << "surface_map_side=" << surface_map_side << "\n";
+  if (surface_rejected > 0) os << "surface_rejected=" << surface_rejected << "\n";
   for (const PieceChoice& p : pieces)
     os << "piece=" << p.cell << " " << p.n << " " << (p.refine ? 1 : 0) << " " << p.probes << "\n";
   return os.str();
@@ -151,6 +152,7 @@ BudgetReport BudgetReport::parse(const std::string& text) {
     else if (key == "surface_deviation_max") r.surface_deviation_max = number(v, key, 0, 1e30);
     else if (key == "surface_normal_median_deg") r.surface_normal_median_deg = number(v, key, 0, 180);
     else if (key == "surface_normal_p99_deg") r.surface_normal_p99_deg = number(v, key, 0, 180);
+    else if (key == "surface_rejected") r.surface_rejected = count(v, key);
     else if (key == "surface_map_side") r.surface_map_side = std::uint32_t(number(v, key, 1, 64));
     else if (key == "simplify_seconds") r.simplify_seconds = number(v, key, 0, 1e9);
     else if (key == "piece") {
@@ -181,8 +183,12 @@ std::string BudgetReport::summary() const {
   if (surface_triangles > 0)
     os << "; refined against " << surface_triangles << " of " << full_triangles << " triangles (simplified within "
        << surface_bound << ", measured max " << surface_deviation_max << ", p99 " << surface_deviation_p99
-       << "; shading fitted, normals within " << surface_normal_median_deg << " deg median, " << surface_normal_p99_deg
-       << " p99" << (surface_map_side > 0 ? "; normal map of side " + std::to_string(surface_map_side) : std::string()) << ")";
+       << (surface_map_side > 0 ? "; shaded by a normal map of side " + std::to_string(surface_map_side)
+                                : "; shading fitted, normals within " + fmt(surface_normal_median_deg) +
+                                      " deg median, " + fmt(surface_normal_p99_deg) + " p99")
+       << ")";
+  if (surface_rejected > 0)
+    os << "; a surface simplified to " << surface_rejected << " triangles missed the budget: baked on the full mesh";
   return os.str();
 }
 
