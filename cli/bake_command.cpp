@@ -42,6 +42,7 @@ void add_bake_command(CLI::App& app) {
     std::string simplify_shading_check = "fit";
     std::size_t simplify_above = hb::BudgetRecipe{}.simplify_above;
     int shading_map = 0;
+    double simplify_deviation = 0.0;
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
@@ -74,7 +75,7 @@ void add_bake_command(CLI::App& app) {
   cmd->add_flag("--no-cache", opts->no_cache, "Bake even when the cache holds the scene, and store nothing");
   cmd->add_flag("--simplify,!--no-simplify", opts->simplify,
                 "Default bake (on by default): above 200,000 triangles, bake and refine against the mesh simplified "
-                "within the budget's deviation (1.5e-5 of the diagonal by default), shaded by a normal map of the "
+                "within the budget's deviation (3.75e-6 of the diagonal by default), shaded by a normal map of the "
                 "full mesh's normals; judged against the full mesh, and the full mesh baked instead when it misses "
                 "the budget. --no-simplify: always the full mesh");
   cmd->add_option("--simplify-shading", opts->simplify_shading,
@@ -87,6 +88,10 @@ void add_bake_command(CLI::App& app) {
                   "neighbours' normals within the bound of its own: the first check). Either way the simplified "
                   "surface's corner normals are then fitted to the full mesh's shading")
       ->check(CLI::IsMember({"fit", "ring"}))->capture_default_str();
+  cmd->add_option("--simplify-deviation", opts->simplify_deviation,
+                  "With --simplify: the deviation bound, fraction of the mesh diagonal (0: the budget's share, "
+                  "3.75e-6 of the diagonal for the default budget)")
+      ->check(CLI::Range(0.0, 0.099))->capture_default_str();
   cmd->add_option("--shading-map", opts->shading_map,
                   "With --simplify: the side of the normal map that carries the full mesh's shading over each "
                   "simplified triangle (0: automatic, the power of two above sqrt(full / simplified triangles), at "
@@ -106,7 +111,8 @@ void add_bake_command(CLI::App& app) {
     // the pieces, codec and seam options given still apply to it.
     const bool sampling_given = cmd->count("-m") + cmd->count("-n") + cmd->count("--cell") + cmd->count("--refine") > 0;
     if (sampling_given && (cmd->count("--simplify") || cmd->count("--simplify-shading") || cmd->count("--simplify-above") ||
-                           cmd->count("--simplify-shading-check") || cmd->count("--shading-map")))
+                           cmd->count("--simplify-shading-check") || cmd->count("--shading-map") ||
+                           cmd->count("--simplify-deviation")))
       throw hb::cli::UsageError("bake: --simplify and its options belong to the default bake; drop -m, -n, --cell and --refine, or them");
     if (sampling_given && opts->full_search)
       throw hb::cli::UsageError("bake: --full-search belongs to the default bake (-m, -n, --cell and --refine bake one sampling); drop it");
@@ -127,6 +133,7 @@ void add_bake_command(CLI::App& app) {
                                                                                : hb::DecimationOptions::ShadingCheck::fit;
       r.budget.simplify_above = opts->simplify_above;
       r.budget.shading_map_side = opts->shading_map;
+      r.budget.simplify_deviation = opts->simplify_deviation;
       r.budget.keep_triangle_ids = opts->keep_ids;
       r.budget.full_search = opts->full_search;
       if (cmd->count("--max-m")) r.options.density.max_m = opts->recipe.options.density.max_m;

@@ -15,7 +15,7 @@ void add_simplify_command(CLI::App& app) {
   struct Opts {
     hb::cli::ModelArgs model;
     std::string mesh, out;
-    double deviation = 1.5e-5;
+    double deviation = 3.75e-6;
     double shading = 2.0;
     std::string shading_check = "ring";
     bool fit_shading = false;

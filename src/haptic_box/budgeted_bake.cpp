@@ -101,7 +101,7 @@ bool off_surface(const Contact& exact, const Contact& approx, float tolerance) {
 
 double simplification_bound(const ErrorBudget& budget) {
   const double depth = double(ProbeOptions{}.max_depth_fraction);
-  return depth * std::max(0.0, std::min(0.1 * (1.0 - budget.agreement), 0.02 * budget.force_p95));
+  return 0.25 * depth * std::max(0.0, std::min(0.1 * (1.0 - budget.agreement), 0.02 * budget.force_p95));
 }
 
 namespace {
