@@ -1,10 +1,13 @@
 // The budgeted bake (bake_recipe.h, BudgetRecipe): the cheapest scene found that meets an
 // error budget against exact Embree.
 //  0. The surface the boxes are baked and refined against: the mesh, or above
-//     BudgetRecipe::simplify_above triangles the mesh simplified within the budget's
-//     deviation (hb::decimate, simplification_bound), its deviation from the full surface
-//     measured. Steps 1-4 cut, cast, store ids and build grids on that surface; the probes
-//     and the exact answers they are judged by stay on the FULL mesh.
+//     BudgetRecipe::simplify_above triangles (the default) the mesh simplified within the
+//     budget's deviation (hb::decimate, simplification_bound), its deviation from the full
+//     surface measured, shaded by a normal map of the full mesh's normals (fit_normal_map,
+//     SurfaceTriangles::set_normal_map). Steps 1-4 cut, cast, store ids and build grids on
+//     that surface; the probes and the exact answers they are judged by stay on the FULL
+//     mesh. A simplified scene that misses the budget on the fresh probes (step 5) is
+//     dropped and the whole bake done again on the full mesh (bake_to_budget).
 //  1. Pieces as the recipe says (automatic by default), once. Tuning probes (the default
 //     distribution, BudgetRecipe::tuning_seed) and their exact answers, once.
 //  2. Every piece is baked at every sampling (seams in that sampling's cells), with one

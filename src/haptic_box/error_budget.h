@@ -64,7 +64,8 @@ struct BudgetReport {
   std::uint64_t surface_triangles = 0;
   double surface_bound = 0, surface_deviation_mean = 0, surface_deviation_p99 = 0, surface_deviation_max = 0;
   /// The angle between the full mesh's shaded normals and the surface's (its corner normals
-  /// fitted to them, hb::fit_shading) at the same points (median, p99; degrees).
+  /// fitted to them, hb::fit_shading) at the same points (median, p99; degrees); 0 with a
+  /// normal map (surface_map_side), whose shading the fresh check's direction error judges.
   double surface_normal_median_deg = 0, surface_normal_p99_deg = 0;
   /// The side of the surface's normal map (SurfaceTriangles::set_normal_map: the full mesh's
   /// shading on a lattice over each simplified triangle, hb::fit_normal_map); 0 for none.
