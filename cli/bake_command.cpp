@@ -276,6 +276,9 @@ void add_bake_command(CLI::App& app) {
                   << " box(es) with triangle ids and surface for exact refinement)";
       else if (scene.refines())
         std::cout << " (exact through the surface cells: surface " << hb::bytes_text(scene.surface()->bytes())
+                  << (scene.surface()->normal_map_bytes() > 0
+                          ? " and its normal map " + hb::bytes_text(scene.surface()->normal_map_bytes())
+                          : std::string())
                   << ", no triangle ids)";
       std::cout << "\n";
       if (budget.present) {

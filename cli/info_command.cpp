@@ -113,6 +113,8 @@ nlohmann::json box_info(const std::string& path, bool verify) {
                                                     : "no"},
           {"triangle_id_bytes", id_bytes},
           {"surface_bytes", scene.refinement_bytes() - id_bytes},
+          {"normal_map_side", scene.surface() ? scene.surface()->normal_map_side() : 0},
+          {"normal_map_bytes", scene.surface() ? scene.surface()->normal_map_bytes() : 0},
           {"scene_grid_bytes", scene.grid() ? scene.grid()->bytes() : 0},
           {"scene_grid_cells", scene.grid() ? scene.grid()->codes().size() : 0},
           {"verified", verify},
