@@ -3,6 +3,7 @@
 #include "errors.h"
 #include "stopwatch.h"
 #include "exact/embree_scene.h"
+#include "haptic_box/surface_triangles.h"
 #include "geometry/octahedral.h"
 #include <Eigen/Dense>
 #include <tbb/parallel_for.h>
@@ -37,6 +38,14 @@ double deviation_quantile(std::vector<double>& v, double q) {
   const std::size_t k = std::min(v.size() - 1, std::size_t(q * double(v.size())));
   std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
   return v[k];
+}
+
+// What fit_shading and fit_normal_map need of their meshes, or throws naming `what`.
+void check_shading_meshes(const char* what, const TriangleMesh& full, const TriangleMesh& simplified) {
+  if (full.triangle_count() == 0 || simplified.triangle_count() == 0)
+    throw InvalidInput(std::string(what) + ": a mesh has no triangles");
+  if (simplified.normals.size() != simplified.positions.size() || full.normals.size() != full.positions.size())
+    throw InvalidInput(std::string(what) + ": both meshes need vertex normals");
 }
 
 } // namespace
@@ -117,10 +126,7 @@ SurfaceDeviation measure_deviation(const TriangleMesh& full, const TriangleMesh&
 
 TriangleMesh fit_shading(const TriangleMesh& full, const TriangleMesh& simplified, double cap, int grid,
                          ShadingFitStats* stats) {
-  if (full.triangle_count() == 0 || simplified.triangle_count() == 0)
-    throw InvalidInput("fit_shading: a mesh has no triangles");
-  if (simplified.normals.size() != simplified.positions.size() || full.normals.size() != full.positions.size())
-    throw InvalidInput("fit_shading: both meshes need vertex normals");
+  check_shading_meshes("fit_shading", full, simplified);
   if (grid < 1) throw InvalidInput("fit_shading: grid must be >= 1, got " + std::to_string(grid));
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t n = simplified.triangle_count();
@@ -198,11 +204,10 @@ TriangleMesh fit_shading(const TriangleMesh& full, const TriangleMesh& simplifie
 
 std::vector<std::uint32_t> fit_normal_map(const TriangleMesh& full, const TriangleMesh& simplified, int side,
                                           double cap, const EmbreeScene* scene, ShadingFitStats* stats) {
-  if (full.triangle_count() == 0 || simplified.triangle_count() == 0)
-    throw InvalidInput("fit_normal_map: a mesh has no triangles");
-  if (simplified.normals.size() != simplified.positions.size() || full.normals.size() != full.positions.size())
-    throw InvalidInput("fit_normal_map: both meshes need vertex normals");
-  if (side < 1 || side > 64) throw InvalidInput("fit_normal_map: side must be in [1, 64], got " + std::to_string(side));
+  check_shading_meshes("fit_normal_map", full, simplified);
+  if (side < 1 || side > SurfaceTriangles::kMaxMapSide)
+    throw InvalidInput("fit_normal_map: side must be in [1, " + std::to_string(SurfaceTriangles::kMaxMapSide) +
+                       "], got " + std::to_string(side));
   const auto t0 = std::chrono::steady_clock::now();
   std::unique_ptr<EmbreeScene> own;
   if (!scene) {
@@ -210,7 +215,7 @@ std::vector<std::uint32_t> fit_normal_map(const TriangleMesh& full, const Triang
     scene = own.get();
   }
   const std::size_t n = simplified.triangle_count();
-  const std::size_t per = std::size_t(side + 1) * std::size_t(side + 2) / 2;
+  const std::size_t per = SurfaceTriangles::lattice_points(side);
   std::vector<std::uint32_t> map(n * per);
   std::atomic<std::size_t> fitted{0};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const auto& r) {

@@ -229,7 +229,7 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
   {
     auto records = std::make_shared<SurfaceTriangles>(cast);
     if (use_simplified && br.shading_map_side >= 0) {
-      // The full mesh's shading on a lattice over each simplified triangle (slot order).
+      // The full mesh's shading on a lattice over each simplified triangle.
       int side = br.shading_map_side;
       if (side == 0) {
         const double ratio = std::sqrt(double(mesh.triangle_count()) / double(base.triangle_count()));
@@ -237,13 +237,7 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
         while (side < 16 && double(side) < ratio - 1e-9) side *= 2;
       }
       const auto tm = std::chrono::steady_clock::now();
-      const std::vector<std::uint32_t> by_triangle =
-          fit_normal_map(mesh, base, side, 0.002 * double(diagonal), &exact.scene());
-      const std::size_t per = SurfaceTriangles::lattice_points(side);
-      auto map = std::make_shared<std::vector<std::uint32_t>>(by_triangle.size());
-      for (std::uint32_t t = 0; t < base.triangle_count(); ++t)
-        std::copy_n(by_triangle.data() + std::size_t(t) * per, per, map->data() + std::size_t(records->slot(t)) * per);
-      records->set_normal_map(side, map->data(), map);
+      records->set_normal_map(side, fit_normal_map(mesh, base, side, 0.002 * double(diagonal), &exact.scene()));
       rep.surface_map_side = std::uint32_t(side);
       stage_done("normal_map", seconds_since(tm));
     }

@@ -233,6 +233,21 @@ void SurfaceTriangles::set_normal_map(int side, const std::uint32_t* map, std::s
   map_owner_ = std::move(owner);
 }
 
+void SurfaceTriangles::set_normal_map(int side, const std::vector<std::uint32_t>& by_triangle) {
+  if (side < 1 || side > kMaxMapSide)
+    throw InvalidInput("SurfaceTriangles: normal map side " + std::to_string(side) + " outside [1, " +
+                       std::to_string(kMaxMapSide) + "]");
+  const std::size_t per = lattice_points(side);
+  if (slot_of_.size() != count_ || by_triangle.size() != count_ * per)
+    throw InvalidInput("SurfaceTriangles: a normal map of " + std::to_string(by_triangle.size()) + " codes for " +
+                       std::to_string(count_) + " triangles at side " + std::to_string(side) +
+                       (slot_of_.size() != count_ ? " (the surface was not built from a mesh)" : ""));
+  auto map = std::make_shared<std::vector<std::uint32_t>>(by_triangle.size());
+  for (std::size_t t = 0; t < count_; ++t)
+    std::copy_n(by_triangle.data() + t * per, per, map->data() + std::size_t(slot_of_[t]) * per);
+  set_normal_map(side, map->data(), map);
+}
+
 Vec3 SurfaceTriangles::shading_at(std::uint32_t id, float u, float v) const noexcept {
   const Record& r = records_[id];
   if (!map_)

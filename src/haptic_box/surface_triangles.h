@@ -74,6 +74,10 @@ public:
     return std::size_t(side + 1) * std::size_t(side + 2) / 2;
   }
   void set_normal_map(int side, const std::uint32_t* map, std::shared_ptr<const void> owner);
+  /// The same from codes in the mesh's triangle order (hb::fit_normal_map's), for a surface
+  /// built from that mesh: reordered to slot order into storage the surface keeps. Throws
+  /// hb::InvalidInput as above, and for a surface not built from a mesh or a map of another size.
+  void set_normal_map(int side, const std::vector<std::uint32_t>& by_triangle);
   int normal_map_side() const noexcept { return map_side_; }
   const std::uint32_t* normal_map() const noexcept { return map_; }
   /// Bytes of the normal map (0 without one).

@@ -228,42 +228,22 @@ public:
         // is_collapse_ok, a walk of both one-rings: most of the sweep's time when it ran for
         // every halfedge) in rising priority until one passes. The same halfedge as testing
         // every one (ties keep the first in the one-ring's order), so the same mesh.
-        std::array<std::pair<float, int>, 32> ranked;
-        std::array<OmMesh::HalfedgeHandle, 32> around;
-        int count = 0;
-        bool wide = false;
+        ranked_.clear();
+        around_.clear();
         for (auto h : mesh_.voh_range(v)) {
-          if (count == int(around.size())) {
-            wide = true;  // a vertex of valence over 32: rank what is listed, test the rest in order
-            break;
-          }
-          around[std::size_t(count)] = h;
           CollapseInfo ci(mesh_, h);
           const float e = collapse_priority(ci);
-          ranked[std::size_t(count)] = {std::isnan(e) ? float(OpenMesh::Decimater::ModBaseT<OmMesh>::ILLEGAL_COLLAPSE) : e, count};
-          ++count;
+          ranked_.emplace_back(std::isnan(e) ? kIllegal : e, int(around_.size()));
+          around_.push_back(h);
         }
+        std::sort(ranked_.begin(), ranked_.end());
         OmMesh::HalfedgeHandle best;
-        if (!wide) {
-          std::sort(ranked.begin(), ranked.begin() + count);
-          for (int k = 0; k < count; ++k) {
-            const float e = ranked[std::size_t(k)].first;
-            if (e == float(OpenMesh::Decimater::ModBaseT<OmMesh>::ILLEGAL_COLLAPSE) || !(e < FLT_MAX)) continue;
-            const OmMesh::HalfedgeHandle h = around[std::size_t(ranked[std::size_t(k)].second)];
-            CollapseInfo ci(mesh_, h);
-            if (is_collapse_legal(ci)) {
-              best = h;
-              break;
-            }
-          }
-        } else {
-          float best_energy = FLT_MAX;
-          for (auto h : mesh_.voh_range(v)) {
-            CollapseInfo ci(mesh_, h);
-            if (!is_collapse_legal(ci)) continue;
-            const float e = collapse_priority(ci);
-            if (e != float(OpenMesh::Decimater::ModBaseT<OmMesh>::ILLEGAL_COLLAPSE) && e < best_energy)
-              best_energy = e, best = h;
+        for (const auto& [e, k] : ranked_) {
+          if (e == kIllegal || !(e < FLT_MAX)) continue;
+          CollapseInfo ci(mesh_, around_[std::size_t(k)]);
+          if (is_collapse_legal(ci)) {
+            best = around_[std::size_t(k)];
+            break;
           }
         }
         if (!best.is_valid()) continue;
@@ -283,7 +263,10 @@ public:
   }
 
 private:
+  static constexpr float kIllegal = float(OpenMesh::Decimater::ModBaseT<OmMesh>::ILLEGAL_COLLAPSE);
   OmMesh& mesh_;
+  std::vector<std::pair<float, int>> ranked_;  // one vertex's outgoing halfedges: (priority, index into around_)
+  std::vector<OmMesh::HalfedgeHandle> around_;
 };
 
 // What one pass does: the quadric bound (squared: OpenMesh's quadric error is a squared

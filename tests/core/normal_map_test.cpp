@@ -67,10 +67,7 @@ TEST(NormalMapTest, ACoarseSurfaceWithItsMapShadesAsTheMeshThatSubdividesIt) {
   ASSERT_EQ(by_triangle.size(), m.coarse.triangle_count() * per);
   const SurfaceTriangles plain(m.coarse);
   SurfaceTriangles mapped(m.coarse);
-  auto map = std::make_shared<std::vector<std::uint32_t>>(by_triangle.size());
-  for (std::uint32_t t = 0; t < m.coarse.triangle_count(); ++t)
-    std::copy_n(by_triangle.data() + t * per, per, map->data() + std::size_t(mapped.slot(t)) * per);
-  mapped.set_normal_map(side, map->data(), map);
+  mapped.set_normal_map(side, by_triangle);
   EXPECT_EQ(mapped.normal_map_side(), side);
   EXPECT_EQ(mapped.normal_map_bytes(), m.coarse.triangle_count() * per * 4);
 
@@ -98,15 +95,21 @@ TEST(NormalMapTest, ACoarseSurfaceWithItsMapShadesAsTheMeshThatSubdividesIt) {
   EXPECT_GT(plain_max, 2.0);
 }
 
-TEST(NormalMapTest, AMapWithoutASideOrDataIsRefused) {
+TEST(NormalMapTest, AMapWithoutASideOrDataOrOfAnotherSizeIsRefused) {
   const CoarseAndFine m = coarse_and_fine();
   SurfaceTriangles surface(m.coarse);
   const std::vector<std::uint32_t> codes(m.coarse.triangle_count() * SurfaceTriangles::lattice_points(2), 0u);
   EXPECT_THROW(surface.set_normal_map(0, codes.data(), nullptr), InvalidInput);
   EXPECT_THROW(surface.set_normal_map(SurfaceTriangles::kMaxMapSide + 1, codes.data(), nullptr), InvalidInput);
   EXPECT_THROW(surface.set_normal_map(2, nullptr, nullptr), InvalidInput);
+  EXPECT_THROW(surface.set_normal_map(3, codes), InvalidInput);  // sized for side 2
+  SurfaceTriangles from_records(surface.records(), surface.size(), nullptr);  // no mesh order to follow
+  EXPECT_THROW(from_records.set_normal_map(2, codes), InvalidInput);
+  EXPECT_EQ(surface.normal_map_side(), 0);  // every refused call left the surface as it was
+  surface.set_normal_map(2, codes);
+  EXPECT_EQ(surface.normal_map_side(), 2);
+  EXPECT_EQ(surface.normal_map_bytes(), codes.size() * 4);
   EXPECT_THROW(fit_normal_map(m.fine, m.coarse, 0, 0.1), InvalidInput);
-  EXPECT_EQ(surface.normal_map_side(), 0);
 }
 
 class NormalMapFileTest : public test::ScratchDirTest {
