@@ -248,11 +248,19 @@ void SurfaceTriangles::set_normal_map(int side, const std::vector<std::uint32_t>
   set_normal_map(side, map->data(), map);
 }
 
+namespace {
+// The three corner normals interpolated (a surface without a normal map).
+inline Vec3 corner_shading(const SurfaceTriangles::Record& r, float u, float v) noexcept {
+  return (1.f - u - v) * decode_octahedral32(r.normal[0]) + u * decode_octahedral32(r.normal[1]) +
+         v * decode_octahedral32(r.normal[2]);
+}
+} // namespace
+
 Vec3 SurfaceTriangles::shading_at(std::uint32_t id, float u, float v) const noexcept {
-  const Record& r = records_[id];
-  if (!map_)
-    return (1.f - u - v) * decode_octahedral32(r.normal[0]) + u * decode_octahedral32(r.normal[1]) +
-           v * decode_octahedral32(r.normal[2]);
+  return map_ ? lattice_shading(id, u, v) : corner_shading(records_[id], u, v);
+}
+
+Vec3 SurfaceTriangles::lattice_shading(std::uint32_t id, float u, float v) const noexcept {
   const int k = map_side_;
   const std::uint32_t* p = map_ + std::size_t(id) * lattice_points(k);
   const float fu_all = u * float(k), fv_all = v * float(k);
@@ -279,7 +287,8 @@ bool SurfaceTriangles::finish(const Record& r, const float d[3], float u, float 
   // Geometric normal e1 x e2 (outward for a consistently oriented mesh).
   const Vec3 g(r.e1[1] * r.e2[2] - r.e1[2] * r.e2[1], r.e1[2] * r.e2[0] - r.e1[0] * r.e2[2],
                r.e1[0] * r.e2[1] - r.e1[1] * r.e2[0]);
-  Vec3 shaded = shading_at(std::uint32_t(&r - records_), u, v);
+  // The corner normals inline: the map's lattice is the rarer case, out of line.
+  Vec3 shaded = map_ ? lattice_shading(std::uint32_t(&r - records_), u, v) : corner_shading(r, u, v);
   if (shaded.dot(g) < 0.f || shaded.squaredNorm() < 1e-12f) shaded = g;
   float len = shaded.norm();
   if (!(len > 0.f)) return false;

@@ -163,6 +163,8 @@ private:
   // Line against one record: barycentrics (u, v) and the line parameter of the plane hit;
   // false for a line parallel to the plane.
   static bool plane_hit(const Record& r, const float o[3], const float d[3], float& u, float& v, float& s) noexcept;
+  // shading_at() with a map (kept out of finish()'s inline path).
+  [[gnu::noinline]] Vec3 lattice_shading(std::uint32_t id, float u, float v) const noexcept;
   // `r` is one of records_ (the map is found by its slot).
   bool finish(const Record& r, const float d[3], float u, float v, float s, float s_min, float& s_out, Vec3& normal,
               bool& front) const noexcept;
