@@ -13,6 +13,7 @@
 //    unaligned 64-bit read. No table, tile or block decode.
 #include "codec/bit_io.h"
 #include "codec/table_payload.h"
+#include "prefetch.h"
 #include <algorithm>
 #include <emmintrin.h>
 #include <cmath>
@@ -39,7 +40,7 @@ public:
   /// Starts loading the record holding sample (a, b) of `tile`.
   void prefetch(std::size_t tile, int a, int b) const noexcept {
     const std::uint32_t* e = index_ + block_of(tile, a, b);
-    __builtin_prefetch(e);
+    hb::prefetch(e);
   }
 
   /// Random access to sample (a, b) of `tile` (= position * 12 + sub * 3 + sface). Returns

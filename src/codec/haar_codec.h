@@ -16,6 +16,7 @@
 //    the non-zero coefficients (zigzag, fixed width); a coefficient is found by popcount.
 #include "codec/bit_io.h"
 #include "codec/table_payload.h"
+#include "prefetch.h"
 #include <algorithm>
 #include <cmath>
 
@@ -34,7 +35,7 @@ public:
   /// Validates the payload's header (O(1)); throws hb::InvalidInput.
   HaarTable(const std::uint8_t* payload, std::size_t bytes, const BoxParams& params);
 
-  void prefetch(std::size_t tile, int, int) const noexcept { __builtin_prefetch(index_ + tile); }
+  void prefetch(std::size_t tile, int, int) const noexcept { hb::prefetch(index_ + tile); }
 
   /// Random access to one sample; false for a miss. Corrupt records read as misses.
   bool fetch(std::size_t tile, int a, int b, float& t, float& u, float& v) const noexcept {

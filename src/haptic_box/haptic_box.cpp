@@ -41,6 +41,7 @@
 #include "haptic_box/haptic_box.h"
 #include "errors.h"
 #include "geometry/octahedral.h"
+#include "prefetch.h"
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -151,8 +152,8 @@ struct RawFetch {
   };
   void begin(std::size_t position, std::size_t sf, int a0, int b0, Corner& c) const noexcept {
     c.base = table + layout.first_sample(position, sf, a0, b0);
-    __builtin_prefetch(c.base);
-    __builtin_prefetch(c.base + n);
+    hb::prefetch(c.base);
+    hb::prefetch(c.base + n);
   }
   void resolve(Corner&) const noexcept {}
   // Raw samples: each quad is two 16-byte loads, blended with SSE2 (weights reordered to the
@@ -211,8 +212,8 @@ template <> struct CodecFetch<BlockTable> {
   void resolve(Corner& c) const noexcept {
     view.quad_records(c.tile, c.a0, c.b0, c.rec);
     for (int k = 0; k < 4; ++k) {
-      __builtin_prefetch(c.rec[k]);
-      __builtin_prefetch(c.rec[k] + 64);
+      hb::prefetch(c.rec[k]);
+      hb::prefetch(c.rec[k] + 64);
     }
   }
   // The quad in one fetch_quad_from() (each block's header read once), blended by blend_quad().
@@ -599,8 +600,8 @@ bool HapticBox::locate(const Fetch& fetch, const Segment& segment, Located<Fetch
     const std::size_t n = std::size_t(params_.n);
     for (int c = 0; c < 4; ++c) {
       const std::size_t first = layout_.first_sample(p00 + layout_.corner_step(c), sf, a0, b0);
-      __builtin_prefetch(triangle_ids_.address(first));
-      __builtin_prefetch(triangle_ids_.address(first + n + 1));
+      hb::prefetch(triangle_ids_.address(first));
+      hb::prefetch(triangle_ids_.address(first + n + 1));
     }
   }
   for (int c = 0; c < 4; ++c) fetch.begin(p00 + layout_.corner_step(c), sf, a0, b0, q.corners[c]);

@@ -244,10 +244,11 @@ public:
   /// while they load, so a batch larger than the caches waits for memory once per step of
   /// many walks instead of once per step of each.
   void first_crossings_along(const Vec3* a, const Vec3* b, std::size_t count, Crossing* out) const noexcept;
-  /// Whether walks side by side pay: the surface and its cells exceed the last-level cache
-  /// (sysconf; 32 MB when it does not say). Measured (docs/speed.md): 1.2-1.5x quicker than
-  /// one walk at a time at 832K and 13M triangles, 1.25x slower at 52K, where every line is
-  /// in cache and the walks' switching costs more than the waits it hides.
+  /// Whether walks side by side pay: the surface, its normal map and its cells exceed the
+  /// last-level cache (sysconf; 32 MB when it does not say). Measured (docs/speed.md):
+  /// 1.2-1.5x quicker than one walk at a time at 832K and 13M triangles, 1.25x slower at 52K,
+  /// where every line is in cache and the walks' switching costs more than the waits it hides.
+  /// The map counts: a simplified 13M surface is 3.4 MB of records and 33 MB of map.
   bool walks_side_by_side() const noexcept;
   const SurfaceTriangles& surface() const { return *surface_; }
   /// The sub-cells of the crowded cells.

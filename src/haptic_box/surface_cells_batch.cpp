@@ -8,6 +8,7 @@
 // first_crossing_along's, in its order: the same crossings bit for bit.
 #include "haptic_box/scene_grid.h"
 #include "geometry/cell_dda.h"
+#include "prefetch.h"
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -52,7 +53,7 @@ std::size_t last_level_cache_bytes() noexcept {
 } // namespace
 
 bool SurfaceCells::walks_side_by_side() const noexcept {
-  return surface_ && surface_->bytes() + bytes() > last_level_cache_bytes();
+  return surface_ && surface_->bytes() + surface_->normal_map_bytes() + bytes() > last_level_cache_bytes();
 }
 
 void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size_t count,
@@ -80,7 +81,7 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
     w.it = 0;
     w.phase = Phase::clearance;
     w.segment = i;
-    __builtin_prefetch(clear_.data() + brick_of(w.dda) * 64);
+    hb::prefetch(clear_.data() + brick_of(w.dda) * 64);
     return true;
   };
   // Steps walk w past a surface cell: false at the segment's or the grid's end.
@@ -90,7 +91,7 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
     ++w.it;
     if (w.s > w.seg.s1 || !inside) return false;
     w.phase = Phase::clearance;
-    __builtin_prefetch(clear_.data() + brick_of(w.dda) * 64);
+    hb::prefetch(clear_.data() + brick_of(w.dda) * 64);
     return true;
   };
   // Starts loading the records of walk w's cell list (up to 32), to be tested next.
@@ -115,12 +116,12 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
           w.s = jump;
           w.dda.start(w.seg.fa, w.seg.fd, w.seg.inv, w.s, n);
           ++w.it;
-          __builtin_prefetch(clear_.data() + brick_of(w.dda) * 64);
+          hb::prefetch(clear_.data() + brick_of(w.dda) * 64);
           return true;
         }
         if (clear == 0) {
-          __builtin_prefetch(masks_.data() + w.brick);
-          __builtin_prefetch(base_.data() + w.brick);
+          hb::prefetch(masks_.data() + w.brick);
+          hb::prefetch(base_.data() + w.brick);
           w.phase = Phase::cell;
           return true;
         }
@@ -130,14 +131,14 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
         if (w.s > w.seg.s1 || !inside) return false;
         const std::size_t next = brick_of(w.dda);
         if (next != w.brick) {  // another brick's clearance line: wait for it
-          __builtin_prefetch(clear_.data() + next * 64);
+          hb::prefetch(clear_.data() + next * 64);
           return true;
         }
       }
     case Phase::cell:
       w.index = base_[w.brick] + cells_below(masks_[w.brick], w.bit);
-      __builtin_prefetch(offsets_.data() + w.index);
-      __builtin_prefetch(slabs_.data() + w.index);
+      hb::prefetch(offsets_.data() + w.index);
+      hb::prefetch(slabs_.data() + w.index);
       w.phase = Phase::list;
       return true;
     case Phase::list:
@@ -145,7 +146,7 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
       w.begin = offsets_[w.index];
       w.count = offsets_[w.index + 1] - w.begin;
       for (std::uint32_t k = 0; k < std::min<std::uint32_t>(w.count, 64); k += 16)
-        __builtin_prefetch(slots_.data() + w.begin + k);
+        hb::prefetch(slots_.data() + w.begin + k);
       w.crowded = SurfaceSubcells::kNone;
       if (subcells_.may_be_crowded(w.count)) {
         subcells_.prefetch_entry(w.index);
@@ -173,7 +174,7 @@ void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size
       w.lists = subcells_.lists_along(w.crowded, cell, fa, fd, w.seg.inv, w.s, std::min(w.dda.exit(), w.seg.s1), w.list_first,
                                       w.list_count, Walk::kMaxLists);
       for (int k = 0; k < w.lists; ++k)
-        for (std::uint32_t j = 0; j < w.list_count[k]; j += 16) __builtin_prefetch(subcells_.list_slots() + w.list_first[k] + j);
+        for (std::uint32_t j = 0; j < w.list_count[k]; j += 16) hb::prefetch(subcells_.list_slots() + w.list_first[k] + j);
       w.phase = Phase::crowded_records;
       return true;
     }

@@ -3,6 +3,7 @@
 #include "geometry/cell_dda.h"
 #include "geometry/triangle_box.h"
 #include "haptic_box/scene_grid.h"
+#include "prefetch.h"
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <algorithm>
@@ -127,18 +128,18 @@ void SurfaceSubcells::prefetch(std::uint32_t crowded, int stage) const noexcept 
   const std::size_t word0 = std::size_t(crowded) * std::size_t(words_), next = word0 + std::size_t(words_);
   if (stage == 0) {
     for (std::size_t w = word0; w < next; w += 8) {
-      __builtin_prefetch(mask_.data() + w);
-      __builtin_prefetch(rank_.data() + w);
+      hb::prefetch(mask_.data() + w);
+      hb::prefetch(rank_.data() + w);
     }
-    if (next < rank_.size()) __builtin_prefetch(rank_.data() + next);
+    if (next < rank_.size()) hb::prefetch(rank_.data() + next);
     return;
   }
   // The cell's lists are [first, last): the next crowded cell's first, or the end.
   const std::uint32_t first = rank_[word0];
   const std::uint32_t last = next < rank_.size() ? rank_[next] : std::uint32_t(offsets_.size() - 1);
   if (first > last || last >= offsets_.size()) return;
-  for (std::uint32_t k = first; k <= last; k += 16) __builtin_prefetch(offsets_.data() + k);
-  __builtin_prefetch(offsets_.data() + last);
+  for (std::uint32_t k = first; k <= last; k += 16) hb::prefetch(offsets_.data() + k);
+  hb::prefetch(offsets_.data() + last);
 }
 
 int SurfaceSubcells::lists_along(std::uint32_t crowded, const int cell[3], const Vec3& fa, const Vec3& fd,

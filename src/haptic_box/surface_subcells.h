@@ -8,6 +8,7 @@
 // 16 times more than at 52K.
 #include "haptic_box/surface_triangles.h"
 #include "math/vec3.h"
+#include "prefetch.h"
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -70,7 +71,7 @@ public:
   const std::uint32_t* list_slots() const noexcept { return slots_.data(); }
   /// Starts loading crowded(cell)'s entry.
   void prefetch_entry(std::uint32_t cell) const noexcept {
-    if (cell < entry_.size()) __builtin_prefetch(entry_.data() + cell);
+    if (cell < entry_.size()) hb::prefetch(entry_.data() + cell);
   }
 
   /// Bytes in memory.

@@ -1,6 +1,7 @@
 #include "haptic_box/surface_triangles.h"
 #include "errors.h"
 #include "geometry/octahedral.h"
+#include "prefetch.h"
 #include <tbb/parallel_sort.h>
 #include <algorithm>
 #include <cmath>
@@ -263,19 +264,10 @@ Vec3 SurfaceTriangles::shading_at(std::uint32_t id, float u, float v) const noex
 Vec3 SurfaceTriangles::lattice_shading(std::uint32_t id, float u, float v) const noexcept {
   const int k = map_side_;
   const std::uint32_t* p = map_ + std::size_t(id) * lattice_points(k);
-  const float fu_all = u * float(k), fv_all = v * float(k);
-  // The lattice cell (i, j), i + j <= k - 1 (a point on the far edge belongs to the last
-  // cell's lower triangle, whose weights there are those of the edge).
-  int i = std::min(std::max(int(std::floor(fu_all)), 0), k - 1);
-  int j = std::min(std::max(int(std::floor(fv_all)), 0), k - 1);
-  if (i + j > k - 1) {
-    if (fu_all - float(i) >= fv_all - float(j)) j = k - 1 - i;
-    else i = k - 1 - j;
-    if (i < 0) i = 0, j = k - 1;
-    if (j < 0) j = 0, i = k - 1;
-  }
-  const float fu = fu_all - float(i), fv = fv_all - float(j);
-  const auto at = [&](int a, int b) { return decode_octahedral32(p[std::size_t(b * (k + 1) - b * (b - 1) / 2 + a)]); };
+  int i, j;
+  float fu, fv;
+  lattice_cell(k, u, v, i, j, fu, fv);
+  const auto at = [&](int a, int b) { return decode_octahedral32(p[lattice_index(k, a, b)]); };
   if (fu + fv <= 1.f || i + j == k - 1)
     return (1.f - fu - fv) * at(i, j) + fu * at(i + 1, j) + fv * at(i, j + 1);
   return (fu + fv - 1.f) * at(i + 1, j + 1) + (1.f - fv) * at(i + 1, j) + (1.f - fu) * at(i, j + 1);
@@ -338,7 +330,7 @@ bool SurfaceTriangles::first_crossing(const std::uint32_t* ids, std::size_t coun
   // operations in the same order as plane_hits() and the scalar tests it replaces (all
   // values finite there, so min(min(u, v), 1 - u - v) >= 0 is the three comparisons), and
   // candidates are taken in list order with a strict `<`: the same crossing, bit for bit.
-  float best = std::numeric_limits<float>::infinity();
+  float best = std::numeric_limits<float>::infinity(), best_u = 0.f, best_v = 0.f;
   std::uint32_t best_id = kNoTriangle;
   const __m128 d0 = _mm_set1_ps(d[0]), d1 = _mm_set1_ps(d[1]), d2 = _mm_set1_ps(d[2]);
   const __m128 o0 = _mm_set1_ps(o[0]), o1 = _mm_set1_ps(o[1]), o2 = _mm_set1_ps(o[2]);
@@ -356,7 +348,7 @@ bool SurfaceTriangles::first_crossing(const std::uint32_t* ids, std::size_t coun
     }
     if (first + 4 < count)
       for (int k = 4; k < 8 && first + std::size_t(k) < count; ++k)
-        if (ids[first + std::size_t(k)] < count_) __builtin_prefetch(records_ + ids[first + std::size_t(k)]);
+        if (ids[first + std::size_t(k)] < count_) hb::prefetch(records_ + ids[first + std::size_t(k)]);
     const float* f[4];
     for (int k = 0; k < 4; ++k) f[k] = reinterpret_cast<const float*>(r[k]);
     __m128 ax = _mm_loadu_ps(f[0]), ay = _mm_loadu_ps(f[1]), az = _mm_loadu_ps(f[2]), e1x = _mm_loadu_ps(f[3]);
@@ -393,16 +385,21 @@ bool SurfaceTriangles::first_crossing(const std::uint32_t* ids, std::size_t coun
     unsigned lanes =
         unsigned(_mm_movemask_ps(_mm_and_ps(_mm_and_ps(big, finite), _mm_and_ps(inside, in_s)))) & in_range;
     if (!lanes) continue;
-    alignas(16) float sb[4];
+    alignas(16) float sb[4], ub[4], vb[4];
     _mm_store_ps(sb, sv);
+    _mm_store_ps(ub, u);
+    _mm_store_ps(vb, v);
     for (; lanes; lanes &= lanes - 1) {
       const int k = __builtin_ctz(lanes);
       if (!(sb[k] < best)) continue;
       best = sb[k];
+      best_u = ub[k];
+      best_v = vb[k];
       best_id = ids[first + std::size_t(k)];
     }
   }
   if (best_id == kNoTriangle) return false;
+  prefetch_shading(best_id, best_u, best_v);  // the map, when there is one
   const Record& r = records_[best_id];  // in range: in_range masks the others off
   const float gx = r.e1[1] * r.e2[2] - r.e1[2] * r.e2[1], gy = r.e1[2] * r.e2[0] - r.e1[0] * r.e2[2],
               gz = r.e1[0] * r.e2[1] - r.e1[1] * r.e2[0];

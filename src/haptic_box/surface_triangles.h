@@ -5,6 +5,9 @@
 // so testing a triangle costs one memory line and no index chase, plus its three edge
 // neighbours for walking from a candidate to the triangle the line actually crosses.
 #include "mesh/triangle_mesh.h"
+#include "prefetch.h"
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -130,7 +133,7 @@ public:
 
   /// Starts loading triangle `id`'s record (no effect when out of range).
   void prefetch(std::uint32_t id) const noexcept {
-    if (id < count_) __builtin_prefetch(records_ + id);
+    if (id < count_) hb::prefetch(records_ + id);
   }
 
   /// What the walks of one line have already explored (walk()'s `memo`): per triangle met,
@@ -165,6 +168,46 @@ private:
   static bool plane_hit(const Record& r, const float o[3], const float d[3], float& u, float& v, float& s) noexcept;
   // shading_at() with a map (kept out of finish()'s inline path).
   [[gnu::noinline]] Vec3 lattice_shading(std::uint32_t id, float u, float v) const noexcept;
+  // The lattice cell (i, j) of side k holding barycentric (u, v), i + j <= k - 1 (a point on
+  // the far edge belongs to the last cell's lower triangle, whose weights there are the
+  // edge's), and (u, v) within it in steps (fu, fv).
+  static void lattice_cell(int k, float u, float v, int& i, int& j, float& fu, float& fv) noexcept {
+    const float fu_all = u * float(k), fv_all = v * float(k);
+    i = std::min(std::max(int(std::floor(fu_all)), 0), k - 1);
+    j = std::min(std::max(int(std::floor(fv_all)), 0), k - 1);
+    if (i + j > k - 1) {
+      if (fu_all - float(i) >= fv_all - float(j)) j = k - 1 - i;
+      else i = k - 1 - j;
+      if (i < 0) i = 0, j = k - 1;
+      if (j < 0) j = 0, i = k - 1;
+    }
+    fu = fu_all - float(i);
+    fv = fv_all - float(j);
+  }
+  // The index of lattice point (i, j) of side k.
+  static std::size_t lattice_index(int k, int i, int j) noexcept {
+    return std::size_t(j * (k + 1) - j * (j - 1) / 2 + i);
+  }
+  // Starts loading the map's lattice points lattice_shading(id, u, v) reads (rows j and
+  // j + 1): a crossing found in a cell's tests is shaded a little later, once the walk
+  // has checked that no nearer cell holds one, and at 13M triangles the map (33 MB) is out
+  // of cache (docs/speed.md). Inline: GCC drops a call to a function that only prefetches
+  // (it has no side effects it can see).
+  void prefetch_shading(std::uint32_t id, float u, float v) const noexcept {
+    if (!map_ || id >= count_ || !(u >= 0.f && v >= 0.f)) return;
+    const int k = map_side_;
+    const std::uint32_t* p = map_ + std::size_t(id) * lattice_points(k);
+    int i, j;
+    float fu, fv;
+    lattice_cell(k, u, v, i, j, fu, fv);
+    // Rows j and j + 1 from column i: two points each (a line boundary may fall between them).
+    const std::uint32_t* row = p + lattice_index(k, i, j);
+    const std::uint32_t* next = p + lattice_index(k, i, j + 1);
+    hb::prefetch(row);
+    hb::prefetch(row + 1);
+    hb::prefetch(next);
+    hb::prefetch(next + 1);
+  }
   // `r` is one of records_ (the map is found by its slot).
   bool finish(const Record& r, const float d[3], float u, float v, float s, float s_min, float& s_out, Vec3& normal,
               bool& front) const noexcept;
