@@ -244,11 +244,11 @@ public:
   /// while they load, so a batch larger than the caches waits for memory once per step of
   /// many walks instead of once per step of each.
   void first_crossings_along(const Vec3* a, const Vec3* b, std::size_t count, Crossing* out) const noexcept;
-  /// Whether walks side by side pay: the surface, its normal map and its cells exceed the
-  /// last-level cache (sysconf; 32 MB when it does not say). Measured (docs/speed.md):
-  /// 1.2-1.5x quicker than one walk at a time at 832K and 13M triangles, 1.25x slower at 52K,
-  /// where every line is in cache and the walks' switching costs more than the waits it hides.
-  /// The map counts: a simplified 13M surface is 3.4 MB of records and 33 MB of map.
+  /// Whether walks side by side pay: the surface, its normal map and its cells exceed a fifth
+  /// of the last-level cache (sysconf; 32 MB when it does not say), which a shared machine's
+  /// neighbours also fill. Measured on a 2-core VM with 32 MB (docs/speed.md): 3-4% slower
+  /// at 5.0 MB (armadillo 52K), even at 7.2 MB (bunny), 12% quicker at 8.2 MB (832K: 3.1 MB
+  /// of it the normal map), 20% at 20 MB (the chess piece), 1.2-1.5x at 13M (38 MB).
   bool walks_side_by_side() const noexcept;
   const SurfaceTriangles& surface() const { return *surface_; }
   /// The sub-cells of the crowded cells.

@@ -53,7 +53,7 @@ std::size_t last_level_cache_bytes() noexcept {
 } // namespace
 
 bool SurfaceCells::walks_side_by_side() const noexcept {
-  return surface_ && surface_->bytes() + surface_->normal_map_bytes() + bytes() > last_level_cache_bytes();
+  return surface_ && 5 * (surface_->bytes() + surface_->normal_map_bytes() + bytes()) > last_level_cache_bytes();
 }
 
 void SurfaceCells::first_crossings_along(const Vec3* a, const Vec3* b, std::size_t count,
