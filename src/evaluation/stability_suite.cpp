@@ -22,6 +22,7 @@
 #include "parallel/byte_buffer.h"
 #include "parallel/work_split.h"
 #include <algorithm>
+#include <optional>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -830,7 +831,8 @@ StabilityReport run_stability_suite(const BoxScene& box, const TriangleMesh& mes
   const Suite wanted(o);
 
   // The model (every rank fits it and picks the same sites: both are deterministic).
-  const ExactQuery exact(mesh);
+  std::optional<ExactQuery> own_exact;
+  const ExactQuery& exact = o.exact ? *o.exact : own_exact.emplace(mesh);
   Scene model;
   model.name = o.model_name;
   model.box = &box;

@@ -12,6 +12,7 @@
 namespace hb {
 
 struct TriangleMesh;
+class ExactQuery;
 
 /// How a metric's threshold is checked.
 enum class StabilityRule : std::uint8_t {
@@ -64,6 +65,9 @@ struct StabilityOptions {
   int generated_m = 16, generated_n = 8;  ///< their boxes' densities.
   bool generated_refine = true;  ///< refine their boxes (default: as the model's box).
   std::string model_name = "model";
+  /// Exact Embree on the model's mesh when the caller has it (the bake's trajectory check);
+  /// null: built here.
+  const ExactQuery* exact = nullptr;
   /// The ranks sharing the suite (nullptr: this process alone): every rank calls
   /// run_stability_suite with the same box, mesh and options; the tasks (the calibration gate,
   /// each test on each scene) are dealt in turn, and every rank returns the whole report,

@@ -161,6 +161,10 @@ struct BakeResult {
   BakeStats stats;                 ///< of the ray casting.
   double decompose_seconds = 0.0;  ///< automatic pieces only.
   double compress_seconds = 0.0;   ///< with a codec only.
+  /// Budgeted bakes on a simplified surface: the stability suite's T2 (sliding along the
+  /// model, box against exact) metrics the box fails and exact passes; such a surface is
+  /// dropped as one that missed the budget (bake_to_budget).
+  std::size_t surface_trajectory_failures = 0;
 };
 
 /// A piece id per triangle for `pieces`, numbered 0..K-1 in increasing order of the original
