@@ -22,10 +22,10 @@
 #include "parallel/byte_buffer.h"
 #include "parallel/work_split.h"
 #include <algorithm>
-#include <optional>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <functional>
 #include <iterator>
 #include <limits>

@@ -81,9 +81,10 @@ struct BudgetRecipe {
   /// triangles with the full mesh's shading (14 MB instead of 64, faster than exact), the
   /// 13M one to 79K (62 MB instead of 914). Before the map the exact answers' faceted
   /// shading was lost (direction p99 17.6 deg). A simplified surface whose bake misses the
-  /// budget on the fresh probes is dropped (BudgetReport::surface_rejected) and the mesh
-  /// simplified again within a quarter of the bound (twice at most), then the full mesh
-  /// baked: the bake then costs the attempts too.
+  /// budget on the fresh probes, or that the box alone fails along the stability suite's T2
+  /// trajectories (BakeResult::surface_trajectory_failures), is dropped (BudgetReport::
+  /// surface_rejected) and the mesh simplified again within a quarter of the bound (twice
+  /// at most), then the full mesh baked: the bake then costs the attempts too.
   bool simplify = true;
   std::size_t simplify_above = 200000;
   /// With `simplify`: the simplified surface shades through a normal map of this side

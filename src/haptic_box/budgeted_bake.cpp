@@ -122,9 +122,9 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   std::uint64_t rejected = 0;    // the last surface that missed
   // A simplified surface that missed the budget on the fresh probes or along T2's
   // trajectories (a curved surface whose faces sag between the kept vertices more than the
-  // quadric bound says) is simplified again within a quarter of the
-  // bound, twice at most; a tighter bound is still within the one asked for. Then the full
-  // mesh (the chess piece: its lathe surface fails T2 at every bound tried, docs/speed.md).
+  // quadric bound says) is simplified again within a quarter of the bound, twice at most (a
+  // tighter bound is still within the one asked for); then the full mesh (the chess piece:
+  // its lathe surface fails T2 at every bound tried, docs/speed.md).
   BakeRecipe tighter = recipe;
   const double diagonal = double(mesh.bounds().diagonal());
   for (int retry = 0;; ++retry) {

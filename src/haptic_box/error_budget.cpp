@@ -188,7 +188,8 @@ std::string BudgetReport::summary() const {
                                       " deg median, " + fmt(surface_normal_p99_deg) + " p99")
        << ")";
   if (surface_rejected > 0)
-    os << "; a surface simplified to " << surface_rejected << " triangles missed the budget (fresh probes or T2's trajectories): "
+    os << "; a surface simplified to " << surface_rejected
+       << " triangles missed the budget (fresh probes or T2's trajectories): "
        << (surface_triangles > 0 ? "simplified again within a tighter bound" : "baked on the full mesh");
   return os.str();
 }

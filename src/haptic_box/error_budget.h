@@ -71,8 +71,8 @@ struct BudgetReport {
   /// shading on a lattice over each simplified triangle, hb::fit_normal_map); 0 for none.
   std::uint32_t surface_map_side = 0;
   /// The triangles of the last simplified surface that was tried and missed the budget on
-  /// the fresh probes (the scene is then one simplified within a tighter bound, when
-  /// surface_triangles > 0, or the full mesh's); 0 when none was.
+  /// the fresh probes or along T2's trajectories (the scene is then one simplified within a
+  /// tighter bound, when surface_triangles > 0, or the full mesh's); 0 when none was.
   std::uint64_t surface_rejected = 0;
   double simplify_seconds = 0;
   /// This run's wall seconds per stage of the budgeted bake, in step order ("simplify",
