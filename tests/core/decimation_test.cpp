@@ -10,6 +10,7 @@
 #include "mesh/generators.h"
 #include "mesh/subdivision.h"
 #include <gtest/gtest.h>
+#include <cmath>
 #include <map>
 #include <set>
 
@@ -146,7 +147,8 @@ TEST(DecimationTest, ASimplifiedSurfaceThatMissesTheBudgetIsSimplifiedAgainWithi
     EXPECT_GT(rep.surface_rejected, 0u) << rep.summary();
     EXPECT_GT(rep.surface_triangles, 0u) << rep.summary();
     const double asked = recipe.budget.simplify_deviation * double(fine.bounds().diagonal());
-    EXPECT_TRUE(rep.surface_bound == 0.25 * asked || rep.surface_bound == 0.0625 * asked) << rep.surface_bound;
+    const double ratio = rep.surface_bound / asked;  // a quarter per retry
+    EXPECT_TRUE(std::fabs(ratio - 0.25) < 1e-9 || std::fabs(ratio - 0.0625) < 1e-9) << ratio;
     EXPECT_NE(rep.summary().find("simplified again within a tighter bound"), std::string::npos) << rep.summary();
   }
   {
