@@ -54,6 +54,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <memory>
 
 namespace hb {
 namespace {
@@ -113,11 +114,14 @@ double simplification_bound(const ErrorBudget& budget) {
 }
 
 namespace {
-BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source);
+// `exact`: the full mesh's exact answers, built on first use and kept for the next attempt.
+BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source,
+                                         std::unique_ptr<ExactQuery>& exact);
 }
 
 BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source) {
-  BakeResult result = bake_to_budget_on_one_surface(mesh, recipe, source);
+  std::unique_ptr<ExactQuery> exact;  // the same for every attempt: built once
+  BakeResult result = bake_to_budget_on_one_surface(mesh, recipe, source, exact);
   double seconds = 0.0;          // the attempts' time, counted into the bake's
   std::uint64_t rejected = 0;    // the last surface that missed
   // A simplified surface that missed the budget on the fresh probes or along T2's
@@ -134,11 +138,11 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     rejected = tried.surface_triangles;
     if (retry == kSimplifyRetries || !(diagonal > 0.0)) {
       tighter.budget.simplify = false;  // the full mesh, as without simplify
-      result = bake_to_budget_on_one_surface(mesh, tighter, source);
+      result = bake_to_budget_on_one_surface(mesh, tighter, source, exact);
       break;
     }
     tighter.budget.simplify_deviation = 0.25 * tried.surface_bound / diagonal;
-    result = bake_to_budget_on_one_surface(mesh, tighter, source);
+    result = bake_to_budget_on_one_surface(mesh, tighter, source, exact);
   }
   if (rejected > 0) {
     BudgetReport rep = result.scene.budget_report();
@@ -150,7 +154,8 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
 }
 
 namespace {
-BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source) {
+BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source,
+                                         std::unique_ptr<ExactQuery>& exact_built) {
   const BudgetRecipe& br = recipe.budget;
   if (br.samplings.empty()) throw InvalidInput("bake: the budget has no samplings to try");
   for (const Sampling& s : br.samplings)
@@ -230,8 +235,11 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
   // The exact answers' BVH of the full mesh first: a decomposition of the full mesh casts its
   // lines against it instead of building its own (one 13M-triangle BVH build fewer).
   auto tstage = std::chrono::steady_clock::now();
-  const ExactQuery exact(mesh, BvhBuild::quick);  // queried ~50,000 times here: the build dominates
-  stage_done("exact_build", seconds_since(tstage));
+  if (!exact_built) {
+    exact_built = std::make_unique<ExactQuery>(mesh, BvhBuild::quick);  // queried ~50,000 times: the build dominates
+    stage_done("exact_build", seconds_since(tstage));
+  }
+  const ExactQuery& exact = *exact_built;
   const auto td = std::chrono::steady_clock::now();
   std::vector<std::uint32_t> ids = resolve_piece_ids(base, recipe.pieces, use_simplified ? nullptr : &exact.scene());
   if (recipe.pieces.kind == PiecesRecipe::Kind::automatic) result.decompose_seconds = seconds_since(td);
