@@ -74,7 +74,9 @@ void add_bench_command(CLI::App& app) {
     const auto strokes = hb::sample_strokes(mesh, std::max<std::size_t>(1, opts->samples / kStrokeSteps), kStrokeSteps,
                                             kStrokeRadius, opts->probes);
     // The box along strokes as a servo loop queries it: one probe with its query state
-    // (BoxScene::query with a SceneQueryState, a bounded walk from the last contact), and
+    // (BoxScene::query with a SceneQueryState: on the cells route a walk that starts where
+    // the last full walk was still a cell from the surface, on the boxes' route a bounded
+    // walk from the last contact), and
     // without it (every tick the full query) for comparison.
     hb::SceneProbe probe(scene);
     const double box_stroke_ns = hb::median_query_ns(probe, strokes, opts->law, opts->rounds);
@@ -217,7 +219,7 @@ void add_bench_command(CLI::App& app) {
               << "  haptic box  " << box_stroke_ns << " ns/query, exact " << exact_stroke_ns << " ns/query: box is "
               << hb::speed_verdict(box_stroke_ns, exact_stroke_ns) << "\n"
               << std::setprecision(1) << "  with a query state per probe (" << 100.0 * state_share
-              << "% of ticks from the last contact); without it " << box_stroke_stateless_ns << " ns/query\n"
+              << "% of ticks from the state); without it " << box_stroke_stateless_ns << " ns/query\n"
               << std::setprecision(1) << "  boxes       " << scene.boxes().size() << ", met per query " << mean_met
               << " on average; box queries per probe " << std::setprecision(2) << mean_asked << " on average (max "
               << asked_max << ", " << std::setprecision(1) << 100.0 * share_one << "% of probes at most one), "

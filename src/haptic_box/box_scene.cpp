@@ -271,6 +271,35 @@ std::size_t BoxScene::box_queries(const Segment& segment, const ForceLaw& law) c
 }
 
 Contact BoxScene::query(const Segment& segment, const ForceLaw& law, SceneQueryState& state) const noexcept {
+  if (grid_ && cells_ && answering_route() == SceneRoute::cells) {
+    // As query_routed's cells route: an inside handle, or a segment without a length, takes
+    // the full query.
+    const float length = (segment.end - segment.start).norm();
+    if (!(length > 0.f) || !std::isfinite(length) || grid_->code_at(segment.start) == SceneGrid::kInside) {
+      ++state.full;
+      return query(segment, law);
+    }
+    const float reach = kFreeReach * grid_->cell();
+    const bool same_cells = !state.walked_cells.owner_before(cells_) && !cells_.owner_before(state.walked_cells) &&
+                            !state.walked_cells.expired();
+    const bool near = same_cells &&
+                      (segment.start - state.walked_start).squaredNorm() < reach * reach &&
+                      (segment.end - state.walked_end).squaredNorm() < reach * reach;
+    float s = 0.f;
+    bool front = false;
+    std::uint32_t triangle = kNoTriangle;
+    if (near) {
+      ++state.from_state;
+      cells_->first_crossing_along(segment.start, segment.end, 1.f, s, front, triangle, state.free_to);
+    } else {
+      ++state.full;
+      cells_->first_crossing_along(segment.start, segment.end, 1.f, s, front, triangle, 0.f, &state.free_to);
+      if (!same_cells) state.walked_cells = cells_;
+      state.walked_start = segment.start;
+      state.walked_end = segment.end;
+    }
+    return crossing_contact(segment, length, law, triangle, front);
+  }
   if (grid_ && state.box < boxes_.size() && state.triangle != SceneQueryState::kNone && boxes_[state.box].refines() &&
       grid_->code_at(segment.start) == SceneGrid::kOutside) {
     const HapticBox& box = boxes_[state.box];

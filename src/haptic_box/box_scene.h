@@ -45,14 +45,21 @@ enum class UnconfirmedBlend : std::uint8_t {
   keep,
 };
 
-/// One probe's memory between queries (a servo loop's ticks, a stroke): the box and the
-/// surface triangle of its last contact, and counts of how its queries were answered.
-/// Not shared between threads or probes; a default-constructed state knows nothing.
+/// One probe's memory between queries (a servo loop's ticks, a stroke), and counts of how
+/// its queries were answered. Not shared between threads or probes; a default-constructed
+/// state knows nothing.
 struct SceneQueryState {
   static constexpr std::uint32_t kNone = 0xffffffffu;
+  /// The boxes' route: the box and surface triangle of the last contact.
   std::uint32_t box = kNone;
   std::uint32_t triangle = kNone;
-  std::uint64_t from_state = 0;  ///< queries answered from the last contact (bounded walk).
+  /// The cells route: a segment walked from its handle, and how far along it the walk stayed
+  /// at least a cell from every triangle (SurfaceCells::first_crossing_along's s_free), and
+  /// the cells walked (a weak reference: a scene loaded later cannot take them for its own).
+  std::weak_ptr<const SurfaceCells> walked_cells;
+  Vec3 walked_start{Vec3::Zero()}, walked_end{Vec3::Zero()};
+  float free_to = 0.f;
+  std::uint64_t from_state = 0;  ///< queries answered from the state (see BoxScene::query).
   std::uint64_t full = 0;        ///< queries answered by the full query.
 };
 
@@ -89,7 +96,13 @@ public:
                     std::shared_ptr<const SurfaceTriangles> surface = nullptr);
 
   Contact query(const Segment& segment, const ForceLaw& law) const noexcept override;
-  /// The query of a probe that moves a little between calls (see SceneQueryState): when the
+  /// The query of a probe that moves a little between calls (see SceneQueryState).
+  /// On the cells route: while both ends of the segment stay within kFreeReach cells of the
+  /// last segment walked in full, no point of it up to that walk's free_to is on a triangle
+  /// (each was at least a cell from all of them and moved less), so the walk starts there;
+  /// otherwise the walk from the handle, which the state then remembers. The same crossings
+  /// as the stateless walk (tests/core, strokes).
+  /// On the boxes' route: when the
   /// last contact's box refines and the grid routes the handle (outside cell), the segment is
   /// first tried against the last contact's triangle with a walk of at most
   /// kStateWalkSteps edges (HapticBox::query_near); that answer stands when the crossing is a
@@ -99,6 +112,7 @@ public:
   /// query's wherever that box's refinement finds the same triangle (tests/core, strokes).
   Contact query(const Segment& segment, const ForceLaw& law, SceneQueryState& state) const noexcept;
   static constexpr int kStateWalkSteps = 4;
+  static constexpr float kFreeReach = 0.75f;
   /// Two crossings of a segment closer than this fraction of its length are one (a triangle
   /// tested from the handle and from a box's entry differ by rounding).
   static constexpr float kSameCrossing = 1e-5f;

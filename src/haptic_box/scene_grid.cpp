@@ -661,10 +661,13 @@ bool SurfaceCells::walk_start(const Vec3& a, const Vec3& b, float s_max, WalkSta
 }
 
 bool SurfaceCells::first_crossing_along(const Vec3& a, const Vec3& b, float s_max, float& s_out, bool& front_out,
-                                        std::uint32_t& tri_out) const noexcept {
+                                        std::uint32_t& tri_out, float s_start, float* s_free) const noexcept {
+  // A walk that meets no cell within a cell of the surface leaves the whole segment free.
+  if (s_free) *s_free = 1.f;
   WalkStart w;
   if (masks_.empty() || !walk_start(a, b, s_max, w)) return false;
-  const float s0 = w.s0, s1 = w.s1, s_per_cell = w.s_per_cell;
+  const float s0 = std::max(w.s0, s_start), s1 = w.s1, s_per_cell = w.s_per_cell;
+  if (s0 > s1) return false;
   const float *o = w.o, *d = w.d, *inv = w.inv, *fa3 = w.fa, *fd3 = w.fd;
   const Vec3 fa(fa3[0], fa3[1], fa3[2]), fd(fd3[0], fd3[1], fd3[2]);
   const int* n = dims_.data();
@@ -681,6 +684,10 @@ bool SurfaceCells::first_crossing_along(const Vec3& a, const Vec3& b, float s_ma
                                   std::size_t(bricks_x_) + std::size_t(dda.x >> 2);
     const unsigned bit = unsigned(((dda.z & 3) << 4) | ((dda.y & 3) << 2) | (dda.x & 3));
     const int clear = clear_[brick * 64 + bit];
+    if (s_free && clear < 2) {
+      *s_free = s;
+      s_free = nullptr;
+    }
     if (clear >= 2) {
       // Every cell within clear - 1 of this one (chessboard) has no surface; the point is in
       // this cell, so moving it by less than clear - 1 cells in every axis keeps it, and the

@@ -221,8 +221,13 @@ public:
   /// crossing; empty space is jumped by each cell's chessboard clearance (a byte a cell, in
   /// the masks' brick order), the DDA's divisions are done once (CellDda), and a crowded
   /// cell is walked through its sub-cells (SurfaceSubcells).
+  /// The walk starts at s_start (its part before must cross no triangle). `s_free`, when
+  /// given, receives how far the segment stays at least a cell from every triangle: the s
+  /// of the first cell it enters whose chessboard clearance is below 2 (1: none), so a
+  /// segment whose ends are less than a cell from a and b crosses none before it
+  /// (BoxScene::query with a SceneQueryState).
   bool first_crossing_along(const Vec3& a, const Vec3& b, float s_max, float& s, bool& front,
-                            std::uint32_t& triangle) const noexcept;
+                            std::uint32_t& triangle, float s_start = 0.f, float* s_free = nullptr) const noexcept;
   /// A segment a -> b set up for a walk through the cells: a, b - a (o, d), the same in cell
   /// units from the grid's origin (fa, fd), 1 / fd per axis (inv, 0 where fd is 0), its part
   /// in the grid, s in [s0, s1] (s1 <= s_max), and the s a chessboard cell takes.
