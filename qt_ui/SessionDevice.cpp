@@ -189,11 +189,13 @@ void SessionDevice::startServo() {
   if (opened_.rate_hz > 0.0) o.rate_hz = opened_.rate_hz;  // a replay runs at its recorded rate
   try {
     servoBoxes_ = model_->sharedBoxes();
-    loop_ = std::make_unique<hb::ServoLoop>(*opened_.device, *servoBoxes_, o);
+    servoProbe_ = std::make_unique<hb::SceneProbe>(*servoBoxes_);
+    loop_ = std::make_unique<hb::ServoLoop>(*opened_.device, *servoProbe_, o);
     if (estop_) loop_->emergency_stop();
     loop_->start();
   } catch (const std::exception& e) {
     loop_.reset();
+    servoProbe_.reset();
     servoBoxes_.reset();
     emit statusMessage(tr("Device thread not started: %1").arg(QString::fromStdString(e.what())));
   }
@@ -226,5 +228,6 @@ void SessionDevice::setEmergencyStop(bool on) {
 void SessionDevice::stopServo() {
   if (loop_) loop_->stop();
   loop_.reset();
+  servoProbe_.reset();
   servoBoxes_.reset();
 }

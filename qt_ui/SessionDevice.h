@@ -7,6 +7,7 @@
 #include "SessionRunSettings.h"
 #include "device/device_choice.h"
 #include "device/servo_loop.h"
+#include "haptic_box/box_scene.h"
 #include "geometry/segment.h"
 #include <QObject>
 #include <QString>
@@ -106,6 +107,9 @@ private:
   QString deviceName_;
   /// The boxes the servo thread runs against (kept alive while it runs, whatever the model holds).
   std::shared_ptr<const hb::BoxScene> servoBoxes_;
+  /// The servo thread's probe of them: its query state carries each tick to the next, as
+  /// `hapticbox servo`'s (hb::SceneProbe; declared before loop_, which uses it, so it outlives it).
+  std::unique_ptr<hb::SceneProbe> servoProbe_;
   std::unique_ptr<hb::ServoLoop> loop_;
   bool estop_ = false;
   hb::ContactLaw contactLaw_ = hb::ContactLaw::penalty;
