@@ -314,6 +314,7 @@ nlohmann::json budget_json(const BudgetReport& r) {
   if (r.seconds > 0) j["seconds"] = r.seconds;
   if (r.surface_triangles > 0 && r.simplify_seconds > 0) j["surface"]["seconds"] = r.simplify_seconds;
   if (r.surface_rejected > 0) j["surface_rejected_triangles"] = r.surface_rejected;
+  if (!r.surface_rejected_why.empty()) j["surface_rejected_why"] = r.surface_rejected_why;
   if (!r.stage_seconds.empty()) {
     nlohmann::json stages = nlohmann::json::array();  // an array: the step order is the point
     for (const auto& st : r.stage_seconds) stages.push_back({{"stage", st.first}, {"seconds", st.second}});

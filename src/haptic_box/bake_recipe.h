@@ -166,6 +166,9 @@ struct BakeResult {
   /// model, box against exact) metrics the box fails and exact passes; such a surface is
   /// dropped as one that missed the budget (bake_to_budget).
   std::size_t surface_trajectory_failures = 0;
+  /// Budgeted bakes on a simplified surface that missed: what it missed, in one line (the
+  /// fresh probes' figures over the budget, or T2's metrics the box alone fails); empty else.
+  std::string surface_miss;
 };
 
 /// A piece id per triangle for `pieces`, numbered 0..K-1 in increasing order of the original

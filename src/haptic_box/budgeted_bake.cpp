@@ -55,6 +55,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <sstream>
 
 namespace hb {
 namespace {
@@ -124,6 +125,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   BakeResult result = bake_to_budget_on_one_surface(mesh, recipe, source, exact);
   double seconds = 0.0;          // the attempts' time, counted into the bake's
   std::uint64_t rejected = 0;    // the last surface that missed
+  std::string why;               // and what it missed
   // A simplified surface that missed the budget on the fresh probes or along T2's
   // trajectories (a curved surface whose faces sag between the kept vertices more than the
   // quadric bound says) is simplified again within a quarter of the bound, twice at most (a
@@ -136,6 +138,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     if (tried.surface_triangles == 0 || (tried.met && result.surface_trajectory_failures == 0)) break;
     seconds += tried.seconds;
     rejected = tried.surface_triangles;
+    why = result.surface_miss;
     if (retry == kSimplifyRetries || !(diagonal > 0.0)) {
       tighter.budget.simplify = false;  // the full mesh, as without simplify
       result = bake_to_budget_on_one_surface(mesh, tighter, source, exact);
@@ -147,6 +150,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   if (rejected > 0) {
     BudgetReport rep = result.scene.budget_report();
     rep.surface_rejected = rejected;
+    rep.surface_rejected_why = why;
     rep.seconds += seconds;
     result.scene.set_budget_report(std::move(rep));
   }
@@ -649,9 +653,19 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
     so.tests = {"T2"};
     so.generated = false;
     so.exact = &exact;
-    for (const StabilityMetric& m : run_stability_suite(scene, mesh, so).metrics)
-      result.surface_trajectory_failures += !m.pass && m.exact_pass ? 1 : 0;
+    std::ostringstream miss;
+    miss.precision(3);
+    for (const StabilityMetric& m : run_stability_suite(scene, mesh, so).metrics) {
+      if (m.pass || !m.exact_pass) continue;
+      if (++result.surface_trajectory_failures <= 3)
+        miss << (result.surface_trajectory_failures > 1 ? "; " : "T2's trajectories: ") << m.metric << " " << m.box
+             << " (exact " << m.exact << ")";
+    }
+    if (result.surface_trajectory_failures > 3) miss << "; " << result.surface_trajectory_failures - 3 << " more";
+    result.surface_miss = miss.str();
     stage_done("trajectory_check", seconds_since(tstage));
+  } else if (use_simplified) {
+    result.surface_miss = "fresh probes: " + budget_misses(checked, br.budget);
   }
   rep.seconds = seconds_since(t0);
   scene.set_budget_report(rep);

@@ -8,6 +8,8 @@
 
 namespace hb {
 namespace {
+// The longest surface_rejected_why a file holds (one line of a budget report).
+constexpr std::size_t kMaxWhy = 1000;
 
 std::string trim(const std::string& s) {
   const auto a = s.find_first_not_of(" \t"), b = s.find_last_not_of(" \t");
@@ -110,6 +112,12 @@ std::string BudgetReport::serialize() const {
        << "\nsurface_normal_p99_deg=" << surface_normal_p99_deg << "\n";
   if (surface_map_side > 0) os << "surface_map_side=" << surface_map_side << "\n";
   if (surface_rejected > 0) os << "surface_rejected=" << surface_rejected << "\n";
+  if (!surface_rejected_why.empty()) {
+    std::string why = surface_rejected_why.substr(0, kMaxWhy);
+    for (char& c : why)
+      if (c == '\n' || c == '\r') c = ' ';
+    os << "surface_rejected_why=" << why << "\n";
+  }
   for (const PieceChoice& p : pieces)
     os << "piece=" << p.cell << " " << p.n << " " << (p.refine ? 1 : 0) << " " << p.probes << "\n";
   return os.str();
@@ -153,6 +161,10 @@ BudgetReport BudgetReport::parse(const std::string& text) {
     else if (key == "surface_normal_median_deg") r.surface_normal_median_deg = number(v, key, 0, 180);
     else if (key == "surface_normal_p99_deg") r.surface_normal_p99_deg = number(v, key, 0, 180);
     else if (key == "surface_rejected") r.surface_rejected = count(v, key);
+    else if (key == "surface_rejected_why") {
+      if (v.size() > kMaxWhy) throw InvalidInput("budget report: surface_rejected_why longer than " + std::to_string(kMaxWhy));
+      r.surface_rejected_why = v;
+    }
     else if (key == "surface_map_side") r.surface_map_side = std::uint32_t(number(v, key, 1, 64));
     else if (key == "simplify_seconds") r.simplify_seconds = number(v, key, 0, 1e9);
     else if (key == "piece") {
@@ -188,8 +200,8 @@ std::string BudgetReport::summary() const {
                                       " deg median, " + fmt(surface_normal_p99_deg) + " p99")
        << ")";
   if (surface_rejected > 0)
-    os << "; a surface simplified to " << surface_rejected
-       << " triangles missed the budget (fresh probes or T2's trajectories): "
+    os << "; a surface simplified to " << surface_rejected << " triangles missed the budget ("
+       << (surface_rejected_why.empty() ? std::string("fresh probes or T2's trajectories") : surface_rejected_why) << "): "
        << (surface_triangles > 0 ? "simplified again within a tighter bound" : "baked on the full mesh");
   return os.str();
 }

@@ -74,6 +74,9 @@ struct BudgetReport {
   /// the fresh probes or along T2's trajectories (the scene is then one simplified within a
   /// tighter bound, when surface_triangles > 0, or the full mesh's); 0 when none was.
   std::uint64_t surface_rejected = 0;
+  /// What that surface missed, one line (BakeResult::surface_miss); empty when none was
+  /// rejected, or in files written before 2026-12-06.
+  std::string surface_rejected_why;
   double simplify_seconds = 0;
   /// This run's wall seconds per stage of the budgeted bake, in step order ("simplify",
   /// "decompose", "tables", ...; budgeted_bake.cpp names them), so anyone can see where a

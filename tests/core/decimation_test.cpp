@@ -150,6 +150,11 @@ TEST(DecimationTest, ASimplifiedSurfaceThatMissesTheBudgetIsSimplifiedAgainWithi
     const double ratio = rep.surface_bound / asked;  // a quarter per retry
     EXPECT_TRUE(std::fabs(ratio - 0.25) < 1e-9 || std::fabs(ratio - 0.0625) < 1e-9) << ratio;
     EXPECT_NE(rep.summary().find("simplified again within a tighter bound"), std::string::npos) << rep.summary();
+    // What the dropped surface missed, named: a figure over the budget on the fresh probes,
+    // or T2's metrics.
+    EXPECT_TRUE(rep.surface_rejected_why.rfind("fresh probes: ", 0) == 0 ||
+                rep.surface_rejected_why.rfind("T2's trajectories: ", 0) == 0)
+        << rep.surface_rejected_why;
   }
   {
     ChessPieceOptions options;
@@ -166,6 +171,8 @@ TEST(DecimationTest, ASimplifiedSurfaceThatMissesTheBudgetIsSimplifiedAgainWithi
     EXPECT_EQ(rep.surface_triangles, 0u) << rep.summary();
     EXPECT_GT(rep.surface_rejected, first_try) << "the last surface dropped is a tighter one";
     EXPECT_NE(rep.summary().find("baked on the full mesh"), std::string::npos) << rep.summary();
+    EXPECT_FALSE(rep.surface_rejected_why.empty());
+    EXPECT_NE(rep.summary().find(rep.surface_rejected_why), std::string::npos) << rep.summary();
   }
 }
 

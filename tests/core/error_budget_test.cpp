@@ -62,6 +62,8 @@ TEST(ErrorBudgetTest, ReportRoundTripsAndCorruptTextThrows) {
   r.force_p95 = 0.0012;
   r.pieces = {{0.032f, 6, false, 10}, {0.016f, 8, true, 300}};
   r.seconds = 12.5;
+  r.surface_rejected = 20308;
+  r.surface_rejected_why = "T2's trajectories: share of exact's contact ticks the box loses 0.013 (exact 0)";
   // The wall time stays out of the file form (same inputs, same bytes); older files that hold
   // it still read.
   EXPECT_EQ(r.serialize().find("seconds"), std::string::npos) << r.serialize();
@@ -74,7 +76,10 @@ TEST(ErrorBudgetTest, ReportRoundTripsAndCorruptTextThrows) {
   EXPECT_FLOAT_EQ(back.pieces[1].cell, 0.016f);
   EXPECT_TRUE(back.pieces[1].refine);
   EXPECT_FALSE(back.pieces[0].refine);
+  EXPECT_EQ(back.surface_rejected_why, r.surface_rejected_why);
+  EXPECT_NE(back.summary().find("(T2's trajectories: share of exact's"), std::string::npos) << back.summary();
   EXPECT_THROW(BudgetReport::parse("met=1\nbogus=3\n"), InvalidInput);
+  EXPECT_THROW(BudgetReport::parse("surface_rejected_why=" + std::string(5000, 'x') + "\n"), InvalidInput);
   EXPECT_THROW(BudgetReport::parse("piece=0.1 8\n"), InvalidInput);
   EXPECT_THROW(BudgetReport::parse("agreement=2\n"), InvalidInput);
 }
