@@ -678,7 +678,8 @@ bool SurfaceCells::first_crossing_along(const Vec3& a, const Vec3& b, float s_ma
   float s = s0;
   dda.start(fa3, fd3, inv, s, n);
   const int limit = dims_[0] + dims_[1] + dims_[2];
-  for (int it = 0; it < limit; ++it) {
+  int it = 0;
+  for (; it < limit; ++it) {
     if (s > best) break;  // a cell entered beyond the nearest crossing holds no nearer one
     const std::size_t brick = (std::size_t(dda.z >> 2) * std::size_t(bricks_y_) + std::size_t(dda.y >> 2)) *
                                   std::size_t(bricks_x_) + std::size_t(dda.x >> 2);
@@ -722,6 +723,7 @@ bool SurfaceCells::first_crossing_along(const Vec3& a, const Vec3& b, float s_ma
     s = dda.step(n, inside);
     if (s > s1 || !inside) break;
   }
+  if (s_free && it == limit) *s_free = std::min(*s_free, s);  // the walk stopped short: free only to there
   if (best_id == kNoTriangle) return false;
   s_out = best;
   front_out = best_front;
