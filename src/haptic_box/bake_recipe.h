@@ -82,7 +82,7 @@ struct BudgetRecipe {
   /// 13M one to 79K (62 MB instead of 914). Before the map the exact answers' faceted
   /// shading was lost (direction p99 17.6 deg). A simplified surface whose bake misses the
   /// budget on the fresh probes, or that the box alone fails along the stability suite's T2
-  /// trajectories (BakeResult::surface_trajectory_failures), is dropped (BudgetReport::
+  /// trajectories (BakeResult::surface_miss), is dropped (BudgetReport::
   /// surface_rejected) and the mesh simplified again within a quarter of the bound (twice
   /// at most), then the full mesh baked: the bake then costs the attempts too.
   bool simplify = true;
@@ -162,12 +162,10 @@ struct BakeResult {
   BakeStats stats;                 ///< of the ray casting.
   double decompose_seconds = 0.0;  ///< automatic pieces only.
   double compress_seconds = 0.0;   ///< with a codec only.
-  /// Budgeted bakes on a simplified surface: the stability suite's T2 (sliding along the
-  /// model, box against exact) metrics the box fails and exact passes; such a surface is
-  /// dropped as one that missed the budget (bake_to_budget).
-  std::size_t surface_trajectory_failures = 0;
-  /// Budgeted bakes on a simplified surface that missed: what it missed, in one line (the
-  /// fresh probes' figures over the budget, or T2's metrics the box alone fails); empty else.
+  /// Budgeted bakes on a simplified surface that missed the budget: what it missed, in one
+  /// line (the fresh probes' figures over the budget, or the stability suite's T2 metrics
+  /// (sliding along the model, box against exact) the box fails and exact passes); such a
+  /// surface is dropped (bake_to_budget). Empty when it met it, or on the full mesh.
   std::string surface_miss;
 };
 

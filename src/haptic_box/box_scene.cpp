@@ -272,16 +272,18 @@ std::size_t BoxScene::box_queries(const Segment& segment, const ForceLaw& law) c
 
 Contact BoxScene::query(const Segment& segment, const ForceLaw& law, SceneQueryState& state) const noexcept {
   if (grid_ && cells_ && answering_route() == SceneRoute::cells) {
-    // As query_routed's cells route: an inside handle, or a segment without a length, takes
-    // the full query.
+    // As query_routed's cells route: an inside handle has no contact; a segment without a
+    // length takes the full query.
     const float length = (segment.end - segment.start).norm();
-    if (!(length > 0.f) || !std::isfinite(length) || grid_->code_at(segment.start) == SceneGrid::kInside) {
+    const bool inside = grid_->code_at(segment.start) == SceneGrid::kInside;
+    if (inside || !(length > 0.f) || !std::isfinite(length)) {
       ++state.full;
-      return query(segment, law);
+      return inside ? Contact{} : query(segment, law);
     }
     const float reach = kFreeReach * grid_->cell();
-    const bool same_cells = !state.walked_cells.owner_before(cells_) && !cells_.owner_before(state.walked_cells) &&
-                            !state.walked_cells.expired();
+    // The same owner as cells_, which is alive: the same cells (a control block outlives its
+    // weak references, so a later scene's cells cannot share it).
+    const bool same_cells = !state.walked_cells.owner_before(cells_) && !cells_.owner_before(state.walked_cells);
     const bool near = same_cells &&
                       (segment.start - state.walked_start).squaredNorm() < reach * reach &&
                       (segment.end - state.walked_end).squaredNorm() < reach * reach;

@@ -135,7 +135,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   const double diagonal = double(mesh.bounds().diagonal());
   for (int retry = 0;; ++retry) {
     const BudgetReport& tried = result.scene.budget_report();
-    if (tried.surface_triangles == 0 || (tried.met && result.surface_trajectory_failures == 0)) break;
+    if (tried.surface_triangles == 0 || result.surface_miss.empty()) break;
     seconds += tried.seconds;
     rejected = tried.surface_triangles;
     why = result.surface_miss;
@@ -655,13 +655,13 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
     so.exact = &exact;
     std::ostringstream miss;
     miss.precision(3);
+    std::size_t failures = 0;  // metrics the box fails and exact passes
     for (const StabilityMetric& m : run_stability_suite(scene, mesh, so).metrics) {
       if (m.pass || !m.exact_pass) continue;
-      if (++result.surface_trajectory_failures <= 3)
-        miss << (result.surface_trajectory_failures > 1 ? "; " : "T2's trajectories: ") << m.metric << " " << m.box
-             << " (exact " << m.exact << ")";
+      if (++failures <= 3)
+        miss << (failures > 1 ? "; " : "T2's trajectories: ") << m.metric << " " << m.box << " (exact " << m.exact << ")";
     }
-    if (result.surface_trajectory_failures > 3) miss << "; " << result.surface_trajectory_failures - 3 << " more";
+    if (failures > 3) miss << "; " << failures - 3 << " more";
     result.surface_miss = miss.str();
     stage_done("trajectory_check", seconds_since(tstage));
   } else if (use_simplified) {
