@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <limits>
 #include <memory>
 
 namespace hb {
@@ -40,77 +42,176 @@ void check_written(const std::string& path) {
 
 } // namespace
 
+LabelPlacer::LabelPlacer(double x0, double x1, double y0, double y1) : x0_(x0), x1_(x1), y0_(y0), y1_(y1) {}
+
+LabelPlacer::Placement LabelPlacer::place(double x, double y, std::size_t chars, bool must, bool big) {
+  const double span = x1_ - x0_, line = 0.05 * (y1_ - y0_);
+  const double width = kCharWidth * span * double(chars), gap = (big ? 0.035 : 0.012) * span;
+  const double dys[] = {0.2 * line, -0.9 * line, 1.2 * line, -1.6 * line};
+  struct Try { bool left; double dy; };
+  std::vector<Try> tries;
+  for (double dy : dys)
+    for (bool left : {false, true}) tries.push_back({left, dy});
+  const auto rect = [&](const Try& t) {
+    const double lo = t.left ? x - gap - width : x + gap, base = y + t.dy;
+    return Rect{lo, lo + width, base - 0.1 * line, base + 0.8 * line};
+  };
+  const auto fits = [&](const Rect& r) {
+    if (r.x0 < x0_ || r.x1 > x1_ || r.y0 < y0_ || r.y1 > y1_) return false;
+    for (const Rect& q : taken_)
+      if (r.x0 < q.x1 && q.x0 < r.x1 && r.y0 < q.y1 && q.y0 < r.y1) return false;
+    return true;
+  };
+  const Try* chosen = nullptr;
+  for (const Try& t : tries)
+    if (fits(rect(t))) {
+      chosen = &t;
+      break;
+    }
+  Placement out;
+  if (!chosen) {
+    if (!must) return out;
+    // The place inside the axes across that covers the least of what is there.
+    double least = std::numeric_limits<double>::infinity();
+    for (const Try& t : tries) {
+      const Rect r = rect(t);
+      if (r.x0 < x0_ || r.x1 > x1_) continue;
+      double covered = 0;
+      for (const Rect& q : taken_)
+        covered += std::max(0.0, std::min(r.x1, q.x1) - std::max(r.x0, q.x0)) *
+                   std::max(0.0, std::min(r.y1, q.y1) - std::max(r.y0, q.y0));
+      if (r.y0 < y0_ || r.y1 > y1_) covered += 0.5 * (r.x1 - r.x0) * (r.y1 - r.y0);  // cut by the frame
+      if (covered < least) least = covered, chosen = &t;
+    }
+    if (!chosen) chosen = &tries.front();
+  }
+  taken_.push_back(rect(*chosen));
+  out.shown = true;
+  out.left = chosen->left;
+  out.x = chosen->left ? x - gap : x + gap;
+  out.y = y + chosen->dy;
+  out.box = taken_.back();
+  return out;
+}
+
+void LabelPlacer::mark(double x, double y, bool big) {
+  const double span = x1_ - x0_, line = 0.05 * (y1_ - y0_);
+  const double half_x = (big ? 0.03 : 0.008) * span, half_y = (big ? 0.5 : 0.25) * line;
+  taken_.push_back(Rect{x - half_x, x + half_x, y - half_y, y + half_y});
+}
+
+void LabelPlacer::reserve(double x0, double x1, double y0, double y1) { taken_.push_back(Rect{x0, x1, y0, y1}); }
+
+namespace {
+
+std::string row_label(const SweepRow& r) {
+  const bool box = r.method == "haptic_box";
+  if (!box) return r.method.find("vtk") != std::string::npos ? "VTK locator" : "exact Embree";
+  const std::string codec = r.codec != "none" && !r.codec.empty() ? " " + r.codec : "";
+  if (!r.label.empty()) return r.label + (r.label.rfind("default bake", 0) == 0 ? "" : codec + (r.refine ? " ref" : ""));
+  return "m" + std::to_string(r.m) + " n" + std::to_string(r.n) + codec + (r.refine ? " ref" : "");
+}
+
+} // namespace
+
 void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& png_path) {
   {
-    auto pls = open_png(png_path);
-    double xmin = 1e300, xmax = 0, ymax = 0;
+    // Two panels on one time axis: the median force error (top) and the contact agreement
+    // (bottom), so a fast configuration that loses contacts is seen to.
+    auto pls = open_png(png_path, 900, 860);
+    double xmin = 1e300, xmax = 0, ymax = 0, amin = 100;
     for (const SweepRow& r : rows) {
       const double x = std::max(r.query_ns, 1.0);
       xmin = std::min(xmin, x);
       xmax = std::max(xmax, x);
       ymax = std::max(ymax, 100.0 * r.force_error_median);
+      amin = std::min(amin, 100.0 * r.contact_agreement);
     }
     if (rows.empty()) xmin = 1, xmax = 10;
     const double lx0 = std::floor(std::log10(xmin) - 0.05), lx1 = std::ceil(std::log10(xmax) + 0.05);
     ymax = ymax > 0 ? ymax * 1.15 : 1.0;
-    pls->schr(0, 0.85);
-    pls->env(lx0, lx1, -0.04 * ymax, ymax, 0, 12);  // 12: log x with grid
-    pls->lab("query time, ns (one core, log scale)", "median force error, %",
-             "Speed against accuracy (same probes for every method)");
-    // Pareto front as a staircase line through its points, fastest first.
+    // Room above 100% for the labels of the exact answers there.
+    const double a0 = std::max(0.0, std::floor(amin / 10.0) * 10.0 - 5.0), a1 = 100.0 + 0.14 * (100.0 - a0);
+    constexpr double kBudgetAgreement = 99.5;  // the default budget's (hb::ErrorBudget)
     std::vector<const SweepRow*> front;
     for (const SweepRow& r : rows)
       if (r.pareto) front.push_back(&r);
     std::sort(front.begin(), front.end(), [](const SweepRow* a, const SweepRow* b) { return a->query_ns < b->query_ns; });
-    if (front.size() > 1) {
-      std::vector<PLFLT> fx, fy;
-      for (const SweepRow* r : front) {
-        fx.push_back(std::log10(std::max(r->query_ns, 1.0)));
-        fy.push_back(100.0 * r->force_error_median);
-      }
-      pls->col0(kGrey);
-      pls->lsty(2);
-      pls->line(PLINT(fx.size()), fx.data(), fy.data());
-      pls->lsty(1);
-    }
-    // Labels: to the right of their point, or to the left in the right quarter of the axis (so
-    // none runs off the edge); a label that would overlap an earlier one moves down a line.
-    pls->schr(0, 0.65);
-    const double line = 0.045 * ymax, span = lx1 - lx0;
-    std::vector<std::pair<double, double>> placed;  // label anchors already used
     bool have_front = false, have_dominated = false, have_exact = false, have_vtk = false;
-    for (const SweepRow& r : rows) {
-      PLFLT x = std::log10(std::max(r.query_ns, 1.0)), y = 100.0 * r.force_error_median;
-      const bool box = r.method == "haptic_box";
-      const bool vtk = r.method.find("vtk") != std::string::npos;
-      (box ? (r.pareto ? have_front : have_dominated) : (vtk ? have_vtk : have_exact)) = true;
-      pls->col0(box ? (r.pareto ? kBlue : kGrey) : (vtk ? kOrange : kRed));
-      pls->ssym(0, box ? 1.2 : 1.6);
-      pls->poin(1, &x, &y, box ? 17 : 16);
-      char label[96];
-      if (box && !r.label.empty())
-        std::snprintf(label, sizeof label, "%s%s%s", r.label.c_str(),
-                      r.codec != "none" && !r.codec.empty() ? (" " + r.codec).c_str() : "", r.refine ? " ref" : "");
-      else if (box)
-        std::snprintf(label, sizeof label, "m%d n%d%s%s", r.m, r.n,
-                      r.codec != "none" && !r.codec.empty() ? (" " + r.codec).c_str() : "", r.refine ? " ref" : "");
-      else std::snprintf(label, sizeof label, "%s", vtk ? "VTK locator" : "exact Embree");
-      const bool left = x > lx0 + 0.75 * span;
-      double ly = y + 0.02 * ymax;
-      for (int tries = 0; tries < 8; ++tries) {
-        bool clash = false;
-        for (const auto& [px, py] : placed)
-          if (std::fabs(px - x) < 0.12 * span && std::fabs(py - ly) < line) clash = true;
-        if (!clash) break;
-        ly -= line;
+    pls->adv(0);
+    for (int panel = 0; panel < 2; ++panel) {
+      const bool top = panel == 0;
+      const double y0 = top ? -0.04 * ymax : a0, y1 = top ? ymax : a1;
+      pls->schr(0, 0.85);
+      pls->col0(kBlack);
+      if (top) pls->vpor(0.1, 0.95, 0.53, 0.9);
+      else pls->vpor(0.1, 0.95, 0.08, 0.45);
+      pls->wind(lx0, lx1, y0, y1);
+      pls->box("bcgnstl", 0.0, 0, "bcgnstv", 0.0, 0);
+      if (top)
+        pls->lab("", "median force error, %", "Speed against accuracy (same probes for every method)");
+      else
+        pls->lab("query time, ns (one core, log scale)", "contact agreement, %", "");
+      const auto value = [&](const SweepRow& r) {
+        return top ? 100.0 * r.force_error_median : 100.0 * r.contact_agreement;
+      };
+      LabelPlacer labels(lx0, lx1, y0, y1);
+      if (!top) {
+        // The default budget's agreement, its words at the right end under the line.
+        const PLFLT bx[2] = {lx0, lx1}, by[2] = {kBudgetAgreement, kBudgetAgreement};
+        pls->col0(kGreen);
+        pls->lsty(2);
+        pls->line(2, bx, by);
+        pls->lsty(1);
+        pls->schr(0, 0.6);
+        const char* budget = "default budget: 99.5% agreement";
+        const double right = lx1 - 0.01 * (lx1 - lx0), below = kBudgetAgreement - 0.05 * (a1 - a0);
+        pls->ptex(right, below, 1.0, 0.0, 1.0, budget);
+        labels.reserve(right - LabelPlacer::kCharWidth * (lx1 - lx0) * double(std::strlen(budget)), right,
+                       below - 0.01 * (a1 - a0), kBudgetAgreement);
       }
-      placed.emplace_back(x, ly);
-      pls->ptex(x + (left ? -0.015 : 0.015) * span, ly, 1.0, 0.0, left ? 1.0 : 0.0, label);
+      // Pareto front as a line through its points, fastest first.
+      if (front.size() > 1) {
+        std::vector<PLFLT> fx, fy;
+        for (const SweepRow* r : front) {
+          fx.push_back(std::log10(std::max(r->query_ns, 1.0)));
+          fy.push_back(value(*r));
+        }
+        pls->col0(kGrey);
+        pls->lsty(2);
+        pls->line(PLINT(fx.size()), fx.data(), fy.data());
+        pls->lsty(1);
+      }
+      for (const SweepRow& r : rows)
+        labels.mark(std::log10(std::max(r.query_ns, 1.0)), value(r), r.method != "haptic_box");
+      // The references and the front first: they get the free places.
+      std::vector<const SweepRow*> order;
+      for (const SweepRow& r : rows)
+        if (r.method != "haptic_box" || r.pareto || !r.label.empty()) order.push_back(&r);
+      for (const SweepRow& r : rows)
+        if (!(r.method != "haptic_box" || r.pareto || !r.label.empty())) order.push_back(&r);
+      pls->schr(0, 0.65);
+      for (const SweepRow* rp : order) {
+        const SweepRow& r = *rp;
+        PLFLT x = std::log10(std::max(r.query_ns, 1.0)), y = value(r);
+        const bool box = r.method == "haptic_box";
+        const bool vtk = r.method.find("vtk") != std::string::npos;
+        (box ? (r.pareto ? have_front : have_dominated) : (vtk ? have_vtk : have_exact)) = true;
+        const int colour = box ? (r.pareto ? kBlue : kGrey) : (vtk ? kOrange : kRed);
+        pls->col0(colour);
+        pls->ssym(0, box ? 1.2 : 1.6);
+        pls->poin(1, &x, &y, box ? 17 : 16);
+        const std::string text = row_label(r);
+        const LabelPlacer::Placement at = labels.place(x, y, text.size(), !box || r.pareto || !r.label.empty(), !box);
+        if (at.shown) pls->ptex(at.x, at.y, 1.0, 0.0, at.left ? 1.0 : 0.0, text.c_str());
+      }
     }
-    // A legend for the series present only.
+    // A legend for the series present only (over the top panel).
+    pls->vpor(0.1, 0.95, 0.53, 0.9);
+    pls->wind(lx0, lx1, -0.04 * ymax, ymax);
     struct Entry { bool present; int colour; const char* text; };
-    const Entry entries[] = {{have_front, kBlue, "haptic box (Pareto front)"},
-                             {have_dominated, kGrey, "haptic box (dominated)"},
+    const Entry entries[] = {{have_front, kBlue, "box, Pareto front"},
+                             {have_dominated, kGrey, "box, dominated"},
                              {have_exact, kRed, "exact Embree"},
                              {have_vtk, kOrange, "VTK vtkStaticCellLocator"}};
     double pos = 0.0;
@@ -119,7 +220,7 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
       if (!e.present) continue;
       pls->col0(e.colour);
       pls->mtex("t", 1.1, pos, 0.0, (std::string("\u25CF ") + e.text).c_str());
-      pos += 0.02 + 0.0115 * double(std::string(e.text).size());
+      pos += 0.03 + 0.0125 * double(std::string(e.text).size());
     }
     pls->col0(kBlack);
   }

@@ -85,6 +85,12 @@ struct SweepOptions {
   /// (m = 64 alone is half the rays of the default grid). The rows are one process's, timings
   /// aside; rank 0 saves the cache files.
   Communicator* communicator = nullptr;
+  /// Also measure the product's default bake (hb::default_recipe: what `hapticbox bake MESH -o
+  /// BOX` and the window's Bake make, the budgeted bake) on the same probes, after the
+  /// configurations: one row labelled "default bake: N box(es)", through the cache like them.
+  /// The budgeted bake is one process's: every rank bakes it alone (the same scene), rank 0
+  /// alone reads and fills the cache.
+  bool default_bake = false;
   /// When given, receives on rank 0 each rank's share: `work` rays cast plus probes answered
   /// plus queries timed, `seconds` busy (its bake and evaluation shares and its timings),
   /// `bytes_sent`.

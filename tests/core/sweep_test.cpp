@@ -80,3 +80,38 @@ TEST(SweepTest, PiecesAndRefinementAreSweptAndCachedApart) {
   EXPECT_EQ(again[2].force_error_median, two[2].force_error_median);
   std::filesystem::remove_all(cache);
 }
+
+TEST(SweepTest, TheDefaultBakeIsMeasuredOnTheSameProbesAndTakenFromTheCacheTheSecondTime) {
+  // The row a user compares the configurations with: the budgeted bake `bake MESH -o BOX` makes.
+  const hb::TriangleMesh mesh = hb::make_sphere(1.f, 3);
+  const hb::ExactQuery exact(mesh);
+  const std::string cache = "/tmp/hb_sweep_default_test_" + std::to_string(::getpid());
+  hb::SweepOptions options;
+  options.configs = hb::sweep_grid({4}, {3});
+  options.samples = 2000;
+  options.timing_rounds = 1;
+  options.cache_dir = cache;
+  options.default_bake = true;
+  const hb::SourceInfo source{"sphere", 0x4321, mesh.triangle_count(), mesh.bounds().diagonal()};
+  const auto rows = hb::run_sweep(mesh, source, {{"exact_embree", &exact, 0, 0.0}}, options);
+  ASSERT_EQ(rows.size(), 3u);
+  const hb::SweepRow& d = rows[2];
+  EXPECT_EQ(d.method, "haptic_box");
+  EXPECT_EQ(d.label.rfind("default bake: ", 0), 0u) << d.label;
+  EXPECT_TRUE(d.refine);
+  EXPECT_FALSE(d.from_cache);
+  EXPECT_GT(d.bake_seconds, 0.0);
+  EXPECT_GT(d.query_ns, 0.0);
+  EXPECT_GT(d.memory_bytes, 0u);
+  // The default budget on these probes too, and far above the raw box beside it.
+  EXPECT_GE(d.contact_agreement, 0.995);
+  EXPECT_LE(d.force_error_p95, 0.07);
+  EXPECT_LT(d.force_error_median, rows[1].force_error_median);
+  const auto again = hb::run_sweep(mesh, source, {{"exact_embree", &exact, 0, 0.0}}, options);
+  ASSERT_EQ(again.size(), 3u);
+  EXPECT_TRUE(again[2].from_cache);
+  EXPECT_EQ(again[2].bake_seconds, 0.0);
+  EXPECT_EQ(again[2].contact_agreement, d.contact_agreement);
+  EXPECT_EQ(again[2].force_error_median, d.force_error_median);
+  std::filesystem::remove_all(cache);
+}
