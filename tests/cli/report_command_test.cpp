@@ -106,13 +106,25 @@ TEST_F(ReportCommandTest, SweepPrintsRowsAndTheParetoFront) {
   const CommandResult r = run("sweep " + path("torus.off") + " -m 4,8 -n 3 --samples 500 --rounds 1 --no-cache --json");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  ASSERT_EQ(j["rows"].size(), 4u);
+  // The references, the two configurations and the default bake, measured last.
+  ASSERT_EQ(j["rows"].size(), 5u);
   EXPECT_EQ(j["rows"][0]["method"], "exact_embree");
   EXPECT_EQ(j["rows"][1]["method"], "vtk_static_cell_locator");
   EXPECT_GT(j["rows"][1]["contact_agreement"].get<double>(), 0.99);
+  EXPECT_EQ(j["rows"][2]["label"], "");
+  EXPECT_EQ(j["rows"][4]["label"].get<std::string>().rfind("default bake: ", 0), 0u) << j["rows"][4];
+  EXPECT_GE(j["rows"][4]["contact_agreement"].get<double>(), 0.995);  // the default budget's
   bool front = false;
   for (const auto& row : j["rows"]) front = front || row["pareto"].get<bool>();
   EXPECT_TRUE(front);
+  // Left out on request; the table names the row.
+  const CommandResult without =
+      run("sweep " + path("torus.off") + " -m 4 -n 3 --samples 500 --rounds 1 --no-cache --no-default-bake --json");
+  ASSERT_EQ(without.code, 0) << without.err;
+  EXPECT_EQ(nlohmann::json::parse(without.out)["rows"].size(), 3u);
+  const CommandResult table = run("sweep " + path("torus.off") + " -m 4 -n 3 --samples 500 --rounds 1 --no-cache");
+  ASSERT_EQ(table.code, 0) << table.err;
+  EXPECT_NE(table.out.find("default bake: "), std::string::npos) << table.out;
 }
 
 TEST_F(ReportCommandTest, FieldWritesAVtpFile) {
