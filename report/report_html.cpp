@@ -99,6 +99,7 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
     << "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right;white-space:nowrap}td.l{white-space:normal}"
     << "th{background:#eee}td.l,th.l{text-align:left}.pass{color:#070;font-weight:bold}.fail{color:#b00;font-weight:bold}"
     << ".slow{color:#a60;font-weight:bold}img.chart{max-width:100%;border:1px solid #ddd}.note{color:#555}"
+    << "table.worst td{white-space:normal}table.worst td.l:last-child{min-width:16em}"
     << ".stamp{color:#555;font-size:90%}.verdicts td{font-size:110%}code{background:#f4f4f4;padding:0 3px}"
     << "@media print{body{max-width:none;margin:1cm}}</style></head><body>\n";
   h << "<h1>HapticBox error report: " << html_escape(fs::path(d.mesh_path).filename().string()) << "</h1>\n";
@@ -161,17 +162,24 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
   } else {
     h << "<p class=note>The largest relative force errors, then the deepest false and missed contacts. Probe "
          "numbers are rows of samples.csv; tips in model units; depths as a percentage of the mesh diagonal; "
-         "incidence is the angle between the probe and the surface normal (90 deg: grazing).</p>\n<table>\n"
+         "incidence is the angle between the probe and the surface normal (90 deg: grazing).</p>\n<table class=worst>\n"
       << "<tr><th>probe</th><th class=l>kind</th><th>tip (x, y, z)</th><th>error</th><th>|F exact| / |F box|</th>"
          "<th>depth exact / box</th><th>incidence</th><th class=l>why</th></tr>\n";
+    // The cells may wrap (the "why" needs the room), but only between values: a value keeps
+    // its unit.
+    const auto unit = [](std::string v) {
+      for (const char* u : {" %", " N", " deg"})
+        for (std::size_t at = v.find(u); at != std::string::npos; at = v.find(u, at)) v.replace(at, 1, "&nbsp;");
+      return v;
+    };
     for (const WorstProbe& w : d.worst) {
       const Vec3& t = w.segment.end;
       h << "<tr><td>" << w.index << "</td><td class=l>" << to_string(w.kind) << "</td><td>" << sig(t.x()) << ", "
         << sig(t.y()) << ", " << sig(t.z()) << "</td><td>"
-        << (w.kind == WorstProbe::Kind::force_error ? percent(w.relative_error) : sig(w.force_difference_n) + " N")
-        << "</td><td>" << sig(w.exact_force_n) << " / " << sig(w.approx_force_n) << " N</td><td>"
-        << percent(w.exact_depth_fraction) << " / " << percent(w.approx_depth_fraction) << "</td><td>"
-        << sig(w.incidence_deg) << " deg</td><td class=l>" << html_escape(w.cause) << "</td></tr>\n";
+        << unit(w.kind == WorstProbe::Kind::force_error ? percent(w.relative_error) : sig(w.force_difference_n) + " N")
+        << "</td><td>" << sig(w.exact_force_n) << " / " << unit(sig(w.approx_force_n) + " N") << "</td><td>"
+        << unit(percent(w.exact_depth_fraction)) << " / " << unit(percent(w.approx_depth_fraction)) << "</td><td>"
+        << unit(sig(w.incidence_deg) + " deg") << "</td><td class=l>" << html_escape(w.cause) << "</td></tr>\n";
     }
     h << "</table>\n";
   }
