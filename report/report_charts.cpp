@@ -5,6 +5,7 @@
 #include "errors.h"
 #include "figure_text.h"
 #include "evaluation/comparison.h"
+#include "haptic_box/error_budget.h"
 #include <plplot/plstream.h>
 #include <algorithm>
 #include <cmath>
@@ -132,7 +133,7 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
     ymax = ymax > 0 ? ymax * 1.15 : 1.0;
     // Room above 100% for the labels of the exact answers there.
     const double a0 = std::max(0.0, std::floor(amin / 10.0) * 10.0 - 5.0), a1 = 100.0 + 0.14 * (100.0 - a0);
-    constexpr double kBudgetAgreement = 99.5;  // the default budget's (hb::ErrorBudget)
+    const double budget_agreement = 100.0 * ErrorBudget{}.agreement;  // the default budget's
     std::vector<const SweepRow*> front;
     for (const SweepRow& r : rows)
       if (r.pareto) front.push_back(&r);
@@ -158,17 +159,18 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
       LabelPlacer labels(lx0, lx1, y0, y1);
       if (!top) {
         // The default budget's agreement, its words at the right end under the line.
-        const PLFLT bx[2] = {lx0, lx1}, by[2] = {kBudgetAgreement, kBudgetAgreement};
+        const PLFLT bx[2] = {lx0, lx1}, by[2] = {budget_agreement, budget_agreement};
         pls->col0(kGreen);
         pls->lsty(2);
         pls->line(2, bx, by);
         pls->lsty(1);
         pls->schr(0, 0.6);
-        const char* budget = "default budget: 99.5% agreement";
-        const double right = lx1 - 0.01 * (lx1 - lx0), below = kBudgetAgreement - 0.05 * (a1 - a0);
+        char budget[64];
+        std::snprintf(budget, sizeof budget, "default budget: %g%% agreement", budget_agreement);
+        const double right = lx1 - 0.01 * (lx1 - lx0), below = budget_agreement - 0.05 * (a1 - a0);
         pls->ptex(right, below, 1.0, 0.0, 1.0, budget);
         labels.reserve(right - LabelPlacer::kCharWidth * (lx1 - lx0) * double(std::strlen(budget)), right,
-                       below - 0.01 * (a1 - a0), kBudgetAgreement);
+                       below - 0.01 * (a1 - a0), budget_agreement);
       }
       // Pareto front as a line through its points, fastest first.
       if (front.size() > 1) {
