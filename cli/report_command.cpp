@@ -1,4 +1,6 @@
 // hapticbox report MESH|BOX [MESH] -o DIR [--m M --n N] [--samples N] [--seed S] ...
+// From a MESH the report bakes the default (budgeted) bake through the box cache, or with -m / -n
+// one raw box of exactly that sampling.
 // Writes DIR/report.html (self-contained), DIR/summary.json and DIR/samples.csv. Runs with no
 // display: the error-field image is rendered only when an X display opens (noted otherwise).
 #include "cli_support.h"
@@ -16,6 +18,7 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 void add_report_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("report", "Write an error report (report.html, summary.json, samples.csv)");
@@ -40,16 +43,22 @@ void add_report_command(CLI::App& app) {
       ->required()
       ->expected(1, 2);
   cmd->add_option("-o,--output", opts->out, "Output directory")->required();
-  cmd->add_option("-m,--m", opts->params.m, "Position density m when baking")->check(CLI::Range(2, 4096))->capture_default_str();
-  cmd->add_option("-n,--n", opts->params.n, "Directional density n when baking")->check(CLI::Range(2, 1024))->capture_default_str();
+  cmd->add_option("-m,--m", opts->params.m,
+                  "From a MESH: bake exactly this position density (with -n's; without -m and -n the report is of "
+                  "the default, budgeted bake, as `bake MESH -o BOX` makes it)")
+      ->check(CLI::Range(2, 4096))
+      ->capture_default_str();
+  cmd->add_option("-n,--n", opts->params.n, "From a MESH: bake exactly this directional density (see -m)")
+      ->check(CLI::Range(2, 1024))
+      ->capture_default_str();
   cmd->add_option("--samples", opts->report.samples, "Probes (as eval)")->check(CLI::Range(std::size_t(1), std::size_t(10000000)))->capture_default_str();
   cmd->add_option("--seed", opts->report.probes.seed, "Probe seed (as eval)")->capture_default_str();
   cmd->add_option("--rounds", opts->report.timing_rounds, "Timing passes")->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--sweep-m", opts->sweep_m, "Extra configurations for the chart: m values (default m/4, m/2, m)")->delimiter(',');
   cmd->add_option("--sweep-n", opts->sweep_n, "Extra configurations for the chart: n values (default n/2, n)")->delimiter(',');
   cmd->add_flag("--no-sweep", opts->no_sweep, "Only the box itself and the references in the chart");
-  cmd->add_option("--cache", opts->cache, "Directory of cached sweep boxes")->capture_default_str();
-  cmd->add_flag("--no-cache", opts->no_cache, "Cache no sweep boxes");
+  cmd->add_option("--cache", opts->cache, "Box cache directory (the default bake and the sweep's boxes; shared with bake, sweep and the window)")->capture_default_str();
+  cmd->add_flag("--no-cache", opts->no_cache, "Bake without the box cache and store nothing in it");
   cmd->add_option("--field-probes", opts->report.error_field_probes_per_vertex, "Error-field probes per vertex (0: none)")
       ->check(CLI::Range(0, 10000))->capture_default_str();
   cmd->add_flag("--no-image", opts->no_image, "Do not render the error field even with a display");
@@ -62,7 +71,7 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--save-box", opts->save_box, "When baking, also save the box file here");
   cmd->add_flag("--stability", opts->stability, "Also run the trajectory stability suite (as `stability`, 6 sites)");
   hb::cli::add_force_law_options(*cmd, opts->report.law);
-  cmd->callback([opts] {
+  cmd->callback([opts, cmd] {
     const auto t0 = std::chrono::steady_clock::now();
     std::string mesh_path, box_path;
     const bool first_is_box = hb::cli::is_box_file(opts->inputs[0]);
@@ -82,16 +91,34 @@ void add_report_command(CLI::App& app) {
     if (first_is_box) {
       hb::cli::check_same_mesh(scene, box_path, mesh_path, mesh_hash, opts->force);
     } else {
+      // Without -m and -n, the default bake (hb::default_recipe, what `bake MESH -o BOX`,
+      // ./run.sh and the window's Bake make) through the box cache; with either, exactly that
+      // sampling, one raw box, as before.
+      hb::Communicator& comm = hb::cli::communicator();
+      const bool sampling_given = cmd->count("-m") + cmd->count("-n") > 0;
       hb::BakeRecipe recipe;
-      recipe.options.params = opts->params;
+      if (sampling_given) {
+        recipe.options.params = opts->params;
+        // Baked across the ranks of an MPI job; every rank needs the scene for the evaluation.
+        recipe.options.communicator = &comm;
+        recipe.options.scene_on_every_rank = true;
+      } else {
+        recipe = hb::default_recipe();  // one process's bake: each rank of a job bakes it alone
+      }
       recipe.options.progress = hb::cli::terminal_progress("bake");
-      // Baked across the ranks of an MPI job; every rank needs the scene for the evaluation.
-      recipe.options.communicator = &hb::cli::communicator();
-      recipe.options.scene_on_every_rank = true;
+      // The cache only for one process: ranks must not evaluate different scenes (a cached one
+      // and a fresh one of another build).
+      std::optional<hb::BoxCache> cache;
+      if (!sampling_given && !opts->no_cache && comm.size() == 1) cache.emplace(opts->cache);
       hb::SourceInfo source{mesh_path, mesh_hash, mesh.triangle_count(), mesh.bounds().diagonal()};
-      hb::BakeResult baked = hb::bake(mesh, recipe, source);
-      scene = std::move(baked.scene);
-      bake_seconds = baked.stats.seconds;
+      const auto bake_start = std::chrono::steady_clock::now();
+      hb::CachedBake baked = hb::bake_cached(mesh, recipe, source, cache ? &*cache : nullptr);
+      if (!baked.warning.empty() && comm.is_root()) std::cerr << "hapticbox: warning: " << baked.warning << "\n";
+      scene = std::move(baked.result.scene);
+      if (baked.from_cache) box_path = baked.path;  // the box file the report is of
+      bake_seconds = baked.from_cache ? 0.0
+                     : sampling_given ? baked.result.stats.seconds
+                                      : std::chrono::duration<double>(std::chrono::steady_clock::now() - bake_start).count();
       if (!opts->save_box.empty()) {
         if (hb::cli::communicator().is_root()) hb::save_box_file(scene, opts->save_box);
         box_path = opts->save_box;

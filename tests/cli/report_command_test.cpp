@@ -93,6 +93,29 @@ TEST_F(ReportCommandTest, ReportJsonCarriesTheFiguresEvalPrintsForTheSameInputAn
   EXPECT_EQ(lines, 3001u);
 }
 
+TEST_F(ReportCommandTest, AReportFromAMeshIsOfTheDefaultBakeThroughTheCacheUnlessASamplingIsGiven) {
+  // What `bake MESH -o BOX` makes: several boxes refined on the surface cells, the budget met.
+  const std::string cache = path("report_cache");
+  const std::string args = "report " + path("torus.off") + " -o " + path("rep_default") +
+                           " --samples 2000 --rounds 1 --no-sweep --field-probes 0 --cache " + cache;
+  const CommandResult r = run(args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto s = nlohmann::json::parse(read("rep_default/summary.json"));
+  EXPECT_GE(s["eval"]["contact_agreement"].get<double>(), 0.995);
+  EXPECT_LE(s["eval"]["force_error_p95"].get<double>(), 0.07);
+  EXPECT_GT(s["box"]["bake_seconds"].get<double>(), 0.0);
+  ASSERT_EQ(run("bake " + path("torus.off") + " -o " + path("default.hbox") + " --cache " + cache).code, 0);
+  const CommandResult info = run("info " + path("default.hbox") + " --json");
+  ASSERT_EQ(info.code, 0) << info.err;
+  EXPECT_TRUE(nlohmann::json::parse(info.out)["budget_report"]["met"].get<bool>()) << info.out;
+  // The bake above came from the report's cache entry; a second report does not bake again.
+  const CommandResult again = run(args);
+  ASSERT_EQ(again.code, 0) << again.err;
+  const auto s2 = nlohmann::json::parse(read("rep_default/summary.json"));
+  EXPECT_TRUE(s2["box"]["loaded_from_file"].get<bool>());
+  EXPECT_NE(s2["inputs"]["box"].get<std::string>().find(cache), std::string::npos) << s2["inputs"];
+}
+
 TEST_F(ReportCommandTest, ReportBakesFromAMesh) {
   const CommandResult r = run("report " + path("torus.off") + " -o " + path("rep2") + " -m 6 -n 4 --samples 500 --rounds 1 "
                     "--no-sweep --no-cache");
