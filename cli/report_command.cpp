@@ -44,13 +44,12 @@ void add_report_command(CLI::App& app) {
       ->expected(1, 2);
   cmd->add_option("-o,--output", opts->out, "Output directory")->required();
   cmd->add_option("-m,--m", opts->params.m,
-                  "From a MESH: bake exactly this position density (with -n's; without -m and -n the report is of "
-                  "the default, budgeted bake, as `bake MESH -o BOX` makes it)")
-      ->check(CLI::Range(2, 4096))
-      ->capture_default_str();
-  cmd->add_option("-n,--n", opts->params.n, "From a MESH: bake exactly this directional density (see -m)")
-      ->check(CLI::Range(2, 1024))
-      ->capture_default_str();
+                  "From a MESH: bake one raw box of exactly this position density (n 16 unless -n is given); without "
+                  "-m and -n the report is of the default, budgeted bake, as `bake MESH -o BOX` makes it")
+      ->check(CLI::Range(2, 4096));
+  cmd->add_option("-n,--n", opts->params.n,
+                  "From a MESH: bake one raw box of exactly this directional density (m 32 unless -m is given)")
+      ->check(CLI::Range(2, 1024));
   cmd->add_option("--samples", opts->report.samples, "Probes (as eval)")->check(CLI::Range(std::size_t(1), std::size_t(10000000)))->capture_default_str();
   cmd->add_option("--seed", opts->report.probes.seed, "Probe seed (as eval)")->capture_default_str();
   cmd->add_option("--rounds", opts->report.timing_rounds, "Timing passes")->check(CLI::Range(1, 1000))->capture_default_str();
