@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "errors.h"
 #include "evaluation/sweep.h"
+#include "figure_text.h"
 #include "exact/exact_query.h"
 #include "mesh/mesh_io.h"
 #include "pieces_option.h"
@@ -26,17 +27,18 @@ void print_row(const hb::SweepRow& r, bool pareto_known) {
   const std::string codec = r.codec + (r.refine ? "+ref" : "");
   // A row that is not one (m, n) configuration (the default bake) says what it is at the end.
   const bool one_config = box && r.label.empty();
-  std::snprintf(line, sizeof line, "%-24s %4s %4s %-10s %10.1f %12.2f %9.3f%s %9.2f %9.2f %9.2f %s%s%s",
+  std::snprintf(line, sizeof line, "%-24s %4s %4s %-10s %10.1f %12.2f %9.3f%s %9.2f %9.2f %9.2f %6s %s%s%s",
                 r.method.c_str(), one_config ? std::to_string(r.m).c_str() : "-", one_config ? std::to_string(r.n).c_str() : "-",
                 box ? codec.c_str() : "-", r.query_ns, double(r.memory_bytes) / (1024.0 * 1024.0), r.bake_seconds,
                 r.from_cache ? "c" : " ", 100.0 * r.force_error_median, 100.0 * r.force_error_p95,
-                100.0 * r.contact_agreement, pareto_known ? (r.pareto ? "*" : "") : "", r.label.empty() ? "" : "  ",
+                100.0 * r.contact_agreement, r.within_budget ? "yes" : "-", pareto_known ? (r.pareto ? "*" : "") : "",
+                r.label.empty() ? "" : "  ",
                 r.label.c_str());
   std::cout << line << std::endl;
 }
 
 void print_header() {
-  std::cout << "method                      m    n codec        query_ns   memory_MiB   bake_s  median_%    p95_%  agree_% pareto\n";
+  std::cout << "method                      m    n codec        query_ns   memory_MiB   bake_s  median_%    p95_%  agree_% budget pareto\n";
 }
 
 } // namespace
@@ -130,7 +132,8 @@ void add_sweep_command(CLI::App& app) {
                              {"refine", r.refine}, {"query_ns", r.query_ns}, {"memory_bytes", r.memory_bytes},
                              {"bake_seconds", r.bake_seconds}, {"from_cache", r.from_cache},
                              {"force_error_median", r.force_error_median}, {"force_error_p95", r.force_error_p95},
-                             {"contact_agreement", r.contact_agreement}, {"pareto", r.pareto}});
+                             {"contact_agreement", r.contact_agreement}, {"angle_error_p99_deg", r.angle_error_p99_deg},
+                             {"within_budget", r.within_budget}, {"pareto", r.pareto}});
       hb::cli::print_json(j);
       return;
     }
@@ -141,7 +144,20 @@ void add_sweep_command(CLI::App& app) {
       if (r.pareto) front.push_back(r);
     std::sort(front.begin(), front.end(), [](const hb::SweepRow& a, const hb::SweepRow& b) { return a.query_ns < b.query_ns; });
     for (const hb::SweepRow& r : front) print_row(r, true);
-    std::cout << "(c: box from the cache; memory of references: mesh arrays and index, not Embree's BVH)\n";
+    std::cout << "(c: box from the cache; memory of references: mesh arrays and index, not Embree's BVH; budget: "
+              << hb::budget_spec(so.budget) << ")\n";
+    // The cheapest configuration that models no more than the budget asks, against exact.
+    if (const hb::SweepRow* best = hb::fastest_within_budget(rows)) {
+      const std::string what = best->label.empty()
+                                   ? "m" + std::to_string(best->m) + " n" + std::to_string(best->n) + " " + best->codec +
+                                         (best->refine ? "+ref" : "")
+                                   : best->label;
+      std::cout << "fastest within the budget: " << what << ", " << hb::sig(best->query_ns) << " ns a query against exact's "
+                << hb::sig(rows.front().query_ns) << " ns: " << hb::speed_verdict(best->query_ns, rows.front().query_ns)
+                << "\n";
+    } else {
+      std::cout << "fastest within the budget: no box configuration meets it\n";
+    }
     if (comm.size() > 1) {
       std::cout << comm.size() << " ranks, busy seconds per rank:";
       for (const hb::RankWork& w : work) std::cout << " " << w.seconds;

@@ -83,6 +83,8 @@ nlohmann::json row_json(const SweepRow& r) {
           {"force_error_p95", r.force_error_p95},
           {"contact_agreement", r.contact_agreement},
           {"angle_error_median_deg", r.angle_error_median_deg},
+          {"angle_error_p99_deg", r.angle_error_p99_deg},
+          {"within_budget", r.within_budget},
           {"pareto", r.pareto}};
 }
 
@@ -159,6 +161,8 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   own.force_error_p95 = d.stats.force_error_p95;
   own.contact_agreement = d.stats.contact_agreement;
   own.angle_error_median_deg = d.stats.angle_error_median_deg;
+  own.angle_error_p99_deg = d.stats.angle_error_p99_deg;
+  own.within_budget = meets_budget(d.stats, so.budget);
   d.rows.push_back(own);
   mark_pareto_front(d.rows);
   report_progress(options.progress, 0.9);

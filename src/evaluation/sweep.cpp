@@ -101,6 +101,8 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& sour
     row.force_error_p95 = s.force_error_p95;
     row.contact_agreement = s.contact_agreement;
     row.angle_error_median_deg = s.angle_error_median_deg;
+    row.angle_error_p99_deg = s.angle_error_p99_deg;
+    row.within_budget = meets_budget(s, options.budget);
     // One core of one rank times the method; the ranks take turns.
     const int owner = int(measured++ % std::size_t(comm.size()));
     double timing_seconds = 0.0;
@@ -216,6 +218,13 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& sour
     *options.rank_work = tally;
   }
   return rows;
+}
+
+const SweepRow* fastest_within_budget(const std::vector<SweepRow>& rows) {
+  const SweepRow* best = nullptr;
+  for (const SweepRow& r : rows)
+    if (r.method == "haptic_box" && r.within_budget && (!best || r.query_ns < best->query_ns)) best = &r;
+  return best;
 }
 
 } // namespace hb

@@ -4,6 +4,7 @@
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
 #include "haptic_box/bake_recipe.h"
+#include "haptic_box/error_budget.h"
 #include "progress.h"
 #include <functional>
 #include <string>
@@ -52,6 +53,10 @@ struct SweepRow {
   double force_error_p95 = 0.0;
   double contact_agreement = 0.0;
   double angle_error_median_deg = 0.0;
+  double angle_error_p99_deg = 0.0;
+  /// Every figure within SweepOptions::budget (hb::meets_budget: agreement, median and p95
+  /// force error, direction p99); the references count too (exact is within any budget).
+  bool within_budget = false;
   bool pareto = false;             ///< on the Pareto front (see mark_pareto_front).
   /// What charts call a row that is not one (m, n) configuration, e.g. a report's own scene
   /// of several boxes ("scene: 19 boxes, m 8-26, n 6-8"); empty: "m<m> n<n>".
@@ -65,6 +70,8 @@ struct SweepOptions {
   int timing_rounds = 5;           ///< passes of median_query_ns.
   ProbeOptions probes;             ///< the default probe distribution.
   ForceLaw law;
+  /// The budget each row is checked against (SweepRow::within_budget); the default budget's.
+  ErrorBudget budget;
   /// The bake every configuration starts from: pieces (cut once for the whole sweep), seams,
   /// padding; each configuration sets m, n and refinement, and its codec is applied to the
   /// raw scene in memory. Its progress callbacks are replaced by `progress`.
@@ -111,5 +118,9 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& sour
 /// Marks the Pareto front over (query_ns, force_error_median): a row is on it when no
 /// other row is at least as fast and at least as accurate, and strictly better in one.
 void mark_pareto_front(std::vector<SweepRow>& rows);
+
+/// The fastest haptic-box row within its budget (SweepRow::within_budget), or null: the
+/// cheapest configuration that models no more than the budget asks.
+const SweepRow* fastest_within_budget(const std::vector<SweepRow>& rows);
 
 } // namespace hb

@@ -148,6 +148,16 @@ TEST_F(ReportCommandTest, SweepPrintsRowsAndTheParetoFront) {
   const CommandResult table = run("sweep " + path("torus.off") + " -m 4 -n 3 --samples 500 --rounds 1 --no-cache");
   ASSERT_EQ(table.code, 0) << table.err;
   EXPECT_NE(table.out.find("default bake: "), std::string::npos) << table.out;
+  // The cheapest configuration within the default budget, with its verdict against exact.
+  const std::size_t at = table.out.find("fastest within the budget: default bake: ");
+  ASSERT_NE(at, std::string::npos) << table.out;
+  const std::string verdict = table.out.substr(at, table.out.find('\n', at) - at);
+  EXPECT_TRUE(verdict.find("x faster than exact") != std::string::npos ||
+              verdict.find("x slower than exact") != std::string::npos ||
+              verdict.find("as fast as exact") != std::string::npos)
+      << verdict;
+  EXPECT_TRUE(j["rows"][4]["within_budget"].get<bool>());
+  EXPECT_FALSE(j["rows"][2]["within_budget"].get<bool>());
 }
 
 TEST_F(ReportCommandTest, FieldWritesAVtpFile) {

@@ -107,6 +107,12 @@ TEST(SweepTest, TheDefaultBakeIsMeasuredOnTheSameProbesAndTakenFromTheCacheTheSe
   EXPECT_GE(d.contact_agreement, 0.995);
   EXPECT_LE(d.force_error_p95, 0.07);
   EXPECT_LT(d.force_error_median, rows[1].force_error_median);
+  // Checked against the default budget: exact and the default bake are within it, the coarse
+  // raw box is not, and the default bake is the cheapest box that is.
+  EXPECT_TRUE(rows[0].within_budget);
+  EXPECT_FALSE(rows[1].within_budget);
+  EXPECT_TRUE(d.within_budget);
+  EXPECT_EQ(hb::fastest_within_budget(rows), &rows[2]);
   const auto again = hb::run_sweep(mesh, source, {{"exact_embree", &exact, 0, 0.0}}, options);
   ASSERT_EQ(again.size(), 3u);
   EXPECT_TRUE(again[2].from_cache);
