@@ -148,11 +148,7 @@ void add_sweep_command(CLI::App& app) {
               << hb::budget_spec(so.budget) << ")\n";
     // The cheapest configuration that models no more than the budget asks, against exact.
     if (const hb::SweepRow* best = hb::fastest_within_budget(rows)) {
-      const std::string what = best->label.empty()
-                                   ? "m" + std::to_string(best->m) + " n" + std::to_string(best->n) + " " + best->codec +
-                                         (best->refine ? "+ref" : "")
-                                   : best->label;
-      std::cout << "fastest within the budget: " << what << ", " << hb::sig(best->query_ns) << " ns a query against exact's "
+      std::cout << "fastest within the budget: " << hb::configuration_name(*best) << ", " << hb::sig(best->query_ns) << " ns a query against exact's "
                 << hb::sig(rows.front().query_ns) << " ns: " << hb::speed_verdict(best->query_ns, rows.front().query_ns)
                 << "\n";
     } else {

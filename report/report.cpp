@@ -103,7 +103,7 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   d.pieces = scene.boxes().size();
   d.diagonal = mesh.bounds().diagonal();
   d.params = scene.boxes().front().params();
-  d.memory_bytes = scene.table_bytes() + scene.refinement_bytes();  // as the sweep's rows count it
+  d.memory_bytes = scene.memory_bytes();  // as the sweep's rows count it
   d.bake_seconds = bake_seconds;
   d.codec = codec_name(scene.boxes().front().codec());
   d.refine = scene.refines();

@@ -106,11 +106,8 @@ void LabelPlacer::reserve(double x0, double x1, double y0, double y1) { taken_.p
 namespace {
 
 std::string row_label(const SweepRow& r) {
-  const bool box = r.method == "haptic_box";
-  if (!box) return r.method.find("vtk") != std::string::npos ? "VTK locator" : "exact Embree";
-  const std::string codec = r.codec != "none" && !r.codec.empty() ? " " + r.codec : "";
-  if (!r.label.empty()) return r.label + (r.label.rfind("default bake", 0) == 0 ? "" : codec + (r.refine ? " ref" : ""));
-  return "m" + std::to_string(r.m) + " n" + std::to_string(r.n) + codec + (r.refine ? " ref" : "");
+  if (r.method == "haptic_box") return configuration_name(r);
+  return r.method.find("vtk") != std::string::npos ? "VTK locator" : "exact Embree";
 }
 
 } // namespace

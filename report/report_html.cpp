@@ -132,7 +132,7 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
   tr("codec", html_escape(d.codec) + (d.refine ? ", exact refinement" : ""));
   tr("route", d.route == "cells" ? "cells: the first crossing among the grid's surface-cell triangles answers"
                                  : "boxes: the boxes answer (their samples, refined where they store triangle ids)");
-  tr(d.refine ? "memory (tables, triangle ids, surface)" : "memory (tables)", bytes_text(d.memory_bytes));
+  tr("memory (what its queries read: tables, triangle ids, surface, normal map, grid, cells)", bytes_text(d.memory_bytes));
   tr("bake time", d.bake_seconds > 0 ? duration_text(d.bake_seconds) : "loaded from a box file");
   tr("query time, haptic box", ns_text(d.box_ns));
   if (exact) tr("query time, exact Embree", ns_text(exact->query_ns));

@@ -168,7 +168,7 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& sour
     if (!baked.warning.empty()) throw IoError(baked.path + ": " + baked.warning);
     row.from_cache = loaded;
     if (config.codec != "none") scene = compress_scene(scene, config.codec);
-    row.memory_bytes = scene.table_bytes() + scene.refinement_bytes();
+    row.memory_bytes = scene.memory_bytes();
     step(1.0);
     measure(row, scene);
     step(1.0);
@@ -192,12 +192,7 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& sour
     row.codec = scene.boxes().empty() ? "none" : codec_name(scene.boxes().front().codec());
     row.from_cache = baked.from_cache;
     row.bake_seconds = baked.from_cache ? 0.0 : std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    // Everything its queries read: tables, triangle ids, the surface and its normal map, the
-    // grid and the surface cells.
-    row.memory_bytes = scene.table_bytes() + scene.refinement_bytes() +
-                       (scene.surface() ? scene.surface()->normal_map_bytes() : 0) +
-                       (scene.grid() ? scene.grid()->bytes() : 0) +
-                       (scene.surface_cells() ? scene.surface_cells()->bytes() : 0);
+    row.memory_bytes = scene.memory_bytes();
     step(1.0);
     measure(row, scene);
     step(1.0);
@@ -218,6 +213,11 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& sour
     *options.rank_work = tally;
   }
   return rows;
+}
+
+std::string configuration_name(const SweepRow& r) {
+  const std::string base = r.label.empty() ? "m" + std::to_string(r.m) + " n" + std::to_string(r.n) : r.label;
+  return base + (r.codec != "none" && !r.codec.empty() ? " " + r.codec : "") + (r.refine ? " ref" : "");
 }
 
 const SweepRow* fastest_within_budget(const std::vector<SweepRow>& rows) {

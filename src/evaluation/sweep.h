@@ -119,6 +119,10 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& sour
 /// other row is at least as fast and at least as accurate, and strictly better in one.
 void mark_pareto_front(std::vector<SweepRow>& rows);
 
+/// What a haptic-box row is, in words: its label (a scene, the default bake) or "m<m> n<n>",
+/// then its codec unless "none" and " ref" when it refines ("m16 n8 block ref").
+std::string configuration_name(const SweepRow& row);
+
 /// The fastest haptic-box row within its budget (SweepRow::within_budget), or null: the
 /// cheapest configuration that models no more than the budget asks.
 const SweepRow* fastest_within_budget(const std::vector<SweepRow>& rows);

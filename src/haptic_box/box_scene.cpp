@@ -714,6 +714,11 @@ std::size_t BoxScene::table_bytes() const {
   return sum;
 }
 
+std::size_t BoxScene::memory_bytes() const {
+  return table_bytes() + refinement_bytes() + (surface_ ? surface_->normal_map_bytes() : 0) +
+         (grid_ ? grid_->bytes() : 0) + (cells_ ? cells_->bytes() : 0);
+}
+
 std::size_t BoxScene::refinement_bytes() const {
   std::size_t sum = surface_ ? surface_->bytes() : 0;
   const SurfaceTriangles* counted = surface_.get();

@@ -208,6 +208,9 @@ public:
   /// Bytes the exact refinement adds (0 without it): every box's triangle ids and the
   /// surface the boxes share (once).
   std::size_t refinement_bytes() const;
+  /// Bytes the scene's queries read: the tables, refinement_bytes(), the surface's normal map,
+  /// the scene grid and the surface cells (what `sweep` and `report` call its memory).
+  std::size_t memory_bytes() const;
 
 private:
   // The query through the grid; false when the handle's cell leaves it to query_met().

@@ -20,6 +20,17 @@ TEST(SweepTest, ParetoFrontKeepsOnlyUndominatedRows) {
   EXPECT_TRUE(rows[3].pareto);
 }
 
+TEST(SweepTest, ABoxRowIsNamedByItsLabelOrSamplingThenItsCodecAndRefinement) {
+  hb::SweepRow raw;
+  raw.m = 8, raw.n = 4, raw.codec = "none";
+  EXPECT_EQ(hb::configuration_name(raw), "m8 n4");
+  hb::SweepRow refined = raw;
+  refined.codec = "block", refined.refine = true;
+  EXPECT_EQ(hb::configuration_name(refined), "m8 n4 block ref");
+  refined.label = "default bake: 19 boxes";
+  EXPECT_EQ(hb::configuration_name(refined), "default bake: 19 boxes block ref");
+}
+
 TEST(SweepTest, RunsReferencesAndConfigurationsAndReusesTheCache) {
   const hb::TriangleMesh mesh = hb::make_sphere(1.f, 3);
   const hb::ExactQuery exact(mesh);
