@@ -2,7 +2,7 @@
 // Small pieces the sub-commands share: the failure type that carries an exit code, the
 // terminal progress bar, the force-law options and JSON output.
 #include "codec/codec.h"
-#include "haptic_box/contact.h"
+#include "contact/contact.h"
 #include "haptic_box/error_budget.h"
 #include "parallel/communicator.h"
 #include "progress.h"

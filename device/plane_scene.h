@@ -2,7 +2,7 @@
 // A built-in analytic scene: the solid half-space z < height (model units), answered in closed
 // form with the project's contact definition. Lets `hapticbox servo plane` exercise the whole
 // device path (and measure its timing) without a box file.
-#include "haptic_box/contact.h"
+#include "contact/contact.h"
 
 namespace hb {
 

@@ -7,8 +7,8 @@
 #include "device/safety.h"
 #include "device/seqlock.h"
 #include "device/timing_histogram.h"
-#include "haptic_box/contact.h"
-#include "haptic_box/god_object.h"
+#include "contact/contact.h"
+#include "contact/god_object.h"
 #include <atomic>
 #include <optional>
 #include <string>
@@ -60,7 +60,7 @@ struct ServoOptions {
   SafetyOptions safety;
   /// How each tick's answer becomes the force (`servo --law`): ContactLaw::penalty, the force
   /// law on the scene's answer (stateless; the default for now), or ContactLaw::proxy, a
-  /// GodObject kept by the loop (Zilles and Salisbury 1995; haptic_box/god_object.h) fed each
+  /// GodObject kept by the loop (Zilles and Salisbury 1995; contact/god_object.h) fed each
   /// tick's segment over the scene, and a second one over the shadow (set_shadow), so both
   /// answers are rendered by the same law. Either way the force then goes through the energy
   /// guard and the safety filter. The stiffness limit is the penalty law's (the proxy falls

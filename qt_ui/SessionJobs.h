@@ -8,7 +8,7 @@
 #include "evaluation/sweep.h"
 #include "haptic_box/bake_recipe.h"
 #include "haptic_box/box_cache.h"
-#include "haptic_box/god_object.h"
+#include "contact/god_object.h"
 #include <QObject>
 #include <QString>
 #include <memory>

@@ -7,7 +7,7 @@
 #include "evaluation/error_field.h"
 #include "exact/exact_query.h"
 #include "haptic_box/box_scene.h"
-#include "haptic_box/contact.h"
+#include "contact/contact.h"
 #include "mesh/triangle_mesh.h"
 #include <QObject>
 #include <QString>

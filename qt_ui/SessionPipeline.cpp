@@ -8,7 +8,7 @@
 //     with the session's exact reference.
 #include "SessionPipeline.h"
 #include "errors.h"
-#include "haptic_box/contact.h"
+#include "contact/contact.h"
 #include "vtkHapticBoxBakeFilter.h"
 #include "vtkHapticBoxDecompositionFilter.h"
 #include "vtkHapticBoxErrorFieldFilter.h"

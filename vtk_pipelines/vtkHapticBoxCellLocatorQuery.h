@@ -16,7 +16,7 @@
 #ifndef vtkHapticBoxCellLocatorQuery_h
 #define vtkHapticBoxCellLocatorQuery_h
 
-#include "haptic_box/contact.h"
+#include "contact/contact.h"
 #include "mesh/triangle_mesh.h"
 #include <vtkSmartPointer.h>
 

@@ -1,6 +1,6 @@
 #pragma once
 // Comparing an approximated answer with the exact one over a set of probes (paper 6.1.2).
-#include "haptic_box/contact.h"
+#include "contact/contact.h"
 #include "parallel/communicator.h"
 #include <vector>
 

@@ -2,7 +2,7 @@
 // The error field: where on a model the approximation is wrong. Probes are aimed at points of
 // the surface from a cone of directions; the exact and approximated answers are compared per
 // point (paper 6.1.2's relative force error, mapped over the surface).
-#include "haptic_box/contact.h"
+#include "contact/contact.h"
 #include "mesh/triangle_mesh.h"
 #include "parallel/communicator.h"
 #include "progress.h"

@@ -1,7 +1,7 @@
 #pragma once
 // Timing queries on one core, for `bench`, `sweep` and reports. Timing is measured here and
 // reported, never asserted in tests.
-#include "haptic_box/contact.h"
+#include "contact/contact.h"
 #include <vector>
 
 namespace hb {

@@ -3,8 +3,8 @@
 // delay, mass, damping, position quantum, force saturation) with an optional hand model,
 // driving any ContactQuery (the box, exact Embree, an analytic wall) in device space.
 // The protocol and its reference figures: docs/stability.md.
-#include "haptic_box/contact.h"
-#include "haptic_box/god_object.h"
+#include "contact/contact.h"
+#include "contact/god_object.h"
 #include <cstdint>
 #include <Eigen/Core>
 #include <limits>
@@ -75,7 +75,7 @@ struct Rendered {
 Rendered render(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map, const Vec3d& tip_m,
                 const Vec3d& dir, double stylus_m);
 
-// How a trajectory's answers become forces: ContactLaw (haptic_box/god_object.h).
+// How a trajectory's answers become forces: ContactLaw (contact/god_object.h).
 
 /// Renders the ticks of one trajectory, in order: render() with the penalty law, through a
 /// GodObject (created per renderer: its state is the trajectory's) with the proxy.

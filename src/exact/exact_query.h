@@ -1,6 +1,6 @@
 #pragma once
 #include "exact/embree_scene.h"
-#include "haptic_box/contact.h"
+#include "contact/contact.h"
 
 namespace hb {
 

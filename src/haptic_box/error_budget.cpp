@@ -1,5 +1,6 @@
 #include "haptic_box/error_budget.h"
 #include "errors.h"
+#include "spec_parse.h"
 #include "evaluation/comparison.h"
 #include <cerrno>
 #include <cmath>
@@ -11,31 +12,11 @@ namespace {
 // The longest surface_rejected_why a file holds (one line of a budget report).
 constexpr std::size_t kMaxWhy = 1000;
 
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t"), b = s.find_last_not_of(" \t");
-  return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);
-}
-
-// A finite number in [lo, hi], or throws naming `what`.
+std::string trim(const std::string& s) { return spec_trim(s); }
 double number(const std::string& text, const std::string& what, double lo, double hi) {
-  const std::string t = trim(text);
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(t.c_str(), &end);
-  if (t.empty() || end != t.c_str() + t.size() || errno != 0 || !std::isfinite(v) || v < lo || v > hi) {
-    std::ostringstream os;
-    os << what << ": '" << text << "' is not a number in [" << lo << ", " << hi << "]";
-    throw InvalidInput(os.str());
-  }
-  return v;
+  return spec_number(text, what, lo, hi);
 }
-
-std::string fmt(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v) { return spec_format(v); }
 
 } // namespace
 

@@ -4,7 +4,7 @@
 #include "geometry/obb.h"
 #include "codec/sample_table.h"
 #include "haptic_box/box_layout.h"
-#include "haptic_box/contact.h"
+#include "contact/contact.h"
 #include "haptic_box/sample.h"
 #include "haptic_box/surface_triangles.h"
 #include <cstdint>

@@ -1,7 +1,7 @@
 // The hapticbox command end to end: real files in a temp folder, the real binary, no display.
 // Checks exit codes (0 ok, 2 usage, 1 failure), that errors name the file and the cause, and
 // that the JSON outputs carry the documented keys.
-#include "haptic_box/contact.h"
+#include "contact/contact.h"
 #include "mesh/generators.h"
 #include "mesh/mesh_io.h"
 #include "run_cli.h"

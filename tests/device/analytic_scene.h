@@ -2,7 +2,7 @@
 // Real ContactQuery scenes for device tests: the closed-form half-space (the project's contact
 // definition) and a scene that answers NaN forces, for the safety path.
 #include "device/plane_scene.h"
-#include "haptic_box/contact.h"
+#include "contact/contact.h"
 #include <limits>
 
 namespace hb::test {

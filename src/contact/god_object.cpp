@@ -9,7 +9,7 @@
 // 4. No plane found although the stylus touches (the proxy slipped past the surface): put it
 //    back at the stylus's surface point and solve again; still none: the penalty answer.
 // 5. Force k (proxy - tip).
-#include "haptic_box/god_object.h"
+#include "contact/god_object.h"
 #include "errors.h"
 #include <Eigen/Dense>
 #include <algorithm>

@@ -7,7 +7,7 @@
 // stopped by up to three constraint planes found by queries from the proxy toward its target,
 // and the force is k (proxy - tip). In a crease two planes hold it on the crease line, and the
 // force turns smoothly with the tip.
-#include "haptic_box/contact.h"
+#include "contact/contact.h"
 #include <cstdint>
 #include <string>
 

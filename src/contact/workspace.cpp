@@ -1,0 +1,75 @@
+#include "contact/workspace.h"
+#include "errors.h"
+#include "spec_parse.h"
+#include <cmath>
+
+namespace hb {
+namespace {
+
+void check_range(double v, double lo, double hi, const char* what, const char* unit) {
+  if (!(std::isfinite(v) && v > lo && v <= hi))
+    throw InvalidInput(std::string(what) + " " + spec_format(v) + " " + unit + " is outside (" + spec_format(lo) +
+                       ", " + spec_format(hi) + "]");
+}
+
+std::string millimetres(double m) { return spec_format(m * 1000.0) + " mm"; }
+
+} // namespace
+
+ForceLaw Workspace::law() const noexcept {
+  ForceLaw l;
+  l.stiffness_n_per_m = static_cast<float>(stiffness_n_per_m);
+  l.metres_per_unit = static_cast<float>(metres_per_unit);
+  l.depth = DepthLaw::normal;
+  return l;
+}
+
+const char* Workspace::fit_name() const noexcept {
+  switch (fit) {
+    case WorkspaceFit::device: return "device";
+    case WorkspaceFit::real_size: return "real-size";
+    case WorkspaceFit::scale: return "scale";
+  }
+  return "device";
+}
+
+std::string Workspace::describe() const {
+  std::string how;
+  switch (fit) {
+    case WorkspaceFit::device: how = "model fitted to the device's workspace"; break;
+    case WorkspaceFit::real_size: how = "model at real size"; break;
+    case WorkspaceFit::scale: how = "model at the given scale"; break;
+  }
+  return how + " (diagonal " + millimetres(diagonal_m()) + ", 1 unit = " + millimetres(metres_per_unit) +
+         "), k " + spec_format(stiffness_n_per_m) + " N/m, forces up to " + spec_format(max_force_n) + " N";
+}
+
+Workspace make_workspace(const Vec3& lo, const Vec3& hi, const WorkspaceOptions& o) {
+  check_range(o.stiffness_n_per_m, 0.0, 1e5, "stiffness", "N/m");
+  check_range(o.max_force_n, 0.0, 500.0, "maximum force", "N");
+  Workspace w;
+  w.fit = o.fit;
+  w.stiffness_n_per_m = o.stiffness_n_per_m;
+  w.max_force_n = o.max_force_n;
+  const Vec3 d = hi - lo;
+  w.model_diagonal = (lo.allFinite() && hi.allFinite() && (d.array() >= 0.f).all()) ? double(d.norm()) : 0.0;
+  switch (o.fit) {
+    case WorkspaceFit::device:
+      check_range(o.diagonal_m, 1e-3 - 1e-12, 4.0, "workspace diagonal", "m");
+      if (!(w.model_diagonal > 0.0))
+        throw InvalidInput("the model's bounding box is empty or degenerate: it cannot be fitted to the workspace");
+      w.metres_per_unit = o.diagonal_m / w.model_diagonal;
+      break;
+    case WorkspaceFit::real_size:
+      check_range(o.model_unit_mm, 0.0, 1e9, "model unit", "mm");
+      w.metres_per_unit = o.model_unit_mm * 1e-3;
+      break;
+    case WorkspaceFit::scale:
+      check_range(o.metres_per_unit, 0.0, 1e6, "metres per unit", "m");
+      w.metres_per_unit = o.metres_per_unit;
+      break;
+  }
+  return w;
+}
+
+} // namespace hb
