@@ -52,8 +52,11 @@ PerceivedDifference perceive(const Contact& exact, const Contact& approx, const 
   p.magnitude_threshold_n = std::max(t.weber * f0, t.floor_n);
   const double floor = p.magnitude_threshold_n > 0 ? p.magnitude_threshold_n : 1e-30;
   p.ratio = p.magnitude_difference_n / floor;
-  if (p.magnitude_difference_n > p.magnitude_threshold_n) p.by |= kPerceivedMagnitude;
-  if (exact.contact != approx.contact && std::max(f0, f1) > t.floor_n) p.by |= kPerceivedContact;
+  if (exact.contact != approx.contact) {
+    if (std::max(f0, f1) > t.floor_n) p.by |= kPerceivedContact;
+  } else if (p.magnitude_difference_n > p.magnitude_threshold_n) {
+    p.by |= kPerceivedMagnitude;
+  }
   if (exact.contact && approx.contact && f0 > 0 && f1 > 0) {
     const double c = double(exact.force.dot(approx.force)) / (double(exact.force.norm()) * double(approx.force.norm()));
     p.angle_deg = std::acos(std::clamp(std::isfinite(c) ? c : -1.0, -1.0, 1.0)) * 180.0 / 3.14159265358979323846;
