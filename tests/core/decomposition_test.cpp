@@ -65,9 +65,23 @@ TEST(PocketMeasureTest, ConvexShapesHaveNoPockets) {
   EXPECT_EQ(measure_pockets(make_cube(Vec3(1.f, 2.f, 0.5f), 3)).probability, 0.0);
 }
 
-TEST(PocketMeasureTest, SameSeedSameScore) {
+// The score is a function of the seed alone: the lines are drawn per index from the seed and
+// summed in order, so one thread and four give the same score bit for bit; another seed draws
+// other lines (a different score, within the measure's small variance).
+TEST(PocketMeasureTest, SameSeedSameScoreOnAnyThreadCount) {
   const TriangleMesh torus = make_torus(1.f, 0.3f, 48, 16);
-  EXPECT_EQ(measure_pockets(torus).probability, measure_pockets(torus).probability);
+  PocketScore one_thread, four_threads;
+  tbb::task_arena(1).execute([&] { one_thread = measure_pockets(torus); });
+  tbb::task_arena(4).execute([&] { four_threads = measure_pockets(torus); });
+  EXPECT_EQ(one_thread.probability, four_threads.probability);
+  EXPECT_EQ(one_thread.mean_depth, four_threads.mean_depth);
+  EXPECT_EQ(one_thread.max_depth, four_threads.max_depth);
+  EXPECT_EQ(one_thread.lines, four_threads.lines);
+  PocketOptions other;
+  other.seed = 2;
+  const PocketScore reseeded = measure_pockets(torus, {}, other);
+  EXPECT_NE(reseeded.probability, one_thread.probability) << "the seed does not choose the lines";
+  EXPECT_NEAR(reseeded.probability, one_thread.probability, 0.2 * one_thread.probability);
 }
 
 TEST(AutoDecompositionTest, ConvexShapeStaysOnePiece) {
