@@ -96,8 +96,12 @@ def read(name, step):
 def pct(x):
     return f"{100 * x:.3g}%"
 
-def ratio(box, exact):  # "1.6x slower" / "2.1x faster"
-    return f"{box / exact:.2g}x slower" if box >= exact else f"{exact / box:.2g}x faster"
+def ratio(box, exact):  # "1.6x slower" / "2.1x faster" / "as fast" (within 5%)
+    r = box / exact
+    if 1 / 1.05 < r < 1.05:
+        return "as fast"
+    r, word = (r, "slower") if r > 1 else (1 / r, "faster")
+    return f"{r:.1f}x {word}" if r < 10 else f"{r:.0f}x {word}"
 
 rows, perceptible = [], True
 for m in models:
