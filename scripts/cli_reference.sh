@@ -10,6 +10,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 HB=${HB:-build/cli/hapticbox}
 GUI=${GUI:-build/qt_ui/hapticbox-gui}
+case "${1:-}" in
+  -h|--help) sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  -*) echo "cli_reference.sh: unknown option '$1' (try --help)" >&2; exit 2 ;;
+esac
 OUT=${1:-docs/cli.md}
 [ -x "$HB" ] || { echo "cli_reference.sh: $HB is not built (bash scripts/build.sh)" >&2; exit 1; }
 
