@@ -90,34 +90,14 @@ void add_report_command(CLI::App& app) {
     if (first_is_box) {
       hb::cli::check_same_mesh(scene, box_path, mesh_path, mesh_hash, opts->force);
     } else {
-      // Without -m and -n, the default bake (hb::default_recipe, what `bake MESH -o BOX`,
-      // ./run.sh and the window's Bake make) through the box cache; with either, exactly that
-      // sampling, one raw box, as before.
-      hb::Communicator& comm = hb::cli::communicator();
+      // Without -m and -n, the default bake through the box cache; with either, exactly that
+      // sampling, one raw box (hb::cli::bake_model, as `field` decides).
       const bool sampling_given = cmd->count("-m") + cmd->count("-n") > 0;
-      hb::BakeRecipe recipe;
-      if (sampling_given) {
-        recipe.options.params = opts->params;
-        // Baked across the ranks of an MPI job; every rank needs the scene for the evaluation.
-        recipe.options.communicator = &comm;
-        recipe.options.scene_on_every_rank = true;
-      } else {
-        recipe = hb::default_recipe();  // one process's bake: each rank of a job bakes it alone
-      }
-      recipe.options.progress = hb::cli::terminal_progress("bake");
-      // The cache only for one process: ranks must not evaluate different scenes (a cached one
-      // and a fresh one of another build).
-      std::optional<hb::BoxCache> cache;
-      if (!sampling_given && !opts->no_cache && comm.size() == 1) cache.emplace(opts->cache);
-      hb::SourceInfo source{mesh_path, mesh_hash, mesh.triangle_count(), mesh.bounds().diagonal()};
-      const auto bake_start = std::chrono::steady_clock::now();
-      hb::CachedBake baked = hb::bake_cached(mesh, recipe, source, cache ? &*cache : nullptr);
-      if (!baked.warning.empty() && comm.is_root()) std::cerr << "hapticbox: warning: " << baked.warning << "\n";
-      scene = std::move(baked.result.scene);
-      if (baked.from_cache) box_path = baked.path;  // the box file the report is of
-      bake_seconds = baked.from_cache ? 0.0
-                     : sampling_given ? baked.result.stats.seconds
-                                      : std::chrono::duration<double>(std::chrono::steady_clock::now() - bake_start).count();
+      hb::cli::ModelBake baked = hb::cli::bake_model(mesh, mesh_path, mesh_hash, sampling_given, opts->params,
+                                                     opts->no_cache ? std::string() : opts->cache);
+      scene = std::move(baked.scene);
+      if (baked.from_cache) box_path = baked.cache_path;  // the box file the report is of
+      bake_seconds = baked.seconds;
       if (!opts->save_box.empty()) {
         if (hb::cli::communicator().is_root()) hb::save_box_file(scene, opts->save_box);
         box_path = opts->save_box;

@@ -43,8 +43,7 @@ struct ServoArgs {
   bool no_realtime = false;
   double spin_us = 50.0;
   bool no_prime = false;
-  float stiffness = 500.f;
-  float units_per_metre = 0.f;   // 0 = fit the workspace to the scene
+  hb::cli::WorkspaceArgs workspace;  // the scale and stiffness (the same as eval's for this model)
   std::string firmware;
   std::string exact;             // the mesh for the exact answer (empty: none)
   std::string render = "box";    // which answer drives the device with --exact
@@ -216,9 +215,13 @@ void run_servo(const ServoArgs& a) {
   o.request_realtime = !a.no_realtime;
   o.spin_s = a.spin_us * 1e-6;
   o.prime = !a.no_prime;
+  // One scale for every command: the model's diagonal (its mesh's, as the box file records it)
+  // at the workspace's size, the workspace's stiffness; centred as fit_workspace centres it.
+  const double diagonal = scene.box ? hb::cli::model_diagonal(*scene.box) : double((scene.max - scene.min).norm());
+  const hb::Workspace ws = a.workspace.workspace(diagonal);
   o.mapping = hb::fit_workspace(scene.min, scene.max, device->spec());
-  if (a.units_per_metre > 0) o.mapping.model_units_per_metre = a.units_per_metre;
-  o.law.stiffness_n_per_m = a.stiffness;
+  o.mapping.model_units_per_metre = float(1.0 / ws.metres_per_unit);
+  o.law = ws.law();
   o.contact_law = hb::contact_law(a.law);  // checked by the option already
   if (opened.rate_hz > 0) o.rate_hz = opened.rate_hz;  // a replay: same dt, same safety ramps, same forces
 
@@ -276,6 +279,7 @@ void run_servo(const ServoArgs& a) {
     j["cache_priming"] = a.no_prime ? "off" : "on";
     j["stiffness_n_per_m"] = r.stiffness_n_per_m;
     j["stiffness_limited"] = r.stiffness_limited;
+    j["workspace"] = hb::cli::workspace_json(ws, a.workspace.judge());
     j["contact_law"] = hb::to_string(r.contact_law);
     if (scene.box) j["route"] = hb::route_name(scene.box->answering_route());
     if (r.contact_law == hb::ContactLaw::proxy) {
@@ -313,6 +317,7 @@ void run_servo(const ServoArgs& a) {
                 r.realtime_message.c_str());
     std::printf("  cache priming: %s\n", a.no_prime ? "off (--no-prime)"
                                                       : "on (the last segment's query at the start of the busy-wait)");
+    std::printf("  workspace: %s\n", ws.describe().c_str());
     std::printf("  stiffness %.1f N/m%s\n", r.stiffness_n_per_m,
                 r.stiffness_limited ? " (limited to the device's maximum)" : "");
     if (r.contact_law == hb::ContactLaw::proxy) {
@@ -362,11 +367,7 @@ void add_servo_command(CLI::App& app) {
       ->check(hb::cli::finite_range(0.0, 1000.0))->capture_default_str();
   cmd->add_flag("--no-prime", a->no_prime,
                 "Do not query the last segment at the start of the busy-wait (the caches stay as the sleep left them)");
-  cmd->add_option("--stiffness", a->stiffness, "Force-law stiffness, N/m (limited to the device's)")
-      ->check(hb::cli::finite_range(1e-6, 1e7))->capture_default_str();
-  cmd->add_option("--units-per-metre", a->units_per_metre,
-                  "Model units per device metre (default: fit the workspace to the scene)")
-      ->check(hb::cli::finite_range(0.0, 1e12));
+  hb::cli::add_workspace_options(*cmd, a->workspace);
   cmd->add_option("--firmware", a->firmware, "Falcon firmware file (supplied by you; not shipped)");
   cmd->add_option("--exact", a->exact,
                   "The mesh BOX was baked from: its exact Embree answer runs in the same loop on the same "

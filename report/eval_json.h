@@ -10,7 +10,7 @@ namespace hb {
 
 inline nlohmann::json eval_json(const ComparisonStats& s, const std::string& box, const std::string& mesh,
                                 std::uint64_t seed, const std::string& route) {
-  return {{"box", box},
+  nlohmann::json j = {{"box", box},
           {"route", route},
           {"mesh", mesh},
           {"seed", seed},
@@ -25,6 +25,18 @@ inline nlohmann::json eval_json(const ComparisonStats& s, const std::string& box
           {"angle_error_median_deg", s.angle_error_median_deg},
           {"angle_error_p99_deg", s.angle_error_p99_deg},
           {"depth_rms_over_diag", s.depth_rms_over_diag}};
+  j["perceptible"] = {{"probes", s.perceptible},
+                      {"share", s.perceptible_share},
+                      {"by_magnitude", s.perceptible_magnitude},
+                      {"by_direction", s.perceptible_direction},
+                      {"by_contact", s.perceptible_contact},
+                      {"thresholds", thresholds_spec(s.thresholds)},
+                      {"max_force_n", s.max_force_n}};
+  j["force_difference_n"] = {{"median", s.force_difference_median_n},
+                             {"p95", s.force_difference_p95_n},
+                             {"max", s.force_difference_max_n}};
+  j["exact_force_median_n"] = s.exact_force_median_n;
+  return j;
 }
 
 } // namespace hb
