@@ -397,6 +397,7 @@ nlohmann::json budget_json(const BudgetReport& r) {
           {"force_error_median", r.force_median},
           {"force_error_p95", r.force_p95},
           {"angle_error_p99_deg", r.direction_p99_deg},
+          {"perceptible_share", r.perceptible},
           {"tuning_probes", r.tuning_probes},
           {"tuning_seed", r.tuning_seed},
           {"tuning_contact_agreement", r.tuning_agreement},

@@ -28,6 +28,7 @@ void add_report_command(CLI::App& app) {
     std::string out;
     hb::BoxParams params;
     hb::ReportOptions report;
+    hb::cli::WorkspaceArgs workspace;
     std::vector<int> sweep_m, sweep_n;
     bool no_sweep = false;
     std::string cache = hb::default_box_cache_dir();
@@ -61,15 +62,16 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--field-probes", opts->report.error_field_probes_per_vertex, "Error-field probes per vertex (0: none)")
       ->check(CLI::Range(0, 10000))->capture_default_str();
   cmd->add_flag("--no-image", opts->no_image, "Do not render the error field even with a display");
-  cmd->add_option("--tol-median", opts->report.tolerances.force_error_median, "Tolerance: median force error (fraction)")->check(hb::cli::finite_range(0.0, 1e6))->capture_default_str();
-  cmd->add_option("--tol-p95", opts->report.tolerances.force_error_p95, "Tolerance: p95 force error (fraction)")->check(hb::cli::finite_range(0.0, 1e6))->capture_default_str();
-  cmd->add_option("--tol-agreement", opts->report.tolerances.contact_agreement, "Tolerance: min contact agreement")->check(hb::cli::finite_range(0.0, 1e6))->capture_default_str();
+  cmd->add_option("--tol-perceptible", opts->report.tolerances.perceptible,
+                  "The verdict: at most this share of probes perceptibly different from exact (fraction)")
+      ->check(hb::cli::finite_range(0.0, 1.0))
+      ->capture_default_str();
   cmd->add_option("--compression-curve", opts->report.compression_codec,
                   "Also draw this codec's compression curve (haar or block)");
   cmd->add_flag("--force", opts->force, "Report even when BOX was baked from a different mesh (its hash differs)");
   cmd->add_option("--save-box", opts->save_box, "When baking, also save the box file here");
   cmd->add_flag("--stability", opts->stability, "Also run the trajectory stability suite (as `stability`, 6 sites)");
-  hb::cli::add_force_law_options(*cmd, opts->report.law);
+  hb::cli::add_workspace_options(*cmd, opts->workspace);
   cmd->callback([opts, cmd] {
     const auto t0 = std::chrono::steady_clock::now();
     std::string mesh_path, box_path;
@@ -114,6 +116,8 @@ void add_report_command(CLI::App& app) {
     request.bake_seconds = bake_seconds;
     request.references = refs.References();
     request.options = opts->report;
+    request.options.workspace = opts->workspace.options();
+    request.options.judge = opts->workspace.judge();
     request.options.cache_dir = opts->no_cache ? "" : opts->cache;
     request.options.progress = hb::cli::terminal_progress("report");
     request.options.communicator = &hb::cli::communicator();
