@@ -195,7 +195,7 @@ void add_bench_command(CLI::App& app) {
                               {"perceptible_probes", felt.perceptible},
                               {"stroke_ticks", felt_strokes.samples},
                               {"perceptible_stroke_share", felt_strokes.perceptible_share},
-                              {"workspace", hb::cli::workspace_json(ws, judge)}};
+                              {"workspace", hb::workspace_json(ws, judge)}};
     if (opts->json) {
       hb::cli::print_json(j);
       return;

@@ -152,19 +152,26 @@ WorkspaceOptions WorkspaceArgs::options() const {
   return o;
 }
 
-double model_diagonal(const BoxScene& scene) {
-  if (scene.source().diagonal > 0.f) return scene.source().diagonal;
-  Vec3 lo = Vec3::Constant(std::numeric_limits<float>::max()), hi = -lo;
-  for (const auto& b : scene.boxes()) {
-    const Obb& o = b.obb();
+Bounds scene_bounds(const BoxScene& scene) {
+  Bounds b;
+  if (scene.boxes().empty()) return b;
+  b.min = Vec3::Constant(std::numeric_limits<float>::max());
+  b.max = -b.min;
+  for (const auto& box : scene.boxes()) {
+    const Obb& o = box.obb();
     for (int c = 0; c < 8; ++c) {
       const Vec3 corner = o.to_world(Vec3((c & 1) ? o.half.x() : -o.half.x(), (c & 2) ? o.half.y() : -o.half.y(),
                                           (c & 4) ? o.half.z() : -o.half.z()));
-      lo = lo.cwiseMin(corner);
-      hi = hi.cwiseMax(corner);
+      b.min = b.min.cwiseMin(corner);
+      b.max = b.max.cwiseMax(corner);
     }
   }
-  return scene.boxes().empty() ? 0.0 : double((hi - lo).norm());
+  return b;
+}
+
+double model_diagonal(const BoxScene& scene) {
+  if (scene.source().diagonal > 0.f) return scene.source().diagonal;
+  return scene.boxes().empty() ? 0.0 : double(scene_bounds(scene).diagonal());
 }
 
 Workspace WorkspaceArgs::workspace(double model_diagonal) const { return make_workspace(model_diagonal, options()); }
@@ -245,15 +252,6 @@ ModelBake bake_model(const TriangleMesh& mesh, const std::string& mesh_path, std
   return out;
 }
 
-nlohmann::json workspace_json(const Workspace& w, const PerceptualJudge& judge) {
-  return {{"fit", w.fit_name()},
-          {"diagonal_mm", w.diagonal_m() * 1000.0},
-          {"metres_per_unit", w.metres_per_unit},
-          {"stiffness_n_per_m", w.stiffness_n_per_m},
-          {"max_force_n", w.max_force_n},
-          {"perceptual", thresholds_spec(judge.thresholds)},
-          {"text", w.describe()}};
-}
 
 void add_route_option(CLI::App& cmd, std::string& route) {
   cmd.add_option("--route", route,

@@ -4,6 +4,7 @@
 #include "codec/codec.h"
 #include "contact/contact.h"
 #include "contact/workspace.h"
+#include "eval_json.h"
 #include "evaluation/comparison.h"
 #include "haptic_box/error_budget.h"
 #include "parallel/communicator.h"
@@ -17,6 +18,7 @@
 #include <string>
 
 #include "haptic_box/box_scene.h"
+#include "math/bounds.h"
 
 namespace hb::cli {
 
@@ -64,6 +66,10 @@ struct WorkspaceArgs {
   PerceptualJudge judge() const;
 };
 
+/// The axis-aligned bounds of a scene's boxes (the union of their PBB corners), model units;
+/// the servo loop centres the device's workspace on them. Empty bounds for no boxes.
+Bounds scene_bounds(const BoxScene& scene);
+
 /// The diagonal of the mesh a box file was baked from (SourceInfo::diagonal), or of its
 /// boxes' bounds for a file that does not record it.
 double model_diagonal(const BoxScene& scene);
@@ -87,8 +93,6 @@ struct ModelBake {
 ModelBake bake_model(const TriangleMesh& mesh, const std::string& mesh_path, std::uint64_t mesh_hash,
                      bool sampling_given, const BoxParams& params, const std::string& cache_dir);
 
-/// The workspace as JSON (every output that states a force states its scale).
-nlohmann::json workspace_json(const Workspace& w, const PerceptualJudge& judge);
 
 /// Adds --route boxes|cells (hb::SceneRoute) to a command; `route` holds the name.
 void add_route_option(CLI::App& cmd, std::string& route);

@@ -103,7 +103,7 @@ void add_compress_sweep_command(CLI::App& app) {
     for (const auto& p : points) rows.push_back(point_json(p, exact != nullptr));
     const nlohmann::json j = {{"box", opts->box},       {"mesh", mesh_path},
                               {"samples", o.probes.size()}, {"normal_bits", opts->normal_bits},
-                              {"points", rows},          {"workspace", hb::cli::workspace_json(ws, o.judge)}};
+                              {"points", rows},          {"workspace", hb::workspace_json(ws, o.judge)}};
     if (!opts->csv.empty()) {
       std::ofstream out(opts->csv);
       if (!out) throw hb::IoError(opts->csv + ": cannot open for writing");

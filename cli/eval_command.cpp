@@ -48,7 +48,7 @@ void add_eval_command(CLI::App& app) {
     const hb::ComparisonStats s = hb::compare_queries(scene, exact, probes, ws.law(), diag, nullptr,
                                                       &hb::cli::communicator(), nullptr, judge);
     nlohmann::json j = hb::eval_json(s, opts->box, opts->mesh, opts->probes.seed, hb::route_name(scene.answering_route()));
-    j["workspace"] = hb::cli::workspace_json(ws, judge);
+    j["workspace"] = hb::workspace_json(ws, judge);
     if (opts->json) {
       hb::cli::print_json(j);
       return;

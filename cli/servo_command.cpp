@@ -67,18 +67,9 @@ Scene load_scene(const std::string& box, const std::string& route) {
   }
   auto scene = std::make_unique<hb::BoxScene>(hb::load_box_file(box));
   if (scene->boxes().empty()) throw hb::InvalidInput(box + ": the box file holds no boxes");
-  s.min = hb::Vec3::Constant(std::numeric_limits<float>::max());
-  s.max = -s.min;
-  for (const auto& b : scene->boxes()) {
-    const hb::Obb& o = b.obb();
-    for (int c = 0; c < 8; ++c) {
-      const hb::Vec3 corner = o.to_world(hb::Vec3((c & 1) ? o.half.x() : -o.half.x(),
-                                                  (c & 2) ? o.half.y() : -o.half.y(),
-                                                  (c & 4) ? o.half.z() : -o.half.z()));
-      s.min = s.min.cwiseMin(corner);
-      s.max = s.max.cwiseMax(corner);
-    }
-  }
+  const hb::Bounds bounds = hb::cli::scene_bounds(*scene);
+  s.min = bounds.min;
+  s.max = bounds.max;
   s.mesh_hash = scene->source().mesh_hash;
   hb::cli::apply_route(*scene, route);
   // The servo thread is one probe: its query state starts each tick from the last tick's
@@ -279,7 +270,7 @@ void run_servo(const ServoArgs& a) {
     j["cache_priming"] = a.no_prime ? "off" : "on";
     j["stiffness_n_per_m"] = r.stiffness_n_per_m;
     j["stiffness_limited"] = r.stiffness_limited;
-    j["workspace"] = hb::cli::workspace_json(ws, a.workspace.judge());
+    j["workspace"] = hb::workspace_json(ws, a.workspace.judge());
     j["contact_law"] = hb::to_string(r.contact_law);
     if (scene.box) j["route"] = hb::route_name(scene.box->answering_route());
     if (r.contact_law == hb::ContactLaw::proxy) {

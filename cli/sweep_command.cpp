@@ -131,7 +131,7 @@ void add_sweep_command(CLI::App& app) {
     if (opts->json) {
       nlohmann::json j = {{"mesh", opts->mesh}, {"triangles", mesh.triangle_count()}, {"samples", so.samples},
                           {"seed", so.probes.seed}, {"rows", nlohmann::json::array()},
-                          {"workspace", hb::cli::workspace_json(ws, so.judge)},
+                          {"workspace", hb::workspace_json(ws, so.judge)},
                           {"load_balance", mean > 0 ? busiest / mean : 1.0}, {"rank_work", nlohmann::json::array()}};
       for (const hb::RankWork& w : work)
         j["rank_work"].push_back({{"rank", w.rank}, {"work", w.work}, {"seconds", w.seconds}, {"bytes_sent", w.bytes_sent}});

@@ -1,12 +1,24 @@
 #pragma once
 // The JSON of `hapticbox eval --json`, shared by the command and the report's summary.json so
 // that both carry the same keys and values for the same input and seed.
+#include "contact/workspace.h"
 #include "evaluation/comparison.h"
 #include <nlohmann/json.hpp>
 #include <cstdint>
 #include <string>
 
 namespace hb {
+
+/// The workspace every force of an output was computed at, and the judgement's thresholds.
+inline nlohmann::json workspace_json(const Workspace& w, const PerceptualJudge& judge) {
+  return {{"fit", w.fit_name()},
+          {"diagonal_mm", w.diagonal_m() * 1000.0},
+          {"metres_per_unit", w.metres_per_unit},
+          {"stiffness_n_per_m", w.stiffness_n_per_m},
+          {"max_force_n", w.max_force_n},
+          {"perceptual", thresholds_spec(judge.thresholds)},
+          {"text", w.describe()}};
+}
 
 inline nlohmann::json eval_json(const ComparisonStats& s, const std::string& box, const std::string& mesh,
                                 std::uint64_t seed, const std::string& route) {

@@ -254,6 +254,7 @@ std::string report_json(const ReportData& d) {
   // The keys of `hapticbox eval --json`, with the same values for the same input and seed.
   j["eval"] = eval_json(s, d.box_path, d.mesh_path, o.probes.seed, d.route);
   j["eval"]["ranks"] = d.ranks;  // as `eval --json` states it
+  j["eval"]["workspace"] = workspace_json(d.workspace, o.judge);
   j["ranks"] = d.ranks;
   nlohmann::json timing = {{"box_ns", d.box_ns}};
   for (const SweepRow& r : d.rows)
@@ -316,6 +317,9 @@ void write_report(const ReportData& d, const std::string& dir_name) {
   charts.speed = (dir / "charts" / "speed_accuracy.svg").string();
   charts.histogram = (dir / "charts" / "force_error_histogram.svg").string();
   plot_speed_accuracy(d.rows, charts.speed);
+  charts.difference = (dir / "charts" / "force_difference_histogram.svg").string();
+  plot_force_difference_histogram(d.stats.force_differences_n, d.stats.thresholds, d.stats.exact_force_median_n,
+                                  charts.difference);
   plot_force_error_histogram(d.stats.force_errors, charts.histogram);
   if (!d.compression_curve.empty()) {
     charts.compression = (dir / "charts" / "compression_curve.svg").string();

@@ -206,6 +206,7 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
   h << "</table>\n<p class=note>Pareto front: no other row is both faster and more accurate (median force "
        "error). Memory of the references counts the mesh arrays and the locator's index, not Embree's BVH.</p>\n";
   h << "<h2>Force error distribution</h2>\n";
+  if (!charts.difference.empty()) h << image(charts.difference, "force difference histogram") << "\n";
   if (!charts.histogram.empty()) h << image(charts.histogram, "force error histogram") << "\n";
   if (!d.compression_curve.empty() && !charts.compression.empty())
     h << "<h2>Compression (" << html_escape(d.options.compression_codec) << ")</h2>\n"

@@ -98,8 +98,8 @@ public:
   ///@}
 
   ///@{
-  /// Force law: stiffness in N/m and model units to metres: the workspace's (hb::Workspace;
-  /// defaults: 1500 N/m and 0.001, a front end sets its model's workspace).
+  /// Force law: stiffness in N/m and model units to metres (defaults: hb::ForceLaw's, 500 N/m
+  /// and 0.001); the front ends set their model's workspace (hb::Workspace::law).
   vtkSetClampMacro(Stiffness, double, 1e-12, VTK_DOUBLE_MAX);
   vtkGetMacro(Stiffness, double);
   vtkSetClampMacro(MetresPerUnit, double, 1e-12, VTK_DOUBLE_MAX);
@@ -152,7 +152,7 @@ protected:
   double LengthFraction = 0.10;
   double MaxDepthFraction = 0.03;
   vtkTypeUInt64 Seed = 1;
-  double Stiffness = 1500.0;
+  double Stiffness = 500.0;
   double MetresPerUnit = 0.001;
   double MaxForce = 8.0;
   hb::PerceptualThresholds Thresholds;

@@ -552,7 +552,7 @@ TEST_F(CliTest, ServoLawIsChosenNamedAndABadOneRefusedNamingTheValue) {
   EXPECT_NE(text.out.find("contact law: proxy"), std::string::npos) << text.out;
   bake_once();
   const Result both = run("servo " + path("sphere.hbox") + " --exact " + path("sphere.off") +
-                          " --law proxy --no-realtime --seconds 0.3 --units-per-metre 400 --json");
+                          " --law proxy --no-realtime --seconds 0.3 --metres-per-unit 0.0025 --json");
   ASSERT_EQ(both.code, 0) << both.err;
   const auto j = nlohmann::json::parse(both.out);
   EXPECT_EQ(j["contact_law"], "proxy");

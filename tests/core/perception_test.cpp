@@ -116,7 +116,7 @@ TEST(PerceptionTest, ThresholdSpecsRoundTripAndBadKeysAreNamed) {
 TEST(PerceptionTest, ExactAgainstItselfIsNeverFeltAndAShiftedSurfaceIsFeltWhereTheDifferenceExceedsTheThreshold) {
   const hb::TriangleMesh sphere = hb::make_sphere(10.f, 4);
   hb::TriangleMesh bigger = sphere;
-  for (hb::Vec3& v : bigger.vertices) v *= 1.02f;  // 0.2 mm on a 20 mm-wide sphere: 0.4 mm at 80 mm
+  for (hb::Vec3& v : bigger.positions) v *= 1.02f;  // 0.2 mm on a 20 mm-wide sphere: 0.4 mm at 80 mm
   const hb::ExactQuery exact(sphere), shifted(bigger);
   const auto probes = hb::sample_probes(sphere, 4000, {});
   const float diag = sphere.bounds().diagonal();
