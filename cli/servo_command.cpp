@@ -8,6 +8,7 @@
 // computed in shadow on the same segment in the same tick; the summary compares them (query
 // times, contact agreement, force difference) and --record / --csv log both per tick.
 #include "cli_support.h"
+#include "perceptible_text.h"
 #include "commands.h"
 #include "device/device_choice.h"
 #include "device/plane_scene.h"
@@ -150,6 +151,10 @@ void print_shadow(const ServoArgs& a, const hb::ServoReport& r) {
               sh.force_diff_mean_n, sh.force_diff_p50_n, sh.force_diff_p99_n, sh.force_diff_max_n);
   std::printf("  force direction difference (both in contact): p50 %.2f deg, p99 %.2f deg, max %.2f deg\n",
               sh.angle_p50_deg, sh.angle_p99_deg, sh.angle_max_deg);
+  std::printf("  perceptibly different: %llu of %llu contact ticks (%s; %s)\n",
+              static_cast<unsigned long long>(sh.perceptible), static_cast<unsigned long long>(sh.contact_ticks),
+              hb::percent(sh.contact_ticks ? double(sh.perceptible) / double(sh.contact_ticks) : 0.0).c_str(),
+              hb::thresholds_text(a.workspace.judge().thresholds).c_str());
 }
 
 nlohmann::json shadow_json(const ServoArgs& a, const hb::ServoReport& r) {
@@ -172,7 +177,10 @@ nlohmann::json shadow_json(const ServoArgs& a, const hb::ServoReport& r) {
           {"force_diff_max_n", sh.force_diff_max_n},
           {"angle_p50_deg", sh.angle_p50_deg},
           {"angle_p99_deg", sh.angle_p99_deg},
-          {"angle_max_deg", sh.angle_max_deg}};
+          {"angle_max_deg", sh.angle_max_deg},
+          {"perceptible_ticks", sh.perceptible},
+          {"contact_ticks", sh.contact_ticks},
+          {"perceptible_share", sh.contact_ticks ? double(sh.perceptible) / double(sh.contact_ticks) : 0.0}};
 }
 
 nlohmann::json proxy_json(const hb::GodObjectStats& p) {
@@ -213,6 +221,8 @@ void run_servo(const ServoArgs& a) {
   o.mapping = hb::fit_workspace(scene.min, scene.max, device->spec());
   o.mapping.model_units_per_metre = float(1.0 / ws.metres_per_unit);
   o.law = ws.law();
+  o.perceptual = a.workspace.judge().thresholds;
+  o.shadow_is_reference = a.render != "exact";  // the JND is taken of exact's force
   o.contact_law = hb::contact_law(a.law);  // checked by the option already
   if (opened.rate_hz > 0) o.rate_hz = opened.rate_hz;  // a replay: same dt, same safety ramps, same forces
 

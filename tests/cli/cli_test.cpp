@@ -692,6 +692,10 @@ TEST_F(CliTest, EveryCommandComputesForcesAtTheOneWorkspaceScaleAndStatesIt) {
   const auto sj = nlohmann::json::parse(s.out);
   EXPECT_EQ(sj["workspace"]["fit"], "device");
   EXPECT_NEAR(sj["workspace"]["diagonal_mm"].get<double>(), 80.0, 1e-3);
+  // The shadow comparison judges every contact tick as a hand would.
+  EXPECT_GT(sj["box_vs_exact"]["contact_ticks"].get<std::uint64_t>(), 0u) << s.out;
+  EXPECT_LE(sj["box_vs_exact"]["perceptible_ticks"].get<std::uint64_t>(),
+            sj["box_vs_exact"]["contact_ticks"].get<std::uint64_t>());
   std::ifstream servo_csv(csv);
   std::getline(servo_csv, header);
   cols = csv_columns(header);
