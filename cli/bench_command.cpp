@@ -3,6 +3,8 @@
 // p99.9, max), a verdict per order (faster or slower than exact, by how much), and how many
 // boxes a query meets (with the time of queries meeting 1, 2, 3+ boxes).
 #include "cli_support.h"
+#include "evaluation/comparison.h"
+#include "perceptible_text.h"
 #include "figure_text.h"
 #include "commands.h"
 #include "evaluation/probe_sampling.h"
@@ -23,7 +25,8 @@ void add_bench_command(CLI::App& app) {
     std::size_t samples = 20000;
     int rounds = 5;
     hb::ProbeOptions probes;
-    hb::ForceLaw law;
+    hb::cli::WorkspaceArgs workspace;
+    hb::ForceLaw law;  // the workspace's, set in the callback
     bool json = false;
     bool no_huge_pages = false;
     bool no_grid = false;
@@ -48,6 +51,7 @@ void add_bench_command(CLI::App& app) {
       ->check(CLI::IsMember({"all", "nearest"}))
       ->capture_default_str();
   hb::cli::add_route_option(*cmd, opts->route);
+  hb::cli::add_workspace_options(*cmd, opts->workspace);
   cmd->callback([opts] {
     hb::LoadOptions load;
     load.huge_pages = !opts->no_huge_pages;
@@ -58,6 +62,9 @@ void add_bench_command(CLI::App& app) {
     const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh, opts->model);
     const hb::ExactQuery exact(mesh);
     const auto probes = hb::sample_probes(mesh, opts->samples, opts->probes);
+    const hb::Workspace ws = opts->workspace.workspace(mesh.bounds().diagonal());
+    const hb::PerceptualJudge judge = opts->workspace.judge();
+    opts->law = ws.law();
     // Interleave the two measurements so machine noise hits both alike.
     auto probes_coherent = probes;
     hb::sort_probes_coherently(probes_coherent);
@@ -85,6 +92,12 @@ void add_bench_command(CLI::App& app) {
                                    : 0.0;
     const double box_stroke_stateless_ns = hb::median_query_ns(scene, strokes, opts->law, opts->rounds);
     const double exact_stroke_ns = hb::median_query_ns(exact, strokes, opts->law, opts->rounds);
+    // What the times buy: the share a hand would tell apart from exact, on the random probes
+    // and on the strokes' ticks (the same answers with or without the query state).
+    const hb::ComparisonStats felt = hb::compare_queries(scene, exact, probes, opts->law, mesh.bounds().diagonal(),
+                                                         nullptr, nullptr, nullptr, judge);
+    const hb::ComparisonStats felt_strokes = hb::compare_queries(scene, exact, strokes, opts->law,
+                                                                 mesh.bounds().diagonal(), nullptr, nullptr, nullptr, judge);
     // The tail of single queries (random order), each query timed on its own.
     const hb::QueryLatency box_tail = hb::single_query_latency(scene, probes, opts->law, opts->rounds);
     const hb::QueryLatency exact_tail = hb::single_query_latency(exact, probes, opts->law, opts->rounds);
@@ -177,7 +190,12 @@ void add_bench_command(CLI::App& app) {
                               {"max_box_queries", asked_max},
                               {"share_at_most_one_box_query", share_one},
                               {"probes_by_box_queries", {asked_hist[0], asked_hist[1], asked_hist[2], asked_hist[3], asked_hist[4]}},
-                              {"by_boxes_met", met_json}};
+                              {"by_boxes_met", met_json},
+                              {"perceptible_share", felt.perceptible_share},
+                              {"perceptible_probes", felt.perceptible},
+                              {"stroke_ticks", felt_strokes.samples},
+                              {"perceptible_stroke_share", felt_strokes.perceptible_share},
+                              {"workspace", hb::workspace_json(ws, judge)}};
     if (opts->json) {
       hb::cli::print_json(j);
       return;
@@ -187,6 +205,9 @@ void add_bench_command(CLI::App& app) {
               << "  haptic box  " << box_ns << " ns/query (" << 1e9 / box_ns / 1e6 << " M queries/s)\n"
               << "  exact       " << exact_ns << " ns/query\n"
               << "  box is      " << hb::speed_verdict(box_ns, exact_ns) << " (same probes, one at a time)\n"
+              << "  accuracy    " << hb::perceptible_headline(felt) << "; along the strokes "
+              << hb::percent(felt_strokes.perceptible_share) << " of " << felt_strokes.samples << " ticks\n"
+              << "  workspace   " << ws.describe() << "\n"
               << std::setprecision(0) << "  single-query tail (" << box_tail.queries
               << " queries each timed alone, clock pair " << box_tail.clock_ns << " ns subtracted):\n"
               << "    haptic box  p50 " << box_tail.p50_ns << "  p99 " << box_tail.p99_ns << "  p99.9 "

@@ -1,9 +1,12 @@
 #include "cli_support.h"
+#include "contact/perceptible.h"
 #include "evaluation/segments_csv.h"
 #include "errors.h"
 #include "figure_text.h"
+#include "haptic_box/box_cache.h"
 #include "haptic_box/box_scene.h"
 #include <algorithm>
+#include <limits>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
@@ -139,16 +142,116 @@ CLI::Option* add_codec_bound_options(CLI::App& cmd, CodecOptions& options, bool*
   return max_error;
 }
 
-void add_force_law_options(CLI::App& cmd, ForceLaw& law) {
-  // Bounded so that k x depth x metres per unit stays finite for any model within
-  // kMaxCoordinate (1e7 x 4e15 x 1e6 < 3.4e38).
-  cmd.add_option("--stiffness", law.stiffness_n_per_m, "Spring stiffness k in N/m")
-      ->check(finite_range(1e-6, 1e7))
-      ->capture_default_str();
-  cmd.add_option("--metres-per-unit", law.metres_per_unit, "Model units to metres")
-      ->check(finite_range(1e-12, 1e6))
-      ->capture_default_str();
+WorkspaceOptions WorkspaceArgs::options() const {
+  WorkspaceOptions o;
+  o.fit = metres_per_unit > 0 ? WorkspaceFit::scale : real_size ? WorkspaceFit::real_size : WorkspaceFit::device;
+  o.diagonal_m = workspace_mm * 1e-3;
+  o.metres_per_unit = metres_per_unit;
+  o.stiffness_n_per_m = stiffness;
+  o.max_force_n = max_force;
+  return o;
 }
+
+Bounds scene_bounds(const BoxScene& scene) {
+  Bounds b;
+  if (scene.boxes().empty()) return b;
+  b.min = Vec3::Constant(std::numeric_limits<float>::max());
+  b.max = -b.min;
+  for (const auto& box : scene.boxes()) {
+    const Obb& o = box.obb();
+    for (int c = 0; c < 8; ++c) {
+      const Vec3 corner = o.to_world(Vec3((c & 1) ? o.half.x() : -o.half.x(), (c & 2) ? o.half.y() : -o.half.y(),
+                                          (c & 4) ? o.half.z() : -o.half.z()));
+      b.min = b.min.cwiseMin(corner);
+      b.max = b.max.cwiseMax(corner);
+    }
+  }
+  return b;
+}
+
+double model_diagonal(const BoxScene& scene) {
+  if (scene.source().diagonal > 0.f) return scene.source().diagonal;
+  return scene.boxes().empty() ? 0.0 : double(scene_bounds(scene).diagonal());
+}
+
+Workspace WorkspaceArgs::workspace(double model_diagonal) const { return make_workspace(model_diagonal, options()); }
+
+PerceptualJudge WorkspaceArgs::judge() const {
+  PerceptualJudge j;
+  j.thresholds = parse_thresholds(perceptual);
+  j.max_force_n = max_force;
+  return j;
+}
+
+void add_workspace_options(CLI::App& cmd, WorkspaceArgs& args) {
+  const std::string group = "Workspace (the scale forces are computed and judged at)";
+  auto* mm = cmd.add_option("--workspace-mm", args.workspace_mm,
+                            "Diagonal of the model's bounding box at the device, mm (default: the Falcon's "
+                            "workspace sphere, 80 mm)")
+                 ->check(finite_range(1.0, 4000.0))
+                 ->capture_default_str()
+                 ->group(group);
+  auto* real = cmd.add_flag("--real-size", args.real_size,
+                            "Show the model at its real size: 1 model unit = 1 mm (anatomy at true scale)")
+                   ->group(group);
+  auto* mpu = cmd.add_option("--metres-per-unit", args.metres_per_unit, "Explicit scale: metres per model unit")
+                  ->check(finite_range(1e-12, 1e6))
+                  ->group(group);
+  mm->excludes(real)->excludes(mpu);
+  real->excludes(mpu);
+  // Bounded so that k x depth x metres per unit stays finite for any model within
+  // kMaxCoordinate (1e5 x 4e15 x 1e6 < 3.4e38).
+  cmd.add_option("--stiffness", args.stiffness,
+                 "Spring stiffness k, N/m (default: half the Falcon's stable 3000 N/m, which feels hard)")
+      ->check(finite_range(1e-3, 1e5))
+      ->capture_default_str()
+      ->group(group);
+  cmd.add_option("--max-force", args.max_force, "Largest force the device renders, N (forces are judged clamped to it)")
+      ->check(finite_range(1e-3, 500.0))
+      ->capture_default_str()
+      ->group(group);
+  cmd.add_option("--perceptual", args.perceptual,
+                 "When a difference is perceptible: nominal (w=10,f0=0.04,theta=25,fmin=0.2), strict "
+                 "(w=7,f0=0.03,theta=18) or key=value list: w percent, f0 N, theta degrees, fmin N "
+                 "(docs/perception.md)")
+      ->check([](const std::string& v) {
+        try {
+          parse_thresholds(v);
+          return std::string();
+        } catch (const std::exception& e) {
+          return std::string(e.what());
+        }
+      })
+      ->capture_default_str()
+      ->group(group);
+}
+
+ModelBake bake_model(const TriangleMesh& mesh, const std::string& mesh_path, std::uint64_t mesh_hash,
+                     bool sampling_given, const BoxParams& params, const std::string& cache_dir) {
+  Communicator& comm = communicator();
+  BakeRecipe recipe;
+  if (sampling_given) {
+    recipe.options.params = params;
+    // Baked across the ranks of an MPI job; every rank needs the scene for the evaluation.
+    recipe.options.communicator = &comm;
+    recipe.options.scene_on_every_rank = true;
+  } else {
+    recipe = default_recipe();  // one process's bake: each rank of a job bakes it alone
+  }
+  recipe.options.progress = terminal_progress("bake");
+  // The cache only for the default and one process: ranks must not evaluate different scenes
+  // (a cached one and a fresh one of another build).
+  std::optional<BoxCache> cache;
+  if (!sampling_given && !cache_dir.empty() && comm.size() == 1) cache.emplace(cache_dir);
+  const SourceInfo source{mesh_path, mesh_hash, mesh.triangle_count(), mesh.bounds().diagonal()};
+  const auto start = std::chrono::steady_clock::now();
+  CachedBake baked = bake_cached(mesh, recipe, source, cache ? &*cache : nullptr);
+  if (!baked.warning.empty() && comm.is_root()) std::cerr << "hapticbox: warning: " << baked.warning << "\n";
+  ModelBake out{std::move(baked.result.scene), baked.from_cache, baked.path, 0.0, !sampling_given};
+  out.seconds = baked.from_cache ? 0.0 : std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
 
 void add_route_option(CLI::App& cmd, std::string& route) {
   cmd.add_option("--route", route,
@@ -292,6 +395,7 @@ nlohmann::json budget_json(const BudgetReport& r) {
           {"force_error_median", r.force_median},
           {"force_error_p95", r.force_p95},
           {"angle_error_p99_deg", r.direction_p99_deg},
+          {"perceptible_share", r.perceptible},
           {"tuning_probes", r.tuning_probes},
           {"tuning_seed", r.tuning_seed},
           {"tuning_contact_agreement", r.tuning_agreement},

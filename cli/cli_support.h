@@ -3,6 +3,9 @@
 // terminal progress bar, the force-law options and JSON output.
 #include "codec/codec.h"
 #include "contact/contact.h"
+#include "contact/workspace.h"
+#include "eval_json.h"
+#include "evaluation/comparison.h"
 #include "haptic_box/error_budget.h"
 #include "parallel/communicator.h"
 #include "progress.h"
@@ -14,9 +17,8 @@
 #include <vector>
 #include <string>
 
-namespace hb {
-class BoxScene;
-}
+#include "haptic_box/box_scene.h"
+#include "math/bounds.h"
 
 namespace hb::cli {
 
@@ -47,8 +49,50 @@ std::string progress_eta_text(double elapsed_seconds, double fraction);
 /// `strict` (optional): adds --strict, failing the command when --ratio's target is not met.
 CLI::Option* add_codec_bound_options(CLI::App& cmd, CodecOptions& options, bool* strict = nullptr);
 
-/// Adds --stiffness and --metres-per-unit to a command.
-void add_force_law_options(CLI::App& cmd, ForceLaw& law);
+/// The one scale every figure is judged at (hb::Workspace) and how differences are judged
+/// (hb::PerceptualJudge), as the options of every command that computes forces give them.
+struct WorkspaceArgs {
+  double workspace_mm = WorkspaceOptions::kDefaultDiagonalM * 1000.0;
+  bool real_size = false;
+  double metres_per_unit = 0.0;  ///< > 0: an explicit scale.
+  double stiffness = WorkspaceOptions::kDefaultStiffness;
+  double max_force = WorkspaceOptions::kDefaultMaxForce;
+  std::string perceptual = "nominal";
+
+  WorkspaceOptions options() const;
+  /// The workspace of a model of this diagonal (model units).
+  Workspace workspace(double model_diagonal) const;
+  /// The thresholds (--perceptual) and the force limit.
+  PerceptualJudge judge() const;
+};
+
+/// The axis-aligned bounds of a scene's boxes (the union of their PBB corners), model units;
+/// the servo loop centres the device's workspace on them. Empty bounds for no boxes.
+Bounds scene_bounds(const BoxScene& scene);
+
+/// The diagonal of the mesh a box file was baked from (SourceInfo::diagonal), or of its
+/// boxes' bounds for a file that does not record it.
+double model_diagonal(const BoxScene& scene);
+
+/// Adds the workspace and judgement options to a command: --workspace-mm, --real-size,
+/// --metres-per-unit (mutually exclusive), --stiffness, --max-force, --perceptual.
+void add_workspace_options(CLI::App& cmd, WorkspaceArgs& args);
+
+/// The bake a command makes of a MESH it was given without a box file (report, field): the
+/// default (budgeted) bake through the box cache, as `bake`, ./run.sh and the window make it,
+/// or, when the user asked for a sampling (-m / -n), exactly one raw box of it, shared across
+/// the ranks of an MPI job. `seconds` is the whole bake's wall time (0 from the cache).
+struct ModelBake {
+  BoxScene scene;
+  bool from_cache = false;
+  std::string cache_path;  ///< the cache entry the scene came from or went to (may be empty).
+  double seconds = 0.0;
+  bool default_recipe = true;
+};
+/// `params`: the sampling when `sampling_given`; `cache_dir` empty: no cache.
+ModelBake bake_model(const TriangleMesh& mesh, const std::string& mesh_path, std::uint64_t mesh_hash,
+                     bool sampling_given, const BoxParams& params, const std::string& cache_dir);
+
 
 /// Adds --route boxes|cells (hb::SceneRoute) to a command; `route` holds the name.
 void add_route_option(CLI::App& cmd, std::string& route);

@@ -2,6 +2,8 @@
 //                          [--json-out OUT.json] [--samples N] [--json]
 // The compression curve (paper Figure 11): ratio against t, normal and force errors.
 #include "cli_support.h"
+#include "figure_text.h"
+#include "perceptible_text.h"
 #include "commands.h"
 #include "errors.h"
 #include "evaluation/compression_sweep.h"
@@ -28,10 +30,12 @@ nlohmann::json point_json(const hb::CompressionSweepPoint& p, bool exact) {
                       {"normal_error_max_deg", p.normal_error_max_deg},
                       {"contact_agreement_vs_raw", p.contact_agreement_vs_raw},
                       {"force_error_vs_raw_median", p.force_error_vs_raw_median},
-                      {"force_error_vs_raw_p95", p.force_error_vs_raw_p95}};
+                      {"force_error_vs_raw_p95", p.force_error_vs_raw_p95},
+                      {"perceptible_vs_raw", p.perceptible_vs_raw}};
   if (exact) {
     j["contact_agreement"] = p.contact_agreement;
     j["force_error_median"] = p.force_error_median;
+    j["perceptible_vs_exact"] = p.perceptible_vs_exact;
   }
   return j;
 }
@@ -47,7 +51,7 @@ void add_compress_sweep_command(CLI::App& app) {
     std::vector<float> errors;
     std::size_t samples = 20000;
     hb::ProbeOptions probes;
-    hb::ForceLaw law;
+    hb::cli::WorkspaceArgs workspace;
     int normal_bits = 9;
     bool json = false;
   };
@@ -67,7 +71,7 @@ void add_compress_sweep_command(CLI::App& app) {
   cmd->add_option("--seed", opts->probes.seed, "Probe seed")->capture_default_str();
   cmd->add_option("--csv", opts->csv, "Write the curve as CSV");
   cmd->add_option("--json-out", opts->json_out, "Write the curve as JSON");
-  hb::cli::add_force_law_options(*cmd, opts->law);
+  hb::cli::add_workspace_options(*cmd, opts->workspace);
   cmd->add_flag("--json", opts->json, "Print JSON to stdout");
   cmd->callback([opts] {
     const hb::BoxScene scene = hb::load_box_file(opts->box);
@@ -79,7 +83,9 @@ void add_compress_sweep_command(CLI::App& app) {
     for (const auto& c : opts->codecs) o.codecs.push_back(hb::parse_codec(c));
     if (!opts->errors.empty()) o.max_errors = opts->errors;
     o.normal_bits = opts->normal_bits;
-    o.law = opts->law;
+    const hb::Workspace ws = opts->workspace.workspace(hb::cli::model_diagonal(scene));
+    o.law = ws.law();
+    o.judge = opts->workspace.judge();
     std::string mesh_path = opts->mesh;
     if (mesh_path.empty() && std::filesystem::exists(scene.source().mesh_path)) mesh_path = scene.source().mesh_path;
     hb::TriangleMesh mesh;
@@ -95,15 +101,17 @@ void add_compress_sweep_command(CLI::App& app) {
 
     nlohmann::json rows = nlohmann::json::array();
     for (const auto& p : points) rows.push_back(point_json(p, exact != nullptr));
-    const nlohmann::json j = {{"box", opts->box}, {"mesh", mesh_path}, {"samples", o.probes.size()},
-                              {"normal_bits", opts->normal_bits}, {"points", rows}};
+    const nlohmann::json j = {{"box", opts->box},       {"mesh", mesh_path},
+                              {"samples", o.probes.size()}, {"normal_bits", opts->normal_bits},
+                              {"points", rows},          {"workspace", hb::workspace_json(ws, o.judge)}};
     if (!opts->csv.empty()) {
       std::ofstream out(opts->csv);
       if (!out) throw hb::IoError(opts->csv + ": cannot open for writing");
       const std::vector<std::string> cols = {"codec", "max_error", "compression_ratio", "bytes", "t_error_mean",
                                              "t_error_max", "normal_error_mean_deg", "normal_error_max_deg",
                                              "contact_agreement_vs_raw", "force_error_vs_raw_median",
-                                             "force_error_vs_raw_p95", "contact_agreement", "force_error_median"};
+                                             "force_error_vs_raw_p95", "perceptible_vs_raw", "contact_agreement",
+                                             "force_error_median", "perceptible_vs_exact"};
       for (std::size_t c = 0; c < cols.size(); ++c) out << (c ? "," : "") << cols[c];
       out << "\n" << std::setprecision(8);
       for (const auto& r : rows) {
@@ -128,7 +136,8 @@ void add_compress_sweep_command(CLI::App& app) {
       return;
     }
     std::cout << "compress-sweep " << opts->box << (mesh_path.empty() ? "" : " vs " + mesh_path) << "\n"
-              << "  codec  bound     ratio   t_mean    t_max     n_mean  n_max   F_vs_raw  agree    F_exact\n";
+              << "  workspace: " << ws.describe() << "; perceptible: " << hb::thresholds_text(o.judge.thresholds) << "\n"
+              << "  codec  bound     ratio   t_mean    t_max     n_mean  n_max   F_vs_raw  agree    F_exact  felt_raw felt_exact\n";
     for (const auto& p : points)
       std::cout << "  " << std::left << std::setw(6) << hb::codec_name(p.codec) << std::right << std::setw(8)
                 << std::setprecision(2) << std::scientific << p.max_error << std::fixed << std::setprecision(2)
@@ -136,6 +145,8 @@ void add_compress_sweep_command(CLI::App& app) {
                 << p.t_error_mean << std::setw(10) << p.t_error_max << std::fixed << std::setprecision(3)
                 << std::setw(7) << p.normal_error_mean_deg << std::setw(7) << p.normal_error_max_deg
                 << std::setprecision(4) << std::setw(10) << p.force_error_vs_raw_median << std::setw(9)
-                << p.contact_agreement << std::setw(9) << p.force_error_median << "\n";
+                << p.contact_agreement << std::setw(9) << p.force_error_median << std::setw(8)
+                << hb::percent(p.perceptible_vs_raw) << std::setw(10)
+                << (exact ? hb::percent(p.perceptible_vs_exact) : std::string("-")) << "\n";
   });
 }

@@ -1,8 +1,9 @@
-// hapticbox eval BOX MESH [--samples N] [--seed S] [--json]
+// hapticbox eval BOX MESH [--samples N] [--seed S] [--json] [workspace options]
 #include "cli_support.h"
 #include "commands.h"
 #include "eval_json.h"
 #include "figure_text.h"
+#include "perceptible_text.h"
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
@@ -18,7 +19,7 @@ void add_eval_command(CLI::App& app) {
     std::string box, mesh;
     std::size_t samples = 20000;
     hb::ProbeOptions probes;
-    hb::ForceLaw law;
+    hb::cli::WorkspaceArgs workspace;
     bool json = false;
     bool force = false;
     std::string route = "cells";
@@ -29,7 +30,7 @@ void add_eval_command(CLI::App& app) {
   cmd->add_option("MESH", opts->mesh, "The mesh the box was baked from")->required();
   cmd->add_option("--samples", opts->samples, "Number of probes")->check(CLI::Range(std::size_t(1), std::size_t(100000000)))->capture_default_str();
   cmd->add_option("--seed", opts->probes.seed, "Probe seed")->capture_default_str();
-  hb::cli::add_force_law_options(*cmd, opts->law);
+  hb::cli::add_workspace_options(*cmd, opts->workspace);
   cmd->add_flag("--json", opts->json, "Print JSON");
   cmd->add_flag("--force", opts->force, "Evaluate even when the box was baked from a different mesh (its hash differs)");
   hb::cli::add_route_option(*cmd, opts->route);
@@ -41,16 +42,21 @@ void add_eval_command(CLI::App& app) {
     const hb::ExactQuery exact(mesh);
     const auto probes = hb::sample_probes(mesh, opts->samples, opts->probes);
     const float diag = mesh.bounds().diagonal();
+    const hb::Workspace ws = opts->workspace.workspace(diag);
+    const hb::PerceptualJudge judge = opts->workspace.judge();
     // Probes dealt across the ranks of an MPI job; the figures are one process's.
-    const hb::ComparisonStats s = hb::compare_queries(scene, exact, probes, opts->law, diag, nullptr,
-                                                      &hb::cli::communicator());
-    const nlohmann::json j = hb::eval_json(s, opts->box, opts->mesh, opts->probes.seed, hb::route_name(scene.answering_route()));
+    const hb::ComparisonStats s = hb::compare_queries(scene, exact, probes, ws.law(), diag, nullptr,
+                                                      &hb::cli::communicator(), nullptr, judge);
+    nlohmann::json j = hb::eval_json(s, opts->box, opts->mesh, opts->probes.seed, hb::route_name(scene.answering_route()));
+    j["workspace"] = hb::workspace_json(ws, judge);
     if (opts->json) {
       hb::cli::print_json(j);
       return;
     }
     std::cout << "eval " << opts->box << " vs " << opts->mesh << " (" << s.samples << " probes, seed "
               << opts->probes.seed << ", route " << hb::route_name(scene.answering_route()) << ")\n"
+              << "  workspace           " << ws.describe() << "\n"
+              << hb::perceptible_lines(s)
               << "  contact agreement   " << hb::agreement_percent(s.contact_agreement) << "  (false "
               << s.false_contacts << ", missed " << s.missed_contacts << ", exact contacts " << s.exact_contacts << ")\n"
               << "  force error         median " << hb::percent(s.force_error_median) << ", p95 "

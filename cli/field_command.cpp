@@ -1,18 +1,23 @@
 // hapticbox field MESH|BOX [MESH] -o FIELD.vtp [--m M --n N] [--probes K] [--even N] [--seed S]
-// The error field through the VTK pipeline (reader -> bake or loaded boxes -> error-field
-// filter -> XML writer): the same arrays the desktop window shows, for ParaView or scripts.
+// The error field through the VTK pipeline (reader -> boxes -> error-field filter -> XML
+// writer): the same arrays the desktop window shows, for ParaView or scripts. From a MESH the
+// boxes are the default bake through the box cache (as `report` and the window make them), or
+// one raw box of the sampling -m / -n asks for. Forces at the model's workspace scale; the
+// active array is PerceptibleRatio (the difference over what a hand can feel).
 // Field data carries the units and the provenance (box, densities, probes, seed, force law,
 // version); the box outlines go to FIELD_boxes.vtp beside it (cell data PieceId, M, N).
 #include "cli_support.h"
 #include "commands.h"
 #include "errors.h"
 #include "haptic_box/box_file.h"
-#include "vtkHapticBoxBakeFilter.h"
 #include "vtkHapticBoxErrorFieldFilter.h"
 #include "vtkHapticBoxMeshReader.h"
 #include "vtkHapticBoxSet.h"
 #include "polydata_files.h"
 #include "figure_text.h"
+#include "perceptible_text.h"
+#include "haptic_box/box_cache.h"
+#include "mesh/mesh_io.h"
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
 #include <vtkPointData.h>
@@ -29,22 +34,30 @@ void add_field_command(CLI::App& app) {
     hb::cli::ModelArgs model;
     std::vector<std::string> inputs;
     std::string out;
-    int m = 32, n = 16, probes = 1;
+    hb::BoxParams params;
+    int probes = 1;
     vtkIdType even = 0;
     std::uint64_t seed = 1;
-    hb::ForceLaw law;
+    hb::cli::WorkspaceArgs workspace;
+    std::string cache = hb::default_box_cache_dir();
+    bool no_cache = false;
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
   cmd->add_option("INPUT", opts->inputs, "MESH (baked here), or BOX MESH")->required()->expected(1, 2);
   cmd->add_option("-o,--output", opts->out, "Output .vtp file")->required();
-  cmd->add_option("-m,--m", opts->m, "Position density m when baking")->check(CLI::Range(2, 4096))->capture_default_str();
-  cmd->add_option("-n,--n", opts->n, "Directional density n when baking")->check(CLI::Range(2, 1024))->capture_default_str();
+  cmd->add_option("-m,--m", opts->params.m, "Bake one raw box of this position density instead of the default bake")
+      ->check(CLI::Range(2, 4096));
+  cmd->add_option("-n,--n", opts->params.n, "Bake one raw box of this directional density instead of the default bake")
+      ->check(CLI::Range(2, 1024));
+  cmd->add_option("--cache", opts->cache, "Box cache directory (shared with bake, report and the window)")
+      ->capture_default_str();
+  cmd->add_flag("--no-cache", opts->no_cache, "Bake without the box cache and store nothing in it");
   cmd->add_option("--probes", opts->probes, "Probes per point")->check(CLI::Range(1, 100000))->capture_default_str();
   cmd->add_option("--even", opts->even, "Sample N points evenly instead of the vertices")->check(CLI::Range(vtkIdType(1), vtkIdType(100000000)));
   cmd->add_option("--seed", opts->seed, "Probe seed")->capture_default_str();
-  hb::cli::add_force_law_options(*cmd, opts->law);
-  cmd->callback([opts] {
+  hb::cli::add_workspace_options(*cmd, opts->workspace);
+  cmd->callback([opts, cmd] {
     const bool with_box = hb::cli::is_box_file(opts->inputs[0]);
     if (with_box && opts->inputs.size() != 2) throw hb::cli::UsageError("give BOX then MESH");
     if (!with_box && opts->inputs.size() != 1) throw hb::cli::UsageError("give MESH alone, or BOX then MESH");
@@ -56,32 +69,40 @@ void add_field_command(CLI::App& app) {
     if (reader->GetOutput()->GetNumberOfPoints() == 0) throw hb::InvalidInput(mesh_path + ": could not read the mesh");
     vtkNew<vtkHapticBoxErrorFieldFilter> field;
     field->SetInputConnection(reader->GetOutputPort());
-    vtkNew<vtkHapticBoxBakeFilter> bake;
     vtkNew<vtkHapticBoxSet> loaded;
     double bake_seconds = 0.0;
+    std::string box_label;
     if (with_box) {
       loaded->SetScene(std::make_shared<const hb::BoxScene>(hb::load_box_file(opts->inputs[0])));
-      field->SetBoxSetData(loaded);
+      box_label = opts->inputs[0];
     } else {
-      bake->SetInputConnection(reader->GetOutputPort());
-      hb::BakeRecipe recipe = bake->GetRecipe();
-      recipe.options.params.m = opts->m;
-      recipe.options.params.n = opts->n;
-      // Baked across the ranks of an MPI job; every rank queries the boxes for its points.
-      recipe.options.communicator = &hb::cli::communicator();
-      recipe.options.scene_on_every_rank = true;
-      bake->SetRecipe(recipe);
-      bake->Update();
-      if (!bake->GetBoxSet() || bake->GetBoxSet()->GetNumberOfBoxes() == 0) throw hb::Error("the bake failed");
-      bake_seconds = bake->GetBakeSeconds();
-      field->SetBoxSetConnection(bake->GetOutputPort(0));
+      const hb::TriangleMesh mesh = hb::cli::load_mesh(mesh_path, opts->model);
+      const bool sampling_given = cmd->count("-m") + cmd->count("-n") > 0;
+      hb::cli::ModelBake baked =
+          hb::cli::bake_model(mesh, mesh_path, hb::cli::hash_model(mesh_path, opts->model), sampling_given,
+                              opts->params, opts->no_cache ? std::string() : opts->cache);
+      bake_seconds = baked.seconds;
+      box_label = baked.from_cache ? baked.cache_path + " (the default bake, from the box cache)"
+                  : sampling_given ? "(one raw box m" + std::to_string(opts->params.m) + " n" +
+                                         std::to_string(opts->params.n) + ", baked by field, not saved)"
+                                   : "(the default bake, baked by field" +
+                                         std::string(baked.cache_path.empty() ? ", not saved)" : ", cached)");
+      loaded->SetScene(std::make_shared<const hb::BoxScene>(std::move(baked.scene)));
     }
+    field->SetBoxSetData(loaded);
+    const hb::BoxScene& scene = *loaded->GetScene();
+    const hb::Workspace ws = opts->workspace.workspace(hb::cli::model_diagonal(scene) > 0
+                                                           ? hb::cli::model_diagonal(scene)
+                                                           : double(reader->GetOutput()->GetLength()));
+    const hb::PerceptualJudge judge = opts->workspace.judge();
     // The points are dealt across the ranks of an MPI job; rank 0 gets the whole field.
     field->SetCommunicator(&hb::cli::communicator());
     field->SetProbesPerPoint(opts->probes);
     field->SetSeed(opts->seed);
-    field->SetStiffness(opts->law.stiffness_n_per_m);
-    field->SetMetresPerUnit(opts->law.metres_per_unit);
+    field->SetStiffness(ws.stiffness_n_per_m);
+    field->SetMetresPerUnit(ws.metres_per_unit);
+    field->SetMaxForce(ws.max_force_n);
+    field->SetPerceptualThresholds(judge.thresholds);
     if (opts->even > 0) {
       field->SetSampleModeToEven();
       field->SetNumberOfSamples(opts->even);
@@ -96,12 +117,13 @@ void add_field_command(CLI::App& app) {
       hb::vtk::Provenance p;
       p.strings = {{"HapticBoxVersion", HB_VERSION},
                    {"Mesh", mesh_path},
-                   {"BoxFile", with_box ? opts->inputs[0] : std::string("(baked by field, not saved)")}};
+                   {"BoxFile", box_label},
+                   {"Workspace", ws.describe()},
+                   {"Perceptual", hb::thresholds_spec(judge.thresholds)}};
       if (!with_box) p.numbers = {{"BakeSeconds", bake_seconds}};
       hb::vtk::add_provenance(out->GetFieldData(), p);
     }
     hb::vtk::write_polydata_xml(out, opts->out);
-    const hb::BoxScene& scene = with_box ? *loaded->GetScene() : *bake->GetBoxSet()->GetScene();
     std::string outlines_path = opts->out;
     if (hb::cli::lower_extension(outlines_path) == ".vtp") outlines_path.resize(outlines_path.size() - 4);
     outlines_path += "_boxes.vtp";
@@ -122,6 +144,12 @@ void add_field_command(CLI::App& app) {
       std::cout << "; relative force error median " << hb::sig(100.0 * errors[errors.size() / 2]) << " %, p95 "
                 << hb::sig(100.0 * errors[std::size_t(0.95 * double(errors.size() - 1))]) << " %";
     std::cout << "; " << (out->GetNumberOfPoints() - vtkIdType(errors.size())) << " points with no data (NaN)\n";
+    const hb::ErrorField* f = field->GetErrorField();
+    std::size_t felt = 0;
+    for (float v : f->perceptible_fraction) felt += v > 0.f;
+    std::cout << "  perceptible: " << felt << " of " << f->size() << " points have a probe a hand would tell apart ("
+              << hb::percent(f->size() ? double(felt) / double(f->size()) : 0.0) << "; threshold "
+              << hb::thresholds_text(judge.thresholds) << ")\n  workspace: " << ws.describe() << "\n";
     std::cout << "boxes " << outlines_path << ": " << scene.boxes().size() << " box outline(s)\n";
   });
 }

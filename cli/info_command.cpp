@@ -123,6 +123,10 @@ nlohmann::json box_info(const std::string& path, bool verify) {
           {"source_triangles", scene.source().triangles},
           {"source_diagonal", scene.source().diagonal},
           {"budget", scene.budget_report().summary()},
+          {"workspace", hb::cli::model_diagonal(scene) > 0
+                            ? hb::make_workspace(hb::cli::model_diagonal(scene)).describe() +
+                                  " (the default every command judges at; --workspace-mm, --real-size to change)"
+                            : std::string("none (no boxes)")},
           {"budget_report", hb::cli::budget_json(scene.budget_report())},
           {"box_list", boxes}};
 }

@@ -27,7 +27,7 @@ void add_query_command(CLI::App& app) {
     hb::cli::ModelArgs model;
     std::string box, segments_csv, out_csv, exact_mesh;
     std::vector<std::string> segment;
-    hb::ForceLaw law;
+    hb::cli::WorkspaceArgs workspace;
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
@@ -39,7 +39,7 @@ void add_query_command(CLI::App& app) {
   seg->excludes(segs);
   cmd->add_option("--out", opts->out_csv, "Output CSV (default: stdout)");
   cmd->add_option("--exact", opts->exact_mesh, "Also answer exactly against this mesh");
-  hb::cli::add_force_law_options(*cmd, opts->law);
+  hb::cli::add_workspace_options(*cmd, opts->workspace);
   cmd->callback([opts] {
     std::vector<hb::Segment> segments;
     if (!opts->segment.empty()) {
@@ -74,6 +74,11 @@ void add_query_command(CLI::App& app) {
       mesh = hb::cli::load_mesh(opts->exact_mesh, opts->model);
       exact = std::make_unique<hb::ExactQuery>(mesh);
     }
+    // The box file's mesh diagonal (the same as the mesh's when both are given: the scale of
+    // `eval`, `servo` and the window for this model).
+    const double diagonal = exact ? double(mesh.bounds().diagonal()) : hb::cli::model_diagonal(scene);
+    const hb::ForceLaw law = opts->workspace.workspace(diagonal).law();
+    const hb::PerceptualJudge judge = opts->workspace.judge();
     std::ofstream file;
     if (!opts->out_csv.empty()) {
       file.open(opts->out_csv);
@@ -81,13 +86,16 @@ void add_query_command(CLI::App& app) {
     }
     std::ostream& out = opts->out_csv.empty() ? std::cout : file;
     out << "contact,depth,nx,ny,nz,fx,fy,fz";
-    if (exact) out << ",exact_contact,exact_depth,exact_nx,exact_ny,exact_nz,exact_fx,exact_fy,exact_fz";
+    if (exact) out << ",exact_contact,exact_depth,exact_nx,exact_ny,exact_nz,exact_fx,exact_fy,exact_fz,perceptible";
     out << "\n";
     for (const hb::Segment& s : segments) {
-      write_contact(out, scene.query(s, opts->law));
+      const hb::Contact box = scene.query(s, law);
+      write_contact(out, box);
       if (exact) {
         out << ',';
-        write_contact(out, exact->query(s, opts->law));
+        const hb::Contact e = exact->query(s, law);
+        write_contact(out, e);
+        out << ',' << hb::perceived_by_name(hb::perceive(e, box, judge.thresholds, judge.max_force_n).by);
       }
       out << "\n";
     }

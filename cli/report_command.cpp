@@ -28,6 +28,7 @@ void add_report_command(CLI::App& app) {
     std::string out;
     hb::BoxParams params;
     hb::ReportOptions report;
+    hb::cli::WorkspaceArgs workspace;
     std::vector<int> sweep_m, sweep_n;
     bool no_sweep = false;
     std::string cache = hb::default_box_cache_dir();
@@ -61,15 +62,16 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--field-probes", opts->report.error_field_probes_per_vertex, "Error-field probes per vertex (0: none)")
       ->check(CLI::Range(0, 10000))->capture_default_str();
   cmd->add_flag("--no-image", opts->no_image, "Do not render the error field even with a display");
-  cmd->add_option("--tol-median", opts->report.tolerances.force_error_median, "Tolerance: median force error (fraction)")->check(hb::cli::finite_range(0.0, 1e6))->capture_default_str();
-  cmd->add_option("--tol-p95", opts->report.tolerances.force_error_p95, "Tolerance: p95 force error (fraction)")->check(hb::cli::finite_range(0.0, 1e6))->capture_default_str();
-  cmd->add_option("--tol-agreement", opts->report.tolerances.contact_agreement, "Tolerance: min contact agreement")->check(hb::cli::finite_range(0.0, 1e6))->capture_default_str();
+  cmd->add_option("--tol-perceptible", opts->report.tolerances.perceptible,
+                  "The verdict: at most this share of probes perceptibly different from exact (fraction)")
+      ->check(hb::cli::finite_range(0.0, 1.0))
+      ->capture_default_str();
   cmd->add_option("--compression-curve", opts->report.compression_codec,
                   "Also draw this codec's compression curve (haar or block)");
   cmd->add_flag("--force", opts->force, "Report even when BOX was baked from a different mesh (its hash differs)");
   cmd->add_option("--save-box", opts->save_box, "When baking, also save the box file here");
   cmd->add_flag("--stability", opts->stability, "Also run the trajectory stability suite (as `stability`, 6 sites)");
-  hb::cli::add_force_law_options(*cmd, opts->report.law);
+  hb::cli::add_workspace_options(*cmd, opts->workspace);
   cmd->callback([opts, cmd] {
     const auto t0 = std::chrono::steady_clock::now();
     std::string mesh_path, box_path;
@@ -90,34 +92,14 @@ void add_report_command(CLI::App& app) {
     if (first_is_box) {
       hb::cli::check_same_mesh(scene, box_path, mesh_path, mesh_hash, opts->force);
     } else {
-      // Without -m and -n, the default bake (hb::default_recipe, what `bake MESH -o BOX`,
-      // ./run.sh and the window's Bake make) through the box cache; with either, exactly that
-      // sampling, one raw box, as before.
-      hb::Communicator& comm = hb::cli::communicator();
+      // Without -m and -n, the default bake through the box cache; with either, exactly that
+      // sampling, one raw box (hb::cli::bake_model, as `field` decides).
       const bool sampling_given = cmd->count("-m") + cmd->count("-n") > 0;
-      hb::BakeRecipe recipe;
-      if (sampling_given) {
-        recipe.options.params = opts->params;
-        // Baked across the ranks of an MPI job; every rank needs the scene for the evaluation.
-        recipe.options.communicator = &comm;
-        recipe.options.scene_on_every_rank = true;
-      } else {
-        recipe = hb::default_recipe();  // one process's bake: each rank of a job bakes it alone
-      }
-      recipe.options.progress = hb::cli::terminal_progress("bake");
-      // The cache only for one process: ranks must not evaluate different scenes (a cached one
-      // and a fresh one of another build).
-      std::optional<hb::BoxCache> cache;
-      if (!sampling_given && !opts->no_cache && comm.size() == 1) cache.emplace(opts->cache);
-      hb::SourceInfo source{mesh_path, mesh_hash, mesh.triangle_count(), mesh.bounds().diagonal()};
-      const auto bake_start = std::chrono::steady_clock::now();
-      hb::CachedBake baked = hb::bake_cached(mesh, recipe, source, cache ? &*cache : nullptr);
-      if (!baked.warning.empty() && comm.is_root()) std::cerr << "hapticbox: warning: " << baked.warning << "\n";
-      scene = std::move(baked.result.scene);
-      if (baked.from_cache) box_path = baked.path;  // the box file the report is of
-      bake_seconds = baked.from_cache ? 0.0
-                     : sampling_given ? baked.result.stats.seconds
-                                      : std::chrono::duration<double>(std::chrono::steady_clock::now() - bake_start).count();
+      hb::cli::ModelBake baked = hb::cli::bake_model(mesh, mesh_path, mesh_hash, sampling_given, opts->params,
+                                                     opts->no_cache ? std::string() : opts->cache);
+      scene = std::move(baked.scene);
+      if (baked.from_cache) box_path = baked.cache_path;  // the box file the report is of
+      bake_seconds = baked.seconds;
       if (!opts->save_box.empty()) {
         if (hb::cli::communicator().is_root()) hb::save_box_file(scene, opts->save_box);
         box_path = opts->save_box;
@@ -134,6 +116,8 @@ void add_report_command(CLI::App& app) {
     request.bake_seconds = bake_seconds;
     request.references = refs.References();
     request.options = opts->report;
+    request.options.workspace = opts->workspace.options();
+    request.options.judge = opts->workspace.judge();
     request.options.cache_dir = opts->no_cache ? "" : opts->cache;
     request.options.progress = hb::cli::terminal_progress("report");
     request.options.communicator = &hb::cli::communicator();

@@ -8,6 +8,7 @@
 // computed in shadow on the same segment in the same tick; the summary compares them (query
 // times, contact agreement, force difference) and --record / --csv log both per tick.
 #include "cli_support.h"
+#include "perceptible_text.h"
 #include "commands.h"
 #include "device/device_choice.h"
 #include "device/plane_scene.h"
@@ -43,8 +44,7 @@ struct ServoArgs {
   bool no_realtime = false;
   double spin_us = 50.0;
   bool no_prime = false;
-  float stiffness = 500.f;
-  float units_per_metre = 0.f;   // 0 = fit the workspace to the scene
+  hb::cli::WorkspaceArgs workspace;  // the scale and stiffness (the same as eval's for this model)
   std::string firmware;
   std::string exact;             // the mesh for the exact answer (empty: none)
   std::string render = "box";    // which answer drives the device with --exact
@@ -68,18 +68,9 @@ Scene load_scene(const std::string& box, const std::string& route) {
   }
   auto scene = std::make_unique<hb::BoxScene>(hb::load_box_file(box));
   if (scene->boxes().empty()) throw hb::InvalidInput(box + ": the box file holds no boxes");
-  s.min = hb::Vec3::Constant(std::numeric_limits<float>::max());
-  s.max = -s.min;
-  for (const auto& b : scene->boxes()) {
-    const hb::Obb& o = b.obb();
-    for (int c = 0; c < 8; ++c) {
-      const hb::Vec3 corner = o.to_world(hb::Vec3((c & 1) ? o.half.x() : -o.half.x(),
-                                                  (c & 2) ? o.half.y() : -o.half.y(),
-                                                  (c & 4) ? o.half.z() : -o.half.z()));
-      s.min = s.min.cwiseMin(corner);
-      s.max = s.max.cwiseMax(corner);
-    }
-  }
+  const hb::Bounds bounds = hb::cli::scene_bounds(*scene);
+  s.min = bounds.min;
+  s.max = bounds.max;
   s.mesh_hash = scene->source().mesh_hash;
   hb::cli::apply_route(*scene, route);
   // The servo thread is one probe: its query state starts each tick from the last tick's
@@ -160,6 +151,10 @@ void print_shadow(const ServoArgs& a, const hb::ServoReport& r) {
               sh.force_diff_mean_n, sh.force_diff_p50_n, sh.force_diff_p99_n, sh.force_diff_max_n);
   std::printf("  force direction difference (both in contact): p50 %.2f deg, p99 %.2f deg, max %.2f deg\n",
               sh.angle_p50_deg, sh.angle_p99_deg, sh.angle_max_deg);
+  std::printf("  perceptibly different: %llu of %llu contact ticks (%s; %s)\n",
+              static_cast<unsigned long long>(sh.perceptible), static_cast<unsigned long long>(sh.contact_ticks),
+              hb::percent(sh.contact_ticks ? double(sh.perceptible) / double(sh.contact_ticks) : 0.0).c_str(),
+              hb::thresholds_text(a.workspace.judge().thresholds).c_str());
 }
 
 nlohmann::json shadow_json(const ServoArgs& a, const hb::ServoReport& r) {
@@ -182,7 +177,10 @@ nlohmann::json shadow_json(const ServoArgs& a, const hb::ServoReport& r) {
           {"force_diff_max_n", sh.force_diff_max_n},
           {"angle_p50_deg", sh.angle_p50_deg},
           {"angle_p99_deg", sh.angle_p99_deg},
-          {"angle_max_deg", sh.angle_max_deg}};
+          {"angle_max_deg", sh.angle_max_deg},
+          {"perceptible_ticks", sh.perceptible},
+          {"contact_ticks", sh.contact_ticks},
+          {"perceptible_share", sh.contact_ticks ? double(sh.perceptible) / double(sh.contact_ticks) : 0.0}};
 }
 
 nlohmann::json proxy_json(const hb::GodObjectStats& p) {
@@ -216,9 +214,15 @@ void run_servo(const ServoArgs& a) {
   o.request_realtime = !a.no_realtime;
   o.spin_s = a.spin_us * 1e-6;
   o.prime = !a.no_prime;
+  // One scale for every command: the model's diagonal (its mesh's, as the box file records it)
+  // at the workspace's size, the workspace's stiffness; centred as fit_workspace centres it.
+  const double diagonal = scene.box ? hb::cli::model_diagonal(*scene.box) : double((scene.max - scene.min).norm());
+  const hb::Workspace ws = a.workspace.workspace(diagonal);
   o.mapping = hb::fit_workspace(scene.min, scene.max, device->spec());
-  if (a.units_per_metre > 0) o.mapping.model_units_per_metre = a.units_per_metre;
-  o.law.stiffness_n_per_m = a.stiffness;
+  o.mapping.model_units_per_metre = float(1.0 / ws.metres_per_unit);
+  o.law = ws.law();
+  o.perceptual = a.workspace.judge().thresholds;
+  o.shadow_is_reference = a.render != "exact";  // the JND is taken of exact's force
   o.contact_law = hb::contact_law(a.law);  // checked by the option already
   if (opened.rate_hz > 0) o.rate_hz = opened.rate_hz;  // a replay: same dt, same safety ramps, same forces
 
@@ -276,6 +280,7 @@ void run_servo(const ServoArgs& a) {
     j["cache_priming"] = a.no_prime ? "off" : "on";
     j["stiffness_n_per_m"] = r.stiffness_n_per_m;
     j["stiffness_limited"] = r.stiffness_limited;
+    j["workspace"] = hb::workspace_json(ws, a.workspace.judge());
     j["contact_law"] = hb::to_string(r.contact_law);
     if (scene.box) j["route"] = hb::route_name(scene.box->answering_route());
     if (r.contact_law == hb::ContactLaw::proxy) {
@@ -313,6 +318,7 @@ void run_servo(const ServoArgs& a) {
                 r.realtime_message.c_str());
     std::printf("  cache priming: %s\n", a.no_prime ? "off (--no-prime)"
                                                       : "on (the last segment's query at the start of the busy-wait)");
+    std::printf("  workspace: %s\n", ws.describe().c_str());
     std::printf("  stiffness %.1f N/m%s\n", r.stiffness_n_per_m,
                 r.stiffness_limited ? " (limited to the device's maximum)" : "");
     if (r.contact_law == hb::ContactLaw::proxy) {
@@ -362,11 +368,7 @@ void add_servo_command(CLI::App& app) {
       ->check(hb::cli::finite_range(0.0, 1000.0))->capture_default_str();
   cmd->add_flag("--no-prime", a->no_prime,
                 "Do not query the last segment at the start of the busy-wait (the caches stay as the sleep left them)");
-  cmd->add_option("--stiffness", a->stiffness, "Force-law stiffness, N/m (limited to the device's)")
-      ->check(hb::cli::finite_range(1e-6, 1e7))->capture_default_str();
-  cmd->add_option("--units-per-metre", a->units_per_metre,
-                  "Model units per device metre (default: fit the workspace to the scene)")
-      ->check(hb::cli::finite_range(0.0, 1e12));
+  hb::cli::add_workspace_options(*cmd, a->workspace);
   cmd->add_option("--firmware", a->firmware, "Falcon firmware file (supplied by you; not shipped)");
   cmd->add_option("--exact", a->exact,
                   "The mesh BOX was baked from: its exact Embree answer runs in the same loop on the same "

@@ -9,6 +9,7 @@
 #include "errors.h"
 #include "evaluation/sweep.h"
 #include "figure_text.h"
+#include "perceptible_text.h"
 #include "exact/exact_query.h"
 #include "mesh/mesh_io.h"
 #include "pieces_option.h"
@@ -27,10 +28,10 @@ void print_row(const hb::SweepRow& r, bool pareto_known) {
   const std::string codec = r.codec + (r.refine ? "+ref" : "");
   // A row that is not one (m, n) configuration (the default bake) says what it is at the end.
   const bool one_config = box && r.label.empty();
-  std::snprintf(line, sizeof line, "%-24s %4s %4s %-10s %10.1f %12.2f %9.3f%s %9.2f %9.2f %9.2f %6s %s%s%s",
+  std::snprintf(line, sizeof line, "%-24s %4s %4s %-10s %10.1f %12.2f %9.3f%s %8.3f %9.2f %9.2f %9.2f %6s %s%s%s",
                 r.method.c_str(), one_config ? std::to_string(r.m).c_str() : "-", one_config ? std::to_string(r.n).c_str() : "-",
                 box ? codec.c_str() : "-", r.query_ns, double(r.memory_bytes) / (1024.0 * 1024.0), r.bake_seconds,
-                r.from_cache ? "c" : " ", 100.0 * r.force_error_median, 100.0 * r.force_error_p95,
+                r.from_cache ? "c" : " ", 100.0 * r.perceptible_share, 100.0 * r.force_error_median, 100.0 * r.force_error_p95,
                 100.0 * r.contact_agreement, r.within_budget ? "yes" : "-", pareto_known ? (r.pareto ? "*" : "") : "",
                 r.label.empty() ? "" : "  ",
                 r.label.c_str());
@@ -38,7 +39,7 @@ void print_row(const hb::SweepRow& r, bool pareto_known) {
 }
 
 void print_header() {
-  std::cout << "method                      m    n codec        query_ns   memory_MiB   bake_s  median_%    p95_%  agree_% budget pareto\n";
+  std::cout << "method                      m    n codec        query_ns   memory_MiB   bake_s   felt_%  median_%    p95_%  agree_% budget pareto\n";
 }
 
 } // namespace
@@ -57,6 +58,7 @@ void add_sweep_command(CLI::App& app) {
     bool no_cache = false;
     std::string chart;
     hb::SweepOptions sweep;
+    hb::cli::WorkspaceArgs workspace;
     bool json = false;
     bool no_default_bake = false;
   };
@@ -78,7 +80,7 @@ void add_sweep_command(CLI::App& app) {
                 "Leave out the row of the default bake (`bake MESH -o BOX` with no option: the budgeted bake the "
                 "product recommends), which is measured after the configurations otherwise");
   cmd->add_option("--chart", opts->chart, "Also write the speed-vs-accuracy chart (PNG)");
-  hb::cli::add_force_law_options(*cmd, opts->sweep.law);
+  hb::cli::add_workspace_options(*cmd, opts->workspace);
   cmd->add_flag("--json", opts->json, "Print JSON");
   cmd->callback([opts] {
     for (const std::string& c : opts->codecs) {
@@ -97,6 +99,9 @@ void add_sweep_command(CLI::App& app) {
     source.diagonal = mesh.bounds().diagonal();
     const vtkHapticBoxReferenceQueries refs(mesh);
     hb::SweepOptions& so = opts->sweep;
+    const hb::Workspace ws = opts->workspace.workspace(source.diagonal);
+    so.law = ws.law();
+    so.judge = opts->workspace.judge();
     so.configs = hb::sweep_grid(opts->m, opts->n, opts->codecs,
                                 opts->refine ? std::vector<bool>{false, true} : std::vector<bool>{false});
     so.cache_dir = opts->no_cache ? "" : opts->cache;
@@ -104,7 +109,9 @@ void add_sweep_command(CLI::App& app) {
     so.progress = hb::cli::terminal_progress("sweep");
     if (!opts->json) {
       std::cout << "sweep " << opts->mesh << " (" << mesh.triangle_count() << " triangles, " << so.samples
-                << " probes, seed " << so.probes.seed << ", one core for timing)\n";
+                << " probes, seed " << so.probes.seed << ", one core for timing)\n  workspace: " << ws.describe()
+                << "; felt_%: probes perceptibly different from exact (" << hb::thresholds_text(so.judge.thresholds)
+                << ")\n";
       print_header();
       so.on_row = [](const hb::SweepRow& r) { print_row(r, false); };
     }
@@ -124,6 +131,7 @@ void add_sweep_command(CLI::App& app) {
     if (opts->json) {
       nlohmann::json j = {{"mesh", opts->mesh}, {"triangles", mesh.triangle_count()}, {"samples", so.samples},
                           {"seed", so.probes.seed}, {"rows", nlohmann::json::array()},
+                          {"workspace", hb::workspace_json(ws, so.judge)},
                           {"load_balance", mean > 0 ? busiest / mean : 1.0}, {"rank_work", nlohmann::json::array()}};
       for (const hb::RankWork& w : work)
         j["rank_work"].push_back({{"rank", w.rank}, {"work", w.work}, {"seconds", w.seconds}, {"bytes_sent", w.bytes_sent}});
@@ -133,6 +141,7 @@ void add_sweep_command(CLI::App& app) {
                              {"bake_seconds", r.bake_seconds}, {"from_cache", r.from_cache},
                              {"force_error_median", r.force_error_median}, {"force_error_p95", r.force_error_p95},
                              {"contact_agreement", r.contact_agreement}, {"angle_error_p99_deg", r.angle_error_p99_deg},
+                             {"perceptible_share", r.perceptible_share},
                              {"within_budget", r.within_budget}, {"pareto", r.pareto}});
       hb::cli::print_json(j);
       return;

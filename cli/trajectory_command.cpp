@@ -1,7 +1,7 @@
-// hapticbox trajectory LOG BOX -o OUT.vtp [--units-per-metre U]: a recorded servo log (servo
+// hapticbox trajectory LOG BOX -o OUT.vtp [workspace options]: a recorded servo log (servo
 // --record) as a polyline in the model's frame, for ParaView (colour by ForceMagnitude,
 // Contact, SafetyFlags; play it back with Time). The mapping is the one `servo` fits to the box
-// scene and the log's device (or --units-per-metre, as given to servo).
+// scene at the workspace scale servo used (the same --workspace-mm / --real-size / --metres-per-unit).
 #include "cli_support.h"
 #include "commands.h"
 #include "device/servo_log.h"
@@ -50,38 +50,30 @@ std::size_t write_trajectory_vtp(const ServoLog& log, const WorkspaceMapping& ma
 void add_trajectory_command(CLI::App& app) {
   struct Opts {
     std::string log, box, out;
-    float units_per_metre = 0.f;
+    hb::cli::WorkspaceArgs workspace;  // as given to servo
   };
   auto opts = std::make_shared<Opts>();
   auto* cmd = app.add_subcommand("trajectory", "Export a recorded servo log (servo --record) as a polyline .vtp");
   cmd->add_option("LOG", opts->log, "Servo log written by servo --record")->required();
   cmd->add_option("BOX", opts->box, "The box file the log was recorded on (gives the model frame), or `plane`")->required();
   cmd->add_option("-o,--output", opts->out, "Output .vtp file")->required();
-  cmd->add_option("--units-per-metre", opts->units_per_metre,
-                  "Model units per device metre, as given to servo (default: fit the workspace to the scene)")
-      ->check(hb::cli::finite_range(0.0, 1e12));
+  hb::cli::add_workspace_options(*cmd, opts->workspace);
   cmd->callback([opts] {
     if (hb::cli::lower_extension(opts->out) != ".vtp")
       throw hb::cli::UsageError("-o " + opts->out + ": the trajectory is written as VTK XML PolyData; name it .vtp");
     const hb::ServoLog log = hb::read_servo_log(opts->log);
     hb::Vec3 lo = hb::Vec3::Constant(-40.f), hi = hb::Vec3::Constant(40.f);  // `plane`, as servo
+    double diagonal = double((hi - lo).norm());
     if (opts->box != "plane") {
       const hb::BoxScene scene = hb::load_box_file(opts->box);
       if (scene.boxes().empty()) throw hb::InvalidInput(opts->box + ": the box file holds no boxes");
-      lo = hb::Vec3::Constant(std::numeric_limits<float>::max());
-      hi = -lo;
-      for (const auto& b : scene.boxes()) {
-        const hb::Obb& o = b.obb();
-        for (int c = 0; c < 8; ++c) {
-          const hb::Vec3 corner = o.to_world(hb::Vec3((c & 1) ? o.half.x() : -o.half.x(), (c & 2) ? o.half.y() : -o.half.y(),
-                                                      (c & 4) ? o.half.z() : -o.half.z()));
-          lo = lo.cwiseMin(corner);
-          hi = hi.cwiseMax(corner);
-        }
-      }
+      const hb::Bounds b = hb::cli::scene_bounds(scene);
+      lo = b.min, hi = b.max;
+      diagonal = hb::cli::model_diagonal(scene);
     }
+    // The servo's mapping: centred on the scene, at the workspace's scale (the same options).
     hb::WorkspaceMapping mapping = hb::fit_workspace(lo, hi, log.spec);
-    if (opts->units_per_metre > 0) mapping.model_units_per_metre = opts->units_per_metre;
+    mapping.model_units_per_metre = float(1.0 / opts->workspace.workspace(diagonal).metres_per_unit);
     const std::size_t n = hb::cli::write_trajectory_vtp(log, mapping, opts->log, opts->out);
     const double seconds = log.records.empty() ? 0.0 : log.records.back().time_s - log.records.front().time_s;
     std::cout << "trajectory " << opts->out << ": " << hb::count_text(double(n)) << " points over "

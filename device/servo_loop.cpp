@@ -319,6 +319,11 @@ void ServoLoop::run() noexcept {
       else if (other.contact) ++sh.shadow_only;
       else ++sh.neither;
       if (contact.contact || other.contact) {
+        ++sh.contact_ticks;
+        const PerceivedDifference felt =
+            options_.shadow_is_reference ? perceive(other, contact, options_.perceptual, device_.spec().max_force_n)
+                                         : perceive(contact, other, options_.perceptual, device_.spec().max_force_n);
+        sh.perceptible += felt.perceptible() ? 1 : 0;
         const float diff = (contact.force - other.force).norm();
         // (clamped: past 1e5 N it only counts as the overflow bin, and llround stays defined)
         if (std::isfinite(diff)) force_diff_hist_.add(std::llround(std::min(double(diff), 1e5) * 1e4));

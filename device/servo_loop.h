@@ -9,6 +9,7 @@
 #include "device/timing_histogram.h"
 #include "contact/contact.h"
 #include "contact/god_object.h"
+#include "contact/perceptible.h"
 #include <atomic>
 #include <optional>
 #include <string>
@@ -66,6 +67,11 @@ struct ServoOptions {
   /// guard and the safety filter. The stiffness limit is the penalty law's (the proxy falls
   /// back to the penalty answer when it finds no constraint).
   ContactLaw contact_law = ContactLaw::penalty;
+  /// With a shadow (set_shadow): what a hand tells apart (ShadowReport::perceptible), and which
+  /// answer is the reference the JND is taken of (true: the shadow, e.g. exact beside a box
+  /// that drives; false: the driving answer).
+  PerceptualThresholds perceptual;
+  bool shadow_is_reference = true;
   GodObjectOptions proxy;           ///< with ContactLaw::proxy (clearance > 0, max_queries >= 1).
 };
 
@@ -117,6 +123,10 @@ struct ShadowReport {
   double force_diff_mean_n = 0, force_diff_p50_n = 0, force_diff_p99_n = 0, force_diff_max_n = 0;
   /// Angle between the two forces, degrees, over the ticks where both have a contact (0.01 degree bins).
   double angle_p50_deg = 0, angle_p99_deg = 0, angle_max_deg = 0;
+  /// Ticks whose two answers a hand would tell apart (hb::perceive at the loop's thresholds,
+  /// the reference answer's force as the JND's base, forces clamped to the device's maximum),
+  /// over the ticks where either has a contact (`contact_ticks`).
+  std::uint64_t perceptible = 0, contact_ticks = 0;
 };
 
 /// What a run measured; complete after stop().

@@ -1,4 +1,5 @@
 #include "ReadoutPanel.h"
+#include "contact/perceptible.h"
 #include "HapticSession.h"
 #include <QFontDatabase>
 #include <QFormLayout>
@@ -19,13 +20,17 @@ QLabel* value() {
 
 ReadoutPanel::ReadoutPanel(QWidget* parent)
     : QWidget(parent), depth_(value()), exact_(value()), approx_(value()), error_(value()), angle_(value()),
-      query_(value()), device_(value()) {
+      query_(value()), device_(value()), felt_(value()) {
   auto* form = new QFormLayout(this);
   exact_->setStyleSheet(QStringLiteral("color: #26bf40;"));
   approx_->setStyleSheet(QStringLiteral("color: #ff7300;"));
   form->addRow(tr("Depth"), depth_);
   form->addRow(tr("|F| exact"), exact_);
   form->addRow(tr("|F| haptic box"), approx_);
+  form->addRow(tr("You would feel it"), felt_);
+  felt_->setToolTip(tr("Whether a hand could tell the box's force from exact's (hapticbox eval's perceptible "
+                       "difference): beyond max(10 % |F|, 0.04 N), 25 deg between firm forces, or a contact on one "
+                       "side only above 0.04 N; forces at the model's workspace scale"));
   form->addRow(tr("Relative error"), error_);
   form->addRow(tr("Angle"), angle_);
   form->addRow(tr("Query time"), query_);
@@ -36,7 +41,7 @@ void ReadoutPanel::setReading(const ProbeReading& r) {
   if (!r.placed) {
     depth_->setText(modelOpen_ ? tr("drag on the model to place the probe")
                                : tr("no model open: File > Open (or drop a file here)"));
-    for (QLabel* l : {exact_, approx_, error_, angle_, query_}) l->setText(QStringLiteral("-"));
+    for (QLabel* l : {exact_, approx_, error_, angle_, query_, felt_}) l->setText(QStringLiteral("-"));
   } else {
     depth_->setText(r.exact.contact || r.approx.contact
                         ? tr("%1 exact, %2 box (model units)").arg(r.exact.depth, 0, 'g', 4).arg(r.approx.depth, 0, 'g', 4)
@@ -46,6 +51,16 @@ void ReadoutPanel::setReading(const ProbeReading& r) {
                      : r.approx.contact ? tr("%1 N").arg(r.approx.force.norm(), 0, 'f', 4)
                                         : tr("no contact"));
     const bool both = r.exact.contact && r.approx.contact;
+    if (!r.haveBoxes || !(r.exact.contact || r.approx.contact)) {
+      felt_->setText(QStringLiteral("-"));
+    } else {
+      const hb::PerceivedDifference p = hb::perceive(r.exact, r.approx, hb::PerceptualThresholds{}, r.maxForceN);
+      const QString against = tr("%1 N against %2 N")
+                                  .arg(QString::fromStdString(hb::sig(p.magnitude_difference_n)))
+                                  .arg(QString::fromStdString(hb::sig(p.magnitude_threshold_n)));
+      felt_->setText(p.perceptible() ? tr("yes (%1): %2").arg(QString::fromStdString(hb::perceived_by_name(p.by)), against)
+                                     : tr("no: %1").arg(against));
+    }
     error_->setText(both ? tr("%1 %").arg(100.0 * r.relativeError, 0, 'f', 2)
                          : (r.exact.contact != r.approx.contact && r.haveBoxes ? tr("contacts disagree") : tr("-")));
     angle_->setText(both ? tr("%1 deg").arg(r.angleDeg, 0, 'f', 2) : tr("-"));
@@ -73,5 +88,6 @@ QString ReadoutPanel::rowText(const QString& key) const {
   if (key == QLatin1String("angle")) return angle_->text();
   if (key == QLatin1String("query")) return query_->text();
   if (key == QLatin1String("device")) return device_->text();
+  if (key == QLatin1String("felt")) return felt_->text();
   return {};
 }

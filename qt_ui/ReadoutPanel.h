@@ -13,7 +13,7 @@ public:
   void setReading(const ProbeReading& r);
   /// Whether a model is open (the hint without a probe then says how to open one).
   void setModelOpen(bool open);
-  /// The text of a row (tests): "depth", "exact", "approx", "error", "angle", "query", "device".
+  /// The text of a row (tests): "depth", "exact", "approx", "error", "angle", "query", "device", "felt".
   QString rowText(const QString& key) const;
 
 private:
@@ -24,5 +24,6 @@ private:
   QLabel* angle_;
   QLabel* query_;
   QLabel* device_;
+  QLabel* felt_;  ///< whether a hand would feel the box-vs-exact difference (hb::perceive)
   bool modelOpen_ = false;
 };

@@ -27,6 +27,7 @@ struct ProbeReading {
   double approxQueryNs = 0.0;     ///< the servo thread's last box query.
   double relativeError = 0.0;     ///< |F1 - F0| / |F0| when both are in contact.
   double angleDeg = 0.0;          ///< angle between the normals when both are in contact.
+  double maxForceN = 8.0;         ///< the device's force limit (forces are felt clamped to it).
   bool deviceRunning = false;
   QString deviceName;
   double rateHz = 0.0;            ///< measured over the last window (~0.5 s).

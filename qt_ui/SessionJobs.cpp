@@ -205,7 +205,7 @@ bool SessionJobs::startReport(const QString& dir, const QString& errorFieldImage
   request.box_path = QFile::encodeName(model_->boxPath()).toStdString();
   request.bake_seconds = model_->bakeSeconds();  // 0 for boxes loaded from a file or the cache
   request.options.samples = samples;
-  request.options.law = model_->law();
+  // The workspace follows from the mesh's diagonal (the default fit, as model_->law()).
   request.options.cache_dir = bake_.useCache ? cache_.dir() : std::string();
   request.product_version = HB_VERSION;
   request.command_line = "hapticbox-gui: File > Export Report";

@@ -100,6 +100,8 @@ bool SessionModel::openMesh(const QString& path, QString* error, OpenTiming* tim
     meshHash_ = hash;
     meshPath_ = QFileInfo(path).absoluteFilePath();
     diagonal_ = mesh_->bounds().diagonal();
+    workspace_ = hb::make_workspace(diagonal_);
+    law_ = workspace_.law();
     warnings_.clear();
     for (const auto& w : model.report.warnings) warnings_ << QString::fromStdString(w);
     surface_ = vtkSmartPointer<vtkPolyData>::New();

@@ -4,6 +4,7 @@
 // the pipeline downstream of the reader (SessionPipeline: decomposition, bake, error field),
 // the surface the views draw, the exact and VTK references, the boxes in use and their error
 // field. It runs nothing long and holds no widget: the jobs fill it, the device reads it.
+#include "contact/workspace.h"
 #include "evaluation/error_field.h"
 #include "exact/exact_query.h"
 #include "haptic_box/box_scene.h"
@@ -57,8 +58,11 @@ public:
   vtkPolyData* outlines() const { return outlines_; }
   /// File filter of every format the reader takes (hb::vtk::model_file_patterns).
   static QString meshFileFilter();
-  /// The force law of the session (probe, servo, error field, report, sweep).
+  /// The force law of the session (probe, servo, error field, report, sweep): the workspace's
+  /// (the model fitted to the device, k 1500 N/m), the same newtons as `hapticbox eval`.
   const hb::ForceLaw& law() const { return law_; }
+  /// The scale of every force the window shows (set when a model opens).
+  const hb::Workspace& workspace() const { return workspace_; }
 
   /// The reference methods over the mesh (exact Embree, VTK's cell locator, with their memory
   /// and build times, as the command line measures them), built beside the window's own setup.
@@ -118,6 +122,7 @@ private:
   std::uint64_t meshHash_ = 0;
   float diagonal_ = 0.f;
   hb::ForceLaw law_;
+  hb::Workspace workspace_;
   References references_;
   std::unique_ptr<SessionPipeline> pipeline_;
   vtkSmartPointer<vtkPolyData> surface_;

@@ -120,9 +120,11 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
 
   // 1. Accuracy on eval's probes.
   const std::vector<Segment> probes = sample_probes(mesh, options.samples, options.probes);
+  d.workspace = make_workspace(d.diagonal, options.workspace);
+  const ForceLaw law = d.workspace.law();
   Communicator& comm = communicator_or_serial(options.communicator);
   d.ranks = comm.size();
-  d.stats = compare_queries(scene, exact, probes, options.law, d.diagonal, &d.records, &comm);
+  d.stats = compare_queries(scene, exact, probes, law, d.diagonal, &d.records, &comm, nullptr, options.judge);
   d.worst = worst_probes(d.records, d.diagonal);
   report_progress(options.progress, 0.05);
 
@@ -132,7 +134,8 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   so.samples = options.samples;
   so.timing_rounds = options.timing_rounds;
   so.probes = options.probes;
-  so.law = options.law;
+  so.law = law;
+  so.judge = options.judge;
   so.cache_dir = options.cache_dir;
   so.progress = sub_range(options.progress, 0.05, 0.85);
   if (!pieces.empty()) {
@@ -142,7 +145,7 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   so.communicator = &comm;
   d.rows = run_sweep(mesh, scene.source(), references, so);
   // Timing and the compression curve are rank 0's: only its ReportData is written.
-  if (comm.is_root()) d.box_ns = median_query_ns(scene, probes, options.law, options.timing_rounds);
+  if (comm.is_root()) d.box_ns = median_query_ns(scene, probes, law, options.timing_rounds);
   SweepRow own;
   own.method = "haptic_box";
   own.m = d.params.m;
@@ -162,12 +165,14 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   own.contact_agreement = d.stats.contact_agreement;
   own.angle_error_median_deg = d.stats.angle_error_median_deg;
   own.angle_error_p99_deg = d.stats.angle_error_p99_deg;
+  own.perceptible_share = d.stats.perceptible_share;
   own.within_budget = meets_budget(d.stats, so.budget);
   d.rows.push_back(own);
   mark_pareto_front(d.rows);
   report_progress(options.progress, 0.9);
 
   const ReportTolerances& tol = options.tolerances;
+  d.pass_perceptible = d.stats.perceptible_share <= tol.perceptible;
   d.pass_median = d.stats.force_error_median <= tol.force_error_median;
   d.pass_p95 = d.stats.force_error_p95 <= tol.force_error_p95;
   d.pass_agreement = d.stats.contact_agreement >= tol.contact_agreement;
@@ -178,7 +183,8 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
     co.codecs = {parse_codec(options.compression_codec)};
     co.probes = probes;
     co.exact = &exact;
-    co.law = options.law;
+    co.law = law;
+    co.judge = options.judge;
     for (const CompressionSweepPoint& p : compression_sweep(scene, co))
       if (p.codec != CodecId::none) d.compression_curve.emplace_back(p.ratio, p.force_error_vs_raw_median);
   }
@@ -191,7 +197,9 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
     fo.length_fraction = options.probes.length_fraction;
     fo.max_depth_fraction = options.probes.max_depth_fraction;
     fo.seed = options.probes.seed;
-    fo.law = options.law;
+    fo.law = law;
+    fo.thresholds = options.judge.thresholds;
+    fo.max_force_n = options.judge.max_force_n;
     fo.progress = sub_range(options.progress, 0.9, 1.0);
     fo.communicator = &comm;
     d.error_field = compute_error_field(scene, exact, surface_points_at_vertices(mesh), d.diagonal, fo);
@@ -231,8 +239,12 @@ std::string report_json(const ReportData& d) {
                      {"cone_degrees", o.probes.cone_degrees},
                      {"length_fraction", o.probes.length_fraction},
                      {"max_depth_fraction", o.probes.max_depth_fraction},
-                     {"stiffness_n_per_m", o.law.stiffness_n_per_m},
-                     {"metres_per_unit", o.law.metres_per_unit},
+                     {"stiffness_n_per_m", d.workspace.stiffness_n_per_m},
+                     {"metres_per_unit", d.workspace.metres_per_unit},
+                     {"workspace", {{"fit", d.workspace.fit_name()},
+                                    {"diagonal_mm", d.workspace.diagonal_m() * 1000.0},
+                                    {"max_force_n", d.workspace.max_force_n},
+                                    {"text", d.workspace.describe()}}},
                      {"timing_rounds", o.timing_rounds},
                      {"error_field_probes_per_vertex", o.error_field_probes_per_vertex},
                      {"compression_codec", o.compression_codec},
@@ -242,6 +254,7 @@ std::string report_json(const ReportData& d) {
   // The keys of `hapticbox eval --json`, with the same values for the same input and seed.
   j["eval"] = eval_json(s, d.box_path, d.mesh_path, o.probes.seed, d.route);
   j["eval"]["ranks"] = d.ranks;  // as `eval --json` states it
+  j["eval"]["workspace"] = workspace_json(d.workspace, o.judge);
   j["ranks"] = d.ranks;
   nlohmann::json timing = {{"box_ns", d.box_ns}};
   for (const SweepRow& r : d.rows)
@@ -253,7 +266,9 @@ std::string report_json(const ReportData& d) {
     timing["verdict_text"] = "the box is " + speed_verdict(d.box_ns, exact_ns) + " (same probes, one at a time, one core)";
   }
   j["timing"] = timing;
-  j["tolerances"] = {{"force_error_median", o.tolerances.force_error_median},
+  j["tolerances"] = {{"perceptible", o.tolerances.perceptible},
+                     {"pass_perceptible", d.pass_perceptible},
+                     {"force_error_median", o.tolerances.force_error_median},
                      {"force_error_p95", o.tolerances.force_error_p95},
                      {"contact_agreement", o.tolerances.contact_agreement},
                      {"pass_force_error_median", d.pass_median},
@@ -302,6 +317,9 @@ void write_report(const ReportData& d, const std::string& dir_name) {
   charts.speed = (dir / "charts" / "speed_accuracy.svg").string();
   charts.histogram = (dir / "charts" / "force_error_histogram.svg").string();
   plot_speed_accuracy(d.rows, charts.speed);
+  charts.difference = (dir / "charts" / "force_difference_histogram.svg").string();
+  plot_force_difference_histogram(d.stats.force_differences_n, d.stats.thresholds, d.stats.exact_force_median_n,
+                                  charts.difference);
   plot_force_error_histogram(d.stats.force_errors, charts.histogram);
   if (!d.compression_curve.empty()) {
     charts.compression = (dir / "charts" / "compression_curve.svg").string();

@@ -114,20 +114,22 @@ std::string row_label(const SweepRow& r) {
 
 void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& png_path) {
   {
-    // Two panels on one time axis: the median force error (top) and the contact agreement
-    // (bottom), so a fast configuration that loses contacts is seen to.
+    // Two panels on one time axis: the share of probes a hand would tell apart from exact
+    // (top, the headline, with the default budget's line) and the contact agreement (bottom),
+    // so a fast configuration that loses contacts is seen to.
     auto pls = open_png(png_path, 900, 860);
     double xmin = 1e300, xmax = 0, ymax = 0, amin = 100;
     for (const SweepRow& r : rows) {
       const double x = std::max(r.query_ns, 1.0);
       xmin = std::min(xmin, x);
       xmax = std::max(xmax, x);
-      ymax = std::max(ymax, 100.0 * r.force_error_median);
+      ymax = std::max(ymax, 100.0 * r.perceptible_share);
       amin = std::min(amin, 100.0 * r.contact_agreement);
     }
     if (rows.empty()) xmin = 1, xmax = 10;
     const double lx0 = std::floor(std::log10(xmin) - 0.05), lx1 = std::ceil(std::log10(xmax) + 0.05);
-    ymax = ymax > 0 ? ymax * 1.15 : 1.0;
+    const double budget_felt = 100.0 * ErrorBudget{}.perceptible;  // the default budget's
+    ymax = std::max(ymax, 10.0 * budget_felt) * 1.15;
     // Room above 100% for the labels of the exact answers there.
     const double a0 = std::max(0.0, std::floor(amin / 10.0) * 10.0 - 5.0), a1 = 100.0 + 0.14 * (100.0 - a0);
     const double budget_agreement = 100.0 * ErrorBudget{}.agreement;  // the default budget's
@@ -147,14 +149,28 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
       pls->wind(lx0, lx1, y0, y1);
       pls->box("bcgnstl", 0.0, 0, "bcgnstv", 0.0, 0);
       if (top)
-        pls->lab("", "median force error, %", "Speed against accuracy (same probes for every method)");
+        pls->lab("", "perceptibly different probes, %", "Speed against what a hand feels (same probes for every method)");
       else
         pls->lab("query time, ns (one core, log scale)", "contact agreement, %", "");
       const auto value = [&](const SweepRow& r) {
-        return top ? 100.0 * r.force_error_median : 100.0 * r.contact_agreement;
+        return top ? 100.0 * r.perceptible_share : 100.0 * r.contact_agreement;
       };
       LabelPlacer labels(lx0, lx1, y0, y1);
-      if (!top) {
+      if (top) {
+        // The default budget's perceptible share, its words at the right end over the line.
+        const PLFLT bx[2] = {lx0, lx1}, by[2] = {budget_felt, budget_felt};
+        pls->col0(kGreen);
+        pls->lsty(2);
+        pls->line(2, bx, by);
+        pls->lsty(1);
+        pls->schr(0, 0.6);
+        char budget[96];
+        std::snprintf(budget, sizeof budget, "default budget: at most %g%% perceptibly different", budget_felt);
+        const double right = lx1 - 0.01 * (lx1 - lx0), above = budget_felt + 0.03 * (y1 - y0);
+        pls->ptex(right, above, 1.0, 0.0, 1.0, budget);
+        labels.reserve(right - LabelPlacer::kCharWidth * (lx1 - lx0) * double(std::strlen(budget)), right, budget_felt,
+                       above + 0.03 * (y1 - y0));
+      } else {
         // The default budget's agreement, its words at the right end under the line.
         const PLFLT bx[2] = {lx0, lx1}, by[2] = {budget_agreement, budget_agreement};
         pls->col0(kGreen);
@@ -266,6 +282,50 @@ void plot_force_error_histogram(const std::vector<double>& errors, const std::st
       pls->col0(kBlack);
       pls->mtex("t", 1.1, 1.0, 1.0, text.c_str());
     }
+  }
+  check_written(png_path);
+}
+
+void plot_force_difference_histogram(const std::vector<double>& differences_n, const PerceptualThresholds& t,
+                                     double exact_median_n, const std::string& png_path, int bins) {
+  {
+    auto pls = open_png(png_path);
+    // The axis reaches past the threshold, so "nothing a hand feels" reads as bars left of it.
+    const double p99 = differences_n.empty() ? 0.0 : quantile(differences_n, 0.99);
+    const double hi = std::max({1.5 * t.floor_n, p99, 1e-9});
+    bins = std::max(bins, 2);
+    std::vector<PLFLT> y(static_cast<std::size_t>(bins), 0.0);
+    const double w = hi / bins;
+    for (double v : differences_n) y[std::size_t(std::clamp(int(v / w), 0, bins - 1))] += 1.0;  // overflow in the last bin
+    double ymax = 1.0;
+    for (PLFLT c : y) ymax = std::max(ymax, c);
+    pls->schr(0, 0.85);
+    pls->env(0.0, hi, 0.0, ymax * 1.1, 0, 0);
+    pls->lab("| |F box| - |F exact| |, N (last bin: >= the axis end)", "probes",
+             "Force difference a hand would feel? (probes with a contact on either side)");
+    pls->col0(kBlue);
+    for (int b = 0; b < bins; ++b) {
+      const PLFLT bx[4] = {b * w, b * w, (b + 1) * w, (b + 1) * w};
+      const PLFLT by[4] = {0.0, y[std::size_t(b)], y[std::size_t(b)], 0.0};
+      pls->fill(4, bx, by);
+    }
+    // The absolute threshold F0 and the JND at exact's median force (w |F|).
+    const double jnd = t.weber * exact_median_n;
+    for (auto [v, c] : {std::pair<double, int>{t.floor_n, kRed}, {jnd, kOrange}}) {
+      if (!(v > 0.0) || v > hi) continue;
+      const PLFLT lx[2] = {v, v}, ly[2] = {0.0, ymax * 1.05};
+      pls->col0(c);
+      pls->lsty(c == kOrange ? 2 : 1);
+      pls->line(2, lx, ly);
+      pls->lsty(1);
+    }
+    const std::string text = "felt beyond max(" + sig(100.0 * t.weber) + " % |F|, " + sig(t.floor_n) + " N): " +
+                             sig(t.floor_n) + " N (red), " + sig(100.0 * t.weber) + " % of exact's median " +
+                             sig(exact_median_n) + " N (orange); " + count_text(double(differences_n.size())) +
+                             " probes";
+    pls->col0(kBlack);
+    pls->schr(0, 0.7);
+    pls->mtex("t", 1.1, 1.0, 1.0, text.c_str());
   }
   check_written(png_path);
 }

@@ -1,6 +1,7 @@
 #pragma once
 // The report's charts, drawn with PLplot's cairo drivers (a path ending .svg: SVG, otherwise
 // PNG): no display needed.
+#include "contact/perceptible.h"
 #include "evaluation/sweep.h"
 #include <string>
 #include <utility>
@@ -47,6 +48,11 @@ private:
 void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& png_path);
 
 /// Histogram of relative force errors (fractions; shown in %), `bins` bins over [0, p99].
+/// Histogram of | |F_box| - |F_exact| | in newtons over the probes with a contact on either
+/// side, with the perceptual thresholds drawn (F0, and w times exact's median force).
+void plot_force_difference_histogram(const std::vector<double>& differences_n, const PerceptualThresholds& t,
+                                     double exact_median_n, const std::string& png_path, int bins = 40);
+
 void plot_force_error_histogram(const std::vector<double>& errors, const std::string& png_path, int bins = 40);
 
 /// Compression curve: (compression rate, median relative force error against the raw

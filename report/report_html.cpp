@@ -5,6 +5,7 @@
 #include "mesh/file_hash.h"
 #include "errors.h"
 #include "figure_text.h"
+#include "perceptible_text.h"
 #include "stability_section.h"
 #include "summary_text.h"
 #include <cstdio>
@@ -112,9 +113,12 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
   h << ".</p>\n";
   // 2. The verdicts, side by side.
   h << "<table class=verdicts><tr><th class=l>accuracy against the exact answer</th><td class=l>"
-    << (d.pass() ? "<span class=pass>within tolerances</span>" : "<span class=fail>outside tolerances</span>")
-    << " (median force error " << percent(s.force_error_median) << ", p95 " << percent(s.force_error_p95)
-    << ", contact agreement " << agreement_percent(s.contact_agreement) << ")</td></tr>\n"
+    << (d.pass() ? "<span class=pass>no one could feel the difference</span>"
+                 : "<span class=fail>a hand would feel the difference</span>")
+    << ": " << html_escape(perceptible_headline(s)) << " (budget " << percent(d.options.tolerances.perceptible)
+    << "; threshold " << html_escape(thresholds_text(s.thresholds)) << "); secondary: median force error "
+    << percent(s.force_error_median) << ", p95 " << percent(s.force_error_p95) << ", contact agreement "
+    << agreement_percent(s.contact_agreement) << "</td></tr>\n"
     << "<tr><th class=l>speed against exact Embree</th><td class=l><span class=" << (faster ? "pass" : "slow")
     << ">the box is " << html_escape(speed) << "</span> (" << ns_text(d.box_ns) << " against " << ns_text(exact_ns)
     << " a query; same probes, one at a time, one core)</td></tr></table>\n";
@@ -122,7 +126,7 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
     << d.options.probes.seed << "; tips on the surface, within " << sig(d.options.probes.cone_degrees)
     << " deg of the inward normal), each answered by the haptic box and by the exact reference on the same "
        "segment with the same contact rule and force law ("
-    << sig(d.options.law.stiffness_n_per_m) << " N/m, " << sig(d.options.law.metres_per_unit) << " m per model unit).</p>\n";
+    << html_escape(d.workspace.describe()) << ").</p>\n";
   h << "<h2>Summary</h2>\n<table>\n";
   auto tr = [&h](const std::string& k, const std::string& v) { h << "<tr><th class=l>" << k << "</th><td class=l>" << v << "</td></tr>\n"; };
   tr("model", html_escape(fs::path(d.mesh_path).filename().string()));
@@ -202,6 +206,7 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
   h << "</table>\n<p class=note>Pareto front: no other row is both faster and more accurate (median force "
        "error). Memory of the references counts the mesh arrays and the locator's index, not Embree's BVH.</p>\n";
   h << "<h2>Force error distribution</h2>\n";
+  if (!charts.difference.empty()) h << image(charts.difference, "force difference histogram") << "\n";
   if (!charts.histogram.empty()) h << image(charts.histogram, "force error histogram") << "\n";
   if (!d.compression_curve.empty() && !charts.compression.empty())
     h << "<h2>Compression (" << html_escape(d.options.compression_codec) << ")</h2>\n"

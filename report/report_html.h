@@ -8,7 +8,7 @@ namespace hb {
 
 /// The chart files write_report drew (empty path: none).
 struct ChartFiles {
-  std::string speed, histogram, compression;  ///< SVG files
+  std::string speed, difference, histogram, compression;  ///< SVG files
   std::string stability_dir;                  ///< where the stability section draws its charts
 };
 

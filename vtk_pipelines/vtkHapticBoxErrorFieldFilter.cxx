@@ -93,6 +93,8 @@ int vtkHapticBoxErrorFieldFilter::RequestData(vtkInformation*, vtkInformationVec
     options.seed = this->Seed;
     options.law.stiffness_n_per_m = float(this->Stiffness);
     options.law.metres_per_unit = float(this->MetresPerUnit);
+    options.thresholds = this->Thresholds;
+    options.max_force_n = this->MaxForce;
     options.progress = vtkHapticBoxUtilities::MakeProgressCallback(this, 0.05, 0.95);
     options.communicator = this->Communicator;
     this->Field = std::make_unique<hb::ErrorField>(
@@ -135,8 +137,11 @@ int vtkHapticBoxErrorFieldFilter::RequestData(vtkInformation*, vtkInformationVec
     add(vtkHapticBoxUtilities::ToScalarArray("DirectionError", field.direction_error), "degrees (NaN: no data)");
     add(vtkHapticBoxUtilities::ToScalarArray("ContactDisagreement", field.contact_disagreement), "fraction of probes");
     add(vtkHapticBoxUtilities::ToScalarArray("ExactContactFraction", field.exact_contact_fraction), "fraction of probes");
-    // The first array ParaView colours by: defined everywhere, in newtons.
-    pd->SetActiveScalars("AbsoluteForceError");
+    add(vtkHapticBoxUtilities::ToScalarArray("PerceptibleRatio", field.perceptible_ratio),
+        "difference over its perceptual threshold (> 1: a hand would feel it)");
+    add(vtkHapticBoxUtilities::ToScalarArray("PerceptibleFraction", field.perceptible_fraction), "fraction of probes");
+    // The first array ParaView colours by: defined everywhere, anchored at what a hand feels.
+    pd->SetActiveScalars("PerceptibleRatio");
     // Which box each triangle belongs to, when the scene is cut into pieces.
     const std::vector<std::uint32_t>& pieces = boxes->GetScene()->piece_of_triangle();
     if (this->SampleMode == VERTICES && !pieces.empty() && pieces.size() == mesh.triangle_count()) {
@@ -175,6 +180,12 @@ int vtkHapticBoxErrorFieldFilter::RequestData(vtkInformation*, vtkInformationVec
                  {"Seed", double(this->Seed)},
                  {"Stiffness_N_per_m", this->Stiffness},
                  {"MetresPerUnit", this->MetresPerUnit},
+                 {"MaxForce_N", this->MaxForce},
+                 {"WorkspaceDiagonal_mm", double(diagonal) * this->MetresPerUnit * 1000.0},
+                 {"PerceptibleWeber", this->Thresholds.weber},
+                 {"PerceptibleFloor_N", this->Thresholds.floor_n},
+                 {"PerceptibleAngle_deg", this->Thresholds.angle_deg},
+                 {"PerceptibleAngleMinForce_N", this->Thresholds.angle_min_force_n},
                  {"ConeAngle_deg", this->ConeAngle},
                  {"LengthFraction", this->LengthFraction},
                  {"MaxDepthFraction", this->MaxDepthFraction}};

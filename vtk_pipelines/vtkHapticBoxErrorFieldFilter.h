@@ -6,13 +6,16 @@
  * Input 1: the boxes (vtkHapticBoxSet, e.g. from vtkHapticBoxBakeFilter output 0).
  * Output: the sample points with point arrays (a thin adapter over hb::compute_error_field):
  *  - "ExactForce", "ApproxForce" (3 components, N): mean forces over the point's probes;
- *  - "AbsoluteForceError" (N, the active scalars): mean |F1 - F0| over all the point's probes
+ *  - "AbsoluteForceError" (N): mean |F1 - F0| over all the point's probes
  *    (zero force out of contact), defined everywhere;
  *  - "RelativeForceError": mean |F1 - F0| / |F0| over the probes both answers call a contact
  *    (NaN where none does: no data, not zero error);
  *  - "DirectionError": mean angle between the normals, degrees (NaN likewise);
  *  - "ContactDisagreement": fraction of the point's probes whose contact flags differ;
  *  - "ExactContactFraction": fraction of probes in exact contact;
+ *  - "PerceptibleRatio": the largest box-vs-exact difference over its perceptual threshold
+ *    among the point's probes (hb::perceive; above 1 a hand would feel it; the active scalars);
+ *  - "PerceptibleFraction": fraction of the point's probes whose difference is perceptible;
  *  - "Normals".
  * SampleMode Vertices (default): the output is the triangulated input surface, one value per
  * vertex, plus the cell array "PieceId" (the box of each triangle) for a scene cut into
@@ -28,6 +31,7 @@
 #ifndef vtkHapticBoxErrorFieldFilter_h
 #define vtkHapticBoxErrorFieldFilter_h
 
+#include "contact/perceptible.h"
 #include <vtkPolyDataAlgorithm.h>
 #include <cstdint>
 #include <memory>
@@ -94,11 +98,22 @@ public:
   ///@}
 
   ///@{
-  /// Force law: stiffness in N/m (default 500) and model units to metres (default 0.001).
+  /// Force law: stiffness in N/m and model units to metres (defaults: hb::ForceLaw's, 500 N/m
+  /// and 0.001); the front ends set their model's workspace (hb::Workspace::law).
   vtkSetClampMacro(Stiffness, double, 1e-12, VTK_DOUBLE_MAX);
   vtkGetMacro(Stiffness, double);
   vtkSetClampMacro(MetresPerUnit, double, 1e-12, VTK_DOUBLE_MAX);
   vtkGetMacro(MetresPerUnit, double);
+  /// Largest force the device renders, N (forces are judged clamped to it; default 8).
+  vtkSetClampMacro(MaxForce, double, 1e-6, VTK_DOUBLE_MAX);
+  vtkGetMacro(MaxForce, double);
+  /// What a hand tells apart (hb::perceive): the PerceptibleRatio and PerceptibleFraction
+  /// arrays judge against these (default: nominal).
+  void SetPerceptualThresholds(const hb::PerceptualThresholds& t) {
+    this->Thresholds = t;
+    this->Modified();
+  }
+  const hb::PerceptualThresholds& GetPerceptualThresholds() const { return this->Thresholds; }
   ///@}
 
   ///@{
@@ -139,6 +154,8 @@ protected:
   vtkTypeUInt64 Seed = 1;
   double Stiffness = 500.0;
   double MetresPerUnit = 0.001;
+  double MaxForce = 8.0;
+  hb::PerceptualThresholds Thresholds;
   hb::Communicator* Communicator = nullptr;
   std::shared_ptr<const hb::ExactQuery> Exact;
   bool BuiltExact = false;

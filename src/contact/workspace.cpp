@@ -44,15 +44,14 @@ std::string Workspace::describe() const {
          "), k " + spec_format(stiffness_n_per_m) + " N/m, forces up to " + spec_format(max_force_n) + " N";
 }
 
-Workspace make_workspace(const Vec3& lo, const Vec3& hi, const WorkspaceOptions& o) {
+Workspace make_workspace(double model_diagonal, const WorkspaceOptions& o) {
   check_range(o.stiffness_n_per_m, 0.0, 1e5, "stiffness", "N/m");
   check_range(o.max_force_n, 0.0, 500.0, "maximum force", "N");
   Workspace w;
   w.fit = o.fit;
   w.stiffness_n_per_m = o.stiffness_n_per_m;
   w.max_force_n = o.max_force_n;
-  const Vec3 d = hi - lo;
-  w.model_diagonal = (lo.allFinite() && hi.allFinite() && (d.array() >= 0.f).all()) ? double(d.norm()) : 0.0;
+  w.model_diagonal = std::isfinite(model_diagonal) && model_diagonal > 0 ? model_diagonal : 0.0;
   switch (o.fit) {
     case WorkspaceFit::device:
       check_range(o.diagonal_m, 1e-3 - 1e-12, 4.0, "workspace diagonal", "m");

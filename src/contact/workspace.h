@@ -60,10 +60,11 @@ struct Workspace {
   const char* fit_name() const noexcept;
 };
 
-/// The workspace of a model whose bounding box is [lo, hi] (model units) under `options`.
-/// Throws hb::InvalidInput naming the value when an option is out of range (diagonal in
-/// [1 mm, 4 m], stiffness in (0, 1e5] N/m, force in (0, 500] N, scale > 0) or the model is
-/// empty or degenerate under WorkspaceFit::device.
-Workspace make_workspace(const Vec3& lo, const Vec3& hi, const WorkspaceOptions& options = {});
+/// The workspace of a model whose bounding-box diagonal is `model_diagonal` (model units; the
+/// mesh's, or SourceInfo::diagonal for a box file) under `options`. Throws hb::InvalidInput
+/// naming the value when an option is out of range (diagonal in [1 mm, 4 m], stiffness in
+/// (0, 1e5] N/m, force in (0, 500] N, scale > 0) or the diagonal is not positive under
+/// WorkspaceFit::device.
+Workspace make_workspace(double model_diagonal, const WorkspaceOptions& options = {});
 
 } // namespace hb

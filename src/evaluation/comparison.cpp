@@ -30,13 +30,27 @@ double quantile(std::vector<double> values, double q) {
   return values[lo] + (values[hi] - values[lo]) * (pos - double(lo));
 }
 
-ComparisonStats summarize(const std::vector<ProbeRecord>& records, float diagonal) {
+ComparisonStats summarize(const std::vector<ProbeRecord>& records, float diagonal, const PerceptualJudge& judge) {
   ComparisonStats s;
   s.samples = records.size();
-  std::vector<double> angles;
+  s.thresholds = judge.thresholds;
+  s.max_force_n = judge.max_force_n;
+  std::vector<double> angles, exact_forces;
   double depth_sq = 0.0;
   std::size_t agree = 0;
   for (const ProbeRecord& r : records) {
+    if (r.exact.contact || r.approx.contact) {
+      const PerceivedDifference p = perceive(r.exact, r.approx, judge.thresholds, judge.max_force_n);
+      s.force_differences_n.push_back(p.magnitude_difference_n);
+      if (r.exact.contact) {
+        const double f = double(r.exact.force.norm());
+        exact_forces.push_back(judge.max_force_n > 0 ? std::min(f, judge.max_force_n) : f);
+      }
+      if (p.perceptible()) ++s.perceptible;
+      if (p.by & kPerceivedMagnitude) ++s.perceptible_magnitude;
+      if (p.by & kPerceivedDirection) ++s.perceptible_direction;
+      if (p.by & kPerceivedContact) ++s.perceptible_contact;
+    }
     if (r.exact.contact) ++s.exact_contacts;
     if (r.exact.contact == r.approx.contact) ++agree;
     if (r.approx.contact && !r.exact.contact) ++s.false_contacts;
@@ -50,6 +64,12 @@ ComparisonStats summarize(const std::vector<ProbeRecord>& records, float diagona
     }
   }
   s.contact_agreement = s.samples ? double(agree) / double(s.samples) : 0.0;
+  s.perceptible_share = s.samples ? double(s.perceptible) / double(s.samples) : 0.0;
+  s.force_difference_median_n = quantile(s.force_differences_n, 0.5);
+  s.force_difference_p95_n = quantile(s.force_differences_n, 0.95);
+  s.force_difference_max_n =
+      s.force_differences_n.empty() ? 0.0 : *std::max_element(s.force_differences_n.begin(), s.force_differences_n.end());
+  s.exact_force_median_n = quantile(exact_forces, 0.5);
   s.force_error_median = quantile(s.force_errors, 0.5);
   s.force_error_p95 = quantile(s.force_errors, 0.95);
   s.force_error_max = s.force_errors.empty() ? 0.0 : *std::max_element(s.force_errors.begin(), s.force_errors.end());
@@ -116,6 +136,13 @@ Bytes pack_stats(const ComparisonStats& s) {
   w.put(s.angle_error_p99_deg);
   w.put(s.depth_rms_over_diag);
   w.put_vector(s.force_errors);
+  for (std::size_t v : {s.perceptible, s.perceptible_magnitude, s.perceptible_direction, s.perceptible_contact})
+    w.put(std::uint64_t(v));
+  for (double v : {s.perceptible_share, s.force_difference_median_n, s.force_difference_p95_n, s.force_difference_max_n,
+                   s.exact_force_median_n, s.thresholds.weber, s.thresholds.floor_n, s.thresholds.angle_deg,
+                   s.thresholds.angle_min_force_n, s.max_force_n})
+    w.put(v);
+  w.put_vector(s.force_differences_n);
   return std::move(w.bytes());
 }
 ComparisonStats unpack_stats(const Bytes& b) {
@@ -134,6 +161,13 @@ ComparisonStats unpack_stats(const Bytes& b) {
   s.angle_error_p99_deg = r.get<double>();
   s.depth_rms_over_diag = r.get<double>();
   s.force_errors = r.get_vector<double>();
+  for (std::size_t* v : {&s.perceptible, &s.perceptible_magnitude, &s.perceptible_direction, &s.perceptible_contact})
+    *v = std::size_t(r.get<std::uint64_t>());
+  for (double* v : {&s.perceptible_share, &s.force_difference_median_n, &s.force_difference_p95_n,
+                    &s.force_difference_max_n, &s.exact_force_median_n, &s.thresholds.weber, &s.thresholds.floor_n,
+                    &s.thresholds.angle_deg, &s.thresholds.angle_min_force_n, &s.max_force_n})
+    *v = r.get<double>();
+  s.force_differences_n = r.get_vector<double>();
   return s;
 }
 
@@ -142,13 +176,14 @@ ComparisonStats unpack_stats(const Bytes& b) {
 ComparisonStats compare_queries(const ContactQuery& approx, const ContactQuery& exact,
                                 const std::vector<Segment>& probes, const ForceLaw& law,
                                 float diagonal, std::vector<ProbeRecord>* records,
-                                Communicator* communicator, std::vector<RankWork>* work) {
+                                Communicator* communicator, std::vector<RankWork>* work,
+                                const PerceptualJudge& judge) {
   Communicator& comm = communicator_or_serial(communicator);
   const auto start = std::chrono::steady_clock::now();
   std::vector<ProbeRecord> local(probes.size());
   if (comm.size() == 1) {
     answer_range(approx, exact, probes, law, 0, probes.size(), local);
-    ComparisonStats s = summarize(local, diagonal);
+    ComparisonStats s = summarize(local, diagonal, judge);
     if (records) *records = std::move(local);
     if (work)
       *work = {{0, probes.size(), std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0}};
@@ -191,7 +226,7 @@ ComparisonStats compare_queries(const ContactQuery& approx, const ContactQuery& 
         work->push_back(reader.get<RankWork>());
       }
     }
-    ComparisonStats s = summarize(local, diagonal);
+    ComparisonStats s = summarize(local, diagonal, judge);
     summary = pack_stats(s);
   }
   // 3. The statistics on every rank.

@@ -1,6 +1,7 @@
 #pragma once
 // Comparing an approximated answer with the exact one over a set of probes (paper 6.1.2).
 #include "contact/contact.h"
+#include "contact/perceptible.h"
 #include "parallel/communicator.h"
 #include <vector>
 
@@ -29,6 +30,27 @@ struct ComparisonStats {
   double angle_error_p99_deg = 0.0;
   double depth_rms_over_diag = 0.0;     ///< RMS of depth differences over the diagonal.
   std::vector<double> force_errors;     ///< per both-contact probe, in probe order.
+
+  /// The headline figure: probes whose difference a hand would feel (hb::perceive at the
+  /// judge's thresholds, forces as the workspace's law computed them), and by which test
+  /// (a probe may pass several).
+  std::size_t perceptible = 0;
+  double perceptible_share = 0.0;       ///< perceptible / samples.
+  std::size_t perceptible_magnitude = 0, perceptible_direction = 0, perceptible_contact = 0;
+  /// | |F_approx| - |F_exact| | in N over the probes where either answer has contact
+  /// (median, p95, max), and exact's median force there: the scale the thresholds apply to.
+  double force_difference_median_n = 0.0, force_difference_p95_n = 0.0, force_difference_max_n = 0.0;
+  double exact_force_median_n = 0.0;
+  std::vector<double> force_differences_n;  ///< per probe with a contact on either side, in probe order.
+  PerceptualThresholds thresholds;      ///< what the probes were judged against.
+  double max_force_n = 0.0;             ///< forces clamped to this (the device's), 0 for none.
+};
+
+/// How differences are judged: the thresholds and the device's force limit (forces are felt
+/// clamped to it).
+struct PerceptualJudge {
+  PerceptualThresholds thresholds;
+  double max_force_n = 8.0;
 };
 
 /// Relative force error |F1 - F0| / |F0| (0 when both forces are zero).
@@ -47,10 +69,12 @@ double angle_error_degrees(const Contact& exact, const Contact& approx) noexcept
 ComparisonStats compare_queries(const ContactQuery& approx, const ContactQuery& exact,
                                 const std::vector<Segment>& probes, const ForceLaw& law,
                                 float diagonal, std::vector<ProbeRecord>* records = nullptr,
-                                Communicator* communicator = nullptr, std::vector<RankWork>* work = nullptr);
+                                Communicator* communicator = nullptr, std::vector<RankWork>* work = nullptr,
+                                const PerceptualJudge& judge = PerceptualJudge{});
 
 /// Statistics of given records (the same figures as compare_queries).
-ComparisonStats summarize(const std::vector<ProbeRecord>& records, float diagonal);
+ComparisonStats summarize(const std::vector<ProbeRecord>& records, float diagonal,
+                          const PerceptualJudge& judge = PerceptualJudge{});
 
 /// q-quantile (q in [0, 1]) by linear interpolation; 0 for an empty input.
 double quantile(std::vector<double> values, double q);

@@ -14,14 +14,16 @@ void add_query_errors(CompressionSweepPoint& p, const BoxScene& scene, const Box
                       const CompressionSweepOptions& o) {
   if (o.probes.empty()) return;
   const float diag = raw.source().diagonal > 0.f ? raw.source().diagonal : 1.f;
-  const ComparisonStats vs_raw = compare_queries(scene, raw, o.probes, o.law, diag);
+  const ComparisonStats vs_raw = compare_queries(scene, raw, o.probes, o.law, diag, nullptr, nullptr, nullptr, o.judge);
   p.contact_agreement_vs_raw = vs_raw.contact_agreement;
   p.force_error_vs_raw_median = vs_raw.force_error_median;
   p.force_error_vs_raw_p95 = vs_raw.force_error_p95;
+  p.perceptible_vs_raw = vs_raw.perceptible_share;
   if (o.exact) {
-    const ComparisonStats vs_exact = compare_queries(scene, *o.exact, o.probes, o.law, diag);
+    const ComparisonStats vs_exact = compare_queries(scene, *o.exact, o.probes, o.law, diag, nullptr, nullptr, nullptr, o.judge);
     p.contact_agreement = vs_exact.contact_agreement;
     p.force_error_median = vs_exact.force_error_median;
+    p.perceptible_vs_exact = vs_exact.perceptible_share;
   }
 }
 

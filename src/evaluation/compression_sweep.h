@@ -19,7 +19,8 @@ struct CompressionSweepOptions {
   /// compression's own error) and, when `exact` is given, with the exact answer.
   std::vector<Segment> probes;
   const ContactQuery* exact = nullptr;
-  ForceLaw law;
+  ForceLaw law;                 ///< the workspace's (hb::Workspace::law).
+  PerceptualJudge judge;        ///< what a hand tells apart (the perceptible shares below).
   ProgressCallback progress;  ///< fraction of the points done.
 };
 
@@ -34,6 +35,9 @@ struct CompressionSweepPoint {
   double force_error_vs_raw_median = 0, force_error_vs_raw_p95 = 0;  ///< |F1 - Fraw| / |Fraw|.
   double contact_agreement_vs_raw = 1;
   double contact_agreement = 0, force_error_median = 0; ///< against `exact`, when given.
+  /// Share of probes perceptibly different (hb::perceive) from the raw box, and from `exact`
+  /// when given: the paper's Figure 11 in what a hand feels.
+  double perceptible_vs_raw = 0, perceptible_vs_exact = 0;
 };
 
 /// Runs the sweep on a scene with raw tables (the first point of each curve is the raw

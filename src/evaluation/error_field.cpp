@@ -103,6 +103,8 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
   field.direction_error.assign(count, 0.f);
   field.contact_disagreement.assign(count, 0.f);
   field.exact_contact_fraction.assign(count, 0.f);
+  field.perceptible_ratio.assign(count, 0.f);
+  field.perceptible_fraction.assign(count, 0.f);
 
   const float length = options.length_fraction * diagonal;
   const float max_depth = options.max_depth_fraction * diagonal;
@@ -119,7 +121,8 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
     const Vec3 e2 = inward.cross(e1);
     Vec3 fe = Vec3::Zero(), fa = Vec3::Zero();
     double err = 0.0, ang = 0.0, abs_err = 0.0;
-    int both = 0, disagree = 0, exact_in = 0;
+    int both = 0, disagree = 0, exact_in = 0, perceptible = 0;
+    double ratio = 0.0;
     for (int p = 0; p < k; ++p) {
       const float cos_theta = 1.f - rng.uniform() * (1.f - cos_max);
       const float sin_theta = std::sqrt(std::max(0.f, 1.f - cos_theta * cos_theta));
@@ -137,6 +140,9 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
       fe += ce.force;
       fa += ca.force;
       abs_err += double((ca.force - ce.force).norm());
+      const PerceivedDifference felt = perceive(ce, ca, options.thresholds, options.max_force_n);
+      ratio = std::max(ratio, felt.ratio);
+      if (felt.perceptible()) ++perceptible;
       if (ce.contact) ++exact_in;
       if (ce.contact != ca.contact) ++disagree;
       if (ce.contact && ca.contact) {
@@ -152,6 +158,8 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
     field.direction_error[i] = both ? float(ang / both) : nan;
     field.contact_disagreement[i] = float(disagree) / float(k);
     field.exact_contact_fraction[i] = float(exact_in) / float(k);
+    field.perceptible_ratio[i] = float(std::min(ratio, 1e30));
+    field.perceptible_fraction[i] = float(perceptible) / float(k);
   };
 
   Communicator& comm = communicator_or_serial(options.communicator);
@@ -169,7 +177,7 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
     const std::size_t mine = deal.items_of(comm.rank());
     std::size_t done = 0;
     ByteWriter w;
-    w.reserve(mine * 44);
+    w.reserve(mine * 52);
     deal.for_each_of(comm.rank(), [&](std::size_t begin, std::size_t end) {
       tbb::parallel_for(begin, end, one_point);
       for (std::size_t i = begin; i < end; ++i) {
@@ -180,6 +188,8 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
         w.put(field.direction_error[i]);
         w.put(field.contact_disagreement[i]);
         w.put(field.exact_contact_fraction[i]);
+        w.put(field.perceptible_ratio[i]);
+        w.put(field.perceptible_fraction[i]);
       }
       done += end - begin;
       if (options.progress && !options.progress(double(done) / double(std::max<std::size_t>(mine, 1))))
@@ -198,6 +208,8 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
             field.direction_error[i] = reader.get<float>();
             field.contact_disagreement[i] = reader.get<float>();
             field.exact_contact_fraction[i] = reader.get<float>();
+            field.perceptible_ratio[i] = reader.get<float>();
+            field.perceptible_fraction[i] = reader.get<float>();
           }
         });
       }

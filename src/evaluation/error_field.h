@@ -3,6 +3,7 @@
 // the surface from a cone of directions; the exact and approximated answers are compared per
 // point (paper 6.1.2's relative force error, mapped over the surface).
 #include "contact/contact.h"
+#include "contact/perceptible.h"
 #include "mesh/triangle_mesh.h"
 #include "parallel/communicator.h"
 #include "progress.h"
@@ -35,13 +36,15 @@ struct ErrorFieldOptions {
   float length_fraction = 0.10f;    ///< probe segment length.
   float max_depth_fraction = 0.03f; ///< tip past the point by a uniform depth in [0, this].
   std::uint64_t seed = 1;           ///< probes of point i depend on (seed, i) only.
-  ForceLaw law;                     ///< the same force law for both answers.
+  ForceLaw law;                     ///< the same force law for both answers (the workspace's).
+  PerceptualThresholds thresholds;  ///< what a hand tells apart (hb::perceive).
+  double max_force_n = 8.0;         ///< the device's force limit (forces felt clamped to it).
   /// Progress in [0, 1] from the calling thread; return false to cancel (throws hb::Cancelled).
   /// With several ranks, each rank reports its own share (rank 0's stands for the job).
   ProgressCallback progress;
   /// The ranks sharing the field (nullptr: this process alone). Every rank calls with the same
   /// points and queries; points are dealt to the ranks in chunks and each point's figures
-  /// (44 bytes) travel once, to rank 0, which holds the whole field: the same numbers as one
+  /// (52 bytes) travel once, to rank 0, which holds the whole field: the same numbers as one
   /// process. The other ranks return a field of size 0 (with `probes` and `seconds` set).
   Communicator* communicator = nullptr;
 };
@@ -59,6 +62,11 @@ struct ErrorField {
   std::vector<float> direction_error;   ///< mean angle between the normals, degrees, NaN when no data.
   std::vector<float> contact_disagreement; ///< fraction of probes whose contact flags differ, [0, 1].
   std::vector<float> exact_contact_fraction; ///< fraction of probes in exact contact, [0, 1].
+  /// The largest difference over its threshold among the point's probes (hb::perceive's
+  /// ratio; 1 = at the threshold, so a colour scale anchored at 1 shows nothing a hand
+  /// cannot feel), and the fraction of its probes whose difference is perceptible.
+  std::vector<float> perceptible_ratio;
+  std::vector<float> perceptible_fraction;
   std::size_t probes = 0;               ///< total probes run.
   double seconds = 0.0;                 ///< wall time of the computation.
   std::size_t size() const { return force_error.size(); }

@@ -12,6 +12,7 @@
 // 5. Ranks: the gate and each (scene, test) pair are tasks dealt to the ranks in turn; every
 //    rank receives every task's figures and traces and assembles them in task order, so the
 //    report is the one process's (StabilityOptions::communicator).
+#include "contact/perceptible.h"
 #include "evaluation/stability_suite.h"
 #include "math/constants.h"
 #include "errors.h"
@@ -349,9 +350,10 @@ public:
   void t2(const Scene& s) {
     const ForceLaw lw = law(s, k_half());
     std::size_t contact = 0, jump = 0, jump_box = 0, jump_exact = 0, dir_jump = 0, lost = 0, extra = 0, ghost = 0, other = 0, ratio_out = 0,
-                both = 0, seam = 0, seam_out = 0;
+                both = 0, seam = 0, seam_out = 0, ticks = 0, felt = 0;
     double max_excess = 0;
     bool traced = false;
+    const PerceptualThresholds felt_thresholds;  // nominal: what a hand tells apart
     for (std::size_t i = 0; i < s.sites.size(); ++i)
       for (double tilt : {0.0, 30.0})
         for (double speed : {0.05, 0.1, 0.2}) {
@@ -366,6 +368,13 @@ public:
             const bool cb = rb[k].contact, ce = re[k].contact;
             const double fb = rb[k].force.norm(), fe = re[k].force.norm();
             if (ce) ++contact;
+            if (cb || ce) {
+              ++ticks;
+              Contact xb, xe;
+              xb.contact = cb, xe.contact = ce;
+              xb.force = rb[k].force.cast<float>(), xe.force = re[k].force.cast<float>();
+              felt += perceive(xe, xb, felt_thresholds, o_.device.max_force_n).perceptible();
+            }
             if (ce && !cb) ++lost;
             if (cb && !ce && fb > kFloor) ++extra;
             const Rendered qb = render(*s.box, lw, s.map, tips[k], dir, o_.stylus_m);
@@ -423,6 +432,8 @@ public:
         }
     if (contact == 0) return;
     const double c = double(contact);
+    add(metric("T2", s.name, "share of contact ticks perceptibly different from exact (max(10% |F|, 0.04 N), 25 deg)", "",
+               ticks ? double(felt) / double(ticks) : 0.0, 0.0, StabilityRule::at_most, 0.001));
     add(metric("T2", s.name, "share of ticks whose jump exceeds exact's by max(7% |F|, 0.05 N)", "", jump / c, 0.0,
                StabilityRule::at_most, 0.001));
     add(metric("T2", s.name, "share of ticks with a jump above max(7% |F|, 0.05 N)", "", jump_box / c,

@@ -95,13 +95,14 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& sour
   std::size_t measured = 0;
   auto measure = [&](SweepRow row, const ContactQuery& q) {
     std::vector<RankWork> shares;
-    const ComparisonStats s = compare_queries(q, exact, probes, options.law, diagonal, nullptr, &comm, &shares);
+    const ComparisonStats s = compare_queries(q, exact, probes, options.law, diagonal, nullptr, &comm, &shares, options.judge);
     add_work(shares);
     row.force_error_median = s.force_error_median;
     row.force_error_p95 = s.force_error_p95;
     row.contact_agreement = s.contact_agreement;
     row.angle_error_median_deg = s.angle_error_median_deg;
     row.angle_error_p99_deg = s.angle_error_p99_deg;
+    row.perceptible_share = s.perceptible_share;
     row.within_budget = meets_budget(s, options.budget);
     // One core of one rank times the method; the ranks take turns.
     const int owner = int(measured++ % std::size_t(comm.size()));

@@ -54,6 +54,9 @@ struct SweepRow {
   double contact_agreement = 0.0;
   double angle_error_median_deg = 0.0;
   double angle_error_p99_deg = 0.0;
+  /// The headline: share of the probes whose difference a hand would feel (hb::perceive at
+  /// SweepOptions::judge, forces at the workspace's scale).
+  double perceptible_share = 0.0;
   /// Every figure within SweepOptions::budget (hb::meets_budget: agreement, median and p95
   /// force error, direction p99); the references count too (exact is within any budget).
   bool within_budget = false;
@@ -69,7 +72,8 @@ struct SweepOptions {
   std::size_t samples = 20000;     ///< probes (hb::sample_probes) for accuracy and timing.
   int timing_rounds = 5;           ///< passes of median_query_ns.
   ProbeOptions probes;             ///< the default probe distribution.
-  ForceLaw law;
+  ForceLaw law;                    ///< the workspace's (hb::Workspace::law).
+  PerceptualJudge judge;           ///< what a hand tells apart (SweepRow::perceptible_share).
   /// The budget each row is checked against (SweepRow::within_budget); the default budget's.
   ErrorBudget budget;
   /// The bake every configuration starts from: pieces (cut once for the whole sweep), seams,

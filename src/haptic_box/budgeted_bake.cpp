@@ -39,6 +39,7 @@
 //     (BudgetRecipe::keep_triangle_ids): that route never reads them.
 //  6. The scene is measured on fresh probes (BudgetRecipe::check_seed) and the figures are
 //     recorded in BudgetReport (the box file, `info`, `--json`, the report).
+#include "contact/workspace.h"
 #include "errors.h"
 #include "stopwatch.h"
 #include "evaluation/comparison.h"
@@ -251,7 +252,9 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
   SourceInfo src = source;
   if (src.triangles == 0) src.triangles = mesh.triangle_count();
   if (!(src.diagonal > 0.f)) src.diagonal = diagonal;
-  const ForceLaw law{};
+  // Forces at the one workspace scale every command judges at (the model fitted to the
+  // device's workspace, k 1500 N/m): the perceptual criterion is in newtons a hand feels.
+  const ForceLaw law = make_workspace(diagonal).law();
   tstage = std::chrono::steady_clock::now();
   const Tuning tuning = tune_probes(mesh, exact, br.probes, br.tuning_seed, law);
   stage_done("tuning_probes", seconds_since(tstage));
@@ -633,6 +636,7 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
   rep.force_median = checked.force_error_median;
   rep.force_p95 = checked.force_error_p95;
   rep.direction_p99_deg = checked.angle_error_p99_deg;
+  rep.perceptible = checked.perceptible_share;
   rep.tuning_probes = tuning.probes.size();
   rep.tuning_seed = br.tuning_seed;
   rep.tuning_agreement = tuned.contact_agreement;

@@ -29,7 +29,7 @@ ErrorBudget parse_budget(const std::string& spec) {
   while (std::getline(ss, item, ',')) {
     const auto eq = item.find('=');
     if (eq == std::string::npos)
-      throw InvalidInput("--budget: '" + item + "' is not key=value (keys: p95, median, dir99, agree)");
+      throw InvalidInput("--budget: '" + item + "' is not key=value (keys: p95, median, dir99, agree, felt)");
     const std::string key = trim(item.substr(0, eq)), value = item.substr(eq + 1);
     if (key == "p95")
       b.force_p95 = number(value, "--budget p95 (percent)", 0.0, 1e4) / 100.0;
@@ -39,15 +39,18 @@ ErrorBudget parse_budget(const std::string& spec) {
       b.direction_p99_deg = number(value, "--budget dir99 (degrees)", 0.0, 180.0);
     else if (key == "agree")
       b.agreement = number(value, "--budget agree (percent)", 0.0, 100.0) / 100.0;
+    else if (key == "felt")
+      b.perceptible = number(value, "--budget felt (percent of probes perceptibly different)", 0.0, 100.0) / 100.0;
     else
-      throw InvalidInput("--budget: unknown key '" + key + "' (keys: p95, median, dir99, agree)");
+      throw InvalidInput("--budget: unknown key '" + key + "' (keys: p95, median, dir99, agree, felt)");
   }
   return b;
 }
 
 std::string budget_spec(const ErrorBudget& b) {
   return "p95=" + fmt(b.force_p95 * 100.0) + ",median=" + fmt(b.force_median * 100.0) +
-         ",dir99=" + fmt(b.direction_p99_deg) + ",agree=" + fmt(b.agreement * 100.0);
+         ",dir99=" + fmt(b.direction_p99_deg) + ",agree=" + fmt(b.agreement * 100.0) +
+         ",felt=" + fmt(b.perceptible * 100.0);
 }
 
 bool meets_budget(const ComparisonStats& s, const ErrorBudget& b) { return budget_misses(s, b).empty(); }
@@ -65,6 +68,8 @@ std::string budget_misses(const ComparisonStats& s, const ErrorBudget& b) {
       "median " + fmt(s.force_error_median * 100.0) + "% > " + fmt(b.force_median * 100.0) + "%");
   add(s.force_error_p95 > b.force_p95,
       "p95 " + fmt(s.force_error_p95 * 100.0) + "% > " + fmt(b.force_p95 * 100.0) + "%");
+  add(s.perceptible_share > b.perceptible,
+      "felt " + fmt(s.perceptible_share * 100.0) + "% > " + fmt(b.perceptible * 100.0) + "%");
   add(s.angle_error_p99_deg > b.direction_p99_deg,
       "dir99 " + fmt(s.angle_error_p99_deg) + " deg > " + fmt(b.direction_p99_deg) + " deg");
   return out;
@@ -80,7 +85,7 @@ std::string BudgetReport::serialize() const {
      << "met=" << (met ? 1 : 0) << "\n"
      << "probes=" << probes << "\nseed=" << seed << "\n"
      << "agreement=" << agreement << "\nforce_median=" << force_median << "\nforce_p95=" << force_p95
-     << "\ndirection_p99_deg=" << direction_p99_deg << "\n"
+     << "\ndirection_p99_deg=" << direction_p99_deg << "\nperceptible=" << perceptible << "\n"
      << "tuning_probes=" << tuning_probes << "\ntuning_seed=" << tuning_seed << "\n"
      << "tuning_agreement=" << tuning_agreement << "\ntuning_force_median=" << tuning_force_median
      << "\ntuning_force_p95=" << tuning_force_p95 << "\ntuning_direction_p99_deg=" << tuning_direction_p99_deg << "\n"
@@ -125,6 +130,7 @@ BudgetReport BudgetReport::parse(const std::string& text) {
     else if (key == "force_median") r.force_median = number(v, key, 0, 1e30);
     else if (key == "force_p95") r.force_p95 = number(v, key, 0, 1e30);
     else if (key == "direction_p99_deg") r.direction_p99_deg = number(v, key, 0, 180);
+    else if (key == "perceptible") r.perceptible = number(v, key, 0, 1);
     else if (key == "tuning_probes") r.tuning_probes = count(v, key);
     else if (key == "tuning_seed") r.tuning_seed = count(v, key);
     else if (key == "tuning_agreement") r.tuning_agreement = number(v, key, 0, 1);
@@ -171,7 +177,8 @@ std::string BudgetReport::summary() const {
   std::ostringstream os;
   os.precision(4);
   os << budget_spec(budget) << ": " << (met ? "met" : "MISSED") << " on " << probes << " fresh probes (seed " << seed
-     << "): agreement " << agreement * 100.0 << "%, force error median " << force_median * 100.0 << "% p95 "
+     << "): perceptibly different " << perceptible * 100.0 << "% of them, agreement " << agreement * 100.0
+     << "%, force error median " << force_median * 100.0 << "% p95 "
      << force_p95 * 100.0 << "%, direction p99 " << direction_p99_deg << " deg";
   if (surface_triangles > 0)
     os << "; refined against " << surface_triangles << " of " << full_triangles << " triangles (simplified within "

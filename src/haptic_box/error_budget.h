@@ -18,9 +18,14 @@ struct ErrorBudget {
   double force_median = 0.02;     ///< median relative force error, fraction.
   double direction_p99_deg = 10;  ///< 99th percentile of the force direction error, degrees.
   double agreement = 0.995;       ///< contact agreement, fraction of probes.
+  /// The perceptual criterion: at most this share of the probes perceptibly different from
+  /// exact (hb::perceive at the nominal thresholds, forces at the workspace's scale: the
+  /// model fitted to an 80 mm workspace at 1500 N/m). 0.1 % by default.
+  double perceptible = 0.001;
 };
 
-/// Parses "p95=7,median=2,dir99=10,agree=99.5" (percent, percent, degrees, percent): any
+/// Parses "p95=7,median=2,dir99=10,agree=99.5,felt=0.1" (percent, percent, degrees, percent,
+/// percent of probes perceptibly different): any
 /// subset of the keys, in any order, the others at their defaults; "default" or "" is the
 /// default budget. Throws hb::InvalidInput naming the bad key or value.
 ErrorBudget parse_budget(const std::string& spec);
@@ -51,6 +56,7 @@ struct BudgetReport {
   std::uint64_t probes = 0;         ///< fresh probes.
   std::uint64_t seed = 0;           ///< their seed.
   double agreement = 0, force_median = 0, force_p95 = 0, direction_p99_deg = 0;
+  double perceptible = 0;           ///< share of the fresh probes perceptibly different.
   std::uint64_t tuning_probes = 0, tuning_seed = 0;
   double tuning_agreement = 0, tuning_force_median = 0, tuning_force_p95 = 0, tuning_direction_p99_deg = 0;
   double seconds = 0;               ///< the whole budgeted bake.

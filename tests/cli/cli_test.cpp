@@ -14,6 +14,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
+#include <vector>
 #include <sstream>
 #include <sys/wait.h>
 
@@ -406,7 +408,7 @@ TEST_F(CliTest, NonFiniteOrAbsurdOptionValuesAreUsageErrorsNamingTheValue) {
     EXPECT_NE(r.err.find(value), std::string::npos) << opt << ": " << r.err;
   }
   for (const char* opt : {"--seconds nan", "--seconds inf", "--stiffness 1e38", "--rate nan", "--spin-us nan",
-                          "--units-per-metre -inf"}) {
+                          "--metres-per-unit -inf", "--workspace-mm 0", "--max-force nan", "--perceptual w=x"}) {
     const Result r = run(std::string("servo plane --no-realtime ") + opt);
     EXPECT_EQ(r.code, 2) << opt << ": " << r.err;
   }
@@ -505,7 +507,7 @@ TEST_F(CliTest, ServoWithExactComparesBoxAndExactOnOneTrajectoryAndLogsBoth) {
   bake_once();
   const std::string log = path("shadow.hblog"), csv = path("shadow.csv");
   const Result r = run("servo " + path("sphere.hbox") + " --exact " + path("sphere.off") +
-                       " --no-realtime --seconds 0.3 --units-per-metre 400 --record " + log + " --csv " + csv + " --json");
+                       " --no-realtime --seconds 0.3 --metres-per-unit 0.0025 --record " + log + " --csv " + csv + " --json");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   ASSERT_TRUE(j.contains("box_vs_exact")) << r.out;
@@ -524,7 +526,7 @@ TEST_F(CliTest, ServoWithExactComparesBoxAndExactOnOneTrajectoryAndLogsBoth) {
   EXPECT_NE(header.find("exact_fx_n"), std::string::npos) << header;
   // The exact answer can drive instead; the text summary names both.
   const Result exact = run("servo " + path("sphere.hbox") + " --exact " + path("sphere.off") +
-                           " --render exact --no-realtime --seconds 0.2 --units-per-metre 400");
+                           " --render exact --no-realtime --seconds 0.2 --metres-per-unit 0.0025");
   ASSERT_EQ(exact.code, 0) << exact.err;
   EXPECT_NE(exact.out.find("exact drives the device, box in shadow"), std::string::npos) << exact.out;
   EXPECT_NE(exact.out.find("|F_box - F_exact|"), std::string::npos) << exact.out;
@@ -550,7 +552,7 @@ TEST_F(CliTest, ServoLawIsChosenNamedAndABadOneRefusedNamingTheValue) {
   EXPECT_NE(text.out.find("contact law: proxy"), std::string::npos) << text.out;
   bake_once();
   const Result both = run("servo " + path("sphere.hbox") + " --exact " + path("sphere.off") +
-                          " --law proxy --no-realtime --seconds 0.3 --units-per-metre 400 --json");
+                          " --law proxy --no-realtime --seconds 0.3 --metres-per-unit 0.0025 --json");
   ASSERT_EQ(both.code, 0) << both.err;
   const auto j = nlohmann::json::parse(both.out);
   EXPECT_EQ(j["contact_law"], "proxy");
@@ -636,4 +638,95 @@ TEST_F(CliTest, RatioTargetNotReachedIsSaidAndFailsOnlyWhenStrict) {
                           " -m 8 -n 6 --codec haar --ratio 1.5 --json --strict");
   ASSERT_EQ(easy.code, 0) << easy.err;
   EXPECT_EQ(nlohmann::json::parse(easy.out)["ratio_reached"], true);
+}
+
+namespace {
+
+// The columns of a CSV header line, by name.
+std::map<std::string, std::size_t> csv_columns(const std::string& header) {
+  std::map<std::string, std::size_t> cols;
+  std::istringstream in(header);
+  std::string name;
+  for (std::size_t i = 0; std::getline(in, name, ','); ++i) cols[name] = i;
+  return cols;
+}
+
+std::vector<double> csv_numbers(const std::string& line) {
+  std::vector<double> v;
+  std::istringstream in(line);
+  std::string cell;
+  while (std::getline(in, cell, ',')) v.push_back(std::strtod(cell.c_str(), nullptr));
+  return v;
+}
+
+} // namespace
+
+// Issue 37: one workspace for every command. The sphere (20 mm across, diagonal 34.6 mm) is
+// fitted to the device's 80 mm, at 1500 N/m: a force per unit of depth (along the normal) of
+// 1500 x 0.08 / 34.64 N per model unit, the same in `query`, `servo --exact` and `eval`, which
+// all state the workspace; `--real-size` shows the model at 1 unit = 1 mm instead.
+TEST_F(CliTest, EveryCommandComputesForcesAtTheOneWorkspaceScaleAndStatesIt) {
+  bake_once();
+  const double diagonal = hb::make_sphere(10.f, 4).bounds().diagonal();
+  const double newtons_per_unit = 1500.0 * 0.08 / diagonal;
+  // query: the exact answer's force over its depth along the normal (the normal depth law:
+  // |F| = k d mpu cos, the stylus along -z here).
+  const std::string in = write("ws.csv", "sx,sy,sz,ex,ey,ez\n0,0.1,30,0,0.1,9\n");
+  const Result q = run("query " + path("sphere.hbox") + " --segments " + in + " --exact " + path("sphere.off"));
+  ASSERT_EQ(q.code, 0) << q.err;
+  std::istringstream lines(q.out);
+  std::string header, row;
+  std::getline(lines, header);
+  std::getline(lines, row);
+  auto cols = csv_columns(header);
+  ASSERT_TRUE(cols.count("perceptible")) << header;
+  std::vector<double> v = csv_numbers(row);
+  const double f = std::hypot(v[cols["exact_fx"]], v[cols["exact_fy"]], v[cols["exact_fz"]]);
+  const double query_ratio = f / (v[cols["exact_depth"]] * v[cols["exact_nz"]]);
+  EXPECT_NEAR(query_ratio, newtons_per_unit, 1e-3 * newtons_per_unit);
+  // servo --exact: every tick in contact, the same ratio.
+  const std::string log = path("ws.hblog"), csv = path("ws_servo.csv");
+  const Result s = run("servo " + path("sphere.hbox") + " --exact " + path("sphere.off") +
+                       " --no-realtime --seconds 0.3 --record " + log + " --csv " + csv + " --json");
+  ASSERT_EQ(s.code, 0) << s.err;
+  const auto sj = nlohmann::json::parse(s.out);
+  EXPECT_EQ(sj["workspace"]["fit"], "device");
+  EXPECT_NEAR(sj["workspace"]["diagonal_mm"].get<double>(), 80.0, 1e-3);
+  // The shadow comparison judges every contact tick as a hand would.
+  EXPECT_GT(sj["box_vs_exact"]["contact_ticks"].get<std::uint64_t>(), 0u) << s.out;
+  EXPECT_LE(sj["box_vs_exact"]["perceptible_ticks"].get<std::uint64_t>(),
+            sj["box_vs_exact"]["contact_ticks"].get<std::uint64_t>());
+  std::ifstream servo_csv(csv);
+  std::getline(servo_csv, header);
+  cols = csv_columns(header);
+  std::size_t checked = 0;
+  while (std::getline(servo_csv, row)) {
+    v = csv_numbers(row);
+    if (v[cols["exact_contact"]] == 0 || v[cols["exact_depth"]] <= 0 || v[cols["exact_nz"]] < 0.2) continue;
+    const double fs = std::hypot(v[cols["exact_fx_n"]], v[cols["exact_fy_n"]], v[cols["exact_fz_n"]]);
+    EXPECT_NEAR(fs / (v[cols["exact_depth"]] * v[cols["exact_nz"]]), newtons_per_unit, 1e-3 * newtons_per_unit) << row;
+    ++checked;
+  }
+  EXPECT_GT(checked, 10u) << "the virtual device's circle should touch the sphere";
+  // eval states the same workspace and the perceptual headline.
+  const Result e = run("eval " + path("sphere.hbox") + " " + path("sphere.off") + " --samples 2000 --json");
+  ASSERT_EQ(e.code, 0) << e.err;
+  const auto ej = nlohmann::json::parse(e.out);
+  EXPECT_NEAR(ej["workspace"]["metres_per_unit"].get<double>(), 0.08 / diagonal, 1e-9);
+  ASSERT_TRUE(ej.contains("perceptible")) << e.out;
+  EXPECT_LE(ej["perceptible"]["probes"].get<std::uint64_t>(), 2000u);
+  EXPECT_EQ(ej["perceptible"]["thresholds"], "w=10,f0=0.04,theta=25,fmin=0.2");
+  const Result text = run("eval " + path("sphere.hbox") + " " + path("sphere.off") + " --samples 2000");
+  EXPECT_NE(text.out.find("perceptibly different"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("diagonal 80 mm"), std::string::npos) << text.out;
+  // --real-size: 1 unit = 1 mm, a diagonal of 34.6 mm; the strict preset feels at least as much.
+  const Result real = run("eval " + path("sphere.hbox") + " " + path("sphere.off") +
+                          " --samples 2000 --json --real-size --perceptual strict");
+  ASSERT_EQ(real.code, 0) << real.err;
+  const auto rj = nlohmann::json::parse(real.out);
+  EXPECT_EQ(rj["workspace"]["fit"], "real-size");
+  EXPECT_NEAR(rj["workspace"]["metres_per_unit"].get<double>(), 0.001, 1e-12);
+  EXPECT_EQ(rj["perceptible"]["thresholds"], "w=7,f0=0.03,theta=18,fmin=0.2");
+  // Two ways of scaling at once are a usage error.
+  EXPECT_EQ(run("eval " + path("sphere.hbox") + " " + path("sphere.off") + " --real-size --workspace-mm 100").code, 2);
 }

@@ -1,5 +1,6 @@
 // Simplification within a deviation bound (hb::decimate) and the budgeted bake that refines
 // against the simplified surface while it is judged on the full mesh.
+#include "contact/workspace.h"
 #include "errors.h"
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
@@ -115,8 +116,9 @@ TEST(DecimationTest, BudgetedBakeRefinesAgainstTheSimplifiedSurfaceAndIsJudgedOn
   ProbeOptions po;
   po.seed = recipe.budget.check_seed;
   const ExactQuery exact(fine);
-  const ComparisonStats s = compare_queries(baked.scene, exact, sample_probes(fine, 2000, po), ForceLaw{},
-                                            fine.bounds().diagonal());
+  // At the workspace scale the bake judges at.
+  const ComparisonStats s = compare_queries(baked.scene, exact, sample_probes(fine, 2000, po),
+                                            make_workspace(fine.bounds().diagonal()).law(), fine.bounds().diagonal());
   EXPECT_DOUBLE_EQ(s.contact_agreement, rep.agreement);
   EXPECT_DOUBLE_EQ(s.force_error_p95, rep.force_p95);
   EXPECT_TRUE(rep.met) << rep.summary();

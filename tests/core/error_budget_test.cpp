@@ -1,5 +1,6 @@
 // The error budget: its syntax, the budgeted bake (the cheapest sampling meeting the budget
 // per piece, the report on fresh probes) and the report's file round trip.
+#include "contact/workspace.h"
 #include "errors.h"
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
@@ -21,7 +22,9 @@ TEST(ErrorBudgetTest, SpecParsesAnySubsetAndRoundTrips) {
   EXPECT_DOUBLE_EQ(d.force_median, 0.02);
   EXPECT_DOUBLE_EQ(d.direction_p99_deg, 10.0);
   EXPECT_DOUBLE_EQ(d.agreement, 0.995);
-  const ErrorBudget b = parse_budget("agree=99, p95=12.5");
+  EXPECT_DOUBLE_EQ(d.perceptible, 0.001);  // at most 0.1 % of probes perceptibly different
+  const ErrorBudget b = parse_budget("agree=99, p95=12.5, felt=0.5");
+  EXPECT_DOUBLE_EQ(b.perceptible, 0.005);
   EXPECT_DOUBLE_EQ(b.agreement, 0.99);
   EXPECT_DOUBLE_EQ(b.force_p95, 0.125);
   EXPECT_DOUBLE_EQ(b.force_median, 0.02);
@@ -29,6 +32,8 @@ TEST(ErrorBudgetTest, SpecParsesAnySubsetAndRoundTrips) {
   EXPECT_DOUBLE_EQ(back.agreement, b.agreement);
   EXPECT_DOUBLE_EQ(back.force_p95, b.force_p95);
   EXPECT_DOUBLE_EQ(back.direction_p99_deg, b.direction_p99_deg);
+  EXPECT_DOUBLE_EQ(back.perceptible, b.perceptible);
+  EXPECT_THROW(parse_budget("felt=101"), InvalidInput);
   EXPECT_THROW(parse_budget("p95"), InvalidInput);
   EXPECT_THROW(parse_budget("p96=3"), InvalidInput);
   EXPECT_THROW(parse_budget("agree=101"), InvalidInput);
@@ -120,7 +125,9 @@ TEST(ErrorBudgetTest, BudgetedBakeMeetsTheBudgetOnFreshProbesAndTheFileKeepsIt) 
   ProbeOptions po;
   po.seed = recipe.budget.check_seed;
   const ExactQuery exact(two.mesh);
-  const ComparisonStats s = compare_queries(baked.scene, exact, sample_probes(two.mesh, 3000, po), ForceLaw{},
+  // At the workspace scale the bake judges at (the perceptual criterion is in newtons).
+  const ComparisonStats s = compare_queries(baked.scene, exact, sample_probes(two.mesh, 3000, po),
+                                            make_workspace(two.mesh.bounds().diagonal()).law(),
                                             two.mesh.bounds().diagonal());
   EXPECT_DOUBLE_EQ(s.contact_agreement, rep.agreement);
   EXPECT_DOUBLE_EQ(s.force_error_p95, rep.force_p95);
@@ -245,7 +252,7 @@ TEST(ErrorBudgetTest, PiecesWhoseBlendsAnswerOffTheSurfaceAreRefined) {
   const test::TwoSpheres two = test::two_spheres(3.f);
   BakeRecipe recipe = two_piece_recipe(two, 1000);
   recipe.budget.samplings = {{0.3f, 3}};
-  recipe.budget.budget = parse_budget("p95=100,median=100,dir99=90,agree=50");
+  recipe.budget.budget = parse_budget("p95=100,median=100,dir99=90,agree=50,felt=100");
   const ExactQuery exact(two.mesh);
   ProbeOptions po;
   po.seed = recipe.budget.tuning_seed;

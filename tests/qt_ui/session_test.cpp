@@ -244,6 +244,7 @@ TEST(SessionJobsTest, ErrorFieldArraysAreTheFiltersAndTheCoresNumbers) {
   const hb::ExactQuery exact(s.mesh());
   hb::ErrorFieldOptions o;
   o.probes_per_point = 2;
+  o.law = s.model()->law();  // the window's forces are at the model's workspace scale
   const hb::ErrorField core =
       hb::compute_error_field(*s.boxes(), exact, hb::surface_points_at_vertices(s.mesh()), s.diagonal(), o);
   ASSERT_EQ(core.size(), s.mesh().vertex_count());

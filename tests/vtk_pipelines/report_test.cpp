@@ -48,7 +48,8 @@ TEST_F(ReportFixture, JsonCarriesTheFiguresEvalPrintsForTheSameSeed) {
 
   // What `hapticbox eval` computes: compare_queries on sample_probes(mesh, samples, seed).
   const auto probes = hb::sample_probes(mesh, 2000, options.probes);
-  const hb::ComparisonStats eval = hb::compare_queries(scene, refs.Exact(), probes, {}, mesh.bounds().diagonal());
+  const hb::ComparisonStats eval = hb::compare_queries(scene, refs.Exact(), probes, hb::make_workspace(mesh.bounds().diagonal()).law(),
+                                                       mesh.bounds().diagonal());
 
   const nlohmann::json j = nlohmann::json::parse(ReadText(std::filesystem::path(dir) / "summary.json"));
   EXPECT_EQ(j["eval"]["samples"].get<std::size_t>(), eval.samples);
@@ -96,7 +97,7 @@ TEST_F(ReportFixture, HtmlEmbedsItsChartsAndLoadsNoExternalFile) {
     for (std::size_t at = html.find(what); at != std::string::npos; at = html.find(what, at + 1)) ++n;
     return n;
   };
-  EXPECT_EQ(count("src=\"data:image/svg+xml;base64,PD94bW") + count("src=\"data:image/svg+xml;base64,PHN2Zy"), 2u);
+  EXPECT_EQ(count("src=\"data:image/svg+xml;base64,PD94bW") + count("src=\"data:image/svg+xml;base64,PHN2Zy"), 3u);
   // Nothing else is loaded: every src is a data URI, no stylesheet or script links.
   EXPECT_EQ(count("src=\""), count("src=\"data:"));
   EXPECT_EQ(count("href="), 0u);
@@ -120,7 +121,7 @@ TEST_F(ReportFixture, CompressionCurveIsEmbeddedWhenGiven) {
   for (std::size_t at = html.find("data:image/svg+xml;base64,"); at != std::string::npos;
        at = html.find("data:image/svg+xml;base64,", at + 1))
     ++n;
-  EXPECT_EQ(n, 3u);
+  EXPECT_EQ(n, 4u);
   const nlohmann::json j = nlohmann::json::parse(ReadText(std::filesystem::path(dir) / "summary.json"));
   EXPECT_EQ(j["compression_curve"].size(), 3u);
   EXPECT_EQ(j["error_field"]["points"], 0);
