@@ -190,6 +190,7 @@ bool is_box_file(const std::string& path) {
 #include <sstream>
 #ifdef HB_WITH_VTK
 #include "model_loader.h"
+#include "model_options_key.h"
 #endif
 
 namespace hb::cli {
@@ -218,13 +219,6 @@ void add_model_options(CLI::App& cmd, ModelArgs& args) {
 namespace {
 bool has_model_args(const ModelArgs& a) {
   return a.iso || a.label || !a.unit.empty() || a.smooth || a.target_triangles || a.chordal_mm > 0;
-}
-std::string args_text(const ModelArgs& a) {
-  std::ostringstream o;
-  o << "iso=" << (a.iso ? std::to_string(*a.iso) : "-") << " label=" << (a.label ? std::to_string(*a.label) : "-")
-    << " unit=" << a.unit << " smooth=" << a.smooth << " target=" << a.target_triangles << " chordal=" << a.chordal_mm
-    << " ftol=" << a.force_tolerance_n;
-  return o.str();
 }
 } // namespace
 
@@ -276,7 +270,13 @@ TriangleMesh load_mesh(const std::string& path, const ModelArgs& args, MeshReadR
 }
 
 std::uint64_t hash_model(const std::string& path, const ModelArgs& args) {
-  return hb::hash_model(path, has_model_args(args) ? args_text(args) : std::string());
+#ifdef HB_WITH_VTK
+  // The window keys its bakes by the same text (hb::vtk::model_options_key).
+  return hb::hash_model(path, hb::vtk::model_options_key(to_model_options(args)));
+#else
+  (void)args;  // without VTK no option shapes the surface (load_mesh refuses them)
+  return hb::hash_model(path);
+#endif
 }
 
 nlohmann::json budget_json(const BudgetReport& r) {

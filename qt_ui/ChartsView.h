@@ -30,6 +30,9 @@ public:
   std::vector<std::string> speedAxisLabels() const;
   int legendEntries() const;
   bool tooltipVisible() const;
+  /// The hint shown while the charts are empty, and the hint shown now.
+  static QString emptyHint();
+  QString hintText() const;
 
 protected:
   bool eventFilter(QObject* watched, QEvent* event) override;

@@ -9,6 +9,7 @@
 #include "ScreenshotDialog.h"
 #include "SessionFile.h"
 #include "StabilityPanel.h"
+#include "SurfacePanel.h"
 #include <QAction>
 #include <QApplication>
 #include <QCloseEvent>
@@ -26,7 +27,11 @@
 #include <QMimeData>
 #include <QProgressBar>
 #include <QPushButton>
+#include <QScreen>
+#include <QScrollArea>
+#include <QScrollBar>
 #include <QSettings>
+#include <QShowEvent>
 #include <QStatusBar>
 #include <QStyle>
 #include <QTimer>
@@ -37,6 +42,20 @@
 namespace {
 constexpr int kMaxRecent = 8;
 constexpr int kLayoutVersion = 2;  ///< saveState/restoreState: bump when the docks or toolbars change
+// A dock's scroll area: as wide as its panel wants (a plain QScrollArea asks for almost no
+// width, and the dock collapses), as tall as the dock allows, scrolling vertically beyond.
+class DockScrollArea : public QScrollArea {
+public:
+  QSize sizeHint() const override {
+    const QSize panel = widget() ? widget()->sizeHint() : QSize(240, 200);
+    return {panel.width() + verticalScrollBar()->sizeHint().width() + 2, std::min(panel.height(), 600)};
+  }
+  QSize minimumSizeHint() const override {
+    const QSize panel = widget() ? widget()->minimumSizeHint() : QSize(200, 60);
+    return {panel.width() + verticalScrollBar()->sizeHint().width() + 2, 60};
+  }
+};
+
 bool isSessionFile(const QString& path) { return path.endsWith(QLatin1String(".hbsession"), Qt::CaseInsensitive); }
 }  // namespace
 
@@ -51,6 +70,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
   device_ = new DevicePanel(session_);
   charts_ = new ChartsView;
   stability_ = new StabilityPanel(session_);
+  surface_ = new SurfacePanel(session_);
   createDocks();
   createActions();
   createToolBar();
@@ -107,6 +127,9 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
     view_->setColorMode(field ? ProbeView::ColorMode::ErrorField : ProbeView::ColorMode::Pieces, metric);
   });
   connect(device_, &DevicePanel::message, this, [this](const QString& m) { showMessage(m); });
+  connect(surface_, &SurfacePanel::extractRequested, this, [this](const hb::vtk::ModelOptions& options) {
+    if (session_->hasMesh()) openFile(session_->meshPath(), true, options);
+  });
   connect(stability_, &StabilityPanel::message, this, [this](const QString& m) { showMessage(m, true); });
   connect(device_, &DevicePanel::tiltRequested, this, [this] {
     session_->tilt();
@@ -133,8 +156,11 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
   timer_->setInterval(16);
   connect(timer_, &QTimer::timeout, this, &MainWindow::refresh);
   timer_->start();
-  resize(1280, 860);
+  // A first window takes most of the screen it opens on, never more (1366x768 laptops too).
+  const QRect avail = availableGeometry();
+  resize(QSize(1280, 860).boundedTo(QSize(avail.width() * 9 / 10, avail.height() * 9 / 10)));
   restorePreferences();
+  fitToScreen();
   updateActions();
   showMessage(tr("Open a model (File > Open, or drop a file here)"));
 }
@@ -142,10 +168,24 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
 MainWindow::~MainWindow() { timer_->stop(); }
 
 void MainWindow::createDocks() {
-  const auto dock = [this](QWidget* w, const QString& title, const QString& name, Qt::DockWidgetArea area) {
+  // Panels scroll inside their dock instead of being clipped (or forcing the window taller than
+  // a laptop's screen): the dock's minimum height is then the scroll area's, not the panel's.
+  const auto dock = [this](QWidget* w, const QString& title, const QString& name, Qt::DockWidgetArea area,
+                           bool scroll = true) {
     auto* d = new QDockWidget(title, this);
     d->setObjectName(name);
-    d->setWidget(w);
+    if (scroll) {
+      auto* area = new DockScrollArea;
+      area->setObjectName(name + QStringLiteral("Scroll"));
+      area->setWidget(w);
+      area->setWidgetResizable(true);
+      area->setFrameShape(QFrame::NoFrame);
+      area->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+      area->setMinimumHeight(60);
+      d->setWidget(area);
+    } else {
+      d->setWidget(w);
+    }
     addDockWidget(area, d);
     return d;
   };
@@ -153,22 +193,64 @@ void MainWindow::createDocks() {
   QDockWidget* bake = dock(bake_, tr("Bake"), QStringLiteral("BakeDock"), Qt::RightDockWidgetArea);
   QDockWidget* field = dock(errorPanel_, tr("Error field"), QStringLiteral("ErrorFieldDock"), Qt::RightDockWidgetArea);
   QDockWidget* device = dock(device_, tr("Device"), QStringLiteral("DeviceDock"), Qt::RightDockWidgetArea);
-  QDockWidget* charts = dock(charts_, tr("Charts"), QStringLiteral("ChartsDock"), Qt::BottomDockWidgetArea);
-  tabifyDockWidget(bake, field);
+  QDockWidget* charts = dock(charts_, tr("Charts"), QStringLiteral("ChartsDock"), Qt::BottomDockWidgetArea, false);
+  QDockWidget* surface = dock(surface_, tr("Surface"), QStringLiteral("SurfaceDock"), Qt::RightDockWidgetArea);
+  tabifyDockWidget(bake, surface);
+  tabifyDockWidget(surface, field);
   tabifyDockWidget(field, device);
   // The stability table is wide (metric, box, exact, threshold, verdict): below the view,
   // beside the charts, shown by Tools > Stability Suite or the Window menu.
-  QDockWidget* stability = dock(stability_, tr("Stability"), QStringLiteral("StabilityDock"), Qt::BottomDockWidgetArea);
+  QDockWidget* stability = dock(stability_, tr("Stability"), QStringLiteral("StabilityDock"), Qt::BottomDockWidgetArea, false);
   bake->raise();
   resizeDocks({readout, bake}, {260, 520}, Qt::Vertical);
   tabifyDockWidget(charts, stability);
   charts->hide();
   stability->hide();
+  // Showing a dock must not push the window past its screen (the bottom docks once did).
+  for (QDockWidget* d : {readout, bake, surface, field, device, charts, stability})
+    connect(d, &QDockWidget::visibilityChanged, this, [this] { QTimer::singleShot(0, this, &MainWindow::fitToScreen); });
+}
+
+QRect MainWindow::availableGeometry() const {
+  const QScreen* s = screen();
+  if (!s) s = QGuiApplication::primaryScreen();
+  return s ? s->availableGeometry() : QRect(0, 0, 1366, 768);
+}
+
+void MainWindow::fitToScreen() {
+  const QRect avail = availableGeometry();
+  if (avail.isEmpty()) return;
+  // The frame (title bar, borders) is known once the window is shown; before, allow a typical one.
+  QMargins frame(frameGeometry().left() - geometry().left(), frameGeometry().top() - geometry().top(),
+                 frameGeometry().right() - geometry().right(), frameGeometry().bottom() - geometry().bottom());
+  if (!isVisible() || frameGeometry() == geometry()) frame = QMargins(2, 32, 2, 2);
+  const QSize room = avail.size().shrunkBy(frame);
+  QSize size = geometry().size().boundedTo(room);
+  // Below the window's minimum size nothing helps: the docks then shrink to their scroll areas.
+  size = size.expandedTo(minimumSizeHint().boundedTo(room));
+  if (size != geometry().size()) resize(size);
+  QRect outer = QRect(geometry().topLeft(), size).marginsAdded(frame);
+  if (!avail.contains(outer)) {
+    outer.moveLeft(std::clamp(outer.left(), avail.left(), std::max(avail.left(), avail.right() - outer.width() + 1)));
+    outer.moveTop(std::clamp(outer.top(), avail.top(), std::max(avail.top(), avail.bottom() - outer.height() + 1)));
+    move(outer.topLeft());
+  }
+}
+
+void MainWindow::showEvent(QShowEvent* event) {
+  QMainWindow::showEvent(event);
+  // Once the frame is known: fit it (the first show, and after a restored geometry).
+  QTimer::singleShot(0, this, &MainWindow::fitToScreen);
 }
 
 void MainWindow::createActions() {
   QMenu* file = menuBar()->addMenu(tr("&File"));
-  file->addAction(tr("&Open..."), this, &MainWindow::openDialog, QKeySequence::Open);
+  QAction* open = file->addAction(tr("&Open..."), this, &MainWindow::openDialog, QKeySequence::Open);
+  // Ctrl+O and the other menu shortcuts answer wherever the focus is, the 3D view included.
+  open->setShortcutContext(Qt::ApplicationShortcut);
+  open->setObjectName(QStringLiteral("openAction"));
+  file->addAction(tr("Open &DICOM Folder..."), this, &MainWindow::openDicomFolderDialog, QKeySequence(tr("Ctrl+Shift+O")))
+      ->setObjectName(QStringLiteral("openDicomFolderAction"));
   recentMenu_ = file->addMenu(tr("Open &Recent"));
   file->addAction(tr("Open &Box File..."), this, &MainWindow::openBoxDialog);
   saveBoxAction_ = file->addAction(tr("Save Box File &As..."), this, &MainWindow::saveBoxDialog);
@@ -406,13 +488,13 @@ void MainWindow::updateActions() {
 
 // --- files -------------------------------------------------------------------------------
 
-bool MainWindow::openFile(const QString& path, bool interactive) {
+bool MainWindow::openFile(const QString& path, bool interactive, const hb::vtk::ModelOptions& options) {
   if (isSessionFile(path)) {
     return openSessionFile(path, interactive);
   }
   QApplication::setOverrideCursor(Qt::WaitCursor);
   QString error;
-  const bool ok = session_->openMesh(path, &error);
+  const bool ok = session_->openMesh(path, &error, options);
   QApplication::restoreOverrideCursor();
   if (!ok) {
     showMessage(tr("Cannot open %1: %2").arg(path, error), true);
@@ -429,6 +511,12 @@ void MainWindow::openDialog() {
   const QString p = QFileDialog::getOpenFileName(this, tr("Open model"), lastFolder(),
                                                  HapticSession::meshFileFilter() + tr(";;Sessions (*.hbsession)"));
   if (!p.isEmpty()) openFile(p, true);
+}
+
+void MainWindow::openDicomFolderDialog() {
+  // A DICOM series is a folder of (often extension-less) files: choose the folder.
+  const QString d = QFileDialog::getExistingDirectory(this, tr("Open DICOM folder"), lastFolder());
+  if (!d.isEmpty()) openFile(d, true);
 }
 
 void MainWindow::openBoxDialog() {
@@ -478,6 +566,11 @@ void MainWindow::onMeshChanged() {
   if (!session_->meshWarnings().isEmpty()) text += QStringLiteral(" (") + session_->meshWarnings().join(QStringLiteral("; ")) + QStringLiteral(")");
   showMessage(text);
   device_->showDepth();
+  // Nothing of the last model stays: its charts, its stability table; a volume shows its surface panel.
+  charts_->setRows({}, {});
+  surface_->showModel();
+  if (session_->model()->isVolume())
+    if (auto* d = findChild<QDockWidget*>(QStringLiteral("SurfaceDock"))) d->raise();
   updateActions();
 }
 
