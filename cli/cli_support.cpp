@@ -216,11 +216,13 @@ void add_model_options(CLI::App& cmd, ModelArgs& args) {
       ->capture_default_str();
 }
 
+#ifndef HB_WITH_VTK
 namespace {
 bool has_model_args(const ModelArgs& a) {
   return a.iso || a.label || !a.unit.empty() || a.smooth || a.target_triangles || a.chordal_mm > 0;
 }
 } // namespace
+#endif
 
 TriangleMesh load_mesh(const std::string& path, MeshReadReport* report) { return load_mesh(path, ModelArgs{}, report); }
 

@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
       const int* d = ct.image->GetDimensions();
       std::cout << "hb_generate_models: " << (dir / "femur_ct.nii.gz").string() << ": synthesized from femur.off, " << d[0]
                 << " x " << d[1] << " x " << d[2] << " voxels of " << options.voxel_mm << " mm, bone iso "
-                << options.bone_iso_hu << " HU; " << (dir / "femur_ct_source.off").string() << ": its source surface\n";
+                << options.bone_iso_hu << " HU (" << ct.rays_dropped << " open rays); " << (dir / "femur_ct_source.off").string() << ": its source surface\n";
     }
 #ifdef HB_HAVE_ASSIMP
     if (argc == 3) {

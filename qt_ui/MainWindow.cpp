@@ -29,6 +29,8 @@
 #include <QPushButton>
 #include <QScreen>
 #include <QScrollArea>
+#include <QLayout>
+#include <QResizeEvent>
 #include <QScrollBar>
 #include <QSettings>
 #include <QShowEvent>
@@ -53,6 +55,26 @@ public:
   QSize minimumSizeHint() const override {
     const QSize panel = widget() ? widget()->minimumSizeHint() : QSize(200, 60);
     return {panel.width() + verticalScrollBar()->sizeHint().width() + 2, 60};
+  }
+
+protected:
+  // A resizable scroll area ignores its panel's height-for-width: wrapped lines (the readout's)
+  // were squeezed into one. The panel is kept as tall as its lines need at the viewport's width.
+  void resizeEvent(QResizeEvent* event) override {
+    QScrollArea::resizeEvent(event);
+    fitHeight();
+  }
+  bool eventFilter(QObject* watched, QEvent* event) override {
+    if (watched == widget() && event->type() == QEvent::LayoutRequest) fitHeight();
+    return QScrollArea::eventFilter(watched, event);
+  }
+
+private:
+  void fitHeight() {
+    QWidget* panel = widget();
+    if (!panel || !panel->layout() || !panel->layout()->hasHeightForWidth()) return;
+    const int height = panel->layout()->totalHeightForWidth(viewport()->width());
+    if (height > 0 && height != panel->minimumHeight()) panel->setMinimumHeight(height);
   }
 };
 

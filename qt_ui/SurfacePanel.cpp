@@ -200,6 +200,8 @@ void SurfacePanel::showModel() {
   const hb::vtk::ModelOptions& o = m->modelOptions();
   useLabel_->setChecked(o.volume.label.has_value());
   if (o.volume.label) label_->setValue(int(*o.volume.label));
+  label_->setEnabled(useLabel_->isChecked());
+  iso_->setEnabled(!useLabel_->isChecked());
   iso_->setValue(f.contains("iso") ? f["iso"].get<double>() : m->otsu());
   histogram_->setIso(iso_->value());
   smooth_->setValue(o.volume.smooth_iterations);
