@@ -657,9 +657,10 @@ bool MainWindow::exportReport(const QString& dir, std::size_t samples) {
   }
   QString image;
   if (session_->hasErrorField()) {
-    // The rendered field, as the window shows it with the scalar bar.
+    // The rendered field with its scalar bar, in the metric the report's caption names (the
+    // relative force error), whichever metric the window shows; the window's display returns after.
     const ProbeView::ColorMode mode = view_->colorMode();
-    view_->setColorMode(ProbeView::ColorMode::ErrorField, errorPanel_->metric());
+    view_->setColorMode(ProbeView::ColorMode::ErrorField, ErrorMetric::RelativeForce);
     image = QDir(dir).absoluteFilePath(QStringLiteral("error_field.png"));
     if (!exportScreenshot(image)) image.clear();
     view_->setColorMode(mode, errorPanel_->metric());
