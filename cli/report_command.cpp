@@ -72,6 +72,7 @@ void add_report_command(CLI::App& app) {
   hb::cli::add_force_law_options(*cmd, opts->report.law);
   cmd->callback([opts, cmd] {
     const auto t0 = std::chrono::steady_clock::now();
+    if (hb::cli::communicator().is_root()) hb::cli::check_output_folder(opts->out);  // before the bake, not after
     std::string mesh_path, box_path;
     const bool first_is_box = hb::cli::is_box_file(opts->inputs[0]);
     hb::BoxScene scene;

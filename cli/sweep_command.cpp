@@ -106,7 +106,11 @@ void add_sweep_command(CLI::App& app) {
       std::cout << "sweep " << opts->mesh << " (" << mesh.triangle_count() << " triangles, " << so.samples
                 << " probes, seed " << so.probes.seed << ", one core for timing)\n";
       print_header();
-      so.on_row = [](const hb::SweepRow& r) { print_row(r, false); };
+      so.on_row = [](const hb::SweepRow& r) {
+        hb::cli::clear_progress_line();  // a row of its own, not after the bar
+        print_row(r, false);
+        std::cout.flush();
+      };
     }
     hb::cli::apply_pieces_spec(opts->pieces, so.recipe);
     hb::Communicator& comm = hb::cli::communicator();
