@@ -10,6 +10,12 @@
 #include "SessionFile.h"
 #include "StabilityPanel.h"
 #include "SurfacePanel.h"
+#include "SessionPipeline.h"
+#include "evaluation/comparison.h"
+#include "evaluation/error_field.h"
+#include "figure_text.h"
+#include "vtkHapticBoxErrorFieldFilter.h"
+#include <cmath>
 #include <QAction>
 #include <QApplication>
 #include <QCloseEvent>
@@ -145,6 +151,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
     session_->setProbeTarget(point);
     showMessage(tr("Probe moved to the vertex at (%1, %2, %3)").arg(point.x()).arg(point.y()).arg(point.z()));
   });
+  connect(errorPanel_, &ErrorFieldPanel::goToVertex, this, &MainWindow::goToWorstVertex);
   connect(errorPanel_, &ErrorFieldPanel::displayChanged, this, [this](bool field, ErrorMetric metric) {
     view_->setColorMode(field ? ProbeView::ColorMode::ErrorField : ProbeView::ColorMode::Pieces, metric);
   });
@@ -615,6 +622,44 @@ void MainWindow::onJobFinished(const QString& name, bool ok, const QString& mess
 void MainWindow::probeDragged(const hb::Vec3& point, bool press) {
   if (press) session_->aimProbe(view_->viewDirection(), view_->viewRight());
   session_->setProbeTarget(point);
+}
+
+void MainWindow::goToWorstVertex(std::size_t vertex) {
+  if (!session_->hasMesh() || !session_->hasErrorField() || vertex >= session_->mesh().vertex_count()) return;
+  // The probe the error field ran at this vertex (the same segment: hb::error_field_probes with
+  // the error-field filter's options), the one with the largest error when there were several.
+  vtkHapticBoxErrorFieldFilter* f = session_->model()->pipeline()->errorField();
+  hb::ErrorFieldOptions o;
+  o.probes_per_point = std::max(1, f->GetProbesPerPoint());
+  o.cone_degrees = float(f->GetConeAngle());
+  o.length_fraction = float(f->GetLengthFraction());
+  o.max_depth_fraction = float(f->GetMaxDepthFraction());
+  o.seed = f->GetSeed();
+  const float diagonal = session_->hasBoxes() && session_->boxes()->source().diagonal > 0.f ? session_->boxes()->source().diagonal
+                                                                                           : session_->diagonal();
+  const hb::SurfacePoint point = hb::surface_points_at_vertices(session_->mesh())[vertex];
+  const std::vector<hb::Segment> probes = hb::error_field_probes(point, vertex, diagonal, o);
+  const hb::ExactQuery* exact = session_->model()->readyExact();
+  std::size_t best = 0;
+  double worst = -1.0;
+  for (std::size_t k = 0; exact && session_->hasBoxes() && k < probes.size(); ++k) {
+    const hb::Contact e = exact->query(probes[k], session_->model()->law());
+    const hb::Contact a = session_->boxes()->query(probes[k], session_->model()->law());
+    const double err = e.contact != a.contact ? 1e9 : e.contact ? hb::relative_force_error(e, a) : 0.0;
+    if (err > worst) worst = err, best = k;
+  }
+  const hb::Segment& s = probes[best];
+  const hb::Vec3 dir = (s.end - s.start).normalized();
+  // The tip where the field's probe ended: aimed at its point, as deep as it went.
+  const float depth = std::max(0.f, (s.end - point.position).dot(dir));
+  session_->setProbeDirection(dir);
+  session_->setDepthFraction(double(depth) / double(session_->diagonal()));
+  session_->setProbeTarget(s.end - dir * depth);
+  device_->showDepth();
+  view_->centreOn(point.position);
+  showMessage(tr("Probe at vertex %1, on the error field's probe there (%2 from the inward normal)")
+                  .arg(vertex)
+                  .arg(QString::fromStdString(hb::sig(std::acos(std::clamp(double(dir.dot(-point.normal.normalized())), -1.0, 1.0)) * 180.0 / M_PI)) + tr(" deg")));
 }
 
 void MainWindow::stepDepth(int step) {

@@ -95,6 +95,7 @@ private:
   bool openSessionFile(const QString& path, bool interactive);
   void probeDragged(const hb::Vec3& point, bool press);
   void stepDepth(int step);
+  void goToWorstVertex(std::size_t vertex);
 
   HapticSession* session_;
   ProbeView* view_;

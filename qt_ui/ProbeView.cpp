@@ -606,6 +606,28 @@ void ProbeView::resetCamera() {
   renderNow();
 }
 
+void ProbeView::centreOn(const hb::Vec3& point) {
+  vtkCamera* c = renderer_->GetActiveCamera();
+  double focal[3], position[3];
+  c->GetFocalPoint(focal);
+  c->GetPosition(position);
+  for (int a = 0; a < 3; ++a) {
+    const double shift = double(point[a]) - focal[a];
+    focal[a] += shift;
+    position[a] += shift;
+  }
+  c->SetFocalPoint(focal);
+  c->SetPosition(position);
+  renderer_->ResetCameraClippingRange();
+  renderNow();
+}
+
+hb::Vec3 ProbeView::focalPoint() const {
+  double f[3];
+  renderer_->GetActiveCamera()->GetFocalPoint(f);
+  return hb::Vec3(float(f[0]), float(f[1]), float(f[2]));
+}
+
 void ProbeView::viewAlong(int axis, int sign) {
   vtkCamera* c = renderer_->GetActiveCamera();
   double focal[3];

@@ -415,7 +415,7 @@ TEST(MainWindowTest, ErrorFieldUsesViridisNamesTheMetricAndListsWorstVerticesTha
   ASSERT_GT(worst->count(), 0);
   ASSERT_TRUE(worst->item(0)->text().contains("%")) << worst->item(0)->text().toStdString();
   const QVariantList v = worst->item(0)->data(Qt::UserRole).toList();
-  ASSERT_EQ(v.size(), 6);
+  ASSERT_EQ(v.size(), 7);  // position, normal, vertex index
   emit worst->itemClicked(worst->item(0));
   const hb::Vec3 vertex(v[0].toFloat(), v[1].toFloat(), v[2].toFloat());
   // The probe line comes to pass through the vertex (the virtual device follows its target;

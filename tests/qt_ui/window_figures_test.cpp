@@ -7,7 +7,9 @@
 #include "SessionPipeline.h"
 #include "window_test_support.h"
 #include <QImage>
+#include <QListWidget>
 #include <QPushButton>
+#include <cmath>
 #include <chrono>
 
 using hbtest::openAndBake;
@@ -90,4 +92,33 @@ TEST(WindowFiguresTest, BakeTimeIsTheWholeBakeNotOneStage) {
   EXPECT_LE(total, wall);
   EXPECT_GE(total, 0.7 * wall - 0.2);  // the test's wait adds event-loop polling only
   EXPECT_FALSE(w.session()->boxesFromCache());
+}
+
+TEST(WindowFiguresTest, AWorstVertexPutsTheProbeOnTheFieldsProbeThereAndTheCameraFollows) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  openAndBake(w, data.mesh);  // a small raw box (m 8, n 4): errors of several percent
+  w.errorFieldPanel()->computeButton()->click();
+  ASSERT_TRUE(waitFor([&] { return w.session()->hasErrorField() && !w.session()->job()->isRunning(); }));
+  w.errorFieldPanel()->setMetric(ErrorMetric::RelativeForce);
+  QListWidget* worst = w.errorFieldPanel()->worstList();
+  ASSERT_GT(worst->count(), 0);
+  const QVariantList v = worst->item(0)->data(Qt::UserRole).toList();
+  ASSERT_EQ(v.size(), 7);
+  const std::size_t vertex = std::size_t(v[6].toULongLong());
+  const float fieldError = w.session()->errorField()->force_error[vertex];
+  ASSERT_GT(fieldError, 0.f);
+  emit worst->itemClicked(worst->item(0));
+  // The readout shows the error the field measured there (the same segment; the window's
+  // probe handle may be longer, which does not move the first hit).
+  auto readoutError = [&] {
+    const ProbeReading r = w.session()->reading();
+    return r.exact.contact && r.approx.contact ? r.relativeError : -1.0;
+  };
+  EXPECT_TRUE(waitFor([&] { return std::abs(readoutError() - fieldError) <= 0.25 * fieldError; }, 10))
+      << "readout " << readoutError() << ", field " << fieldError;
+  // The camera is centred on the vertex.
+  const hb::Vec3 p(v[0].toFloat(), v[1].toFloat(), v[2].toFloat());
+  EXPECT_LT((w.probeView()->focalPoint() - p).norm(), 1e-3f * w.session()->diagonal());
 }
