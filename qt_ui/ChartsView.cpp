@@ -245,7 +245,8 @@ void ChartsView::onSelection() {
 void ChartsView::choose(std::size_t index) {
   if (index >= boxRows_.size()) return;
   const hb::SweepRow& r = boxRows_[index];
-  emit configurationChosen(r.m, r.n, QString::fromStdString(r.codec.empty() ? "none" : r.codec));
+  if (!r.label.empty()) emit defaultBakeChosen();  // the default bake's row: its recipe, not one sampling
+  else emit configurationChosen(r.m, r.n, QString::fromStdString(r.codec.empty() ? "none" : r.codec));
 }
 
 QString ChartsView::hintText() const { return hint_->text(); }

@@ -22,6 +22,8 @@ public:
   ~ChartsView() override;
   void setRows(const std::vector<hb::SweepRow>& rows, const std::vector<std::pair<double, double>>& compression);
   std::size_t pointCount() const { return boxRows_.size(); }
+  /// The box rows shown (the samplings and the default bake, labelled), in point order.
+  const std::vector<hb::SweepRow>& boxRows() const { return boxRows_; }
   /// As a click on the box point `index` would do.
   void choose(std::size_t index);
   /// What the charts show (tests): the tooltip text of box point `index`, the x-axis tick
@@ -39,6 +41,8 @@ protected:
 
 signals:
   void configurationChosen(int m, int n, const QString& codec);
+  /// The default bake's point was clicked.
+  void defaultBakeChosen();
 
 private:
   void onSelection();

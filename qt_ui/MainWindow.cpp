@@ -167,6 +167,14 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
   });
   connect(view_, &ProbeView::surfaceDragged, this, &MainWindow::probeDragged);
   connect(view_, &ProbeView::depthStepped, this, &MainWindow::stepDepth);
+  connect(charts_, &ChartsView::defaultBakeChosen, this, [this] {
+    BakeSettings s = session_->bakeSettings();
+    s.advanced = false;  // the default recipe, as `hapticbox bake MESH -o BOX`
+    session_->setBakeSettings(s);
+    bake_->showSettings();
+    bake_->bakeButton()->click();
+    showMessage(tr("Loading the default bake"));
+  });
   connect(charts_, &ChartsView::configurationChosen, this, [this](int m, int n, const QString& codec) {
     BakeSettings s = session_->bakeSettings();
     s.advanced = true;  // a sweep point is an explicit sampling
@@ -266,6 +274,14 @@ void MainWindow::fitToScreen() {
   }
 }
 
+void MainWindow::showBottomDock(QDockWidget* dock) {
+  const bool wasVisible = dock->isVisible();
+  dock->show();
+  dock->raise();
+  // Two fifths of the window's height: the view keeps the larger part on a laptop's screen.
+  if (!wasVisible) resizeDocks({dock}, {height() * 2 / 5}, Qt::Vertical);
+}
+
 void MainWindow::showEvent(QShowEvent* event) {
   QMainWindow::showEvent(event);
   // Once the frame is known: fit it (the first show, and after a restored geometry).
@@ -295,7 +311,7 @@ void MainWindow::createActions() {
   file->addSeparator();
   file->addAction(tr("Export Screens&hot..."), this, &MainWindow::screenshotDialog, QKeySequence(tr("Ctrl+P")));
   reportAction_ = file->addAction(tr("Export Error &Report..."), this, [this] {
-    const QString d = QFileDialog::getExistingDirectory(this, tr("Report folder"), lastFolder());
+    const QString d = QFileDialog::getExistingDirectory(this, tr("Report folder"), reportStartFolder());
     if (!d.isEmpty()) exportReport(d);
   });
   file->addSeparator();
@@ -351,13 +367,10 @@ void MainWindow::createActions() {
   tools->addAction(tr("Run &Sweep (speed against accuracy)"), this, [this] {
     QString error;
     if (!session_->startSweep({8, 16, 32}, {4, 8}, 5000, &error)) showMessage(error, true);
-    else if (auto* d = findChild<QDockWidget*>(QStringLiteral("ChartsDock"))) d->show();
+    else if (auto* d = findChild<QDockWidget*>(QStringLiteral("ChartsDock"))) showBottomDock(d);
   });
   tools->addAction(tr("S&tability Suite..."), this, [this] {
-    if (auto* d = findChild<QDockWidget*>(QStringLiteral("StabilityDock"))) {
-      d->show();
-      d->raise();
-    }
+    if (auto* d = findChild<QDockWidget*>(QStringLiteral("StabilityDock"))) showBottomDock(d);
   });
   tools->addAction(tr("Cancel Running Job"), session_->job(), &BackgroundJob::cancel, QKeySequence(tr("Esc")));
 
@@ -482,6 +495,13 @@ void MainWindow::restorePreferences() {
 QString MainWindow::lastFolder() const {
   const QString folder = QSettings().value(QStringLiteral("files/lastFolder")).toString();
   return !folder.isEmpty() && QFileInfo(folder).isDir() ? folder : QDir::currentPath();
+}
+
+QString MainWindow::reportStartFolder() const {
+  // Where the last report went (its parent: a report is a folder of its own), never the
+  // dataset folder a model was opened from; the first time, the home folder.
+  const QString folder = QSettings().value(QStringLiteral("files/lastReportParent")).toString();
+  return !folder.isEmpty() && QFileInfo(folder).isDir() ? folder : QDir::homePath();
 }
 
 void MainWindow::rememberFolder(const QString& fileOrFolder) {
@@ -716,7 +736,7 @@ bool MainWindow::exportReport(const QString& dir, std::size_t samples) {
     return false;
   }
   pendingReportDir_ = dir;
-  rememberFolder(dir);
+  QSettings().setValue(QStringLiteral("files/lastReportParent"), QFileInfo(QDir(dir).absolutePath()).absolutePath());
   return true;
 }
 

@@ -13,6 +13,7 @@ class DevicePanel;
 class ErrorFieldPanel;
 class ProbeView;
 class QAction;
+class QDockWidget;
 class QLabel;
 class QMenu;
 class QProgressBar;
@@ -61,6 +62,9 @@ public:
   /// The folder file dialogs open in: the last one a file was opened from or saved to.
   QString lastFolder() const;
   void rememberFolder(const QString& fileOrFolder);
+  /// The folder File > Export Error Report's dialog opens in: the parent of the last report's
+  /// folder, else the home folder (not the folder of the model's data).
+  QString reportStartFolder() const;
   QToolBar* toolBar() const { return toolBar_; }
   /// Shrinks and moves the window so that its frame lies within the available geometry of its
   /// screen (called on show, after restoring a layout and when a dock appears).
@@ -96,6 +100,8 @@ private:
   void probeDragged(const hb::Vec3& point, bool press);
   void stepDepth(int step);
   void goToWorstVertex(std::size_t vertex);
+  /// Shows a dock below the view (charts, stability) at two fifths of the window's height.
+  void showBottomDock(QDockWidget* dock);
 
   HapticSession* session_;
   ProbeView* view_;

@@ -257,6 +257,7 @@ bool SessionJobs::startSweep(const std::vector<int>& ms, const std::vector<int>&
     o.timing_rounds = 3;
     o.law = law;
     o.cache_dir = cache;
+    o.default_bake = true;  // the product's bake beside the samplings, as `hapticbox sweep` (cached after a default bake)
     o.progress = progress;
     pendingRows_ = hb::run_sweep(*mesh, source, refs, o);
     pendingCompression_.clear();

@@ -158,7 +158,10 @@ int main(int argc, char** argv) {
     if (parser.isSet(sweep)) {
       window.session()->startSweep({8, 16}, {4, 8}, 2000);
       waitFor([&] { return !window.session()->job()->isRunning(); }, 600);
-      if (auto* d = window.findChild<QDockWidget*>(QStringLiteral("ChartsDock"))) d->show();
+      if (auto* d = window.findChild<QDockWidget*>(QStringLiteral("ChartsDock"))) {
+        d->show();
+        window.resizeDocks({d}, {window.height() * 2 / 5}, Qt::Vertical);
+      }
     }
     waitFor([] { return false; }, 0.5);
     if (parser.isSet(fps)) {

@@ -6,6 +6,8 @@
 #include "vtkHapticBoxBakeFilter.h"
 #include "SessionPipeline.h"
 #include "window_test_support.h"
+#include <QDir>
+#include <QFileInfo>
 #include <QImage>
 #include <QListWidget>
 #include <QPushButton>
@@ -121,4 +123,18 @@ TEST(WindowFiguresTest, AWorstVertexPutsTheProbeOnTheFieldsProbeThereAndTheCamer
   // The camera is centred on the vertex.
   const hb::Vec3 p(v[0].toFloat(), v[1].toFloat(), v[2].toFloat());
   EXPECT_LT((w.probeView()->focalPoint() - p).norm(), 1e-3f * w.session()->diagonal());
+}
+
+TEST(WindowFiguresTest, TheReportDialogStartsWhereReportsGoNotInTheDatasetFolder) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  openAndBake(w, data.mesh);
+  EXPECT_EQ(w.lastFolder(), QFileInfo(data.mesh).absolutePath());
+  EXPECT_EQ(w.reportStartFolder(), QDir::homePath());
+  QDir(data.dir.path()).mkdir(QStringLiteral("reports"));
+  const QString dir = data.dir.filePath(QStringLiteral("reports/bumpy"));
+  ASSERT_TRUE(w.exportReport(dir, 500));
+  ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 300));
+  EXPECT_EQ(w.reportStartFolder(), data.dir.filePath(QStringLiteral("reports")));
 }

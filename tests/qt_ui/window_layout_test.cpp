@@ -162,9 +162,14 @@ TEST(WindowLayoutTest, OpeningAnotherModelClearsTheCharts) {
   w.show();
   openAndBake(w, data.mesh);
   ASSERT_TRUE(w.session()->startSweep({8}, {4}, 500));
-  ASSERT_TRUE(hbtest::waitFor([&] { return !w.session()->job()->isRunning(); }));
+  ASSERT_TRUE(hbtest::waitFor([&] { return !w.session()->job()->isRunning(); }, 300));
   ASSERT_GT(w.chartsView()->pointCount(), 0u);
   EXPECT_NE(w.chartsView()->hintText(), ChartsView::emptyHint());
+  // The default bake is on the chart beside the samplings (and exact: its legend entry).
+  bool defaultRow = false;
+  for (const hb::SweepRow& r : w.chartsView()->boxRows()) defaultRow = defaultRow || r.label.rfind("default bake", 0) == 0;
+  EXPECT_TRUE(defaultRow);
+  EXPECT_GE(w.chartsView()->legendEntries(), 2);
   ASSERT_TRUE(w.openFile(data.mesh));
   EXPECT_EQ(w.chartsView()->pointCount(), 0u);
   EXPECT_EQ(w.chartsView()->legendEntries(), 0);
