@@ -8,6 +8,7 @@
 //                                     cancellous bone in muscle and fat in air, blurred, with
 //                                     scanner noise); femur_ct_source.off: the femur as placed
 //                                     in the CT's millimetres (what the bone iso should find);
+//   femur_ct_dicom/                   the same voxels as a DICOM CT series (slice_0000.dcm ...);
 //   reference_solid.step              two solids written by OpenCASCADE: a cylinder (r 10 mm,
 //                                     h 30 mm) and a sphere (r 10 mm) beside it;
 //   elephant.gltf .glb .3mf .dae .fbx CGAL's elephant.off (taken as mm) through Assimp's
@@ -15,6 +16,7 @@
 // Usage: hb_generate_models OUTPUT_DIR [MESHES_DIR]. Exit 2 for usage, 1 for failure.
 #include "errors.h"
 #include "mesh/mesh_io.h"
+#include "dicom_series.h"
 #include "mesh_ct.h"
 #include "volume_phantom.h"
 #ifdef HB_HAVE_OCCT
@@ -57,6 +59,10 @@ int main(int argc, char** argv) {
       const hb::vtk::MeshCt ct = hb::vtk::make_mesh_ct(hb::read_mesh((fs::path(argv[2]) / "femur.off").string()), options);
       hb::vtk::write_volume(ct.image, ct.index_to_mm, (dir / "femur_ct.nii.gz").string());
       hb::write_mesh(ct.source_mm, (dir / "femur_ct_source.off").string());
+      // The same voxels as a DICOM series (one file a slice), as a scanner would hand it over.
+      std::filesystem::remove_all(dir / "femur_ct_dicom");
+      hb::datasets::write_dicom_series(ct.image, ct.index_to_mm, (dir / "femur_ct_dicom").string(), "Synthesized^Femur",
+                                       "CT of a thigh synthesized from CGAL femur.off");
       const int* d = ct.image->GetDimensions();
       std::cout << "hb_generate_models: " << (dir / "femur_ct.nii.gz").string() << ": synthesized from femur.off, " << d[0]
                 << " x " << d[1] << " x " << d[2] << " voxels of " << options.voxel_mm << " mm, bone iso "

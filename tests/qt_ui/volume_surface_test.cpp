@@ -122,6 +122,23 @@ TEST(VolumeSurfaceTest, TheBoneIsoOfTheFemurCtFindsTheFemurWithinAVoxel) {
   if (const char* keep = std::getenv("HB_SCREENSHOT_DIR")) w.grab().save(QString::fromLocal8Bit(keep) + "/femur_surface_panel.png");
 }
 
+TEST(VolumeSurfaceTest, TheFemurCtAsADicomSeriesGivesTheSameBone) {
+  const QString series = QStringLiteral(HB_DATASETS_DIR "/generated/femur_ct_dicom");
+  if (!QFileInfo(series).isDir()) GTEST_SKIP() << "run datasets/fetch.sh build/datasets/hb_generate_datasets";
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  w.setBakeOnOpen(false);
+  hb::vtk::ModelOptions bone;
+  bone.volume.iso = 300.0;
+  ASSERT_TRUE(w.openFile(series, false, bone));  // what File > Open DICOM Folder then Extract at 300 HU give
+  EXPECT_EQ(QString::fromStdString(w.session()->model()->modelFacts().value("format", std::string())), QStringLiteral("DICOM series"));
+  const hb::TriangleMesh source = hb::read_mesh(kFemurSource.toStdString());
+  const auto [boneToSource, boneFar] = farthest(w.session()->mesh(), source, 1.0);
+  EXPECT_EQ(boneFar, 0u) << "worst " << boneToSource << " mm";
+  EXPECT_NEAR(w.session()->mesh().area(), source.area(), 0.02 * source.area());
+}
+
 TEST(VolumeSurfaceTest, SurfacePanelOptionsAndAClickOnTheHistogramChooseTheIso) {
   const QString phantom = QStringLiteral(HB_DATASETS_DIR "/generated/ct_phantom.nii.gz");
   if (!QFileInfo::exists(phantom)) GTEST_SKIP() << "run datasets/fetch.sh build/datasets/hb_generate_datasets";
