@@ -109,6 +109,7 @@ void add_bake_command(CLI::App& app) {
                 "answer the scene exactly at the coarsest (the bakes before 2026-12-04; for before/after figures)");
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
   cmd->callback([opts, max_error, cmd] {
+    hb::cli::check_output_file(opts->out);  // an unwritable -o fails now, not after the bake
     // Without a sampling option the bake is the default, budgeted one (hb::default_recipe):
     // the pieces, codec and seam options given still apply to it.
     const bool sampling_given = cmd->count("-m") + cmd->count("-n") + cmd->count("--cell") + cmd->count("--refine") > 0;

@@ -10,7 +10,10 @@
 #include <cctype>
 #include <chrono>
 #include <cstdio>
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -107,6 +110,12 @@ ProgressCallback terminal_progress(const std::string& label) {
     std::fflush(stderr);
     return true;
   };
+}
+
+void clear_progress_line() {
+  if (!isatty(STDERR_FILENO) || !communicator().is_root()) return;
+  std::fputs("\r\033[K", stderr);  // back to the line's start, erase it: the bar is drawn again at its next report
+  std::fflush(stderr);
 }
 
 CLI::Validator finite_range(double lo, double hi) {
@@ -284,6 +293,34 @@ bool is_box_file(const std::string& path) {
   return in.gcount() == 8 && std::string(magic, 8) == "HBOXFILE";
 }
 
+void check_output_file(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw IoError(path + ": is a folder, not an output file");
+  const fs::path parent = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
+  if (!fs::is_directory(parent, ec)) throw IoError(path + ": cannot write (no folder " + parent.string() + ")");
+  const bool existed = fs::exists(path, ec);
+  {
+    std::ofstream probe(path, std::ios::app | std::ios::binary);
+    if (!probe) throw IoError(path + ": cannot write (" + std::strerror(errno) + ")");
+  }
+  if (!existed) fs::remove(path, ec);
+}
+
+void check_output_folder(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(path, ec) && !fs::is_directory(path, ec)) throw IoError(path + ": is a file, not an output folder");
+  fs::create_directories(path, ec);
+  if (ec) throw IoError(path + ": cannot create the folder (" + ec.message() + ")");
+  const fs::path probe = fs::path(path) / ".hapticbox-write-check";
+  {
+    std::ofstream out(probe);
+    if (!out) throw IoError(path + ": cannot write in the folder (" + std::strerror(errno) + ")");
+  }
+  fs::remove(probe, ec);
+}
+
 } // namespace hb::cli
 
 #include "errors.h"
@@ -293,6 +330,7 @@ bool is_box_file(const std::string& path) {
 #include <sstream>
 #ifdef HB_WITH_VTK
 #include "model_loader.h"
+#include "model_options_key.h"
 #endif
 
 namespace hb::cli {
@@ -305,7 +343,20 @@ void add_model_options(CLI::App& cmd, ModelArgs& args) {
   iso->excludes(label);
   cmd.add_option("--unit", args.unit,
                  "Length of one model unit: mm, cm, m, um, in, ft (default: the file's unit, else mm); the model is "
-                 "scaled to mm");
+                 "scaled to mm")
+      // An unknown unit is a usage error (exit 2), said before any file is read.
+      ->check(CLI::Validator(
+          [](std::string& unit) -> std::string {
+            static const char* const known[] = {"mm", "millimetre", "millimeter", "cm", "centimetre", "centimeter",
+                                                "m", "metre", "meter", "um", "micrometre", "micron", "in", "inch",
+                                                "ft", "foot"};
+            std::string u = unit;
+            std::transform(u.begin(), u.end(), u.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+            for (const char* k : known)
+              if (u == k) return {};
+            return "unknown unit '" + unit + "' (use mm, cm, m, um, in or ft)";
+          },
+          "UNIT"));
   cmd.add_option("--smooth", args.smooth, "Volumes: windowed-sinc smoothing iterations (0: none)")
       ->check(CLI::Range(0, 1000));
   cmd.add_option("--target-triangles", args.target_triangles, "Volumes: decimate to about this many triangles (0: keep all)");
@@ -318,18 +369,13 @@ void add_model_options(CLI::App& cmd, ModelArgs& args) {
       ->capture_default_str();
 }
 
+#ifndef HB_WITH_VTK
 namespace {
 bool has_model_args(const ModelArgs& a) {
   return a.iso || a.label || !a.unit.empty() || a.smooth || a.target_triangles || a.chordal_mm > 0;
 }
-std::string args_text(const ModelArgs& a) {
-  std::ostringstream o;
-  o << "iso=" << (a.iso ? std::to_string(*a.iso) : "-") << " label=" << (a.label ? std::to_string(*a.label) : "-")
-    << " unit=" << a.unit << " smooth=" << a.smooth << " target=" << a.target_triangles << " chordal=" << a.chordal_mm
-    << " ftol=" << a.force_tolerance_n;
-  return o.str();
-}
 } // namespace
+#endif
 
 TriangleMesh load_mesh(const std::string& path, MeshReadReport* report) { return load_mesh(path, ModelArgs{}, report); }
 
@@ -352,10 +398,17 @@ TriangleMesh load_mesh(const std::string& path, const ModelArgs& args, MeshReadR
   hb::vtk::LoadedModel model = hb::vtk::load_model(path, to_model_options(args));
   for (const std::string& w : model.report.warnings) std::cerr << "hapticbox: warning: " << w << "\n";
   if (model.kind == hb::vtk::ModelKind::Volume) {
-    std::cerr << "hapticbox: " << path << ": " << model.format << " "
-              << model.facts["dimensions"].dump() << " voxels, spacing " << model.facts["spacing_mm"].dump() << " mm, ";
+    // Figures as the rest of the tool prints them (4 significant digits), not raw doubles.
+    const auto list = [](const nlohmann::json& v, const char* sep) {
+      std::string out;
+      for (std::size_t i = 0; v.is_array() && i < v.size(); ++i)
+        out += (i ? sep : "") + (v[i].is_number() ? sig(v[i].get<double>(), 4) : v[i].dump());
+      return out;
+    };
+    std::cerr << "hapticbox: " << path << ": " << model.format << " " << list(model.facts["dimensions"], " x ")
+              << " voxels, spacing " << list(model.facts["spacing_mm"], " x ") << " mm, ";
     if (model.facts.contains("label")) std::cerr << "label " << model.facts["label"].dump();
-    else std::cerr << "iso " << model.facts["iso"].dump() << (args.iso ? "" : " (automatic; set --iso)");
+    else std::cerr << "iso " << sig(model.facts["iso"].get<double>(), 4) << (args.iso ? "" : " (automatic; set --iso)");
     std::cerr << ": " << model.mesh.triangle_count() << " triangles in mm\n";
   } else if (model.kind == hb::vtk::ModelKind::Cad) {
     std::cerr << "hapticbox: " << path << ": " << model.format << ", " << model.facts.value("faces", 0) << " faces, chordal deviation "
@@ -379,7 +432,13 @@ TriangleMesh load_mesh(const std::string& path, const ModelArgs& args, MeshReadR
 }
 
 std::uint64_t hash_model(const std::string& path, const ModelArgs& args) {
-  return hb::hash_model(path, has_model_args(args) ? args_text(args) : std::string());
+#ifdef HB_WITH_VTK
+  // The window keys its bakes by the same text (hb::vtk::model_options_key).
+  return hb::hash_model(path, hb::vtk::model_options_key(to_model_options(args)));
+#else
+  (void)args;  // without VTK no option shapes the surface (load_mesh refuses them)
+  return hb::hash_model(path);
+#endif
 }
 
 nlohmann::json budget_json(const BudgetReport& r) {

@@ -40,6 +40,10 @@ void set_communicator(Communicator* communicator);
 /// A progress callback drawing a bar on stderr when it is a terminal (silent otherwise, and
 /// on every rank but 0: rank 0 reports for the whole job).
 ProgressCallback terminal_progress(const std::string& label);
+/// Erases the progress bar's line on a terminal (stderr), so that a line printed now (a table
+/// row on stdout) starts at the left margin instead of after the bar; the bar comes back at
+/// its next report.
+void clear_progress_line();
 /// The text after a terminal progress bar: elapsed time and, from 1 % and 1 s on, the time left
 /// at the rate so far ("12.3 s elapsed, ETA 41.2 s"; "done in 53.5 s" at the end).
 std::string progress_eta_text(double elapsed_seconds, double fraction);
@@ -106,6 +110,13 @@ void print_json(const nlohmann::json& j);
 
 /// True when `path` names a box file (by its magic bytes, not its extension).
 bool is_box_file(const std::string& path);
+
+/// Checks, before any long work, that the output file `path` can be written: opens it for
+/// appending (creating it, then removing it again when it did not exist). Throws hb::IoError
+/// naming the path and the cause (no such folder, a folder, permission, read-only).
+void check_output_file(const std::string& path);
+/// The same for an output folder: creates it if needed and writes and removes a probe file.
+void check_output_folder(const std::string& path);
 
 /// Fails (hb::InvalidInput, exit 1) when `scene` records a source hash that differs from
 /// `mesh_hash`: evaluating a box against another mesh measures nothing. With `force`, warns on

@@ -25,6 +25,7 @@ void add_compress_command(CLI::App& app) {
   hb::cli::add_codec_bound_options(*cmd, opts->codec_options, &opts->strict);
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
   cmd->callback([opts] {
+    hb::cli::check_output_file(opts->out);
     const hb::BoxScene scene = hb::load_box_file(opts->box);
     opts->codec_options.codec = hb::parse_codec(opts->codec);
     for (const hb::HapticBox& box : scene.boxes())

@@ -6,24 +6,64 @@
 #include "figure_text.h"
 #include "haptic_box/box_file.h"
 #include "haptic_box/scene_codec_stats.h"
+#include "mesh/file_hash.h"
 #include "mesh/mesh_io.h"
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <string>
+#include <vector>
 
 namespace {
 
+/// An integer with its thousands separated by commas from 10,000 up, as hb::sig does.
+std::string integer_text(long long v) {
+  std::string digits = std::to_string(v < 0 ? -v : v);
+  if (digits.size() > 4)
+    for (int at = int(digits.size()) - 3; at > 0; at -= 3) digits.insert(std::size_t(at), ",");
+  return (v < 0 ? "-" : "") + digits;
+}
+
 /// A value of the text form: floating-point figures with 4 significant digits (the JSON form
-/// keeps full precision), arrays element by element, strings bare.
+/// keeps full precision), integers with thousands separators as figures are, arrays and
+/// objects element by element, strings bare.
 std::string info_text(const nlohmann::json& v) {
   if (v.is_string()) return v.get<std::string>();
   if (v.is_number_float()) return hb::sig(v.get<double>(), 4);
+  if (v.is_number_unsigned()) return integer_text(static_cast<long long>(v.get<std::uint64_t>()));
+  if (v.is_number_integer()) return integer_text(v.get<long long>());
   if (v.is_array()) {
     std::string out = "[";
     for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + info_text(v[i]);
     return out + "]";
   }
+  if (v.is_object()) {
+    std::string out = "{";
+    bool first = true;
+    for (auto it = v.begin(); it != v.end(); ++it, first = false) out += (first ? "" : ", ") + it.key() + ": " + info_text(*it);
+    return out + "}";
+  }
   return v.dump();
+}
+
+/// The order the text form prints keys in: the JSON object's (alphabetical), except that a
+/// pair's minimum comes before its maximum (bounds_min, bounds_max).
+std::vector<std::string> text_order(const nlohmann::json& j) {
+  std::vector<std::string> keys;
+  for (auto it = j.begin(); it != j.end(); ++it) keys.push_back(it.key());
+  for (std::size_t i = 0; i + 1 < keys.size(); ++i) {
+    const std::string& k = keys[i];
+    if (k.size() > 4 && k.compare(k.size() - 4, 4, "_max") == 0) {
+      const std::string min = k.substr(0, k.size() - 4) + "_min";
+      const auto at = std::find(keys.begin() + std::ptrdiff_t(i), keys.end(), min);
+      if (at != keys.end()) {
+        keys.erase(at);
+        keys.insert(keys.begin() + std::ptrdiff_t(i), min);
+        ++i;
+      }
+    }
+  }
+  return keys;
 }
 
 nlohmann::json mesh_info(const std::string& path, const hb::cli::ModelArgs& args) {
@@ -44,6 +84,8 @@ nlohmann::json mesh_info(const std::string& path, const hb::cli::ModelArgs& args
           {"bounds_max", {b.max.x(), b.max.y(), b.max.z()}},
           {"diagonal", b.diagonal()},
           {"area", mesh.area()},
+          // The hash box files and the cache record for this model, as the report prints it.
+          {"mesh_hash", hb::hash_text(hb::cli::hash_model(path, args))},
           {"warnings", report.warnings}};
   // Volumes, CAD solids and scenes: what the loader read (dimensions, spacing, value range,
   // labels, iso-value; solids, faces, chordal deviation; unit), after the mesh's own facts.
@@ -119,7 +161,7 @@ nlohmann::json box_info(const std::string& path, bool verify) {
           {"scene_grid_cells", scene.grid() ? scene.grid()->codes().size() : 0},
           {"verified", verify},
           {"source_mesh", scene.source().mesh_path},
-          {"source_mesh_hash", scene.source().mesh_hash},
+          {"source_mesh_hash", hb::hash_text(scene.source().mesh_hash)},  // hex, as the report
           {"source_triangles", scene.source().triangles},
           {"source_diagonal", scene.source().diagonal},
           {"budget", scene.budget_report().summary()},
@@ -154,8 +196,8 @@ void add_info_command(CLI::App& app) {
       return;
     }
     const bool scene = j.value("boxes", 0) > 1;
-    for (auto it = j.begin(); it != j.end(); ++it) {
-      const std::string& key = it.key();
+    for (const std::string& key : text_order(j)) {
+      const auto it = j.find(key);
       if (key == "box_list" || key == "budget_report") continue;
       if (key == "m_min" || key == "m_max" || key == "n_min" || key == "n_max") continue;
       if (scene && (key == "m" || key == "n")) {

@@ -74,6 +74,7 @@ void add_report_command(CLI::App& app) {
   hb::cli::add_workspace_options(*cmd, opts->workspace);
   cmd->callback([opts, cmd] {
     const auto t0 = std::chrono::steady_clock::now();
+    if (hb::cli::communicator().is_root()) hb::cli::check_output_folder(opts->out);  // before the bake, not after
     std::string mesh_path, box_path;
     const bool first_is_box = hb::cli::is_box_file(opts->inputs[0]);
     hb::BoxScene scene;

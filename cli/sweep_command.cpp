@@ -113,7 +113,11 @@ void add_sweep_command(CLI::App& app) {
                 << "; felt_%: probes perceptibly different from exact (" << hb::thresholds_text(so.judge.thresholds)
                 << ")\n";
       print_header();
-      so.on_row = [](const hb::SweepRow& r) { print_row(r, false); };
+      so.on_row = [](const hb::SweepRow& r) {
+        hb::cli::clear_progress_line();  // a row of its own, not after the bar
+        print_row(r, false);
+        std::cout.flush();
+      };
     }
     hb::cli::apply_pieces_spec(opts->pieces, so.recipe);
     hb::Communicator& comm = hb::cli::communicator();

@@ -12,7 +12,10 @@
 #   3. If the path of the built hb_generate_datasets is given as $1, the generated objects
 #      (bumpy_sphere.off, chess_piece.off) into datasets/data/generated/; and when
 #      hb_generate_models sits next to it, the CT phantom (.nii.gz .mha .nrrd, label map), the
-#      OpenCASCADE reference solid (.step) and glTF/3MF/Collada/FBX exports of a CGAL mesh.
+#      OpenCASCADE reference solid (.step), glTF/3MF/Collada/FBX exports of a CGAL mesh, and
+#      femur_ct.nii.gz and the DICOM series femur_ct_dicom/: a CT synthesized from CGAL's
+#      femur.off (nothing downloaded; see datasets/generate_models.cpp) with femur_ct_source.off,
+#      the surface it was made from.
 # HB_DATA_DIR overrides datasets/data (for trying the script without touching the shared copy).
 # Usage: datasets/fetch.sh [build/datasets/hb_generate_datasets]
 set -euo pipefail
@@ -102,6 +105,7 @@ if [[ -n "$generator" ]]; then
   models="$(dirname "$generator")/hb_generate_models"
   if [[ -x "$models" ]]; then
     if [[ -f "$generated/ct_phantom.nii.gz" && -f "$generated/reference_solid.step" &&
+          -f "$generated/femur_ct.nii.gz" && -d "$generated/femur_ct_dicom" &&
           "$generated/ct_phantom.nii.gz" -nt "$models" ]]; then
       echo "fetch.sh: generated models already in $generated"
     else

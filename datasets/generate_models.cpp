@@ -2,6 +2,13 @@
 //   ct_phantom.nii.gz / .mha / .nrrd  the CT phantom (hb::vtk::CtPhantom: air, a soft-tissue
 //                                     ball, a bone torus; oblique, anisotropic voxels);
 //   ct_phantom_labels.nii.gz          its label map (0 air, 1 soft tissue, 2 bone);
+//   femur_ct.nii.gz                   a synthesized CT of a thigh made from CGAL's femur.off
+//                                     (hb::vtk::make_mesh_ct: the femur scaled to 420 mm,
+//                                     voxelised at 1 mm with its partial volume, cortical and
+//                                     cancellous bone in muscle and fat in air, blurred, with
+//                                     scanner noise); femur_ct_source.off: the femur as placed
+//                                     in the CT's millimetres (what the bone iso should find);
+//   femur_ct_dicom/                   the same voxels as a DICOM CT series (slice_0000.dcm ...);
 //   reference_solid.step              two solids written by OpenCASCADE: a cylinder (r 10 mm,
 //                                     h 30 mm) and a sphere (r 10 mm) beside it;
 //   elephant.gltf .glb .3mf .dae .fbx CGAL's elephant.off (taken as mm) through Assimp's
@@ -9,6 +16,8 @@
 // Usage: hb_generate_models OUTPUT_DIR [MESHES_DIR]. Exit 2 for usage, 1 for failure.
 #include "errors.h"
 #include "mesh/mesh_io.h"
+#include "dicom_series.h"
+#include "mesh_ct.h"
 #include "volume_phantom.h"
 #ifdef HB_HAVE_OCCT
 #include "cad_reader.h"
@@ -45,6 +54,20 @@ int main(int argc, char** argv) {
     hb::vtk::write_reference_solid_step((dir / "reference_solid.step").string(), 10.0, 30.0);
     std::cout << "hb_generate_models: " << (dir / "reference_solid.step").string() << ": cylinder r 10 h 30 and sphere r 10 at (30, 0, 15)\n";
 #endif
+    if (argc == 3 && fs::exists(fs::path(argv[2]) / "femur.off")) {
+      const hb::vtk::MeshCtOptions options;
+      const hb::vtk::MeshCt ct = hb::vtk::make_mesh_ct(hb::read_mesh((fs::path(argv[2]) / "femur.off").string()), options);
+      hb::vtk::write_volume(ct.image, ct.index_to_mm, (dir / "femur_ct.nii.gz").string());
+      hb::write_mesh(ct.source_mm, (dir / "femur_ct_source.off").string());
+      // The same voxels as a DICOM series (one file a slice), as a scanner would hand it over.
+      std::filesystem::remove_all(dir / "femur_ct_dicom");
+      hb::datasets::write_dicom_series(ct.image, ct.index_to_mm, (dir / "femur_ct_dicom").string(), "Synthesized^Femur",
+                                       "CT of a thigh synthesized from CGAL femur.off");
+      const int* d = ct.image->GetDimensions();
+      std::cout << "hb_generate_models: " << (dir / "femur_ct.nii.gz").string() << ": synthesized from femur.off, " << d[0]
+                << " x " << d[1] << " x " << d[2] << " voxels of " << options.voxel_mm << " mm, bone iso "
+                << options.bone_iso_hu << " HU (" << ct.rays_dropped << " open rays); " << (dir / "femur_ct_source.off").string() << ": its source surface\n";
+    }
 #ifdef HB_HAVE_ASSIMP
     if (argc == 3) {
       const fs::path source = fs::path(argv[2]) / "elephant.off";

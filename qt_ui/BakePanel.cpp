@@ -254,5 +254,5 @@ void BakePanel::updateState() {
                                                          .arg(QString::fromStdString(hb::bytes_text(refineBytes)))
                                           : tables)
                      .arg(session_->boxesFromCache() ? tr("from the cache")
-                                                     : tr("baked in %1").arg(QString::fromStdString(hb::duration_text(session_->bakeSeconds())))));
+                                                     : tr("baked in %1 in all").arg(QString::fromStdString(hb::duration_text(session_->bakeSeconds())))));
 }

@@ -85,12 +85,11 @@ ChartsView::ChartsView(QWidget* parent) : QWidget(parent) {
                         "median relative force error (%)");
   compressionView_ = makeView(compressionWidget_, compressionChart_, "Compression against error",
                               "compression rate (x : 1)", "median force error against raw tables (fraction)");
-  hint_ = new QLabel(tr("Run a sweep (Tools > Sweep) or export a report to fill the charts; click a "
-                        "haptic-box point to load that configuration."));
+  hint_ = new QLabel(emptyHint());
   hint_->setWordWrap(true);
-  compressionNote_ = new QLabel(tr("Compression against error: no curve yet. Choose a codec in the Codec "
-                                   "menu (haar or block) and export a report from raw (uncompressed) boxes: "
-                                   "the curve of that codec's error bounds appears here."));
+  compressionNote_ = new QLabel(tr("Compression against error: no curve yet. In the Bake panel choose Recipe "
+                                   "Advanced with Codec none, bake, then File > Export Error Report: the curves of "
+                                   "the codecs' error bounds appear here."));
   compressionNote_->setWordWrap(true);
   compressionNote_->setAlignment(Qt::AlignCenter);
   compressionWidget_->hide();
@@ -101,7 +100,7 @@ ChartsView::ChartsView(QWidget* parent) : QWidget(parent) {
   auto* layout = new QVBoxLayout(this);
   layout->addWidget(hint_);
   layout->addLayout(charts, 1);
-  setMinimumHeight(300);
+  setMinimumHeight(180);  // a dock below the view: small enough for a 768-pixel screen
 
   auto observer = vtkSmartPointer<vtkCallbackCommand>::New();
   observer->SetClientData(this);
@@ -146,6 +145,11 @@ std::vector<std::string> ChartsView::speedAxisLabels() const {
 int ChartsView::legendEntries() const { return speedChart_->GetShowLegend() ? int(speedChart_->GetNumberOfPlots()) : 0; }
 
 ChartsView::~ChartsView() = default;
+
+QString ChartsView::emptyHint() {
+  return tr("Run a sweep (Tools > Run Sweep) or export a report (File > Export Error Report) to fill the charts; "
+            "click a haptic-box point to load that configuration.");
+}
 
 void ChartsView::setRows(const std::vector<hb::SweepRow>& rows, const std::vector<std::pair<double, double>>& compression) {
   speedChart_->ClearPlots();
@@ -199,10 +203,11 @@ void ChartsView::setRows(const std::vector<hb::SweepRow>& rows, const std::vecto
   };
   std::vector<std::string> bt, et, lt;
   for (const auto& r : rows) (r.method == "haptic_box" ? bt : r.method == "exact_embree" ? et : lt).push_back(tip(r));
-  // Only the series present get a plot (and so a legend entry).
-  if (!bx.empty()) boxPlot_ = addPoints(speedChart_, "haptic box", bx, by, 255, 115, 0, VTK_MARKER_CIRCLE, bt);
-  if (!ex.empty()) addPoints(speedChart_, "exact Embree", ex, ey, 38, 191, 64, VTK_MARKER_DIAMOND, et);
-  if (!lx.empty()) addPoints(speedChart_, "VTK static cell locator", lx, ly, 40, 90, 220, VTK_MARKER_SQUARE, lt);
+  // Only the series present get a plot (and so a legend entry), in the report's colours
+  // (report/report_charts.cpp): box blue, exact red, VTK orange.
+  if (!bx.empty()) boxPlot_ = addPoints(speedChart_, "haptic box", bx, by, 31, 119, 180, VTK_MARKER_CIRCLE, bt);
+  if (!ex.empty()) addPoints(speedChart_, "exact Embree", ex, ey, 214, 39, 40, VTK_MARKER_DIAMOND, et);
+  if (!lx.empty()) addPoints(speedChart_, "VTK static cell locator", lx, ly, 255, 127, 14, VTK_MARKER_SQUARE, lt);
   speedChart_->SetShowLegend(!rows.empty());
   speedChart_->RecalculateBounds();
 
@@ -224,7 +229,7 @@ void ChartsView::setRows(const std::vector<hb::SweepRow>& rows, const std::vecto
     compressionChart_->SetTitle("Compression against error: no curve yet");
   }
   compressionChart_->RecalculateBounds();
-  hint_->setText(rows.empty() ? hint_->text()
+  hint_->setText(rows.empty() ? emptyHint()
                               : tr("%1 rows; click a haptic-box point to load that configuration.").arg(rows.size()));
   speedWidget_->renderWindow()->Render();
   compressionWidget_->renderWindow()->Render();
@@ -240,5 +245,8 @@ void ChartsView::onSelection() {
 void ChartsView::choose(std::size_t index) {
   if (index >= boxRows_.size()) return;
   const hb::SweepRow& r = boxRows_[index];
-  emit configurationChosen(r.m, r.n, QString::fromStdString(r.codec.empty() ? "none" : r.codec));
+  if (!r.label.empty()) emit defaultBakeChosen();  // the default bake's row: its recipe, not one sampling
+  else emit configurationChosen(r.m, r.n, QString::fromStdString(r.codec.empty() ? "none" : r.codec));
 }
+
+QString ChartsView::hintText() const { return hint_->text(); }

@@ -22,6 +22,8 @@ public:
   ~ChartsView() override;
   void setRows(const std::vector<hb::SweepRow>& rows, const std::vector<std::pair<double, double>>& compression);
   std::size_t pointCount() const { return boxRows_.size(); }
+  /// The box rows shown (the samplings and the default bake, labelled), in point order.
+  const std::vector<hb::SweepRow>& boxRows() const { return boxRows_; }
   /// As a click on the box point `index` would do.
   void choose(std::size_t index);
   /// What the charts show (tests): the tooltip text of box point `index`, the x-axis tick
@@ -30,12 +32,17 @@ public:
   std::vector<std::string> speedAxisLabels() const;
   int legendEntries() const;
   bool tooltipVisible() const;
+  /// The hint shown while the charts are empty, and the hint shown now.
+  static QString emptyHint();
+  QString hintText() const;
 
 protected:
   bool eventFilter(QObject* watched, QEvent* event) override;
 
 signals:
   void configurationChosen(int m, int n, const QString& codec);
+  /// The default bake's point was clicked.
+  void defaultBakeChosen();
 
 private:
   void onSelection();

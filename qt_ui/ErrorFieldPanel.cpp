@@ -56,7 +56,8 @@ ErrorFieldPanel::ErrorFieldPanel(HapticSession* session, QWidget* parent) : QWid
   layout->addStretch(1);
   connect(worst_, &QListWidget::itemActivated, this, [this](QListWidgetItem* item) {
     const QVariantList v = item->data(Qt::UserRole).toList();
-    if (v.size() == 6)
+    if (v.size() == 7) emit goToVertex(std::size_t(v[6].toULongLong()));
+    else if (v.size() == 6)
       emit goToPoint(hb::Vec3(v[0].toFloat(), v[1].toFloat(), v[2].toFloat()),
                      hb::Vec3(v[3].toFloat(), v[4].toFloat(), v[5].toFloat()));
   });
@@ -167,7 +168,7 @@ void ErrorFieldPanel::updateWorst() {
                                          .arg(QString::fromStdString(hb::sig(p[0])))
                                          .arg(QString::fromStdString(hb::sig(p[1])))
                                          .arg(QString::fromStdString(hb::sig(p[2]))));
-    item->setData(Qt::UserRole, QVariantList{p[0], p[1], p[2], n[0], n[1], n[2]});
+    item->setData(Qt::UserRole, QVariantList{p[0], p[1], p[2], n[0], n[1], n[2], qulonglong(i)});
     worst_->addItem(item);
   }
   if (k == 0) worst_->addItem(tr("(no vertex with an error for this metric)"));

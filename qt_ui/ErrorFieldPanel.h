@@ -30,6 +30,8 @@ signals:
   void message(const QString& text);
   /// A worst vertex was chosen: move the probe onto `point` (outward `normal`), model units.
   void goToPoint(const hb::Vec3& point, const hb::Vec3& normal);
+  /// A worst vertex was chosen: put the probe where the field measured it (vertex index).
+  void goToVertex(std::size_t vertex);
 
 private:
   void updateState();

@@ -33,10 +33,10 @@ HapticSession::~HapticSession() {
   model_.reset();
 }
 
-bool HapticSession::openMesh(const QString& path, QString* error) {
+bool HapticSession::openMesh(const QString& path, QString* error, const hb::vtk::ModelOptions& options) {
   if (jobs_->busy(error)) return false;
   SessionModel::OpenTiming t;
-  if (!model_->openMesh(path, error, &t)) return false;
+  if (!model_->openMesh(path, error, &t, options)) return false;
   const auto t0 = std::chrono::steady_clock::now();
   jobs_->loadCachedBoxes();
   if (runSettings().timing)

@@ -40,7 +40,7 @@ public:
   /// Reads a model (SessionModel::openMesh) and, when a cached bake for the current settings
   /// exists, loads it. Fails while a job runs. On failure the previous model stays and
   /// `error` names the file and the cause.
-  bool openMesh(const QString& path, QString* error = nullptr);
+  bool openMesh(const QString& path, QString* error = nullptr, const hb::vtk::ModelOptions& options = {});
   bool hasMesh() const { return model_->hasMesh(); }
   QString meshPath() const { return model_->meshPath(); }
   const hb::TriangleMesh& mesh() const { return model_->mesh(); }

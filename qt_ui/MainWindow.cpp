@@ -9,6 +9,13 @@
 #include "ScreenshotDialog.h"
 #include "SessionFile.h"
 #include "StabilityPanel.h"
+#include "SurfacePanel.h"
+#include "SessionPipeline.h"
+#include "evaluation/comparison.h"
+#include "evaluation/error_field.h"
+#include "figure_text.h"
+#include "vtkHapticBoxErrorFieldFilter.h"
+#include <cmath>
 #include <QAction>
 #include <QApplication>
 #include <QCloseEvent>
@@ -26,7 +33,13 @@
 #include <QMimeData>
 #include <QProgressBar>
 #include <QPushButton>
+#include <QScreen>
+#include <QScrollArea>
+#include <QLayout>
+#include <QResizeEvent>
+#include <QScrollBar>
 #include <QSettings>
+#include <QShowEvent>
 #include <QStatusBar>
 #include <QStyle>
 #include <QTimer>
@@ -37,6 +50,40 @@
 namespace {
 constexpr int kMaxRecent = 8;
 constexpr int kLayoutVersion = 2;  ///< saveState/restoreState: bump when the docks or toolbars change
+// A dock's scroll area: as wide as its panel wants (a plain QScrollArea asks for almost no
+// width, and the dock collapses), as tall as the dock allows, scrolling vertically beyond.
+class DockScrollArea : public QScrollArea {
+public:
+  QSize sizeHint() const override {
+    const QSize panel = widget() ? widget()->sizeHint() : QSize(240, 200);
+    return {panel.width() + verticalScrollBar()->sizeHint().width() + 2, std::min(panel.height(), 600)};
+  }
+  QSize minimumSizeHint() const override {
+    const QSize panel = widget() ? widget()->minimumSizeHint() : QSize(200, 60);
+    return {panel.width() + verticalScrollBar()->sizeHint().width() + 2, 60};
+  }
+
+protected:
+  // A resizable scroll area ignores its panel's height-for-width: wrapped lines (the readout's)
+  // were squeezed into one. The panel is kept as tall as its lines need at the viewport's width.
+  void resizeEvent(QResizeEvent* event) override {
+    QScrollArea::resizeEvent(event);
+    fitHeight();
+  }
+  bool eventFilter(QObject* watched, QEvent* event) override {
+    if (watched == widget() && event->type() == QEvent::LayoutRequest) fitHeight();
+    return QScrollArea::eventFilter(watched, event);
+  }
+
+private:
+  void fitHeight() {
+    QWidget* panel = widget();
+    if (!panel || !panel->layout() || !panel->layout()->hasHeightForWidth()) return;
+    const int height = panel->layout()->totalHeightForWidth(viewport()->width());
+    if (height > 0 && height != panel->minimumHeight()) panel->setMinimumHeight(height);
+  }
+};
+
 bool isSessionFile(const QString& path) { return path.endsWith(QLatin1String(".hbsession"), Qt::CaseInsensitive); }
 }  // namespace
 
@@ -51,6 +98,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
   device_ = new DevicePanel(session_);
   charts_ = new ChartsView;
   stability_ = new StabilityPanel(session_);
+  surface_ = new SurfacePanel(session_);
   createDocks();
   createActions();
   createToolBar();
@@ -103,10 +151,14 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
     session_->setProbeTarget(point);
     showMessage(tr("Probe moved to the vertex at (%1, %2, %3)").arg(point.x()).arg(point.y()).arg(point.z()));
   });
+  connect(errorPanel_, &ErrorFieldPanel::goToVertex, this, &MainWindow::goToWorstVertex);
   connect(errorPanel_, &ErrorFieldPanel::displayChanged, this, [this](bool field, ErrorMetric metric) {
     view_->setColorMode(field ? ProbeView::ColorMode::ErrorField : ProbeView::ColorMode::Pieces, metric);
   });
   connect(device_, &DevicePanel::message, this, [this](const QString& m) { showMessage(m); });
+  connect(surface_, &SurfacePanel::extractRequested, this, [this](const hb::vtk::ModelOptions& options) {
+    if (session_->hasMesh()) openFile(session_->meshPath(), true, options);
+  });
   connect(stability_, &StabilityPanel::message, this, [this](const QString& m) { showMessage(m, true); });
   connect(device_, &DevicePanel::tiltRequested, this, [this] {
     session_->tilt();
@@ -115,6 +167,14 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
   });
   connect(view_, &ProbeView::surfaceDragged, this, &MainWindow::probeDragged);
   connect(view_, &ProbeView::depthStepped, this, &MainWindow::stepDepth);
+  connect(charts_, &ChartsView::defaultBakeChosen, this, [this] {
+    BakeSettings s = session_->bakeSettings();
+    s.advanced = false;  // the default recipe, as `hapticbox bake MESH -o BOX`
+    session_->setBakeSettings(s);
+    bake_->showSettings();
+    bake_->bakeButton()->click();
+    showMessage(tr("Loading the default bake"));
+  });
   connect(charts_, &ChartsView::configurationChosen, this, [this](int m, int n, const QString& codec) {
     BakeSettings s = session_->bakeSettings();
     s.advanced = true;  // a sweep point is an explicit sampling
@@ -133,8 +193,11 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
   timer_->setInterval(16);
   connect(timer_, &QTimer::timeout, this, &MainWindow::refresh);
   timer_->start();
-  resize(1280, 860);
+  // A first window takes most of the screen it opens on, never more (1366x768 laptops too).
+  const QRect avail = availableGeometry();
+  resize(QSize(1280, 860).boundedTo(QSize(avail.width() * 9 / 10, avail.height() * 9 / 10)));
   restorePreferences();
+  fitToScreen();
   updateActions();
   showMessage(tr("Open a model (File > Open, or drop a file here)"));
 }
@@ -142,10 +205,24 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
 MainWindow::~MainWindow() { timer_->stop(); }
 
 void MainWindow::createDocks() {
-  const auto dock = [this](QWidget* w, const QString& title, const QString& name, Qt::DockWidgetArea area) {
+  // Panels scroll inside their dock instead of being clipped (or forcing the window taller than
+  // a laptop's screen): the dock's minimum height is then the scroll area's, not the panel's.
+  const auto dock = [this](QWidget* w, const QString& title, const QString& name, Qt::DockWidgetArea area,
+                           bool scroll = true) {
     auto* d = new QDockWidget(title, this);
     d->setObjectName(name);
-    d->setWidget(w);
+    if (scroll) {
+      auto* area = new DockScrollArea;
+      area->setObjectName(name + QStringLiteral("Scroll"));
+      area->setWidget(w);
+      area->setWidgetResizable(true);
+      area->setFrameShape(QFrame::NoFrame);
+      area->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+      area->setMinimumHeight(60);
+      d->setWidget(area);
+    } else {
+      d->setWidget(w);
+    }
     addDockWidget(area, d);
     return d;
   };
@@ -153,22 +230,72 @@ void MainWindow::createDocks() {
   QDockWidget* bake = dock(bake_, tr("Bake"), QStringLiteral("BakeDock"), Qt::RightDockWidgetArea);
   QDockWidget* field = dock(errorPanel_, tr("Error field"), QStringLiteral("ErrorFieldDock"), Qt::RightDockWidgetArea);
   QDockWidget* device = dock(device_, tr("Device"), QStringLiteral("DeviceDock"), Qt::RightDockWidgetArea);
-  QDockWidget* charts = dock(charts_, tr("Charts"), QStringLiteral("ChartsDock"), Qt::BottomDockWidgetArea);
-  tabifyDockWidget(bake, field);
+  QDockWidget* charts = dock(charts_, tr("Charts"), QStringLiteral("ChartsDock"), Qt::BottomDockWidgetArea, false);
+  QDockWidget* surface = dock(surface_, tr("Surface"), QStringLiteral("SurfaceDock"), Qt::RightDockWidgetArea);
+  tabifyDockWidget(bake, surface);
+  tabifyDockWidget(surface, field);
   tabifyDockWidget(field, device);
   // The stability table is wide (metric, box, exact, threshold, verdict): below the view,
   // beside the charts, shown by Tools > Stability Suite or the Window menu.
-  QDockWidget* stability = dock(stability_, tr("Stability"), QStringLiteral("StabilityDock"), Qt::BottomDockWidgetArea);
+  QDockWidget* stability = dock(stability_, tr("Stability"), QStringLiteral("StabilityDock"), Qt::BottomDockWidgetArea, false);
   bake->raise();
   resizeDocks({readout, bake}, {260, 520}, Qt::Vertical);
   tabifyDockWidget(charts, stability);
   charts->hide();
   stability->hide();
+  // Showing a dock must not push the window past its screen (the bottom docks once did).
+  for (QDockWidget* d : {readout, bake, surface, field, device, charts, stability})
+    connect(d, &QDockWidget::visibilityChanged, this, [this] { QTimer::singleShot(0, this, &MainWindow::fitToScreen); });
+}
+
+QRect MainWindow::availableGeometry() const {
+  const QScreen* s = screen();
+  if (!s) s = QGuiApplication::primaryScreen();
+  return s ? s->availableGeometry() : QRect(0, 0, 1366, 768);
+}
+
+void MainWindow::fitToScreen() {
+  const QRect avail = availableGeometry();
+  if (avail.isEmpty()) return;
+  // The frame (title bar, borders) is known once the window is shown; before, allow a typical one.
+  QMargins frame(frameGeometry().left() - geometry().left(), frameGeometry().top() - geometry().top(),
+                 frameGeometry().right() - geometry().right(), frameGeometry().bottom() - geometry().bottom());
+  if (!isVisible() || frameGeometry() == geometry()) frame = QMargins(2, 32, 2, 2);
+  const QSize room = avail.size().shrunkBy(frame);
+  QSize size = geometry().size().boundedTo(room);
+  // Below the window's minimum size nothing helps: the docks then shrink to their scroll areas.
+  size = size.expandedTo(minimumSizeHint().boundedTo(room));
+  if (size != geometry().size()) resize(size);
+  QRect outer = QRect(geometry().topLeft(), size).marginsAdded(frame);
+  if (!avail.contains(outer)) {
+    outer.moveLeft(std::clamp(outer.left(), avail.left(), std::max(avail.left(), avail.right() - outer.width() + 1)));
+    outer.moveTop(std::clamp(outer.top(), avail.top(), std::max(avail.top(), avail.bottom() - outer.height() + 1)));
+    move(outer.topLeft());
+  }
+}
+
+void MainWindow::showBottomDock(QDockWidget* dock) {
+  const bool wasVisible = dock->isVisible();
+  dock->show();
+  dock->raise();
+  // Two fifths of the window's height: the view keeps the larger part on a laptop's screen.
+  if (!wasVisible) resizeDocks({dock}, {height() * 2 / 5}, Qt::Vertical);
+}
+
+void MainWindow::showEvent(QShowEvent* event) {
+  QMainWindow::showEvent(event);
+  // Once the frame is known: fit it (the first show, and after a restored geometry).
+  QTimer::singleShot(0, this, &MainWindow::fitToScreen);
 }
 
 void MainWindow::createActions() {
   QMenu* file = menuBar()->addMenu(tr("&File"));
-  file->addAction(tr("&Open..."), this, &MainWindow::openDialog, QKeySequence::Open);
+  QAction* open = file->addAction(tr("&Open..."), this, &MainWindow::openDialog, QKeySequence::Open);
+  // Ctrl+O and the other menu shortcuts answer wherever the focus is, the 3D view included.
+  open->setShortcutContext(Qt::ApplicationShortcut);
+  open->setObjectName(QStringLiteral("openAction"));
+  file->addAction(tr("Open &DICOM Folder..."), this, &MainWindow::openDicomFolderDialog, QKeySequence(tr("Ctrl+Shift+O")))
+      ->setObjectName(QStringLiteral("openDicomFolderAction"));
   recentMenu_ = file->addMenu(tr("Open &Recent"));
   file->addAction(tr("Open &Box File..."), this, &MainWindow::openBoxDialog);
   saveBoxAction_ = file->addAction(tr("Save Box File &As..."), this, &MainWindow::saveBoxDialog);
@@ -184,7 +311,7 @@ void MainWindow::createActions() {
   file->addSeparator();
   file->addAction(tr("Export Screens&hot..."), this, &MainWindow::screenshotDialog, QKeySequence(tr("Ctrl+P")));
   reportAction_ = file->addAction(tr("Export Error &Report..."), this, [this] {
-    const QString d = QFileDialog::getExistingDirectory(this, tr("Report folder"), lastFolder());
+    const QString d = QFileDialog::getExistingDirectory(this, tr("Report folder"), reportStartFolder());
     if (!d.isEmpty()) exportReport(d);
   });
   file->addSeparator();
@@ -240,13 +367,10 @@ void MainWindow::createActions() {
   tools->addAction(tr("Run &Sweep (speed against accuracy)"), this, [this] {
     QString error;
     if (!session_->startSweep({8, 16, 32}, {4, 8}, 5000, &error)) showMessage(error, true);
-    else if (auto* d = findChild<QDockWidget*>(QStringLiteral("ChartsDock"))) d->show();
+    else if (auto* d = findChild<QDockWidget*>(QStringLiteral("ChartsDock"))) showBottomDock(d);
   });
   tools->addAction(tr("S&tability Suite..."), this, [this] {
-    if (auto* d = findChild<QDockWidget*>(QStringLiteral("StabilityDock"))) {
-      d->show();
-      d->raise();
-    }
+    if (auto* d = findChild<QDockWidget*>(QStringLiteral("StabilityDock"))) showBottomDock(d);
   });
   tools->addAction(tr("Cancel Running Job"), session_->job(), &BackgroundJob::cancel, QKeySequence(tr("Esc")));
 
@@ -373,6 +497,13 @@ QString MainWindow::lastFolder() const {
   return !folder.isEmpty() && QFileInfo(folder).isDir() ? folder : QDir::currentPath();
 }
 
+QString MainWindow::reportStartFolder() const {
+  // Where the last report went (its parent: a report is a folder of its own), never the
+  // dataset folder a model was opened from; the first time, the home folder.
+  const QString folder = QSettings().value(QStringLiteral("files/lastReportParent")).toString();
+  return !folder.isEmpty() && QFileInfo(folder).isDir() ? folder : QDir::homePath();
+}
+
 void MainWindow::rememberFolder(const QString& fileOrFolder) {
   const QFileInfo info(fileOrFolder);
   const QString folder = info.isDir() ? info.absoluteFilePath() : info.absolutePath();
@@ -406,13 +537,13 @@ void MainWindow::updateActions() {
 
 // --- files -------------------------------------------------------------------------------
 
-bool MainWindow::openFile(const QString& path, bool interactive) {
+bool MainWindow::openFile(const QString& path, bool interactive, const hb::vtk::ModelOptions& options) {
   if (isSessionFile(path)) {
     return openSessionFile(path, interactive);
   }
   QApplication::setOverrideCursor(Qt::WaitCursor);
   QString error;
-  const bool ok = session_->openMesh(path, &error);
+  const bool ok = session_->openMesh(path, &error, options);
   QApplication::restoreOverrideCursor();
   if (!ok) {
     showMessage(tr("Cannot open %1: %2").arg(path, error), true);
@@ -429,6 +560,12 @@ void MainWindow::openDialog() {
   const QString p = QFileDialog::getOpenFileName(this, tr("Open model"), lastFolder(),
                                                  HapticSession::meshFileFilter() + tr(";;Sessions (*.hbsession)"));
   if (!p.isEmpty()) openFile(p, true);
+}
+
+void MainWindow::openDicomFolderDialog() {
+  // A DICOM series is a folder of (often extension-less) files: choose the folder.
+  const QString d = QFileDialog::getExistingDirectory(this, tr("Open DICOM folder"), lastFolder());
+  if (!d.isEmpty()) openFile(d, true);
 }
 
 void MainWindow::openBoxDialog() {
@@ -478,6 +615,11 @@ void MainWindow::onMeshChanged() {
   if (!session_->meshWarnings().isEmpty()) text += QStringLiteral(" (") + session_->meshWarnings().join(QStringLiteral("; ")) + QStringLiteral(")");
   showMessage(text);
   device_->showDepth();
+  // Nothing of the last model stays: its charts, its stability table; a volume shows its surface panel.
+  charts_->setRows({}, {});
+  surface_->showModel();
+  if (session_->model()->isVolume())
+    if (auto* d = findChild<QDockWidget*>(QStringLiteral("SurfaceDock"))) d->raise();
   updateActions();
 }
 
@@ -500,6 +642,44 @@ void MainWindow::onJobFinished(const QString& name, bool ok, const QString& mess
 void MainWindow::probeDragged(const hb::Vec3& point, bool press) {
   if (press) session_->aimProbe(view_->viewDirection(), view_->viewRight());
   session_->setProbeTarget(point);
+}
+
+void MainWindow::goToWorstVertex(std::size_t vertex) {
+  if (!session_->hasMesh() || !session_->hasErrorField() || vertex >= session_->mesh().vertex_count()) return;
+  // The probe the error field ran at this vertex (the same segment: hb::error_field_probes with
+  // the error-field filter's options), the one with the largest error when there were several.
+  vtkHapticBoxErrorFieldFilter* f = session_->model()->pipeline()->errorField();
+  hb::ErrorFieldOptions o;
+  o.probes_per_point = std::max(1, f->GetProbesPerPoint());
+  o.cone_degrees = float(f->GetConeAngle());
+  o.length_fraction = float(f->GetLengthFraction());
+  o.max_depth_fraction = float(f->GetMaxDepthFraction());
+  o.seed = f->GetSeed();
+  const float diagonal = session_->hasBoxes() && session_->boxes()->source().diagonal > 0.f ? session_->boxes()->source().diagonal
+                                                                                           : session_->diagonal();
+  const hb::SurfacePoint point = hb::surface_points_at_vertices(session_->mesh())[vertex];
+  const std::vector<hb::Segment> probes = hb::error_field_probes(point, vertex, diagonal, o);
+  const hb::ExactQuery* exact = session_->model()->readyExact();
+  std::size_t best = 0;
+  double worst = -1.0;
+  for (std::size_t k = 0; exact && session_->hasBoxes() && k < probes.size(); ++k) {
+    const hb::Contact e = exact->query(probes[k], session_->model()->law());
+    const hb::Contact a = session_->boxes()->query(probes[k], session_->model()->law());
+    const double err = e.contact != a.contact ? 1e9 : e.contact ? hb::relative_force_error(e, a) : 0.0;
+    if (err > worst) worst = err, best = k;
+  }
+  const hb::Segment& s = probes[best];
+  const hb::Vec3 dir = (s.end - s.start).normalized();
+  // The tip where the field's probe ended: aimed at its point, as deep as it went.
+  const float depth = std::max(0.f, (s.end - point.position).dot(dir));
+  session_->setProbeDirection(dir);
+  session_->setDepthFraction(double(depth) / double(session_->diagonal()));
+  session_->setProbeTarget(s.end - dir * depth);
+  device_->showDepth();
+  view_->centreOn(point.position);
+  showMessage(tr("Probe at vertex %1, on the error field's probe there (%2 from the inward normal)")
+                  .arg(vertex)
+                  .arg(QString::fromStdString(hb::sig(std::acos(std::clamp(double(dir.dot(-point.normal.normalized())), -1.0, 1.0)) * 180.0 / M_PI)) + tr(" deg")));
 }
 
 void MainWindow::stepDepth(int step) {
@@ -542,9 +722,10 @@ bool MainWindow::exportReport(const QString& dir, std::size_t samples) {
   }
   QString image;
   if (session_->hasErrorField()) {
-    // The rendered field, as the window shows it with the scalar bar.
+    // The rendered field with its scalar bar, in the metric the report's caption names (the
+    // relative force error), whichever metric the window shows; the window's display returns after.
     const ProbeView::ColorMode mode = view_->colorMode();
-    view_->setColorMode(ProbeView::ColorMode::ErrorField, errorPanel_->metric());
+    view_->setColorMode(ProbeView::ColorMode::ErrorField, ErrorMetric::RelativeForce);
     image = QDir(dir).absoluteFilePath(QStringLiteral("error_field.png"));
     if (!exportScreenshot(image)) image.clear();
     view_->setColorMode(mode, errorPanel_->metric());
@@ -555,7 +736,7 @@ bool MainWindow::exportReport(const QString& dir, std::size_t samples) {
     return false;
   }
   pendingReportDir_ = dir;
-  rememberFolder(dir);
+  QSettings().setValue(QStringLiteral("files/lastReportParent"), QFileInfo(QDir(dir).absolutePath()).absolutePath());
   return true;
 }
 

@@ -13,6 +13,7 @@ class DevicePanel;
 class ErrorFieldPanel;
 class ProbeView;
 class QAction;
+class QDockWidget;
 class QLabel;
 class QMenu;
 class QProgressBar;
@@ -21,6 +22,7 @@ class QTimer;
 class QToolBar;
 class ReadoutPanel;
 class StabilityPanel;
+class SurfacePanel;
 
 class MainWindow : public QMainWindow {
   Q_OBJECT
@@ -30,7 +32,7 @@ public:
 
   /// Opens a mesh or a session file; errors go to the status bar (and a dialog when
   /// `interactive`). Returns false on failure.
-  bool openFile(const QString& path, bool interactive = false);
+  bool openFile(const QString& path, bool interactive = false, const hb::vtk::ModelOptions& options = {});
   /// What a drop does: opens the first local file. Returns false when there is none or it fails.
   bool openDroppedUrls(const QList<QUrl>& urls);
   /// Bakes automatically after opening a model without a cached bake (default on).
@@ -51,6 +53,7 @@ public:
   DevicePanel* devicePanel() const { return device_; }
   ChartsView* chartsView() const { return charts_; }
   StabilityPanel* stabilityPanel() const { return stability_; }
+  SurfacePanel* surfacePanel() const { return surface_; }
   /// Preferences that persist between runs (QSettings): bake settings, Bake on Open, the
   /// orientation axes, the window's geometry and dock/toolbar layout, the screenshot options.
   /// Read when the window is made, written when it closes (and when a bake starts).
@@ -59,7 +62,15 @@ public:
   /// The folder file dialogs open in: the last one a file was opened from or saved to.
   QString lastFolder() const;
   void rememberFolder(const QString& fileOrFolder);
+  /// The folder File > Export Error Report's dialog opens in: the parent of the last report's
+  /// folder, else the home folder (not the folder of the model's data).
+  QString reportStartFolder() const;
   QToolBar* toolBar() const { return toolBar_; }
+  /// Shrinks and moves the window so that its frame lies within the available geometry of its
+  /// screen (called on show, after restoring a layout and when a dock appears).
+  void fitToScreen();
+  /// The available geometry (screen minus panels) of the window's screen.
+  QRect availableGeometry() const;
   /// One display tick (the timer calls it at ~60 Hz): latest reading to the view and readout.
   void refresh();
 
@@ -67,6 +78,7 @@ protected:
   void dragEnterEvent(QDragEnterEvent* event) override;
   void dropEvent(QDropEvent* event) override;
   void closeEvent(QCloseEvent* event) override;
+  void showEvent(QShowEvent* event) override;
 
 private:
   void createActions();
@@ -81,11 +93,15 @@ private:
   void onMeshChanged();
   void onJobFinished(const QString& name, bool ok, const QString& message);
   void openDialog();
+  void openDicomFolderDialog();
   void openBoxDialog();
   void saveBoxDialog();
   bool openSessionFile(const QString& path, bool interactive);
   void probeDragged(const hb::Vec3& point, bool press);
   void stepDepth(int step);
+  void goToWorstVertex(std::size_t vertex);
+  /// Shows a dock below the view (charts, stability) at two fifths of the window's height.
+  void showBottomDock(QDockWidget* dock);
 
   HapticSession* session_;
   ProbeView* view_;
@@ -95,6 +111,7 @@ private:
   DevicePanel* device_;
   ChartsView* charts_;
   StabilityPanel* stability_;
+  SurfacePanel* surface_;
   QTimer* timer_;
   QProgressBar* jobProgress_;
   QPushButton* jobCancel_;

@@ -42,6 +42,7 @@
 #include "error_colour_map.h"
 #include <vtkSphereSource.h>
 #include <vtkStaticCellLocator.h>
+#include <vtkCoordinate.h>
 #include <vtkTextActor.h>
 #include <vtkTextProperty.h>
 #include <vtkWindowToImageFilter.h>
@@ -98,8 +99,13 @@ vtkSmartPointer<vtkTextActor> makeLegend(const char* text, const double color[3]
   t->GetTextProperty()->SetColor(color[0], color[1], color[2]);
   t->GetTextProperty()->SetFontSize(16);
   t->GetTextProperty()->BoldOn();
-  t->GetPositionCoordinate()->SetCoordinateSystemToNormalizedDisplay();
-  t->GetPositionCoordinate()->SetValue(0.01, 0.95 - 0.04 * row);
+  // Pixels below the view's top-left corner: the rows never overlap however short the view.
+  auto corner = vtkSmartPointer<vtkCoordinate>::New();
+  corner->SetCoordinateSystemToNormalizedDisplay();
+  corner->SetValue(0.0, 1.0);
+  t->GetPositionCoordinate()->SetCoordinateSystemToDisplay();
+  t->GetPositionCoordinate()->SetReferenceCoordinate(corner);
+  t->GetPositionCoordinate()->SetValue(8, -26 - 24 * row);
   return t;
 }
 
@@ -598,6 +604,28 @@ hb::Vec3 ProbeView::viewRight() const {
 void ProbeView::resetCamera() {
   renderer_->ResetCamera();
   renderNow();
+}
+
+void ProbeView::centreOn(const hb::Vec3& point) {
+  vtkCamera* c = renderer_->GetActiveCamera();
+  double focal[3], position[3];
+  c->GetFocalPoint(focal);
+  c->GetPosition(position);
+  for (int a = 0; a < 3; ++a) {
+    const double shift = double(point[a]) - focal[a];
+    focal[a] += shift;
+    position[a] += shift;
+  }
+  c->SetFocalPoint(focal);
+  c->SetPosition(position);
+  renderer_->ResetCameraClippingRange();
+  renderNow();
+}
+
+hb::Vec3 ProbeView::focalPoint() const {
+  double f[3];
+  renderer_->GetActiveCamera()->GetFocalPoint(f);
+  return hb::Vec3(float(f[0]), float(f[1]), float(f[2]));
 }
 
 void ProbeView::viewAlong(int axis, int sign) {

@@ -48,6 +48,10 @@ public:
   hb::Vec3 viewRight() const;
 
   void resetCamera();
+  /// Moves the camera (keeping its direction and distance) so that `point` is at the centre.
+  void centreOn(const hb::Vec3& point);
+  /// The camera's focal point (tests).
+  hb::Vec3 focalPoint() const;
   /// Looks along an axis (0 x, 1 y, 2 z), toward +axis when `sign` > 0 (ParaView's "+X"
   /// button: the camera on the -X side), the model framed; up is +Z (+Y for the Z views).
   void viewAlong(int axis, int sign);

@@ -64,16 +64,23 @@ void ReadoutPanel::setReading(const ProbeReading& r) {
     error_->setText(both ? tr("%1 %").arg(100.0 * r.relativeError, 0, 'f', 2)
                          : (r.exact.contact != r.approx.contact && r.haveBoxes ? tr("contacts disagree") : tr("-")));
     angle_->setText(both ? tr("%1 deg").arg(r.angleDeg, 0, 'f', 2) : tr("-"));
-    // One query each, timed where it ran (exact on the GUI thread, the box on the servo thread),
-    // caches cold between frames: slower than `hapticbox bench`'s warm medians, by design.
-    query_->setText(tr("exact %1, box %2 (one query each, cold)")
+    // One timing story: both answers timed the same way (ProbeReading: GUI thread, this segment,
+    // median of back-to-back queries, warm), as `hapticbox bench` times its queries.
+    query_->setText(tr("exact %1, box %2 (median of %3 warm queries each, this segment, GUI thread)")
                         .arg(QString::fromStdString(hb::duration_text(r.exactQueryNs * 1e-9)))
-                        .arg(r.haveBoxes ? QString::fromStdString(hb::duration_text(r.approxQueryNs * 1e-9)) : tr("-")));
-    query_->setToolTip(tr("Single queries timed in the window, caches cold between frames. hapticbox bench "
-                          "times many queries one core warm (the median), which is what the report compares."));
+                        .arg(r.haveBoxes ? QString::fromStdString(hb::duration_text(r.approxQueryNs * 1e-9)) : tr("-"))
+                        .arg(ProbeReading::kTimingRepeats));
+    query_->setToolTip(tr("Both answers are timed the same way: on the window's thread, on the probe's segment, "
+                          "the median of %1 back-to-back queries each with warm caches, as hapticbox bench times "
+                          "(which takes the median over many random segments: the report's figures).")
+                           .arg(ProbeReading::kTimingRepeats));
   }
   if (r.deviceRunning)
-    device_->setText(tr("%1: %2 Hz, p99 period %3 us").arg(r.deviceName).arg(r.rateHz, 0, 'f', 1).arg(r.p99PeriodUs, 0, 'f', 0));
+    device_->setText(tr("%1: %2 Hz, p99 period %3 us, box query %4 a tick")
+                         .arg(r.deviceName)
+                         .arg(r.rateHz, 0, 'f', 1)
+                         .arg(r.p99PeriodUs, 0, 'f', 0)
+                         .arg(QString::fromStdString(hb::duration_text(r.servoQueryNs * 1e-9))));
   else
     device_->setText(r.haveBoxes ? tr("%1: stopped").arg(r.deviceName) : tr("not running (bake first)"));
 }

@@ -23,8 +23,12 @@ struct ProbeReading {
   hb::Contact exact;              ///< the exact Embree answer on `segment`.
   hb::Contact approx;             ///< the haptic box's answer (from the servo thread when running).
   bool haveBoxes = false;
-  double exactQueryNs = 0.0;      ///< this frame's exact query, GUI thread.
-  double approxQueryNs = 0.0;     ///< the servo thread's last box query.
+  /// Both answers timed the same way, on the GUI thread on this segment: the median of
+  /// kTimingRepeats back-to-back queries each (warm caches, as `hapticbox bench` times them).
+  double exactQueryNs = 0.0;
+  double approxQueryNs = 0.0;
+  static constexpr int kTimingRepeats = 15;
+  double servoQueryNs = 0.0;      ///< the servo thread's last box query (its own tick, primed).
   double relativeError = 0.0;     ///< |F1 - F0| / |F0| when both are in contact.
   double angleDeg = 0.0;          ///< angle between the normals when both are in contact.
   double maxForceN = 8.0;         ///< the device's force limit (forces are felt clamped to it).

@@ -14,6 +14,7 @@
 #include "haptic_box/box_file.h"
 #include "mesh/file_hash.h"
 #include "model_loader.h"
+#include "model_options_key.h"
 #include "vtkHapticBoxMeshReader.h"
 #include "vtkHapticBoxReferenceQueries.h"
 #include "vtkHapticBoxUtilities.h"
@@ -55,7 +56,7 @@ QString SessionModel::meshFileFilter() {
   return tr("Models (%1);;All files (*)").arg(QString::fromStdString(hb::vtk::model_file_patterns()));
 }
 
-bool SessionModel::openMesh(const QString& path, QString* error, OpenTiming* timing) {
+bool SessionModel::openMesh(const QString& path, QString* error, OpenTiming* timing, const hb::vtk::ModelOptions& options) {
   try {
     const auto t0 = std::chrono::steady_clock::now();
     const std::string p = QFile::encodeName(path).toStdString();
@@ -65,6 +66,7 @@ bool SessionModel::openMesh(const QString& path, QString* error, OpenTiming* tim
     reader->AddObserver(vtkCommand::ErrorEvent, quiet);
     reader->AddObserver(vtkCommand::WarningEvent, quiet);
     reader->SetFileName(p.c_str());
+    reader->SetModelOptions(options);
     reader->Update();
     if (!reader->GetLastError().empty()) throw hb::InvalidInput(reader->GetLastError());
     vtkPolyData* out = reader->GetOutput();
@@ -79,7 +81,15 @@ bool SessionModel::openMesh(const QString& path, QString* error, OpenTiming* tim
       modelNote = QStringLiteral(", chordal deviation %1 mm").arg(f["chordal_deviation_mm"].get<double>());
     if (!modelNote.isEmpty()) modelNote = QStringLiteral(" (%1%2, mm)").arg(QString::fromStdString(model.format), modelNote);
     const auto tRead = std::chrono::steady_clock::now();
-    const std::uint64_t hash = hb::hash_model(p);  // as the command line (default loader options)
+    // A volume's histogram and Otsu threshold, for choosing another iso-value.
+    hb::vtk::VolumeHistogram histogram;
+    double otsu = 0.0;
+    if (model.kind == hb::vtk::ModelKind::Volume) {
+      histogram = hb::vtk::volume_histogram(hb::vtk::read_volume(p));
+      otsu = hb::vtk::otsu_threshold(histogram);
+    }
+    // As the command line with the same options (hb::cli::hash_model).
+    const std::uint64_t hash = hb::hash_model(p, hb::vtk::model_options_key(options));
     const auto tHash = std::chrono::steady_clock::now();
     References references = std::async(std::launch::async, [mesh] { return buildReferences(mesh); }).share();
     const auto tExact = std::chrono::steady_clock::now();
@@ -102,6 +112,11 @@ bool SessionModel::openMesh(const QString& path, QString* error, OpenTiming* tim
     diagonal_ = mesh_->bounds().diagonal();
     workspace_ = hb::make_workspace(diagonal_);
     law_ = workspace_.law();
+    options_ = options;
+    facts_ = model.facts;
+    kind_ = model.kind;
+    histogram_ = std::move(histogram);
+    otsu_ = otsu;
     warnings_.clear();
     for (const auto& w : model.report.warnings) warnings_ << QString::fromStdString(w);
     surface_ = vtkSmartPointer<vtkPolyData>::New();

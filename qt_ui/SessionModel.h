@@ -10,6 +10,8 @@
 #include "haptic_box/box_scene.h"
 #include "contact/contact.h"
 #include "mesh/triangle_mesh.h"
+#include "model_loader.h"
+#include "volume_histogram.h"
 #include <QObject>
 #include <QString>
 #include <QStringList>
@@ -40,7 +42,19 @@ public:
   /// Reads a model (any format vtkHapticBoxMeshReader takes, at its default options: the
   /// same surface and hash as the command line), starts building the references and emits
   /// meshChanged. On failure the previous model stays and `error` names the file and the cause.
-  bool openMesh(const QString& path, QString* error = nullptr, OpenTiming* timing = nullptr);
+  /// `options`: how a volume or CAD solid becomes triangles (iso-value, label, smoothing,
+  /// target triangles, as the command line's --iso, --label, --smooth, --target-triangles); its
+  /// key is mixed into the hash as the command line does, so cached bakes never mix surfaces.
+  bool openMesh(const QString& path, QString* error = nullptr, OpenTiming* timing = nullptr,
+                const hb::vtk::ModelOptions& options = {});
+  /// The options the open model was read with, what the loader found (format, volume facts:
+  /// dimensions, spacing, value range, iso-value or label used) and whether it is a volume.
+  const hb::vtk::ModelOptions& modelOptions() const { return options_; }
+  const nlohmann::json& modelFacts() const { return facts_; }
+  bool isVolume() const { return kind_ == hb::vtk::ModelKind::Volume; }
+  /// A volume's histogram of calibrated values and its Otsu threshold (the automatic iso-value).
+  const hb::vtk::VolumeHistogram& histogram() const { return histogram_; }
+  double otsu() const { return otsu_; }
   bool hasMesh() const { return mesh_ != nullptr; }
   QString meshPath() const { return meshPath_; }
   const hb::TriangleMesh& mesh() const { return *mesh_; }
@@ -118,6 +132,11 @@ private:
 
   QString meshPath_;
   QStringList warnings_;
+  hb::vtk::ModelOptions options_;
+  nlohmann::json facts_;
+  hb::vtk::ModelKind kind_ = hb::vtk::ModelKind::Mesh;
+  hb::vtk::VolumeHistogram histogram_;
+  double otsu_ = 0.0;
   std::shared_ptr<hb::TriangleMesh> mesh_;
   std::uint64_t meshHash_ = 0;
   float diagonal_ = 0.f;

@@ -56,9 +56,12 @@ StabilityPanel::StabilityPanel(HapticSession* session, QWidget* parent)
   table_->verticalHeader()->hide();
   table_->horizontalHeader()->setStretchLastSection(true);
   table_->setWordWrap(false);
-  table_->setMinimumHeight(80);  // a dock below the view: it must not force the window taller
   table_->setTextElideMode(Qt::ElideRight);
   table_->verticalHeader()->setDefaultSectionSize(table_->fontMetrics().height() + 6);
+  // A dock below the view: at least five rows show (a header and two rows told nothing), no
+  // more, so it does not force the window taller than a laptop's screen.
+  table_->setMinimumHeight(table_->horizontalHeader()->sizeHint().height() + 5 * table_->verticalHeader()->defaultSectionSize() +
+                           2 * table_->frameWidth());
   auto* form = new QFormLayout;
   form->addRow(tr("Sites per test"), sites_);
   form->addRow(tr("Contact law"), law_);

@@ -1,5 +1,6 @@
 // hapticbox-gui [MESH|SESSION] [--device virtual|falcon|replay:LOG] [--no-bake]
 //               [--screenshot PNG] [--measure-fps N] [--no-realtime] [--spin-us US] [--timing]
+//               [--iso V | --label L] [--smooth N] [--target-triangles N]
 #include "BackgroundJob.h"
 #include "DevicePanel.h"
 #include "HapticSession.h"
@@ -8,6 +9,7 @@
 #include "parallel/huge_pages.h"
 #include <QApplication>
 #include <QCommandLineParser>
+#include <QCoreApplication>
 #include <QDockWidget>
 #include <QEventLoop>
 #include <QSurfaceFormat>
@@ -17,6 +19,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <tuple>
 
 namespace {
 
@@ -31,11 +34,47 @@ bool waitFor(F done, double seconds) {
   return true;
 }
 
+/// The command line's options (one list for the window and for --help without a display).
+struct Options {
+  QCommandLineOption device{QStringLiteral("device"), QStringLiteral("virtual | falcon | replay:LOG"), QStringLiteral("device"), QStringLiteral("virtual")};
+  QCommandLineOption noBake{QStringLiteral("no-bake"), QStringLiteral("Do not bake on open when there is no cached bake")};
+  QCommandLineOption shot{QStringLiteral("screenshot"), QStringLiteral("After opening (and baking), place the probe, save the view as PNG and quit"), QStringLiteral("png")};
+  QCommandLineOption fps{QStringLiteral("measure-fps"), QStringLiteral("Render N frames of the probe view with the device thread on, print frames/s and quit"), QStringLiteral("frames")};
+  QCommandLineOption field{QStringLiteral("error-field"), QStringLiteral("With --screenshot: compute the error field and show it")};
+  QCommandLineOption sweep{QStringLiteral("sweep"), QStringLiteral("With --screenshot: run a small sweep and show the charts")};
+  QCommandLineOption noRealtime{QStringLiteral("no-realtime"), QStringLiteral("Run the device thread without SCHED_FIFO")};
+  QCommandLineOption spin{QStringLiteral("spin-us"), QStringLiteral("Servo busy-wait before each deadline, us (default 0: sleep only)"), QStringLiteral("us"), QStringLiteral("0")};
+  QCommandLineOption timing{QStringLiteral("timing"), QStringLiteral("Print where opening a model spends its time")};
+  QCommandLineOption iso{QStringLiteral("iso"), QStringLiteral("Volumes: iso-value in calibrated units (HU for CT); default the Otsu threshold"), QStringLiteral("value")};
+  QCommandLineOption label{QStringLiteral("label"), QStringLiteral("Volumes (label maps): the surface of the voxels with this label"), QStringLiteral("label")};
+  QCommandLineOption smooth{QStringLiteral("smooth"), QStringLiteral("Volumes: windowed-sinc smoothing iterations (0: none)"), QStringLiteral("iterations")};
+  QCommandLineOption target{QStringLiteral("target-triangles"), QStringLiteral("Volumes: decimate to about this many triangles (0: keep all)"), QStringLiteral("count")};
+  std::tuple<QCommandLineOption&, QCommandLineOption&, QCommandLineOption&, QCommandLineOption&, QCommandLineOption&,
+             QCommandLineOption&, QCommandLineOption&, QCommandLineOption&, QCommandLineOption&, QCommandLineOption&,
+             QCommandLineOption&, QCommandLineOption&, QCommandLineOption&>
+      list{device, noBake, shot, fps, field, sweep, noRealtime, spin, timing, iso, label, smooth, target};
+  explicit Options(QCommandLineParser& parser) {
+    parser.setApplicationDescription(QStringLiteral("HapticBox desktop window"));
+    parser.addHelpOption();
+    parser.addVersionOption();
+    parser.addPositionalArgument(QStringLiteral("file"), QStringLiteral("Model (mesh, volume file or DICOM folder, CAD, scene) or session (.hbsession)"));
+    parser.addOptions({device, noBake, shot, fps, field, sweep, noRealtime, spin, timing, iso, label, smooth, target});
+  }
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
   hb::use_huge_page_heap(argc, argv);  // may re-execute this program once (parallel/huge_pages.h)
-  if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY") && !std::getenv("QT_QPA_PLATFORM")) {
+  const bool display = std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY") || std::getenv("QT_QPA_PLATFORM");
+  if (!display) {
+    // --help and --version need no display: a core application answers them.
+    QCoreApplication core(argc, argv);
+    QCoreApplication::setApplicationName(QStringLiteral("hapticbox-gui"));
+    QCoreApplication::setApplicationVersion(QStringLiteral(HB_VERSION));
+    QCommandLineParser parser;
+    Options options(parser);
+    parser.process(core);  // prints help or version and exits; a bad option exits 1 with its error
     std::fprintf(stderr, "hapticbox-gui: no display (DISPLAY is not set); use the hapticbox command, or "
                          "./run.sh for the headless main job\n");
     return 1;
@@ -47,20 +86,8 @@ int main(int argc, char** argv) {
   QApplication::setApplicationVersion(QStringLiteral(HB_VERSION));
 
   QCommandLineParser parser;
-  parser.setApplicationDescription(QStringLiteral("HapticBox desktop window"));
-  parser.addHelpOption();
-  parser.addVersionOption();
-  parser.addPositionalArgument(QStringLiteral("file"), QStringLiteral("Model (.off .obj .ply .stl .om) or session (.hbsession)"));
-  QCommandLineOption device(QStringLiteral("device"), QStringLiteral("virtual | falcon | replay:LOG"), QStringLiteral("device"), QStringLiteral("virtual"));
-  QCommandLineOption noBake(QStringLiteral("no-bake"), QStringLiteral("Do not bake on open when there is no cached bake"));
-  QCommandLineOption shot(QStringLiteral("screenshot"), QStringLiteral("After opening (and baking), place the probe, save the view as PNG and quit"), QStringLiteral("png"));
-  QCommandLineOption fps(QStringLiteral("measure-fps"), QStringLiteral("Render N frames of the probe view with the device thread on, print frames/s and quit"), QStringLiteral("frames"));
-  QCommandLineOption field(QStringLiteral("error-field"), QStringLiteral("With --screenshot: compute the error field and show it"));
-  QCommandLineOption sweep(QStringLiteral("sweep"), QStringLiteral("With --screenshot: run a small sweep and show the charts"));
-  QCommandLineOption noRealtime(QStringLiteral("no-realtime"), QStringLiteral("Run the device thread without SCHED_FIFO"));
-  QCommandLineOption spin(QStringLiteral("spin-us"), QStringLiteral("Servo busy-wait before each deadline, us (default 0: sleep only)"), QStringLiteral("us"), QStringLiteral("0"));
-  QCommandLineOption timing(QStringLiteral("timing"), QStringLiteral("Print where opening a model spends its time"));
-  parser.addOptions({device, noBake, shot, fps, field, sweep, noRealtime, spin, timing});
+  Options options(parser);
+  const auto& [device, noBake, shot, fps, field, sweep, noRealtime, spin, timing, iso, label, smooth, target] = options.list;
   parser.process(app);
   HapticSession::RunSettings run;
   run.realtime = !parser.isSet(noRealtime);
@@ -83,10 +110,20 @@ int main(int argc, char** argv) {
     else if (dev.startsWith(QLatin1String("replay:"))) window.session()->setDevice(DeviceKind::Replay, dev.mid(7), &note);
     if (!note.isEmpty()) std::fprintf(stderr, "hapticbox-gui: %s\n", qPrintable(note));
   }
+  hb::vtk::ModelOptions model;
+  bool numbersOk = true;
+  if (parser.isSet(iso)) model.volume.iso = parser.value(iso).toDouble(&numbersOk);
+  if (numbersOk && parser.isSet(label)) model.volume.label = parser.value(label).toLong(&numbersOk);
+  if (numbersOk && parser.isSet(smooth)) model.volume.smooth_iterations = parser.value(smooth).toInt(&numbersOk);
+  if (numbersOk && parser.isSet(target)) model.volume.target_triangles = parser.value(target).toULongLong(&numbersOk);
+  if (!numbersOk || model.volume.smooth_iterations < 0 || (model.volume.iso && model.volume.label)) {
+    std::fprintf(stderr, "hapticbox-gui: --iso, --label, --smooth, --target-triangles: numbers (and --iso or --label, not both)\n");
+    return 2;
+  }
   const QStringList args = parser.positionalArguments();
   if (!args.isEmpty()) {
     const auto t0 = std::chrono::steady_clock::now();
-    const bool ok = window.openFile(args.front(), false);
+    const bool ok = window.openFile(args.front(), false, model);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (ok)
       std::fprintf(stderr, "hapticbox-gui: opened %s in %.3f s (%s)\n", qPrintable(args.front()), s,
@@ -121,7 +158,10 @@ int main(int argc, char** argv) {
     if (parser.isSet(sweep)) {
       window.session()->startSweep({8, 16}, {4, 8}, 2000);
       waitFor([&] { return !window.session()->job()->isRunning(); }, 600);
-      if (auto* d = window.findChild<QDockWidget*>(QStringLiteral("ChartsDock"))) d->show();
+      if (auto* d = window.findChild<QDockWidget*>(QStringLiteral("ChartsDock"))) {
+        d->show();
+        window.resizeDocks({d}, {window.height() * 2 / 5}, Qt::Vertical);
+      }
     }
     waitFor([] { return false; }, 0.5);
     if (parser.isSet(fps)) {

@@ -82,6 +82,36 @@ std::vector<SurfacePoint> sample_surface_evenly(const TriangleMesh& mesh, std::s
   return points;
 }
 
+std::vector<Segment> error_field_probes(const SurfacePoint& point, std::size_t index, float diagonal,
+                                        const ErrorFieldOptions& options) {
+  const float length = options.length_fraction * diagonal;
+  const float max_depth = options.max_depth_fraction * diagonal;
+  const float cos_max = std::cos(options.cone_degrees * float(M_PI) / 180.f);
+  const float jitter = 1e-4f * diagonal;
+  SplitMix rng{options.seed * 0x2545f4914f6cdd1dull + std::uint64_t(index) * 0x9e3779b97f4a7c15ull};
+  const Vec3 inward = -point.normal.normalized();
+  const Vec3 helper = std::fabs(inward.x()) < 0.9f ? Vec3::UnitX() : Vec3::UnitY();
+  const Vec3 e1 = inward.cross(helper).normalized();
+  const Vec3 e2 = inward.cross(e1);
+  std::vector<Segment> probes;
+  probes.reserve(std::size_t(std::max(0, options.probes_per_point)));
+  for (int p = 0; p < options.probes_per_point; ++p) {
+    const float cos_theta = 1.f - rng.uniform() * (1.f - cos_max);
+    const float sin_theta = std::sqrt(std::max(0.f, 1.f - cos_theta * cos_theta));
+    const float phi = 2.f * float(M_PI) * rng.uniform();
+    const Vec3 dir = cos_theta * inward + sin_theta * (std::cos(phi) * e1 + std::sin(phi) * e2);
+    // Aim a hair (1e-4 diagonal) beside the point, in its tangent plane: a line through a
+    // mesh vertex exactly can slip between its triangles in a non-watertight ray test.
+    const float jitter_angle = 2.f * float(M_PI) * rng.uniform();
+    const Vec3 aim = point.position + jitter * (std::cos(jitter_angle) * e1 + std::sin(jitter_angle) * e2);
+    Segment s;
+    s.end = aim + rng.uniform() * max_depth * dir;
+    s.start = s.end - length * dir;
+    probes.push_back(s);
+  }
+  return probes;
+}
+
 ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& exact,
                                const std::vector<SurfacePoint>& points, float diagonal,
                                const ErrorFieldOptions& options) {
@@ -106,35 +136,15 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
   field.perceptible_ratio.assign(count, 0.f);
   field.perceptible_fraction.assign(count, 0.f);
 
-  const float length = options.length_fraction * diagonal;
-  const float max_depth = options.max_depth_fraction * diagonal;
-  const float cos_max = std::cos(options.cone_degrees * float(M_PI) / 180.f);
-  const float jitter = 1e-4f * diagonal;
   const int k = options.probes_per_point;
   const float nan = std::numeric_limits<float>::quiet_NaN();
 
   auto one_point = [&](std::size_t i) {
-    SplitMix rng{options.seed * 0x2545f4914f6cdd1dull + std::uint64_t(i) * 0x9e3779b97f4a7c15ull};
-    const Vec3 inward = -points[i].normal.normalized();
-    const Vec3 helper = std::fabs(inward.x()) < 0.9f ? Vec3::UnitX() : Vec3::UnitY();
-    const Vec3 e1 = inward.cross(helper).normalized();
-    const Vec3 e2 = inward.cross(e1);
     Vec3 fe = Vec3::Zero(), fa = Vec3::Zero();
     double err = 0.0, ang = 0.0, abs_err = 0.0;
     int both = 0, disagree = 0, exact_in = 0, perceptible = 0;
     double ratio = 0.0;
-    for (int p = 0; p < k; ++p) {
-      const float cos_theta = 1.f - rng.uniform() * (1.f - cos_max);
-      const float sin_theta = std::sqrt(std::max(0.f, 1.f - cos_theta * cos_theta));
-      const float phi = 2.f * float(M_PI) * rng.uniform();
-      const Vec3 dir = cos_theta * inward + sin_theta * (std::cos(phi) * e1 + std::sin(phi) * e2);
-      // Aim a hair (1e-4 diagonal) beside the point, in its tangent plane: a line through a
-      // mesh vertex exactly can slip between its triangles in a non-watertight ray test.
-      const float jitter_angle = 2.f * float(M_PI) * rng.uniform();
-      const Vec3 aim = points[i].position + jitter * (std::cos(jitter_angle) * e1 + std::sin(jitter_angle) * e2);
-      Segment s;
-      s.end = aim + rng.uniform() * max_depth * dir;
-      s.start = s.end - length * dir;
+    for (const Segment& s : error_field_probes(points[i], i, diagonal, options)) {
       const Contact ce = exact.query(s, options.law);
       const Contact ca = approx.query(s, options.law);
       fe += ce.force;

@@ -82,6 +82,12 @@ ErrorField compute_error_field(const ContactQuery& approx, const ContactQuery& e
                                const std::vector<SurfacePoint>& points, float diagonal,
                                const ErrorFieldOptions& options = {});
 
+/// The probe segments compute_error_field aims at `point`, the field's point `index` (the same
+/// directions, aims and depths, from (options.seed, index)): how a viewer puts the probe where
+/// the field measured an error.
+std::vector<Segment> error_field_probes(const SurfacePoint& point, std::size_t index, float diagonal,
+                                        const ErrorFieldOptions& options = {});
+
 /// One metric of an error field summed up (the window's error-field panel): how many points
 /// have data (finite values), how many do not (NaN), how many are above zero (for the contact
 /// disagreement: the points where the answers disagree), the median of the finite values, and

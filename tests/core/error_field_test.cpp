@@ -59,3 +59,28 @@ TEST(ErrorFieldTest, ValuesSummaryCountsNoDataAndListsTheWorstFirst) {
   EXPECT_DOUBLE_EQ(none.median, 0.0);
   EXPECT_TRUE(none.worst.empty());
 }
+
+// A viewer puts its probe on the field's own probe at a point: error_field_probes gives the
+// segments compute_error_field ran there (the same exact force, averaged the same way).
+TEST(ErrorFieldTest, ProbesOfAPointAreTheOnesTheFieldRan) {
+  const hb::TriangleMesh mesh = hb::make_torus(1.f, 0.3f, 48, 16);
+  const hb::ExactQuery exact(mesh);
+  const auto points = hb::surface_points_at_vertices(mesh);
+  hb::ErrorFieldOptions options;
+  options.probes_per_point = 3;
+  const float diagonal = mesh.bounds().diagonal();
+  const hb::ErrorField f = hb::compute_error_field(exact, exact, points, diagonal, options);
+  for (std::size_t i : {std::size_t(0), std::size_t(17), points.size() - 1}) {
+    const std::vector<hb::Segment> probes = hb::error_field_probes(points[i], i, diagonal, options);
+    ASSERT_EQ(probes.size(), 3u);
+    hb::Vec3 sum = hb::Vec3::Zero();
+    for (const hb::Segment& s : probes) {
+      sum += exact.query(s, options.law).force;
+      // Each aimed at the point (within the 1e-4 diagonal jitter), inside the cone, one length long.
+      const hb::Vec3 d = (s.end - s.start).normalized();
+      EXPECT_NEAR((s.end - s.start).norm(), options.length_fraction * diagonal, 1e-4f);
+      EXPECT_GE(d.dot(-points[i].normal.normalized()), std::cos(options.cone_degrees * float(M_PI) / 180.f) - 1e-4f);
+    }
+    EXPECT_EQ(sum / 3.f, f.exact_force[i]);
+  }
+}

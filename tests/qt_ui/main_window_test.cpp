@@ -37,12 +37,14 @@ using hbtest::setSmallBake;
 
 namespace {
 
-/// Runs the window's sweep over m 8 and 12 (n 4, 1000 probes) and waits for its two points.
+/// Runs the window's sweep over m 8 and 12 (n 4, 1000 probes) and waits for its box points:
+/// the two samplings and the default bake (as `hapticbox sweep`).
 void runSmallSweep(MainWindow& w) {
   QString error;
   ASSERT_TRUE(w.session()->startSweep({8, 12}, {4}, 1000, &error)) << error.toStdString();
   ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 300));
-  ASSERT_EQ(w.chartsView()->pointCount(), 2u);
+  ASSERT_EQ(w.chartsView()->pointCount(), 3u);
+  EXPECT_EQ(w.chartsView()->boxRows().back().label.rfind("default bake", 0), 0u);
 }
 
 struct PixelCounts {
@@ -439,7 +441,7 @@ TEST(MainWindowTest, ErrorFieldUsesViridisNamesTheMetricAndListsWorstVerticesTha
   ASSERT_GT(worst->count(), 0);
   ASSERT_TRUE(worst->item(0)->text().contains("%")) << worst->item(0)->text().toStdString();
   const QVariantList v = worst->item(0)->data(Qt::UserRole).toList();
-  ASSERT_EQ(v.size(), 6);
+  ASSERT_EQ(v.size(), 7);  // position, normal, vertex index
   emit worst->itemClicked(worst->item(0));
   const hb::Vec3 vertex(v[0].toFloat(), v[1].toFloat(), v[2].toFloat());
   // The probe line comes to pass through the vertex (the virtual device follows its target;
@@ -497,7 +499,7 @@ TEST(MainWindowTest, ChartsLabelRealTimesNameConfigurationsAndAReportKeepsTheSwe
   ASSERT_TRUE(w.exportReport(data.dir.filePath(QStringLiteral("rep")), 500));
   ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 300));
   EXPECT_EQ(w.session()->sweepRows().size(), sweepRows);
-  EXPECT_EQ(w.chartsView()->pointCount(), 2u);
+  EXPECT_EQ(w.chartsView()->pointCount(), 3u);
 }
 
 TEST(MainWindowTest, ReadoutWithoutAModelSaysHowToOpenOne) {

@@ -1,0 +1,17 @@
+#pragma once
+// The text of the loader options that shaped a model's surface, mixed into its hash
+// (hb::hash_model's loader_options), so that a box baked at another iso-value, label,
+// smoothing, decimation, unit or chordal deviation is never taken for this one. The command
+// line and the window both call it: the same options give the same hash.
+#include "model_loader.h"
+#include <string>
+
+namespace hb::vtk {
+
+/// True when every option that shapes the surface is at its default.
+bool model_options_default(const ModelOptions& options);
+/// Empty when model_options_default, else "iso=... label=... unit=... smooth=... target=...
+/// chordal=... ftol=...".
+std::string model_options_key(const ModelOptions& options);
+
+} // namespace hb::vtk
