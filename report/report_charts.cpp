@@ -242,34 +242,46 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
   check_written(png_path);
 }
 
+namespace {
+
+// Counts of `values` in `bins` bins over [0, hi) (the last bin also takes what lies beyond),
+// drawn as filled bars with the axes and labels; returns the tallest count.
+double draw_histogram(plstream& pls, const std::vector<double>& values, double hi, int bins, const char* xlabel,
+                      const char* title) {
+  bins = std::max(bins, 2);
+  std::vector<PLFLT> y(static_cast<std::size_t>(bins), 0.0);
+  const double w = hi / bins;
+  for (double v : values) y[std::size_t(std::clamp(int(v / w), 0, bins - 1))] += 1.0;
+  double ymax = 1.0;
+  for (PLFLT c : y) ymax = std::max(ymax, c);
+  pls.schr(0, 0.85);
+  pls.env(0.0, hi, 0.0, ymax * 1.1, 0, 0);
+  pls.lab(xlabel, "probes", title);
+  pls.col0(kBlue);
+  for (int b = 0; b < bins; ++b) {
+    const PLFLT bx[4] = {b * w, b * w, (b + 1) * w, (b + 1) * w};
+    const PLFLT by[4] = {0.0, y[std::size_t(b)], y[std::size_t(b)], 0.0};
+    pls.fill(4, bx, by);
+  }
+  pls.col0(kBlack);
+  for (int b = 0; b < bins; ++b) {
+    const PLFLT bx[5] = {b * w, b * w, (b + 1) * w, (b + 1) * w, b * w};
+    const PLFLT by[5] = {0.0, y[std::size_t(b)], y[std::size_t(b)], 0.0, 0.0};
+    pls.line(5, bx, by);
+  }
+  return ymax;
+}
+
+} // namespace
+
 void plot_force_error_histogram(const std::vector<double>& errors, const std::string& png_path, int bins) {
   {
     auto pls = open_png(png_path);
-    std::vector<PLFLT> pct(errors.size());
+    std::vector<double> pct(errors.size());
     for (std::size_t i = 0; i < errors.size(); ++i) pct[i] = 100.0 * errors[i];
     const double hi = errors.empty() ? 1.0 : std::max(1e-6, 100.0 * quantile(errors, 0.99));
-    bins = std::max(bins, 2);
-    std::vector<PLFLT> y(static_cast<std::size_t>(bins), 0.0);
-    const double w = hi / bins;
-    for (PLFLT v : pct) y[std::size_t(std::clamp(int(v / w), 0, bins - 1))] += 1.0;  // overflow in the last bin
-    double ymax = 1.0;
-    for (PLFLT c : y) ymax = std::max(ymax, c);
-    pls->schr(0, 0.85);
-    pls->env(0.0, hi, 0.0, ymax * 1.1, 0, 0);
-    pls->lab("relative force error |F1 - F0| / |F0|, % (last bin: >= p99)", "probes",
-             "Force error over the probes both answers call a contact");
-    pls->col0(kBlue);
-    for (int b = 0; b < bins; ++b) {
-      const PLFLT bx[4] = {b * w, b * w, (b + 1) * w, (b + 1) * w};
-      const PLFLT by[4] = {0.0, y[std::size_t(b)], y[std::size_t(b)], 0.0};
-      pls->fill(4, bx, by);
-    }
-    pls->col0(kBlack);
-    for (int b = 0; b < bins; ++b) {
-      const PLFLT bx[5] = {b * w, b * w, (b + 1) * w, (b + 1) * w, b * w};
-      const PLFLT by[5] = {0.0, y[std::size_t(b)], y[std::size_t(b)], 0.0, 0.0};
-      pls->line(5, bx, by);
-    }
+    const double ymax = draw_histogram(*pls, pct, hi, bins, "relative force error |F1 - F0| / |F0|, % (last bin: >= p99)",
+                                       "Force error over the probes both answers call a contact");
     if (!errors.empty()) {
       const double med = 100.0 * quantile(errors, 0.5), p95 = 100.0 * quantile(errors, 0.95);
       for (auto [v, c] : {std::pair<double, int>{med, kRed}, {p95, kOrange}}) {
@@ -293,22 +305,8 @@ void plot_force_difference_histogram(const std::vector<double>& differences_n, c
     // The axis reaches past the threshold, so "nothing a hand feels" reads as bars left of it.
     const double p99 = differences_n.empty() ? 0.0 : quantile(differences_n, 0.99);
     const double hi = std::max({1.5 * t.floor_n, p99, 1e-9});
-    bins = std::max(bins, 2);
-    std::vector<PLFLT> y(static_cast<std::size_t>(bins), 0.0);
-    const double w = hi / bins;
-    for (double v : differences_n) y[std::size_t(std::clamp(int(v / w), 0, bins - 1))] += 1.0;  // overflow in the last bin
-    double ymax = 1.0;
-    for (PLFLT c : y) ymax = std::max(ymax, c);
-    pls->schr(0, 0.85);
-    pls->env(0.0, hi, 0.0, ymax * 1.1, 0, 0);
-    pls->lab("| |F box| - |F exact| |, N (last bin: >= the axis end)", "probes",
-             "Force difference a hand would feel? (probes with a contact on either side)");
-    pls->col0(kBlue);
-    for (int b = 0; b < bins; ++b) {
-      const PLFLT bx[4] = {b * w, b * w, (b + 1) * w, (b + 1) * w};
-      const PLFLT by[4] = {0.0, y[std::size_t(b)], y[std::size_t(b)], 0.0};
-      pls->fill(4, bx, by);
-    }
+    const double ymax = draw_histogram(*pls, differences_n, hi, bins, "| |F box| - |F exact| |, N (last bin: >= the axis end)",
+                                       "Force difference a hand would feel? (probes with a contact on either side)");
     // The absolute threshold F0 and the JND at exact's median force (w |F|).
     const double jnd = t.weber * exact_median_n;
     for (auto [v, c] : {std::pair<double, int>{t.floor_n, kRed}, {jnd, kOrange}}) {

@@ -50,8 +50,11 @@ void mark_pareto_front(std::vector<SweepRow>& rows) {
   for (SweepRow& r : rows) {
     r.pareto = true;
     for (const SweepRow& o : rows) {
-      const bool no_worse = o.query_ns <= r.query_ns && o.force_error_median <= r.force_error_median;
-      const bool better = o.query_ns < r.query_ns || o.force_error_median < r.force_error_median;
+      // Accuracy is what a hand feels first (the perceptible share), the median relative
+      // error among rows a hand tells apart equally.
+      const auto acc = [](const SweepRow& x) { return std::make_pair(x.perceptible_share, x.force_error_median); };
+      const bool no_worse = o.query_ns <= r.query_ns && acc(o) <= acc(r);
+      const bool better = o.query_ns < r.query_ns || acc(o) < acc(r);
       if (&o != &r && no_worse && better) {
         r.pareto = false;
         break;

@@ -119,8 +119,9 @@ struct SweepOptions {
 std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& source, const std::vector<SweepReference>& references,
                                 const SweepOptions& options);
 
-/// Marks the Pareto front over (query_ns, force_error_median): a row is on it when no
-/// other row is at least as fast and at least as accurate, and strictly better in one.
+/// Marks the Pareto front over query_ns and accuracy: the perceptible share, then the median
+/// relative force error where the shares are equal: a row is on it when no other row is at
+/// least as fast and at least as accurate, and strictly better in one.
 void mark_pareto_front(std::vector<SweepRow>& rows);
 
 /// What a haptic-box row is, in words: its label (a scene, the default bake) or "m<m> n<n>",

@@ -18,6 +18,12 @@ TEST(SweepTest, ParetoFrontKeepsOnlyUndominatedRows) {
   EXPECT_TRUE(rows[1].pareto);
   EXPECT_FALSE(rows[2].pareto);
   EXPECT_TRUE(rows[3].pareto);
+  // What a hand feels decides first: a row with a lower median but a higher perceptible
+  // share does not dominate a slower one a hand tells apart less often.
+  rows[1].perceptible_share = 0.3, rows[2].perceptible_share = 0.1, rows[0].perceptible_share = 0.5;
+  hb::mark_pareto_front(rows);
+  EXPECT_TRUE(rows[1].pareto);
+  EXPECT_TRUE(rows[2].pareto);
 }
 
 TEST(SweepTest, ABoxRowIsNamedByItsLabelOrSamplingThenItsCodecAndRefinement) {
