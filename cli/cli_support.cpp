@@ -213,11 +213,20 @@ void add_model_options(CLI::App& cmd, ModelArgs& args) {
                  "CAD: force error in N the tessellation may cause; sets the chordal deviation")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  cmd.add_flag("--accept-lost-faces", args.accept_lost_faces,
+               "CAD: keep a model some of whose faces failed to translate or tessellate (default: refuse it)");
+  cmd.add_option("--reader-timeout", args.reader_timeout_s,
+                 "Seconds a third-party reader (volumes, CAD, scenes, VTK files) may run before it is stopped "
+                 "(default: $HB_READER_TIMEOUT_S, else 300)")
+      ->check(CLI::Range(0.1, 1e6));
+  cmd.add_option("--reader-memory-mb", args.reader_memory_mb,
+                 "Megabytes of memory a third-party reader may use (default: $HB_READER_MEMORY_MB, else 8192)")
+      ->check(CLI::Range(16, 1 << 24));
 }
 
 namespace {
 bool has_model_args(const ModelArgs& a) {
-  return a.iso || a.label || !a.unit.empty() || a.smooth || a.target_triangles || a.chordal_mm > 0;
+  return a.iso || a.label || !a.unit.empty() || a.smooth || a.target_triangles || a.chordal_mm > 0 || a.accept_lost_faces;
 }
 std::string args_text(const ModelArgs& a) {
   std::ostringstream o;
@@ -240,6 +249,9 @@ hb::vtk::ModelOptions to_model_options(const ModelArgs& args) {
   options.volume.target_triangles = args.target_triangles;
   options.cad.chordal_deviation_mm = args.chordal_mm;
   options.cad.force_tolerance_n = args.force_tolerance_n;
+  options.cad.accept_lost_faces = args.accept_lost_faces;
+  options.reader_timeout_s = args.reader_timeout_s;
+  options.reader_memory_mb = args.reader_memory_mb;
   return options;
 }
 #endif

@@ -4,9 +4,11 @@
 #include "errors.h"
 #include "haptic_box/box_scene.h"
 #include "vtkHapticBoxUtilities.h"
+#include "isolated_reader.h"
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
 #include <vtkFieldData.h>
 #include <vtkFloatArray.h>
 #include <vtkInformation.h>
@@ -57,26 +59,40 @@ vtkSmartPointer<vtkPolyData> piece_polydata(const TriangleMesh& mesh, const std:
 std::vector<std::uint32_t> read_piece_vtp(const std::string& path, std::size_t triangle_count) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw IoError(path + ": cannot open the piece file");
-  vtkNew<vtkXMLPolyDataReader> reader;
-  reader->SetFileName(path.c_str());
-  if (!reader->CanReadFile(path.c_str())) throw InvalidInput(path + ": not a VTK XML PolyData file");
-  reader->Update();
-  vtkPolyData* pd = reader->GetOutput();
-  vtkDataArray* ids = pd ? pd->GetCellData()->GetArray("PieceId") : nullptr;
-  if (!ids || ids->GetNumberOfComponents() != 1) throw InvalidInput(path + ": no cell array PieceId");
-  // Cells are verts, lines, polys, strips in that order; the triangles are the polygons.
-  const vtkIdType first = pd->GetNumberOfVerts() + pd->GetNumberOfLines();
-  const vtkIdType polys = pd->GetNumberOfPolys();
-  if (triangle_count != 0 && std::size_t(polys) != triangle_count)
-    throw InvalidInput(path + ": " + std::to_string(polys) + " polygons with a PieceId, the mesh has " +
+  // VTK's XML reader crashes on cell counts that disagree with the arrays: it runs in a child
+  // process (isolated_reader.h).
+  const std::string bytes = run_isolated(path, "VTK XML polydata", ReaderLimits::from_environment(), [&] {
+    vtkNew<vtkXMLPolyDataReader> reader;
+    reader->SetFileName(path.c_str());
+    if (!reader->CanReadFile(path.c_str())) throw InvalidInput(path + ": not a VTK XML PolyData file");
+    reader->Update();
+    if (reader->GetErrorCode() != 0)
+      throw InvalidInput(path + ": the VTK XML reader failed (" + std::string(vtkErrorCode::GetStringFromErrorCode(reader->GetErrorCode())) + ")");
+    vtkPolyData* pd = reader->GetOutput();
+    vtkDataArray* ids = pd ? pd->GetCellData()->GetArray("PieceId") : nullptr;
+    if (!ids || ids->GetNumberOfComponents() != 1) throw InvalidInput(path + ": no cell array PieceId");
+    // Cells are verts, lines, polys, strips in that order; the triangles are the polygons.
+    const vtkIdType first = pd->GetNumberOfVerts() + pd->GetNumberOfLines();
+    const vtkIdType polys = pd->GetNumberOfPolys();
+    if (ids->GetNumberOfTuples() != pd->GetNumberOfCells())
+      throw InvalidInput(path + ": the PieceId array has " + std::to_string(ids->GetNumberOfTuples()) + " values for " +
+                         std::to_string(pd->GetNumberOfCells()) + " cells");
+    std::vector<std::uint32_t> out(static_cast<std::size_t>(polys));
+    for (vtkIdType i = 0; i < polys; ++i) {
+      const double v = ids->GetComponent(first + i, 0);
+      if (!(v >= 0.0) || v > 4294967295.0 || v != double(std::uint64_t(v)))
+        throw InvalidInput(path + ": PieceId of polygon " + std::to_string(i) + " is not a non-negative integer");
+      out[std::size_t(i)] = std::uint32_t(v);
+    }
+    ByteWriter w;
+    w.put_vector(out);
+    return w.take();
+  });
+  std::vector<std::uint32_t> out;
+  ByteReader(bytes).get_vector(out);
+  if (triangle_count != 0 && out.size() != triangle_count)
+    throw InvalidInput(path + ": " + std::to_string(out.size()) + " polygons with a PieceId, the mesh has " +
                        std::to_string(triangle_count) + " triangles");
-  std::vector<std::uint32_t> out(static_cast<std::size_t>(polys));
-  for (vtkIdType i = 0; i < polys; ++i) {
-    const double v = ids->GetComponent(first + i, 0);
-    if (!(v >= 0.0) || v > 4294967295.0 || v != double(std::uint64_t(v)))
-      throw InvalidInput(path + ": PieceId of polygon " + std::to_string(i) + " is not a non-negative integer");
-    out[std::size_t(i)] = std::uint32_t(v);
-  }
   return out;
 }
 

@@ -66,14 +66,30 @@ public:
   ~ErrorCatcher() { watched_->RemoveObserver(tag_); }
   ErrorCatcher(const ErrorCatcher&) = delete;
   ErrorCatcher& operator=(const ErrorCatcher&) = delete;
-  // VTK's messages begin with "ERROR: In file, line N\nclass (ptr): " - keep the last line.
+  // VTK's messages read "ERROR: In file, line N\nclass (ptr): text\n\n", one after another:
+  // keep the text of each (never an empty cause: the raw message when nothing is left).
   std::string message() const {
-    const std::size_t cut = messages_.find_last_of('\n');
-    std::string m = cut == std::string::npos ? messages_ : messages_.substr(cut + 1);
-    const std::size_t colon = m.find("): ");
-    if (colon != std::string::npos) m = m.substr(colon + 3);
-    while (!m.empty() && std::isspace((unsigned char)m.back())) m.pop_back();
-    return m;
+    std::string out;
+    std::size_t at = 0;
+    while (at < messages_.size()) {
+      std::size_t next = messages_.find("; ERROR: ", at);
+      std::string m = messages_.substr(at, next == std::string::npos ? std::string::npos : next - at);
+      at = next == std::string::npos ? messages_.size() : next + 2;
+      if (m.rfind("ERROR: In ", 0) == 0) {
+        const std::size_t nl = m.find('\n');
+        if (nl != std::string::npos) m = m.substr(nl + 1);
+      }
+      const std::size_t colon = m.find("): ");
+      if (colon != std::string::npos && colon < 80) m = m.substr(colon + 3);
+      for (char& c : m)
+        if (c == '\n' || c == '\r') c = ' ';
+      while (!m.empty() && std::isspace((unsigned char)m.back())) m.pop_back();
+      while (!m.empty() && std::isspace((unsigned char)m.front())) m.erase(0, 1);
+      if (m.empty() || out.find(m) != std::string::npos) continue;
+      out += (out.empty() ? "" : "; ") + m;
+    }
+    if (out.empty()) out = "the VTK reader reported an error without a reason";
+    return out;
   }
   bool failed() const { return !messages_.empty(); }
 
