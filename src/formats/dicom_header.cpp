@@ -250,12 +250,15 @@ DicomHeader check_dicom_header(const std::string& name, const std::string& bytes
   if (h.samples_per_pixel != 1)
     throw InvalidInput(name + ": " + std::to_string(h.samples_per_pixel) + " samples per pixel (colour): not a slice of a volume");
   if (h.photometric.empty()) throw InvalidInput(name + ": no PhotometricInterpretation (0028,0004)");
+  if (!h.has_position) throw InvalidInput(name + ": no ImagePositionPatient (0020,0032): not a slice of a volume");
+  if (!h.has_orientation) throw InvalidInput(name + ": no ImageOrientationPatient (0020,0037): not a slice of a volume");
+  if (!h.has_spacing) throw InvalidInput(name + ": no PixelSpacing (0028,0030): the slice's size is unknown");
   if (h.frames != 1) throw InvalidInput(name + ": " + std::to_string(h.frames) + " frames in one file: only one slice a file is supported");
   const std::uint64_t needed = std::uint64_t(h.rows) * h.columns * (h.bits_allocated / 8);
-  if (h.pixel_bytes < needed)
+  if (h.pixel_bytes != needed && h.pixel_bytes != needed + 1)  // + 1: odd lengths are padded
     throw InvalidInput(name + ": " + std::to_string(h.rows) + " rows x " + std::to_string(h.columns) + " columns x " +
-                       std::to_string(h.bits_allocated) + " bits need " + std::to_string(needed) + " bytes of pixel data, the file has " +
-                       std::to_string(h.pixel_bytes));
+                       std::to_string(h.bits_allocated) + " bits make " + std::to_string(needed) + " bytes, the pixel data holds " +
+                       std::to_string(h.pixel_bytes) + ": the header does not describe the image");
   return h;
 }
 

@@ -32,7 +32,8 @@ bool looks_like_dicom(const std::string& bytes);
 /// set in the transfer syntax's encoding; sequences of defined or undefined length skipped) and
 /// checks what a slice of a volume needs: an uncompressed transfer syntax (implicit or explicit
 /// VR little endian), Rows, Columns, BitsAllocated (8, 16 or 32), one sample per pixel, a
-/// PhotometricInterpretation, PixelData at least Rows x Columns x BitsAllocated / 8 bytes,
+/// PhotometricInterpretation, ImagePositionPatient, ImageOrientationPatient (two perpendicular
+/// unit vectors), PixelSpacing (> 0), PixelData of exactly Rows x Columns x BitsAllocated / 8 bytes,
 /// non-empty values where the tags are present (an empty RescaleSlope, TransferSyntaxUID or
 /// PhotometricInterpretation crashes VTK's DICOM parser). Throws hb::InvalidInput naming `name`
 /// and the element.

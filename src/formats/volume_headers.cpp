@@ -344,13 +344,13 @@ VolumeLayout check_metaimage_header(const std::string& name, const std::string& 
     if (!parse_integer(keys["headersize"], skip) || skip < -1 || skip > (1LL << 40))
       throw InvalidInput(name + ": MetaImage HeaderSize is " + quoted(keys["headersize"]) + ", not -1 or a byte count");
     if (skip == -1) layout.data_at_end = true;
-    else layout.data_offset = std::uint64_t(skip);
+    else layout.skip = std::uint64_t(skip);
   }
   const std::string file = keys["elementdatafile"];
   const std::vector<std::string> w = words(file);
   if (w.empty()) throw InvalidInput(name + ": MetaImage ElementDataFile is empty");
   if (lower(w[0]) == "local") {
-    layout.data_offset += header_end;
+    layout.data_offset = header_end;
   } else if (lower(w[0]) == "list") {
     // One file per slice (or per 2D image with "LIST 2D"), one name a line after the header.
     const std::uint64_t slices = sizes.back();
@@ -473,7 +473,7 @@ VolumeLayout check_nrrd_header(const std::string& name, const std::string& text)
       if (layout.encoding != "raw") throw InvalidInput(name + ": NRRD byte skip -1 needs raw encoding");
       layout.data_at_end = true;
     } else {
-      layout.data_offset = std::uint64_t(skip);
+      layout.skip = std::uint64_t(skip);
     }
   }
   if (keys.count("data file")) {
@@ -492,7 +492,7 @@ VolumeLayout check_nrrd_header(const std::string& name, const std::string& text)
     }
   } else {
     if (!blank) throw InvalidInput(name + ": the NRRD header does not end (no blank line before the data) and names no data file");
-    layout.data_offset += at;
+    layout.data_offset = at;
   }
   return layout;
 }

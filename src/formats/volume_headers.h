@@ -19,9 +19,11 @@ struct VolumeLayout {
   /// "raw", "gzip" (a gzip stream), "zlib" (MetaImage CompressedData: a zlib stream) or "text"
   /// (numbers separated by white space).
   std::string encoding = "raw";
-  /// Inline data: byte offset of the voxels from the start of the header file's (decompressed,
-  /// for .nii.gz) content. Data files: bytes skipped at the start of the (first) data file.
+  /// Inline data: where the (encoded) data starts in the header file (NIfTI: vox_offset, in
+  /// the decompressed content of a .nii.gz). Data files: 0.
   std::uint64_t data_offset = 0;
+  /// Bytes skipped at the start of the decoded data (MetaImage HeaderSize, NRRD byte skip).
+  std::uint64_t skip = 0;
   /// NRRD "byte skip: -1": the data is the last expected_bytes() of the (raw) data.
   bool data_at_end = false;
   /// Data files, relative to the header's folder, in order; empty: the data follows the header.
