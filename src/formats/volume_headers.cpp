@@ -61,7 +61,11 @@ std::string quoted(const std::string& s) {
 std::uint64_t product(const std::string& name, const std::vector<std::uint64_t>& sizes) {
   std::uint64_t n = 1;
   for (std::uint64_t s : sizes) {
-    if (s > (std::uint64_t(1) << 40) / n) throw InvalidInput(name + ": the header's sizes multiply to more than 2^40 voxels");
+    if (s > (std::uint64_t(1) << 40) / n) {
+      std::string list;
+      for (std::uint64_t x : sizes) list += (list.empty() ? "" : " x ") + std::to_string(x);
+      throw InvalidInput(name + ": the header claims " + list + " voxels, more than 2^40: refused before reading");
+    }
     n *= s;
   }
   return n;
