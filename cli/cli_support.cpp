@@ -217,7 +217,7 @@ void add_model_options(CLI::App& cmd, ModelArgs& args) {
                "CAD: keep a model some of whose faces failed to translate or tessellate (default: refuse it)");
   cmd.add_option("--reader-timeout", args.reader_timeout_s,
                  "Seconds a third-party reader (volumes, CAD, scenes, VTK files) may run before it is stopped "
-                 "(default: $HB_READER_TIMEOUT_S, else 300)")
+                 "(default: $HB_READER_TIMEOUT_S, else 120)")
       ->check(CLI::Range(0.1, 1e6));
   cmd.add_option("--reader-memory-mb", args.reader_memory_mb,
                  "Megabytes of memory a third-party reader may use (default: $HB_READER_MEMORY_MB, else 8192)")

@@ -16,7 +16,7 @@ struct ReaderLimits {
   /// false: run the reader in the calling process (no protection; for debugging).
   bool isolate = true;
   /// Wall-clock seconds before the reader is killed (> 0).
-  double timeout_s = 300.0;
+  double timeout_s = 120.0;
   /// Megabytes of address space the reader may add to what the process already maps (> 0).
   std::size_t memory_mb = 8192;
   /// The defaults, overridden by the environment: HB_READER_ISOLATION=0 (in-process),

@@ -10,6 +10,7 @@
 #include "errors.h"
 #include "vtkHapticBoxUtilities.h"
 #include "isolated_reader.h"
+#include "polydata_files.h"
 #include <vtkOBJReader.h>
 #include <vtkPLYReader.h>
 #include <vtkPolyData.h>
@@ -137,7 +138,10 @@ LoadedModel load_here(const std::string& path, const ModelOptions& options) {
     if (vtk_format || (options.use_vtk_readers && (ext == ".stl" || ext == ".obj" || ext == ".ply"))) {
       if (!std::ifstream(path).good()) throw IoError(path + ": cannot open the file");
       vtkSmartPointer<vtkPolyData> raw;
-      if (ext == ".vtp") raw = read_with_vtk<vtkXMLPolyDataReader>(path);
+      if (ext == ".vtp") {
+        check_vtp_appended_data(path);
+        raw = read_with_vtk<vtkXMLPolyDataReader>(path);
+      }
       else if (ext == ".vtk") raw = read_with_vtk<vtkPolyDataReader>(path);
       else if (ext == ".stl") raw = read_with_vtk<vtkSTLReader>(path);
       else if (ext == ".obj") raw = read_with_vtk<vtkOBJReader>(path);

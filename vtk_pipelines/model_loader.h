@@ -41,7 +41,7 @@ struct ModelOptions {
   /// Meshes: read .stl/.obj/.ply with VTK's readers rather than the core's.
   bool use_vtk_readers = false;
   /// Third-party readers (volumes, CAD, scenes, .vtp/.vtk, VTK's mesh readers) run in a child
-  /// process killed after this many seconds (0: HB_READER_TIMEOUT_S, else 300 s) ...
+  /// process killed after this many seconds (0: HB_READER_TIMEOUT_S, else 120 s) ...
   double reader_timeout_s = 0.0;
   /// ... and allowed this many megabytes of address space (0: HB_READER_MEMORY_MB, else
   /// 8192). HB_READER_ISOLATION=0 runs them in this process (debugging only).

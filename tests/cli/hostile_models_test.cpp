@@ -219,6 +219,28 @@ TEST_F(HostileModelsTest, PieceFileFaultsNameTheFile) {
   EXPECT_NE(r.err.find(path("finer.vtp") + ": "), std::string::npos) << r.err;
 }
 
+TEST_F(HostileModelsTest, VtpCountsAndBlockHeadersAreHeldToTheFile) {
+  // VTK's XML reader crashed when the cell counts disagreed with the arrays, and allocated
+  // gigabytes for a damaged compressed-block header.
+  hb::write_mesh(hb::make_sphere(1.f, 2), path("v.off"));
+  Result r = run("decompose " + path("v.off") + " --max-pieces 2 --lines 1000 --leaves 4 -o " + path("v.vtp"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string vtp = slurp(path("v.vtp"));
+  r = run("info " + path("v.vtp"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::size_t n = vtp.find("NumberOfPoints=\"");
+  ASSERT_NE(n, std::string::npos);
+  std::string counts = vtp;
+  counts.replace(n + 16, 1, "9");  // a different point count, same length
+  if (counts == vtp) counts.replace(n + 16, 1, "8");
+  expect_refused(write("counts.vtp", counts), "the counts disagree with the arrays");
+  std::string blocks = vtp;
+  const std::size_t data = blocks.find('_', blocks.find("<AppendedData")) + 1;
+  const std::uint32_t many = 0x40000000u;
+  std::memcpy(blocks.data() + data, &many, 4);  // the first array's number of blocks
+  expect_refused(write("blocks.vtp", blocks), "compressed blocks, more than the file holds");
+}
+
 TEST_F(HostileModelsTest, TrajectoryRefusesALogWithNonFiniteRecords) {
   const std::string log = path("run.hbslog");
   Result r = run("servo plane --device virtual --seconds 0.05 --record " + log);

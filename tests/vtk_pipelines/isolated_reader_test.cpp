@@ -97,7 +97,7 @@ TEST(IsolatedReaderTest, EnvironmentSetsTheLimitsAndMalformedValuesAreRefused) {
   ::unsetenv("HB_READER_TIMEOUT_S");
   ::unsetenv("HB_READER_MEMORY_MB");
   l = hb::vtk::ReaderLimits::from_environment();
-  EXPECT_EQ(l.timeout_s, 300.0);
+  EXPECT_EQ(l.timeout_s, 120.0);
   EXPECT_EQ(l.memory_mb, 8192u);
 }
 
