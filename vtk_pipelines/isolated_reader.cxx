@@ -1,14 +1,17 @@
 // A reader in a child process:
 //  1. the parent flushes its output streams and opens an anonymous temporary file (the result
-//     channel: a mesh can be far larger than a pipe's buffer) and a pipe (the child's end
-//     closes when it exits or dies, which wakes the parent without polling);
+//     channel: a mesh can be far larger than a pipe's buffer) and a pipe (the child writes a
+//     mark on it once its result is whole, and its end closes when it dies, which wakes the
+//     parent without polling);
 //  2. the child lowers its limits (RLIMIT_AS: what it maps now plus the reader's allowance;
 //     RLIMIT_CPU: the timeout times the cores, as processor time adds up over threads), sends
 //     its standard output to standard error (stdout may be carrying JSON), runs the reader,
 //     writes a status byte and the result or the error's text to the file and _exits (no
 //     atexit handlers, no destructors of the parent's objects);
-//  3. the parent waits for the pipe to close or the timeout, kills the child at the timeout,
-//     reaps it, and turns what happened into the result or an error naming the file.
+//  3. the parent waits for the mark, the pipe's closing or the timeout, kills the child at the
+//     timeout, reaps it (after the mark, in the background: the teardown of its address space
+//     costs tens of milliseconds), and turns what happened into the result or an error naming
+//     the file.
 #include "isolated_reader.h"
 #include "errors.h"
 #include <algorithm>
@@ -112,7 +115,7 @@ std::size_t mapped_bytes() {
   return std::size_t(pages) * std::size_t(sysconf(_SC_PAGESIZE));
 }
 
-[[noreturn]] void child(int result_fd, const std::string& path, const std::string& reader, const ReaderLimits& limits,
+[[noreturn]] void child(int result_fd, int done_fd, const std::string& path, const std::string& reader, const ReaderLimits& limits,
                         const std::function<std::string()>& read) {
   ::dup2(STDERR_FILENO, STDOUT_FILENO);
   const rlim_t extra = rlim_t(limits.memory_mb) << 20;
@@ -125,6 +128,9 @@ std::size_t mapped_bytes() {
   std::string out;
   const char status = run_mapped(path, reader, limits, read, out);
   const bool ok = write_all(result_fd, &status, 1) && write_all(result_fd, out.data(), out.size());
+  // Tell the parent the result is complete: it need not wait for this process's teardown.
+  const char done = 'D';
+  if (ok) write_all(done_fd, &done, 1);
   ::_exit(ok ? 0 : 3);
 }
 
@@ -180,12 +186,12 @@ std::string run_isolated(const std::string& path, const std::string& reader, con
   }
   if (pid == 0) {
     ::close(done[0]);
-    child(result_fd, path, reader, limits, read);
+    child(result_fd, done[1], path, reader, limits, read);
   }
   ::close(done[1]);
   // Wait for the child's end of the pipe to close (it exited or died), at most timeout_s.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(limits.timeout_s);
-  bool timed_out = false;
+  bool timed_out = false, completed = false;
   int status = 0;
   for (;;) {
     const pid_t w = ::waitpid(pid, &status, WNOHANG);
@@ -202,8 +208,13 @@ std::string run_isolated(const std::string& path, const std::string& reader, con
     // At most 100 ms per round: another process forked meanwhile may hold a copy of the pipe.
     const int r = ::poll(&p, 1, int(std::min<long long>(left, 100)));
     if (r > 0) {
-      char c;
-      if (::read(done[0], &c, 1) <= 0) {  // closed: the child is gone (or going): reap it
+      char c = 0;
+      const ssize_t n = ::read(done[0], &c, 1);
+      if (n == 1 && c == 'D') {  // the result is whole; the child is exiting
+        completed = true;
+        break;
+      }
+      if (n <= 0) {  // closed without the mark: the child died; reap it
         while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
         }
         break;
@@ -211,6 +222,16 @@ std::string run_isolated(const std::string& path, const std::string& reader, con
     }
   }
   ::close(done[0]);
+  if (completed) {
+    // Reap the exiting child without waiting for its address space to be torn down.
+    if (::waitpid(pid, &status, WNOHANG) != pid)
+      std::thread([pid] {
+        int s = 0;
+        while (::waitpid(pid, &s, 0) < 0 && errno == EINTR) {
+        }
+      }).detach();
+    status = 0;
+  }
   if (timed_out) {
     std::ostringstream why;
     why << "it was still running after " << limits.timeout_s << " s and was stopped";
