@@ -187,7 +187,9 @@ bool is_box_file(const std::string& path) {
 #include "mesh/mesh_io.h"
 #include <algorithm>
 #include <filesystem>
+#include <new>
 #include <sstream>
+#include <stdexcept>
 #ifdef HB_WITH_VTK
 #include "model_loader.h"
 #endif
@@ -256,7 +258,24 @@ hb::vtk::ModelOptions to_model_options(const ModelArgs& args) {
 }
 #endif
 
+namespace {
+TriangleMesh load_mesh_unguarded(const std::string& path, const ModelArgs& args, MeshReadReport* report);
+} // namespace
+
 TriangleMesh load_mesh(const std::string& path, const ModelArgs& args, MeshReadReport* report) {
+  // A size in a damaged file that no allocation can meet names the file, never a bare
+  // "std::bad_alloc" or "vector::reserve".
+  try {
+    return load_mesh_unguarded(path, args, report);
+  } catch (const std::bad_alloc&) {
+    throw InvalidInput(path + ": out of memory while reading the file (a damaged size in it?)");
+  } catch (const std::length_error& e) {
+    throw InvalidInput(path + ": the file asks for an impossible size (" + std::string(e.what()) + ")");
+  }
+}
+
+namespace {
+TriangleMesh load_mesh_unguarded(const std::string& path, const ModelArgs& args, MeshReadReport* report) {
 #ifdef HB_WITH_VTK
   hb::vtk::LoadedModel model = hb::vtk::load_model(path, to_model_options(args));
   for (const std::string& w : model.report.warnings) std::cerr << "hapticbox: warning: " << w << "\n";
@@ -286,6 +305,7 @@ TriangleMesh load_mesh(const std::string& path, const ModelArgs& args, MeshReadR
   return mesh;
 #endif
 }
+} // namespace
 
 std::uint64_t hash_model(const std::string& path, const ModelArgs& args) {
   return hb::hash_model(path, has_model_args(args) ? args_text(args) : std::string());

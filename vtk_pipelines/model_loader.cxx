@@ -211,7 +211,7 @@ std::string serialise(const LoadedModel& m) {
   w.put_string(m.unit_source);
   w.put<double>(m.mm_per_unit);
   w.put_vector(m.face_ids);
-  w.put_string(m.facts.dump());
+  w.put_string(m.facts.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));  // a file's bytes may not be UTF-8
   return w.take();
 }
 

@@ -181,6 +181,83 @@ void check_3mf(const std::string& path) {
   }
 }
 
+
+// A Collada file before Assimp opens it: every float_array holds the count of finite numbers
+// it declares (a wrong count crashed Assimp), every accessor reads within its array, and index
+// lists (<p>, <vcount>, <v>) hold whole numbers below the file's largest array (a non-number or
+// a huge index cost gigabytes).
+void check_collada(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto attribute = [](const std::string& tag, const char* name) -> std::string {
+    const std::string key = std::string(" ") + name + "=\"";
+    const std::size_t at = tag.find(key);
+    if (at == std::string::npos) return {};
+    const std::size_t end = tag.find('"', at + key.size());
+    return end == std::string::npos ? std::string() : tag.substr(at + key.size(), end - at - key.size());
+  };
+  auto whole = [&](const std::string& text, const std::string& what) -> std::uint64_t {
+    if (text.empty() || text.size() > 12 || text.find_first_not_of("0123456789") != std::string::npos) {
+      std::string shown = text.substr(0, 20);
+      for (char& c : shown)
+        if (!std::isprint((unsigned char)c)) c = '?';
+      throw InvalidInput(path + ": Collada " + what + " is '" + shown + "', not a whole number");
+    }
+    return std::stoull(text);
+  };
+  std::map<std::string, std::uint64_t> arrays;  // id -> values
+  std::uint64_t largest = 0;
+  for (std::size_t at = xml.find("<float_array"); at != std::string::npos; at = xml.find("<float_array", at + 1)) {
+    const std::size_t open_end = xml.find('>', at);
+    const std::size_t close = xml.find("</float_array>", at);
+    if (open_end == std::string::npos || close == std::string::npos || close < open_end)
+      throw InvalidInput(path + ": a Collada float_array is not closed");
+    const std::string tag = xml.substr(at, open_end - at);
+    const std::uint64_t count = whole(attribute(tag, "count"), "float_array count");
+    std::uint64_t n = 0;
+    const char* p = xml.data() + open_end + 1;
+    const char* end = xml.data() + close;
+    while (p < end) {
+      while (p < end && std::isspace((unsigned char)*p)) ++p;
+      if (p >= end) break;
+      char* stop = nullptr;
+      const double v = std::strtod(p, &stop);
+      if (stop == p || stop > end || !std::isfinite(v) || (stop < end && !std::isspace((unsigned char)*stop)))
+        throw InvalidInput(path + ": Collada float_array " + attribute(tag, "id") + " holds a value that is not a finite number");
+      p = stop;
+      ++n;
+    }
+    if (n != count)
+      throw InvalidInput(path + ": Collada float_array " + attribute(tag, "id") + " declares " + std::to_string(count) + " values and holds " +
+                         std::to_string(n));
+    arrays[attribute(tag, "id")] = count;
+    largest = std::max(largest, count);
+  }
+  for (std::size_t at = xml.find("<accessor"); at != std::string::npos; at = xml.find("<accessor", at + 1)) {
+    const std::string tag = xml.substr(at, xml.find('>', at) - at);
+    const std::uint64_t count = whole(attribute(tag, "count"), "accessor count");
+    const std::string stride_text = attribute(tag, "stride");
+    const std::uint64_t stride = stride_text.empty() ? 1 : whole(stride_text, "accessor stride");
+    std::string source = attribute(tag, "source");
+    if (!source.empty() && source[0] == '#') source.erase(0, 1);
+    const auto it = arrays.find(source);
+    if (it != arrays.end() && (stride == 0 || count * stride > it->second))
+      throw InvalidInput(path + ": Collada accessor of " + source + " reads " + std::to_string(count) + " x " + std::to_string(stride) +
+                         " values from an array of " + std::to_string(it->second));
+  }
+  for (const char* list : {"<p>", "<vcount>", "<v>"}) {
+    const std::string close = std::string("</") + (list + 1);
+    for (std::size_t at = xml.find(list); at != std::string::npos; at = xml.find(list, at + 1)) {
+      const std::size_t end = xml.find(close, at);
+      if (end == std::string::npos) throw InvalidInput(path + ": a Collada " + std::string(list) + " list is not closed");
+      std::istringstream words(xml.substr(at + std::strlen(list), end - at - std::strlen(list)));
+      for (std::string w; words >> w;)
+        if (whole(w, std::string("index in ") + list) > largest)
+          throw InvalidInput(path + ": Collada index " + w + " in a " + list + " list is beyond every array of the file");
+    }
+  }
+}
+
 // glTF and GLB before Assimp opens them (gltf_check.h).
 void check_gltf(const std::string& path, bool binary) {
   std::ifstream in(path, std::ios::binary);
@@ -247,6 +324,7 @@ SceneModel read_scene(const std::string& path) {
   model.format = format_of(ext);
   if (ext == ".glb" || ext == ".gltf") check_gltf(path, ext == ".glb");
   if (ext == ".3mf") check_3mf(path);
+  if (ext == ".dae") check_collada(path);
   Assimp::Importer importer;
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |

@@ -319,6 +319,15 @@ TEST_F(HostileModelsTest, SceneContainersAreCheckedBeforeAssimp) {
                        "AAAAAAAAAAAAAAAA\"}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":12}],\"accessors\":[{\"bufferView\":0,"
                        "\"componentType\":5126,\"count\":1000,\"type\":\"VEC3\"}]}"),
                  "runs past its end");
+  // Collada: a non-number in an index list cost gigabytes; a wrong float_array count crashed.
+  hb::vtk::write_scene(hb::make_sphere(10.f, 2), path("s.dae"));
+  const std::string dae = slurp(path("s.dae"));
+  const std::size_t p = dae.find("<p>");
+  ASSERT_NE(p, std::string::npos);
+  expect_refused(write("index.dae", dae.substr(0, p + 3) + "1x2 " + dae.substr(p + 3)), "Collada index in <p> is '1x2', not a whole number");
+  const std::size_t count = dae.find("count=\"", dae.find("<float_array"));
+  ASSERT_NE(count, std::string::npos);
+  expect_refused(write("count.dae", dae.substr(0, count + 7) + "9" + dae.substr(count + 7)), "declares");
   const std::string header = "<?xml version=\"1.0\"?><model unit=\"millimeter\" xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\"><resources>";
   const std::string good = header + "<object id=\"1\" type=\"model\">" + kTetra + "</object></resources><build><item objectid=\"1\"/></build></model>";
   const Result ok = run("info " + write("good.3mf", three_mf(good)));
