@@ -211,8 +211,15 @@ void check_volume_data(const std::string& name, const VolumeLayout& layout, std:
   const std::uint64_t want = layout.expected_bytes() + (layout.data_at_end ? 0 : layout.skip);
   const fs::path dir = fs::path(name).parent_path();
   std::uint64_t have = 0;
+  // One block of binary data must be exactly as long as the header makes it: extra bytes mean
+  // wrong sizes or type in the header, or data shifted by an insertion (read as garbage).
+  const bool exact = layout.encoding != "text" && !layout.data_at_end && layout.data_files.size() <= 1;
   if (layout.data_files.empty()) {
-    have = decoded_bytes(name, name, layout.data_offset, layout.encoding, want, layout.bytes_per_element);
+    have = decoded_bytes(name, name, layout.data_offset, layout.encoding, want + (exact ? 1 : 0), layout.bytes_per_element);
+  } else if (exact) {
+    const std::string& f = layout.data_files.front();
+    const fs::path p = fs::path(f).is_absolute() ? fs::path(f) : dir / f;
+    have = decoded_bytes(name, p.string(), 0, layout.encoding, want + 1, layout.bytes_per_element);
   } else {
     for (const std::string& f : layout.data_files) {
       if (have >= want) break;
@@ -227,6 +234,13 @@ void check_volume_data(const std::string& name, const VolumeLayout& layout, std:
     msg << ") but the data holds only " << have << " bytes: the volume is truncated or its header is wrong";
     throw InvalidInput(msg.str());
   }
+  if (exact && have > want) {
+    std::ostringstream msg;
+    msg << name << ": the header declares " << describe(layout) << " (" << want << " bytes";
+    if (layout.encoding != "raw") msg << " once decoded from " << layout.encoding;
+    msg << ") but the data holds more: the header's sizes or type are wrong, or the data was altered";
+    throw InvalidInput(msg.str());
+  }
 }
 
 void check_nifti_file(const std::string& path, std::size_t max_voxels) {
@@ -238,11 +252,14 @@ void check_nifti_file(const std::string& path, std::size_t max_voxels) {
                        " voxels accepted");
   const std::uint64_t want = layout.data_offset + layout.expected_bytes();
   if (layout.data_files.empty()) {  // single file: the voxels follow the header
-    const std::uint64_t have = decoded_bytes(path, path, 0, gz ? "gzip" : "raw", want, 1);
+    const std::uint64_t have = decoded_bytes(path, path, 0, gz ? "gzip" : "raw", want + 1, 1);
     if (have < want)
       throw InvalidInput(path + ": the header declares " + describe(layout) + " from byte " + std::to_string(layout.data_offset) +
                          " (" + std::to_string(want) + " bytes) but the file holds " + std::to_string(have) +
                          (gz ? " once decompressed" : "") + ": the volume is truncated or its header is wrong");
+    if (have > want)
+      throw InvalidInput(path + ": the file holds more than the " + std::to_string(want) + " bytes its header declares (" + describe(layout) +
+                         " from byte " + std::to_string(layout.data_offset) + "): the header's sizes or type are wrong, or the data was altered");
     return;
   }
   // A header and image pair: X.hdr with X.img (or their .gz).

@@ -108,6 +108,9 @@ TEST_F(HostileModelsTest, ShortOrMisencodedVolumeDataIsAnErrorNeverZeros) {
   expect_refused(write("short.nrrd", nrrd_header_ + nrrd_data_.substr(0, nrrd_data_.size() / 2)), "the volume is truncated");
   expect_refused(write("text.nrrd", replaced(nrrd_header_, "encoding: raw", "encoding: text") + nrrd_data_), "not a number");
   expect_refused(write("short.mha", mha_header_ + mha_data_.substr(0, mha_data_.size() - 1000)), "the volume is truncated");
+  // Data shifted by an inserted chunk: as long as the header's sizes plus a few bytes.
+  expect_refused(write("long.nrrd", nrrd_header_ + nrrd_data_.substr(0, 5000) + "xyzw" + nrrd_data_.substr(5000)),
+                 "the data holds more: the header's sizes or type are wrong, or the data was altered");
   // A corrupt zlib stream: header says compressed, data is raw.
   expect_refused(write("zlib.mha", replaced(mha_header_, "CompressedData = False", "CompressedData = True") + mha_data_), "damaged");
   // A truncated NIfTI.
