@@ -327,7 +327,9 @@ void check_output_folder(const std::string& path) {
 #include "mesh/mesh_io.h"
 #include <algorithm>
 #include <filesystem>
+#include <new>
 #include <sstream>
+#include <stdexcept>
 #ifdef HB_WITH_VTK
 #include "model_loader.h"
 #include "model_options_key.h"
@@ -367,12 +369,21 @@ void add_model_options(CLI::App& cmd, ModelArgs& args) {
                  "CAD: force error in N the tessellation may cause; sets the chordal deviation")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  cmd.add_flag("--accept-lost-faces", args.accept_lost_faces,
+               "CAD: keep a model some of whose faces failed to translate or tessellate (default: refuse it)");
+  cmd.add_option("--reader-timeout", args.reader_timeout_s,
+                 "Seconds a third-party reader (volumes, CAD, scenes, VTK files) may run before it is stopped "
+                 "(default: $HB_READER_TIMEOUT_S, else 120)")
+      ->check(CLI::Range(0.1, 1e6));
+  cmd.add_option("--reader-memory-mb", args.reader_memory_mb,
+                 "Megabytes of memory a third-party reader may use (default: $HB_READER_MEMORY_MB, else 8192)")
+      ->check(CLI::Range(16, 1 << 24));
 }
 
 #ifndef HB_WITH_VTK
 namespace {
 bool has_model_args(const ModelArgs& a) {
-  return a.iso || a.label || !a.unit.empty() || a.smooth || a.target_triangles || a.chordal_mm > 0;
+  return a.iso || a.label || !a.unit.empty() || a.smooth || a.target_triangles || a.chordal_mm > 0 || a.accept_lost_faces;
 }
 } // namespace
 #endif
@@ -389,11 +400,31 @@ hb::vtk::ModelOptions to_model_options(const ModelArgs& args) {
   options.volume.target_triangles = args.target_triangles;
   options.cad.chordal_deviation_mm = args.chordal_mm;
   options.cad.force_tolerance_n = args.force_tolerance_n;
+  options.cad.accept_lost_faces = args.accept_lost_faces;
+  options.reader_timeout_s = args.reader_timeout_s;
+  options.reader_memory_mb = args.reader_memory_mb;
   return options;
 }
 #endif
 
+namespace {
+TriangleMesh load_mesh_unguarded(const std::string& path, const ModelArgs& args, MeshReadReport* report);
+} // namespace
+
 TriangleMesh load_mesh(const std::string& path, const ModelArgs& args, MeshReadReport* report) {
+  // A size in a damaged file that no allocation can meet names the file, never a bare
+  // "std::bad_alloc" or "vector::reserve".
+  try {
+    return load_mesh_unguarded(path, args, report);
+  } catch (const std::bad_alloc&) {
+    throw InvalidInput(path + ": out of memory while reading the file (a damaged size in it?)");
+  } catch (const std::length_error& e) {
+    throw InvalidInput(path + ": the file asks for an impossible size (" + std::string(e.what()) + ")");
+  }
+}
+
+namespace {
+TriangleMesh load_mesh_unguarded(const std::string& path, const ModelArgs& args, MeshReadReport* report) {
 #ifdef HB_WITH_VTK
   hb::vtk::LoadedModel model = hb::vtk::load_model(path, to_model_options(args));
   for (const std::string& w : model.report.warnings) std::cerr << "hapticbox: warning: " << w << "\n";
@@ -430,6 +461,7 @@ TriangleMesh load_mesh(const std::string& path, const ModelArgs& args, MeshReadR
   return mesh;
 #endif
 }
+} // namespace
 
 std::uint64_t hash_model(const std::string& path, const ModelArgs& args) {
 #ifdef HB_WITH_VTK

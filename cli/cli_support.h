@@ -161,6 +161,9 @@ struct ModelArgs {
   std::size_t target_triangles = 0;
   double chordal_mm = 0.0;
   double force_tolerance_n = 0.01;
+  bool accept_lost_faces = false;  ///< CAD: keep a model some of whose faces failed to translate.
+  double reader_timeout_s = 0.0;   ///< third-party readers' limits (0: environment, else defaults).
+  std::size_t reader_memory_mb = 0;
   /// Filled by load_mesh: what the loader found (format, unit, volume/CAD facts) and, for CAD
   /// solids, the face of each triangle (used by --pieces faces).
   mutable nlohmann::json facts;
@@ -172,7 +175,8 @@ struct ModelArgs {
 hb::vtk::ModelOptions to_model_options(const ModelArgs& args);
 #endif
 
-/// Adds --iso, --label, --unit, --smooth, --target-triangles, --chordal-mm, --force-tolerance.
+/// Adds --iso, --label, --unit, --smooth, --target-triangles, --chordal-mm, --force-tolerance,
+/// --accept-lost-faces, --reader-timeout, --reader-memory-mb.
 void add_model_options(CLI::App& cmd, ModelArgs& args);
 
 /// Reads a model (mesh, volume, CAD, scene; in millimetres), printing the reader's warnings to

@@ -1,6 +1,9 @@
 // hapticbox info FILE [--verify] [--json]: the facts of a mesh or a box file (codec, bytes per
 // table, compression ratio and the error statistics stored at compression).
 #include "cli_support.h"
+#ifdef HB_WITH_VTK
+#include <vtkOutputWindow.h>
+#endif
 #include "commands.h"
 #include "errors.h"
 #include "figure_text.h"
@@ -189,6 +192,10 @@ void add_info_command(CLI::App& app) {
   cmd->add_flag("--json", opts->json, "Print JSON");
   cmd->add_flag("--verify", opts->verify, "Box files: check every table's checksum (reads the whole file)");
   cmd->callback([opts] {
+#ifdef HB_WITH_VTK
+    // JSON on stdout is only JSON: whatever VTK has to say (a filter's warning) goes to stderr.
+    if (opts->json) vtkOutputWindow::GetInstance()->SetDisplayModeToAlwaysStdErr();
+#endif
     if (!std::filesystem::exists(opts->file)) throw hb::IoError(opts->file + ": no such file");
     const nlohmann::json j = hb::cli::is_box_file(opts->file) ? box_info(opts->file, opts->verify) : mesh_info(opts->file, opts->model);
     if (opts->json) {

@@ -33,6 +33,7 @@ void apply_pieces_spec(const std::string& spec, BakeRecipe& recipe, const std::v
   if (lower_extension(spec) == ".vtp") {  // written by `decompose -o X.vtp`, or edited in ParaView
     recipe.pieces.kind = PiecesRecipe::Kind::given;
     recipe.pieces.given = hb::vtk::read_piece_vtp(spec, 0);
+    recipe.pieces.file = spec;  // named in a count mismatch
     return;
   }
 #endif

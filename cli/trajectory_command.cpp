@@ -12,6 +12,7 @@
 #include "trajectory_export.h"
 #include <vtkFieldData.h>
 #include <vtkPolyData.h>
+#include <cmath>
 #include <iostream>
 #include <limits>
 
@@ -62,6 +63,19 @@ void add_trajectory_command(CLI::App& app) {
     if (hb::cli::lower_extension(opts->out) != ".vtp")
       throw hb::cli::UsageError("-o " + opts->out + ": the trajectory is written as VTK XML PolyData; name it .vtp");
     const hb::ServoLog log = hb::read_servo_log(opts->log);
+    // A damaged record would put NaN points and forces in the .vtp: refuse it, naming it.
+    for (std::size_t i = 0; i < log.records.size(); ++i) {
+      const hb::LogRecord& r = log.records[i];
+      const char* field = !std::isfinite(r.time_s) ? "time" : nullptr;
+      for (int a = 0; a < 3 && !field; ++a) {
+        if (!std::isfinite(r.position_m[a])) field = "position";
+        else if (!std::isfinite(r.force_n[a])) field = "force";
+      }
+      if (!field && !std::isfinite(r.depth)) field = "depth";
+      if (field)
+        throw hb::InvalidInput(opts->log + ": record " + std::to_string(i) + " has a non-finite " + field +
+                               ": the log is damaged (nothing written)");
+    }
     hb::Vec3 lo = hb::Vec3::Constant(-40.f), hi = hb::Vec3::Constant(40.f);  // `plane`, as servo
     double diagonal = double((hi - lo).norm());
     if (opts->box != "plane") {

@@ -24,6 +24,10 @@
 #include <ShapeAnalysis_Surface.hxx>
 #include <Bnd_Box.hxx>
 #include <IGESControl_Reader.hxx>
+#include <IGESData_IGESEntity.hxx>
+#include <IGESData_IGESModel.hxx>
+#include <Interface_InterfaceModel.hxx>
+#include <StepShape_FaceSurface.hxx>
 #include <Interface_Static.hxx>
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
@@ -81,10 +85,18 @@ const char* surface_type_name(GeomAbs_SurfaceType t) {
   }
 }
 
-TopoDS_Shape read_shape(const std::string& path, bool step, nlohmann::json& facts) {
+// Reads and transfers the file; `file_faces` is the number of faces the file defines (STEP
+// face surfaces; IGES faces, else trimmed and bounded surfaces), to be held against the faces
+// the transfer produced: OpenCASCADE drops a face it cannot translate without failing.
+TopoDS_Shape read_shape(const std::string& path, bool step, nlohmann::json& facts, int& file_faces) {
+  file_faces = 0;
   if (step) {
     STEPControl_Reader reader;
     if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw InvalidInput(path + ": not a readable STEP file");
+    const Handle(Interface_InterfaceModel) model = reader.Model();
+    if (!model.IsNull())
+      for (int i = 1; i <= model->NbEntities(); ++i)
+        if (!model->Value(i).IsNull() && model->Value(i)->IsKind(STANDARD_TYPE(StepShape_FaceSurface))) ++file_faces;
     TColStd_SequenceOfAsciiString lengths, angles, solid_angles;
     reader.FileUnits(lengths, angles, solid_angles);
     if (lengths.Length() > 0) facts["file_unit"] = lengths.Value(1).ToCString();
@@ -93,6 +105,18 @@ TopoDS_Shape read_shape(const std::string& path, bool step, nlohmann::json& fact
   }
   IGESControl_Reader reader;
   if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw InvalidInput(path + ": not a readable IGES file");
+  const Handle(IGESData_IGESModel) model = reader.IGESModel();
+  if (!model.IsNull()) {
+    int faces = 0, surfaces = 0;
+    for (int i = 1; i <= model->NbEntities(); ++i) {
+      const Handle(IGESData_IGESEntity) e = model->Entity(i);
+      if (e.IsNull()) continue;
+      if (e->TypeNumber() == 510) ++faces;
+      if (e->TypeNumber() == 144 || e->TypeNumber() == 143) ++surfaces;
+    }
+    file_faces = faces > 0 ? faces : surfaces;
+    facts["file_unit"] = model->GlobalSection().UnitName().IsNull() ? "" : model->GlobalSection().UnitName()->ToCString();
+  }
   if (reader.TransferRoots() == 0) throw InvalidInput(path + ": the IGES file holds no shape OpenCASCADE can transfer");
   return reader.OneShape();
 }
@@ -162,7 +186,8 @@ CadModel read_cad(const std::string& path, const CadOptions& options) {
   model.format = step ? "STEP" : "IGES";
   nlohmann::json& f = model.facts;
   try {
-    const TopoDS_Shape shape = read_shape(path, step, f);
+    int file_faces = 0;
+    const TopoDS_Shape shape = read_shape(path, step, f, file_faces);
     if (shape.IsNull()) throw InvalidInput(path + ": no shape in the file");
     TopTools_IndexedMapOfShape solids, shells, faces, edges;
     TopExp::MapShapes(shape, TopAbs_SOLID, solids);
@@ -256,9 +281,18 @@ CadModel read_cad(const std::string& path, const CadOptions& options) {
         model.face_ids.push_back(std::uint32_t(fi - 1));
       }
     }
-    if (untessellated > 0)
-      model.warnings.push_back(path + ": " + std::to_string(untessellated) + " of " + std::to_string(faces.Extent()) +
-                               " faces gave no triangles (left out)");
+    // Faces lost: those the transfer dropped and those the mesher gave no triangle.
+    const int dropped = std::max(0, file_faces - faces.Extent());
+    const int total = std::max(file_faces, faces.Extent());
+    f["faces_in_file"] = file_faces;
+    if (dropped + untessellated > 0) {
+      std::string what = path + ": " + std::to_string(dropped + untessellated) + " of " + std::to_string(total) + " faces lost (" +
+                         std::to_string(dropped) + " failed to translate, " + std::to_string(untessellated) + " gave no triangles)";
+      if (!options.accept_lost_faces)
+        throw InvalidInput(what + ": the model would have holes; give --accept-lost-faces to keep the rest");
+      model.warnings.push_back(what + ", kept with --accept-lost-faces");
+      f["faces_lost"] = dropped + untessellated;
+    }
     if (model.mesh.triangles.empty()) throw InvalidInput(path + ": the tessellation has no triangles");
     f["tessellation_deflection_mm"] = deflection;
   } catch (const Standard_Failure& e) {

@@ -25,7 +25,10 @@ struct CadModel {
 /// Reads and tessellates a STEP (.step .stp) or IGES (.iges .igs) file with
 /// BRepMesh_IncrementalMesh at the chordal deviation of `options`. OpenCASCADE converts the
 /// file's length unit to millimetres. Throws hb::IoError (missing) or hb::InvalidInput naming
-/// the file: unreadable, no solid and no surface, a face that would not tessellate, absurd size.
+/// the file: unreadable, no solid and no surface, absurd size, or faces lost (the file defines
+/// more faces than the transfer produced, or a face gave no triangles), counted, unless
+/// options.accept_lost_faces (then a warning). Run it through load_model, which isolates it:
+/// OpenCASCADE crashes on some damaged files.
 CadModel read_cad(const std::string& path, const CadOptions& options);
 
 /// Writes the solids used as a known reference (tests, datasets), as STEP: a cylinder of radius

@@ -9,6 +9,8 @@
 #include "string_util.h"
 #include "errors.h"
 #include "vtkHapticBoxUtilities.h"
+#include "isolated_reader.h"
+#include "polydata_files.h"
 #include <vtkOBJReader.h>
 #include <vtkPLYReader.h>
 #include <vtkPolyData.h>
@@ -90,8 +92,10 @@ std::string model_file_patterns() {
   return p;
 }
 
-LoadedModel load_model(const std::string& path, const ModelOptions& options) {
-  if (!fs::exists(path)) throw IoError(path + ": no such file");
+namespace {
+
+// The whole load (reader, unit, facts), in whichever process runs it.
+LoadedModel load_here(const std::string& path, const ModelOptions& options) {
   const std::string ext = vtkHapticBoxUtilities::Extension(path);
   LoadedModel model;
   std::string file_unit;  // the unit the file declares, empty when it has none
@@ -110,6 +114,7 @@ LoadedModel load_model(const std::string& path, const ModelOptions& options) {
     model.mesh = std::move(cad.mesh);
     model.face_ids = std::move(cad.face_ids);
     model.facts = cad.facts;
+    for (std::string& w : cad.warnings) model.report.warnings.push_back(std::move(w));
     file_unit = "mm";  // OpenCASCADE converts the file's length unit to millimetres
 #else
     throw InvalidInput(path + ": this build has no OpenCASCADE (STEP/IGES reader)");
@@ -121,6 +126,7 @@ LoadedModel load_model(const std::string& path, const ModelOptions& options) {
     model.format = scene.format;
     model.mesh = std::move(scene.mesh);
     model.facts = scene.facts;
+    for (std::string& w : scene.warnings) model.report.warnings.push_back(std::move(w));
     file_unit = scene.unit;
 #else
     throw InvalidInput(path + ": this build has no Assimp (glTF/3MF/FBX/Collada reader)");
@@ -132,7 +138,10 @@ LoadedModel load_model(const std::string& path, const ModelOptions& options) {
     if (vtk_format || (options.use_vtk_readers && (ext == ".stl" || ext == ".obj" || ext == ".ply"))) {
       if (!std::ifstream(path).good()) throw IoError(path + ": cannot open the file");
       vtkSmartPointer<vtkPolyData> raw;
-      if (ext == ".vtp") raw = read_with_vtk<vtkXMLPolyDataReader>(path);
+      if (ext == ".vtp") {
+        check_vtp_appended_data(path);
+        raw = read_with_vtk<vtkXMLPolyDataReader>(path);
+      }
       else if (ext == ".vtk") raw = read_with_vtk<vtkPolyDataReader>(path);
       else if (ext == ".stl") raw = read_with_vtk<vtkSTLReader>(path);
       else if (ext == ".obj") raw = read_with_vtk<vtkOBJReader>(path);
@@ -180,6 +189,94 @@ LoadedModel load_model(const std::string& path, const ModelOptions& options) {
   model.facts["mm_per_unit"] = model.mm_per_unit;
   model.facts["model_bounds_mm"] = {{b.min.x(), b.min.y(), b.min.z()}, {b.max.x(), b.max.y(), b.max.z()}};
   return model;
+}
+
+// A model through the child process's result file.
+std::string serialise(const LoadedModel& m) {
+  ByteWriter w;
+  w.put_vector(m.mesh.positions);
+  w.put_vector(m.mesh.triangles);
+  w.put_vector(m.mesh.normals);
+  const MeshReadReport& r = m.report;
+  for (std::size_t n : {r.input_vertices, r.input_faces, r.polygons_triangulated, r.degenerate_dropped, r.faces_rejected})
+    w.put<std::uint64_t>(n);
+  w.put<char>(char(r.open));
+  w.put<char>(char(r.non_manifold));
+  w.put<char>(char(r.inconsistent_orientation));
+  w.put<std::uint64_t>(r.warnings.size());
+  for (const std::string& s : r.warnings) w.put_string(s);
+  w.put<int>(int(m.kind));
+  w.put_string(m.format);
+  w.put_string(m.unit);
+  w.put_string(m.unit_source);
+  w.put<double>(m.mm_per_unit);
+  w.put_vector(m.face_ids);
+  w.put_string(m.facts.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));  // a file's bytes may not be UTF-8
+  return w.take();
+}
+
+LoadedModel deserialise(const std::string& bytes) {
+  ByteReader r(bytes);
+  LoadedModel m;
+  r.get_vector(m.mesh.positions);
+  r.get_vector(m.mesh.triangles);
+  r.get_vector(m.mesh.normals);
+  MeshReadReport& rep = m.report;
+  for (std::size_t* n : {&rep.input_vertices, &rep.input_faces, &rep.polygons_triangulated, &rep.degenerate_dropped, &rep.faces_rejected})
+    *n = std::size_t(r.get<std::uint64_t>());
+  rep.open = r.get<char>() != 0;
+  rep.non_manifold = r.get<char>() != 0;
+  rep.inconsistent_orientation = r.get<char>() != 0;
+  const std::uint64_t warnings = r.get<std::uint64_t>();
+  for (std::uint64_t i = 0; i < warnings; ++i) rep.warnings.push_back(r.get_string());
+  m.kind = ModelKind(r.get<int>());
+  m.format = r.get_string();
+  m.unit = r.get_string();
+  m.unit_source = r.get_string();
+  m.mm_per_unit = r.get<double>();
+  r.get_vector(m.face_ids);
+  m.facts = nlohmann::json::parse(r.get_string());
+  return m;
+}
+
+} // namespace
+
+std::string reader_name(const std::string& path) {
+  if (fs::is_directory(path)) return "DICOM";
+  const std::string p = lower(path);
+  if (ends_with(p, ".nii") || ends_with(p, ".nii.gz") || ends_with(p, ".hdr") || ends_with(p, ".hdr.gz")) return "NIfTI";
+  if (ends_with(p, ".mha") || ends_with(p, ".mhd")) return "MetaImage";
+  if (ends_with(p, ".nrrd") || ends_with(p, ".nhdr")) return "NRRD";
+  if (ends_with(p, ".dcm")) return "DICOM";
+  const std::string ext = vtkHapticBoxUtilities::Extension(path);
+  if (ext == ".step" || ext == ".stp") return "STEP";
+  if (ext == ".iges" || ext == ".igs") return "IGES";
+  if (ext == ".gltf" || ext == ".glb") return "glTF";
+  if (ext == ".3mf") return "3MF";
+  if (ext == ".fbx") return "FBX";
+  if (ext == ".dae") return "Collada";
+  if (ext == ".vtp") return "VTK XML polydata";
+  if (ext == ".vtk") return "VTK legacy";
+  return "VTK " + format_name(ext);
+}
+
+ReaderLimits reader_limits(const ModelOptions& options) {
+  ReaderLimits limits = ReaderLimits::from_environment();
+  if (options.reader_timeout_s > 0) limits.timeout_s = options.reader_timeout_s;
+  if (options.reader_memory_mb > 0) limits.memory_mb = options.reader_memory_mb;
+  return limits;
+}
+
+LoadedModel load_model(const std::string& path, const ModelOptions& options) {
+  if (!fs::exists(path)) throw IoError(path + ": no such file");
+  const std::string ext = vtkHapticBoxUtilities::Extension(path);
+  // The core's own readers (hostile-input tested, and the 50M-triangle meshes) run here; every
+  // third-party reader runs in a child process.
+  const bool foreign = is_volume_or_cad(path) || ext == ".vtp" || ext == ".vtk" ||
+                       (options.use_vtk_readers && (ext == ".stl" || ext == ".obj" || ext == ".ply"));
+  if (!foreign) return load_here(path, options);
+  return deserialise(run_isolated(path, reader_name(path), reader_limits(options),
+                                  [&] { return serialise(load_here(path, options)); }));
 }
 
 } // namespace hb::vtk

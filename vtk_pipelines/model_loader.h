@@ -5,6 +5,7 @@
 #include "mesh/mesh_io.h"
 #include "mesh/triangle_mesh.h"
 #include "volume_reader.h"
+#include "isolated_reader.h"
 #include <nlohmann/json.hpp>
 #include <cstdint>
 #include <string>
@@ -23,6 +24,9 @@ struct CadOptions {
   double force_tolerance_n = 0.01;   ///< force error the tessellation may cause, N (> 0).
   double stiffness_n_per_m = 500.0;  ///< the force law's k, N/m (> 0).
   double angular_deviation_deg = 20.0;  ///< largest angle between neighbouring facets' normals.
+  /// A file some of whose faces fail to translate or tessellate is refused (naming how many)
+  /// unless this is set; then it loads with a warning.
+  bool accept_lost_faces = false;
 };
 
 /// How a file becomes a model.
@@ -36,6 +40,12 @@ struct ModelOptions {
   CadOptions cad;
   /// Meshes: read .stl/.obj/.ply with VTK's readers rather than the core's.
   bool use_vtk_readers = false;
+  /// Third-party readers (volumes, CAD, scenes, .vtp/.vtk, VTK's mesh readers) run in a child
+  /// process killed after this many seconds (0: HB_READER_TIMEOUT_S, else 120 s) ...
+  double reader_timeout_s = 0.0;
+  /// ... and allowed this many megabytes of address space (0: HB_READER_MEMORY_MB, else
+  /// 8192). HB_READER_ISOLATION=0 runs them in this process (debugging only).
+  std::size_t reader_memory_mb = 0;
 };
 
 enum class ModelKind { Mesh, Volume, Cad, Scene };
@@ -67,11 +77,20 @@ bool is_volume_or_cad(const std::string& path);
 /// The extensions load_model reads (for help texts and file dialogs), e.g. "*.off *.obj ...".
 std::string model_file_patterns();
 
+/// The name of the reader load_model uses for `path` in messages ("NRRD", "STEP", "glTF"...).
+std::string reader_name(const std::string& path);
+
+/// The limits a third-party reader runs under: the environment's (ReaderLimits::
+/// from_environment), then the options' non-zero values.
+ReaderLimits reader_limits(const ModelOptions& options);
+
 /// Reads any model. Meshes (.off .obj .ply .stl .om) go through hb::read_mesh, .vtp/.vtk
 /// through VTK's readers, volumes through read_volume + volume_surface, STEP/IGES through
 /// OpenCASCADE, glTF/GLB/3MF/FBX/Collada through Assimp. Throws hb::IoError / hb::InvalidInput
 /// naming the file and the cause (missing, garbage, no solid, no voxel at the iso-value, absurd
-/// size: coordinates beyond 100 m once in millimetres).
+/// size: coordinates beyond 100 m once in millimetres). Every third-party reader runs in a
+/// child process under reader_limits(options) (see isolated_reader.h): a crash, a hang or a
+/// runaway allocation in it is an hb::InvalidInput naming the file and what happened.
 LoadedModel load_model(const std::string& path, const ModelOptions& options = {});
 
 } // namespace hb::vtk

@@ -8,6 +8,7 @@
 #include "scene_reader.h"
 #include "string_util.h"
 #include "errors.h"
+#include "formats/gltf_check.h"
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/DefaultLogger.hpp>
@@ -21,6 +22,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <regex>
 #include <sstream>
@@ -76,6 +78,210 @@ std::string zip_entry_head(const std::string& path, const std::string& name, std
   return {};
 }
 
+
+// A 3MF archive before Assimp opens it: the zip's declared sizes (Assimp inflates every entry
+// whole: a small archive can claim gigabytes), and in the model every transform of 12 numbers
+// (Assimp reads a shorter one into an uninitialised matrix) and no component that contains
+// itself (Assimp recurses without end).
+constexpr std::uint64_t kMax3mfInflated = std::uint64_t(1) << 30;
+
+void check_3mf(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string zip((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto* z = reinterpret_cast<const unsigned char*>(zip.data());
+  std::size_t eocd = std::string::npos;
+  for (std::size_t i = zip.size() >= 22 ? zip.size() - 22 + 1 : 0; i-- > 0 && zip.size() - i < 70000;)
+    if (le32(z + i) == 0x06054b50) {
+      eocd = i;
+      break;
+    }
+  if (eocd == std::string::npos) throw InvalidInput(path + ": not a 3MF file (not a zip archive: no central directory)");
+  std::size_t at = le32(z + eocd + 16);
+  const std::size_t entries = le16(z + eocd + 10);
+  std::uint64_t total = 0, model_size = 0;
+  bool model = false;
+  for (std::size_t e = 0; e < entries; ++e) {
+    if (at + 46 > zip.size() || le32(z + at) != 0x02014b50)
+      throw InvalidInput(path + ": the 3MF zip's central directory is damaged (entry " + std::to_string(e) + " of " +
+                         std::to_string(entries) + ")");
+    const std::size_t name_len = le16(z + at + 28), extra = le16(z + at + 30), comment = le16(z + at + 32);
+    const std::uint64_t packed = le32(z + at + 20), unpacked = le32(z + at + 24);
+    if (at + 46 + name_len > zip.size()) throw InvalidInput(path + ": the 3MF zip's central directory is cut short");
+    const std::string entry(zip.data() + at + 46, name_len);
+    at += 46 + name_len + extra + comment;
+    if (packed > zip.size()) throw InvalidInput(path + ": zip entry " + entry + " claims " + std::to_string(packed) + " packed bytes, more than the file");
+    total += unpacked;
+    if (total > kMax3mfInflated)
+      throw InvalidInput(path + ": the 3MF archive inflates to more than " + std::to_string(kMax3mfInflated >> 20) +
+                         " MB (entry " + entry + " alone claims " + std::to_string(unpacked >> 20) + " MB): refused");
+    if (packed > 0 && unpacked / packed > 1100)
+      throw InvalidInput(path + ": zip entry " + entry + " claims " + std::to_string(unpacked) + " bytes from " + std::to_string(packed) +
+                         ", beyond what deflate can pack: a damaged archive or a zip bomb");
+    if (lower(entry) == "3d/3dmodel.model") model = true, model_size = unpacked;
+  }
+  if (!model) return;  // Assimp says what is missing
+  const std::string xml = zip_entry_head(path, "3D/3dmodel.model", std::size_t(model_size));
+  // Every transform="..." holds 12 numbers.
+  for (std::size_t p = xml.find("transform"); p != std::string::npos; p = xml.find("transform", p + 9)) {
+    std::size_t q = p + 9;
+    while (q < xml.size() && std::isspace((unsigned char)xml[q])) ++q;
+    if (q >= xml.size() || xml[q] != '=') continue;
+    ++q;
+    while (q < xml.size() && std::isspace((unsigned char)xml[q])) ++q;
+    if (q >= xml.size() || (xml[q] != '"' && xml[q] != '\'')) continue;
+    const std::size_t end = xml.find(xml[q], q + 1);
+    if (end == std::string::npos) throw InvalidInput(path + ": a 3MF transform attribute is not closed");
+    std::istringstream numbers(xml.substr(q + 1, end - q - 1));
+    int n = 0;
+    for (std::string w; numbers >> w; ++n) {
+      char* stop = nullptr;
+      const double d = std::strtod(w.c_str(), &stop);
+      if (*stop || !std::isfinite(d)) throw InvalidInput(path + ": a 3MF transform holds '" + w.substr(0, 20) + "', not a number");
+    }
+    if (n != 12) throw InvalidInput(path + ": a 3MF transform holds " + std::to_string(n) + " numbers, not 12 (a 3 x 4 matrix)");
+  }
+  // Components: object id -> the object ids it contains; no cycle.
+  std::map<std::string, std::vector<std::string>> contains;
+  std::string current;
+  static const std::regex id_re("\\bid\\s*=\\s*[\"']([^\"']*)[\"']"), objectid_re("\\bobjectid\\s*=\\s*[\"']([^\"']*)[\"']");
+  auto attribute = [&](std::size_t tag, std::size_t tag_end, const char* name) {
+    const std::string t = xml.substr(tag, tag_end - tag);
+    const std::regex& re = std::string(name) == "id" ? id_re : objectid_re;
+    std::smatch m;
+    return std::regex_search(t, m, re) ? m[1].str() : std::string();
+  };
+  for (std::size_t p = xml.find('<'); p != std::string::npos; p = xml.find('<', p + 1)) {
+    const std::size_t end = xml.find('>', p);
+    if (end == std::string::npos) break;
+    if (end - p > 4096) continue;
+    if (xml.compare(p, 7, "<object") == 0 && (std::isspace((unsigned char)xml[p + 7]))) current = attribute(p, end, "id");
+    else if (xml.compare(p, 10, "<component") == 0 && std::isspace((unsigned char)xml[p + 10]))
+      contains[current].push_back(attribute(p, end, "objectid"));
+  }
+  std::map<std::string, int> state;  // 1: on the path, 2: done
+  for (const auto& [root, children] : contains) {
+    if (state[root]) continue;
+    std::vector<std::pair<std::string, std::size_t>> stack{{root, 0}};
+    state[root] = 1;
+    while (!stack.empty()) {
+      auto& [node, next] = stack.back();
+      const auto it = contains.find(node);
+      if (it == contains.end() || next >= it->second.size()) {
+        state[node] = 2;
+        stack.pop_back();
+        continue;
+      }
+      const std::string child = it->second[next++];
+      if (state[child] == 1) throw InvalidInput(path + ": 3MF object " + child + " contains itself through its components");
+      if (state[child] == 0) {
+        state[child] = 1;
+        stack.emplace_back(child, 0);
+      }
+    }
+  }
+}
+
+
+// A Collada file before Assimp opens it: every float_array holds the count of finite numbers
+// it declares (a wrong count crashed Assimp), every accessor reads within its array, and index
+// lists (<p>, <vcount>, <v>) hold whole numbers below the file's largest array (a non-number or
+// a huge index cost gigabytes).
+void check_collada(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto attribute = [](const std::string& tag, const char* name) -> std::string {
+    const std::string key = std::string(" ") + name + "=\"";
+    const std::size_t at = tag.find(key);
+    if (at == std::string::npos) return {};
+    const std::size_t end = tag.find('"', at + key.size());
+    return end == std::string::npos ? std::string() : tag.substr(at + key.size(), end - at - key.size());
+  };
+  auto whole = [&](const std::string& text, const std::string& what) -> std::uint64_t {
+    if (text.empty() || text.size() > 12 || text.find_first_not_of("0123456789") != std::string::npos) {
+      std::string shown = text.substr(0, 20);
+      for (char& c : shown)
+        if (!std::isprint((unsigned char)c)) c = '?';
+      throw InvalidInput(path + ": Collada " + what + " is '" + shown + "', not a whole number");
+    }
+    return std::stoull(text);
+  };
+  std::map<std::string, std::uint64_t> arrays;  // id -> values
+  std::uint64_t largest = 0;
+  for (std::size_t at = xml.find("<float_array"); at != std::string::npos; at = xml.find("<float_array", at + 1)) {
+    const std::size_t open_end = xml.find('>', at);
+    const std::size_t close = xml.find("</float_array>", at);
+    if (open_end == std::string::npos || close == std::string::npos || close < open_end)
+      throw InvalidInput(path + ": a Collada float_array is not closed");
+    const std::string tag = xml.substr(at, open_end - at);
+    const std::uint64_t count = whole(attribute(tag, "count"), "float_array count");
+    std::uint64_t n = 0;
+    const char* p = xml.data() + open_end + 1;
+    const char* end = xml.data() + close;
+    while (p < end) {
+      while (p < end && std::isspace((unsigned char)*p)) ++p;
+      if (p >= end) break;
+      char* stop = nullptr;
+      const double v = std::strtod(p, &stop);
+      if (stop == p || stop > end || !std::isfinite(v) || (stop < end && !std::isspace((unsigned char)*stop)))
+        throw InvalidInput(path + ": Collada float_array " + attribute(tag, "id") + " holds a value that is not a finite number");
+      p = stop;
+      ++n;
+    }
+    if (n != count)
+      throw InvalidInput(path + ": Collada float_array " + attribute(tag, "id") + " declares " + std::to_string(count) + " values and holds " +
+                         std::to_string(n));
+    arrays[attribute(tag, "id")] = count;
+    largest = std::max(largest, count);
+  }
+  for (std::size_t at = xml.find("<accessor"); at != std::string::npos; at = xml.find("<accessor", at + 1)) {
+    const std::string tag = xml.substr(at, xml.find('>', at) - at);
+    const std::uint64_t count = whole(attribute(tag, "count"), "accessor count");
+    const std::string stride_text = attribute(tag, "stride");
+    const std::uint64_t stride = stride_text.empty() ? 1 : whole(stride_text, "accessor stride");
+    std::string source = attribute(tag, "source");
+    if (!source.empty() && source[0] == '#') source.erase(0, 1);
+    const auto it = arrays.find(source);
+    if (it != arrays.end() && (stride == 0 || count * stride > it->second))
+      throw InvalidInput(path + ": Collada accessor of " + source + " reads " + std::to_string(count) + " x " + std::to_string(stride) +
+                         " values from an array of " + std::to_string(it->second));
+  }
+  for (const char* list : {"<p>", "<vcount>", "<v>"}) {
+    const std::string close = std::string("</") + (list + 1);
+    for (std::size_t at = xml.find(list); at != std::string::npos; at = xml.find(list, at + 1)) {
+      const std::size_t end = xml.find(close, at);
+      if (end == std::string::npos) throw InvalidInput(path + ": a Collada " + std::string(list) + " list is not closed");
+      std::istringstream words(xml.substr(at + std::strlen(list), end - at - std::strlen(list)));
+      for (std::string w; words >> w;)
+        if (whole(w, std::string("index in ") + list) > largest)
+          throw InvalidInput(path + ": Collada index " + w + " in a " + list + " list is beyond every array of the file");
+    }
+  }
+}
+
+// glTF and GLB before Assimp opens them (gltf_check.h).
+void check_gltf(const std::string& path, bool binary) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::uint64_t bin = 0;
+  const std::string text = binary ? check_glb(path, bytes, bin) : bytes;
+  const fs::path dir = fs::path(path).parent_path();
+  check_gltf_json(path, text, bin, [&](const std::string& uri) -> std::uint64_t {
+    std::string file;  // percent-decoded
+    for (std::size_t i = 0; i < uri.size(); ++i) {
+      if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit((unsigned char)uri[i + 1]) && std::isxdigit((unsigned char)uri[i + 2])) {
+        file += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+        i += 2;
+      } else {
+        file += uri[i];
+      }
+    }
+    const fs::path p = dir / file;
+    std::error_code ec;
+    if (!fs::is_regular_file(p, ec)) throw InvalidInput(path + ": the glTF buffer file " + p.string() + " is missing");
+    return fs::file_size(p, ec);
+  });
+}
+
 // The unit of a 3MF model (its <model unit="..."> attribute; millimetre when absent).
 std::string three_mf_unit(const std::string& path, std::string& source) {
   const std::string head = zip_entry_head(path, "3D/3dmodel.model", 4096);
@@ -116,6 +322,9 @@ SceneModel read_scene(const std::string& path) {
   const std::string ext = extension(path);
   SceneModel model;
   model.format = format_of(ext);
+  if (ext == ".glb" || ext == ".gltf") check_gltf(path, ext == ".glb");
+  if (ext == ".3mf") check_3mf(path);
+  if (ext == ".dae") check_collada(path);
   Assimp::Importer importer;
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |

@@ -17,6 +17,8 @@
 #include "string_util.h"
 #include "errors.h"
 #include "vtkHapticBoxUtilities.h"
+#include "formats/dicom_header.h"
+#include "formats/volume_headers.h"
 #include <vtkCallbackCommand.h>
 #include <vtkCommand.h>
 #include <vtkDICOMImageReader.h>
@@ -44,12 +46,15 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <zlib.h>
 
 namespace hb::vtk {
 
 namespace {
 
 namespace fs = std::filesystem;
+using hb::VolumeLayout;
+using hb::DicomHeader;
 
 // Collects a VTK algorithm's error messages (and keeps them off the console) so that they can
 // be rethrown with the file's name.
@@ -66,14 +71,30 @@ public:
   ~ErrorCatcher() { watched_->RemoveObserver(tag_); }
   ErrorCatcher(const ErrorCatcher&) = delete;
   ErrorCatcher& operator=(const ErrorCatcher&) = delete;
-  // VTK's messages begin with "ERROR: In file, line N\nclass (ptr): " - keep the last line.
+  // VTK's messages read "ERROR: In file, line N\nclass (ptr): text\n\n", one after another:
+  // keep the text of each (never an empty cause: the raw message when nothing is left).
   std::string message() const {
-    const std::size_t cut = messages_.find_last_of('\n');
-    std::string m = cut == std::string::npos ? messages_ : messages_.substr(cut + 1);
-    const std::size_t colon = m.find("): ");
-    if (colon != std::string::npos) m = m.substr(colon + 3);
-    while (!m.empty() && std::isspace((unsigned char)m.back())) m.pop_back();
-    return m;
+    std::string out;
+    std::size_t at = 0;
+    while (at < messages_.size()) {
+      std::size_t next = messages_.find("; ERROR: ", at);
+      std::string m = messages_.substr(at, next == std::string::npos ? std::string::npos : next - at);
+      at = next == std::string::npos ? messages_.size() : next + 2;
+      if (m.rfind("ERROR: In ", 0) == 0) {
+        const std::size_t nl = m.find('\n');
+        if (nl != std::string::npos) m = m.substr(nl + 1);
+      }
+      const std::size_t colon = m.find("): ");
+      if (colon != std::string::npos && colon < 80) m = m.substr(colon + 3);
+      for (char& c : m)
+        if (c == '\n' || c == '\r') c = ' ';
+      while (!m.empty() && std::isspace((unsigned char)m.back())) m.pop_back();
+      while (!m.empty() && std::isspace((unsigned char)m.front())) m.erase(0, 1);
+      if (m.empty() || out.find(m) != std::string::npos) continue;
+      out += (out.empty() ? "" : "; ") + m;
+    }
+    if (out.empty()) out = "the VTK reader reported an error without a reason";
+    return out;
   }
   bool failed() const { return !messages_.empty(); }
 
@@ -96,6 +117,161 @@ void check_size(const std::string& path, const int* extent, std::size_t max_voxe
     throw InvalidInput(path + ": the volume's header claims " + std::to_string(extent[1] - extent[0] + 1) + " x " +
                        std::to_string(extent[3] - extent[2] + 1) + " x " + std::to_string(extent[5] - extent[4] + 1) +
                        " voxels, more than the " + std::to_string(max_voxels) + " accepted");
+}
+
+
+// ---- The data held to the header, before VTK reads it -----------------------------------
+
+// The first `n` bytes of a file (of its decompressed content when `gz`).
+std::string file_head(const std::string& path, std::size_t n, bool gz) {
+  std::string out(n, '\0');
+  if (gz) {
+    gzFile f = gzopen(path.c_str(), "rb");
+    if (!f) throw IoError(path + ": cannot open the file");
+    const int got = gzread(f, out.data(), unsigned(n));
+    int err = 0;
+    const std::string why = got < 0 ? gzerror(f, &err) : "";
+    gzclose(f);
+    if (got < 0) throw InvalidInput(path + ": the gzip stream is damaged (" + why + ")");
+    out.resize(std::size_t(got));
+    return out;
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path + ": cannot open the file");
+  in.read(out.data(), std::streamsize(n));
+  out.resize(std::size_t(in.gcount()));
+  return out;
+}
+
+std::string describe(const VolumeLayout& l) {
+  std::ostringstream o;
+  o << l.sizes[0] << " x " << l.sizes[1] << " x " << l.sizes[2];
+  if (l.sizes[3] > 1) o << " x " << l.sizes[3];
+  o << " voxels";
+  if (l.components > 1) o << " of " << l.components << " values";
+  o << " of " << l.bytes_per_element << " bytes";
+  return o.str();
+}
+
+// Decoded bytes available in `file` from byte `offset` in `encoding`, counted up to `want`
+// (stops there). Damaged compressed streams and non-numbers in text data are errors.
+std::uint64_t decoded_bytes(const std::string& name, const std::string& file, std::uint64_t offset, const std::string& encoding,
+                            std::uint64_t want, unsigned bytes_per_element) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) throw InvalidInput(name + ": the data file " + file + " is missing or not a regular file");
+  const std::uint64_t size = fs::file_size(file, ec);
+  if (ec) throw IoError(name + ": cannot read the data file " + file);
+  if (encoding == "raw") return size > offset ? size - offset : 0;
+  std::ifstream in(file, std::ios::binary);
+  in.seekg(std::streamoff(std::min(offset, size)));
+  if (encoding == "text") {
+    std::uint64_t values = 0;
+    for (std::string w; values * bytes_per_element < want && in >> w;) {
+      char* end = nullptr;
+      std::strtod(w.c_str(), &end);
+      if (end == w.c_str() || *end)
+        throw InvalidInput(name + ": the text-encoded data holds " + (w.size() > 20 ? w.substr(0, 20) + "..." : w) +
+                           ", not a number (binary data with a text encoding?)");
+      ++values;
+    }
+    return values * bytes_per_element;
+  }
+  // gzip (NRRD) or zlib (MetaImage): inflate, counting the output.
+  z_stream z{};
+  if (inflateInit2(&z, 15 + 32) != Z_OK) throw InvalidInput(name + ": zlib could not start");
+  std::vector<unsigned char> input(1 << 16), output(1 << 18);
+  std::uint64_t total = 0;
+  int rc = Z_OK;
+  while (total < want && rc != Z_STREAM_END) {
+    if (z.avail_in == 0) {
+      in.read(reinterpret_cast<char*>(input.data()), std::streamsize(input.size()));
+      z.next_in = input.data();
+      z.avail_in = unsigned(in.gcount());
+      if (z.avail_in == 0) break;  // the stream is cut short
+    }
+    z.next_out = output.data();
+    z.avail_out = unsigned(output.size());
+    rc = inflate(&z, Z_NO_FLUSH);
+    if (rc != Z_OK && rc != Z_STREAM_END && rc != Z_BUF_ERROR) {
+      const std::string why = z.msg ? z.msg : "error " + std::to_string(rc);
+      inflateEnd(&z);
+      throw InvalidInput(name + ": the compressed voxel data in " + file + " is damaged (zlib: " + why + ")");
+    }
+    total += output.size() - z.avail_out;
+  }
+  inflateEnd(&z);
+  return total;
+}
+
+// Holds the data (inline or in data files beside `name`) to what the header declares.
+void check_volume_data(const std::string& name, const VolumeLayout& layout, std::size_t max_voxels) {
+  if (layout.voxels() * layout.components > max_voxels)
+    throw InvalidInput(name + ": the volume's header claims " + describe(layout) + ", more than the " + std::to_string(max_voxels) +
+                       " voxels accepted");
+  const std::uint64_t want = layout.expected_bytes() + (layout.data_at_end ? 0 : layout.skip);
+  const fs::path dir = fs::path(name).parent_path();
+  std::uint64_t have = 0;
+  // One block of binary data must be exactly as long as the header makes it: extra bytes mean
+  // wrong sizes or type in the header, or data shifted by an insertion (read as garbage).
+  const bool exact = layout.encoding != "text" && !layout.data_at_end && layout.data_files.size() <= 1;
+  if (layout.data_files.empty()) {
+    have = decoded_bytes(name, name, layout.data_offset, layout.encoding, want + (exact ? 1 : 0), layout.bytes_per_element);
+  } else if (exact) {
+    const std::string& f = layout.data_files.front();
+    const fs::path p = fs::path(f).is_absolute() ? fs::path(f) : dir / f;
+    have = decoded_bytes(name, p.string(), 0, layout.encoding, want + 1, layout.bytes_per_element);
+  } else {
+    for (const std::string& f : layout.data_files) {
+      if (have >= want) break;
+      const fs::path p = fs::path(f).is_absolute() ? fs::path(f) : dir / f;
+      have += decoded_bytes(name, p.string(), 0, layout.encoding, want - have, layout.bytes_per_element);
+    }
+  }
+  if (have < want) {
+    std::ostringstream msg;
+    msg << name << ": the header declares " << describe(layout) << " (" << want << " bytes";
+    if (layout.encoding != "raw") msg << " once decoded from " << layout.encoding;
+    msg << ") but the data holds only " << have << " bytes: the volume is truncated or its header is wrong";
+    throw InvalidInput(msg.str());
+  }
+  if (exact && have > want) {
+    std::ostringstream msg;
+    msg << name << ": the header declares " << describe(layout) << " (" << want << " bytes";
+    if (layout.encoding != "raw") msg << " once decoded from " << layout.encoding;
+    msg << ") but the data holds more: the header's sizes or type are wrong, or the data was altered";
+    throw InvalidInput(msg.str());
+  }
+}
+
+void check_nifti_file(const std::string& path, std::size_t max_voxels) {
+  const std::string p = lower(path);
+  const bool gz = ends_with(p, ".gz");
+  const VolumeLayout layout = check_nifti_header(path, file_head(path, 540, gz));
+  if (layout.voxels() > max_voxels)
+    throw InvalidInput(path + ": the volume's header claims " + describe(layout) + ", more than the " + std::to_string(max_voxels) +
+                       " voxels accepted");
+  const std::uint64_t want = layout.data_offset + layout.expected_bytes();
+  if (layout.data_files.empty()) {  // single file: the voxels follow the header
+    const std::uint64_t have = decoded_bytes(path, path, 0, gz ? "gzip" : "raw", want + 1, 1);
+    if (have < want)
+      throw InvalidInput(path + ": the header declares " + describe(layout) + " from byte " + std::to_string(layout.data_offset) +
+                         " (" + std::to_string(want) + " bytes) but the file holds " + std::to_string(have) +
+                         (gz ? " once decompressed" : "") + ": the volume is truncated or its header is wrong");
+    if (have > want)
+      throw InvalidInput(path + ": the file holds more than the " + std::to_string(want) + " bytes its header declares (" + describe(layout) +
+                         " from byte " + std::to_string(layout.data_offset) + "): the header's sizes or type are wrong, or the data was altered");
+    return;
+  }
+  // A header and image pair: X.hdr with X.img (or their .gz).
+  const std::string base = path.substr(0, path.size() - (gz ? 7 : 4));
+  std::string img_path;
+  for (const char* ext : {".img", ".img.gz", ".IMG", ".IMG.gz"})
+    if (img_path.empty() && fs::exists(base + ext)) img_path = base + ext;
+  if (img_path.empty()) throw InvalidInput(path + ": the NIfTI header's image file " + base + ".img is missing");
+  const std::uint64_t have = decoded_bytes(path, img_path, 0, ends_with(lower(img_path), ".gz") ? "gzip" : "raw", want, 1);
+  if (have < want)
+    throw InvalidInput(path + ": the header declares " + describe(layout) + " (" + std::to_string(want) + " bytes with the offset) but " +
+                       img_path + " holds " + std::to_string(have) + ": the volume is truncated or its header is wrong");
 }
 
 // Runs a reader in two steps (header, then data) so an absurd size is refused before any
@@ -194,6 +370,7 @@ void check_matrix(const std::string& path, const Eigen::Matrix4d& m) {
 }
 
 Volume read_nifti(const std::string& path, std::size_t max_voxels) {
+  check_nifti_file(path, max_voxels);
   vtkNew<vtkNIFTIImageReader> reader;
   reader->SetFileName(path.c_str());
   run_reader(reader.Get(), path, max_voxels);
@@ -224,6 +401,7 @@ Volume read_metaimage(const std::string& path, std::size_t max_voxels) {
   vtkNew<vtkMetaImageReader> reader;
   reader->SetFileName(path.c_str());
   if (!reader->CanReadFile(path.c_str())) throw InvalidInput(path + ": not a MetaImage file (no ObjectType/NDims header)");
+  check_volume_data(path, check_metaimage_header(path, file_head(path, 1 << 16, false)), max_voxels);
   run_reader(reader.Get(), path, max_voxels);
   Volume v;
   v.format = "MetaImage";
@@ -260,6 +438,7 @@ Volume read_nrrd(const std::string& path, std::size_t max_voxels) {
   vtkNew<vtkNrrdReader> reader;
   reader->SetFileName(path.c_str());
   if (!reader->CanReadFile(path.c_str())) throw InvalidInput(path + ": not a NRRD file (no NRRD magic)");
+  check_volume_data(path, check_nrrd_header(path, file_head(path, 1 << 16, false)), max_voxels);
   run_reader(reader.Get(), path, max_voxels);
   Volume v;
   v.format = "NRRD";
@@ -290,20 +469,63 @@ struct Slice {
   double slope = 1, intercept = 0;
 };
 
+// A whole DICOM file, refused beyond 1 GB (no slice is that large).
+std::string dicom_bytes(const std::string& f) {
+  std::error_code ec;
+  const std::uint64_t size = fs::file_size(f, ec);
+  if (ec) throw IoError(f + ": cannot read the file");
+  if (size > (std::uint64_t(1) << 30)) throw InvalidInput(f + ": " + std::to_string(size) + " bytes: too large for a DICOM slice");
+  return file_head(f, std::size_t(size), false);
+}
+
+bool dicom_candidate(const fs::path& p) {
+  if (lower(p.extension().string()) == ".dcm") return true;
+  return looks_like_dicom(file_head(p.string(), 132, false));
+}
+
 Volume read_dicom_series(const std::string& input, std::size_t max_voxels) {
-  const fs::path dir = fs::is_directory(input) ? fs::path(input) : fs::path(input).parent_path();
+  // A file reads its own series (the files of its directory with its SeriesInstanceUID); a
+  // directory must hold one series. Every file is checked (check_dicom_header) before VTK's
+  // DICOM parser, which crashes or reads past its buffer on damaged headers, sees it.
+  const bool from_file = !fs::is_directory(input);
+  fs::path dir = from_file ? fs::path(input).parent_path() : fs::path(input);
+  if (dir.empty()) dir = ".";
+  std::string series;
+  if (from_file) series = check_dicom_header(input, dicom_bytes(input)).series_uid;
   std::vector<std::string> files;
+  std::map<std::string, std::string> series_found;  // UID -> a file of it
   for (const auto& entry : fs::directory_iterator(dir)) {
     if (!entry.is_regular_file()) continue;
     const std::string name = entry.path().filename().string();
-    if (lower(name) == "dicomdir") continue;
-    vtkNew<vtkDICOMImageReader> probe;
-    if (probe->CanReadFile(entry.path().string().c_str())) files.push_back(entry.path().string());
+    if (lower(name) == "dicomdir" || !dicom_candidate(entry.path())) continue;
+    const std::string f = entry.path().string();
+    if (from_file && fs::equivalent(entry.path(), input)) {
+      files.push_back(input);
+      continue;
+    }
+    DicomHeader h;
+    try {
+      h = check_dicom_header(f, dicom_bytes(f));
+    } catch (const InvalidInput&) {
+      if (!from_file || series.empty()) throw;  // a directory's files must all read
+      continue;  // a damaged file beside the one asked for: not known to be of its series
+    }
+    if (from_file && h.series_uid != series) continue;
+    series_found.emplace(h.series_uid, f);
+    files.push_back(f);
   }
+  std::sort(files.begin(), files.end());
   const std::string where = dir.string();
+  if (!from_file && series_found.size() > 1) {
+    std::string list;
+    for (const auto& [uid, f] : series_found) list += (list.empty() ? "" : ", ") + fs::path(f).filename().string();
+    throw InvalidInput(where + ": holds " + std::to_string(series_found.size()) + " DICOM series (e.g. " + list +
+                       "): open one of their files to read its series");
+  }
   if (files.empty()) throw InvalidInput(where + ": no DICOM file in the directory");
   if (files.size() == 1)
-    throw InvalidInput(files[0] + ": a single DICOM slice is not a volume (a series needs at least 2 slices in " + where + ")");
+    throw InvalidInput(files[0] + ": a single DICOM slice is not a volume (a series needs at least 2 slices" +
+                       (from_file ? " of its SeriesInstanceUID" : "") + " in " + where + ")");
   if (files.size() > 4096) throw InvalidInput(where + ": " + std::to_string(files.size()) + " DICOM files, more than the 4096 slices accepted");
   std::vector<Slice> slices;
   for (const std::string& f : files) {
@@ -444,6 +666,9 @@ bool is_volume_path(const std::string& path) {
   const std::string p = lower(path);
   for (const char* ext : {".nii", ".nii.gz", ".hdr", ".hdr.gz", ".mha", ".mhd", ".nrrd", ".nhdr", ".dcm"})
     if (ends_with(p, ext)) return true;
+  // A DICOM file without an extension (as scanners write them): "DICM" at byte 128.
+  std::error_code ec;
+  if (fs::path(path).extension().empty() && fs::is_regular_file(path, ec)) return looks_like_dicom(file_head(path, 132, false));
   return false;
 }
 
@@ -453,7 +678,8 @@ Volume read_volume(const std::string& path, std::size_t max_voxels) {
   if (!fs::is_directory(path) && fs::file_size(path) == 0) throw IoError(path + ": the file is empty");
   const std::string p = lower(path);
   Volume v;
-  if (fs::is_directory(path) || ends_with(p, ".dcm")) v = read_dicom_series(path, max_voxels);
+  if (fs::is_directory(path) || ends_with(p, ".dcm") || (fs::path(path).extension().empty() && looks_like_dicom(file_head(path, 132, false))))
+    v = read_dicom_series(path, max_voxels);
   else if (ends_with(p, ".nii") || ends_with(p, ".nii.gz") || ends_with(p, ".hdr") || ends_with(p, ".hdr.gz"))
     v = read_nifti(path, max_voxels);
   else if (ends_with(p, ".mha") || ends_with(p, ".mhd")) v = read_metaimage(path, max_voxels);

@@ -7,6 +7,7 @@
 #include "decomposition/piece_file.h"
 #include "errors.h"
 #include <algorithm>
+#include <cctype>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -119,10 +120,13 @@ std::vector<std::uint32_t> read_ply(const std::string& path, std::ifstream& in) 
       if (format < 0) throw InvalidInput(path + ": unknown PLY format '" + f + "'");
     } else if (word == "element") {
       PlyElement e;
-      long long count = -1;
-      ls >> e.name >> count;
-      if (count < 0) throw InvalidInput(path + ": bad element line '" + line + "'");
-      e.count = std::size_t(count);
+      std::string count_text, rest;
+      ls >> e.name >> count_text;
+      const bool digits = !count_text.empty() && count_text.size() <= 18 &&
+                          std::all_of(count_text.begin(), count_text.end(), [](unsigned char c) { return std::isdigit(c) != 0; });
+      if (e.name.empty() || !digits || (ls >> rest))
+        throw InvalidInput(path + ": bad element line '" + line + "' (expected 'element NAME COUNT', COUNT a whole number)");
+      e.count = std::size_t(std::stoull(count_text));
       elements.push_back(e);
     } else if (word == "property") {
       if (elements.empty()) throw InvalidInput(path + ": property before any element");
@@ -166,6 +170,15 @@ std::vector<std::uint32_t> read_ply(const std::string& path, std::ifstream& in) 
       if (e.properties[k].list && corners_property < 0) corners_property = int(k);
     if (piece_property < 0)
       throw InvalidInput(path + ": the face element has no piece property (piece, label, segment, part, region)");
+    // Every face takes at least one byte (two in ASCII): a count beyond what is left of the
+    // file is a damaged header, refused before anything is allocated for it.
+    const std::streampos here = in.tellg();
+    in.seekg(0, std::ios::end);
+    const std::streamoff left = in.tellg() - here;
+    in.seekg(here);
+    if (here < 0 || left < 0 || e.count > std::size_t(left) / (format == 0 ? 2 : 1))
+      throw InvalidInput(path + ": the face element claims " + std::to_string(e.count) + " faces but only " +
+                         std::to_string(std::max<std::streamoff>(left, 0)) + " bytes follow: truncated or a damaged header");
     std::vector<std::uint32_t> ids;
     ids.reserve(e.count);
     for (std::size_t i = 0; i < e.count; ++i) {

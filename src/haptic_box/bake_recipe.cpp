@@ -60,8 +60,8 @@ std::vector<std::uint32_t> resolve_piece_ids(const TriangleMesh& mesh, const Pie
   case PiecesRecipe::Kind::file: return compact(read_piece_file(pieces.file, mesh.triangle_count()));
   case PiecesRecipe::Kind::given:
     if (pieces.given.size() != mesh.triangle_count())
-      throw InvalidInput("bake: " + std::to_string(pieces.given.size()) + " piece ids for " +
-                         std::to_string(mesh.triangle_count()) + " triangles");
+      throw InvalidInput((pieces.file.empty() ? std::string("bake") : pieces.file) + ": " + std::to_string(pieces.given.size()) +
+                         " piece ids for the mesh's " + std::to_string(mesh.triangle_count()) + " triangles");
     return compact(pieces.given);
   }
   return {};

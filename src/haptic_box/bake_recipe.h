@@ -25,7 +25,7 @@ struct PiecesRecipe {
     given,      ///< the ids in `given` (a piece id per triangle, e.g. a VTK cell array).
   };
   Kind kind = Kind::none;
-  std::string file;                       ///< Kind::file: .txt or .ply piece file.
+  std::string file;                       ///< Kind::file: .txt or .ply piece file (Kind::given: the file the ids came from, if any).
   AutoDecompositionOptions automatic;     ///< Kind::automatic (its progress is the decomposition's).
   std::vector<std::uint32_t> given;       ///< Kind::given: one id per triangle, any values.
   /// Kind::automatic only: the ids hb::decompose_auto gave for `automatic` on this mesh when

@@ -152,7 +152,8 @@ TEST(SceneReaderTest, EveryFormatComesBackInMillimetres) {
     hb::vtk::load_model((dir / "bad.gltf").string());
     FAIL() << "no error";
   } catch (const hb::InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find("bad.gltf: Assimp"), std::string::npos) << e.what();
+    // Refused by the glTF check before Assimp sees it, naming the file and the cause.
+    EXPECT_NE(std::string(e.what()).find("bad.gltf: the glTF JSON does not parse"), std::string::npos) << e.what();
   }
   fs::remove_all(dir);
 }
