@@ -1,5 +1,5 @@
 // hapticbox field MESH|BOX [MESH] -o FIELD.vtp [--m M --n N] [--probes K] [--even N] [--seed S]
-// The error field through the VTK pipeline (reader -> boxes -> error-field filter -> XML
+// The error field through the VTK pipeline (the model loader -> boxes -> error-field filter -> XML
 // writer): the same arrays the desktop window shows, for ParaView or scripts. From a MESH the
 // boxes are the default bake through the box cache (as `report` and the window make them), or
 // one raw box of the sampling -m / -n asks for. Forces at the model's workspace scale; the
@@ -11,7 +11,7 @@
 #include "errors.h"
 #include "haptic_box/box_file.h"
 #include "vtkHapticBoxErrorFieldFilter.h"
-#include "vtkHapticBoxMeshReader.h"
+#include "vtkHapticBoxUtilities.h"
 #include "vtkHapticBoxSet.h"
 #include "polydata_files.h"
 #include "figure_text.h"
@@ -62,13 +62,11 @@ void add_field_command(CLI::App& app) {
     if (with_box && opts->inputs.size() != 2) throw hb::cli::UsageError("give BOX then MESH");
     if (!with_box && opts->inputs.size() != 1) throw hb::cli::UsageError("give MESH alone, or BOX then MESH");
     const std::string mesh_path = with_box ? opts->inputs[1] : opts->inputs[0];
-    vtkNew<vtkHapticBoxMeshReader> reader;
-    reader->SetFileName(mesh_path.c_str());
-    reader->SetModelOptions(hb::cli::to_model_options(opts->model));
-    reader->Update();
-    if (reader->GetOutput()->GetNumberOfPoints() == 0) throw hb::InvalidInput(mesh_path + ": could not read the mesh");
+    // Read once: the surface the field is measured on and, from a MESH, the one baked.
+    const hb::TriangleMesh mesh = hb::cli::load_mesh(mesh_path, opts->model);
+    if (mesh.triangle_count() == 0) throw hb::InvalidInput(mesh_path + ": could not read the mesh");
     vtkNew<vtkHapticBoxErrorFieldFilter> field;
-    field->SetInputConnection(reader->GetOutputPort());
+    field->SetInputData(vtkHapticBoxUtilities::ToPolyData(mesh));
     vtkNew<vtkHapticBoxSet> loaded;
     double bake_seconds = 0.0;
     std::string box_label;
@@ -76,7 +74,6 @@ void add_field_command(CLI::App& app) {
       loaded->SetScene(std::make_shared<const hb::BoxScene>(hb::load_box_file(opts->inputs[0])));
       box_label = opts->inputs[0];
     } else {
-      const hb::TriangleMesh mesh = hb::cli::load_mesh(mesh_path, opts->model);
       const bool sampling_given = cmd->count("-m") + cmd->count("-n") > 0;
       hb::cli::ModelBake baked =
           hb::cli::bake_model(mesh, mesh_path, hb::cli::hash_model(mesh_path, opts->model), sampling_given,
@@ -91,9 +88,7 @@ void add_field_command(CLI::App& app) {
     }
     field->SetBoxSetData(loaded);
     const hb::BoxScene& scene = *loaded->GetScene();
-    const hb::Workspace ws = opts->workspace.workspace(hb::cli::model_diagonal(scene) > 0
-                                                           ? hb::cli::model_diagonal(scene)
-                                                           : double(reader->GetOutput()->GetLength()));
+    const hb::Workspace ws = opts->workspace.workspace(mesh.bounds().diagonal());  // as eval
     const hb::PerceptualJudge judge = opts->workspace.judge();
     // The points are dealt across the ranks of an MPI job; rank 0 gets the whole field.
     field->SetCommunicator(&hb::cli::communicator());

@@ -17,6 +17,7 @@
 #include <QVTKOpenGLNativeWidget.h>
 #include <vtkRenderWindow.h>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <tuple>
@@ -100,6 +101,36 @@ int main(int argc, char** argv) {
   run.timing = parser.isSet(timing);
   HapticSession::setRunSettings(run);
 
+  // The volume options, checked before any window opens: each bad value named, as the
+  // command line's --iso, --label, --smooth and --target-triangles are.
+  hb::vtk::ModelOptions model;
+  {
+    const auto bad = [](const char* option, const QString& value, const char* want) {
+      std::fprintf(stderr, "hapticbox-gui: %s %s: %s\n", option, qPrintable(value), want);
+      return 2;
+    };
+    bool ok = true;
+    if (parser.isSet(iso)) {
+      const double v = parser.value(iso).toDouble(&ok);
+      if (!ok || !std::isfinite(v)) return bad("--iso", parser.value(iso), "a finite number (calibrated units, HU for CT)");
+      model.volume.iso = v;
+    }
+    if (parser.isSet(label)) {
+      model.volume.label = parser.value(label).toLong(&ok);
+      if (!ok) return bad("--label", parser.value(label), "a whole number (a label of the label map)");
+    }
+    if (model.volume.iso && model.volume.label) return bad("--label", parser.value(label), "not with --iso (one or the other)");
+    if (parser.isSet(smooth)) {
+      model.volume.smooth_iterations = parser.value(smooth).toInt(&ok);
+      if (!ok || model.volume.smooth_iterations < 0)
+        return bad("--smooth", parser.value(smooth), "a whole number of iterations, >= 0");
+    }
+    if (parser.isSet(target)) {
+      model.volume.target_triangles = parser.value(target).toULongLong(&ok);
+      if (!ok) return bad("--target-triangles", parser.value(target), "a whole number of triangles, >= 0");
+    }
+  }
+
   MainWindow window;
   window.setBakeOnOpen(!parser.isSet(noBake));
   window.show();
@@ -109,16 +140,6 @@ int main(int argc, char** argv) {
     if (dev == QLatin1String("falcon")) window.session()->setDevice(DeviceKind::Falcon, {}, &note);
     else if (dev.startsWith(QLatin1String("replay:"))) window.session()->setDevice(DeviceKind::Replay, dev.mid(7), &note);
     if (!note.isEmpty()) std::fprintf(stderr, "hapticbox-gui: %s\n", qPrintable(note));
-  }
-  hb::vtk::ModelOptions model;
-  bool numbersOk = true;
-  if (parser.isSet(iso)) model.volume.iso = parser.value(iso).toDouble(&numbersOk);
-  if (numbersOk && parser.isSet(label)) model.volume.label = parser.value(label).toLong(&numbersOk);
-  if (numbersOk && parser.isSet(smooth)) model.volume.smooth_iterations = parser.value(smooth).toInt(&numbersOk);
-  if (numbersOk && parser.isSet(target)) model.volume.target_triangles = parser.value(target).toULongLong(&numbersOk);
-  if (!numbersOk || model.volume.smooth_iterations < 0 || (model.volume.iso && model.volume.label)) {
-    std::fprintf(stderr, "hapticbox-gui: --iso, --label, --smooth, --target-triangles: numbers (and --iso or --label, not both)\n");
-    return 2;
   }
   const QStringList args = parser.positionalArguments();
   if (!args.isEmpty()) {

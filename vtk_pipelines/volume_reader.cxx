@@ -14,6 +14,7 @@
 //     their normals: normals point to where the value is below the iso-value (or another
 //     label), i.e. out of the bright region, whatever the handedness of index_to_mm.
 #include "volume_reader.h"
+#include "volume_histogram.h"
 #include "string_util.h"
 #include "errors.h"
 #include "vtkHapticBoxUtilities.h"
@@ -626,38 +627,6 @@ Volume read_dicom_series(const std::string& input, std::size_t max_voxels) {
   return v;
 }
 
-// Calibrated values of every voxel as a histogram (256 bins) for Otsu's threshold.
-double otsu_threshold(vtkDataArray* scalars, double lo, double hi) {
-  const int bins = 256;
-  std::vector<double> hist(bins, 0.0);
-  const vtkIdType n = scalars->GetNumberOfTuples();
-  const vtkIdType stride = std::max<vtkIdType>(1, n / 4000000);
-  for (vtkIdType i = 0; i < n; i += stride) {
-    const double x = scalars->GetComponent(i, 0);
-    const int b = std::clamp(int((x - lo) / (hi - lo) * bins), 0, bins - 1);
-    hist[std::size_t(b)] += 1.0;
-  }
-  double total = 0, sum = 0;
-  for (int b = 0; b < bins; ++b) {
-    total += hist[std::size_t(b)];
-    sum += b * hist[std::size_t(b)];
-  }
-  double w0 = 0, sum0 = 0, best = -1;
-  int best_bin = bins / 2;
-  for (int b = 0; b < bins - 1; ++b) {
-    w0 += hist[std::size_t(b)];
-    sum0 += b * hist[std::size_t(b)];
-    const double w1 = total - w0;
-    if (w0 == 0 || w1 == 0) continue;
-    const double m0 = sum0 / w0, m1 = (sum - sum0) / w1;
-    const double between = w0 * w1 * (m0 - m1) * (m0 - m1);
-    if (between > best) {
-      best = between;
-      best_bin = b;
-    }
-  }
-  return lo + (hi - lo) * (best_bin + 1) / bins;
-}
 
 } // namespace
 
@@ -775,7 +744,7 @@ TriangleMesh volume_surface(const Volume& volume, const VolumeSurfaceOptions& op
       if (!std::isfinite(iso)) throw InvalidInput(path + ": the iso-value is not a finite number");
     } else {
       if (!(hi > lo)) throw InvalidInput(path + ": every voxel holds " + std::to_string(lo) + ": no surface in a constant volume");
-      iso = otsu_threshold(scalars, range[0], range[1]) * volume.slope + volume.intercept;
+      iso = otsu_threshold(volume_histogram(volume));  // the Surface panel's histogram and Otsu value
     }
     if (!(iso > lo && iso < hi)) {
       std::ostringstream msg;

@@ -47,8 +47,9 @@ struct PerceivedDifference {
   double magnitude_threshold_n = 0;   ///< max(w |F_exact|, F0), N.
   double angle_deg = 0;               ///< between the forces (0 unless both are in contact).
   bool perceptible() const noexcept { return by != kPerceivedNone; }
-  /// The difference over its threshold (magnitude; 1 = at threshold); contact-only and
-  /// direction differences count as at least 1 + their own excess.
+  /// The difference over its threshold: | |F1| - |F0| | / max(w |F0|, F0) (a contact on one
+  /// side only is its force over F0), or the angle over theta when the direction test fails
+  /// and that is larger; above 1 the difference is perceptible.
   double ratio = 0;
 };
 
