@@ -31,7 +31,7 @@ void add_bench_command(CLI::App& app) {
     bool no_huge_pages = false;
     bool no_grid = false;
     std::string walk = "all";
-    std::string route = "cells";
+    std::string route = "auto";
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);

@@ -264,16 +264,26 @@ ModelBake bake_model(const TriangleMesh& mesh, const std::string& mesh_path, std
 
 void add_route_option(CLI::App& cmd, std::string& route) {
   cmd.add_option("--route", route,
-                 "Refined scenes: cells (default: the first crossing among the surface cells' triangles answers, no "
-                 "box asked) or boxes (the grid's boxes answer from their triangle ids, the cells' triangles confirm)")
-      ->check(CLI::IsMember({"boxes", "cells"}))
+                 "Refined scenes: auto (default: the route the bake chose and stored), cells (the first crossing "
+                 "among the surface cells' triangles answers, no box asked), embree (exact Embree over the scene's "
+                 "surface) or boxes (the grid's boxes answer from their triangle ids, the cells' triangles confirm)")
+      ->check(CLI::IsMember({"auto", "boxes", "cells", "embree"}))
       ->capture_default_str();
 }
 
 void apply_route(BoxScene& scene, const std::string& route) {
+  if (route == "auto") return;
   if (route == "boxes" && scene.refines() && !scene.has_triangle_ids())
     throw UsageError("--route boxes: this scene holds no triangle ids (the default bake drops them: the cells route "
                      "does not read them); bake it with --keep-ids to compare the routes");
+  if (route == "embree") {
+    try {
+      scene.set_route(SceneRoute::embree);
+    } catch (const InvalidInput& e) {
+      throw UsageError(std::string("--route embree: ") + e.what());
+    }
+    return;
+  }
   scene.set_route(route == "cells" ? SceneRoute::cells : SceneRoute::boxes);
   if (route == "cells" && scene.answering_route() != SceneRoute::cells && scene.refines())
     std::fprintf(stderr, "warning: --route cells: this scene has no surface cells (no grid, or no shared refined "

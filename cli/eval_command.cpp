@@ -22,7 +22,7 @@ void add_eval_command(CLI::App& app) {
     hb::cli::WorkspaceArgs workspace;
     bool json = false;
     bool force = false;
-    std::string route = "cells";
+    std::string route = "auto";
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);

@@ -50,7 +50,7 @@ struct ServoArgs {
   std::string render = "box";    // which answer drives the device with --exact
   std::string csv;
   std::string law = "penalty";   // the contact law: penalty | proxy (hb::contact_law)
-  std::string route = "cells";   // the box scene's route (hb::SceneRoute)
+  std::string route = "auto";   // the box scene's route (hb::SceneRoute)
 };
 
 struct Scene {

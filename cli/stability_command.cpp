@@ -59,7 +59,7 @@ void add_stability_command(CLI::App& app) {
   struct Opts {
     std::string box, mesh, device = "falcon", tests, safety = "hold", depth = "normal", unconfirmed = "reject",
                 walk = "all",
-                law = "penalty", route = "cells";
+                law = "penalty", route = "auto";
     std::size_t sites = 12;
     std::uint64_t seed = 1;
     bool json = false, no_generated = false, energy_guard = false, strict = false;

@@ -868,7 +868,9 @@ StabilityReport run_stability_suite(const BoxScene& box, const TriangleMesh& mes
     g->mesh = std::move(m);
     g->box = std::make_unique<BoxScene>(bake_scene(g->mesh, {}, bo, SourceInfo{}));
     g->box->set_unconfirmed_blend(box.unconfirmed_blend());
-    g->box->set_route(box.route());
+    // The model's route where the generated scene can take it (an embree route needs a
+    // surface; a generated scene without one keeps its own).
+    if (box.route() != SceneRoute::embree || g->box->surface()) g->box->set_route(box.route());
     g->box->set_walk_all_candidates(box.boxes().empty() || box.boxes()[0].walk_all_candidates());
     g->exact = std::make_unique<ExactQuery>(g->mesh);
     return g;

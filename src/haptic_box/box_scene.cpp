@@ -53,6 +53,8 @@
 //     0.014%, lost contacts 0.25% -> 0, `eval --seed 2` agreement 99.56% -> 99.925%.
 #include "haptic_box/box_scene.h"
 #include "errors.h"
+#include "exact/exact_query.h"
+#include "geometry/octahedral.h"
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -235,6 +237,43 @@ bool handle_outside_behind(const SceneGrid& grid, const std::vector<HapticBox>& 
 
 } // namespace
 
+// The surface's triangles as a mesh of their own (three vertices each, the records' corners
+// and normals: the surface cells' answers' geometry and shading) and Embree over it.
+struct BoxScene::EmbreeRoute {
+  TriangleMesh mesh;
+  std::unique_ptr<ExactQuery> exact;
+  explicit EmbreeRoute(const SurfaceTriangles& surface) {
+    const std::size_t n = surface.size();
+    mesh.positions.reserve(3 * n);
+    mesh.normals.reserve(3 * n);
+    mesh.triangles.reserve(n);
+    const SurfaceTriangles::Record* r = surface.records();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 a(r[i].a[0], r[i].a[1], r[i].a[2]);
+      const Vec3 e1(r[i].e1[0], r[i].e1[1], r[i].e1[2]), e2(r[i].e2[0], r[i].e2[1], r[i].e2[2]);
+      const std::uint32_t first = std::uint32_t(mesh.positions.size());
+      mesh.positions.insert(mesh.positions.end(), {a, a + e1, a + e2});
+      for (int k = 0; k < 3; ++k) mesh.normals.push_back(decode_octahedral32(r[i].normal[k]));
+      mesh.triangles.push_back({first, first + 1, first + 2});
+    }
+    exact = std::make_unique<ExactQuery>(mesh);
+  }
+};
+
+void BoxScene::set_route(SceneRoute route) {
+  if (route == SceneRoute::embree && !embree_) {
+    if (!surface_) throw InvalidInput("box scene: the embree route needs the scene's surface (this scene has none)");
+    if (surface_->normal_map_side() > 0)
+      throw InvalidInput("box scene: the embree route needs the full surface; this one is simplified (a normal map shades it)");
+    embree_ = std::make_shared<const EmbreeRoute>(*surface_);
+  }
+  route_ = route;
+}
+
+std::size_t BoxScene::embree_bytes() const noexcept {
+  return embree_ ? embree_->mesh.positions.size() * 2 * sizeof(Vec3) + embree_->mesh.triangles.size() * 12 : 0;
+}
+
 bool BoxScene::has_triangle_ids() const noexcept {
   for (const HapticBox& b : boxes_)
     if (b.refines()) return true;
@@ -252,11 +291,13 @@ BoxScene BoxScene::without_triangle_ids() const {
   s.unconfirmed_ = unconfirmed_;
   s.use_cells_ = use_cells_;
   s.route_ = route_;
+  s.embree_ = embree_;
   s.budget_ = budget_;
   return s;
 }
 
 Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexcept {
+  if (route_ == SceneRoute::embree && embree_) return embree_->exact->query(segment, law);
   Contact routed;
   if (grid_ && query_routed(segment, law, routed, nullptr)) return routed;
   return query_met(segment, law, nullptr);
@@ -265,12 +306,17 @@ Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexc
 std::size_t BoxScene::box_queries(const Segment& segment, const ForceLaw& law) const noexcept {
   std::size_t asked = 0;
   Contact c;
+  if (route_ == SceneRoute::embree && embree_) return 0;
   if (grid_ && query_routed(segment, law, c, &asked)) return asked;
   query_met(segment, law, &asked);  // after the boxes the grid asked, if any
   return asked;
 }
 
 Contact BoxScene::query(const Segment& segment, const ForceLaw& law, SceneQueryState& state) const noexcept {
+  if (route_ == SceneRoute::embree && embree_) {
+    ++state.full;
+    return embree_->exact->query(segment, law);
+  }
   if (grid_ && cells_ && answering_route() == SceneRoute::cells) {
     // As query_routed's cells route: an inside handle has no contact; a segment without a
     // length takes the full query.
@@ -661,6 +707,10 @@ Contact BoxScene::query_met(const Segment& segment, const ForceLaw& law, std::si
 
 void BoxScene::query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
                           Contact* out) const noexcept {
+  if (route_ == SceneRoute::embree && embree_) {
+    for (std::size_t i = 0; i < count; ++i) out[i] = embree_->exact->query(segments[i], law);
+    return;
+  }
   if (boxes_.size() == 1) return boxes_[0].query_many(segments, count, law, out);
   const bool side_by_side = side_by_side_ == SideBySide::always ||
                             (side_by_side_ == SideBySide::automatic && cells_ && cells_->walks_side_by_side());
@@ -716,7 +766,7 @@ std::size_t BoxScene::table_bytes() const {
 
 std::size_t BoxScene::memory_bytes() const {
   return table_bytes() + refinement_bytes() + (surface_ ? surface_->normal_map_bytes() : 0) +
-         (grid_ ? grid_->bytes() : 0) + (cells_ ? cells_->bytes() : 0);
+         (grid_ ? grid_->bytes() : 0) + (cells_ ? cells_->bytes() : 0) + embree_bytes();
 }
 
 std::size_t BoxScene::refinement_bytes() const {
@@ -738,6 +788,8 @@ BoxScene BoxScene::compressed(const CodecOptions& options) const {
   for (const HapticBox& box : boxes_) boxes.push_back(box.compressed(options));
   BoxScene s(std::move(boxes), source_, piece_of_triangle_, grid_, surface_);
   s.budget_ = budget_;
+  s.route_ = route_;
+  s.embree_ = embree_;
   return s;
 }
 

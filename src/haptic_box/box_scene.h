@@ -29,10 +29,17 @@ enum class SceneRoute : std::uint8_t {
   /// and UnconfirmedBlend::reject. Needs no handle state: a handle outside every box or in a
   /// surface cell is answered by the same walk (only a handle in an inside cell exits early).
   cells,
+  /// Exact Embree over the scene's surface (the full mesh's triangles, as the surface cells
+  /// hold them): the same contacts as `cells`, chosen at bake time where Embree answers faster
+  /// than the surface cells (small and medium meshes: the budgeted bake times both on its
+  /// tuning probes, BudgetReport::route). Needs a surface without a normal map.
+  embree,
 };
 
-/// "boxes" or "cells".
-inline const char* route_name(SceneRoute route) noexcept { return route == SceneRoute::cells ? "cells" : "boxes"; }
+/// "boxes", "cells" or "embree".
+inline const char* route_name(SceneRoute route) noexcept {
+  return route == SceneRoute::cells ? "cells" : route == SceneRoute::embree ? "embree" : "boxes";
+}
 
 /// What a refining scene does with a blended answer its exact refinement cannot confirm
 /// (the refinement finds no triangle of the box's samples near the blended surface).
@@ -136,6 +143,8 @@ public:
   BoxScene without_grid() const {
     BoxScene s(boxes_, source_, piece_of_triangle_, nullptr, surface_);
     s.budget_ = budget_;
+    s.route_ = route_;
+    s.embree_ = embree_;
     return s;
   }
   /// The same scene with no box holding triangle ids, the surface kept for the grid's
@@ -164,8 +173,11 @@ public:
   /// 2026-12-02 noon, for before/after measurements).
   void set_cell_triangles(bool on) noexcept { use_cells_ = on; }
   bool cell_triangles() const noexcept { return use_cells_ && cells_ != nullptr; }
-  /// See SceneRoute (no effect without surface cells).
-  void set_route(SceneRoute route) noexcept { route_ = route; }
+  /// See SceneRoute (no effect without surface cells). SceneRoute::embree builds an Embree
+  /// tree over the surface (once; the copies of this scene share it) and throws
+  /// hb::InvalidInput when the scene has no surface or its surface carries a normal map (a
+  /// simplified stand-in that only the cells shade as the full mesh).
+  void set_route(SceneRoute route);
   SceneRoute route() const noexcept { return route_; }
   /// Whether query_many() on the cells route runs its walks side by side: when the surface
   /// exceeds the last-level cache (automatic, SurfaceCells::walks_side_by_side), always or
@@ -175,7 +187,8 @@ public:
   /// The route the queries take: `route()` when the scene has what it needs (the cells route
   /// needs surface cells, set_cell_triangles and UnconfirmedBlend::reject), boxes otherwise.
   SceneRoute answering_route() const noexcept {
-    return route_ == SceneRoute::cells && use_cells_ && cells_ && unconfirmed_ == UnconfirmedBlend::reject
+    if (route_ == SceneRoute::embree && embree_) return SceneRoute::embree;
+    return route_ != SceneRoute::boxes && use_cells_ && cells_ && unconfirmed_ == UnconfirmedBlend::reject
                ? SceneRoute::cells
                : SceneRoute::boxes;
   }
@@ -211,6 +224,9 @@ public:
   /// Bytes the scene's queries read: the tables, refinement_bytes(), the surface's normal map,
   /// the scene grid and the surface cells (what `sweep` and `report` call its memory).
   std::size_t memory_bytes() const;
+  /// Bytes of the Embree route's mesh (its own vertices, three a triangle; the tree beside
+  /// them is Embree's); 0 when the scene has no such route.
+  std::size_t embree_bytes() const noexcept;
 
 private:
   // The query through the grid; false when the handle's cell leaves it to query_met().
@@ -236,6 +252,9 @@ private:
   SceneRoute route_ = SceneRoute::cells;
   SideBySide side_by_side_ = SideBySide::automatic;
   BudgetReport budget_;
+  // SceneRoute::embree: the surface as a mesh and Embree over it (box_scene.cpp).
+  struct EmbreeRoute;
+  std::shared_ptr<const EmbreeRoute> embree_;
   // The routed query's cell-triangle steps (box_scene.cpp, step 7).
   struct Visited;
   // SceneRoute::cells: the contact of the segment's first crossing among the surface cells'
