@@ -3,7 +3,7 @@
 // vtkHapticBoxReferenceQueries, built once per model). One probe per vertex of the armadillo
 // (52K triangles), a m=16 n=8 box baked once. Ratios within one run are what count.
 #include "exact/exact_query.h"
-#include "haptic_box/bake_recipe.h"
+#include "recipe/bake_recipe.h"
 #include "mesh/mesh_io.h"
 #include "vtkHapticBoxErrorFieldFilter.h"
 #include "vtkHapticBoxSet.h"

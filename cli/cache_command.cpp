@@ -4,7 +4,7 @@
 #include "cli_support.h"
 #include "figure_text.h"
 #include "commands.h"
-#include "haptic_box/box_cache.h"
+#include "recipe/box_cache.h"
 #include <iostream>
 
 void add_cache_command(CLI::App& app) {

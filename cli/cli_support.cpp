@@ -3,7 +3,7 @@
 #include "evaluation/segments_csv.h"
 #include "errors.h"
 #include "figure_text.h"
-#include "haptic_box/box_cache.h"
+#include "recipe/box_cache.h"
 #include "haptic_box/box_scene.h"
 #include <algorithm>
 #include <limits>

@@ -6,7 +6,7 @@
 #include "contact/workspace.h"
 #include "eval_json.h"
 #include "evaluation/comparison.h"
-#include "haptic_box/error_budget.h"
+#include "recipe/error_budget.h"
 #include "parallel/communicator.h"
 #include "progress.h"
 #include <CLI/CLI.hpp>

@@ -16,7 +16,7 @@
 #include "polydata_files.h"
 #include "figure_text.h"
 #include "perceptible_text.h"
-#include "haptic_box/box_cache.h"
+#include "recipe/box_cache.h"
 #include "mesh/mesh_io.h"
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>

@@ -1,7 +1,7 @@
 #pragma once
 // The `--pieces auto|FILE|none` options shared by the commands that bake: they fill the
 // pieces and seams of a hb::BakeRecipe (the cutting itself is hb::bake's).
-#include "haptic_box/bake_recipe.h"
+#include "recipe/bake_recipe.h"
 #include <CLI/CLI.hpp>
 #include <cstdint>
 #include <string>

@@ -4,10 +4,10 @@
 // Writes DIR/report.html (self-contained), DIR/summary.json and DIR/samples.csv. Runs with no
 // display: the error-field image is rendered only when an X display opens (noted otherwise).
 #include "cli_support.h"
-#include "haptic_box/box_cache.h"
+#include "recipe/box_cache.h"
 #include "commands.h"
 #include "errors.h"
-#include "haptic_box/bake_recipe.h"
+#include "recipe/bake_recipe.h"
 #include "haptic_box/box_file.h"
 #include "mesh/mesh_io.h"
 #include "figure_text.h"

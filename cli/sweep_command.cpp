@@ -4,10 +4,10 @@
 // timed on the same probes next to exact Embree and VTK's vtkStaticCellLocator, and the
 // default (budgeted) bake the product recommends.
 #include "cli_support.h"
-#include "haptic_box/box_cache.h"
+#include "recipe/box_cache.h"
 #include "commands.h"
 #include "errors.h"
-#include "evaluation/sweep.h"
+#include "recipe/sweep.h"
 #include "figure_text.h"
 #include "perceptible_text.h"
 #include "exact/exact_query.h"

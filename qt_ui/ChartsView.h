@@ -2,7 +2,7 @@
 // The charts: speed against accuracy (sweep rows, with the exact Embree and VTK locator
 // points) and compression against error, in VTK chart views. Clicking a box configuration
 // asks for it to be loaded.
-#include "evaluation/sweep.h"
+#include "recipe/sweep.h"
 #include <QWidget>
 #include <vtkSmartPointer.h>
 #include <string>

@@ -5,9 +5,9 @@
 // error-field filter), sweep and report, one at a time on the BackgroundJob worker. Their
 // results are installed into the model on the GUI thread when the job ends.
 #include "SessionModel.h"
-#include "evaluation/sweep.h"
-#include "haptic_box/bake_recipe.h"
-#include "haptic_box/box_cache.h"
+#include "recipe/sweep.h"
+#include "recipe/bake_recipe.h"
+#include "recipe/box_cache.h"
 #include "contact/god_object.h"
 #include <QObject>
 #include <QString>

@@ -8,7 +8,7 @@
 // bake filter's outlines and piece ids, the error-field filter's arrays.
 // Updates run on whatever thread calls them (the job's worker), one at a time; nothing here
 // touches a widget.
-#include "haptic_box/bake_recipe.h"
+#include "recipe/bake_recipe.h"
 #include "haptic_box/box_scene.h"
 #include "vtkHapticBoxBakeFilter.h"
 #include "vtkHapticBoxDecompositionFilter.h"

@@ -7,7 +7,7 @@
 #include "evaluation/comparison.h"
 #include "evaluation/error_field.h"
 #include "evaluation/stability_suite.h"
-#include "evaluation/sweep.h"
+#include "recipe/sweep.h"
 #include "evaluation/worst_probes.h"
 #include "haptic_box/box_scene.h"
 #include <memory>

@@ -5,7 +5,7 @@
 #include "errors.h"
 #include "figure_text.h"
 #include "evaluation/comparison.h"
-#include "haptic_box/error_budget.h"
+#include "recipe/error_budget.h"
 #include <plplot/plstream.h>
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 // The report's charts, drawn with PLplot's cairo drivers (a path ending .svg: SVG, otherwise
 // PNG): no display needed.
 #include "contact/perceptible.h"
-#include "evaluation/sweep.h"
+#include "recipe/sweep.h"
 #include <string>
 #include <utility>
 #include <vector>

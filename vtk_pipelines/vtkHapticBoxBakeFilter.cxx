@@ -6,7 +6,7 @@
 //    triangle for display.
 #include "vtkHapticBoxBakeFilter.h"
 #include "errors.h"
-#include "haptic_box/box_cache.h"
+#include "recipe/box_cache.h"
 #include <algorithm>
 #include <filesystem>
 #include <optional>

@@ -27,7 +27,7 @@
 #ifndef vtkHapticBoxBakeFilter_h
 #define vtkHapticBoxBakeFilter_h
 
-#include "haptic_box/bake_recipe.h"
+#include "recipe/bake_recipe.h"
 #include <vtkPolyDataAlgorithm.h>
 #include <string>
 

@@ -10,7 +10,7 @@
 #ifndef vtkHapticBoxReferenceQueries_h
 #define vtkHapticBoxReferenceQueries_h
 
-#include "evaluation/sweep.h"
+#include "recipe/sweep.h"
 #include "exact/exact_query.h"
 #include "vtkHapticBoxCellLocatorQuery.h"
 #include <memory>

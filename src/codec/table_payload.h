@@ -4,7 +4,7 @@
 // kPayloadPadding zero bytes so that decoders may read a whole record past any valid offset
 // without a bounds check per bit.
 #include "codec/codec.h"
-#include "haptic_box/sample.h"
+#include "codec/sample.h"
 #include <cstdint>
 #include <vector>
 

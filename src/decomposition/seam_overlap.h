@@ -24,7 +24,7 @@ struct PieceGrid {
   int m = 32;                ///< the box's position density, >= 2.
 };
 /// The grid of the box the bake fits to a piece (its triangle ids); see hb::seamed_piece_lists
-/// (haptic_box/bake_recipe.h), which answers it from the bake's own options.
+/// (recipe/bake_recipe.h), which answers it from the bake's own options.
 using PieceGridOf = std::function<PieceGrid(const std::vector<std::uint32_t>& piece)>;
 
 /// The triangle lists to bake, one per piece, from a piece id per triangle: each piece is

@@ -15,7 +15,7 @@
 //  - A tile holds n x n directional samples (edges included), sample (a, b) at
 //    tile n^2 + a n + b (first_sample(), sample_index()); a tile is the unit the codecs work on.
 #include "geometry/obb.h"
-#include "haptic_box/sample.h"
+#include "codec/sample.h"
 #include "math/vec3.h"
 #include <cstddef>
 

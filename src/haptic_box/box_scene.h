@@ -1,5 +1,5 @@
 #pragma once
-#include "haptic_box/error_budget.h"
+#include "haptic_box/budget_report.h"
 #include "haptic_box/haptic_box.h"
 #include "haptic_box/scene_grid.h"
 #include <memory>

@@ -5,7 +5,7 @@
 #include "codec/sample_table.h"
 #include "haptic_box/box_layout.h"
 #include "contact/contact.h"
-#include "haptic_box/sample.h"
+#include "codec/sample.h"
 #include "haptic_box/surface_triangles.h"
 #include <cstdint>
 #include <memory>

@@ -2,8 +2,8 @@
 #include "decomposition/piece_file.h"
 #include "decomposition/plane_split.h"
 #include "errors.h"
-#include "haptic_box/bake_recipe.h"
-#include "haptic_box/box_cache.h"
+#include "recipe/bake_recipe.h"
+#include "recipe/box_cache.h"
 #include "haptic_box/box_file.h"
 #include "mesh/generators.h"
 #include <gtest/gtest.h>

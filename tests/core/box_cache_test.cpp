@@ -1,6 +1,6 @@
 // The box cache: a key from the mesh hash and the whole recipe, one directory, size and clear.
 #include "errors.h"
-#include "haptic_box/box_cache.h"
+#include "recipe/box_cache.h"
 #include "haptic_box/box_file.h"
 #include "mesh/generators.h"
 #include <gtest/gtest.h>

@@ -6,7 +6,7 @@
 #include "evaluation/probe_sampling.h"
 #include "evaluation/surface_deviation.h"
 #include "exact/exact_query.h"
-#include "haptic_box/bake_recipe.h"
+#include "recipe/bake_recipe.h"
 #include "mesh/decimation.h"
 #include "mesh/generators.h"
 #include "mesh/subdivision.h"

@@ -8,7 +8,7 @@
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
-#include "haptic_box/bake_recipe.h"
+#include "recipe/bake_recipe.h"
 #include "mesh/generators.h"
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>

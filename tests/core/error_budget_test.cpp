@@ -5,7 +5,7 @@
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
-#include "haptic_box/bake_recipe.h"
+#include "recipe/bake_recipe.h"
 #include "haptic_box/box_file.h"
 #include "two_spheres.h"
 #include <gtest/gtest.h>

@@ -6,7 +6,7 @@
 #include "evaluation/surface_deviation.h"
 #include "exact/embree_scene.h"
 #include "exact/exact_query.h"
-#include "haptic_box/bake_recipe.h"
+#include "recipe/bake_recipe.h"
 #include "haptic_box/box_file.h"
 #include "haptic_box/surface_triangles.h"
 #include "mesh/generators.h"

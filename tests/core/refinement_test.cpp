@@ -1,7 +1,7 @@
 // Exact refinement of haptic-box answers: triangle ids per sample, candidate triangles, the
 // edge walk, and how refining boxes travel through compression and box files.
 #include "decomposition/auto_decomposition.h"
-#include "haptic_box/bake_recipe.h"
+#include "recipe/bake_recipe.h"
 #include "errors.h"
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"

@@ -1,5 +1,5 @@
-#include "evaluation/sweep.h"
-#include "haptic_box/box_cache.h"
+#include "recipe/sweep.h"
+#include "recipe/box_cache.h"
 #include "exact/exact_query.h"
 #include "errors.h"
 #include "mesh/generators.h"

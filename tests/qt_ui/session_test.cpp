@@ -6,7 +6,7 @@
 #include "errors.h"
 #include "exact/exact_query.h"
 #include "SessionPipeline.h"
-#include "haptic_box/box_cache.h"
+#include "recipe/box_cache.h"
 #include "haptic_box/box_file.h"
 #include "mesh/file_hash.h"
 #include "ui_test_support.h"

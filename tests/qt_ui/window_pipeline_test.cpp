@@ -12,7 +12,7 @@
 #include "MainWindow.h"
 #include "ProbeView.h"
 #include "SessionPipeline.h"
-#include "haptic_box/box_cache.h"
+#include "recipe/box_cache.h"
 #include "mesh/file_hash.h"
 #include "vtkHapticBoxSet.h"
 #include "window_test_support.h"

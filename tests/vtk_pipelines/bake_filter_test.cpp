@@ -1,4 +1,4 @@
-#include "haptic_box/box_cache.h"
+#include "recipe/box_cache.h"
 #include "haptic_box/box_file.h"
 #include "test_meshes.h"
 #include "vtkHapticBoxBakeFilter.h"

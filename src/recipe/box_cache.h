@@ -2,7 +2,7 @@
 // The box cache: baked scenes kept on disk, keyed by the mesh file's hash and the whole bake
 // recipe, in one directory that follows the XDG convention. The CLI's sweep and report and
 // the window's bakes share it; `hapticbox cache` and the window show its size and clear it.
-#include "haptic_box/bake_recipe.h"
+#include "recipe/bake_recipe.h"
 #include <cstdint>
 #include <optional>
 #include <string>

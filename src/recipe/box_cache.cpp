@@ -5,7 +5,7 @@
 //  2. the entry: DIR/<mesh hash>_<key>.hbox, written through save_box_file (temporary file
 //     and rename, so a reader never sees half a file);
 //  3. a load checks the recorded mesh hash; an unreadable entry is removed and rebaked.
-#include "haptic_box/box_cache.h"
+#include "recipe/box_cache.h"
 #include "errors.h"
 #include "haptic_box/box_file.h"
 #include "mesh/file_hash.h"

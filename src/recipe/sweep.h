@@ -3,8 +3,8 @@
 // reference methods measured in the same run on the same probe segments.
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
-#include "haptic_box/bake_recipe.h"
-#include "haptic_box/error_budget.h"
+#include "recipe/bake_recipe.h"
+#include "recipe/error_budget.h"
 #include "progress.h"
 #include <functional>
 #include <string>

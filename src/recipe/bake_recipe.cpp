@@ -5,7 +5,7 @@
 //     (same PBB fit and per-box m as the bake);
 //  3. one box per grown piece (bake_scene_from_lists), the piece ids recorded in the scene;
 //  4. the codec, when one is asked for.
-#include "haptic_box/bake_recipe.h"
+#include "recipe/bake_recipe.h"
 #include "decomposition/piece_file.h"
 #include "errors.h"
 #include "stopwatch.h"

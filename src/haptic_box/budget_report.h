@@ -1,14 +1,13 @@
 #pragma once
 // The error budget a budgeted bake meets (issue 17: "model no more than a scene needs"), and
-// the record of what a bake achieved against it, stored in the box file (version 6).
+// the record of what a bake achieved against it, stored in the box file (version 6). The
+// budget search that fills it is in recipe/ (recipe/bake_recipe.h, recipe/error_budget.h).
 #include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace hb {
-
-struct ComparisonStats;
 
 /// Accuracy a scene must have against the exact answer (the paper's accuracy measure, on the
 /// default probes of hb::sample_probes). The defaults are what a hand cannot tell apart: the
@@ -31,12 +30,6 @@ struct ErrorBudget {
 ErrorBudget parse_budget(const std::string& spec);
 /// The spec parse_budget reads back (every key).
 std::string budget_spec(const ErrorBudget& budget);
-
-/// Whether `stats` meets `budget` (every figure within it).
-bool meets_budget(const ComparisonStats& stats, const ErrorBudget& budget);
-/// The figures of `stats` that miss `budget`, as "p95 12.3% > 7%" phrases joined by "; "
-/// (empty when it meets it).
-std::string budget_misses(const ComparisonStats& stats, const ErrorBudget& budget);
 
 /// What one piece of a budgeted bake was given.
 struct PieceChoice {

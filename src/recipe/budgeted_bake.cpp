@@ -48,7 +48,7 @@
 #include "evaluation/surface_deviation.h"
 #include "exact/exact_query.h"
 #include "mesh/decimation.h"
-#include "haptic_box/bake_recipe.h"
+#include "recipe/bake_recipe.h"
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <algorithm>

@@ -7,7 +7,7 @@
 #include "decomposition/auto_decomposition.h"
 #include "decomposition/seam_overlap.h"
 #include "haptic_box/bake.h"
-#include "haptic_box/error_budget.h"
+#include "recipe/error_budget.h"
 #include "mesh/decimation.h"
 #include <cstdint>
 #include <functional>

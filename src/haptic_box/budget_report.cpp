@@ -1,7 +1,6 @@
-#include "haptic_box/error_budget.h"
+#include "haptic_box/budget_report.h"
 #include "errors.h"
 #include "spec_parse.h"
-#include "evaluation/comparison.h"
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -51,28 +50,6 @@ std::string budget_spec(const ErrorBudget& b) {
   return "p95=" + fmt(b.force_p95 * 100.0) + ",median=" + fmt(b.force_median * 100.0) +
          ",dir99=" + fmt(b.direction_p99_deg) + ",agree=" + fmt(b.agreement * 100.0) +
          ",felt=" + fmt(b.perceptible * 100.0);
-}
-
-bool meets_budget(const ComparisonStats& s, const ErrorBudget& b) { return budget_misses(s, b).empty(); }
-
-std::string budget_misses(const ComparisonStats& s, const ErrorBudget& b) {
-  std::string out;
-  const auto add = [&](bool miss, const std::string& what) {
-    if (!miss) return;
-    if (!out.empty()) out += "; ";
-    out += what;
-  };
-  add(s.contact_agreement < b.agreement,
-      "agreement " + fmt(s.contact_agreement * 100.0) + "% < " + fmt(b.agreement * 100.0) + "%");
-  add(s.force_error_median > b.force_median,
-      "median " + fmt(s.force_error_median * 100.0) + "% > " + fmt(b.force_median * 100.0) + "%");
-  add(s.force_error_p95 > b.force_p95,
-      "p95 " + fmt(s.force_error_p95 * 100.0) + "% > " + fmt(b.force_p95 * 100.0) + "%");
-  add(s.perceptible_share > b.perceptible,
-      "felt " + fmt(s.perceptible_share * 100.0) + "% > " + fmt(b.perceptible * 100.0) + "%");
-  add(s.angle_error_p99_deg > b.direction_p99_deg,
-      "dir99 " + fmt(s.angle_error_p99_deg) + " deg > " + fmt(b.direction_p99_deg) + " deg");
-  return out;
 }
 
 // The file form leaves out `seconds` (this run's wall time of the budgeted bake): the same

@@ -7,10 +7,10 @@
 // Across ranks (SweepOptions::communicator) every step is shared: bakes and evaluations split
 // their work over all ranks, each configuration's timing runs on one rank (they take turns)
 // and is broadcast; rank 0 keeps the tally of what each rank did.
-#include "evaluation/sweep.h"
+#include "recipe/sweep.h"
 #include "errors.h"
 #include "evaluation/query_timing.h"
-#include "haptic_box/box_cache.h"
+#include "recipe/box_cache.h"
 #include "codec/codec.h"
 #include "parallel/byte_buffer.h"
 #include <algorithm>
