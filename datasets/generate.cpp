@@ -26,6 +26,16 @@ int main(int argc, char** argv) {
     };
     save(hb::make_bumpy_sphere(), "bumpy_sphere.off");
     save(hb::make_chess_piece(), "chess_piece.off");
+    // A second smooth, finely tessellated, quasi-convex object (issue 37): an ellipsoid of
+    // semi-axes 1, 0.75, 0.6 with gentle bumps (2% of the radius, 3 around a great circle),
+    // 327,680 triangles.
+    hb::BumpySphereOptions gentle;
+    gentle.bump_amplitude = 0.02f;
+    gentle.bump_frequency = 3;
+    hb::TriangleMesh ellipsoid = hb::make_bumpy_sphere(gentle);
+    for (hb::Vec3& p : ellipsoid.positions) p = p.cwiseProduct(hb::Vec3(1.f, 0.75f, 0.6f));
+    ellipsoid.compute_vertex_normals();
+    save(ellipsoid, "smooth_ellipsoid.off");
   } catch (const std::exception& e) {
     std::cerr << "hb_generate_datasets: " << e.what() << "\n";
     return 1;

@@ -24,6 +24,45 @@ double median_query_ns(const ContactQuery& query, const std::vector<Segment>& pr
   return quantile(per_batch, 0.5);
 }
 
+namespace {
+// Nanoseconds per query of one batch.
+double batch_ns(const ContactQuery& q, const Segment* probes, std::size_t count, const ForceLaw& law, bool many,
+                std::vector<Contact>& out) {
+  volatile float sink = 0.f;
+  float acc = 0.f;
+  const auto t0 = std::chrono::steady_clock::now();
+  if (many) {
+    q.query_many(probes, count, law, out.data());
+    for (std::size_t i = 0; i < count; ++i) acc += out[i].depth;
+  } else {
+    for (std::size_t i = 0; i < count; ++i) acc += q.query(probes[i], law).depth;
+  }
+  const auto t1 = std::chrono::steady_clock::now();
+  sink = sink + acc;
+  return std::chrono::duration<double, std::nano>(t1 - t0).count() / double(count);
+}
+} // namespace
+
+PairedTiming paired_query_ns(const ContactQuery& a, const ContactQuery& b, const std::vector<Segment>& probes,
+                             const ForceLaw& law, bool many, int rounds, std::size_t batch) {
+  PairedTiming t;
+  if (probes.empty() || batch == 0) return t;
+  std::vector<double> per_a, per_b;
+  std::vector<Contact> out(std::min(batch, probes.size()));
+  for (int r = 0; r < rounds; ++r)
+    for (std::size_t begin = 0; begin < probes.size(); begin += batch) {
+      const std::size_t count = std::min(probes.size(), begin + batch) - begin;
+      // Alternate which goes first, so neither always runs on the other's warm cache.
+      const bool a_first = ((begin / batch) + std::size_t(r)) % 2 == 0;
+      if (a_first) per_a.push_back(batch_ns(a, probes.data() + begin, count, law, many, out));
+      per_b.push_back(batch_ns(b, probes.data() + begin, count, law, many, out));
+      if (!a_first) per_a.push_back(batch_ns(a, probes.data() + begin, count, law, many, out));
+    }
+  t.a_ns = quantile(per_a, 0.5);
+  t.b_ns = quantile(per_b, 0.5);
+  return t;
+}
+
 double median_query_many_ns(const ContactQuery& query, const std::vector<Segment>& probes,
                             const ForceLaw& law, int rounds, std::size_t batch) {
   if (probes.empty() || batch == 0) return 0.0;

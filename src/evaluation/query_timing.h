@@ -17,6 +17,18 @@ double median_query_ns(const ContactQuery& query, const std::vector<Segment>& pr
 double median_query_many_ns(const ContactQuery& query, const std::vector<Segment>& probes,
                             const ForceLaw& law, int rounds = 5, std::size_t batch = 1000);
 
+/// Two answerers timed against each other on the calling thread, as fairly as a shared
+/// machine allows: their batches alternate (a, b, a, b, ...), so a burst of load falls on
+/// both, and each side's median per-batch average is returned. One query at a time
+/// (`many` false) or query_many() per batch.
+struct PairedTiming {
+  double a_ns = 0.0, b_ns = 0.0;
+  /// a's time over b's (above 1: a is slower).
+  double ratio() const noexcept { return b_ns > 0.0 ? a_ns / b_ns : 0.0; }
+};
+PairedTiming paired_query_ns(const ContactQuery& a, const ContactQuery& b, const std::vector<Segment>& probes,
+                             const ForceLaw& law, bool many = false, int rounds = 5, std::size_t batch = 1000);
+
 /// Latency of single queries: every query of every round timed on its own (a steady-clock
 /// read on each side, the clock's own median cost subtracted), then quantiles over all of
 /// them. What a 1 kHz loop must budget for is the tail, not the median.

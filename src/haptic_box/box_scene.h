@@ -217,7 +217,12 @@ public:
   /// What a budgeted bake chose and achieved (BudgetReport::present false otherwise); stored
   /// in box files from version 6.
   const BudgetReport& budget_report() const { return budget_; }
-  void set_budget_report(BudgetReport report) { budget_ = std::move(report); }
+  /// Also takes the route the report names (BudgetReport::answer "embree": the bake measured
+  /// Embree faster than the surface cells on this scene), when the scene can take it.
+  void set_budget_report(BudgetReport report) {
+    budget_ = std::move(report);
+    if (budget_.answer == "embree" && surface_ && surface_->normal_map_side() == 0) set_route(SceneRoute::embree);
+  }
   /// Bytes the exact refinement adds (0 without it): every box's triangle ids and the
   /// surface the boxes share (once).
   std::size_t refinement_bytes() const;

@@ -23,13 +23,21 @@ ErrorBudget parse_budget(const std::string& spec) {
   ErrorBudget b;
   const std::string all = trim(spec);
   if (all.empty() || all == "default") return b;
+  const auto on_off = [](const std::string& value, const std::string& what) {
+    const std::string v = trim(value);
+    if (v == "on" || v == "1" || v == "yes") return true;
+    if (v == "off" || v == "0" || v == "no") return false;
+    throw InvalidInput(what + ": '" + v + "' is not on or off");
+  };
   std::stringstream ss(all);
   std::string item;
   while (std::getline(ss, item, ',')) {
     const auto eq = item.find('=');
     if (eq == std::string::npos)
-      throw InvalidInput("--budget: '" + item + "' is not key=value (keys: p95, median, dir99, agree, felt)");
+      throw InvalidInput("--budget: '" + item + "' is not key=value (keys: felt, raw, memory, relative, p95, median, dir99, agree)");
     const std::string key = trim(item.substr(0, eq)), value = item.substr(eq + 1);
+    const bool relative_key = key == "p95" || key == "median" || key == "dir99" || key == "agree";
+    if (relative_key) b.relative = true;
     if (key == "p95")
       b.force_p95 = number(value, "--budget p95 (percent)", 0.0, 1e4) / 100.0;
     else if (key == "median")
@@ -38,18 +46,28 @@ ErrorBudget parse_budget(const std::string& spec) {
       b.direction_p99_deg = number(value, "--budget dir99 (degrees)", 0.0, 180.0);
     else if (key == "agree")
       b.agreement = number(value, "--budget agree (percent)", 0.0, 100.0) / 100.0;
+    else if (key == "relative")
+      b.relative = on_off(value, "--budget relative");
+    else if (key == "raw")
+      b.raw = on_off(value, "--budget raw");
+    else if (key == "memory")
+      b.raw_memory_bytes = number(value, "--budget memory (MB, the raw box's cap)", 0.001, 1e7) * 1e6;
     else if (key == "felt")
       b.perceptible = number(value, "--budget felt (percent of probes perceptibly different)", 0.0, 100.0) / 100.0;
     else
-      throw InvalidInput("--budget: unknown key '" + key + "' (keys: p95, median, dir99, agree, felt)");
+      throw InvalidInput("--budget: unknown key '" + key + "' (keys: felt, raw, memory, relative, p95, median, dir99, agree)");
   }
   return b;
 }
 
 std::string budget_spec(const ErrorBudget& b) {
-  return "p95=" + fmt(b.force_p95 * 100.0) + ",median=" + fmt(b.force_median * 100.0) +
-         ",dir99=" + fmt(b.direction_p99_deg) + ",agree=" + fmt(b.agreement * 100.0) +
-         ",felt=" + fmt(b.perceptible * 100.0);
+  std::string spec = "felt=" + fmt(b.perceptible * 100.0);
+  if (b.relative)
+    spec += ",p95=" + fmt(b.force_p95 * 100.0) + ",median=" + fmt(b.force_median * 100.0) +
+            ",dir99=" + fmt(b.direction_p99_deg) + ",agree=" + fmt(b.agreement * 100.0);
+  if (!b.raw) spec += ",raw=off";
+  if (b.raw_memory_bytes != ErrorBudget{}.raw_memory_bytes) spec += ",memory=" + fmt(b.raw_memory_bytes / 1e6);
+  return spec;
 }
 
 // The file form leaves out `seconds` (this run's wall time of the budgeted bake): the same
@@ -83,6 +101,10 @@ std::string BudgetReport::serialize() const {
   }
   for (const PieceChoice& p : pieces)
     os << "piece=" << p.cell << " " << p.n << " " << (p.refine ? 1 : 0) << " " << p.probes << "\n";
+  if (!answer.empty()) os << "answer=" << answer << "\n";
+  for (const RawTried& t : raw_tried)
+    os << "raw_tried=" << t.m << " " << t.n << " " << t.bytes << " " << t.probes_felt << " " << t.ticks_felt << " "
+       << t.outcome << "\n";
   return os.str();
 }
 
@@ -143,6 +165,27 @@ BudgetReport BudgetReport::parse(const std::string& text) {
       p.probes = std::uint32_t(number(probes, "budget report piece probes", 0, 4e9));
       r.pieces.push_back(p);
       if (r.pieces.size() > (1u << 20)) throw InvalidInput("budget report: too many pieces");
+    } else if (key == "answer") {
+      if (v != "raw" && v != "cells" && v != "embree" && v != "boxes")
+        throw InvalidInput("budget report: answer '" + v.substr(0, 40) + "' is not raw, cells, embree or boxes");
+      r.answer = v;
+    } else if (key == "raw_tried") {
+      std::stringstream ps(v);
+      std::string m, n, bytes, probes, ticks, outcome, extra;
+      if (!(ps >> m >> n >> bytes >> probes >> ticks >> outcome) || (ps >> extra))
+        throw InvalidInput("budget report: raw_tried line '" + v.substr(0, 80) + "' is not 'm n bytes probes ticks outcome'");
+      RawTried t;
+      t.m = int(number(m, "budget report raw_tried m", 2, 4096));
+      t.n = int(number(n, "budget report raw_tried n", 2, 4096));
+      t.bytes = number(bytes, "budget report raw_tried bytes", 0, 1e15);
+      t.probes_felt = number(probes, "budget report raw_tried probes", 0, 1);
+      t.ticks_felt = number(ticks, "budget report raw_tried ticks", -1, 1);
+      if (outcome != "kept" && outcome != "felt-probes" && outcome != "felt-slides" && outcome != "over-cap" &&
+          outcome != "slower")
+        throw InvalidInput("budget report: raw_tried outcome '" + outcome.substr(0, 40) + "' unknown");
+      t.outcome = outcome;
+      r.raw_tried.push_back(t);
+      if (r.raw_tried.size() > 64) throw InvalidInput("budget report: too many raw_tried lines");
     } else
       throw InvalidInput("budget report: unknown key '" + key.substr(0, 40) + "'");
   }
@@ -164,6 +207,16 @@ std::string BudgetReport::summary() const {
                                 : "; shading fitted, normals within " + fmt(surface_normal_median_deg) +
                                       " deg median, " + fmt(surface_normal_p99_deg) + " p99")
        << ")";
+  if (answer == "raw") os << "; answered by the raw haptic box (no triangle test)";
+  else if (answer == "embree") os << "; answered by exact Embree (faster than the surface cells here)";
+  else if (answer == "cells") os << "; answered exactly by the surface cells";
+  if (answer_ns > 0 && exact_ns > 0)
+    os << " (" << answer_ns << " ns a query against exact's " << exact_ns << " at bake time)";
+  for (const RawTried& t : raw_tried) {
+    os << "; raw m" << t.m << " n" << t.n << " " << t.outcome << ": " << t.probes_felt * 100.0 << "% of probes";
+    if (t.ticks_felt >= 0) os << ", " << t.ticks_felt * 100.0 << "% of slide ticks";
+    os << " felt, " << t.bytes / 1e6 << " MB";
+  }
   if (surface_rejected > 0)
     os << "; a surface simplified to " << surface_rejected << " triangles missed the budget ("
        << (surface_rejected_why.empty() ? std::string("fresh probes or T2's trajectories") : surface_rejected_why) << "): "

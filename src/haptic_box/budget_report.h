@@ -13,6 +13,10 @@ namespace hb {
 /// default probes of hb::sample_probes). The defaults are what a hand cannot tell apart: the
 /// force-magnitude JND is about 7%.
 struct ErrorBudget {
+  /// Whether the relative criteria below (p95, median, dir99, agree) bind too. Off by default:
+  /// the perceptual criterion alone decides (a 20% error on a 0.01 N force is felt by no one);
+  /// naming any of their keys in the spec turns them on, as in files baked before 2026-12-06.
+  bool relative = false;
   double force_p95 = 0.07;        ///< 95th percentile of the relative force error, fraction.
   double force_median = 0.02;     ///< median relative force error, fraction.
   double direction_p99_deg = 10;  ///< 99th percentile of the force direction error, degrees.
@@ -21,12 +25,18 @@ struct ErrorBudget {
   /// exact (hb::perceive at the nominal thresholds, forces at the workspace's scale: the
   /// model fitted to an 80 mm workspace at 1500 N/m). 0.1 % by default.
   double perceptible = 0.001;
+  /// Whether the bake first tries the paper's raw haptic box (recipe/raw_box_trial.h).
+  bool raw = true;
+  /// The raw box's memory at most, bytes (the memory cap).
+  double raw_memory_bytes = 48e6;
 };
 
-/// Parses "p95=7,median=2,dir99=10,agree=99.5,felt=0.1" (percent, percent, degrees, percent,
-/// percent of probes perceptibly different): any
-/// subset of the keys, in any order, the others at their defaults; "default" or "" is the
-/// default budget. Throws hb::InvalidInput naming the bad key or value.
+/// Parses "felt=0.1,raw=on,memory=48" (percent of probes and slide ticks perceptibly
+/// different; whether to try the raw box; its memory cap in MB) and the relative criteria
+/// "p95=7,median=2,dir99=10,agree=99.5" (percent, percent, degrees, percent; naming any turns
+/// them on, `relative=on` all at their defaults): any subset of the keys, in any order, the
+/// others at their defaults; "default" or "" is the default budget. Throws hb::InvalidInput
+/// naming the bad key or value.
 ErrorBudget parse_budget(const std::string& spec);
 /// The spec parse_budget reads back (every key).
 std::string budget_spec(const ErrorBudget& budget);
@@ -55,6 +65,23 @@ struct BudgetReport {
   double seconds = 0;               ///< the whole budgeted bake.
   std::uint32_t candidates_tried = 0;
   std::vector<PieceChoice> pieces;  ///< one per box, in box order.
+  /// What answers the scene's queries: "raw" (the paper's haptic box, no triangle test),
+  /// "cells" (exact, the surface cells' triangles) or "embree" (exact Embree over the scene's
+  /// surface, where it was measured faster than the cells at bake time). Empty in files
+  /// written before 2026-12-06 (the cells).
+  std::string answer;
+  /// The raw samplings tried (recipe/raw_box_trial.h): "m n bytes probes_felt ticks_felt
+  /// outcome" with outcome one of kept, felt-probes, felt-slides, over-cap, slower.
+  struct RawTried {
+    int m = 0, n = 0;
+    double bytes = 0, probes_felt = 0, ticks_felt = -1;
+    std::string outcome;
+  };
+  std::vector<RawTried> raw_tried;
+  /// This run's query times at bake time, one core, random order, ns (not in the file form,
+  /// like `seconds`: timings differ run to run): the answer chosen and exact Embree's; the
+  /// cells route's and Embree's over the scene's surface when both were timed.
+  double answer_ns = 0, exact_ns = 0, cells_ns = 0, embree_ns = 0;
   /// The surface the boxes were baked and refined against (BudgetRecipe::simplify):
   /// surface_triangles 0 when it is the full mesh; otherwise the simplified triangle count,
   /// the deviation bound asked (model units) and the deviation measured from the full surface

@@ -39,16 +39,19 @@
 //     (BudgetRecipe::keep_triangle_ids): that route never reads them.
 //  6. The scene is measured on fresh probes (BudgetRecipe::check_seed) and the figures are
 //     recorded in BudgetReport (the box file, `info`, `--json`, the report).
+#include "contact/perceptible.h"
 #include "contact/workspace.h"
 #include "errors.h"
 #include "stopwatch.h"
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
+#include "evaluation/query_timing.h"
 #include "evaluation/stability_suite.h"
 #include "evaluation/surface_deviation.h"
 #include "exact/exact_query.h"
 #include "mesh/decimation.h"
 #include "recipe/bake_recipe.h"
+#include "recipe/raw_box_trial.h"
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <algorithm>
@@ -56,6 +59,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 namespace hb {
@@ -90,12 +94,30 @@ Tuning tune_probes(const TriangleMesh& mesh, const ExactQuery& exact, std::size_
   return t;
 }
 
-// A probe fails when the contact flags differ or the force misses the budget's p95 or dir99.
+// What a hand tells apart, and the device's force limit the forces are judged clamped to.
+const PerceptualThresholds kFelt{};
+constexpr double kFeltMaxForce = WorkspaceOptions::kDefaultMaxForce;
+
+bool felt(const Contact& exact, const Contact& approx) {
+  return perceive(exact, approx, kFelt, kFeltMaxForce).perceptible();
+}
+
+// A probe fails when a hand would feel the difference or, with the relative criteria, when
+// the contact flags differ or the force misses the budget's p95 or dir99.
 bool probe_fails(const Contact& exact, const Contact& approx, const ErrorBudget& b) {
+  if (felt(exact, approx)) return true;
+  if (!b.relative) return false;
   if (exact.contact != approx.contact) return true;
   if (!exact.contact) return false;
   return relative_force_error(exact, approx) > b.force_p95 || angle_error_degrees(exact, approx) > b.direction_p99_deg;
 }
+
+// The budget as allowances with a margin for the probes the choice does not see (the fresh
+// check, the scene's own routing).
+constexpr double kMargin = 0.8;
+
+// The stability suite's T2 metric of the perceptual budget along trajectories.
+constexpr const char* kFeltTicks = "share of contact ticks perceptibly different";
 
 // How often a simplified surface that missed the budget is simplified again within a quarter
 // of its bound before the full mesh is baked (bake_to_budget).
@@ -111,6 +133,12 @@ bool off_surface(const Contact& exact, const Contact& approx, float tolerance) {
 } // namespace
 
 double simplification_bound(const ErrorBudget& budget) {
+  if (!budget.relative) {
+    // A quarter of the depth whose force at the workspace's stiffness is the force threshold:
+    // k d <= F0 / 4 with the model's diagonal shown at the device's workspace diagonal.
+    const WorkspaceOptions w;
+    return 0.25 * kFelt.floor_n / (w.stiffness_n_per_m * w.diagonal_m);
+  }
   const double depth = double(ProbeOptions{}.max_depth_fraction);
   return 0.25 * depth * std::max(0.0, std::min(0.1 * (1.0 - budget.agreement), 0.02 * budget.force_p95));
 }
@@ -119,10 +147,107 @@ namespace {
 // `exact`: the full mesh's exact answers, built on first use and kept for the next attempt.
 BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source,
                                          std::unique_ptr<ExactQuery>& exact);
+
+BudgetReport::RawTried raw_tried_record(const RawCandidate& c) {
+  BudgetReport::RawTried t;
+  t.m = c.m, t.n = c.n, t.bytes = c.bytes, t.probes_felt = c.probes_felt, t.ticks_felt = c.ticks_felt;
+  t.outcome = c.outcome == "kept"                  ? "kept"
+              : c.outcome == "felt on probes"      ? "felt-probes"
+              : c.outcome == "felt on slides"      ? "felt-slides"
+              : c.outcome == "over the memory cap" ? "over-cap"
+                                                   : "slower";
+  return t;
 }
+
+// Step R, before any other: the paper's raw haptic box over the whole model (raw_box_trial.h)
+// when no hand could tell it from exact on the tuning probes, along T2's slides and on the
+// fresh probes, it fits the memory cap and answers faster than exact. Otherwise nothing, and
+// `rep` holds what was tried (raw_tried, its stages' seconds).
+std::optional<BakeResult> bake_raw(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source,
+                                   std::unique_ptr<ExactQuery>& exact_built, BudgetReport& rep) {
+  const BudgetRecipe& br = recipe.budget;
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto stage_done = [&](const std::string& name, double seconds) {
+    rep.add_stage(name, seconds);
+    if (br.on_stage) br.on_stage(name, seconds);
+  };
+  auto tstage = std::chrono::steady_clock::now();
+  if (!exact_built) {
+    exact_built = std::make_unique<ExactQuery>(mesh, BvhBuild::quick);
+    stage_done("exact_build", seconds_since(tstage));
+  }
+  const ExactQuery& exact = *exact_built;
+  const float diagonal = mesh.bounds().diagonal();
+  const ForceLaw law = make_workspace(diagonal).law();
+  tstage = std::chrono::steady_clock::now();
+  const Tuning tuning = tune_probes(mesh, exact, br.probes, br.tuning_seed, law);
+  stage_done("tuning_probes", seconds_since(tstage));
+  SourceInfo src = source;
+  if (src.triangles == 0) src.triangles = mesh.triangle_count();
+  if (!(src.diagonal > 0.f)) src.diagonal = diagonal;
+  RawTrialOptions o;
+  o.allowed_share = kMargin * br.budget.perceptible;
+  o.memory_cap_bytes = br.budget.raw_memory_bytes;
+  o.thresholds = kFelt;
+  o.max_force_n = kFeltMaxForce;
+  o.codec_bound = raw_codec_bound(law, kFelt, double(diagonal));
+  o.on_stage = stage_done;
+  RawTrial trial = try_raw_boxes(mesh, exact, tuning.probes, tuning.exact, law, recipe.options, src, o);
+  for (const RawCandidate& c : trial.tried) rep.raw_tried.push_back(raw_tried_record(c));
+  if (!trial.scene) return std::nullopt;
+  // The fresh probes, as every budgeted bake's.
+  tstage = std::chrono::steady_clock::now();
+  ProbeOptions fresh;
+  fresh.seed = br.check_seed;
+  const std::vector<Segment> check = sample_probes(mesh, br.probes, fresh);
+  const ComparisonStats checked = compare_queries(*trial.scene, exact, check, law, diagonal);
+  stage_done("fresh_check", seconds_since(tstage));
+  if (!meets_budget(checked, br.budget)) {
+    rep.raw_tried.back().outcome = "felt-probes";  // on the fresh ones
+    rep.raw_tried.back().probes_felt = checked.perceptible_share;
+    return std::nullopt;
+  }
+  BudgetReport r = rep;
+  r.present = true;
+  r.budget = br.budget;
+  r.met = true;
+  r.probes = check.size();
+  r.seed = br.check_seed;
+  r.agreement = checked.contact_agreement;
+  r.force_median = checked.force_error_median;
+  r.force_p95 = checked.force_error_p95;
+  r.direction_p99_deg = checked.angle_error_p99_deg;
+  r.perceptible = checked.perceptible_share;
+  r.tuning_probes = tuning.probes.size();
+  r.tuning_seed = br.tuning_seed;
+  r.tuning_agreement = r.agreement;  // the tuning probes judged only what a hand feels
+  r.candidates_tried = std::uint32_t(trial.tried.size());
+  const RawCandidate& kept = trial.tried.back();
+  r.pieces.push_back({0.f, kept.n, false, std::uint32_t(tuning.probes.size())});
+  r.answer = "raw";
+  r.answer_ns = kept.box_ns;
+  r.exact_ns = kept.exact_ns;
+  r.seconds = seconds_since(t0);
+  BakeResult result;
+  result.scene = std::move(*trial.scene);
+  result.scene.set_budget_report(std::move(r));
+  result.stats = trial.stats;
+  for (const HapticBox& box : result.scene.boxes()) result.stats.table_bytes += box.raw_table_bytes();
+  return result;
+}
+} // namespace
 
 BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source) {
   std::unique_ptr<ExactQuery> exact;  // the same for every attempt: built once
+  if (recipe.options.communicator && recipe.options.communicator->size() > 1)
+    throw InvalidInput("bake: a budgeted bake runs in one process (give the sampling options for a bake across ranks)");
+  if (mesh.triangle_count() == 0) throw InvalidInput("bake: mesh has no triangles");
+  // The raw box first, for a model of its own pieces (a piece file or given ids name
+  // pieces the raw box, one box over the whole model, would not keep).
+  BudgetReport raw_rep;
+  const bool own_pieces = recipe.pieces.kind == PiecesRecipe::Kind::automatic || recipe.pieces.kind == PiecesRecipe::Kind::none;
+  if (recipe.budget.budget.raw && own_pieces)
+    if (std::optional<BakeResult> raw = bake_raw(mesh, recipe, source, exact, raw_rep)) return std::move(*raw);
   BakeResult result = bake_to_budget_on_one_surface(mesh, recipe, source, exact);
   double seconds = 0.0;          // the attempts' time, counted into the bake's
   std::uint64_t rejected = 0;    // the last surface that missed
@@ -148,13 +273,24 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     tighter.budget.simplify_deviation = 0.25 * tried.surface_bound / diagonal;
     result = bake_to_budget_on_one_surface(mesh, tighter, source, exact);
   }
+  BudgetReport rep = result.scene.budget_report();
   if (rejected > 0) {
-    BudgetReport rep = result.scene.budget_report();
     rep.surface_rejected = rejected;
     rep.surface_rejected_why = why;
     rep.seconds += seconds;
-    result.scene.set_budget_report(std::move(rep));
   }
+  // What the raw trial tried, and its time, first in the record.
+  rep.raw_tried = raw_rep.raw_tried;
+  for (const auto& [name, secs] : raw_rep.stage_seconds) rep.seconds += secs;
+  auto stages = raw_rep.stage_seconds;
+  for (const auto& st : rep.stage_seconds) {
+    bool merged = false;
+    for (auto& mine : stages)
+      if (mine.first == st.first) mine.second += st.second, merged = true;
+    if (!merged) stages.push_back(st);
+  }
+  rep.stage_seconds = std::move(stages);
+  result.scene.set_budget_report(std::move(rep));
   return result;
 }
 
@@ -376,6 +512,7 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
   struct Counts {
     double bytes = 0;
     double disagree = 0, both = 0, over_median = 0, over_p95 = 0, over_dir = 0;
+    double felt = 0;         // perceptibly different (the budget's perceptual criterion)
     double off_surface = 0;  // answered off the surface (not a budget figure: see step 3)
   };
   const float surface_tolerance = float(br.surface_tolerance) * diagonal;
@@ -414,6 +551,7 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
         const Contact& a = answers[i];
         const Contact& e = tuning.exact[i];
         n.off_surface += off_surface(e, a, surface_tolerance) ? 1 : 0;
+        n.felt += felt(e, a) ? 1 : 0;
         if (a.contact != e.contact) {
           ++n.disagree;
           continue;
@@ -432,13 +570,13 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
   };
   // The budget as allowances over all owned probes, with a margin for the probes the choice
   // does not see (the fresh check, the scene's own routing); failures add up over pieces.
-  constexpr double kMargin = 0.8;
   const auto totals = [&]() {
     Counts t;
     for (std::size_t p = 0; p < pieces; ++p) {
       const Counts& n = counts[p][choice[p]];
       t.disagree += n.disagree, t.both += n.both, t.over_median += n.over_median;
       t.over_p95 += n.over_p95, t.over_dir += n.over_dir, t.off_surface += n.off_surface;
+      t.felt += n.felt;
     }
     return t;
   };
@@ -450,7 +588,9 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
     const double allow_median = 0.5 * t.both * (br.budget.force_median > 0 ? 1.0 : 0.0);
     const double allow_p95 = kMargin * 0.05 * t.both, allow_dir = kMargin * 0.01 * t.both;
     const auto over = [](double count, double allow) { return count > allow ? (count - allow) / std::max(allow, 1.0) : 0.0; };
-    return over(t.disagree, allow_disagree) + over(t.over_median, kMargin * allow_median) + over(t.over_p95, allow_p95) +
+    const double felt_excess = over(t.felt, kMargin * br.budget.perceptible * owned_probes);
+    if (!br.budget.relative) return felt_excess;
+    return felt_excess + over(t.disagree, allow_disagree) + over(t.over_median, kMargin * allow_median) + over(t.over_p95, allow_p95) +
            over(t.over_dir, allow_dir);
   };
 
@@ -552,6 +692,7 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
           u.disagree += to.disagree - from.disagree, u.both += to.both - from.both;
           u.over_median += to.over_median - from.over_median, u.over_p95 += to.over_p95 - from.over_p95;
           u.over_dir += to.over_dir - from.over_dir;
+          u.felt += to.felt - from.felt;
           const double gain = (now - excess(u)) / std::max(1.0, to.bytes - from.bytes);
           if (gain > best_gain) best_gain = gain, best_p = p, best_v = v;
         }
@@ -620,6 +761,33 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
   // it answers keeps no ids (the same answers; the fresh check below is this scene's).
   if (!br.keep_triangle_ids && scene.answering_route() == SceneRoute::cells) scene = scene.without_triangle_ids();
 
+  // Step 5b. Never slower than exact: a scene the cells answer on the full mesh's surface is
+  // timed against Embree over that surface (the same contacts), one core, random order, on
+  // the tuning probes, and takes the faster route (Embree wins on small and medium meshes,
+  // the cells at 800K triangles and up; docs/speed.md). A simplified surface keeps the cells
+  // (only they shade through its normal map); it is timed against exact on the full mesh.
+  tstage = std::chrono::steady_clock::now();
+  const std::vector<Segment> timed(tuning.probes.begin(),
+                                   tuning.probes.begin() + std::min<std::size_t>(tuning.probes.size(), 5000));
+  if (scene.answering_route() == SceneRoute::cells && scene.surface() && scene.surface()->normal_map_side() == 0) {
+    BoxScene by_embree = scene;
+    by_embree.set_route(SceneRoute::embree);
+    const PairedTiming t = paired_query_ns(scene, by_embree, timed, law);
+    rep.cells_ns = t.a_ns, rep.embree_ns = t.b_ns;
+    rep.exact_ns = t.b_ns;
+    rep.answer_ns = std::min(t.a_ns, t.b_ns);
+    if (t.a_ns > t.b_ns) scene = std::move(by_embree);
+  } else {
+    const PairedTiming t = paired_query_ns(scene, exact, timed, law);
+    rep.answer_ns = t.a_ns, rep.exact_ns = t.b_ns;
+  }
+  const SceneRoute answering = scene.answering_route();
+  rep.answer = answering == SceneRoute::embree ? "embree"
+               : answering == SceneRoute::cells ? "cells"
+               : scene.refines()               ? "boxes"
+                                               : "raw";
+  stage_done("route_timing", seconds_since(tstage));
+
   tstage = std::chrono::steady_clock::now();
   // Fresh probes: what the scene achieves on probes the choice never saw.
   ProbeOptions fresh;
@@ -661,7 +829,12 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
     miss.precision(3);
     std::size_t failures = 0;  // metrics the box fails and exact passes
     for (const StabilityMetric& m : run_stability_suite(scene, mesh, so).metrics) {
-      if (m.pass || !m.exact_pass) continue;
+      if (!br.budget.relative) {
+        // The perceptual budget: the share of slide ticks a hand would feel, nothing else.
+        if (m.metric.rfind(kFeltTicks, 0) != 0 || m.box <= br.budget.perceptible) continue;
+      } else if (m.pass || !m.exact_pass) {
+        continue;
+      }
       if (++failures <= 3)
         miss << (failures > 1 ? "; " : "T2's trajectories: ") << m.metric << " " << m.box << " (exact " << m.exact << ")";
     }

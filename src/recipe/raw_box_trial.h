@@ -1,0 +1,72 @@
+#pragma once
+// The budgeted bake's first question: can the paper's raw haptic box serve this model so
+// that no hand could tell it from exact? One box over the whole model, sampled coarse to fine,
+// its table block-coded within a bound derived from the force threshold and the stiffness,
+// is judged in the perceptual currency on the tuning probes and along the stability suite's
+// slides (T2), then timed against exact Embree. The first sampling that nobody could feel,
+// that fits the memory cap and that answers faster than exact is kept; a detailed model stops
+// at the first sampling (most of its probes are felt), so asking costs one coarse bake.
+#include "contact/contact.h"
+#include "contact/perceptible.h"
+#include "haptic_box/bake.h"
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hb {
+
+class ExactQuery;
+
+/// One raw sampling: m position points a box face edge, n directional points.
+struct RawSampling {
+  int m = 0, n = 0;
+};
+
+/// What the trial needs from the budget and the workspace.
+struct RawTrialOptions {
+  /// Coarse to fine; the trial stops at the first that is kept, or that cannot be beaten
+  /// by a finer one (over the memory cap, slower than exact, or felt on most probes).
+  std::vector<RawSampling> samplings = {{16, 8}, {24, 12}, {32, 16}};
+  double allowed_share = 0.0008;        ///< perceptibly different share allowed (probes and ticks).
+  double hopeless_share = 0.2;          ///< felt on more probes: a detailed model, stop.
+  double memory_cap_bytes = 48e6;       ///< the raw scene's memory, at most.
+  PerceptualThresholds thresholds;      ///< what a hand tells apart.
+  double max_force_n = 8.0;             ///< forces judged clamped to the device's.
+  /// The block codec's bound as a fraction of the box diagonal (0: no codec); see
+  /// raw_codec_bound().
+  float codec_bound = 0.f;
+  bool slides = true;                   ///< also judge along T2's slides.
+  std::function<void(const std::string&, double)> on_stage;  ///< each step's seconds.
+};
+
+/// The codec bound (fraction of a box's diagonal) whose worst position error makes a force
+/// error of at most half the force threshold F0 at the workspace's stiffness: k d <= F0 / 2,
+/// d = bound x box diagonal x metres per unit.
+float raw_codec_bound(const ForceLaw& law, const PerceptualThresholds& thresholds, double box_diagonal);
+
+/// One sampling tried.
+struct RawCandidate {
+  int m = 0, n = 0;
+  double bytes = 0;          ///< the scene's memory (coded tables).
+  double probes_felt = 0;    ///< share of the tuning probes perceptibly different.
+  double ticks_felt = -1;    ///< share of T2's slide ticks (-1: not judged).
+  double box_ns = 0, exact_ns = 0;  ///< one query, random order, one core (0: not timed).
+  std::string outcome;       ///< "kept", "felt on probes", "felt on slides", "over the memory cap", "slower than exact".
+  /// "m16 n8 felt on probes: 4.5% of probes" style line.
+  std::string describe() const;
+};
+
+struct RawTrial {
+  std::optional<BoxScene> scene;  ///< the kept raw scene, if any.
+  std::vector<RawCandidate> tried;
+  BakeStats stats;                ///< of the kept scene's ray casting.
+};
+
+/// Runs the trial on the full mesh `mesh` (one box, no pieces), against `exact` (its exact
+/// answers `exact_answers` on `probes` at `law`). `base` gives the bake's other options.
+RawTrial try_raw_boxes(const TriangleMesh& mesh, const ExactQuery& exact, const std::vector<Segment>& probes,
+                       const std::vector<Contact>& exact_answers, const ForceLaw& law, const BakeOptions& base,
+                       const SourceInfo& source, const RawTrialOptions& options);
+
+} // namespace hb
