@@ -180,7 +180,7 @@ BudgetReport BudgetReport::parse(const std::string& text) {
       t.bytes = number(bytes, "budget report raw_tried bytes", 0, 1e15);
       t.probes_felt = number(probes, "budget report raw_tried probes", 0, 1);
       t.ticks_felt = number(ticks, "budget report raw_tried ticks", -1, 1);
-      if (outcome != "kept" && outcome != "felt-probes" && outcome != "felt-slides" && outcome != "over-cap" &&
+      if (outcome != "kept" && outcome != "serves" && outcome != "felt-probes" && outcome != "felt-slides" && outcome != "over-cap" &&
           outcome != "slower")
         throw InvalidInput("budget report: raw_tried outcome '" + outcome.substr(0, 40) + "' unknown");
       t.outcome = outcome;

@@ -66,12 +66,14 @@ struct BudgetReport {
   std::uint32_t candidates_tried = 0;
   std::vector<PieceChoice> pieces;  ///< one per box, in box order.
   /// What answers the scene's queries: "raw" (the paper's haptic box, no triangle test),
-  /// "cells" (exact, the surface cells' triangles) or "embree" (exact Embree over the scene's
+  /// "boxes" (boxes refining from their triangle ids), "cells" (exact, the surface cells'
+  /// triangles) or "embree" (exact Embree over the scene's
   /// surface, where it was measured faster than the cells at bake time). Empty in files
   /// written before 2026-12-06 (the cells).
   std::string answer;
   /// The raw samplings tried (recipe/raw_box_trial.h): "m n bytes probes_felt ticks_felt
-  /// outcome" with outcome one of kept, felt-probes, felt-slides, over-cap, slower.
+  /// outcome" with outcome one of kept, serves (a finer one that a cheaper kept one made
+  /// unneeded), felt-probes, felt-slides, over-cap, slower.
   struct RawTried {
     int m = 0, n = 0;
     double bytes = 0, probes_felt = 0, ticks_felt = -1;

@@ -115,6 +115,10 @@ struct BudgetRecipe {
   /// before/after figures (`bake --full-search`). Off: such a scene is baked at the coarsest
   /// sampling only, unless the coarsest blend alone already meets the budget.
   bool full_search = false;
+  /// Time the surface cells against Embree over the scene's surface at bake time and answer
+  /// by the faster (BudgetReport::answer; budgeted_bake.cpp step 5b). False: the cells
+  /// always (tests of the cells' machinery; a decision that depends on no clock).
+  bool fastest_exact = true;
   /// Called on the bake's thread as each stage's work finishes (name as in
   /// BudgetReport::stage_seconds, the seconds of that part): `bake` prints them as it goes, so
   /// a bake of minutes shows where it is spending them before it ends. May be empty.

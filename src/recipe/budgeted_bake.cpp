@@ -151,7 +151,7 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
 BudgetReport::RawTried raw_tried_record(const RawCandidate& c) {
   BudgetReport::RawTried t;
   t.m = c.m, t.n = c.n, t.bytes = c.bytes, t.probes_felt = c.probes_felt, t.ticks_felt = c.ticks_felt;
-  t.outcome = c.outcome == "kept"                  ? "kept"
+  t.outcome = c.outcome == "kept" || c.outcome == "serves" ? c.outcome
               : c.outcome == "felt on probes"      ? "felt-probes"
               : c.outcome == "felt on slides"      ? "felt-slides"
               : c.outcome == "over the memory cap" ? "over-cap"
@@ -203,8 +203,8 @@ std::optional<BakeResult> bake_raw(const TriangleMesh& mesh, const BakeRecipe& r
   const ComparisonStats checked = compare_queries(*trial.scene, exact, check, law, diagonal);
   stage_done("fresh_check", seconds_since(tstage));
   if (!meets_budget(checked, br.budget)) {
-    rep.raw_tried.back().outcome = "felt-probes";  // on the fresh ones
-    rep.raw_tried.back().probes_felt = checked.perceptible_share;
+    for (BudgetReport::RawTried& t : rep.raw_tried)
+      if (t.outcome == "kept") t.outcome = "felt-probes", t.probes_felt = checked.perceptible_share;  // the fresh ones
     return std::nullopt;
   }
   BudgetReport r = rep;
@@ -222,7 +222,8 @@ std::optional<BakeResult> bake_raw(const TriangleMesh& mesh, const BakeRecipe& r
   r.tuning_seed = br.tuning_seed;
   r.tuning_agreement = r.agreement;  // the tuning probes judged only what a hand feels
   r.candidates_tried = std::uint32_t(trial.tried.size());
-  const RawCandidate& kept = trial.tried.back();
+  const RawCandidate& kept =
+      *std::find_if(trial.tried.begin(), trial.tried.end(), [](const RawCandidate& c) { return c.outcome == "kept"; });
   r.pieces.push_back({0.f, kept.n, false, std::uint32_t(tuning.probes.size())});
   r.answer = "raw";
   r.answer_ns = kept.box_ns;
@@ -769,7 +770,8 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
   tstage = std::chrono::steady_clock::now();
   const std::vector<Segment> timed(tuning.probes.begin(),
                                    tuning.probes.begin() + std::min<std::size_t>(tuning.probes.size(), 5000));
-  if (scene.answering_route() == SceneRoute::cells && scene.surface() && scene.surface()->normal_map_side() == 0) {
+  if (br.fastest_exact && scene.answering_route() == SceneRoute::cells && scene.surface() &&
+      scene.surface()->normal_map_side() == 0) {
     BoxScene by_embree = scene;
     by_embree.set_route(SceneRoute::embree);
     const PairedTiming t = paired_query_ns(scene, by_embree, timed, law);

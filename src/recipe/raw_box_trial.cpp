@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <memory>
 #include <sstream>
 
 namespace hb {
@@ -51,8 +52,9 @@ RawTrial try_raw_boxes(const TriangleMesh& mesh, const ExactQuery& exact, const 
   const auto stage = [&](const char* name, double seconds) {
     if (o.on_stage) o.on_stage(name, seconds);
   };
-  for (const RawSampling& s : o.samplings) {
-    RawCandidate c;
+  std::unique_ptr<ExactQuery> timing_reference;  // exact with its best tree, as `bench` times it
+  // One sampling judged: its scene when every test passed (outcome "kept").
+  const auto judge = [&](const RawSampling& s, RawCandidate& c) -> std::optional<BoxScene> {
     c.m = s.m, c.n = s.n;
     auto t = std::chrono::steady_clock::now();
     BakeOptions bo = base;
@@ -84,43 +86,69 @@ RawTrial try_raw_boxes(const TriangleMesh& mesh, const ExactQuery& exact, const 
     });
     c.probes_felt = probes.empty() ? 1.0 : double(felt) / double(probes.size());
     stage("raw_probes", seconds_since(t));
-    if (c.probes_felt > o.allowed_share) {
-      c.outcome = "felt on probes";
-      trial.tried.push_back(c);
-      if (c.probes_felt > o.hopeless_share) break;  // a detailed model: no sampling will do
-      continue;
-    }
-    if (c.bytes > o.memory_cap_bytes) {
-      c.outcome = "over the memory cap";
-      trial.tried.push_back(c);
-      break;  // a finer sampling is larger still
-    }
+    if (c.probes_felt > o.allowed_share) return c.outcome = "felt on probes", std::nullopt;
+    if (c.bytes > o.memory_cap_bytes) return c.outcome = "over the memory cap", std::nullopt;
     if (o.slides) {
       t = std::chrono::steady_clock::now();
       c.ticks_felt = slide_ticks_felt(scene, mesh, exact);
       stage("raw_slides", seconds_since(t));
-      if (c.ticks_felt > o.allowed_share) {
-        c.outcome = "felt on slides";
-        trial.tried.push_back(c);
-        continue;
-      }
+      if (c.ticks_felt > o.allowed_share) return c.outcome = "felt on slides", std::nullopt;
     }
     t = std::chrono::steady_clock::now();
+    if (!timing_reference) timing_reference = std::make_unique<ExactQuery>(mesh, BvhBuild::best);
     const std::vector<Segment> timed(probes.begin(), probes.begin() + std::min<std::size_t>(probes.size(), 5000));
-    const PairedTiming speed = paired_query_ns(scene, exact, timed, law);
+    const PairedTiming speed = paired_query_ns(scene, *timing_reference, timed, law);
     c.box_ns = speed.a_ns, c.exact_ns = speed.b_ns;
     stage("raw_timing", seconds_since(t));
-    if (!(c.box_ns < c.exact_ns)) {
-      c.outcome = "slower than exact";
-      trial.tried.push_back(c);
-      break;  // a finer sampling is not faster
-    }
+    if (!(c.box_ns < c.exact_ns)) return c.outcome = "slower than exact", std::nullopt;
     c.outcome = "kept";
-    trial.tried.push_back(c);
-    trial.scene = std::move(scene);
     trial.stats = stats;
-    break;
+    return scene;
+  };
+  const std::size_t count = o.samplings.size();
+  if (count == 0) return trial;
+  // The coarsest first, a cheap screen: a detailed model is felt on most probes there and no
+  // sampling will do. Then the finest (the most accurate the cap allows: when it fails along
+  // the slides or on the probes, the coarser ones fail too), and only when it serves, the
+  // cheaper ones, coarse to fine, the first that serves kept.
+  std::vector<std::size_t> order{0};
+  if (count > 1) order.push_back(count - 1);
+  for (std::size_t k = 1; k + 1 < count; ++k) order.push_back(k);
+  std::optional<BoxScene> finest;
+  RawCandidate finest_candidate;
+  for (std::size_t step = 0; step < order.size(); ++step) {
+    const std::size_t k = order[step];
+    RawCandidate c;
+    std::optional<BoxScene> scene = judge(o.samplings[k], c);
+    trial.tried.push_back(c);
+    if (step == 0) {
+      if (scene) {
+        trial.scene = std::move(scene);  // the coarsest serves: nothing is cheaper
+        return trial;
+      }
+      if (c.probes_felt > o.hopeless_share || c.outcome == "slower than exact") return trial;
+      continue;
+    }
+    if (step == 1) {
+      if (!scene) return trial;  // the finest does not serve: no sampling does
+      if (count == 2) {
+        trial.scene = std::move(scene);
+        return trial;
+      }
+      finest = std::move(scene);
+      finest_candidate = c;
+      trial.tried.back().outcome = "serves";  // kept unless a cheaper one serves too
+      continue;
+    }
+    if (scene) {
+      trial.scene = std::move(scene);
+      return trial;
+    }
   }
+  // No cheaper sampling served: the finest is kept.
+  for (RawCandidate& c : trial.tried)
+    if (c.outcome == "serves") c.outcome = "kept";
+  trial.scene = std::move(finest);
   return trial;
 }
 

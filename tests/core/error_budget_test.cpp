@@ -47,14 +47,41 @@ TEST(ErrorBudgetTest, MissesNameEveryFigureOutsideTheBudget) {
   s.force_error_median = 0.01;
   s.force_error_p95 = 0.05;
   s.angle_error_p99_deg = 3;
-  EXPECT_TRUE(meets_budget(s, ErrorBudget{}));
+  const ErrorBudget relative = parse_budget("relative=on");
+  ASSERT_TRUE(relative.relative);
+  EXPECT_TRUE(meets_budget(s, relative));
   s.force_error_p95 = 0.08;
   s.angle_error_p99_deg = 11;
-  EXPECT_FALSE(meets_budget(s, ErrorBudget{}));
-  const std::string why = budget_misses(s, ErrorBudget{});
+  EXPECT_FALSE(meets_budget(s, relative));
+  const std::string why = budget_misses(s, relative);
   EXPECT_NE(why.find("p95"), std::string::npos) << why;
   EXPECT_NE(why.find("dir99"), std::string::npos) << why;
   EXPECT_EQ(why.find("agreement"), std::string::npos) << why;
+}
+
+// The default budget is what a hand feels: relative figures far outside the old criteria
+// pass while no probe is perceptibly different, and one felt probe too many misses it.
+TEST(ErrorBudgetTest, TheDefaultBudgetIsThePerceptualOneAndRelativeKeysTurnTheOldCriteriaOn) {
+  ComparisonStats s;
+  s.contact_agreement = 0.9;
+  s.force_error_median = 0.3;
+  s.force_error_p95 = 0.9;
+  s.angle_error_p99_deg = 40;
+  s.perceptible_share = 0.0;
+  const ErrorBudget b;
+  EXPECT_FALSE(b.relative);
+  EXPECT_TRUE(meets_budget(s, b)) << budget_misses(s, b);
+  s.perceptible_share = 0.002;
+  EXPECT_NE(budget_misses(s, b).find("felt 0.2% > 0.1%"), std::string::npos) << budget_misses(s, b);
+  EXPECT_EQ(budget_spec(b), "felt=0.1");
+  EXPECT_TRUE(parse_budget("p95=7").relative);
+  EXPECT_EQ(parse_budget(budget_spec(parse_budget("p95=7,felt=0.2"))).force_p95, 0.07);
+  const ErrorBudget capped = parse_budget("raw=off,memory=20");
+  EXPECT_FALSE(capped.raw);
+  EXPECT_EQ(capped.raw_memory_bytes, 20e6);
+  EXPECT_EQ(parse_budget(budget_spec(capped)).raw_memory_bytes, 20e6);
+  EXPECT_THROW(parse_budget("raw=maybe"), InvalidInput);
+  EXPECT_THROW(parse_budget("memory=0"), InvalidInput);
 }
 
 TEST(ErrorBudgetTest, ReportRoundTripsAndCorruptTextThrows) {
@@ -95,6 +122,7 @@ BakeRecipe two_piece_recipe(const test::TwoSpheres& two, std::size_t probes) {
   recipe.pieces.kind = PiecesRecipe::Kind::given;
   recipe.pieces.given = two.piece;
   recipe.budget.probes = probes;
+  recipe.budget.fastest_exact = false;  // the cells answer, whatever a clock says (EmbreeRouteTest: the other route)
   return recipe;
 }
 
