@@ -1,4 +1,4 @@
-// hapticbox bake MESH -o BOX.hbox [--budget p95=7,median=2,dir99=10,agree=99.5,felt=0.1] [--json]: the default,
+// hapticbox bake MESH -o BOX.hbox [--budget felt=0.1,raw=on,memory=48] [--json]: the default,
 // budgeted bake (hb::default_recipe); or, with any of -m, -n, --cell, --refine, a bake of exactly
 // that sampling: [-m 32] [-n 16] [--refine] [--cell C [--max-m 64]] [--pieces auto|FILE|none]
 // [--codec none|haar|block] [--max-error E | --ratio R].
@@ -68,9 +68,10 @@ void add_bake_command(CLI::App& app) {
                 "(2 or 4 bytes more per sample, 64 per triangle)");
   cmd->add_option("--budget", opts->budget,
                   "Error budget the default bake meets at the lowest cost it finds, against exact Embree: "
-                  "p95=PERCENT,median=PERCENT,dir99=DEGREES,agree=PERCENT,felt=PERCENT (any subset; default "
-                  "p95=7,median=2,dir99=10,agree=99.5,felt=0.1: at most 0.1% of probes perceptibly different, forces "
-                  "with the model fitted to an 80 mm workspace at 1500 N/m). Not with -m, -n, --cell or --refine, "
+                  "felt=PERCENT (default 0.1: at most 0.1% of probes and of slide ticks perceptibly different, forces "
+                  "with the model fitted to an 80 mm workspace at 1500 N/m), raw=on|off (try the paper's raw box "
+                  "first), memory=MB (the raw box's cap, 48), and the relative criteria p95=PERCENT,median=PERCENT,"
+                  "dir99=DEGREES,agree=PERCENT (off unless named). Not with -m, -n, --cell or --refine, "
                   "which bake one given sampling");
   cmd->add_option("--cache", opts->cache, "Box cache directory (shared with the window, sweep and report)")
       ->capture_default_str();

@@ -58,10 +58,10 @@ TEST_F(CliTest, DefaultBakeMeetsTheBudgetAndInfoReportsIt) {
   ASSERT_TRUE(b["budget"].is_object()) << bake.out;
   EXPECT_TRUE(b["budget"]["met"].get<bool>()) << bake.out;
   EXPECT_NE(b["budget"]["fresh_seed"], b["budget"]["tuning_seed"]);
-  EXPECT_EQ(b["budget"]["budget"].get<std::string>().find("agree=99"), std::string("p95=7,median=2,dir99=10,").size());
+  EXPECT_EQ(b["budget"]["budget"].get<std::string>().find("agree=99"), std::string("felt=0.1,p95=7,median=2,dir99=10,").size());
   const Result info = run("info " + path("budget.hbox"));
   ASSERT_EQ(info.code, 0) << info.err;
-  EXPECT_NE(info.out.find("budget: p95=7"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("budget: felt=0.1,p95=7"), std::string::npos) << info.out;
   EXPECT_NE(info.out.find("met on 20000 fresh probes"), std::string::npos) << info.out;
   const auto ij = nlohmann::json::parse(run("info " + path("budget.hbox") + " --json").out);
   EXPECT_TRUE(ij["budget_report"]["met"].get<bool>());
