@@ -20,6 +20,8 @@ if grep -rEn '#\s*include\s*[<"](vtk|Q[A-Z]|qt|libusb)' src; then
   echo "test.sh: src/ (the core) includes a VTK, Qt or libusb header" >&2
   exit 1
 fi
+# Rooms: no folder-level include cycle in src/, and device/ includes no evaluation/ header.
+bash scripts/folder_edges.sh --check
 
 (cd build && xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --output-on-failure -j2 --timeout 600)
 

@@ -22,142 +22,166 @@
 #include <optional>
 #include <unistd.h>
 
+namespace {
+
+// The default bake's tuning folded into --budget: the keys of the error budget itself
+// (hb::parse_budget) and those of the simplified surface (hb::BudgetRecipe).
+struct BudgetArgs {
+  std::string budget;  // the error budget's keys, for hb::parse_budget
+  std::optional<bool> simplify;
+  std::optional<double> simplify_above, deviation, shading_map;
+  bool simplify_keys() const { return simplify || simplify_above || deviation || shading_map; }
+};
+
+BudgetArgs parse_budget_args(const std::string& spec) {
+  BudgetArgs a;
+  const auto pass = [&a](const std::string& key) {
+    return [&a, key](const std::string& v, const std::string&) { a.budget += (a.budget.empty() ? "" : ",") + key + "=" + v; };
+  };
+  const auto number = [](std::optional<double>& field, double lo, double hi) {
+    return [&field, lo, hi](const std::string& v, const std::string& what) {
+      field = hb::cli::spec_number_or_usage(v, what, lo, hi);
+    };
+  };
+  if (hb::spec_trim(spec) == "default") return a;
+  hb::cli::parse_spec("--budget", spec,
+                      {{"p95", pass("p95")},
+                       {"median", pass("median")},
+                       {"dir99", pass("dir99")},
+                       {"agree", pass("agree")},
+                       {"felt", pass("felt")},
+                       {"raw", pass("raw")},
+                       {"memory", pass("memory")},
+                       {"relative", pass("relative")},
+                       {"simplify", [&a](const std::string& v, const std::string& what) {
+                          bool on = true;
+                          hb::cli::flag_key("simplify", on).set(v, what);
+                          a.simplify = on;
+                        }},
+                       {"simplify-above", number(a.simplify_above, 0, 1e15)},
+                       {"deviation", number(a.deviation, 0.0, 0.099)},
+                       {"shading-map", number(a.shading_map, -1, 64)}});
+  return a;
+}
+
+} // namespace
+
 void add_bake_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("bake", "Bake a haptic box file from a mesh");
   struct Opts {
     hb::cli::ModelArgs model;
     std::string mesh, out;
     hb::BakeRecipe recipe;
-    std::string pieces;
+    hb::cli::PiecesArgs pieces;
     std::string codec = "none";
+    bool bound_given = false;
     std::string budget;
-    std::string cache = hb::default_box_cache_dir();
-    bool no_cache = false;
+    std::string cache;
     bool json = false;
     bool strict = false;
-    bool simplify = hb::BudgetRecipe{}.simplify;
-    bool keep_ids = false;
-    bool full_search = false;
-    double simplify_shading = 0.0;
-    std::string simplify_shading_check = "fit";
-    std::size_t simplify_above = hb::BudgetRecipe{}.simplify_above;
-    int shading_map = 0;
-    double simplify_deviation = 0.0;
   };
   auto opts = std::make_shared<Opts>();
-  hb::cli::add_model_options(*cmd, opts->model);
+  const hb::BakeRecipe d;
+  const hb::BudgetRecipe db;
   cmd->add_option("MESH", opts->mesh, "Input mesh")->required();
   cmd->add_option("-o,--output", opts->out, "Output box file (.hbox)")->required();
-  cmd->add_option("-m", opts->recipe.options.params.m, "Position points per PBB face edge")
-      ->check(CLI::Range(2, 1024))->capture_default_str();
-  cmd->add_option("-n", opts->recipe.options.params.n, "Directional points per sub-block face edge")
-      ->check(CLI::Range(2, 256))->capture_default_str();
-  cmd->add_option("--cell", opts->recipe.options.density.cell,
-                  "Per-box m: target position-cell size, fraction of the mesh diagonal (0: -m for every box)")
-      ->check(hb::cli::finite_range(0.0, 1.0))->capture_default_str();
-  cmd->add_option("--max-m", opts->recipe.options.density.max_m, "Largest per-box m with --cell")
-      ->check(CLI::Range(2, 1024))->capture_default_str();
-  cmd->add_option("--padding", opts->recipe.options.obb.padding, "PBB padding, fraction of its diagonal")
-      ->check(hb::cli::finite_range(0.0, 1.0))->capture_default_str();
-  hb::cli::add_pieces_options(*cmd, opts->pieces, opts->recipe);
-  cmd->add_option("--codec", opts->codec, "Table codec: none, haar (the paper's) or block (ours)")
-      ->check(CLI::IsMember({"none", "haar", "block"}))->capture_default_str();
-  auto* max_error = hb::cli::add_codec_bound_options(*cmd, opts->recipe.codec, &opts->strict);
+  cmd->add_option("--budget", opts->budget,
+                  "The default bake meets this error budget at the lowest cost it finds, against exact Embree: "
+                  "felt=PERCENT (default 0.1: at most 0.1% of probes and of slide ticks perceptibly different, forces "
+                  "with the model fitted to an 80 mm workspace at 1500 N/m); raw=on|off (default on: try the paper's "
+                  "raw box first) and memory=MB (its cap, default 48); the relative criteria p95=PERCENT,"
+                  "median=PERCENT,dir99=DEGREES,agree=PERCENT (off unless named); and for meshes above simplify-above=N "
+                  "triangles (default " + std::to_string(db.simplify_above) + "), simplify=on|off (default on: bake "
+                  "against the mesh simplified within deviation=F of the diagonal, default 0: a quarter of the depth whose force is the force threshold, 8.3e-5; "
+                  "shaded by a normal map of side shading-map=S, default 0: automatic, -1: none; the full mesh "
+                  "instead when it misses the budget)")
+      ->type_name("KEY=VALUE,...")
+      ->group("Default bake");
+  hb::cli::add_pieces_options(*cmd, opts->pieces, "auto for the default bake, none for one sampling");
+  hb::cli::add_codec_option(*cmd, opts->codec, opts->recipe.codec, &opts->strict, &opts->bound_given,
+                            {"none", "haar", "block"},
+                            "Table codec: none, haar (the paper's) or block (ours) (default block for the default bake, "
+                            "none for one sampling); then max-error=E (bound on |t1 - t0| / box diagonal, default " +
+                                hb::spec_format(d.codec.max_error) +
+                                ") or ratio=R (the tightest bound reaching this compression ratio; with strict: fail, "
+                                "exit 1, when the codec cannot reach it), normal-bits=B (octahedral bits per "
+                                "coordinate, 6-14; default " + std::to_string(d.codec.normal_bits) + ")")
+      ->type_name("NAME[,KEY=VALUE...]");
+  const std::string one = "One sampling (instead of the default bake)";
+  cmd->add_option("-m", opts->recipe.options.params.m, "Position points per PBB face edge (default 32)")
+      ->check(CLI::Range(2, 1024))->group(one);
+  cmd->add_option("-n", opts->recipe.options.params.n, "Directional points per sub-block face edge (default 16)")
+      ->check(CLI::Range(2, 256))->group(one);
+  cmd->add_option_function<std::string>(
+         "--cell",
+         [opts](const std::string& spec) {
+           std::string cell;
+           hb::cli::parse_spec("--cell", spec, {hb::cli::number_key("max-m", opts->recipe.options.density.max_m, 2, 1024)}, &cell);
+           opts->recipe.options.density.cell = float(hb::cli::spec_number_or_usage(cell, "--cell", 0.0, 1.0));
+         },
+         "Per-box m: the position-cell size, fraction of the mesh diagonal (default 0: -m for every box), then "
+         "max-m=M: the largest per-box m (default " + std::to_string(d.options.density.max_m) + ")")
+      ->type_name("C[,max-m=M]")
+      ->group(one);
   cmd->add_flag("--refine", opts->recipe.options.refine,
                 "Store the triangle each sample hit and the mesh's triangles: queries then refine the blend exactly "
-                "(2 or 4 bytes more per sample, 64 per triangle)");
-  cmd->add_option("--budget", opts->budget,
-                  "Error budget the default bake meets at the lowest cost it finds, against exact Embree: "
-                  "felt=PERCENT (default 0.1: at most 0.1% of probes and of slide ticks perceptibly different, forces "
-                  "with the model fitted to an 80 mm workspace at 1500 N/m), raw=on|off (try the paper's raw box "
-                  "first), memory=MB (the raw box's cap, 48), and the relative criteria p95=PERCENT,median=PERCENT,"
-                  "dir99=DEGREES,agree=PERCENT (off unless named). Not with -m, -n, --cell or --refine, "
-                  "which bake one given sampling");
-  cmd->add_option("--cache", opts->cache, "Box cache directory (shared with the window, sweep and report)")
-      ->capture_default_str();
-  cmd->add_flag("--no-cache", opts->no_cache, "Bake even when the cache holds the scene, and store nothing");
-  cmd->add_flag("--simplify,!--no-simplify", opts->simplify,
-                "Default bake (on by default): above 200,000 triangles, bake and refine against the mesh simplified "
-                "within the budget's deviation (3.75e-6 of the diagonal by default), shaded by a normal map of the "
-                "full mesh's normals; judged against the full mesh, and the full mesh baked instead when it misses "
-                "the budget. --no-simplify: always the full mesh");
-  cmd->add_option("--simplify-shading", opts->simplify_shading,
-                  "With --simplify: the shading check's bound while simplifying (degrees; 0: none with the normal map, "
-                  "else 0.3 x the budget's dir99 with the fit check, 0.2 x with the ring check; 180: no check)")
-      ->check(hb::cli::finite_range(0.0, 180.0))->capture_default_str();
-  cmd->add_option("--simplify-shading-check", opts->simplify_shading_check,
-                  "With --simplify: fit (a collapse is legal when each new face's own corner normals fit the full "
-                  "mesh's shading of the vertices it replaced within the bound) or ring (a removed vertex's "
-                  "neighbours' normals within the bound of its own: the first check). Either way the simplified "
-                  "surface's corner normals are then fitted to the full mesh's shading")
-      ->check(CLI::IsMember({"fit", "ring"}))->capture_default_str();
-  cmd->add_option("--simplify-deviation", opts->simplify_deviation,
-                  "With --simplify: the deviation bound, fraction of the mesh diagonal (0: the budget's share, "
-                  "3.75e-6 of the diagonal for the default budget)")
-      ->check(CLI::Range(0.0, 0.099))->capture_default_str();
-  cmd->add_option("--shading-map", opts->shading_map,
-                  "With --simplify: the side of the normal map that carries the full mesh's shading over each "
-                  "simplified triangle (0: automatic, the power of two above sqrt(full / simplified triangles), at "
-                  "most 16; -1: none, corner normals fitted per face and the shading check while simplifying)")
-      ->check(CLI::Range(-1, 64))->capture_default_str();
-  cmd->add_option("--simplify-above", opts->simplify_above, "With --simplify: simplify meshes of more triangles than this")
-      ->capture_default_str();
-  cmd->add_flag("--keep-ids", opts->keep_ids,
-                "Default bake: keep every refined box's triangle ids (2-4 bytes a sample) although the surface "
-                "cells answer without them, to compare --route boxes on the same bake");
-  cmd->add_flag("--full-search", opts->full_search,
-                "Default bake: bake every piece at every sampling and search them all although the surface cells "
-                "answer the scene exactly at the coarsest (the bakes before 2026-12-04; for before/after figures)");
+                "(2 or 4 bytes more per sample, 64 per triangle)")
+      ->group(one);
+  hb::cli::add_cache_option(*cmd, opts->cache);
   cmd->add_flag("--json", opts->json, "Print a JSON summary");
-  cmd->callback([opts, max_error, cmd] {
+  hb::cli::add_model_options(*cmd, opts->model);
+  cmd->callback([opts, cmd] {
     hb::cli::check_output_file(opts->out);  // an unwritable -o fails now, not after the bake
     // Without a sampling option the bake is the default, budgeted one (hb::default_recipe):
     // the pieces, codec and seam options given still apply to it.
     const bool sampling_given = cmd->count("-m") + cmd->count("-n") + cmd->count("--cell") + cmd->count("--refine") > 0;
-    if (sampling_given && (cmd->count("--simplify") || cmd->count("--simplify-shading") || cmd->count("--simplify-above") ||
-                           cmd->count("--simplify-shading-check") || cmd->count("--shading-map") ||
-                           cmd->count("--simplify-deviation")))
-      throw hb::cli::UsageError("bake: --simplify and its options belong to the default bake; drop -m, -n, --cell and --refine, or them");
-    if (sampling_given && opts->full_search)
-      throw hb::cli::UsageError("bake: --full-search belongs to the default bake (-m, -n, --cell and --refine bake one sampling); drop it");
-    if (sampling_given && opts->keep_ids)
-      throw hb::cli::UsageError("bake: --keep-ids belongs to the default bake (a --refine bake always keeps its ids); drop it");
+    const BudgetArgs budget_args = parse_budget_args(opts->budget);
+    // Measurement-only switches of the default bake (HB_MEASURE, cli_support.h).
+    const auto full_search = hb::cli::measurement("full-search"), keep_ids = hb::cli::measurement("keep-ids"),
+               shading = hb::cli::measurement("simplify-shading"),
+               shading_check = hb::cli::measurement("simplify-shading-check");
+    if (sampling_given && (budget_args.simplify_keys() || shading || shading_check))
+      throw hb::cli::UsageError("bake: --budget's simplify keys belong to the default bake; drop -m, -n, --cell and --refine, or them");
+    if (sampling_given && full_search)
+      throw hb::cli::UsageError("bake: full-search (HB_MEASURE) belongs to the default bake (-m, -n, --cell and --refine bake one sampling); drop it");
+    if (sampling_given && keep_ids)
+      throw hb::cli::UsageError("bake: keep-ids (HB_MEASURE) belongs to the default bake (a --refine bake always keeps its ids); drop it");
     if (sampling_given && cmd->count("--budget"))
       throw hb::cli::UsageError("bake: --budget chooses -n, --cell and --refine per piece; drop -m, -n, --cell and --refine, or --budget");
     if (!sampling_given) {
       hb::BakeRecipe r = hb::default_recipe();
       try {
-        r.budget.budget = hb::parse_budget(opts->budget);
+        r.budget.budget = hb::parse_budget(budget_args.budget);
       } catch (const hb::InvalidInput& e) {
         throw hb::cli::UsageError(std::string("bake: ") + e.what());
       }
-      r.budget.simplify = opts->simplify;
-      r.budget.simplify_shading_deg = opts->simplify_shading;
-      r.budget.simplify_shading_check = opts->simplify_shading_check == "ring" ? hb::DecimationOptions::ShadingCheck::ring
-                                                                               : hb::DecimationOptions::ShadingCheck::fit;
-      r.budget.simplify_above = opts->simplify_above;
-      r.budget.shading_map_side = opts->shading_map;
-      r.budget.simplify_deviation = opts->simplify_deviation;
-      r.budget.keep_triangle_ids = opts->keep_ids;
-      r.budget.full_search = opts->full_search;
-      if (cmd->count("--max-m")) r.options.density.max_m = opts->recipe.options.density.max_m;
-      if (cmd->count("--padding")) r.options.obb.padding = opts->recipe.options.obb.padding;
-      if (cmd->count("--threshold")) r.pieces.automatic.threshold = opts->recipe.pieces.automatic.threshold;
-      if (cmd->count("--max-pieces")) r.pieces.automatic.max_pieces = opts->recipe.pieces.automatic.max_pieces;
-      if (cmd->count("--seam-rings")) r.seams.rings = opts->recipe.seams.rings;
-      if (cmd->count("--seam-cells")) r.seams.cells = opts->recipe.seams.cells;
-      if (!cmd->count("--pieces")) opts->pieces = "auto";
+      if (budget_args.simplify) r.budget.simplify = *budget_args.simplify;
+      if (budget_args.simplify_above) r.budget.simplify_above = std::size_t(*budget_args.simplify_above);
+      if (budget_args.deviation) r.budget.simplify_deviation = *budget_args.deviation;
+      if (budget_args.shading_map) r.budget.shading_map_side = int(*budget_args.shading_map);
+      if (shading) r.budget.simplify_shading_deg = hb::cli::spec_number_or_usage(*shading, "HB_MEASURE simplify-shading", 0.0, 180.0);
+      if (shading_check) {
+        if (*shading_check != "fit" && *shading_check != "ring")
+          throw hb::cli::UsageError("HB_MEASURE simplify-shading-check: '" + *shading_check + "' is not fit or ring");
+        r.budget.simplify_shading_check = *shading_check == "ring" ? hb::DecimationOptions::ShadingCheck::ring
+                                                                   : hb::DecimationOptions::ShadingCheck::fit;
+      }
+      r.budget.keep_triangle_ids = keep_ids.has_value();
+      r.budget.full_search = full_search.has_value();
+      if (cmd->count("--cell")) r.options.density.max_m = opts->recipe.options.density.max_m;
+      if (!opts->pieces.given) opts->pieces.spec = "auto";
       if (!cmd->count("--codec")) opts->codec = "block";
-      if (*max_error || opts->recipe.codec.ratio > 0.f) {
+      if (opts->bound_given) {
         r.codec.max_error = opts->recipe.codec.max_error;
         r.codec.ratio = opts->recipe.codec.ratio;
       }
       r.pieces.automatic.progress = opts->recipe.pieces.automatic.progress;
       opts->recipe = r;
     }
+    opts->pieces.apply_tuning(opts->recipe);
     opts->recipe.codec.codec = hb::parse_codec(opts->codec);
-    if (opts->recipe.codec.codec == hb::CodecId::none && (*max_error || opts->recipe.codec.ratio > 0.f))
-      throw hb::cli::UsageError("bake: --max-error and --ratio need --codec haar or block");
+    if (opts->recipe.codec.codec == hb::CodecId::none && opts->bound_given)
+      throw hb::cli::UsageError("bake: --codec's max-error and ratio need the codec haar or block");
     const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh, opts->model);
     hb::SourceInfo source{opts->mesh, hb::cli::hash_model(opts->mesh, opts->model), mesh.triangle_count(), mesh.bounds().diagonal()};
     opts->recipe.options.progress = hb::cli::terminal_progress("baking");
@@ -174,9 +198,9 @@ void add_bake_command(CLI::App& app) {
     opts->recipe.options.density.min_m = std::min(opts->recipe.options.density.min_m, opts->recipe.options.density.max_m);
     hb::Communicator& comm = hb::cli::communicator();
     opts->recipe.options.communicator = &comm;  // position points dealt across the ranks of an MPI job
-    hb::cli::apply_pieces_spec(opts->pieces, opts->recipe, opts->model.face_ids);
+    hb::cli::apply_pieces_spec(opts->pieces.spec, opts->recipe, opts->model.face_ids);
     std::optional<hb::BoxCache> cache;
-    if (!opts->no_cache) cache.emplace(opts->cache);
+    if (!opts->cache.empty()) cache.emplace(opts->cache);
     const hb::CachedBake cached = hb::bake_cached(mesh, opts->recipe, source, cache ? &*cache : nullptr);
     if (!comm.is_root()) return;  // rank 0 holds the tables and writes the file
     const hb::BakeResult& baked = cached.result;

@@ -18,6 +18,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <unistd.h>
 
 namespace hb::cli {
@@ -133,6 +134,142 @@ CLI::Validator finite_range(double lo, double hi) {
         return {};
       },
       "FINITE in " + range);
+}
+
+double spec_number_or_usage(const std::string& text, const std::string& what, double lo, double hi) {
+  try {
+    return spec_number(text, what, lo, hi);
+  } catch (const InvalidInput& e) {
+    throw UsageError(e.what());
+  }
+}
+
+SpecKey flag_key(const std::string& key, bool& field) {
+  return {key, [&field](const std::string& v, const std::string& what) {
+            if (v.empty() || v == "1" || v == "on" || v == "yes") field = true;
+            else if (v == "0" || v == "off" || v == "no") field = false;
+            else throw UsageError(what + ": '" + v + "' is not on or off");
+          }};
+}
+
+void parse_spec(const std::string& option, const std::string& spec, const std::vector<SpecKey>& keys,
+                std::string* head) {
+  const auto known = [&] {
+    std::string k;
+    for (const SpecKey& key : keys) k += (k.empty() ? "" : ", ") + key.key;
+    return k;
+  };
+  std::stringstream ss(spec);
+  std::string item;
+  bool first = true;
+  while (std::getline(ss, item, ',')) {
+    item = spec_trim(item);
+    const auto eq = item.find('=');
+    const std::string key = spec_trim(item.substr(0, eq)), value = eq == std::string::npos ? "" : item.substr(eq + 1);
+    const auto it = std::find_if(keys.begin(), keys.end(), [&](const SpecKey& k) { return k.key == key; });
+    if (it == keys.end() && first && head) {
+      *head = item;
+      first = false;
+      continue;
+    }
+    first = false;
+    if (item.empty()) continue;
+    if (it == keys.end())
+      throw UsageError(option + ": unknown key '" + key + "' (keys: " + known() + ")");
+    it->set(value, option + " " + key);
+  }
+}
+
+namespace {
+struct Measurements {
+  std::vector<std::pair<std::string, std::string>> given;
+};
+const Measurements& measurements() {
+  static const Measurements m = [] {
+    Measurements out;
+    const char* env = std::getenv("HB_MEASURE");
+    if (!env) return out;
+    std::stringstream ss(env);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+      item = spec_trim(item);
+      if (item.empty()) continue;
+      const auto eq = item.find('=');
+      const std::string name = item.substr(0, eq);
+      const auto& names = measurement_names();
+      if (std::find(names.begin(), names.end(), name) == names.end()) {
+        std::string k;
+        for (const auto& n : names) k += (k.empty() ? "" : ", ") + n;
+        throw UsageError("HB_MEASURE: unknown switch '" + name + "' (switches: " + k + ")");
+      }
+      out.given.emplace_back(name, eq == std::string::npos ? "" : item.substr(eq + 1));
+    }
+    return out;
+  }();
+  return m;
+}
+} // namespace
+
+void check_measurements() { (void)measurements(); }
+
+const std::vector<std::string>& measurement_names() {
+  // bake: the searches and shading checks kept for before/after figures; bench: the routes
+  // and the heap without the grid, the walk or huge pages; servo: the loop without priming or
+  // with another busy-wait; stability: the other depth law, safety response and ghost rule;
+  // decompose-times: each phase of an automatic decomposition on stderr.
+  static const std::vector<std::string> names = {
+      "full-search", "keep-ids",  "simplify-shading", "simplify-shading-check", "no-grid",     "refine-walk",
+      "no-huge-pages", "no-prime", "spin-us",         "depth-law",              "safety",      "unconfirmed",
+      "decompose-times"};
+  return names;
+}
+
+std::optional<std::string> measurement(const std::string& name) {
+  for (const auto& g : measurements().given)
+    if (g.first == name) return g.second;
+  return std::nullopt;
+}
+
+CLI::Option* add_codec_option(CLI::App& cmd, std::string& codec, CodecOptions& options, bool* strict,
+                              bool* bound_given, const std::vector<std::string>& allowed, const std::string& help) {
+  return cmd.add_option_function<std::string>(
+      "--codec",
+      [&codec, &options, strict, bound_given, allowed](const std::string& spec) {
+        std::string name = codec;
+        bool max_error = false, ratio = false;
+        std::vector<SpecKey> keys = {
+            {"max-error", [&](const std::string& v, const std::string& what) {
+               options.max_error = float(spec_number_or_usage(v, what, 1e-5, 0.1));
+               max_error = true;
+             }},
+            {"ratio", [&](const std::string& v, const std::string& what) {
+               options.ratio = float(spec_number_or_usage(v, what, 1.0, 1e6));
+               ratio = true;
+             }},
+            number_key("normal-bits", options.normal_bits, 6, 14)};
+        bool strict_given = false;
+        if (strict) keys.push_back(flag_key("strict", strict_given));
+        parse_spec("--codec", spec, keys, &name);
+        if (std::find(allowed.begin(), allowed.end(), name) == allowed.end()) {
+          std::string k;
+          for (const auto& a : allowed) k += (k.empty() ? "" : ", ") + a;
+          throw UsageError("--codec: '" + name + "' is not a codec (" + k + ")");
+        }
+        if (max_error && ratio) throw UsageError("--codec: max-error and ratio exclude each other (give one)");
+        if (strict) *strict = strict_given;
+        if (bound_given) *bound_given = max_error || ratio;
+        codec = name;
+      },
+      help);
+}
+
+void add_cache_option(CLI::App& cmd, std::string& dir) {
+  dir = default_box_cache_dir();
+  cmd.add_option_function<std::string>(
+         "--cache", [&dir](const std::string& d) { dir = d == "none" ? std::string() : d; },
+         "Box cache directory, shared by bake, sweep, report, field and the window (default " +
+             default_box_cache_dir() + "); none: bake without it and store nothing")
+      ->type_name("DIR|none");
 }
 
 CLI::Option* add_codec_bound_options(CLI::App& cmd, CodecOptions& options, bool* strict) {
@@ -275,7 +412,7 @@ void apply_route(BoxScene& scene, const std::string& route) {
   if (route == "auto") return;
   if (route == "boxes" && scene.refines() && !scene.has_triangle_ids())
     throw UsageError("--route boxes: this scene holds no triangle ids (the default bake drops them: the cells route "
-                     "does not read them); bake it with --keep-ids to compare the routes");
+                     "does not read them); bake it with HB_MEASURE=keep-ids to compare the routes");
   if (route == "embree") {
     try {
       scene.set_route(SceneRoute::embree);
@@ -357,11 +494,7 @@ void check_output_folder(const std::string& path) {
 namespace hb::cli {
 
 void add_model_options(CLI::App& cmd, ModelArgs& args) {
-  auto* iso = cmd.add_option("--iso", args.iso,
-                             "Volumes: iso-value of the surface, in the file's calibrated units (HU for CT); "
-                             "default: Otsu threshold (see `info`)");
-  auto* label = cmd.add_option("--label", args.label, "Volumes (label maps): the surface of the voxels with this label");
-  iso->excludes(label);
+  const std::string group = "Reading the model";
   cmd.add_option("--unit", args.unit,
                  "Length of one model unit: mm, cm, m, um, in, ft (default: the file's unit, else mm); the model is "
                  "scaled to mm")
@@ -377,26 +510,48 @@ void add_model_options(CLI::App& cmd, ModelArgs& args) {
               if (u == k) return {};
             return "unknown unit '" + unit + "' (use mm, cm, m, um, in or ft)";
           },
-          "UNIT"));
-  cmd.add_option("--smooth", args.smooth, "Volumes: windowed-sinc smoothing iterations (0: none)")
-      ->check(CLI::Range(0, 1000));
-  cmd.add_option("--target-triangles", args.target_triangles, "Volumes: decimate to about this many triangles (0: keep all)");
-  cmd.add_option("--chordal-mm", args.chordal_mm,
-                 "CAD: chordal deviation of the tessellation in mm (default: --force-tolerance / stiffness 500 N/m)")
-      ->check(CLI::NonNegativeNumber);
-  cmd.add_option("--force-tolerance", args.force_tolerance_n,
-                 "CAD: force error in N the tessellation may cause; sets the chordal deviation")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  cmd.add_flag("--accept-lost-faces", args.accept_lost_faces,
-               "CAD: keep a model some of whose faces failed to translate or tessellate (default: refuse it)");
-  cmd.add_option("--reader-timeout", args.reader_timeout_s,
-                 "Seconds a third-party reader (volumes, CAD, scenes, VTK files) may run before it is stopped "
-                 "(default: $HB_READER_TIMEOUT_S, else 120)")
-      ->check(CLI::Range(0.1, 1e6));
-  cmd.add_option("--reader-memory-mb", args.reader_memory_mb,
-                 "Megabytes of memory a third-party reader may use (default: $HB_READER_MEMORY_MB, else 8192)")
-      ->check(CLI::Range(16, 1 << 24));
+          "UNIT"))
+      ->group(group);
+  cmd.add_option_function<std::string>(
+         "--volume",
+         [&args](const std::string& spec) {
+           parse_spec("--volume", spec,
+                      {{"iso", [&args](const std::string& v, const std::string& what) {
+                          args.iso = spec_number_or_usage(v, what, -1e30, 1e30);
+                        }},
+                       {"label", [&args](const std::string& v, const std::string& what) {
+                          const double x = spec_number_or_usage(v, what, -9.2e18, 9.2e18);
+                          if (x != std::floor(x)) throw UsageError(what + ": '" + v + "' is not a whole number");
+                          args.label = long(x);
+                        }},
+                       number_key("smooth", args.smooth, 0, 1000),
+                       number_key("triangles", args.target_triangles, 0, 1e15)});
+           if (args.iso && args.label) throw UsageError("--volume: iso and label exclude each other (give one)");
+         },
+         "Volumes: iso=V (the surface's iso-value in the file's calibrated units, HU for CT; default: the Otsu "
+         "threshold, see `info`) or label=L (label maps: the voxels with this label), smooth=N (windowed-sinc "
+         "iterations, 0-1000; default 0), triangles=N (decimate to about N; default 0: keep all). Reader limits: "
+         "$HB_READER_TIMEOUT_S (default 120 s), $HB_READER_MEMORY_MB (default 8192)")
+      ->type_name("iso=V|label=L,smooth=N,triangles=N")
+      ->group(group);
+  cmd.add_option_function<std::string>(
+         "--cad",
+         [&args](const std::string& spec) {
+           parse_spec("--cad", spec,
+                      {{"chordal-mm", [&args](const std::string& v, const std::string& what) {
+                          args.chordal_mm = spec_number_or_usage(v, what, 0.0, 1e30);
+                        }},
+                       {"force-tolerance", [&args](const std::string& v, const std::string& what) {
+                          args.force_tolerance_n = spec_number_or_usage(v, what, 1e-30, 1e30);
+                        }},
+                       flag_key("accept-lost-faces", args.accept_lost_faces)});
+         },
+         "CAD (STEP, IGES): chordal-mm=D (the tessellation's chordal deviation in mm; default: force-tolerance / "
+         "stiffness 500 N/m), force-tolerance=N (the force error in N it may cause; default 0.01), "
+         "accept-lost-faces (keep a model some of whose faces failed to translate or tessellate; default: refuse "
+         "it)")
+      ->type_name("chordal-mm=D,force-tolerance=N,accept-lost-faces")
+      ->group(group);
 }
 
 #ifndef HB_WITH_VTK
@@ -420,8 +575,6 @@ hb::vtk::ModelOptions to_model_options(const ModelArgs& args) {
   options.cad.chordal_deviation_mm = args.chordal_mm;
   options.cad.force_tolerance_n = args.force_tolerance_n;
   options.cad.accept_lost_faces = args.accept_lost_faces;
-  options.reader_timeout_s = args.reader_timeout_s;
-  options.reader_memory_mb = args.reader_memory_mb;
   return options;
 }
 #endif
@@ -472,7 +625,7 @@ TriangleMesh load_mesh_unguarded(const std::string& path, const ModelArgs& args,
   if (report) *report = model.report;
   return std::move(model.mesh);
 #else
-  if (has_model_args(args)) throw UsageError("--iso, --label, --unit and the CAD options need the VTK pipelines (HB_BUILD_VTK)");
+  if (has_model_args(args)) throw UsageError("--volume, --unit and --cad need the VTK pipelines (HB_BUILD_VTK)");
   MeshReadReport local;
   TriangleMesh mesh = read_mesh(path, &local);
   for (const std::string& w : local.warnings) std::cerr << "hapticbox: warning: " << w << "\n";

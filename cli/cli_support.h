@@ -9,6 +9,9 @@
 #include "recipe/error_budget.h"
 #include "parallel/communicator.h"
 #include "progress.h"
+#include "spec_parse.h"
+#include <functional>
+#include <type_traits>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <cstdint>
@@ -52,6 +55,53 @@ std::string progress_eta_text(double elapsed_seconds, double fraction);
 /// --max-error option (to tell whether it was given).
 /// `strict` (optional): adds --strict, failing the command when --ratio's target is not met.
 CLI::Option* add_codec_bound_options(CLI::App& cmd, CodecOptions& options, bool* strict = nullptr);
+
+/// One key of a spec option ("--codec block,ratio=20,strict"): its name and what it sets from
+/// its value ("" for a bare key); `what` names the option and key for error messages.
+struct SpecKey {
+  std::string key;
+  std::function<void(const std::string& value, const std::string& what)> set;
+};
+/// Parses "[head,]key=value,key,..." given to `option`: each item sets its key (any order, any
+/// subset); `head` (when not null) receives a first item that is not one of the keys. Throws
+/// UsageError (exit 2) naming the option and the unknown key (with the known ones) or the bad
+/// value.
+void parse_spec(const std::string& option, const std::string& spec, const std::vector<SpecKey>& keys,
+                std::string* head = nullptr);
+/// hb::spec_number, its hb::InvalidInput a UsageError.
+double spec_number_or_usage(const std::string& text, const std::string& what, double lo, double hi);
+/// A key setting a number in [lo, hi] (integers for integral fields).
+template <class T>
+SpecKey number_key(const std::string& key, T& field, double lo, double hi) {
+  return {key, [&field, lo, hi](const std::string& v, const std::string& what) {
+            const double x = spec_number_or_usage(v, what, lo, hi);
+            if (std::is_integral<T>::value && x != double(static_cast<long long>(x)))
+              throw UsageError(what + ": '" + v + "' is not a whole number");
+            field = static_cast<T>(x);
+          }};
+}
+/// A key setting a flag: bare or =1/on/yes true, =0/off/no false.
+SpecKey flag_key(const std::string& key, bool& field);
+
+/// Measurement-only switches (before/after comparisons, not a user's options): read from the
+/// environment variable HB_MEASURE, one place, as "name[=value],..." (e.g.
+/// HB_MEASURE=full-search,spin-us=0). The names are listed in measurement_names(); an unknown
+/// one is a usage error. Empty optional: not given.
+std::optional<std::string> measurement(const std::string& name);
+const std::vector<std::string>& measurement_names();
+/// Reads HB_MEASURE now (main, before parsing): an unknown switch fails every command alike.
+void check_measurements();
+
+/// --codec NAME[,max-error=E|ratio=R][,normal-bits=B][,strict]: the table codec and its bound,
+/// into `codec` (name) and `options` (bound); `strict` (optional) allows the strict key,
+/// failing the command when the ratio's target is not met. `given` (optional) is set when a
+/// bound (max-error or ratio) was given. `allowed`: the codec names.
+CLI::Option* add_codec_option(CLI::App& cmd, std::string& codec, CodecOptions& options, bool* strict,
+                              bool* bound_given, const std::vector<std::string>& allowed, const std::string& help);
+
+/// --cache DIR|none: the box cache directory (default hb::default_box_cache_dir()); "none":
+/// bake without the cache and store nothing in it (`dir` is then empty).
+void add_cache_option(CLI::App& cmd, std::string& dir);
 
 /// The one scale every figure is judged at (hb::Workspace) and how differences are judged
 /// (hb::PerceptualJudge), as the options of every command that computes forces give them.
@@ -150,7 +200,7 @@ struct MeshReadReport;
 
 namespace hb::cli {
 
-/// How a model file becomes a mesh (--iso, --label, --unit, ...; see hb::vtk::ModelOptions).
+/// How a model file becomes a mesh (--unit, --volume, --cad; see hb::vtk::ModelOptions).
 /// Every command that takes a mesh takes these, so it also takes a volume, a CAD solid or a
 /// glTF/3MF/FBX/Collada scene.
 struct ModelArgs {
@@ -162,8 +212,6 @@ struct ModelArgs {
   double chordal_mm = 0.0;
   double force_tolerance_n = 0.01;
   bool accept_lost_faces = false;  ///< CAD: keep a model some of whose faces failed to translate.
-  double reader_timeout_s = 0.0;   ///< third-party readers' limits (0: environment, else defaults).
-  std::size_t reader_memory_mb = 0;
   /// Filled by load_mesh: what the loader found (format, unit, volume/CAD facts) and, for CAD
   /// solids, the face of each triangle (used by --pieces faces).
   mutable nlohmann::json facts;
@@ -175,8 +223,8 @@ struct ModelArgs {
 hb::vtk::ModelOptions to_model_options(const ModelArgs& args);
 #endif
 
-/// Adds --iso, --label, --unit, --smooth, --target-triangles, --chordal-mm, --force-tolerance,
-/// --accept-lost-faces, --reader-timeout, --reader-memory-mb.
+/// Adds --unit, --volume (iso, label, smooth, triangles) and --cad (chordal-mm, force-tolerance,
+/// accept-lost-faces). The readers' limits come from $HB_READER_TIMEOUT_S and $HB_READER_MEMORY_MB.
 void add_model_options(CLI::App& cmd, ModelArgs& args);
 
 /// Reads a model (mesh, volume, CAD, scene; in millimetres), printing the reader's warnings to

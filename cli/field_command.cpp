@@ -39,8 +39,7 @@ void add_field_command(CLI::App& app) {
     vtkIdType even = 0;
     std::uint64_t seed = 1;
     hb::cli::WorkspaceArgs workspace;
-    std::string cache = hb::default_box_cache_dir();
-    bool no_cache = false;
+    std::string cache;
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
@@ -50,9 +49,7 @@ void add_field_command(CLI::App& app) {
       ->check(CLI::Range(2, 4096));
   cmd->add_option("-n,--n", opts->params.n, "Bake one raw box of this directional density instead of the default bake")
       ->check(CLI::Range(2, 1024));
-  cmd->add_option("--cache", opts->cache, "Box cache directory (shared with bake, report and the window)")
-      ->capture_default_str();
-  cmd->add_flag("--no-cache", opts->no_cache, "Bake without the box cache and store nothing in it");
+  hb::cli::add_cache_option(*cmd, opts->cache);
   cmd->add_option("--probes", opts->probes, "Probes per point")->check(CLI::Range(1, 100000))->capture_default_str();
   cmd->add_option("--even", opts->even, "Sample N points evenly instead of the vertices")->check(CLI::Range(vtkIdType(1), vtkIdType(100000000)));
   cmd->add_option("--seed", opts->seed, "Probe seed")->capture_default_str();
@@ -77,7 +74,7 @@ void add_field_command(CLI::App& app) {
       const bool sampling_given = cmd->count("-m") + cmd->count("-n") > 0;
       hb::cli::ModelBake baked =
           hb::cli::bake_model(mesh, mesh_path, hb::cli::hash_model(mesh_path, opts->model), sampling_given,
-                              opts->params, opts->no_cache ? std::string() : opts->cache);
+                              opts->params, opts->cache);
       bake_seconds = baked.seconds;
       box_label = baked.from_cache ? baked.cache_path + " (the default bake, from the box cache)"
                   : sampling_given ? "(one raw box m" + std::to_string(opts->params.m) + " n" +

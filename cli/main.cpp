@@ -136,6 +136,7 @@ int main(int argc, char** argv) {
                   2);
   }
   try {
+    hb::cli::check_measurements();
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     // Every rank parses the same arguments and fails alike: rank 0 tells, all exit.

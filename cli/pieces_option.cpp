@@ -8,18 +8,51 @@
 
 namespace hb::cli {
 
-void add_pieces_options(CLI::App& cmd, std::string& spec, BakeRecipe& recipe) {
-  spec = "none";
-  cmd.add_option("--pieces", spec, "Pieces: none (one box), auto, faces (a CAD solid's faces), or a piece file (.txt, .ply, .vtp with a PieceId cell array)")
-      ->capture_default_str();
-  cmd.add_option("--threshold", recipe.pieces.automatic.threshold, "Auto pieces: largest pocket probability of a piece")
-      ->check(hb::cli::finite_range(0.0, 1.0))->capture_default_str();
-  cmd.add_option("--max-pieces", recipe.pieces.automatic.max_pieces, "Auto pieces: most pieces")
-      ->check(CLI::Range(1, 4096))->capture_default_str();
-  cmd.add_option("--seam-rings", recipe.seams.rings, "Least rings of seam triangles neighbouring pieces share")
-      ->check(CLI::Range(0, 64))->capture_default_str();
-  cmd.add_option("--seam-cells", recipe.seams.cells, "Seam overlap width, in position cells of each box")
-      ->check(hb::cli::finite_range(0.0, 64.0))->capture_default_str();
+void PiecesArgs::apply_tuning(BakeRecipe& recipe) const {
+  if (threshold) recipe.pieces.automatic.threshold = *threshold;
+  if (max_pieces) recipe.pieces.automatic.max_pieces = *max_pieces;
+  if (seam_rings) recipe.seams.rings = *seam_rings;
+  if (seam_cells) recipe.seams.cells = *seam_cells;
+  if (padding) recipe.options.obb.padding = *padding;
+}
+
+void add_pieces_options(CLI::App& cmd, PiecesArgs& args, const std::string& default_kind) {
+  const BakeRecipe d;
+  cmd.add_option_function<std::string>(
+         "--pieces",
+         [&args](const std::string& spec) {
+           const auto number = [](auto& field, double lo, double hi) {
+             return [&field, lo, hi](const std::string& v, const std::string& what) {
+               field = spec_number_or_usage(v, what, lo, hi);
+             };
+           };
+           const auto whole = [](std::optional<int>& field, int lo, int hi) {
+             return [&field, lo, hi](const std::string& v, const std::string& what) {
+               const double x = spec_number_or_usage(v, what, lo, hi);
+               if (x != double(int(x))) throw UsageError(what + ": '" + v + "' is not a whole number");
+               field = int(x);
+             };
+           };
+           std::string kind = args.spec;
+           parse_spec("--pieces", spec,
+                      {{"threshold", number(args.threshold, 0.0, 1.0)},
+                       {"max", whole(args.max_pieces, 1, 4096)},
+                       {"seam-rings", whole(args.seam_rings, 0, 64)},
+                       {"seam-cells", number(args.seam_cells, 0.0, 64.0)},
+                       {"padding", number(args.padding, 0.0, 1.0)}},
+                      &kind);
+           args.spec = kind;
+           args.given = true;
+         },
+         "How the mesh is cut into boxes: none (one box), auto, faces (a CAD solid's faces) or a piece file (.txt, "
+         ".ply, .vtp with a PieceId cell array) (default " + default_kind + "); then any of threshold=T (auto: "
+         "largest pocket probability of a piece; default " + spec_format(d.pieces.automatic.threshold) +
+         "), max=N (auto: most pieces; default " + std::to_string(d.pieces.automatic.max_pieces) +
+         "), seam-rings=R (least rings of seam triangles neighbouring pieces share; default " +
+         std::to_string(d.seams.rings) + "), seam-cells=C (seam overlap, position cells; default " +
+         spec_format(d.seams.cells) + "), padding=P (each box's PBB padding, fraction of its diagonal; default " +
+         spec_format(d.options.obb.padding) + ")")
+      ->type_name("KIND[,KEY=VALUE...]");
 }
 
 void apply_pieces_spec(const std::string& spec, BakeRecipe& recipe, const std::vector<std::uint32_t>& face_ids) {

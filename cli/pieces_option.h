@@ -4,14 +4,26 @@
 #include "recipe/bake_recipe.h"
 #include <CLI/CLI.hpp>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace hb::cli {
 
-/// Adds --pieces (into `spec`), --threshold, --max-pieces (into recipe.pieces.automatic),
-/// --seam-rings and --seam-cells (into recipe.seams) to a command.
-void add_pieces_options(CLI::App& cmd, std::string& spec, BakeRecipe& recipe);
+/// What --pieces gave: the kind (`spec`: none, auto, faces or a file) and the tuning keys given.
+struct PiecesArgs {
+  std::string spec = "none";
+  bool given = false;  ///< --pieces was on the command line.
+  std::optional<double> threshold, seam_cells, padding;
+  std::optional<int> max_pieces, seam_rings;
+  /// Sets the given keys in `recipe` (automatic pieces, seams, PBB padding); the others keep
+  /// the recipe's.
+  void apply_tuning(BakeRecipe& recipe) const;
+};
+
+/// Adds --pieces KIND[,threshold=T,max=N,seam-rings=R,seam-cells=C,padding=P] to a command;
+/// `default_kind` is what the command uses when it is not given (said in the help).
+void add_pieces_options(CLI::App& cmd, PiecesArgs& args, const std::string& default_kind = "none");
 
 /// Sets recipe.pieces from `spec` (hb::pieces_from_spec), keeping the automatic options,
 /// with a terminal progress bar for an automatic decomposition. "faces" gives a CAD model's

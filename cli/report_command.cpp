@@ -31,8 +31,7 @@ void add_report_command(CLI::App& app) {
     hb::cli::WorkspaceArgs workspace;
     std::vector<int> sweep_m, sweep_n;
     bool no_sweep = false;
-    std::string cache = hb::default_box_cache_dir();
-    bool no_cache = false;
+    std::string cache;
     bool no_image = false;
     bool stability = false;
     bool force = false;
@@ -57,8 +56,7 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--sweep-m", opts->sweep_m, "Extra configurations for the chart: m values (default m/4, m/2, m)")->delimiter(',');
   cmd->add_option("--sweep-n", opts->sweep_n, "Extra configurations for the chart: n values (default n/2, n)")->delimiter(',');
   cmd->add_flag("--no-sweep", opts->no_sweep, "Only the box itself and the references in the chart");
-  cmd->add_option("--cache", opts->cache, "Box cache directory (the default bake and the sweep's boxes; shared with bake, sweep and the window)")->capture_default_str();
-  cmd->add_flag("--no-cache", opts->no_cache, "Bake without the box cache and store nothing in it");
+  hb::cli::add_cache_option(*cmd, opts->cache);
   cmd->add_option("--field-probes", opts->report.error_field_probes_per_vertex, "Error-field probes per vertex (0: none)")
       ->check(CLI::Range(0, 10000))->capture_default_str();
   cmd->add_flag("--no-image", opts->no_image, "Do not render the error field even with a display");
@@ -97,7 +95,7 @@ void add_report_command(CLI::App& app) {
       // sampling, one raw box (hb::cli::bake_model, as `field` decides).
       const bool sampling_given = cmd->count("-m") + cmd->count("-n") > 0;
       hb::cli::ModelBake baked = hb::cli::bake_model(mesh, mesh_path, mesh_hash, sampling_given, opts->params,
-                                                     opts->no_cache ? std::string() : opts->cache);
+                                                     opts->cache);
       scene = std::move(baked.scene);
       if (baked.from_cache) box_path = baked.cache_path;  // the box file the report is of
       bake_seconds = baked.seconds;
@@ -119,7 +117,7 @@ void add_report_command(CLI::App& app) {
     request.options = opts->report;
     request.options.workspace = opts->workspace.options();
     request.options.judge = opts->workspace.judge();
-    request.options.cache_dir = opts->no_cache ? "" : opts->cache;
+    request.options.cache_dir = opts->cache;
     request.options.progress = hb::cli::terminal_progress("report");
     request.options.communicator = &hb::cli::communicator();
     request.sweep.enabled = !opts->no_sweep;

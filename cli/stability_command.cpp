@@ -3,7 +3,7 @@
 // force path (hb::device: energy guard and safety) as the filter of T6 and T8.
 #include "cli_support.h"
 #include "commands.h"
-#include "device/stability_defaults.h"
+#include "device/safety_tick_filter.h"
 #include "evaluation/stability_suite.h"
 #include "haptic_box/box_file.h"
 #include "mesh/mesh_io.h"
@@ -50,7 +50,9 @@ void print_table(const std::vector<hb::StabilityMetric>& ms) {
 
 hb::StabilityReport hb::cli::default_stability(const hb::BoxScene& scene, const hb::TriangleMesh& mesh,
                                                const std::string& model_name, std::size_t sites) {
-  return hb::run_stability_suite(scene, mesh, hb::default_stability_options(scene, model_name, sites));
+  hb::StabilityOptions so = hb::default_stability_options(scene, model_name, sites);
+  hb::use_servo_force_path(so.filter, so.filter_name, so.device);
+  return hb::run_stability_suite(scene, mesh, so);
 }
 
 void add_stability_command(CLI::App& app) {

@@ -53,9 +53,8 @@ void add_sweep_command(CLI::App& app) {
     std::vector<int> n{4, 8, 16};
     std::vector<std::string> codecs{"none"};
     bool refine = false;
-    std::string pieces;
-    std::string cache = hb::default_box_cache_dir();
-    bool no_cache = false;
+    hb::cli::PiecesArgs pieces;
+    std::string cache;
     std::string chart;
     hb::SweepOptions sweep;
     hb::cli::WorkspaceArgs workspace;
@@ -68,14 +67,13 @@ void add_sweep_command(CLI::App& app) {
   cmd->add_option("-m,--m", opts->m, "Position densities m (comma separated)")->delimiter(',')->check(CLI::Range(2, 4096))->capture_default_str();
   cmd->add_option("-n,--n", opts->n, "Directional densities n (comma separated)")->delimiter(',')->check(CLI::Range(2, 1024))->capture_default_str();
   cmd->add_option("--codec", opts->codecs, "Table codecs (comma separated: none, haar, block)")->delimiter(',')->capture_default_str();
-  hb::cli::add_pieces_options(*cmd, opts->pieces, opts->sweep.recipe);
+  hb::cli::add_pieces_options(*cmd, opts->pieces);
   cmd->add_flag("--refine", opts->refine,
                 "Also measure every configuration refined exactly on the mesh's triangles (codec+ref rows)");
   cmd->add_option("--samples", opts->sweep.samples, "Probes per method")->check(CLI::Range(std::size_t(1), std::size_t(10000000)))->capture_default_str();
   cmd->add_option("--rounds", opts->sweep.timing_rounds, "Timing passes")->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--seed", opts->sweep.probes.seed, "Probe seed")->capture_default_str();
-  cmd->add_option("--cache", opts->cache, "Directory of cached boxes")->capture_default_str();
-  cmd->add_flag("--no-cache", opts->no_cache, "Bake every configuration, cache nothing");
+  hb::cli::add_cache_option(*cmd, opts->cache);
   cmd->add_flag("--no-default-bake", opts->no_default_bake,
                 "Leave out the row of the default bake (`bake MESH -o BOX` with no option: the budgeted bake the "
                 "product recommends), which is measured after the configurations otherwise");
@@ -104,7 +102,7 @@ void add_sweep_command(CLI::App& app) {
     so.judge = opts->workspace.judge();
     so.configs = hb::sweep_grid(opts->m, opts->n, opts->codecs,
                                 opts->refine ? std::vector<bool>{false, true} : std::vector<bool>{false});
-    so.cache_dir = opts->no_cache ? "" : opts->cache;
+    so.cache_dir = opts->cache;
     so.default_bake = !opts->no_default_bake;
     so.progress = hb::cli::terminal_progress("sweep");
     if (!opts->json) {
@@ -119,7 +117,8 @@ void add_sweep_command(CLI::App& app) {
         std::cout.flush();
       };
     }
-    hb::cli::apply_pieces_spec(opts->pieces, so.recipe);
+    opts->pieces.apply_tuning(so.recipe);
+    hb::cli::apply_pieces_spec(opts->pieces.spec, so.recipe);
     hb::Communicator& comm = hb::cli::communicator();
     std::vector<hb::RankWork> work;
     so.communicator = &comm;  // every configuration's bake and evaluation shared by the ranks

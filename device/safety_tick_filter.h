@@ -1,9 +1,12 @@
 #pragma once
 // The servo's per-tick force path (energy guard, then safety) as the stability suite's
-// TickFilter, so the suite runs the very code the servo loop runs (hb::device over the core).
+// TickFilter, so the suite runs the very code the servo loop runs (hb::device over the core),
+// and the suite's default filter, one definition for `hapticbox stability`, `hapticbox report
+// --stability` and the window's Stability tab.
+#include "contact/tick_filter.h"
 #include "device/energy_guard.h"
 #include "device/safety.h"
-#include "evaluation/trajectory.h"
+#include <string>
 
 namespace hb {
 
@@ -38,5 +41,13 @@ inline DeviceSpec device_spec_of(const DeviceProfile& p) {
   s.max_stiffness_n_per_m = float(p.max_stiffness_n_per_m);
   return s;
 }
+
+/// A factory of hb::SafetyTickFilter for `device`: the given fault response, the energy guard
+/// on or off, ticking at the profile's period.
+TickFilterFactory safety_tick_filter_factory(const DeviceProfile& device, FaultResponse response, bool energy_guard);
+
+/// The stability suite's default filter (hb::StabilityOptions::filter and filter_name): the
+/// safety filter with hold-and-ramp and no energy guard, ticking at `device`'s period.
+void use_servo_force_path(TickFilterFactory& filter, std::string& filter_name, const DeviceProfile& device);
 
 } // namespace hb

@@ -2,7 +2,8 @@
 // model and boxes (kept apart from SessionJobs.cpp: one small job, its own result).
 #include "BackgroundJob.h"
 #include "SessionJobs.h"
-#include "device/stability_defaults.h"
+#include "device/safety_tick_filter.h"
+#include "evaluation/stability_suite.h"
 #include "errors.h"
 #include <QFileInfo>
 #include <memory>
@@ -26,6 +27,7 @@ bool SessionJobs::startStability(std::size_t sites, bool generated, QString* err
   });
   const bool started = job_->start(tr("Stability"), [mesh, boxes, name, sites, generated, law, result](const auto& progress) {
     hb::StabilityOptions so = hb::default_stability_options(*boxes, name, sites);
+    hb::use_servo_force_path(so.filter, so.filter_name, so.device);
     so.generated = generated;
     so.contact_law = law;
     // One test at a time: the suite has no progress of its own; between tests the bar moves

@@ -6,22 +6,26 @@
 #   scripts/folder_edges.sh --from DIR   which src/ folders the files under DIR include (e.g.
 #                                        device: it should need math/ and contact/ only)
 #   scripts/folder_edges.sh --dot        the graph in Graphviz dot (dot -Tsvg > folders.svg)
+#   scripts/folder_edges.sh --check      one line when the rules hold (no folder cycle in src/,
+#                                        device/ includes no evaluation/ header), else what
+#                                        breaks them; exit 1 then (./test.sh runs it)
 #
 # An edge a -> b means a file under src/a/ has `#include "b/..."` with src/b/ a folder. The
 # headers at the top of src/ (errors.h, progress.h, ...) belong to no folder and make no edge.
 # Each edge is listed with its count and one file and include that make it, so a cycle can be
-# broken where it is made. Not yet run by ./test.sh: the cycles issue 40 names still exist.
+# broken where it is made.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mode=graph from=""
 case "${1:-}" in
   "") ;;
   --dot) mode=dot ;;
+  --check) mode=check ;;
   --from)
     [ -n "${2:-}" ] || { echo "folder_edges.sh: --from needs a directory (e.g. device)" >&2; exit 2; }
     [ -d "$2" ] || { echo "folder_edges.sh: --from $2: no such directory" >&2; exit 2; }
     mode=from from=$2 ;;
-  -h|--help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  -h|--help) sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
   *) echo "folder_edges.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
 esac
 
@@ -70,6 +74,14 @@ graph = defaultdict(set)
 for a, b in edges:
     graph[a].add(b)
 
+if mode == "check":
+    # The layers' rules, beyond src/: device/ uses the core's math and contact, never its
+    # measurements (evaluation/).
+    banned = [(u, "device -> evaluation") for (_, b), us in scan("device", lambda p: "device").items()
+              if b == "evaluation" for u in us]
+    for (path, inc), rule in banned:
+        print(f"folder_edges.sh: {path} includes {inc} ({rule}: device/ must not include evaluation/ headers)")
+
 if mode == "dot":
     print("digraph src_folders {\n  rankdir=LR;")
     for f in folders:
@@ -101,6 +113,11 @@ for f in folders:
         connect(f)
 cycles = [c for c in sccs if len(c) > 1]
 
+if mode == "check" and not cycles:
+    if banned:
+        sys.exit(1)
+    print(f"folder_edges.sh: no folder cycle in src/ ({len(folders)} folders, {len(edges)} edges); device/ includes no evaluation/ header")
+    sys.exit(0)
 print(f"folder edges in src/ ({len(folders)} folders, {len(edges)} edges):")
 for (a, b), uses in sorted(edges.items()):
     back = " [cycle]" if any(a in c and b in c for c in cycles) else ""

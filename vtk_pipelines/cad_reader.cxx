@@ -289,8 +289,8 @@ CadModel read_cad(const std::string& path, const CadOptions& options) {
       std::string what = path + ": " + std::to_string(dropped + untessellated) + " of " + std::to_string(total) + " faces lost (" +
                          std::to_string(dropped) + " failed to translate, " + std::to_string(untessellated) + " gave no triangles)";
       if (!options.accept_lost_faces)
-        throw InvalidInput(what + ": the model would have holes; give --accept-lost-faces to keep the rest");
-      model.warnings.push_back(what + ", kept with --accept-lost-faces");
+        throw InvalidInput(what + ": the model would have holes; give --cad accept-lost-faces to keep the rest");
+      model.warnings.push_back(what + ", kept with --cad accept-lost-faces");
       f["faces_lost"] = dropped + untessellated;
     }
     if (model.mesh.triangles.empty()) throw InvalidInput(path + ": the tessellation has no triangles");

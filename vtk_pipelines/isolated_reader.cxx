@@ -72,7 +72,7 @@ char run_mapped(const std::string& path, const std::string& reader, const Reader
     out = failure(path, reader,
                   limits.isolate ? "it ran out of memory: it asked for more than the " + std::to_string(limits.memory_mb) + " MB allowed"
                                  : std::string("it ran out of memory"),
-                  "the file is damaged, or needs more memory (--reader-memory-mb, HB_READER_MEMORY_MB)");
+                  "the file is damaged, or needs more memory (HB_READER_MEMORY_MB)");
     return kNoMemory;
   } catch (const std::length_error& e) {
     out = failure(path, reader, std::string("it asked for an impossible size: ") + e.what());
@@ -236,13 +236,13 @@ std::string run_isolated(const std::string& path, const std::string& reader, con
     std::ostringstream why;
     why << "it was still running after " << limits.timeout_s << " s and was stopped";
     throw InvalidInput(failure(path, reader, why.str(),
-                               "the file is damaged, or needs more time (--reader-timeout, HB_READER_TIMEOUT_S)"));
+                               "the file is damaged, or needs more time (HB_READER_TIMEOUT_S)"));
   }
   if (WIFSIGNALED(status)) {
     std::string why = signal_text(WTERMSIG(status));
     if (WTERMSIG(status) == SIGKILL) why = "it was killed: out of memory or past its processor-time limit";
     if (WTERMSIG(status) == SIGKILL || WTERMSIG(status) == SIGXCPU)
-      throw InvalidInput(failure(path, reader, why, "the file is damaged, or needs more time or memory (--reader-timeout, --reader-memory-mb)"));
+      throw InvalidInput(failure(path, reader, why, "the file is damaged, or needs more time or memory (HB_READER_TIMEOUT_S, HB_READER_MEMORY_MB)"));
     throw InvalidInput(failure(path, reader, why));
   }
   // Read the result file.

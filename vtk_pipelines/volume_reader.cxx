@@ -762,7 +762,7 @@ TriangleMesh volume_surface(const Volume& volume, const VolumeSurfaceOptions& op
     surface = contour->GetOutput();
     if (facts) {
       (*facts)["iso"] = iso;
-      (*facts)["iso_source"] = options.iso ? "--iso" : "automatic (Otsu threshold of the histogram; set --iso)";
+      (*facts)["iso_source"] = options.iso ? "--volume iso" : "automatic (Otsu threshold of the histogram; set --volume iso=V)";
     }
   }
   if (!surface || surface->GetNumberOfPolys() == 0)

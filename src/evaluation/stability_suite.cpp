@@ -985,4 +985,12 @@ StabilityReport run_stability_suite(const BoxScene& box, const TriangleMesh& mes
   return rep;
 }
 
+StabilityOptions default_stability_options(const BoxScene& scene, const std::string& model_name, std::size_t sites) {
+  StabilityOptions so;
+  so.sites = sites;
+  so.generated_refine = scene.refines();
+  so.model_name = model_name;
+  return so;
+}
+
 } // namespace hb

@@ -95,6 +95,11 @@ std::vector<StabilityMetric> run_calibration(const DeviceProfile& device);
 /// mesh.
 StabilityReport run_stability_suite(const BoxScene& box, const TriangleMesh& mesh, const StabilityOptions& options);
 
+/// `hapticbox stability`'s defaults for `scene`: the Falcon profile, `sites` trajectories per
+/// test, the generated objects refined as the scene is. The filter is left empty: the front
+/// ends put the servo's own force path in it (hb::use_servo_force_path, device/).
+StabilityOptions default_stability_options(const BoxScene& scene, const std::string& model_name, std::size_t sites);
+
 /// Fills pass / exact_pass / verdict from the values and the rule.
 void judge(StabilityMetric& m);
 

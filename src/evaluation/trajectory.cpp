@@ -15,28 +15,6 @@
 
 namespace hb {
 
-DeviceProfile falcon_profile() {
-  DeviceProfile p;
-  p.name = "falcon";
-  p.max_force_n = 8.0;
-  p.max_stiffness_n_per_m = 3000.0;
-  return p;
-}
-
-DeviceProfile touch_profile() {
-  DeviceProfile p;
-  p.name = "touch";
-  p.max_force_n = 3.3;
-  p.max_stiffness_n_per_m = 400.0;
-  return p;
-}
-
-DeviceProfile device_profile(const std::string& name) {
-  if (name == "falcon") return falcon_profile();
-  if (name == "touch") return touch_profile();
-  throw InvalidInput("device profile '" + name + "': expected falcon or touch");
-}
-
 HandModel no_hand() { return HandModel{}; }
 HandModel light_grip() { return HandModel{"light grip", 0.1, 2.0, 50.0}; }
 HandModel arm_hand() { return HandModel{"arm", 0.554, 6.45, 135.0}; }

@@ -35,6 +35,10 @@ protected:
   static void TearDownTestSuite() { fs::remove_all(dir_); }
 
   static Result run(const std::string& args) { return hb::test::run_cli(args, dir_.string()); }
+  /// With measurement-only switches (HB_MEASURE, e.g. "keep-ids").
+  static Result measure(const std::string& switches, const std::string& args) {
+    return hb::test::run_cli(args, dir_.string(), "HB_MEASURE=" + switches);
+  }
   static std::string path(const std::string& name) { return (dir_ / name).string(); }
   static std::string write(const std::string& name, const std::string& text) {
     std::ofstream(path(name)) << text;
@@ -74,7 +78,7 @@ TEST_F(CliTest, DefaultBakeMeetsTheBudgetAndInfoReportsIt) {
 
 // The default bake of several pieces answers through the surface cells and stores no
 // triangle ids (info says so); `--route boxes` on it is a usage error that says why and what
-// to do; `--keep-ids` keeps them (and belongs to the default bake only).
+// to do; HB_MEASURE=keep-ids keeps them (and belongs to the default bake only).
 TEST_F(CliTest, DefaultBakeOfPiecesStoresNoTriangleIdsUnlessKept) {
   ASSERT_EQ(run("decompose " + path("sphere.off") + " -o " + path("halves.txt") + " --plane 0,0,0,1,0,0").code, 0);
   const std::string bake = "bake " + path("sphere.off") + " --pieces " + path("halves.txt") + " --budget agree=99 ";
@@ -90,20 +94,24 @@ TEST_F(CliTest, DefaultBakeOfPiecesStoresNoTriangleIdsUnlessKept) {
   EXPECT_GE(nlohmann::json::parse(cells.out)["contact_agreement"].get<double>(), 0.99);
   const Result boxes = run("eval " + path("lean.hbox") + " " + path("sphere.off") + " --samples 200 --route boxes");
   EXPECT_EQ(boxes.code, 2);
-  EXPECT_NE(boxes.err.find("--keep-ids"), std::string::npos) << boxes.err;
-  const Result kept = run(bake + "--keep-ids -o " + path("kept.hbox") + " --json");
+  EXPECT_NE(boxes.err.find("HB_MEASURE=keep-ids"), std::string::npos) << boxes.err;
+  const Result kept = measure("keep-ids", bake + "-o " + path("kept.hbox") + " --json");
   ASSERT_EQ(kept.code, 0) << kept.err;
   const auto kj = nlohmann::json::parse(kept.out);
   EXPECT_GT(kj["triangle_id_bytes"].get<std::uint64_t>(), 0u);
   EXPECT_GT(kj["bytes"].get<std::uint64_t>(), li["bytes"].get<std::uint64_t>());
   EXPECT_EQ(run("eval " + path("kept.hbox") + " " + path("sphere.off") + " --samples 200 --route boxes").code, 0);
-  EXPECT_EQ(run("bake " + path("sphere.off") + " -o " + path("x.hbox") + " -n 4 --keep-ids").code, 2);
-  // --full-search bakes every sampling for the same exact answers; it too is the default bake's.
-  const Result full = run(bake + "--full-search -o " + path("full.hbox") + " --json");
+  EXPECT_EQ(measure("keep-ids", "bake " + path("sphere.off") + " -o " + path("x.hbox") + " -n 4").code, 2);
+  // full-search bakes every sampling for the same exact answers; it too is the default bake's.
+  const Result full = measure("full-search", bake + "-o " + path("full.hbox") + " --json");
   ASSERT_EQ(full.code, 0) << full.err;
   EXPECT_GE(nlohmann::json::parse(full.out)["budget"]["sampling_bakes"].get<int>(),
             kj["budget"]["sampling_bakes"].get<int>());
-  EXPECT_EQ(run("bake " + path("sphere.off") + " -o " + path("x.hbox") + " -n 4 --full-search").code, 2);
+  EXPECT_EQ(measure("full-search", "bake " + path("sphere.off") + " -o " + path("x.hbox") + " -n 4").code, 2);
+  // An unknown switch is a usage error naming it.
+  const Result unknown = measure("fast", "bake " + path("sphere.off") + " -o " + path("x.hbox"));
+  EXPECT_EQ(unknown.code, 2);
+  EXPECT_NE(unknown.err.find("HB_MEASURE: unknown switch 'fast'"), std::string::npos) << unknown.err;
 }
 
 // `simplify`: a flat-subdivided sphere comes back to fewer triangles within its bound, the
@@ -267,7 +275,7 @@ TEST_F(CliTest, CacheCommandShowsAndClearsTheSharedBoxCache) {
 
 // `bake` goes through the box cache the window, sweep and report share (hb::bake_cached): a
 // miss bakes and stores the entry (the output file's very bytes), a hit copies the entry and says
-// so, --no-cache bakes again and stores nothing, and `cache` then lists and clears the entry.
+// so, --cache none bakes again and stores nothing, and `cache` then lists and clears the entry.
 TEST_F(CliTest, BakeStoresInAndCopiesFromTheSharedBoxCache) {
   const std::string cache = path("bake-cache");
   fs::remove_all(cache);
@@ -293,9 +301,9 @@ TEST_F(CliTest, BakeStoresInAndCopiesFromTheSharedBoxCache) {
   EXPECT_TRUE(h["from_cache"].get<bool>());
   EXPECT_EQ(h["cache_path"], entry);
 
-  // Another recipe is another entry; --no-cache bakes (the same bytes) and stores nothing.
+  // Another recipe is another entry; --cache none bakes (the same bytes) and stores nothing.
   fs::remove(entry);
-  const Result fresh = run(bake + path("fresh.hbox") + " --no-cache --json");
+  const Result fresh = run("bake " + path("sphere.off") + " -m 6 -n 4 --cache none -o " + path("fresh.hbox") + " --json");
   ASSERT_EQ(fresh.code, 0) << fresh.err;
   const auto f = nlohmann::json::parse(fresh.out);
   EXPECT_FALSE(f["from_cache"].get<bool>());
@@ -412,7 +420,7 @@ TEST_F(CliTest, NonFiniteOrAbsurdOptionValuesAreUsageErrorsNamingTheValue) {
     const Result r = run(std::string("servo plane --no-realtime ") + opt);
     EXPECT_EQ(r.code, 2) << opt << ": " << r.err;
   }
-  EXPECT_EQ(run("bake " + path("sphere.off") + " -o " + path("nan.hbox") + " --padding nan").code, 2);
+  EXPECT_EQ(run("bake " + path("sphere.off") + " -o " + path("nan.hbox") + " --pieces none,padding=nan").code, 2);
 }
 
 // Finding 7: 1e-40 and 1e-300 were "not a number", a UTF-8 BOM failed the header, a folder
@@ -622,7 +630,7 @@ TEST_F(CliTest, FiguresPrintWithSignificantDigits) {
 
 TEST_F(CliTest, RatioTargetNotReachedIsSaidAndFailsOnlyWhenStrict) {
   const Result r = run("bake " + path("sphere.off") + " -o " + path("ratio.hbox") +
-                       " -m 8 -n 6 --codec haar --ratio 100000 --json");
+                       " -m 8 -n 6 --codec haar,ratio=100000 --json");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("target not reached"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("10 %"), std::string::npos) << r.err;  // the bound at its maximum
@@ -630,12 +638,12 @@ TEST_F(CliTest, RatioTargetNotReachedIsSaidAndFailsOnlyWhenStrict) {
   EXPECT_EQ(j["ratio_reached"], false);
   EXPECT_EQ(j["ratio_target"].get<double>(), 100000.0);
   const Result strict = run("bake " + path("sphere.off") + " -o " + path("ratio2.hbox") +
-                            " -m 8 -n 6 --codec haar --ratio 100000 --strict");
+                            " -m 8 -n 6 --codec haar,ratio=100000,strict");
   EXPECT_EQ(strict.code, 1);
   EXPECT_NE(strict.err.find("target not reached"), std::string::npos) << strict.err;
   // A reachable target is met silently.
   const Result easy = run("bake " + path("sphere.off") + " -o " + path("ratio3.hbox") +
-                          " -m 8 -n 6 --codec haar --ratio 1.5 --json --strict");
+                          " -m 8 -n 6 --codec haar,ratio=1.5,strict --json");
   ASSERT_EQ(easy.code, 0) << easy.err;
   EXPECT_EQ(nlohmann::json::parse(easy.out)["ratio_reached"], true);
 }

@@ -181,19 +181,19 @@ TEST_F(HostileModelsTest, ADicomFileReadsItsOwnSeriesAndExtensionlessFilesAreDic
   for (const auto& e : fs::directory_iterator(series)) fs::copy_file(e.path(), path("ct5n") + "/" + e.path().filename().string());
   const std::string one = fs::directory_iterator(path("ct5n"))->path().string();
   ASSERT_TRUE(fs::path(one).extension().empty()) << one;
-  const Result r = run("info --json " + one + " --iso -500");
+  const Result r = run("info --json " + one + " --volume iso=-500");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(nlohmann::json::parse(r.out)["format"], "DICOM series");
 }
 
 TEST_F(HostileModelsTest, JsonOnStdoutIsOnlyJson) {
-  const Result r = run("info --json " + path("phantom.mha") + " --smooth 1");
+  const Result r = run("info --json " + path("phantom.mha") + " --volume smooth=1");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NO_THROW(nlohmann::json::parse(r.out)) << r.out;
 }
 
 TEST_F(HostileModelsTest, ReaderLimitsStopAReaderAndSaySo) {
-  const Result r = run("info " + path("phantom.mha") + " --smooth 1000 --reader-timeout 0.1");
+  const Result r = hb::test::run_cli("info " + path("phantom.mha") + " --volume smooth=1000", dir_.string(), "HB_READER_TIMEOUT_S=0.1");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find(path("phantom.mha") + ": the MetaImage reader failed on this file (it was still running after 0.1 s"),
             std::string::npos) << r.err;
@@ -204,20 +204,20 @@ TEST_F(HostileModelsTest, PieceFileFaultsNameTheFile) {
   // `element vertex x` was read as 0 vertices.
   const std::string bad_count = write("x.ply", "ply\nformat ascii 1.0\nelement vertex x\nproperty float x\nelement face 1\n"
                                                "property list uchar int vertex_indices\nproperty int piece\nend_header\n3 0 1 2 0\n");
-  Result r = run("bake " + path("sphere.off") + " --pieces " + bad_count + " -o " + path("s.hbox") + " -m 4 -n 4 --no-cache");
+  Result r = run("bake " + path("sphere.off") + " --pieces " + bad_count + " -o " + path("s.hbox") + " -m 4 -n 4 --cache none");
   EXPECT_EQ(r.code, 1) << r.err;
   EXPECT_NE(r.err.find(bad_count + ": bad element line 'element vertex x'"), std::string::npos) << r.err;
   // A face count far beyond the file: refused before any allocation, naming the file.
   const std::string huge = write("huge.ply", "ply\nformat binary_little_endian 1.0\nelement face 4000000000000\n"
                                              "property int piece\nend_header\n0000");
-  r = run("bake " + path("sphere.off") + " --pieces " + huge + " -o " + path("s.hbox") + " -m 4 -n 4 --no-cache");
+  r = run("bake " + path("sphere.off") + " --pieces " + huge + " -o " + path("s.hbox") + " -m 4 -n 4 --cache none");
   EXPECT_EQ(r.code, 1) << r.err;
   EXPECT_NE(r.err.find(huge + ": the face element claims 4000000000000 faces"), std::string::npos) << r.err;
   // A .vtp of another mesh's pieces: the mismatch names the piece file.
   hb::write_mesh(hb::make_sphere(1.f, 2), path("finer.off"));
   r = run("decompose " + path("finer.off") + " --max-pieces 2 --lines 1000 --leaves 4 -o " + path("finer.vtp"));
   ASSERT_EQ(r.code, 0) << r.err;
-  r = run("bake " + path("sphere.off") + " --pieces " + path("finer.vtp") + " -o " + path("s.hbox") + " -m 4 -n 4 --no-cache");
+  r = run("bake " + path("sphere.off") + " --pieces " + path("finer.vtp") + " -o " + path("s.hbox") + " -m 4 -n 4 --cache none");
   EXPECT_NE(r.code, 0) << r.err;
   EXPECT_NE(r.err.find(path("finer.vtp") + ": "), std::string::npos) << r.err;
 }
@@ -362,8 +362,8 @@ TEST_F(HostileModelsTest, CadFacesThatFailToTranslateAreCountedAndRefusedUnlessA
   EXPECT_EQ(r.code, 1) << r.err;
   EXPECT_NE(r.err.find(bad + ": "), std::string::npos) << r.err;
   if (r.err.find("faces lost") != std::string::npos) {
-    EXPECT_NE(r.err.find("--accept-lost-faces"), std::string::npos) << r.err;
-    const Result kept = run("info " + bad + " --accept-lost-faces");
+    EXPECT_NE(r.err.find("--cad accept-lost-faces"), std::string::npos) << r.err;
+    const Result kept = run("info " + bad + " --cad accept-lost-faces");
     EXPECT_EQ(kept.code, 0) << kept.err;
     EXPECT_NE(kept.err.find("faces lost"), std::string::npos) << kept.err;
   }

@@ -42,7 +42,7 @@ protected:
 fs::path ModelFormatsCliTest::dir_;
 
 TEST_F(ModelFormatsCliTest, InfoOnAVolumePrintsDimensionsSpacingRangeLabelsAndUnit) {
-  const Result r = run("info " + path("labels.nii.gz") + " --label 2 --json");
+  const Result r = run("info " + path("labels.nii.gz") + " --volume label=2 --json");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["kind"], "volume");
@@ -60,25 +60,25 @@ TEST_F(ModelFormatsCliTest, InfoOnAVolumePrintsDimensionsSpacingRangeLabelsAndUn
 }
 
 TEST_F(ModelFormatsCliTest, VolumeBakesAndEvaluatesEndToEnd) {
-  const Result bake = run("bake " + path("phantom.mha") + " --iso -480 -o " + path("p.hbox") + " -m 8 -n 6 --json");
+  const Result bake = run("bake " + path("phantom.mha") + " --volume iso=-480 -o " + path("p.hbox") + " -m 8 -n 6 --json");
   ASSERT_EQ(bake.code, 0) << bake.err;
   EXPECT_NE(bake.err.find("iso -480"), std::string::npos) << bake.err;
-  const Result eval = run("eval " + path("p.hbox") + " " + path("phantom.mha") + " --iso -480 --samples 1000 --json");
+  const Result eval = run("eval " + path("p.hbox") + " " + path("phantom.mha") + " --volume iso=-480 --samples 1000 --json");
   ASSERT_EQ(eval.code, 0) << eval.err;
   EXPECT_EQ(eval.err.find("different mesh"), std::string::npos) << eval.err;
   const auto e = nlohmann::json::parse(eval.out);
   EXPECT_GT(e["contact_agreement"].get<double>(), 0.95);
   // Evaluating against another iso-value is noticed.
-  const Result other = run("eval " + path("p.hbox") + " " + path("phantom.mha") + " --iso 370 --samples 200 --json");
+  const Result other = run("eval " + path("p.hbox") + " " + path("phantom.mha") + " --volume iso=370 --samples 200 --json");
   EXPECT_EQ(other.code, 1);
   EXPECT_NE(other.err.find("different mesh"), std::string::npos) << other.err;
 }
 
 TEST_F(ModelFormatsCliTest, BadVolumeInputNamesTheFileAndTheCause) {
-  const Result iso = run("bake " + path("phantom.mha") + " --iso 9999 -o " + path("x.hbox"));
+  const Result iso = run("bake " + path("phantom.mha") + " --volume iso=9999 -o " + path("x.hbox"));
   EXPECT_EQ(iso.code, 1);
   EXPECT_NE(iso.err.find("phantom.mha: no voxel crosses the iso-value 9999"), std::string::npos) << iso.err;
-  const Result both = run("info " + path("phantom.mha") + " --iso 1 --label 2");
+  const Result both = run("info " + path("phantom.mha") + " --volume iso=1,label=2");
   EXPECT_EQ(both.code, 2) << both.err;
   const std::string gap = real_file("dicom/CT2", "/usr/lib/python3/dist-packages/pydicom/data/test_files/dicomdirtests/77654033/CT2");
   const Result series = run("info " + gap);

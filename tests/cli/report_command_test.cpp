@@ -48,7 +48,7 @@ TEST_F(ReportCommandTest, ReportJsonCarriesTheFiguresEvalPrintsForTheSameInputAn
   const CommandResult eval = run("eval " + path("torus.hbox") + " " + path("torus.off") + " --samples 3000 --seed 7 --json");
   ASSERT_EQ(eval.code, 0) << eval.err;
   const CommandResult report = run("report " + path("torus.hbox") + " " + path("torus.off") + " -o " + path("rep") +
-                         " --samples 3000 --seed 7 --rounds 1 --no-cache --sweep-m 4 --sweep-n 4");
+                         " --samples 3000 --seed 7 --rounds 1 --cache none --sweep-m 4 --sweep-n 4");
   ASSERT_EQ(report.code, 0) << report.err;
   EXPECT_NE(report.out.find("no error-field image"), std::string::npos) << report.out;
 
@@ -120,7 +120,7 @@ TEST_F(ReportCommandTest, AReportFromAMeshIsOfTheDefaultBakeThroughTheCacheUnles
 
 TEST_F(ReportCommandTest, ReportBakesFromAMesh) {
   const CommandResult r = run("report " + path("torus.off") + " -o " + path("rep2") + " -m 6 -n 4 --samples 500 --rounds 1 "
-                    "--no-sweep --no-cache");
+                    "--no-sweep --cache none");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto s = nlohmann::json::parse(read("rep2/summary.json"));
   EXPECT_GT(s["box"]["bake_seconds"].get<double>(), 0.0);
@@ -128,7 +128,7 @@ TEST_F(ReportCommandTest, ReportBakesFromAMesh) {
 }
 
 TEST_F(ReportCommandTest, SweepPrintsRowsAndTheParetoFront) {
-  const CommandResult r = run("sweep " + path("torus.off") + " -m 4,8 -n 3 --samples 500 --rounds 1 --no-cache --json");
+  const CommandResult r = run("sweep " + path("torus.off") + " -m 4,8 -n 3 --samples 500 --rounds 1 --cache none --json");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   // The references, the two configurations and the default bake, measured last.
@@ -144,10 +144,10 @@ TEST_F(ReportCommandTest, SweepPrintsRowsAndTheParetoFront) {
   EXPECT_TRUE(front);
   // Left out on request; the table names the row.
   const CommandResult without =
-      run("sweep " + path("torus.off") + " -m 4 -n 3 --samples 500 --rounds 1 --no-cache --no-default-bake --json");
+      run("sweep " + path("torus.off") + " -m 4 -n 3 --samples 500 --rounds 1 --cache none --no-default-bake --json");
   ASSERT_EQ(without.code, 0) << without.err;
   EXPECT_EQ(nlohmann::json::parse(without.out)["rows"].size(), 3u);
-  const CommandResult table = run("sweep " + path("torus.off") + " -m 4 -n 3 --samples 500 --rounds 1 --no-cache");
+  const CommandResult table = run("sweep " + path("torus.off") + " -m 4 -n 3 --samples 500 --rounds 1 --cache none");
   ASSERT_EQ(table.code, 0) << table.err;
   EXPECT_NE(table.out.find("default bake: "), std::string::npos) << table.out;
   // The cheapest configuration within the default budget, with its verdict against exact.

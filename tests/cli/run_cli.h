@@ -16,8 +16,8 @@ struct CommandResult {
 };
 
 /// `args` is appended to the binary's path as is (quote paths with spaces); stderr goes
-/// through a file in `scratch_dir`.
-inline CommandResult run_cli(const std::string& args, const std::string& scratch_dir) {
+/// through a file in `scratch_dir`. `env`: "NAME=value ..." set for this run (e.g. HB_MEASURE).
+inline CommandResult run_cli(const std::string& args, const std::string& scratch_dir, const std::string& env = "") {
   const std::string err_path = scratch_dir + "/stderr.txt";
   // No display: the command line must never need one.
   // A box cache of its own per call (bake, sweep and report cache by default): no test reads
@@ -25,7 +25,7 @@ inline CommandResult run_cli(const std::string& args, const std::string& scratch
   static int call = 0;
   const std::string cache = scratch_dir + "/xdg-cache-" + std::to_string(++call);
   const std::string cmd =
-      "env -u DISPLAY XDG_CACHE_HOME=" + cache + " " + std::string(HB_CLI_PATH) + " " + args + " 2>" + err_path;
+      "env -u DISPLAY XDG_CACHE_HOME=" + cache + " " + env + " " + std::string(HB_CLI_PATH) + " " + args + " 2>" + err_path;
   CommandResult r;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return r;

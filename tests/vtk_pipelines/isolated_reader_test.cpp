@@ -53,7 +53,7 @@ TEST(IsolatedReaderTest, HangIsStoppedAtTheTimeout) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_NE(e.find("/data/x.nrrd: the NRRD reader failed on this file (it was still running after 0.3 s and was stopped)"),
             std::string::npos) << e;
-  EXPECT_NE(e.find("--reader-timeout"), std::string::npos) << e;
+  EXPECT_NE(e.find("HB_READER_TIMEOUT_S"), std::string::npos) << e;
   EXPECT_LT(seconds, 5.0);
 }
 
@@ -83,7 +83,7 @@ TEST(IsolatedReaderTest, WithoutIsolationTheSameMessagesComeFromThisProcess) {
   EXPECT_EQ(hb::vtk::run_isolated("f", "NRRD", l, [] { return std::string("ok"); }), "ok");
   EXPECT_EQ(error_of([]() -> std::string { throw std::bad_alloc(); }, l),
             "/data/x.nrrd: the NRRD reader failed on this file (it ran out of memory); the file is damaged, or needs more memory "
-            "(--reader-memory-mb, HB_READER_MEMORY_MB)");
+            "(HB_READER_MEMORY_MB)");
 }
 
 TEST(IsolatedReaderTest, EnvironmentSetsTheLimitsAndMalformedValuesAreRefused) {

@@ -1,6 +1,4 @@
-#include "device/stability_defaults.h"
 #include "device/safety_tick_filter.h"
-#include "haptic_box/box_scene.h"
 #include <memory>
 
 hb::TickFilterFactory hb::safety_tick_filter_factory(const DeviceProfile& device, FaultResponse response,
@@ -16,13 +14,7 @@ hb::TickFilterFactory hb::safety_tick_filter_factory(const DeviceProfile& device
   };
 }
 
-hb::StabilityOptions hb::default_stability_options(const BoxScene& scene, const std::string& model_name,
-                                                   std::size_t sites) {
-  StabilityOptions so;
-  so.sites = sites;
-  so.generated_refine = scene.refines();
-  so.model_name = model_name;
-  so.filter = safety_tick_filter_factory(so.device, FaultResponse::hold_and_ramp, false);
-  so.filter_name = "safety hold-and-ramp";
-  return so;
+void hb::use_servo_force_path(TickFilterFactory& filter, std::string& filter_name, const DeviceProfile& device) {
+  filter = safety_tick_filter_factory(device, FaultResponse::hold_and_ramp, false);
+  filter_name = "safety hold-and-ramp";
 }
