@@ -51,7 +51,7 @@ struct PixelCounts {
   int model = 0, exactArrow = 0, approxArrow = 0, total = 0;
 };
 
-/// Counts the model's beige pixels and the arrows' green and orange ones.
+/// Counts the model's beige pixels and the arrows' red (exact) and blue (box) ones.
 PixelCounts countPixels(const QString& png) {
   PixelCounts c;
   QImage img(png);
@@ -63,8 +63,9 @@ PixelCounts countPixels(const QString& png) {
       const int r = q.red(), g = q.green(), b = q.blue();
       ++c.total;
       if (r > 90 && r >= g && g >= b && r - b > 25 && !(g < 0.75 * r && b < 80)) ++c.model;
-      if (g > 110 && g > r + 40 && g > b + 40) ++c.exactArrow;
-      if (r > 150 && g > 50 && g < 0.7 * r && b < 60) ++c.approxArrow;
+      // The series colours (series_colours.h): exact red, box blue, shaded.
+      if (r > 120 && g < 0.45 * r && b < 0.45 * r) ++c.exactArrow;
+      if (b > 100 && b > r + 60 && b > g + 30) ++c.approxArrow;
     }
   return c;
 }
@@ -120,8 +121,8 @@ TEST(MainWindowTest, ScreenshotShowsTheModelAndBothArrows) {
   const PixelCounts c = countPixels(png);
   ASSERT_GT(c.total, 10000);
   EXPECT_GT(c.model, c.total / 50) << "the model covers too few pixels: blank screenshot?";
-  EXPECT_GT(c.exactArrow, 20) << "no green (exact) arrow pixels";
-  EXPECT_GT(c.approxArrow, 20) << "no orange (haptic box) arrow pixels";
+  EXPECT_GT(c.exactArrow, 20) << "no red (exact) arrow pixels";
+  EXPECT_GT(c.approxArrow, 20) << "no blue (haptic box) arrow pixels";
 }
 
 TEST(MainWindowTest, ComputesTheErrorFieldAndExportsAReport) {
