@@ -629,6 +629,7 @@ bool ProbeView::pickSurface(int x, int y, hb::Vec3& point) const {
   // The mouse ray against the model's cell locator: independent of which actor (model or
   // level-of-detail proxy) is on screen.
   if (!surface_ || !locator_) return false;
+  if (preview_) return false;  // the model is hidden behind a surface preview: nothing to probe
   double p0[4], p1[4];
   renderer_->SetDisplayPoint(x, y, 0.0);
   renderer_->DisplayToWorld();

@@ -428,9 +428,15 @@ TEST(MainWindowTest, ErrorFieldUsesViridisNamesTheMetricAndListsWorstVerticesTha
   QString text;
   for (QLabel* l : w.errorFieldPanel()->findChildren<QLabel*>())
     if (l->text().contains("points,")) text = l->text();
-  EXPECT_TRUE(text.contains("median relative force error")) << text.toStdString();
+  // The default metric: where a hand would feel the difference.
+  EXPECT_EQ(w.errorFieldPanel()->metric(), ErrorMetric::Perceptible);
+  EXPECT_TRUE(text.contains("a hand would feel the difference at")) << text.toStdString();
   EXPECT_TRUE(text.contains("no data")) << text.toStdString();
   (void)info;
+  w.errorFieldPanel()->setMetric(ErrorMetric::RelativeForce);
+  for (QLabel* l : w.errorFieldPanel()->findChildren<QLabel*>())
+    if (l->text().contains("points,")) text = l->text();
+  EXPECT_TRUE(text.contains("median relative force error")) << text.toStdString();
   w.errorFieldPanel()->setMetric(ErrorMetric::Direction);
   for (QLabel* l : w.errorFieldPanel()->findChildren<QLabel*>())
     if (l->text().contains("points,")) text = l->text();
@@ -468,7 +474,8 @@ TEST(MainWindowTest, ErrorFieldUsesViridisNamesTheMetricAndListsWorstVerticesTha
     for (int x = 0; x < img.width(); x += 2) {
       if (x < 0.15 * img.width() && y > 0.78 * img.height()) continue;  // the orientation axes (red X)
       const QColor q(img.pixel(x, y));
-      if (q.red() > 200 && q.green() < 60 && q.blue() < 60) ++rainbowRed;
+      // Pure red (the rainbow's top; the exact arrow's red, 214 39 40, stays below 235).
+      if (q.red() > 235 && q.green() < 60 && q.blue() < 60) ++rainbowRed;
       if (q.green() > q.red() && q.blue() > q.red() + 20 && q.red() < 90) ++viridisish;  // teal-blue band
     }
   EXPECT_EQ(rainbowRed, 0);
