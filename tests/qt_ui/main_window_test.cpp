@@ -13,6 +13,9 @@
 #include <QDir>
 #include <QDirIterator>
 #include <QFile>
+#include <functional>
+#include <QTimer>
+#include <QMessageBox>
 #include <QFileInfo>
 #include <QImage>
 #include <QLabel>
@@ -234,6 +237,42 @@ TEST(MainWindowTest, BadFilesAreReportedNotFatal) {
   // A good file still opens afterwards.
   w.setBakeOnOpen(false);
   EXPECT_TRUE(w.openFile(data.mesh));
+}
+
+TEST(MainWindowTest, AFileItCannotOpenInteractivelyGetsADialogNamingTheFileAndTheCause) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  // What the dialog says, read (and closed) by a timer while it waits for the user.
+  const auto dialogText = [&](const std::function<bool()>& open) {
+    QString text;
+    QTimer closer;
+    closer.setInterval(50);
+    QObject::connect(&closer, &QTimer::timeout, [&] {
+      if (auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget())) {
+        text = box->text();
+        box->accept();
+      }
+    });
+    closer.start();
+    EXPECT_FALSE(open());
+    closer.stop();
+    return text;
+  };
+  const QString missing = data.dir.filePath(QStringLiteral("missing.off"));
+  QString text = dialogText([&] { return w.openFile(missing, true); });
+  EXPECT_TRUE(text.contains(missing)) << text.toStdString();
+  EXPECT_TRUE(text.contains(QStringLiteral("no such file"))) << text.toStdString();
+  EXPECT_EQ(w.lastError(), text);
+  // A session whose model is gone: the dialog names the model, lastError the session too.
+  const QString session = data.dir.filePath(QStringLiteral("lost.hbsession"));
+  QFile f(session);
+  ASSERT_TRUE(f.open(QIODevice::WriteOnly));
+  f.write(R"({"format":"hapticbox-session","version":1,"mesh":"gone.off","bake":{"recipe":"default"}})");
+  f.close();
+  text = dialogText([&] { return w.openFile(session, true); });
+  EXPECT_TRUE(text.contains(QStringLiteral("gone.off"))) << text.toStdString();
+  EXPECT_TRUE(w.lastError().contains(QStringLiteral("lost.hbsession"))) << w.lastError().toStdString();
 }
 
 TEST(MainWindowTest, SessionFileReopensModelBoxesAndCamera) {

@@ -302,10 +302,12 @@ TEST(VolumeSurfaceTest, TheSurfacePanelPreviewsIsoAndSmoothingLiveWhileTheWindow
   const vtkIdType bone = view->previewTriangles();
   EXPECT_EQ(std::size_t(bone), panel->previewTriangles());
   EXPECT_TRUE(panel->statusText().contains(QStringLiteral("Preview at iso 300.0"))) << panel->statusText().toStdString();
+  std::printf("%s\n", qPrintable(panel->statusText()));
   // Back to soft tissue: another surface, another count.
   panel->isoBox()->setValue(-300.0);
   ASSERT_TRUE(waitFor([&] { return !panel->previewPending() && view->previewTriangles() != bone; }, 60));
   const vtkIdType skin = view->previewTriangles();
+  std::printf("%s\n", qPrintable(panel->statusText()));
   EXPECT_NE(skin, bone);
   // Quick changes are debounced: one preview, of the value the controls rest at.
   for (double iso : {0.0, 100.0, 200.0, 300.0}) {
