@@ -173,7 +173,11 @@ TEST(VolumeSurfaceTest, SurfacePanelOptionsAndAClickOnTheHistogramChooseTheIso) 
   ASSERT_TRUE(w.openFile(QStringLiteral(HB_DATASETS_DIR "/generated/ct_phantom_labels.nii.gz")));
   panel->labelCheck()->setChecked(true);
   panel->labelBox()->setValue(2);
+  // The live preview of a label (its voxels subsampled, never averaged into other labels).
+  ASSERT_TRUE(hbtest::waitFor([&] { return !panel->previewPending() && w.probeView()->previewTriangles() > 0; }, 60));
+  EXPECT_TRUE(panel->statusText().contains(QStringLiteral("Preview at label 2"))) << panel->statusText().toStdString();
   panel->extractButton()->click();
+  EXPECT_EQ(w.probeView()->previewTriangles(), 0);
   ASSERT_TRUE(w.session()->model()->modelOptions().volume.label.has_value());
   EXPECT_EQ(*w.session()->model()->modelOptions().volume.label, 2);
   EXPECT_FALSE(panel->isoBox()->isEnabled());
