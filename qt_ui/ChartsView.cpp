@@ -1,4 +1,6 @@
 #include "ChartsView.h"
+#include "series_colours.h"
+#include <array>
 #include <QLabel>
 #include <QHBoxLayout>
 #include <QVBoxLayout>
@@ -205,11 +207,13 @@ void ChartsView::setRows(const std::vector<hb::SweepRow>& rows, const std::vecto
   };
   std::vector<std::string> bt, et, lt;
   for (const auto& r : rows) (r.method == "haptic_box" ? bt : r.method == "exact_embree" ? et : lt).push_back(tip(r));
-  // Only the series present get a plot (and so a legend entry), in the report's colours
-  // (report/report_charts.cpp): box blue, exact red, VTK orange.
-  if (!bx.empty()) boxPlot_ = addPoints(speedChart_, "haptic box", bx, by, 31, 119, 180, VTK_MARKER_CIRCLE, bt);
-  if (!ex.empty()) addPoints(speedChart_, "exact Embree", ex, ey, 214, 39, 40, VTK_MARKER_DIAMOND, et);
-  if (!lx.empty()) addPoints(speedChart_, "VTK static cell locator", lx, ly, 255, 127, 14, VTK_MARKER_SQUARE, lt);
+  // Only the series present get a plot (and so a legend entry), in the series colours
+  // (series_colours.h, as the report's charts and the 3D arrows): box blue, exact red, VTK orange.
+  const auto c = [](const hb::SeriesColour& s) { return std::array<unsigned char, 3>{(unsigned char)s.r, (unsigned char)s.g, (unsigned char)s.b}; };
+  const auto box = c(hb::kBoxSeries), exact = c(hb::kExactSeries), vtk = c(hb::kVtkSeries);
+  if (!bx.empty()) boxPlot_ = addPoints(speedChart_, "haptic box", bx, by, box[0], box[1], box[2], VTK_MARKER_CIRCLE, bt);
+  if (!ex.empty()) addPoints(speedChart_, "exact Embree", ex, ey, exact[0], exact[1], exact[2], VTK_MARKER_DIAMOND, et);
+  if (!lx.empty()) addPoints(speedChart_, "VTK static cell locator", lx, ly, vtk[0], vtk[1], vtk[2], VTK_MARKER_SQUARE, lt);
   speedChart_->SetShowLegend(!rows.empty());
   speedChart_->RecalculateBounds();
 

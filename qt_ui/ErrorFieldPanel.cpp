@@ -17,9 +17,23 @@
 #include <algorithm>
 #include <cmath>
 
+namespace {
+
+const std::vector<float>& metricValues(const hb::ErrorField& f, ErrorMetric m) {
+  switch (m) {
+  case ErrorMetric::Perceptible: return f.perceptible_ratio;
+  case ErrorMetric::RelativeForce: return f.force_error;
+  case ErrorMetric::Direction: return f.direction_error;
+  case ErrorMetric::ContactDisagreement: break;
+  }
+  return f.contact_disagreement;
+}
+
+}  // namespace
+
 ErrorFieldPanel::ErrorFieldPanel(HapticSession* session, QWidget* parent) : QWidget(parent), session_(session) {
   metric_ = new QComboBox;
-  for (ErrorMetric m : {ErrorMetric::RelativeForce, ErrorMetric::Direction, ErrorMetric::ContactDisagreement})
+  for (ErrorMetric m : kErrorMetrics)
     metric_->addItem(HapticSession::errorMetricTitle(m), int(m));
   probes_ = new QSpinBox;
   probes_->setRange(1, 64);
@@ -115,14 +129,24 @@ void ErrorFieldPanel::updateState() {
   // The summary names the metric shown (and its unit), and the vertices without data.
   const hb::ErrorField& f = *session_->errorField();
   const ErrorMetric m = metric();
-  const std::vector<float>& values = m == ErrorMetric::RelativeForce ? f.force_error
-                                     : m == ErrorMetric::Direction   ? f.direction_error
-                                                                     : f.contact_disagreement;
+  const std::vector<float>& values = metricValues(f, m);
   const hb::ErrorValuesSummary sum = hb::summarize_error_values(values, 0);
   const std::size_t noData = sum.no_data;
   const double median = sum.median;
   QString figure;
-  if (m == ErrorMetric::RelativeForce)
+  if (m == ErrorMetric::Perceptible) {
+    std::size_t felt = 0;
+    float largest = 0.f;
+    for (float v : values)
+      if (v > 1.f) ++felt, largest = std::max(largest, v);
+    figure = felt == 0 ? tr("a hand would feel the difference at none of the %1 vertices (coloured: above 1 x "
+                            "what a hand feels)").arg(values.size())
+                       : tr("a hand would feel the difference at %1 of %2 vertices (%3), up to %4 x the threshold")
+                             .arg(felt)
+                             .arg(values.size())
+                             .arg(QString::fromStdString(hb::percent(double(felt) / double(std::max<std::size_t>(1, values.size())))))
+                             .arg(QString::fromStdString(hb::sig(largest)));
+  } else if (m == ErrorMetric::RelativeForce)
     figure = tr("median relative force error %1").arg(QString::fromStdString(hb::percent(median)));
   else if (m == ErrorMetric::Direction)
     figure = tr("median direction error %1 deg").arg(QString::fromStdString(hb::sig(median)));
@@ -148,9 +172,7 @@ void ErrorFieldPanel::updateWorst() {
   vtkPolyData* surface = session_->surface();
   if (!surface || surface->GetNumberOfPoints() != vtkIdType(f.size())) return;
   const ErrorMetric m = metric();
-  const std::vector<float>& values = m == ErrorMetric::RelativeForce ? f.force_error
-                                     : m == ErrorMetric::Direction   ? f.direction_error
-                                                                     : f.contact_disagreement;
+  const std::vector<float>& values = metricValues(f, m);
   const std::vector<std::size_t> order = hb::summarize_error_values(values, 10).worst;
   const std::size_t k = order.size();
   vtkDataArray* normals = surface->GetPointData()->GetNormals();
@@ -159,7 +181,8 @@ void ErrorFieldPanel::updateWorst() {
     double p[3], n[3] = {0.0, 0.0, 1.0};
     surface->GetPoint(vtkIdType(i), p);
     if (normals) normals->GetTuple(vtkIdType(i), n);
-    const QString value = m == ErrorMetric::RelativeForce ? QString::fromStdString(hb::percent(values[i]))
+    const QString value = m == ErrorMetric::Perceptible ? QString::fromStdString(hb::sig(values[i])) + tr(" x threshold")
+                          : m == ErrorMetric::RelativeForce ? QString::fromStdString(hb::percent(values[i]))
                           : m == ErrorMetric::Direction   ? QString::fromStdString(hb::sig(values[i])) + " deg"
                                                           : QString::fromStdString(hb::percent(values[i])) + tr(" disagree");
     auto* item = new QListWidgetItem(tr("%1  at vertex %2 (%3, %4, %5)")

@@ -159,6 +159,8 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
   connect(surface_, &SurfacePanel::extractRequested, this, [this](const hb::vtk::ModelOptions& options) {
     if (session_->hasMesh()) openFile(session_->meshPath(), true, options);
   });
+  connect(surface_, &SurfacePanel::previewChanged, this,
+          [this](vtkSmartPointer<vtkPolyData> preview, const QString& caption) { view_->setPreview(preview, caption); });
   connect(stability_, &StabilityPanel::message, this, [this](const QString& m) { showMessage(m, true); });
   connect(device_, &DevicePanel::tiltRequested, this, [this] {
     session_->tilt();
@@ -385,7 +387,7 @@ void MainWindow::createActions() {
                                 "Ctrl+wheel or [ and ]: push the tip deeper / pull it back.\n"
                                 "T: tilt the probe (15 degree steps). O: PBB outlines. R: reset camera.\n"
                                 "Space: emergency stop of the device force (Space again: release).\n"
-                                "Green arrow: exact force (Embree). Orange arrow: haptic box force."));
+                                "Red arrow: exact force (Embree). Blue arrow: haptic box force (the colours of the charts and the report)."));
   });
   help->addAction(tr("&About"), this, [this] {
     QMessageBox::about(this, tr("About HapticBox"),
@@ -526,6 +528,7 @@ void MainWindow::screenshotDialog() {
 }
 
 void MainWindow::showMessage(const QString& text, bool error) {
+  if (error) lastError_ = text;
   statusBar()->showMessage(text, error ? 0 : 8000);
 }
 
@@ -541,18 +544,31 @@ bool MainWindow::openFile(const QString& path, bool interactive, const hb::vtk::
   if (isSessionFile(path)) {
     return openSessionFile(path, interactive);
   }
+  bakeOnOpenFailed_ = false;
   QApplication::setOverrideCursor(Qt::WaitCursor);
   QString error;
   const bool ok = session_->openMesh(path, &error, options);
   QApplication::restoreOverrideCursor();
   if (!ok) {
-    showMessage(tr("Cannot open %1: %2").arg(path, error), true);
-    if (interactive) QMessageBox::warning(this, tr("Cannot open"), error);
+    // One sentence naming the file and the cause (the reader's message usually starts with the path).
+    showMessage(error.startsWith(path) ? tr("Cannot open %1").arg(error) : tr("Cannot open %1: %2").arg(path, error), true);
+    if (interactive) QMessageBox::warning(this, tr("Cannot open"), lastError_);
     return false;
   }
   addRecentFile(session_->meshPath());
   rememberFolder(session_->meshPath());
-  if (!session_->hasBoxes() && bakeOnOpen_) bake_->bakeButton()->click();
+  if (!session_->hasBoxes() && bakeOnOpen_) {
+    // A bake that cannot start (a piece file gone, settings refused) is an error of the open.
+    QString why;
+    const auto capture = connect(bake_, &BakePanel::message, this, [&why](const QString& m) { why = m; });
+    bake_->bakeButton()->click();
+    disconnect(capture);
+    if (!session_->job()->isRunning() && !session_->hasBoxes()) {
+      bakeOnOpenFailed_ = true;
+      showMessage(tr("Bake of %1 failed: %2").arg(session_->meshPath(), why.isEmpty() ? tr("it did not start") : why), true);
+      if (interactive) QMessageBox::warning(this, tr("Bake failed"), lastError_);
+    }
+  }
   return true;
 }
 
@@ -723,9 +739,10 @@ bool MainWindow::exportReport(const QString& dir, std::size_t samples) {
   QString image;
   if (session_->hasErrorField()) {
     // The rendered field with its scalar bar, in the metric the report's caption names (the
-    // relative force error), whichever metric the window shows; the window's display returns after.
+    // perceptible difference, on its scale anchored at what a hand feels), whichever metric the
+    // window shows; the window's display returns after.
     const ProbeView::ColorMode mode = view_->colorMode();
-    view_->setColorMode(ProbeView::ColorMode::ErrorField, ErrorMetric::RelativeForce);
+    view_->setColorMode(ProbeView::ColorMode::ErrorField, ErrorMetric::Perceptible);
     image = QDir(dir).absoluteFilePath(QStringLiteral("error_field.png"));
     if (!exportScreenshot(image)) image.clear();
     view_->setColorMode(mode, errorPanel_->metric());
@@ -754,6 +771,11 @@ bool MainWindow::saveSession(const QString& path) {
   s.metric = errorPanel_->metric();
   s.hasCamera = session_->hasMesh();
   s.camera = view_->cameraState();
+  if (session_->hasMesh() && session_->model()->isVolume()) {
+    // The surface the model was extracted with (what the Surface panel last applied).
+    s.hasSurface = true;
+    s.surface = session_->model()->modelOptions().volume;
+  }
   if (const std::optional<hb::Vec3> p = session_->surfacePoint()) {
     s.hasProbe = true;
     s.probePoint = {p->x(), p->y(), p->z()};
@@ -782,9 +804,14 @@ bool MainWindow::openSessionFile(const QString& path, bool interactive) {
   bake_->showSettings();
   const bool bakeOnOpen = bakeOnOpen_;
   bakeOnOpen_ = s.baked;
-  const bool ok = openFile(s.meshPath, interactive);
+  hb::vtk::ModelOptions options;
+  if (s.hasSurface) options.volume = s.surface;  // the saved iso-value or label, smoothing, triangles
+  const bool ok = openFile(s.meshPath, interactive, options);
   bakeOnOpen_ = bakeOnOpen;
-  if (!ok) return false;
+  if (!ok) {
+    showMessage(tr("Cannot open the session %1: %2").arg(path, lastError_), true);
+    return false;
+  }
   session_->setProbeDirection(hb::Vec3(s.probeDirection[0], s.probeDirection[1], s.probeDirection[2]));
   session_->setTiltDegrees(s.tiltDegrees);
   session_->setDepthFraction(s.depthFraction);

@@ -33,6 +33,11 @@ public:
   /// Opens a mesh or a session file; errors go to the status bar (and a dialog when
   /// `interactive`). Returns false on failure.
   bool openFile(const QString& path, bool interactive = false, const hb::vtk::ModelOptions& options = {});
+  /// The last error the window reported (status bar, dialog): a whole sentence naming the file
+  /// and the cause; empty when none yet. The command line prints it on a failed job.
+  QString lastError() const { return lastError_; }
+  /// The last openFile opened the model but its bake on open could not start (lastError says why).
+  bool bakeOnOpenFailed() const { return bakeOnOpenFailed_; }
   /// What a drop does: opens the first local file. Returns false when there is none or it fails.
   bool openDroppedUrls(const QList<QUrl>& urls);
   /// Bakes automatically after opening a model without a cached bake (default on).
@@ -97,6 +102,8 @@ private:
   void openBoxDialog();
   void saveBoxDialog();
   bool openSessionFile(const QString& path, bool interactive);
+  QString lastError_;
+  bool bakeOnOpenFailed_ = false;
   void probeDragged(const hb::Vec3& point, bool press);
   void stepDepth(int step);
   void goToWorstVertex(std::size_t vertex);

@@ -1,13 +1,16 @@
 // ProbeView: what the 3D view draws, and how.
 //  1. The model (cell i = triangle i) coloured by "PieceId" (golden-angle hues) or by an error
-//     array (blue to red over [0, p95], NaN = no data in grey) with a scalar bar.
+//     array with a scalar bar: the perceptible ratio on its fixed scale anchored at 1 (below it
+//     the plain colour), the other metrics viridis over [0, p95], NaN = no data in grey.
 //  2. Models above 30K triangles get a quadric-clustering proxy (~15K triangles) drawn while the
 //     camera or the probe moves; the full model returns 250 ms after the view is still.
-//  3. The probe (handle to tip) and two arrows on one force scale: exact (green), box (orange).
+//  3. The probe (handle to tip, light grey) and two arrows on one force scale, in the series
+//     colours of the charts and the report: exact red, box blue.
 //  4. Picking casts the mouse ray against a static cell locator of the model, so it works
 //     whichever of model or proxy is on screen.
 //  5. Renders are coalesced to one per event-loop pass and skipped when nothing moved.
 #include "ProbeView.h"
+#include "series_colours.h"
 #include "ProbeInteractorStyle.h"
 #include "errors.h"
 #include <QFile>
@@ -51,8 +54,11 @@
 
 namespace {
 
-const double kExactColor[3] = {0.15, 0.75, 0.25};   // green
-const double kApproxColor[3] = {1.0, 0.45, 0.0};    // orange
+// The series colours of every chart and the report (series_colours.h): exact red, box blue.
+const double kExactColor[3] = {hb::kExactSeries.rf(), hb::kExactSeries.gf(), hb::kExactSeries.bf()};
+const double kApproxColor[3] = {hb::kBoxSeries.rf(), hb::kBoxSeries.gf(), hb::kBoxSeries.bf()};
+// The probe itself: a neutral light grey, so it is never taken for either force.
+const double kProbeColor[3] = {0.86, 0.86, 0.86};
 
 vtkSmartPointer<vtkActor> makeArrow(const double color[3], double thickness) {
   auto source = vtkSmartPointer<vtkArrowSource>::New();
@@ -139,6 +145,27 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   proxyActor_->VisibilityOff();
   proxyActor_->PickableOff();
   renderer_->AddActor(proxyActor_);
+  // The Surface panel's preview: its own colour (a pale blue, never the model's beige), in
+  // place of the model until it is extracted or dropped.
+  previewMapper_ = vtkSmartPointer<vtkPolyDataMapper>::New();
+  previewMapper_->ScalarVisibilityOff();
+  previewActor_ = vtkSmartPointer<vtkActor>::New();
+  previewActor_->SetMapper(previewMapper_);
+  previewActor_->GetProperty()->SetColor(0.72, 0.84, 0.96);
+  previewActor_->GetProperty()->SetSpecular(0.0);
+  previewActor_->PickableOff();
+  previewActor_->VisibilityOff();
+  renderer_->AddActor(previewActor_);
+  previewCaption_ = vtkSmartPointer<vtkTextActor>::New();
+  previewCaption_->GetTextProperty()->SetFontSize(15);
+  previewCaption_->GetTextProperty()->SetColor(0.72, 0.84, 0.96);
+  previewCaption_->GetTextProperty()->BoldOn();
+  previewCaption_->GetTextProperty()->SetJustificationToCentered();
+  previewCaption_->GetTextProperty()->SetVerticalJustificationToBottom();
+  previewCaption_->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+  previewCaption_->GetPositionCoordinate()->SetValue(0.5, 0.03);  // bottom centre: clear of the legend
+  previewCaption_->VisibilityOff();
+  renderer_->AddViewProp(previewCaption_);
   stillTimer_ = new QTimer(this);
   stillTimer_->setSingleShot(true);
   stillTimer_->setInterval(250);
@@ -162,7 +189,7 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   probeMapper->SetInputConnection(probeLine_->GetOutputPort());
   probeActor_ = vtkSmartPointer<vtkActor>::New();
   probeActor_->SetMapper(probeMapper);
-  probeActor_->GetProperty()->SetColor(0.3, 0.7, 1.0);
+  probeActor_->GetProperty()->SetColor(kProbeColor[0], kProbeColor[1], kProbeColor[2]);
   probeActor_->GetProperty()->SetLineWidth(4);
   probeActor_->GetProperty()->SetRenderLinesAsTubes(true);
   probeActor_->VisibilityOff();
@@ -175,13 +202,13 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   tipMapper->SetInputConnection(tip->GetOutputPort());
   tipActor_ = vtkSmartPointer<vtkActor>::New();
   tipActor_->SetMapper(tipMapper);
-  tipActor_->GetProperty()->SetColor(0.3, 0.7, 1.0);
+  tipActor_->GetProperty()->SetColor(kProbeColor[0], kProbeColor[1], kProbeColor[2]);
   tipActor_->VisibilityOff();
   renderer_->AddActor(tipActor_);
 
   // When the two agree they coincide: the exact arrow is a thicker sleeve drawn from inside
   // (front faces culled: its far wall shows, opaque and lit from both sides) and the box's a
-  // thinner solid core, so the orange shows whole inside a green rim instead of behind it.
+  // thinner solid core, so the blue shows whole inside a red rim instead of behind it.
   exactArrow_ = makeArrow(kExactColor, 2.0);
   exactArrow_->GetProperty()->FrontfaceCullingOn();
   approxArrow_ = makeArrow(kApproxColor, 1.0);
@@ -320,7 +347,20 @@ void ProbeView::updateColoring() {
   if (!surface_) return;
   const char* name = HapticSession::errorArrayName(metric_);
   vtkDataArray* field = surface_->GetPointData()->GetArray(name);
-  if (colorMode_ == ColorMode::ErrorField && field) {
+  if (colorMode_ == ColorMode::ErrorField && field && metric_ == ErrorMetric::Perceptible) {
+    // Anchored at what a hand feels: below a ratio of 1 the model's plain colour (nothing to
+    // see), from 1 on a ramp to kPerceptibleTop and above: only feelable differences show.
+    double plain[3];
+    hb::vtk::plain_surface_colour(plain);
+    vtkSmartPointer<vtkLookupTable> lut = hb::vtk::perceptible_table(plain);
+    surfaceMapper_->SetLookupTable(lut);
+    surfaceMapper_->SetScalarModeToUsePointFieldData();
+    surfaceMapper_->SelectColorArray(name);
+    surfaceMapper_->SetScalarRange(0.0, hb::vtk::kPerceptibleTop);
+    surfaceMapper_->ScalarVisibilityOn();
+    hb::vtk::style_perceptible_bar(scalarBar_, lut, true);
+    scalarBar_->VisibilityOn();
+  } else if (colorMode_ == ColorMode::ErrorField && field) {
     double range[2] = {0.0, 1.0};
     // Robust range: the 95th percentile of the finite values, so a few outliers do not wash
     // the map out (the bar's top label then means "this or more").
@@ -371,7 +411,9 @@ void ProbeView::updateColoring() {
     const double count = pieces ? pieces->GetRange()[1] + 1.0 : 1.0;
     if (count <= 1.0) {
       surfaceMapper_->ScalarVisibilityOff();
-      surfaceActor_->GetProperty()->SetColor(0.93, 0.82, 0.66);
+      double plain[3];
+      hb::vtk::plain_surface_colour(plain);
+      surfaceActor_->GetProperty()->SetColor(plain);
     } else {
       auto lut = vtkSmartPointer<vtkLookupTable>::New();
       lut->SetNumberOfTableValues(static_cast<vtkIdType>(count));
@@ -438,7 +480,7 @@ void ProbeView::updateProxyColors() {
   if (!proxy_) return;
   // Point arrays of the error field: copied from the nearest model vertex.
   vtkPointData* from = surface_->GetPointData();
-  for (ErrorMetric m : {ErrorMetric::RelativeForce, ErrorMetric::Direction, ErrorMetric::ContactDisagreement}) {
+  for (ErrorMetric m : kErrorMetrics) {
     const char* name = HapticSession::errorArrayName(m);
     vtkDataArray* a = from->GetArray(name);
     if (!a) {
@@ -466,14 +508,33 @@ void ProbeView::updateProxyColors() {
   proxyMapper_->Modified();
 }
 
+void ProbeView::setPreview(vtkPolyData* preview, const QString& caption) {
+  if (!preview && !preview_) return;
+  const bool first = preview && !preview_;
+  preview_ = preview;
+  previewMapper_->SetInputData(preview);
+  previewActor_->SetVisibility(preview != nullptr);
+  previewCaption_->SetInput(caption.toUtf8().constData());
+  previewCaption_->SetVisibility(preview != nullptr && !caption.isEmpty());
+  interacting_ = !interacting_;  // re-apply the visibility of the model and its proxy
+  setInteracting(!interacting_);
+  // The first preview is framed (a bone inside a skin is much smaller); later ones keep the
+  // camera the user chose.
+  if (first) renderer_->ResetCamera(preview->GetBounds());
+  renderNow();
+}
+
+vtkIdType ProbeView::previewTriangles() const { return preview_ ? preview_->GetNumberOfPolys() : 0; }
+
 vtkIdType ProbeView::proxyTriangles() const { return proxy_ ? proxy_->GetNumberOfCells() : 0; }
 
 void ProbeView::setInteracting(bool on) {
   if (on == interacting_) return;
   interacting_ = on;
   const bool proxy = on && proxy_ != nullptr;
-  surfaceActor_->SetVisibility(surface_ != nullptr && !proxy);
-  proxyActor_->SetVisibility(proxy);
+  const bool preview = preview_ != nullptr;
+  surfaceActor_->SetVisibility(surface_ != nullptr && !proxy && !preview);
+  proxyActor_->SetVisibility(proxy && !preview);
 }
 
 void ProbeView::setReading(const ProbeReading& r, double forceScale) {
@@ -568,6 +629,7 @@ bool ProbeView::pickSurface(int x, int y, hb::Vec3& point) const {
   // The mouse ray against the model's cell locator: independent of which actor (model or
   // level-of-detail proxy) is on screen.
   if (!surface_ || !locator_) return false;
+  if (preview_) return false;  // the model is hidden behind a surface preview: nothing to probe
   double p0[4], p1[4];
   renderer_->SetDisplayPoint(x, y, 0.0);
   renderer_->DisplayToWorld();
@@ -750,3 +812,12 @@ double ProbeView::measureFrameRate(int frames, bool interactive) {
 bool ProbeView::exactArrowShown() const { return exactArrow_->GetVisibility() != 0; }
 bool ProbeView::approxArrowShown() const { return approxArrow_->GetVisibility() != 0; }
 bool ProbeView::scalarBarShown() const { return scalarBar_->GetVisibility() != 0; }
+vtkScalarsToColors* ProbeView::surfaceColorTable() const { return surfaceMapper_->GetLookupTable(); }
+bool ProbeView::surfaceColoredByScalars() const { return surfaceMapper_->GetScalarVisibility() != 0; }
+vtkUnsignedCharArray* ProbeView::mappedSurfaceColors() { return surfaceMapper_->MapScalars(1.0); }
+std::array<double, 3> ProbeView::arrowColor(bool exact) const {
+  std::array<double, 3> c{};
+  (exact ? exactArrow_ : approxArrow_)->GetProperty()->GetColor(c.data());
+  return c;
+}
+std::string ProbeView::scalarBarTitle() const { return scalarBar_->GetTitle() ? scalarBar_->GetTitle() : ""; }

@@ -7,6 +7,7 @@
 #include <QVTKOpenGLNativeWidget.h>
 #include <vtkSmartPointer.h>
 #include <array>
+#include <string>
 
 class ProbeInteractorStyle;
 class vtkActor;
@@ -17,6 +18,8 @@ class vtkOrientationMarkerWidget;
 class vtkPolyDataMapper;
 class vtkRenderer;
 class vtkScalarBarActor;
+class vtkScalarsToColors;
+class vtkUnsignedCharArray;
 class vtkStaticCellLocator;
 class vtkTextActor;
 
@@ -35,7 +38,7 @@ public:
   void setOutlinesVisible(bool on);
   bool outlinesVisible() const;
   /// Colours by piece, or by the error field's `metric` (when the surface has the array).
-  void setColorMode(ColorMode mode, ErrorMetric metric = ErrorMetric::RelativeForce);
+  void setColorMode(ColorMode mode, ErrorMetric metric = ErrorMetric::Perceptible);
   ColorMode colorMode() const { return colorMode_; }
   /// Updates the probe segment and both arrows; renders when something changed.
   void setReading(const ProbeReading& reading, double forceScale);
@@ -74,6 +77,15 @@ public:
   bool exactArrowShown() const;
   bool approxArrowShown() const;
   bool scalarBarShown() const;
+  /// The model's colouring as drawn (tests read the colours back through VTK, not pixels):
+  /// the lookup table, whether scalars colour it, the per-vertex colours the mapper makes
+  /// (RGBA, one tuple a point; null when not coloured by a point array), the bar's title.
+  vtkScalarsToColors* surfaceColorTable() const;
+  bool surfaceColoredByScalars() const;
+  vtkUnsignedCharArray* mappedSurfaceColors();
+  std::string scalarBarTitle() const;
+  /// The colour an arrow is drawn in (the series colours of the charts and the report).
+  std::array<double, 3> arrowColor(bool exact) const;
   /// The caption beside an arrow seen nearly end on ("toward you" / "away from you"), empty
   /// when the arrow reads by its shape (tests).
   QString exactArrowCaption() const;
@@ -86,6 +98,13 @@ public:
   /// While interacting (camera or probe moving) a decimated proxy of a large model is drawn,
   /// as ParaView does; the full model is drawn again once the view is still for 250 ms.
   void setInteracting(bool on);
+  /// A preview surface of a volume's options (the Surface panel's live preview), drawn in its
+  /// own colour in place of the model with `caption` above it; null: the model again. Keeps the
+  /// camera (the preview lies where the model does).
+  void setPreview(vtkPolyData* preview, const QString& caption = {});
+  /// Triangles of the preview shown (0: none), and the preview itself (null: none).
+  vtkIdType previewTriangles() const;
+  vtkPolyData* preview() const { return preview_; }
 
 signals:
   /// A left drag on the model: the point under the mouse; `press` on the first one.
@@ -108,6 +127,10 @@ private:
   vtkSmartPointer<vtkIdTypeArray> proxySource_;  ///< nearest model vertex of each proxy point
   vtkSmartPointer<vtkPolyDataMapper> proxyMapper_;
   vtkSmartPointer<vtkActor> proxyActor_;
+  vtkSmartPointer<vtkPolyData> preview_;
+  vtkSmartPointer<vtkPolyDataMapper> previewMapper_;
+  vtkSmartPointer<vtkActor> previewActor_;
+  vtkSmartPointer<vtkTextActor> previewCaption_;
   class QTimer* stillTimer_ = nullptr;
   bool interacting_ = false;
   bool renderPending_ = false;
@@ -131,6 +154,6 @@ private:
   vtkPolyData* surface_ = nullptr;
   float diagonal_ = 1.f;
   ColorMode colorMode_ = ColorMode::Pieces;
-  ErrorMetric metric_ = ErrorMetric::RelativeForce;
+  ErrorMetric metric_ = ErrorMetric::Perceptible;
   std::array<float, 12> lastShown_{};
 };

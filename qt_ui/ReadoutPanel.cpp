@@ -1,4 +1,5 @@
 #include "ReadoutPanel.h"
+#include "series_colours.h"
 #include "contact/perceptible.h"
 #include "HapticSession.h"
 #include <QFontDatabase>
@@ -22,8 +23,10 @@ ReadoutPanel::ReadoutPanel(QWidget* parent)
     : QWidget(parent), depth_(value()), exact_(value()), approx_(value()), error_(value()), angle_(value()),
       query_(value()), device_(value()), felt_(value()) {
   auto* form = new QFormLayout(this);
-  exact_->setStyleSheet(QStringLiteral("color: #26bf40;"));
-  approx_->setStyleSheet(QStringLiteral("color: #ff7300;"));
+  // The series colours of the arrows, the charts and the report (series_colours.h).
+  const auto css = [](const hb::SeriesColour& c) { return QStringLiteral("color: rgb(%1, %2, %3);").arg(c.r).arg(c.g).arg(c.b); };
+  exact_->setStyleSheet(css(hb::kExactSeries));
+  approx_->setStyleSheet(css(hb::kBoxSeries));
   form->addRow(tr("Depth"), depth_);
   form->addRow(tr("|F| exact"), exact_);
   form->addRow(tr("|F| haptic box"), approx_);

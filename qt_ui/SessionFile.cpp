@@ -42,6 +42,13 @@ void saveSessionFile(const SessionState& s, const QString& path) {
                    {"view_up", s.camera.viewUp},
                    {"view_angle", s.camera.viewAngle},
                    {"parallel_scale", s.camera.parallelScale}};
+  if (s.hasSurface) {
+    nlohmann::json v = {{"smooth_iterations", s.surface.smooth_iterations},
+                        {"target_triangles", s.surface.target_triangles}};
+    v["iso"] = s.surface.iso ? nlohmann::json(*s.surface.iso) : nlohmann::json();  // null: automatic (Otsu)
+    v["label"] = s.surface.label ? nlohmann::json(*s.surface.label) : nlohmann::json();
+    j["surface"] = v;
+  }
   std::ofstream out(local(path));
   out << j.dump(2) << "\n";
   if (!out) throw hb::IoError(local(path) + ": cannot write the session file");
@@ -88,8 +95,8 @@ SessionState loadSessionFile(const QString& path) {
       const auto& d = j["display"];
       s.outlines = d.value("outlines", false);
       s.showErrorField = d.value("error_field", false);
-      const std::string m = d.value("metric", "RelativeForceError");
-      for (ErrorMetric e : {ErrorMetric::RelativeForce, ErrorMetric::Direction, ErrorMetric::ContactDisagreement})
+      const std::string m = d.value("metric", "PerceptibleRatio");
+      for (ErrorMetric e : kErrorMetrics)
         if (m == HapticSession::errorArrayName(e)) s.metric = e;
     }
     if (j.contains("camera")) {
@@ -100,6 +107,21 @@ SessionState loadSessionFile(const QString& path) {
       s.camera.viewUp = c.at("view_up").get<std::array<double, 3>>();
       s.camera.viewAngle = c.value("view_angle", 30.0);
       s.camera.parallelScale = c.value("parallel_scale", 1.0);
+    }
+    if (j.contains("surface")) {
+      const auto& v = j["surface"];
+      s.hasSurface = true;
+      if (v.contains("iso") && !v["iso"].is_null()) {
+        s.surface.iso = v["iso"].get<double>();
+        if (!std::isfinite(*s.surface.iso)) throw hb::InvalidInput(local(path) + ": surface.iso is not a finite number");
+      }
+      if (v.contains("label") && !v["label"].is_null()) s.surface.label = v["label"].get<long>();
+      if (s.surface.iso && s.surface.label)
+        throw hb::InvalidInput(local(path) + ": surface gives both an iso-value and a label (one or the other)");
+      s.surface.smooth_iterations = v.value("smooth_iterations", 0);
+      if (s.surface.smooth_iterations < 0)
+        throw hb::InvalidInput(local(path) + ": surface.smooth_iterations is negative");
+      s.surface.target_triangles = v.value("target_triangles", std::size_t(0));
     }
   } catch (const nlohmann::json::exception& e) {
     throw hb::InvalidInput(local(path) + ": not a valid session file (" + e.what() + ")");

@@ -23,9 +23,14 @@ struct SessionState {
   std::array<float, 3> probePoint{};   ///< the surface point the probe was dragged to, model units.
   bool outlines = false;
   bool showErrorField = false;
-  ErrorMetric metric = ErrorMetric::RelativeForce;
+  ErrorMetric metric = ErrorMetric::Perceptible;
   bool hasCamera = false;
   CameraState camera;
+  /// How a volume became the model (the Surface panel: iso-value or label, smoothing, target
+  /// triangles; the command line's --iso, --label, --smooth, --target-triangles), restored
+  /// when the session opens. `hasSurface` false: the file had none (the loader's defaults).
+  bool hasSurface = false;
+  hb::vtk::VolumeSurfaceOptions surface;
 };
 
 /// Writes `state` as JSON. Throws hb::IoError.

@@ -84,8 +84,11 @@ bool SessionModel::openMesh(const QString& path, QString* error, OpenTiming* tim
     // A volume's histogram and Otsu threshold, for choosing another iso-value.
     hb::vtk::VolumeHistogram histogram;
     double otsu = 0.0;
+    std::shared_ptr<const hb::vtk::Volume> volume;
     if (model.kind == hb::vtk::ModelKind::Volume) {
-      histogram = hb::vtk::volume_histogram(hb::vtk::read_volume(p));
+      // Kept for the Surface panel's preview of other iso-values (SurfacePanel, volume_preview.h).
+      volume = std::make_shared<const hb::vtk::Volume>(hb::vtk::read_volume(p));
+      histogram = hb::vtk::volume_histogram(*volume);
       otsu = hb::vtk::otsu_threshold(histogram);
     }
     // As the command line with the same options (hb::cli::hash_model).
@@ -117,6 +120,7 @@ bool SessionModel::openMesh(const QString& path, QString* error, OpenTiming* tim
     kind_ = model.kind;
     histogram_ = std::move(histogram);
     otsu_ = otsu;
+    volume_ = std::move(volume);
     warnings_.clear();
     for (const auto& w : model.report.warnings) warnings_ << QString::fromStdString(w);
     surface_ = vtkSmartPointer<vtkPolyData>::New();
@@ -187,7 +191,7 @@ void SessionModel::installBoxes(std::shared_ptr<const hb::BoxScene> boxes, doubl
   boxPath_.clear();
   errorField_.reset();
   vtkPointData* pd = surface_->GetPointData();
-  for (ErrorMetric m : {ErrorMetric::RelativeForce, ErrorMetric::Direction, ErrorMetric::ContactDisagreement})
+  for (ErrorMetric m : kErrorMetrics)
     pd->RemoveArray(errorArrayName(m));
   if (pieceIds && pieceIds->GetNumberOfTuples() == surface_->GetNumberOfCells()) setPieceArray(pieceIds);
   else updatePieceArray(boxes_->piece_of_triangle());
@@ -236,7 +240,7 @@ bool SessionModel::saveBoxFile(const QString& path, QString* error) const {
 void SessionModel::setErrorField(std::unique_ptr<hb::ErrorField> field, vtkPolyData* fieldSurface) {
   errorField_ = std::move(field);
   vtkPointData* pd = surface_->GetPointData();
-  for (ErrorMetric m : {ErrorMetric::RelativeForce, ErrorMetric::Direction, ErrorMetric::ContactDisagreement}) {
+  for (ErrorMetric m : kErrorMetrics) {
     vtkDataArray* a = fieldSurface ? fieldSurface->GetPointData()->GetArray(errorArrayName(m)) : nullptr;
     if (a && a->GetNumberOfTuples() == surface_->GetNumberOfPoints()) pd->AddArray(a);
     else pd->RemoveArray(errorArrayName(m));
@@ -250,6 +254,7 @@ const char* SessionModel::errorArrayName(ErrorMetric metric) {
   case ErrorMetric::RelativeForce: return "RelativeForceError";
   case ErrorMetric::Direction: return "DirectionError";
   case ErrorMetric::ContactDisagreement: return "ContactDisagreement";
+  case ErrorMetric::Perceptible: return "PerceptibleRatio";
   }
   return "RelativeForceError";
 }
@@ -259,6 +264,7 @@ QString SessionModel::errorMetricTitle(ErrorMetric metric) {
   case ErrorMetric::RelativeForce: return tr("Relative force error");
   case ErrorMetric::Direction: return tr("Direction error (deg)");
   case ErrorMetric::ContactDisagreement: return tr("Contact disagreement");
+  case ErrorMetric::Perceptible: return tr("Perceptible difference (x what a hand feels)");
   }
   return {};
 }

@@ -26,8 +26,13 @@ class SessionPipeline;
 class vtkDataArray;
 class vtkHapticBoxReferenceQueries;
 
-/// The surface metric the error-field view colours by.
-enum class ErrorMetric { RelativeForce = 0, Direction = 1, ContactDisagreement = 2 };
+/// The surface metric the error-field view colours by. Perceptible (the default): per vertex
+/// the largest box-vs-exact force difference over what a hand feels (hb::perceive's ratio,
+/// array "PerceptibleRatio"; 1 = just feelable); the others are the relative metrics.
+enum class ErrorMetric { RelativeForce = 0, Direction = 1, ContactDisagreement = 2, Perceptible = 3 };
+/// Every metric, in the order the panel lists them (the default first).
+inline constexpr ErrorMetric kErrorMetrics[] = {ErrorMetric::Perceptible, ErrorMetric::RelativeForce,
+                                                ErrorMetric::Direction, ErrorMetric::ContactDisagreement};
 
 class SessionModel : public QObject {
   Q_OBJECT
@@ -55,6 +60,9 @@ public:
   /// A volume's histogram of calibrated values and its Otsu threshold (the automatic iso-value).
   const hb::vtk::VolumeHistogram& histogram() const { return histogram_; }
   double otsu() const { return otsu_; }
+  /// The open volume as read (null for a mesh): what the Surface panel previews other options
+  /// on (shared, so a preview running on a worker keeps it alive after another model opens).
+  std::shared_ptr<const hb::vtk::Volume> volume() const { return volume_; }
   bool hasMesh() const { return mesh_ != nullptr; }
   QString meshPath() const { return meshPath_; }
   const hb::TriangleMesh& mesh() const { return *mesh_; }
@@ -137,6 +145,7 @@ private:
   hb::vtk::ModelKind kind_ = hb::vtk::ModelKind::Mesh;
   hb::vtk::VolumeHistogram histogram_;
   double otsu_ = 0.0;
+  std::shared_ptr<const hb::vtk::Volume> volume_;
   std::shared_ptr<hb::TriangleMesh> mesh_;
   std::uint64_t meshHash_ = 0;
   float diagonal_ = 0.f;

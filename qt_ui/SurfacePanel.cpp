@@ -1,4 +1,9 @@
 #include "SurfacePanel.h"
+#include "figure_text.h"
+#include "volume_preview.h"
+#include <QFile>
+#include <QTimer>
+#include <QtConcurrent/QtConcurrentRun>
 #include <QCheckBox>
 #include <QDoubleSpinBox>
 #include <QFileInfo>
@@ -100,7 +105,9 @@ void VolumeHistogramView::mouseMoveEvent(QMouseEvent* event) {
 SurfacePanel::SurfacePanel(HapticSession* session, QWidget* parent)
     : QWidget(parent), session_(session), facts_(new QLabel), histogram_(new VolumeHistogramView), iso_(new QDoubleSpinBox),
       otsu_(new QPushButton(tr("Otsu"))), useLabel_(new QCheckBox(tr("Label"))), label_(new QSpinBox), smooth_(new QSpinBox),
-      target_(new QSpinBox), extract_(new QPushButton(tr("Extract Surface"))), status_(new QLabel) {
+      target_(new QSpinBox), extract_(new QPushButton(tr("Extract Surface"))), status_(new QLabel),
+      previewOn_(new QCheckBox(tr("Live preview"))), previewTimer_(new QTimer(this)),
+      previewWatcher_(new QFutureWatcher<PreviewResult>(this)) {
   for (QLabel* l : {facts_, status_}) {
     l->setWordWrap(true);
     l->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);
@@ -136,6 +143,10 @@ SurfacePanel::SurfacePanel(HapticSession* session, QWidget* parent)
   layout->addWidget(facts_);
   layout->addWidget(histogram_);
   layout->addLayout(form);
+  previewOn_->setChecked(true);
+  previewOn_->setToolTip(tr("Show the surface of the iso-value, label and smoothing in the 3D view as they change (from "
+                            "a reduced copy of the volume, on a worker thread), before Extract Surface makes it the model"));
+  layout->addWidget(previewOn_);
   layout->addWidget(extract_);
   layout->addWidget(status_);
   layout->addStretch(1);
@@ -154,7 +165,92 @@ SurfacePanel::SurfacePanel(HapticSession* session, QWidget* parent)
     iso_->setEnabled(!on);
   });
   connect(extract_, &QPushButton::clicked, this, [this] { emit extractRequested(options()); });
+  // The live preview: debounced, computed off the GUI thread, the latest options winning.
+  previewTimer_->setSingleShot(true);
+  previewTimer_->setInterval(kPreviewDebounceMs);
+  connect(previewTimer_, &QTimer::timeout, this, &SurfacePanel::startPreview);
+  connect(previewWatcher_, &QFutureWatcher<PreviewResult>::finished, this, &SurfacePanel::previewFinished);
+  connect(iso_, qOverload<double>(&QDoubleSpinBox::valueChanged), this, &SurfacePanel::schedulePreview);
+  connect(label_, qOverload<int>(&QSpinBox::valueChanged), this, &SurfacePanel::schedulePreview);
+  connect(smooth_, qOverload<int>(&QSpinBox::valueChanged), this, &SurfacePanel::schedulePreview);
+  connect(useLabel_, &QCheckBox::toggled, this, &SurfacePanel::schedulePreview);
+  connect(previewOn_, &QCheckBox::toggled, this, [this](bool on) {
+    if (on) schedulePreview();
+    else clearPreview();
+  });
   showModel();
+}
+
+bool SurfacePanel::previewPending() const { return previewTimer_->isActive() || previewWatcher_->isRunning(); }
+
+QString SurfacePanel::statusText() const { return status_->text(); }
+
+void SurfacePanel::schedulePreview() {
+  if (showing_ || !previewOn_->isChecked() || !session_->hasMesh() || !session_->model()->volume()) return;
+  previewTimer_->start();  // restarted by every change: computed once the controls rest
+}
+
+void SurfacePanel::startPreview() {
+  if (previewWatcher_->isRunning()) {
+    previewAgain_ = true;  // one more with the latest options when this one ends
+    return;
+  }
+  std::shared_ptr<const hb::vtk::Volume> volume = session_->model()->volume();
+  if (!volume) return;
+  const hb::vtk::VolumeSurfaceOptions o = options().volume;
+  const std::string path = QFile::encodeName(session_->meshPath()).toStdString();
+  const unsigned generation = generation_;
+  status_->setText(surfaceText_ + QStringLiteral("\n") + tr("Preview: computing..."));
+  previewWatcher_->setFuture(QtConcurrent::run([volume, o, path, generation] {
+    PreviewResult r;
+    r.generation = generation;
+    try {
+      const hb::vtk::VolumePreview p = hb::vtk::volume_preview_surface(*volume, o, path);
+      r.surface = p.surface;
+      r.shrink = p.shrink;
+      r.seconds = p.seconds;
+    } catch (const std::exception& e) {
+      r.error = QString::fromStdString(e.what());
+    }
+    return r;
+  }));
+}
+
+void SurfacePanel::previewFinished() {
+  const PreviewResult r = previewWatcher_->result();
+  if (previewAgain_) {
+    previewAgain_ = false;
+    startPreview();
+    return;
+  }
+  if (r.generation != generation_ || !previewOn_->isChecked()) return;  // another model opened meanwhile
+  if (!r.error.isEmpty() || !r.surface) {
+    previewTriangles_ = 0;
+    status_->setText(surfaceText_ + QStringLiteral("\n") + tr("Preview: %1").arg(r.error));
+    emit previewChanged(nullptr, QString());
+    return;
+  }
+  previewTriangles_ = std::size_t(r.surface->GetNumberOfPolys());
+  const hb::vtk::ModelOptions o = options();
+  const QString at = o.volume.label ? tr("label %1").arg(*o.volume.label) : tr("iso %1").arg(*o.volume.iso, 0, 'f', 1);
+  const QString resolution = r.shrink > 1 ? tr("volume at 1/%1 resolution").arg(r.shrink) : tr("full resolution");
+  const QString caption = tr("Preview at %1, smoothing %2: %3 triangles (%4, %5). Extract Surface makes it the model.")
+                              .arg(at)
+                              .arg(o.volume.smooth_iterations)
+                              .arg(QString::fromStdString(hb::sig(double(previewTriangles_), 6)))
+                              .arg(resolution)
+                              .arg(QString::fromStdString(hb::duration_text(r.seconds)));
+  status_->setText(surfaceText_ + QStringLiteral("\n") + caption);
+  emit previewChanged(r.surface, tr("Preview at %1: %2 triangles (Extract Surface to use it)")
+                                     .arg(at, QString::fromStdString(hb::sig(double(previewTriangles_), 6))));
+}
+
+void SurfacePanel::clearPreview() {
+  previewTimer_->stop();
+  previewAgain_ = false;
+  previewTriangles_ = 0;
+  status_->setText(surfaceText_);
+  emit previewChanged(nullptr, QString());
 }
 
 hb::vtk::ModelOptions SurfacePanel::options() const {
@@ -169,8 +265,18 @@ hb::vtk::ModelOptions SurfacePanel::options() const {
 }
 
 void SurfacePanel::showModel() {
+  // Filling the controls is no change of the user's: no preview for it; an older one goes.
+  struct Showing {
+    bool& flag;
+    explicit Showing(bool& f) : flag(f) { flag = true; }
+    ~Showing() { flag = false; }
+  } showing(showing_);
+  ++generation_;
+  surfaceText_.clear();
+  clearPreview();
   const bool volume = session_->hasMesh() && session_->model()->isVolume();
-  for (QWidget* w : std::initializer_list<QWidget*>{histogram_, iso_, otsu_, useLabel_, smooth_, target_, extract_}) w->setEnabled(volume);
+  for (QWidget* w : std::initializer_list<QWidget*>{histogram_, iso_, otsu_, useLabel_, smooth_, target_, extract_, previewOn_})
+    w->setEnabled(volume);
   label_->setEnabled(volume && useLabel_->isChecked());
   if (!volume) {
     facts_->setText(session_->hasMesh() ? tr("%1 is a surface, not a volume: nothing to choose here.")
@@ -206,9 +312,10 @@ void SurfacePanel::showModel() {
   histogram_->setIso(iso_->value());
   smooth_->setValue(o.volume.smooth_iterations);
   target_->setValue(int(std::min<std::size_t>(o.volume.target_triangles, 20000000)));
-  status_->setText(tr("Surface: %1 triangles at %2 (Otsu %3)")
+  surfaceText_ = tr("Surface: %1 triangles at %2 (Otsu %3)")
                        .arg(session_->mesh().triangle_count())
                        .arg(o.volume.label ? tr("label %1").arg(*o.volume.label)
                                            : tr("iso %1%2").arg(iso_->value(), 0, 'f', 1).arg(o.volume.iso ? QString() : tr(", automatic")))
-                       .arg(m->otsu(), 0, 'f', 1));
+                       .arg(m->otsu(), 0, 'f', 1);
+  status_->setText(surfaceText_);
 }

@@ -12,9 +12,11 @@
 #include <QCoreApplication>
 #include <QDockWidget>
 #include <QEventLoop>
+#include <QMessageBox>
 #include <QSurfaceFormat>
 #include <QTimer>
 #include <QVTKOpenGLNativeWidget.h>
+#include <vtkObject.h>
 #include <vtkRenderWindow.h>
 #include <chrono>
 #include <cmath>
@@ -131,9 +133,22 @@ int main(int argc, char** argv) {
     }
   }
 
+  // The window reports every error itself (status bar, dialog, and here on stderr): no VTK
+  // error text or pipeline dump on the console.
+  vtkObject::GlobalWarningDisplayOff();
+  const bool scripted = parser.isSet(shot) || parser.isSet(fps);
   MainWindow window;
   window.setBakeOnOpen(!parser.isSet(noBake));
   window.show();
+  // A job the command line asked for (open, and the bake on open) that fails: its message on
+  // stderr, in a dialog when interactive, and a non-zero exit (at once for a scripted run,
+  // when the window closes otherwise).
+  bool commandLineFailed = false;
+  const auto failed = [&](const QString& message) {
+    commandLineFailed = true;
+    std::fprintf(stderr, "hapticbox-gui: %s\n", qPrintable(message));
+    if (!scripted) QMessageBox::warning(&window, QStringLiteral("HapticBox"), message);
+  };
   const QString dev = parser.value(device);
   if (dev != QLatin1String("virtual")) {
     QString note;
@@ -146,17 +161,34 @@ int main(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     const bool ok = window.openFile(args.front(), false, model);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (ok)
+    if (ok) {
       std::fprintf(stderr, "hapticbox-gui: opened %s in %.3f s (%s)\n", qPrintable(args.front()), s,
                    window.session()->hasBoxes() ? "boxes from the cache" : "no cached boxes");
-    else if (parser.isSet(shot) || parser.isSet(fps))
-      return 1;
+      if (window.bakeOnOpenFailed()) {
+        failed(window.lastError());
+        if (scripted) return 1;
+      } else if (window.session()->job()->isRunning()) {
+        // The bake on open: the command line's job too.
+        auto* watch = new QObject(&window);
+        QObject::connect(window.session(), &HapticSession::jobFinished, watch,
+                         [&failed, &window, watch](const QString& name, bool done, const QString& message) {
+                           watch->deleteLater();
+                           if (!done)
+                             failed(QStringLiteral("%1 of %2 failed: %3")
+                                        .arg(name, window.session()->meshPath(), message.isEmpty() ? QStringLiteral("unknown error") : message));
+                         });
+      }
+    } else {
+      failed(window.lastError().isEmpty() ? QStringLiteral("cannot open %1").arg(args.front()) : window.lastError());
+      if (scripted) return 1;
+    }
   }
 
   if (parser.isSet(shot) || parser.isSet(fps)) {
     // Scripted runs: wait for the bake, put the probe in contact at the centre of the view.
     waitFor([&] { return !window.session()->job()->isRunning(); }, 600);
     waitFor([] { return false; }, 0.3);
+    if (commandLineFailed) return 1;
     ProbeView* view = window.probeView();
     hb::Vec3 p;
     const int* size = view->renderWindow()->GetSize();
@@ -207,5 +239,6 @@ int main(int argc, char** argv) {
     }
     return 0;
   }
-  return app.exec();
+  const int rc = app.exec();
+  return commandLineFailed ? 1 : rc;
 }

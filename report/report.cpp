@@ -20,6 +20,7 @@
 #include "stability_json.h"
 #include "stability_section.h"
 #include <nlohmann/json.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -277,7 +278,14 @@ std::string report_json(const ReportData& d) {
                      {"pass", d.pass()}};
   j["sweep"] = nlohmann::json::array();
   for (const SweepRow& r : d.rows) j["sweep"].push_back(row_json(r));
+  std::size_t felt = 0;
+  double largest = 0.0;
+  for (float r : d.error_field.perceptible_ratio)
+    if (r > 1.f) ++felt, largest = std::max(largest, double(r));
   j["error_field"] = {{"points", d.error_field.size()},
+                      {"metric_shown", "perceptible ratio (difference over its perceptual threshold; colours from 1)"},
+                      {"perceptible_vertices", felt},
+                      {"perceptible_ratio_max", largest},
                       {"probes", d.error_field.probes},
                       {"seconds", d.error_field.seconds},
                       {"force_error_median", d.error_field_median},

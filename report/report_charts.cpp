@@ -2,6 +2,7 @@
 // when printed; pngcairo otherwise; no display), with a white background and a small fixed
 // palette; the stream ends (and the file is flushed) when the plstream goes out of scope.
 #include "report_charts.h"
+#include "series_colours.h"
 #include "errors.h"
 #include "figure_text.h"
 #include "evaluation/comparison.h"
@@ -26,9 +27,10 @@ std::unique_ptr<plstream> open_png(const std::string& path, int width = 900, int
   pls->sdev(svg ? "svgcairo" : "pngcairo");
   pls->sfnam(path.c_str());
   pls->spage(0, 0, width, height, 0, 0);
-  const PLINT r[] = {255, 0, 31, 214, 44, 255, 150};
-  const PLINT g[] = {255, 0, 119, 39, 160, 127, 150};
-  const PLINT b[] = {255, 0, 180, 40, 44, 14, 150};
+  // kBlue, kRed, kOrange: the series colours (series_colours.h), as the window draws them.
+  const PLINT r[] = {255, 0, kBoxSeries.r, kExactSeries.r, 44, kVtkSeries.r, 150};
+  const PLINT g[] = {255, 0, kBoxSeries.g, kExactSeries.g, 160, kVtkSeries.g, 150};
+  const PLINT b[] = {255, 0, kBoxSeries.b, kExactSeries.b, 44, kVtkSeries.b, 150};
   pls->scmap0(r, g, b, 7);
   pls->init();
   pls->col0(kBlack);

@@ -8,6 +8,7 @@
 #include "perceptible_text.h"
 #include "stability_section.h"
 #include "summary_text.h"
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -212,13 +213,20 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
     h << "<h2>Compression (" << html_escape(d.options.compression_codec) << ")</h2>\n"
       << image(charts.compression, "compression curve") << "\n";
   // 5. Error field.
-  h << "<h2>Error field</h2>\n<p>Metric shown: relative force error |F box - F exact| / |F exact| per vertex ("
-    << d.error_field.size() << " vertices, " << d.options.error_field_probes_per_vertex
-    << " probe(s) each, computed in " << duration_text(d.error_field.seconds) << "): median "
-    << percent(d.error_field_median) << ", p95 " << percent(d.error_field_p95)
-    << " over the vertices with data. Colours: viridis (dark blue: small error, yellow: the colour bar's top "
-       "and above); grey: no data (no probe at that vertex touched the surface in both answers: a missed or "
-       "false contact, or none; not zero error).</p>\n";
+  std::size_t felt = 0;
+  double largest = 0.0;
+  for (float r : d.error_field.perceptible_ratio)
+    if (r > 1.f) ++felt, largest = std::max(largest, double(r));
+  h << "<h2>Error field</h2>\n<p>Metric shown: perceptible difference, per vertex the largest box-vs-exact "
+       "force difference over what a hand can feel (its perceptual threshold; 1 = just feelable) among its "
+    << d.options.error_field_probes_per_vertex << " probe(s) (" << d.error_field.size() << " vertices, computed in "
+    << duration_text(d.error_field.seconds) << "): a hand would feel the difference at " << felt << " of "
+    << d.error_field.size() << " vertices ("
+    << percent(d.error_field.size() ? double(felt) / double(d.error_field.size()) : 0.0) << ")"
+    << (felt ? ", up to " + sig(largest) + " times the threshold" : std::string())
+    << ". Colours: below 1 the model's plain colour (no one can feel it), from 1 amber through red to dark "
+       "crimson at 4 and above. The relative force error, secondary: median "
+    << percent(d.error_field_median) << ", p95 " << percent(d.error_field_p95) << " over the vertices with data.</p>\n";
   if (!d.error_field_image.empty() && fs::exists(d.error_field_image))
     h << image(d.error_field_image, "error field") << "\n";
   else

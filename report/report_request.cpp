@@ -69,8 +69,7 @@ void write_report(const ReportRequest& request, ReportData& data, const std::str
     write_report(data, dir);
     const std::string png = (std::filesystem::path(dir) / "charts" / "error_field.png").string();
     std::filesystem::create_directories(std::filesystem::path(png).parent_path());
-    const double range = std::max(request.options.tolerances.force_error_p95, data.error_field_p95);
-    if (request.render_error_field(*request.mesh, data.error_field.force_error, range, png, &data.error_field_note)) {
+    if (request.render_error_field(*request.mesh, data.error_field.perceptible_ratio, 4.0, png, &data.error_field_note)) {
       data.error_field_image = png;
       data.error_field_note.clear();
     }

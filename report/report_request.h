@@ -22,10 +22,12 @@ struct ReportSweep {
   std::vector<int> m, n;
 };
 
-/// Renders the per-vertex relative force errors `force_error` (NaN: no data) over `mesh` into
-/// the PNG `path`, colours spanning [0, range]; returns false with `note` saying why when it
-/// cannot (no display). Supplied by the front end: vtkHapticBoxErrorFieldImage::RenderField.
-using ErrorFieldRenderer = std::function<bool(const TriangleMesh& mesh, const std::vector<float>& force_error,
+/// Renders the per-vertex perceptible ratios `perceptible_ratio` (ErrorField::perceptible_ratio:
+/// the difference over what a hand feels) over `mesh` into the PNG `path` on the scale anchored
+/// at 1 (below it nothing shows; `range` is the ratio the scale's top stands for); returns false
+/// with `note` saying why when it cannot (no display). Supplied by the front end:
+/// vtkHapticBoxErrorFieldImage::RenderField.
+using ErrorFieldRenderer = std::function<bool(const TriangleMesh& mesh, const std::vector<float>& perceptible_ratio,
                                               double range, const std::string& path, std::string* note)>;
 
 /// Everything one report needs.

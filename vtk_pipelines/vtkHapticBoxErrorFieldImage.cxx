@@ -54,6 +54,18 @@ bool vtkHapticBoxErrorFieldImage::DisplayAvailable(std::string* why) {
 bool vtkHapticBoxErrorFieldImage::Render(vtkPolyData* field, const std::string& arrayName, double rangeMax,
                                          const std::string& title, const std::string& pngPath, int width,
                                          int height, std::string* note) {
+  return RenderScale(field, arrayName, false, rangeMax, title, pngPath, width, height, note);
+}
+
+bool vtkHapticBoxErrorFieldImage::RenderPerceptible(vtkPolyData* field, const std::string& arrayName,
+                                                    const std::string& pngPath, int width, int height, std::string* note) {
+  return RenderScale(field, arrayName, true, hb::vtk::kPerceptibleTop, hb::vtk::perceptible_title(), pngPath, width,
+                     height, note);
+}
+
+bool vtkHapticBoxErrorFieldImage::RenderScale(vtkPolyData* field, const std::string& arrayName, bool perceptible,
+                                              double rangeMax, const std::string& title, const std::string& pngPath,
+                                              int width, int height, std::string* note) {
   try {
     std::string why;
     if (!DisplayAvailable(&why)) {
@@ -64,7 +76,9 @@ bool vtkHapticBoxErrorFieldImage::Render(vtkPolyData* field, const std::string& 
       if (note) *note = "the field has no array " + arrayName;
       return false;
     }
-    vtkSmartPointer<vtkLookupTable> lut = hb::vtk::viridis_table(rangeMax);
+    double plain[3];
+    hb::vtk::plain_surface_colour(plain);
+    vtkSmartPointer<vtkLookupTable> lut = perceptible ? hb::vtk::perceptible_table(plain) : hb::vtk::viridis_table(rangeMax);
     vtkNew<vtkPolyDataMapper> mapper;
     mapper->SetInputData(field);
     mapper->SetScalarModeToUsePointFieldData();
@@ -96,7 +110,8 @@ bool vtkHapticBoxErrorFieldImage::Render(vtkPolyData* field, const std::string& 
     legend->SetViewport(0.0, 0.0, 1.0, strip);
     legend->SetBackground(1.0, 1.0, 1.0);
     vtkNew<vtkScalarBarActor> bar;
-    hb::vtk::style_scalar_bar(bar, lut, title, false);
+    if (perceptible) hb::vtk::style_perceptible_bar(bar, lut);
+    else hb::vtk::style_scalar_bar(bar, lut, title, false);
     bar->SetOrientationToHorizontal();
     bar->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
     bar->GetPositionCoordinate()->SetValue(0.15, 0.05);
@@ -126,14 +141,10 @@ bool vtkHapticBoxErrorFieldImage::Render(vtkPolyData* field, const std::string& 
   }
 }
 
-bool vtkHapticBoxErrorFieldImage::RenderField(const hb::TriangleMesh& mesh, const std::vector<float>& forceError,
-                                              double rangeMax, const std::string& pngPath, std::string* note) {
+bool vtkHapticBoxErrorFieldImage::RenderField(const hb::TriangleMesh& mesh, const std::vector<float>& perceptibleRatio,
+                                              double, const std::string& pngPath, std::string* note) {
   if (!DisplayAvailable(note)) return false;
   vtkSmartPointer<vtkPolyData> pd = vtkHapticBoxUtilities::ToPolyData(mesh);
-  // Drawn in percent, as the report's text gives it (NaN stays NaN: no data, grey).
-  std::vector<float> percent(forceError);
-  for (float& v : percent) v *= 100.f;
-  pd->GetPointData()->AddArray(vtkHapticBoxUtilities::ToScalarArray("RelativeForceErrorPercent", percent));
-  return Render(pd, "RelativeForceErrorPercent", 100.0 * rangeMax, "relative force error, %   (grey: no data)", pngPath,
-                1200, 700, note);
+  pd->GetPointData()->AddArray(vtkHapticBoxUtilities::ToScalarArray("PerceptibleRatio", perceptibleRatio));
+  return RenderPerceptible(pd, "PerceptibleRatio", pngPath, 1200, 700, note);
 }

@@ -31,12 +31,26 @@ public:
                      const std::string& pngPath, int width = 1200, int height = 600, std::string* note = nullptr);
 
   /**
-   * A report's error-field picture (hb::ErrorFieldRenderer, report/report_request.h): the
-   * per-vertex relative force errors `forceError` over `mesh` as array "RelativeForceError",
-   * 1200 x 600, when a display is available (otherwise false and the reason in `note`).
+   * As Render, for the perceptible ratio (array `arrayName`: the difference over what a hand
+   * feels, 1 = just feelable) on its fixed scale anchored at 1 (hb::vtk::perceptible_table):
+   * below 1 the model's plain colour, so differences no one can feel look like nothing.
    */
-  static bool RenderField(const hb::TriangleMesh& mesh, const std::vector<float>& forceError, double rangeMax,
+  static bool RenderPerceptible(vtkPolyData* field, const std::string& arrayName, const std::string& pngPath,
+                                int width = 1200, int height = 600, std::string* note = nullptr);
+
+  /**
+   * A report's error-field picture (hb::ErrorFieldRenderer, report/report_request.h): the
+   * per-vertex perceptible ratios over `mesh` (RenderPerceptible; the range argument is unused:
+   * the scale is fixed), 1200 x 700, when a display is available (otherwise false and the
+   * reason in `note`).
+   */
+  static bool RenderField(const hb::TriangleMesh& mesh, const std::vector<float>& perceptibleRatio, double unused,
                           const std::string& pngPath, std::string* note);
+
+private:
+  static bool RenderScale(vtkPolyData* field, const std::string& arrayName, bool perceptible, double rangeMax,
+                          const std::string& title, const std::string& pngPath, int width, int height,
+                          std::string* note);
 };
 
 #endif

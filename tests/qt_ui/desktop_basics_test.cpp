@@ -9,6 +9,7 @@
 #include "StabilityPanel.h"
 #include "evaluation/stability_suite.h"
 #include "window_test_support.h"
+#include "series_colours.h"
 #include <QAction>
 #include <QCheckBox>
 #include <QComboBox>
@@ -196,15 +197,24 @@ TEST(DesktopBasicsTest, AgreeingArrowsBothShowAndHeadOnArrowsAreCaptioned) {
   EXPECT_EQ(w.probeView()->approxArrowCaption(), QStringLiteral("box: toward you"));
   // Both colours on screen although the two arrows coincide.
   QImage img = QImage(png).convertToFormat(QImage::Format_RGB32);
-  int green = 0, orange = 0;
+  // In the series colours of the charts and the report: exact red, box blue.
+  int red = 0, blue = 0;
   for (int y = 0; y < img.height(); ++y)
     for (int x = 0; x < img.width(); ++x) {
       const QColor q(img.pixel(x, y));
-      if (q.green() > 110 && q.green() > q.red() + 30 && q.green() > q.blue() + 20) ++green;
-      if (q.red() > 150 && q.green() > 50 && q.green() < 0.7 * q.red() && q.blue() < 60) ++orange;
+      if (q.red() > 120 && q.green() < 0.45 * q.red() && q.blue() < 0.45 * q.red()) ++red;
+      if (q.blue() > 100 && q.blue() > q.red() + 60 && q.blue() > q.green() + 30) ++blue;
     }
-  EXPECT_GT(green, 20);
-  EXPECT_GT(orange, 20);
+  EXPECT_GT(red, 20);
+  EXPECT_GT(blue, 20);
+  // One definition of the series colours: the arrows are drawn in exactly the charts' colours.
+  const std::array<double, 3> exact = w.probeView()->arrowColor(true), box = w.probeView()->arrowColor(false);
+  EXPECT_NEAR(exact[0], hb::kExactSeries.rf(), 1e-9);
+  EXPECT_NEAR(exact[1], hb::kExactSeries.gf(), 1e-9);
+  EXPECT_NEAR(exact[2], hb::kExactSeries.bf(), 1e-9);
+  EXPECT_NEAR(box[0], hb::kBoxSeries.rf(), 1e-9);
+  EXPECT_NEAR(box[1], hb::kBoxSeries.gf(), 1e-9);
+  EXPECT_NEAR(box[2], hb::kBoxSeries.bf(), 1e-9);
   // From the side the arrows read by their shape: no captions.
   w.probeView()->orbitCamera(80.0, 0.0);
   w.probeView()->renderWindow()->Render();

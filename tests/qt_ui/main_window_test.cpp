@@ -13,6 +13,9 @@
 #include <QDir>
 #include <QDirIterator>
 #include <QFile>
+#include <functional>
+#include <QTimer>
+#include <QMessageBox>
 #include <QFileInfo>
 #include <QImage>
 #include <QLabel>
@@ -51,7 +54,7 @@ struct PixelCounts {
   int model = 0, exactArrow = 0, approxArrow = 0, total = 0;
 };
 
-/// Counts the model's beige pixels and the arrows' green and orange ones.
+/// Counts the model's beige pixels and the arrows' red (exact) and blue (box) ones.
 PixelCounts countPixels(const QString& png) {
   PixelCounts c;
   QImage img(png);
@@ -63,8 +66,9 @@ PixelCounts countPixels(const QString& png) {
       const int r = q.red(), g = q.green(), b = q.blue();
       ++c.total;
       if (r > 90 && r >= g && g >= b && r - b > 25 && !(g < 0.75 * r && b < 80)) ++c.model;
-      if (g > 110 && g > r + 40 && g > b + 40) ++c.exactArrow;
-      if (r > 150 && g > 50 && g < 0.7 * r && b < 60) ++c.approxArrow;
+      // The series colours (series_colours.h): exact red, box blue, shaded.
+      if (r > 120 && g < 0.45 * r && b < 0.45 * r) ++c.exactArrow;
+      if (b > 100 && b > r + 60 && b > g + 30) ++c.approxArrow;
     }
   return c;
 }
@@ -120,8 +124,8 @@ TEST(MainWindowTest, ScreenshotShowsTheModelAndBothArrows) {
   const PixelCounts c = countPixels(png);
   ASSERT_GT(c.total, 10000);
   EXPECT_GT(c.model, c.total / 50) << "the model covers too few pixels: blank screenshot?";
-  EXPECT_GT(c.exactArrow, 20) << "no green (exact) arrow pixels";
-  EXPECT_GT(c.approxArrow, 20) << "no orange (haptic box) arrow pixels";
+  EXPECT_GT(c.exactArrow, 20) << "no red (exact) arrow pixels";
+  EXPECT_GT(c.approxArrow, 20) << "no blue (haptic box) arrow pixels";
 }
 
 TEST(MainWindowTest, ComputesTheErrorFieldAndExportsAReport) {
@@ -233,6 +237,42 @@ TEST(MainWindowTest, BadFilesAreReportedNotFatal) {
   // A good file still opens afterwards.
   w.setBakeOnOpen(false);
   EXPECT_TRUE(w.openFile(data.mesh));
+}
+
+TEST(MainWindowTest, AFileItCannotOpenInteractivelyGetsADialogNamingTheFileAndTheCause) {
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.show();
+  // What the dialog says, read (and closed) by a timer while it waits for the user.
+  const auto dialogText = [&](const std::function<bool()>& open) {
+    QString text;
+    QTimer closer;
+    closer.setInterval(50);
+    QObject::connect(&closer, &QTimer::timeout, [&] {
+      if (auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget())) {
+        text = box->text();
+        box->accept();
+      }
+    });
+    closer.start();
+    EXPECT_FALSE(open());
+    closer.stop();
+    return text;
+  };
+  const QString missing = data.dir.filePath(QStringLiteral("missing.off"));
+  QString text = dialogText([&] { return w.openFile(missing, true); });
+  EXPECT_TRUE(text.contains(missing)) << text.toStdString();
+  EXPECT_TRUE(text.contains(QStringLiteral("no such file"))) << text.toStdString();
+  EXPECT_EQ(w.lastError(), text);
+  // A session whose model is gone: the dialog names the model, lastError the session too.
+  const QString session = data.dir.filePath(QStringLiteral("lost.hbsession"));
+  QFile f(session);
+  ASSERT_TRUE(f.open(QIODevice::WriteOnly));
+  f.write(R"({"format":"hapticbox-session","version":1,"mesh":"gone.off","bake":{"recipe":"default"}})");
+  f.close();
+  text = dialogText([&] { return w.openFile(session, true); });
+  EXPECT_TRUE(text.contains(QStringLiteral("gone.off"))) << text.toStdString();
+  EXPECT_TRUE(w.lastError().contains(QStringLiteral("lost.hbsession"))) << w.lastError().toStdString();
 }
 
 TEST(MainWindowTest, SessionFileReopensModelBoxesAndCamera) {
@@ -427,9 +467,15 @@ TEST(MainWindowTest, ErrorFieldUsesViridisNamesTheMetricAndListsWorstVerticesTha
   QString text;
   for (QLabel* l : w.errorFieldPanel()->findChildren<QLabel*>())
     if (l->text().contains("points,")) text = l->text();
-  EXPECT_TRUE(text.contains("median relative force error")) << text.toStdString();
+  // The default metric: where a hand would feel the difference.
+  EXPECT_EQ(w.errorFieldPanel()->metric(), ErrorMetric::Perceptible);
+  EXPECT_TRUE(text.contains("a hand would feel the difference at")) << text.toStdString();
   EXPECT_TRUE(text.contains("no data")) << text.toStdString();
   (void)info;
+  w.errorFieldPanel()->setMetric(ErrorMetric::RelativeForce);
+  for (QLabel* l : w.errorFieldPanel()->findChildren<QLabel*>())
+    if (l->text().contains("points,")) text = l->text();
+  EXPECT_TRUE(text.contains("median relative force error")) << text.toStdString();
   w.errorFieldPanel()->setMetric(ErrorMetric::Direction);
   for (QLabel* l : w.errorFieldPanel()->findChildren<QLabel*>())
     if (l->text().contains("points,")) text = l->text();
@@ -467,7 +513,8 @@ TEST(MainWindowTest, ErrorFieldUsesViridisNamesTheMetricAndListsWorstVerticesTha
     for (int x = 0; x < img.width(); x += 2) {
       if (x < 0.15 * img.width() && y > 0.78 * img.height()) continue;  // the orientation axes (red X)
       const QColor q(img.pixel(x, y));
-      if (q.red() > 200 && q.green() < 60 && q.blue() < 60) ++rainbowRed;
+      // Pure red (the rainbow's top; the exact arrow's red, 214 39 40, stays below 235).
+      if (q.red() > 235 && q.green() < 60 && q.blue() < 60) ++rainbowRed;
       if (q.green() > q.red() && q.blue() > q.red() + 20 && q.red() < 90) ++viridisish;  // teal-blue band
     }
   EXPECT_EQ(rainbowRed, 0);

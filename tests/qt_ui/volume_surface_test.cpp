@@ -4,6 +4,8 @@
 // CT finds the femur within a voxel of the surface it was made from; a DICOM folder opens through
 // its own action's path.
 #include "SurfacePanel.h"
+#include "SessionFile.h"
+#include "errors.h"
 #include "mesh/mesh_io.h"
 #include "model_options_key.h"
 #include "mesh/file_hash.h"
@@ -11,7 +13,9 @@
 #include <QAction>
 #include <QCheckBox>
 #include <QDoubleSpinBox>
+#include <QElapsedTimer>
 #include <QFileInfo>
+#include <QTimer>
 #include <QPushButton>
 #include <QSpinBox>
 #include <vtkCellArray.h>
@@ -22,6 +26,7 @@
 #include <cmath>
 
 using hbtest::pump;
+using hbtest::waitFor;
 
 namespace {
 
@@ -168,7 +173,11 @@ TEST(VolumeSurfaceTest, SurfacePanelOptionsAndAClickOnTheHistogramChooseTheIso) 
   ASSERT_TRUE(w.openFile(QStringLiteral(HB_DATASETS_DIR "/generated/ct_phantom_labels.nii.gz")));
   panel->labelCheck()->setChecked(true);
   panel->labelBox()->setValue(2);
+  // The live preview of a label (its voxels subsampled, never averaged into other labels).
+  ASSERT_TRUE(hbtest::waitFor([&] { return !panel->previewPending() && w.probeView()->previewTriangles() > 0; }, 60));
+  EXPECT_TRUE(panel->statusText().contains(QStringLiteral("Preview at label 2"))) << panel->statusText().toStdString();
   panel->extractButton()->click();
+  EXPECT_EQ(w.probeView()->previewTriangles(), 0);
   ASSERT_TRUE(w.session()->model()->modelOptions().volume.label.has_value());
   EXPECT_EQ(*w.session()->model()->modelOptions().volume.label, 2);
   EXPECT_FALSE(panel->isoBox()->isEnabled());
@@ -193,4 +202,153 @@ TEST(VolumeSurfaceTest, ADicomFolderHasItsOwnOpenAction) {
   EXPECT_TRUE(w.session()->model()->isVolume());
   EXPECT_TRUE(w.surfacePanel()->extractButton()->isEnabled());
   EXPECT_EQ(QString::fromStdString(w.session()->model()->modelFacts().value("format", std::string())), QStringLiteral("DICOM series"));
+}
+
+TEST(VolumeSurfaceTest, ASessionKeepsTheSurfaceSettingsAndReopensThatSurface) {
+  const QString phantom = QStringLiteral(HB_DATASETS_DIR "/generated/ct_phantom.nii.gz");
+  if (!QFileInfo::exists(phantom)) GTEST_SKIP() << "run datasets/fetch.sh build/datasets/hb_generate_datasets";
+  hbtest::MeshDir data;
+  const QString session = data.dir.filePath(QStringLiteral("phantom.hbsession"));
+  std::size_t triangles = 0;
+  std::uint64_t hash = 0;
+  {
+    MainWindow w;
+    w.show();
+    w.setBakeOnOpen(false);
+    ASSERT_TRUE(w.openFile(phantom));
+    SurfacePanel* panel = w.surfacePanel();
+    panel->isoBox()->setValue(370.0);
+    panel->smoothBox()->setValue(12);
+    panel->targetBox()->setValue(3000);
+    panel->extractButton()->click();
+    triangles = w.session()->mesh().triangle_count();
+    hash = w.session()->meshHash();
+    ASSERT_TRUE(w.saveSession(session));
+  }
+  // In the file, in the command line's terms.
+  const SessionState s = loadSessionFile(session);
+  ASSERT_TRUE(s.hasSurface);
+  ASSERT_TRUE(s.surface.iso.has_value());
+  EXPECT_DOUBLE_EQ(*s.surface.iso, 370.0);
+  EXPECT_FALSE(s.surface.label.has_value());
+  EXPECT_EQ(s.surface.smooth_iterations, 12);
+  EXPECT_EQ(s.surface.target_triangles, 3000u);
+  // A new window opening the session reads the same surface, and its panel shows the settings.
+  MainWindow w;
+  w.show();
+  w.setBakeOnOpen(false);
+  ASSERT_TRUE(w.openFile(session));
+  const hb::vtk::ModelOptions& o = w.session()->model()->modelOptions();
+  ASSERT_TRUE(o.volume.iso.has_value());
+  EXPECT_DOUBLE_EQ(*o.volume.iso, 370.0);
+  EXPECT_EQ(o.volume.smooth_iterations, 12);
+  EXPECT_EQ(o.volume.target_triangles, 3000u);
+  EXPECT_EQ(w.session()->mesh().triangle_count(), triangles);
+  EXPECT_EQ(w.session()->meshHash(), hash);
+  EXPECT_NEAR(w.surfacePanel()->isoBox()->value(), 370.0, 1e-9);
+  EXPECT_EQ(w.surfacePanel()->smoothBox()->value(), 12);
+  EXPECT_EQ(w.surfacePanel()->targetBox()->value(), 3000);
+  // A label map's label round-trips too; a file naming both an iso-value and a label is refused.
+  SessionState l = s;
+  l.surface.iso.reset();
+  l.surface.label = 2;
+  saveSessionFile(l, data.dir.filePath(QStringLiteral("label.hbsession")));
+  const SessionState m = loadSessionFile(data.dir.filePath(QStringLiteral("label.hbsession")));
+  ASSERT_TRUE(m.surface.label.has_value());
+  EXPECT_EQ(*m.surface.label, 2);
+  EXPECT_FALSE(m.surface.iso.has_value());
+  l.surface.iso = 5.0;
+  saveSessionFile(l, data.dir.filePath(QStringLiteral("both.hbsession")));
+  try {
+    loadSessionFile(data.dir.filePath(QStringLiteral("both.hbsession")));
+    ADD_FAILURE() << "a session with an iso-value and a label was accepted";
+  } catch (const hb::InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("both.hbsession"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("iso-value and a label"), std::string::npos) << e.what();
+  }
+}
+
+TEST(VolumeSurfaceTest, TheSurfacePanelPreviewsIsoAndSmoothingLiveWhileTheWindowStaysResponsive) {
+  if (!QFileInfo::exists(kFemurCt)) GTEST_SKIP() << "run datasets/fetch.sh build/datasets/hb_generate_datasets";
+  hbtest::MeshDir data;
+  MainWindow w;
+  w.resize(1229, 691);
+  w.show();
+  w.setBakeOnOpen(false);
+  ASSERT_TRUE(w.openFile(kFemurCt));  // the Otsu threshold: the skin
+  SurfacePanel* panel = w.surfacePanel();
+  ProbeView* view = w.probeView();
+  ASSERT_TRUE(panel->previewCheck()->isChecked());
+  EXPECT_EQ(view->previewTriangles(), 0);  // opening previews nothing: the model is the surface
+  const std::size_t modelTriangles = w.session()->mesh().triangle_count();
+  const std::uint64_t modelHash = w.session()->meshHash();
+  // The GUI thread's longest pause while previews are computed (a 5 ms timer's largest gap).
+  QElapsedTimer clock;
+  clock.start();
+  qint64 last = 0, longest = 0;
+  QTimer ticker;
+  ticker.setInterval(5);
+  QObject::connect(&ticker, &QTimer::timeout, [&] {
+    const qint64 now = clock.elapsed();
+    longest = std::max(longest, now - last);
+    last = now;
+  });
+  const auto previewed = [&] {
+    return waitFor([&] { return !panel->previewPending() && view->previewTriangles() > 0; }, 60);
+  };
+  pump(1.0);  // the opened model's first renders (not a preview's)
+  // Moving the iso to bone: a preview of the femur, in the view, before any bake.
+  ticker.start();
+  last = clock.elapsed();
+  panel->smoothBox()->setValue(0);
+  panel->isoBox()->setValue(300.0);
+  ASSERT_TRUE(previewed());
+  const vtkIdType bone = view->previewTriangles();
+  EXPECT_EQ(std::size_t(bone), panel->previewTriangles());
+  EXPECT_TRUE(panel->statusText().contains(QStringLiteral("Preview at iso 300.0"))) << panel->statusText().toStdString();
+  std::printf("%s\n", qPrintable(panel->statusText()));
+  // Back to soft tissue: another surface, another count.
+  panel->isoBox()->setValue(-300.0);
+  ASSERT_TRUE(waitFor([&] { return !panel->previewPending() && view->previewTriangles() != bone; }, 60));
+  const vtkIdType skin = view->previewTriangles();
+  std::printf("%s\n", qPrintable(panel->statusText()));
+  EXPECT_NE(skin, bone);
+  // Quick changes are debounced: one preview, of the value the controls rest at.
+  for (double iso : {0.0, 100.0, 200.0, 300.0}) {
+    panel->isoBox()->setValue(iso);
+    pump(0.05);
+  }
+  ASSERT_TRUE(waitFor([&] { return !panel->previewPending() && view->previewTriangles() == bone; }, 60));
+  // Smoothing moves the preview's points (same triangles).
+  double before[3];
+  view->preview()->GetPoint(0, before);
+  vtkPolyData* unsmoothed = view->preview();
+  panel->smoothBox()->setValue(20);
+  ASSERT_TRUE(waitFor([&] { return !panel->previewPending() && view->preview() != unsmoothed && view->preview(); }, 60));
+  double after[3];
+  view->preview()->GetPoint(0, after);
+  EXPECT_GT(std::abs(after[0] - before[0]) + std::abs(after[1] - before[1]) + std::abs(after[2] - before[2]), 1e-6);
+  ticker.stop();
+  std::printf("femur CT preview: bone (300 HU) %lld triangles, soft tissue (-300 HU) %lld; longest GUI-thread pause "
+              "while previewing %lld ms\n",
+              static_cast<long long>(bone), static_cast<long long>(skin), static_cast<long long>(longest));
+  // The window stayed responsive: the previews were computed off the GUI thread.
+  EXPECT_LT(longest, 1000);
+  if (const char* keep = std::getenv("HB_SCREENSHOT_DIR")) {  // for a person to look at
+    view->viewAlong(1, 1);  // the femur from the side
+    pump(0.3);
+    w.exportScreenshot(QString::fromLocal8Bit(keep) + "/surface_preview.png");
+    w.grab().save(QString::fromLocal8Bit(keep) + "/surface_preview_window.png");
+  }
+  // Nothing was baked or re-read: the model is still the skin until Extract Surface.
+  EXPECT_EQ(w.session()->mesh().triangle_count(), modelTriangles);
+  EXPECT_EQ(w.session()->meshHash(), modelHash);
+  panel->extractButton()->click();
+  EXPECT_EQ(view->previewTriangles(), 0);  // the extracted surface is the model now
+  EXPECT_NE(w.session()->meshHash(), modelHash);
+  // Turning the preview off drops it.
+  panel->isoBox()->setValue(-300.0);
+  ASSERT_TRUE(previewed());
+  panel->previewCheck()->setChecked(false);
+  EXPECT_EQ(view->previewTriangles(), 0);
 }

@@ -1,6 +1,9 @@
 // Volumes to surfaces: the CT phantom written in every format comes back within half a voxel
 // of its analytic surfaces, oriented and in millimetres; the real MRI (nibabel) and CT series
 // (pydicom) open; bad input names the file and the cause.
+#include "volume_preview.h"
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
 #include "errors.h"
 #include "model_loader.h"
 #include "volume_phantom.h"
@@ -261,3 +264,52 @@ TEST_F(VolumeReaderTest, DicomSeriesOfMixedOrientationAndSingleSlicesAreRefused)
 }
 
 } // namespace
+
+TEST_F(VolumeReaderTest, APreviewOfAReducedVolumeLiesWhereTheSurfaceIs) {
+  // The window's live preview (volume_preview.h): the phantom (553 K voxels) reduced to at most
+  // 40 K, i.e. blocks of 3 x 3 x 3 voxels, averaged and placed at the blocks' centres.
+  const hb::vtk::CtPhantom phantom;
+  const hb::vtk::Volume volume = hb::vtk::read_volume(path("phantom.nii.gz"));
+  hb::vtk::VolumeSurfaceOptions options;
+  options.iso = phantom.bone_iso();
+  options.target_triangles = 500;  // ignored: a preview is not decimated
+  const hb::vtk::VolumePreview preview = hb::vtk::volume_preview_surface(volume, options, path("phantom.nii.gz"), 40000);
+  EXPECT_EQ(preview.shrink, 3);
+  ASSERT_TRUE(preview.surface);
+  const vtkIdType triangles = preview.surface->GetNumberOfPolys();
+  hb::vtk::VolumeSurfaceOptions every = options;
+  every.target_triangles = 0;
+  const std::size_t full = hb::vtk::volume_surface(volume, every, path("phantom.nii.gz")).triangle_count();
+  EXPECT_GT(triangles, 500);                    // not decimated to the target
+  EXPECT_LT(std::size_t(triangles), full / 4);  // coarser than the full surface
+  double worst = 0.0, mean = 0.0;
+  for (vtkIdType i = 0; i < preview.surface->GetNumberOfPoints(); ++i) {
+    double p[3];
+    preview.surface->GetPoint(i, p);
+    const double d = std::abs(phantom.bone_distance(Eigen::Vector3d(p[0], p[1], p[2])));
+    worst = std::max(worst, d);
+    mean += d;
+  }
+  mean /= double(preview.surface->GetNumberOfPoints());
+  const double voxel = std::max({phantom.spacing_mm[0], phantom.spacing_mm[1], phantom.spacing_mm[2]});
+  std::printf("preview at 1/%d: %lld triangles (full %zu), distance to the torus mean %.3f mm, max %.3f mm, %.3f s\n",
+              preview.shrink, static_cast<long long>(triangles), full, mean, worst, preview.seconds);
+  EXPECT_LT(mean, 0.35 * voxel);          // centred: no shift of a voxel along the grid
+  EXPECT_LT(worst, preview.shrink * voxel);
+  ASSERT_NE(preview.surface->GetPointData()->GetNormals(), nullptr);  // shaded in the view
+  // A label map keeps its labels (subsampled, not averaged into a value no voxel holds).
+  hb::vtk::VolumeSurfaceOptions label;
+  label.label = 2;
+  const hb::vtk::Volume labels = hb::vtk::read_volume(path("labels.nii"));
+  const hb::vtk::VolumePreview bone = hb::vtk::volume_preview_surface(labels, label, path("labels.nii"), 40000);
+  EXPECT_GT(bone.surface->GetNumberOfPolys(), 100);
+  // An iso-value no voxel reaches names the file, as the full extraction does.
+  hb::vtk::VolumeSurfaceOptions none;
+  none.iso = 5000.0;
+  try {
+    hb::vtk::volume_preview_surface(volume, none, path("phantom.nii.gz"), 40000);
+    ADD_FAILURE() << "an iso-value above every voxel gave a preview";
+  } catch (const hb::InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("phantom.nii.gz"), std::string::npos) << e.what();
+  }
+}
