@@ -677,6 +677,17 @@ nlohmann::json budget_json(const BudgetReport& r) {
                                                                 {"normal_median_deg", r.surface_normal_median_deg},
                                                                 {"normal_p99_deg", r.surface_normal_p99_deg},
                                                                 {"normal_map_side", r.surface_map_side}}}};
+  // What answers, and why: the raw samplings tried, in the perceptual currency.
+  j["answer"] = r.answer.empty() ? "cells" : r.answer;
+  nlohmann::json raw = nlohmann::json::array();
+  for (const BudgetReport::RawTried& t : r.raw_tried)
+    raw.push_back({{"m", t.m}, {"n", t.n}, {"bytes", t.bytes}, {"probes_felt", t.probes_felt},
+                   {"slide_ticks_felt", t.ticks_felt < 0 ? nlohmann::json(nullptr) : nlohmann::json(t.ticks_felt)},
+                   {"outcome", t.outcome}});
+  j["raw_tried"] = raw;
+  // Query times at bake time (this run's, bake --json only).
+  if (r.answer_ns > 0) j["answer_ns"] = r.answer_ns, j["exact_ns"] = r.exact_ns;
+  if (r.cells_ns > 0) j["cells_ns"] = r.cells_ns, j["embree_ns"] = r.embree_ns;
   // Wall times are this run's (bake --json) or an older file's; a file written now holds none.
   if (r.seconds > 0) j["seconds"] = r.seconds;
   if (r.surface_triangles > 0 && r.simplify_seconds > 0) j["surface"]["seconds"] = r.simplify_seconds;

@@ -133,7 +133,7 @@ TEST_F(MpiTest, EvalJsonOnTwoAndThreeRanksHasTheValuesOfOneProcess) {
 
 #ifdef HB_WITH_VTK
 TEST_F(MpiTest, SweepRowsOnTwoAndThreeRanksHaveTheFiguresOfOneProcess) {
-  const std::string args = "sweep " + path("torus.off") + " -m 4,8 -n 4,6 --samples 1500 --rounds 1 --no-cache --json";
+  const std::string args = "sweep " + path("torus.off") + " -m 4,8 -n 4,6 --samples 1500 --rounds 1 --cache none --json";
   const CommandResult one = run(args);
   ASSERT_EQ(one.code, 0) << one.err;
   for (int ranks : {2, 3}) {

@@ -282,7 +282,7 @@ std::pair<int, QByteArray> runCli(const QStringList& args) {
 }  // namespace
 
 // The window's Bake at its default settings (its pipeline's bake filter, hb::default_recipe()
-// through hb::bake_cached) and `hapticbox bake MESH -o BOX --no-cache` (a bake of its own, not
+// through hb::bake_cached) and `hapticbox bake MESH -o BOX --cache none` (a bake of its own, not
 // the window's cache entry) give the same boxes: the window's cache entry, the box the window
 // saves and the CLI's file are the same bytes (the budget report keeps no wall time, so the
 // same inputs give the same file). Same bytes, same answers: eval and query read nothing else.
@@ -305,7 +305,7 @@ TEST(SessionJobsTest, DefaultBakeGivesTheCommandLinesBoxes) {
   const QString window = data.dir.filePath(QStringLiteral("window.hbox"));
   const QString line = data.dir.filePath(QStringLiteral("line.hbox"));
   ASSERT_TRUE(s.saveBoxFile(window));
-  ASSERT_EQ(runCli({QStringLiteral("bake"), s.meshPath(), QStringLiteral("-o"), line, QStringLiteral("--no-cache")}).first, 0);
+  ASSERT_EQ(runCli({QStringLiteral("bake"), s.meshPath(), QStringLiteral("-o"), line, QStringLiteral("--cache"), QStringLiteral("none")}).first, 0);
   // The window baked through its pipeline's bake filter into the box cache entry of the mesh
   // hash and the default recipe.
   const std::string entry = hb::BoxCache().path_for(s.meshHash(), hb::default_recipe());

@@ -88,7 +88,7 @@ TEST(WindowPipelineTest, BakeRunsThePipelineAndCachesTheCommandLinesBox) {
   cli.start(QStringLiteral(HB_CLI_PATH), {QStringLiteral("bake"), s.meshPath(), QStringLiteral("-o"), line,
                                           QStringLiteral("-m"), QStringLiteral("8"), QStringLiteral("-n"),
                                           QStringLiteral("4"), QStringLiteral("--pieces"), QStringLiteral("auto"),
-                                          QStringLiteral("--no-cache")});
+                                          QStringLiteral("--cache"), QStringLiteral("none")});
   ASSERT_TRUE(cli.waitForFinished(600000));
   ASSERT_EQ(cli.exitCode(), 0) << cli.readAllStandardError().toStdString();
   const QByteArray cached = fileBytes(QString::fromStdString(entry)), written = fileBytes(line);
