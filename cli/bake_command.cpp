@@ -92,7 +92,7 @@ void add_bake_command(CLI::App& app) {
                   "raw box first) and memory=MB (its cap, default 48); the relative criteria p95=PERCENT,"
                   "median=PERCENT,dir99=DEGREES,agree=PERCENT (off unless named); and for meshes above simplify-above=N "
                   "triangles (default " + std::to_string(db.simplify_above) + "), simplify=on|off (default on: bake "
-                  "against the mesh simplified within deviation=F of the diagonal, default 0: a quarter of the depth whose force is the force threshold, 8.3e-5; "
+                  "against the mesh simplified within deviation=F of the diagonal, default 0: the depth whose force is a sixteenth of the force threshold, 2.1e-5; "
                   "shaded by a normal map of side shading-map=S, default 0: automatic, -1: none; the full mesh "
                   "instead when it misses the budget)")
       ->type_name("KEY=VALUE,...")
