@@ -121,7 +121,7 @@ constexpr const char* kFeltTicks = "share of contact ticks perceptibly different
 
 // How often a simplified surface that missed the budget is simplified again within a quarter
 // of its bound before the full mesh is baked (bake_to_budget).
-constexpr int kSimplifyRetries = 1;
+constexpr int kSimplifyRetries = 2;
 
 // A probe answered from off the surface: a contact exact does not have, or a surface point
 // farther than `tolerance` (model units, along the probe) from exact's.
@@ -258,7 +258,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   std::string why;               // and what it missed
   // A simplified surface that missed the budget on the fresh probes or along T2's
   // trajectories (a curved surface whose faces sag between the kept vertices more than the
-  // quadric bound says) is simplified again within a quarter of the bound, once (a
+  // quadric bound says) is simplified again within a quarter of the bound, twice at most (a
   // tighter bound is still within the one asked for); then the full mesh (the chess piece:
   // its lathe surface fails T2 at every bound tried, docs/speed.md).
   BakeRecipe tighter = recipe;
