@@ -41,18 +41,15 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--rounds", opts->rounds, "Passes over the probes")->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--seed", opts->probes.seed, "Probe seed")->capture_default_str();
   cmd->add_flag("--json", opts->json, "Print JSON");
-  cmd->add_flag("--no-huge-pages", opts->no_huge_pages,
-                "Query the file mapping instead of a copy of the tables in huge pages");
-  cmd->add_flag("--no-grid", opts->no_grid,
-                "Query without the scene grid (every box the segment meets; for before/after figures)");
-  cmd->add_option("--refine-walk", opts->walk,
-                  "Refinement walks: all (default: when the nearest candidate's walk fails, walk from every "
-                  "candidate) or nearest (the first refined scenes; for before/after figures)")
-      ->check(CLI::IsMember({"all", "nearest"}))
-      ->capture_default_str();
   hb::cli::add_route_option(*cmd, opts->route);
   hb::cli::add_workspace_options(*cmd, opts->workspace);
   cmd->callback([opts] {
+    // Measurement-only (HB_MEASURE): no-huge-pages (query the file mapping, not a copy of the
+    // tables in huge pages), no-grid (every box the segment meets), refine-walk=nearest (the
+    // first refined scenes' walks).
+    opts->no_huge_pages = hb::cli::measurement("no-huge-pages").has_value();
+    opts->no_grid = hb::cli::measurement("no-grid").has_value();
+    opts->walk = hb::cli::measurement_choice("refine-walk", "all", {"all", "nearest"});
     hb::LoadOptions load;
     load.huge_pages = !opts->no_huge_pages;
     const hb::BoxScene loaded = hb::load_box_file(opts->box, load);

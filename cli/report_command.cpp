@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <sstream>
 
 void add_report_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("report", "Write an error report (report.html, summary.json, samples.csv)");
@@ -53,13 +54,44 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--samples", opts->report.samples, "Probes (as eval)")->check(CLI::Range(std::size_t(1), std::size_t(10000000)))->capture_default_str();
   cmd->add_option("--seed", opts->report.probes.seed, "Probe seed (as eval)")->capture_default_str();
   cmd->add_option("--rounds", opts->report.timing_rounds, "Timing passes")->check(CLI::Range(1, 1000))->capture_default_str();
-  cmd->add_option("--sweep-m", opts->sweep_m, "Extra configurations for the chart: m values (default m/4, m/2, m)")->delimiter(',');
-  cmd->add_option("--sweep-n", opts->sweep_n, "Extra configurations for the chart: n values (default n/2, n)")->delimiter(',');
-  cmd->add_flag("--no-sweep", opts->no_sweep, "Only the box itself and the references in the chart");
+  cmd->add_option_function<std::string>(
+         "--sweep",
+         [opts](const std::string& spec) {
+           // "none", or m=A/B/C,n=D/E: the extra configurations' densities.
+           const auto list = [](std::vector<int>& out, int hi) {
+             return [&out, hi](const std::string& v, const std::string& what) {
+               out.clear();
+               std::stringstream ss(v);
+               std::string item;
+               while (std::getline(ss, item, '/')) {
+                 const double x = hb::cli::spec_number_or_usage(item, what, 2, hi);
+                 if (x != double(int(x))) throw hb::cli::UsageError(what + ": '" + item + "' is not a whole number");
+                 out.push_back(int(x));
+               }
+             };
+           };
+           std::string head;
+           hb::cli::parse_spec("--sweep", spec, {{"m", list(opts->sweep_m, 4096)}, {"n", list(opts->sweep_n, 1024)}}, &head);
+           if (head == "none") opts->no_sweep = true;
+           else if (!head.empty()) throw hb::cli::UsageError("--sweep: '" + head + "' is neither none nor m=.../n=...");
+         },
+         "The chart's extra configurations: m=A/B/C (default m/4/m/2/m), n=D/E (default n/2/n), or none (only "
+         "the box itself and the references)")
+      ->type_name("none|m=A/B,n=C/D");
   hb::cli::add_cache_option(*cmd, opts->cache);
-  cmd->add_option("--field-probes", opts->report.error_field_probes_per_vertex, "Error-field probes per vertex (0: none)")
-      ->check(CLI::Range(0, 10000))->capture_default_str();
-  cmd->add_flag("--no-image", opts->no_image, "Do not render the error field even with a display");
+  cmd->add_option_function<std::string>(
+         "--field",
+         [opts](const std::string& spec) {
+           bool image = true;
+           hb::cli::parse_spec("--field", spec,
+                               {hb::cli::number_key("probes", opts->report.error_field_probes_per_vertex, 0, 10000),
+                                hb::cli::flag_key("image", image)});
+           opts->no_image = !image;
+         },
+         "The error field: probes=N per vertex (0: none; default " +
+             std::to_string(hb::ReportOptions{}.error_field_probes_per_vertex) +
+             "), image=off (do not render it even with a display)")
+      ->type_name("probes=N,image=on|off");
   cmd->add_option("--tol-perceptible", opts->report.tolerances.perceptible,
                   "The verdict: at most this share of probes perceptibly different from exact (fraction)")
       ->check(hb::cli::finite_range(0.0, 1.0))
@@ -126,7 +158,7 @@ void add_report_command(CLI::App& app) {
     request.product_version = HB_VERSION;
     request.command_line = hb::cli::command_line();
     // The error-field image needs X (Debian's VTK has no headless rendering).
-    if (opts->no_image) request.no_image_note = "image not requested (--no-image)";
+    if (opts->no_image) request.no_image_note = "image not requested (--field image=off)";
     else request.render_error_field = &vtkHapticBoxErrorFieldImage::RenderField;
     std::string sweep_note;
     hb::report_sweep_configs(scene, request.sweep, &sweep_note);
