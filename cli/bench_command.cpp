@@ -37,9 +37,8 @@ void add_bench_command(CLI::App& app) {
   hb::cli::add_model_options(*cmd, opts->model);
   cmd->add_option("BOX", opts->box, "Box file (.hbox)")->required();
   cmd->add_option("MESH", opts->mesh, "The mesh the box was baked from")->required();
-  cmd->add_option("--samples", opts->samples, "Number of probes")->check(CLI::Range(std::size_t(1), std::size_t(10000000)))->capture_default_str();
+  hb::cli::add_probe_options(*cmd, opts->samples, opts->probes.seed);
   cmd->add_option("--rounds", opts->rounds, "Passes over the probes")->check(CLI::Range(1, 1000))->capture_default_str();
-  cmd->add_option("--seed", opts->probes.seed, "Probe seed")->capture_default_str();
   cmd->add_flag("--json", opts->json, "Print JSON");
   hb::cli::add_route_option(*cmd, opts->route);
   hb::cli::add_workspace_options(*cmd, opts->workspace);

@@ -280,6 +280,15 @@ CLI::Option* add_codec_option(CLI::App& cmd, std::string& codec, CodecOptions& o
       help);
 }
 
+void add_probe_options(CLI::App& cmd, std::size_t& samples, std::uint64_t& seed, std::size_t min_samples) {
+  cmd.add_option("--samples", samples,
+                 "Probes (segments sampled over the mesh; the same count and seed give the same probes in every "
+                 "command" + std::string(min_samples == 0 ? "; 0: none)" : ")"))
+      ->check(CLI::Range(min_samples, std::size_t(100000000)))
+      ->capture_default_str();
+  cmd.add_option("--seed", seed, "Probe seed")->capture_default_str();
+}
+
 void add_cache_option(CLI::App& cmd, std::string& dir) {
   dir = default_box_cache_dir();
   cmd.add_option_function<std::string>(

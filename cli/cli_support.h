@@ -106,6 +106,10 @@ void check_measurements();
 CLI::Option* add_codec_option(CLI::App& cmd, std::string& codec, CodecOptions& options, bool* strict,
                               bool* bound_given, const std::vector<std::string>& allowed, const std::string& help);
 
+/// --samples N and --seed S, the probes (hb::sample_probes) of every command that measures: the
+/// same count and seed give the same probes everywhere. `min_samples` 0 allows "no probes".
+void add_probe_options(CLI::App& cmd, std::size_t& samples, std::uint64_t& seed, std::size_t min_samples = 1);
+
 /// --cache DIR|none: the box cache directory (default hb::default_box_cache_dir()); "none":
 /// bake without the cache and store nothing in it (`dir` is then empty).
 void add_cache_option(CLI::App& cmd, std::string& dir);

@@ -51,8 +51,7 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("-n,--n", opts->params.n,
                   "From a MESH: bake one raw box of exactly this directional density (m 32 unless -m is given)")
       ->check(CLI::Range(2, 1024));
-  cmd->add_option("--samples", opts->report.samples, "Probes (as eval)")->check(CLI::Range(std::size_t(1), std::size_t(10000000)))->capture_default_str();
-  cmd->add_option("--seed", opts->report.probes.seed, "Probe seed (as eval)")->capture_default_str();
+  hb::cli::add_probe_options(*cmd, opts->report.samples, opts->report.probes.seed);
   cmd->add_option("--rounds", opts->report.timing_rounds, "Timing passes")->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option_function<std::string>(
          "--sweep",

@@ -35,11 +35,11 @@ print("%-22s %-13s %8d tri  diag %7.1f mm  boxes %2d  agreement %.4f  force err 
 PY
 }
 run mri_anatomical "$v/anatomical.nii"
-run ct_dicom_CT5N "$v/dicom/CT5N" --iso -500
-run phantom_nii "$g/ct_phantom.nii.gz" --iso -480
-run phantom_mha_bone "$g/ct_phantom.mha" --iso 370
-run phantom_nrrd_smooth "$g/ct_phantom.nrrd" --iso -480 --smooth 15 --target-triangles 20000
-run phantom_labels "$g/ct_phantom_labels.nii.gz" --label 2
+run ct_dicom_CT5N "$v/dicom/CT5N" --volume iso=-500
+run phantom_nii "$g/ct_phantom.nii.gz" --volume iso=-480
+run phantom_mha_bone "$g/ct_phantom.mha" --volume iso=370
+run phantom_nrrd_smooth "$g/ct_phantom.nrrd" --volume iso=-480,smooth=15,triangles=20000
+run phantom_labels "$g/ct_phantom_labels.nii.gz" --volume label=2
 run step_solid "$g/reference_solid.step"
 BAKE_ARGS="--pieces faces" run step_solid_faces "$g/reference_solid.step"
 for f in gltf glb 3mf dae fbx; do run "elephant_$f" "$g/elephant.$f"; done

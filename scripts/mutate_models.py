@@ -147,7 +147,7 @@ def run_one(args):
             mutated = mutate_binary(data, rng)
         open(target, "wb").write(mutated)
     if family == "pieces":
-        cmd = [HB, "bake", sphere, "--pieces", target, "-o", os.path.join(case, "x.hbox"), "-m", "2", "-n", "2", "--no-cache"]
+        cmd = [HB, "bake", sphere, "--pieces", target, "-o", os.path.join(case, "x.hbox"), "-m", "2", "-n", "2", "--cache", "none"]
     else:
         cmd = [HB, "info", target]
     env = dict(os.environ, HB_READER_TIMEOUT_S=str(max(1, timeout // 2)), XDG_CACHE_HOME=os.path.join(case, "cache"))
