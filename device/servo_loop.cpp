@@ -302,6 +302,31 @@ void ServoLoop::finish_report(std::uint64_t tick, std::int64_t first_wake, std::
   }
 }
 
+void ServoLoop::publish_tick(std::uint64_t tick, const DeviceState& state, const Segment& seg, const Contact& contact,
+                             const Vec3& force, const Contact& other, std::int64_t query_ns, std::int64_t compute_ns,
+                             std::int64_t shadow_ns, ServoSnapshot& snap) noexcept {
+  snap.tick = tick;
+  snap.time_s = state.time_s;
+  to_array(state.position_m, snap.position_m);
+  to_array(seg.end, snap.tip_model);
+  to_array(contact.force, snap.desired_force_n);
+  to_array(force, snap.force_n);
+  to_array(contact.normal, snap.normal);
+  snap.depth = contact.depth;
+  snap.buttons = state.buttons;
+  snap.safety_flags = safety_.last_flags();
+  snap.query_ns = static_cast<std::uint32_t>(query_ns);
+  snap.compute_ns = static_cast<std::uint32_t>(compute_ns);
+  to_array(other.force, snap.shadow_force_n);
+  snap.shadow_query_ns = static_cast<std::uint32_t>(shadow_ns);
+  snap.shadow_contact = other.contact;
+  snap.contact = contact.contact;
+  snap.running = 1;
+  snap.emergency_stopped = safety_.emergency_stopped();
+  std::copy(safety_.counters().begin(), safety_.counters().end(), snap.safety_counts);
+  snapshot_.store(snap);
+}
+
 void ServoLoop::run() noexcept {
   ServoReport& rep = report_;
   request_realtime();
@@ -414,26 +439,7 @@ void ServoLoop::run() noexcept {
     std::int64_t shadow_ns = 0;
     if (shadow_) shadow_ns = compare_shadow(seg, law, contact, other);
 
-    snap.tick = tick;
-    snap.time_s = state.time_s;
-    to_array(state.position_m, snap.position_m);
-    to_array(seg.end, snap.tip_model);
-    to_array(contact.force, snap.desired_force_n);
-    to_array(force, snap.force_n);
-    to_array(contact.normal, snap.normal);
-    snap.depth = contact.depth;
-    snap.buttons = state.buttons;
-    snap.safety_flags = safety_.last_flags();
-    snap.query_ns = static_cast<std::uint32_t>(q1 - c0);
-    snap.compute_ns = static_cast<std::uint32_t>(c1 - c0);
-    to_array(other.force, snap.shadow_force_n);
-    snap.shadow_query_ns = static_cast<std::uint32_t>(shadow_ns);
-    snap.shadow_contact = other.contact;
-    snap.contact = contact.contact;
-    snap.running = 1;
-    snap.emergency_stopped = safety_.emergency_stopped();
-    std::copy(safety_.counters().begin(), safety_.counters().end(), snap.safety_counts);
-    snapshot_.store(snap);
+    publish_tick(tick, state, seg, contact, force, other, q1 - c0, c1 - c0, shadow_ns, snap);
 
     if (recorder_) record_tick(tick, state, force, contact, other, snap, rec, shadow_rec);
     ++tick;

@@ -203,6 +203,10 @@ private:
   void record_tick(std::uint64_t tick, const DeviceState& state, const Vec3& force, const Contact& contact,
                    const Contact& other, const ServoSnapshot& snap, LogRecord& rec, ShadowRecord& shadow_rec) noexcept;
   void finish_report(std::uint64_t tick, std::int64_t first_wake, std::int64_t prev_wake);
+  /// The tick's snapshot for the window (seqlock), after the force is out.
+  void publish_tick(std::uint64_t tick, const DeviceState& state, const Segment& seg, const Contact& contact,
+                    const Vec3& force, const Contact& other, std::int64_t query_ns, std::int64_t compute_ns,
+                    std::int64_t shadow_ns, ServoSnapshot& snap) noexcept;
 
   HapticDevice& device_;
   const ContactQuery& scene_;
