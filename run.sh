@@ -29,7 +29,7 @@ echo "== eval against the exact Embree answer"
 echo "== bench (one core)"
 "$HB" bench out/default.hbox "$MODEL" | tee out/bench.txt
 echo "== report (report.html, summary.json, samples.csv)"
-"$HB" report out/default.hbox "$MODEL" -o out/report --no-sweep --stability
+"$HB" report out/default.hbox "$MODEL" -o out/report --sweep none --stability
 echo "== summary (the haptic box against the exact answer, same probes; from out/report/summary.txt and bench)"
 cat out/report/summary.txt
 grep -E '^verdict:' out/bench.txt | sed 's/^verdict: /bench: /' || true

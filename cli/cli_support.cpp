@@ -212,6 +212,23 @@ const Measurements& measurements() {
 
 void check_measurements() { (void)measurements(); }
 
+std::function<void(const char*, double)> decompose_times() {
+  if (!measurement("decompose-times")) return {};
+  return [](const char* phase, double seconds) { std::fprintf(stderr, "decompose %s at %.2f s\n", phase, seconds); };
+}
+
+std::string measurement_choice(const std::string& name, const std::string& fallback,
+                               const std::vector<std::string>& allowed) {
+  const auto v = measurement(name);
+  if (!v) return fallback;
+  if (std::find(allowed.begin(), allowed.end(), *v) == allowed.end()) {
+    std::string k;
+    for (const auto& a : allowed) k += (k.empty() ? "" : " or ") + a;
+    throw UsageError("HB_MEASURE " + name + ": '" + *v + "' is not " + k);
+  }
+  return *v;
+}
+
 const std::vector<std::string>& measurement_names() {
   // bake: the searches and shading checks kept for before/after figures; bench: the routes
   // and the heap without the grid, the walk or huge pages; servo: the loop without priming or
@@ -261,6 +278,15 @@ CLI::Option* add_codec_option(CLI::App& cmd, std::string& codec, CodecOptions& o
         codec = name;
       },
       help);
+}
+
+void add_probe_options(CLI::App& cmd, std::size_t& samples, std::uint64_t& seed, std::size_t min_samples) {
+  cmd.add_option("--samples", samples,
+                 "Probes (segments sampled over the mesh; the same count and seed give the same probes in every "
+                 "command" + std::string(min_samples == 0 ? "; 0: none)" : ")"))
+      ->check(CLI::Range(min_samples, std::size_t(100000000)))
+      ->capture_default_str();
+  cmd.add_option("--seed", seed, "Probe seed")->capture_default_str();
 }
 
 void add_cache_option(CLI::App& cmd, std::string& dir) {
@@ -331,30 +357,42 @@ PerceptualJudge WorkspaceArgs::judge() const {
 
 void add_workspace_options(CLI::App& cmd, WorkspaceArgs& args) {
   const std::string group = "Workspace (the scale forces are computed and judged at)";
-  auto* mm = cmd.add_option("--workspace-mm", args.workspace_mm,
-                            "Diagonal of the model's bounding box at the device, mm (default: the Falcon's "
-                            "workspace sphere, 80 mm)")
-                 ->check(finite_range(1.0, 4000.0))
-                 ->capture_default_str()
-                 ->group(group);
-  auto* real = cmd.add_flag("--real-size", args.real_size,
-                            "Show the model at its real size: 1 model unit = 1 mm (anatomy at true scale)")
-                   ->group(group);
-  auto* mpu = cmd.add_option("--metres-per-unit", args.metres_per_unit, "Explicit scale: metres per model unit")
-                  ->check(finite_range(1e-12, 1e6))
-                  ->group(group);
-  mm->excludes(real)->excludes(mpu);
-  real->excludes(mpu);
+  const WorkspaceArgs d;
   // Bounded so that k x depth x metres per unit stays finite for any model within
   // kMaxCoordinate (1e5 x 4e15 x 1e6 < 3.4e38).
-  cmd.add_option("--stiffness", args.stiffness,
-                 "Spring stiffness k, N/m (default: half the Falcon's stable 3000 N/m, which feels hard)")
-      ->check(finite_range(1e-3, 1e5))
-      ->capture_default_str()
-      ->group(group);
-  cmd.add_option("--max-force", args.max_force, "Largest force the device renders, N (forces are judged clamped to it)")
-      ->check(finite_range(1e-3, 500.0))
-      ->capture_default_str()
+  cmd.add_option_function<std::string>(
+         "--workspace",
+         [&args](const std::string& spec) {
+           bool mm = false, mpu = false, real = false;
+           parse_spec("--workspace", spec,
+                      {{"mm", [&](const std::string& v, const std::string& what) {
+                          args.workspace_mm = spec_number_or_usage(v, what, 1.0, 4000.0);
+                          mm = true;
+                        }},
+                       {"real-size", [&](const std::string& v, const std::string& what) {
+                          flag_key("real-size", args.real_size).set(v, what);
+                          real = args.real_size;
+                        }},
+                       {"metres-per-unit", [&](const std::string& v, const std::string& what) {
+                          args.metres_per_unit = spec_number_or_usage(v, what, 1e-12, 1e6);
+                          mpu = true;
+                        }},
+                       {"stiffness", [&](const std::string& v, const std::string& what) {
+                          args.stiffness = spec_number_or_usage(v, what, 1e-3, 1e5);
+                        }},
+                       {"max-force", [&](const std::string& v, const std::string& what) {
+                          args.max_force = spec_number_or_usage(v, what, 1e-3, 500.0);
+                        }}});
+           if (int(mm) + int(mpu) + int(real) > 1)
+             throw UsageError("--workspace: mm, real-size and metres-per-unit exclude each other (give one)");
+         },
+         "Where the model sits at the device: mm=D (the diagonal of its bounding box, mm; default " +
+             spec_format(d.workspace_mm) +
+             ": the Falcon's workspace sphere), real-size (1 model unit = 1 mm: anatomy at true scale) or "
+             "metres-per-unit=S (an explicit scale); stiffness=K (the spring, N/m; default " +
+             spec_format(d.stiffness) + ": half the Falcon's stable 3000), max-force=F (the largest force the device "
+             "renders, N; forces are judged clamped to it; default " + spec_format(d.max_force) + ")")
+      ->type_name("KEY=VALUE,...")
       ->group(group);
   cmd.add_option("--perceptual", args.perceptual,
                  "When a difference is perceptible: nominal (w=10,f0=0.04,theta=25,fmin=0.2), strict "

@@ -89,6 +89,13 @@ SpecKey flag_key(const std::string& key, bool& field);
 /// one is a usage error. Empty optional: not given.
 std::optional<std::string> measurement(const std::string& name);
 const std::vector<std::string>& measurement_names();
+/// A measurement switch's value among `allowed` (`fallback` when not given); a value outside
+/// them is a usage error naming it.
+std::string measurement_choice(const std::string& name, const std::string& fallback,
+                               const std::vector<std::string>& allowed);
+/// The automatic decomposition's phase callback of HB_MEASURE=decompose-times (each phase's
+/// end on stderr), or an empty one.
+std::function<void(const char*, double)> decompose_times();
 /// Reads HB_MEASURE now (main, before parsing): an unknown switch fails every command alike.
 void check_measurements();
 
@@ -98,6 +105,10 @@ void check_measurements();
 /// bound (max-error or ratio) was given. `allowed`: the codec names.
 CLI::Option* add_codec_option(CLI::App& cmd, std::string& codec, CodecOptions& options, bool* strict,
                               bool* bound_given, const std::vector<std::string>& allowed, const std::string& help);
+
+/// --samples N and --seed S, the probes (hb::sample_probes) of every command that measures: the
+/// same count and seed give the same probes everywhere. `min_samples` 0 allows "no probes".
+void add_probe_options(CLI::App& cmd, std::size_t& samples, std::uint64_t& seed, std::size_t min_samples = 1);
 
 /// --cache DIR|none: the box cache directory (default hb::default_box_cache_dir()); "none":
 /// bake without the cache and store nothing in it (`dir` is then empty).
@@ -128,8 +139,8 @@ Bounds scene_bounds(const BoxScene& scene);
 /// boxes' bounds for a file that does not record it.
 double model_diagonal(const BoxScene& scene);
 
-/// Adds the workspace and judgement options to a command: --workspace-mm, --real-size,
-/// --metres-per-unit (mutually exclusive), --stiffness, --max-force, --perceptual.
+/// Adds the workspace and judgement options to a command: --workspace (mm, real-size or
+/// metres-per-unit; stiffness, max-force) and --perceptual.
 void add_workspace_options(CLI::App& cmd, WorkspaceArgs& args);
 
 /// The bake a command makes of a MESH it was given without a box file (report, field): the

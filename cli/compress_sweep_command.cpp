@@ -66,9 +66,7 @@ void add_compress_sweep_command(CLI::App& app) {
       ->check(hb::cli::finite_range(1e-5, 0.1));
   cmd->add_option("--normal-bits", opts->normal_bits, "Octahedral normal bits per coordinate")
       ->check(CLI::Range(6, 14))->capture_default_str();
-  cmd->add_option("--samples", opts->samples, "Probes for the force errors (0: none)")
-      ->check(CLI::Range(std::size_t(0), std::size_t(10000000)))->capture_default_str();
-  cmd->add_option("--seed", opts->probes.seed, "Probe seed")->capture_default_str();
+  hb::cli::add_probe_options(*cmd, opts->samples, opts->probes.seed, 0);
   cmd->add_option("--csv", opts->csv, "Write the curve as CSV");
   cmd->add_option("--json-out", opts->json_out, "Write the curve as JSON");
   hb::cli::add_workspace_options(*cmd, opts->workspace);

@@ -93,6 +93,7 @@ void add_decompose_command(CLI::App& app) {
       count = hb::compact_piece_ids(ids);
     } else {
       opts->automatic.progress = hb::cli::terminal_progress("decomposing");
+      opts->automatic.on_phase = hb::cli::decompose_times();
       hb::Decomposition d = hb::decompose_auto(mesh, opts->automatic);
       ids = std::move(d.piece_of_triangle);
       count = d.piece_count;

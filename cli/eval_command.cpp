@@ -28,8 +28,7 @@ void add_eval_command(CLI::App& app) {
   hb::cli::add_model_options(*cmd, opts->model);
   cmd->add_option("BOX", opts->box, "Box file (.hbox)")->required();
   cmd->add_option("MESH", opts->mesh, "The mesh the box was baked from")->required();
-  cmd->add_option("--samples", opts->samples, "Number of probes")->check(CLI::Range(std::size_t(1), std::size_t(100000000)))->capture_default_str();
-  cmd->add_option("--seed", opts->probes.seed, "Probe seed")->capture_default_str();
+  hb::cli::add_probe_options(*cmd, opts->samples, opts->probes.seed);
   hb::cli::add_workspace_options(*cmd, opts->workspace);
   cmd->add_flag("--json", opts->json, "Print JSON");
   cmd->add_flag("--force", opts->force, "Evaluate even when the box was baked from a different mesh (its hash differs)");

@@ -91,6 +91,12 @@ int main(int argc, char** argv) {
   // What the heap got is read only when asked (a /sys read at every start otherwise).
   app.set_version_flag("--version", [] { return std::string("hapticbox ") + HB_VERSION + " (heap: " + hb::heap_pages() + ")"; });
   app.require_subcommand(1);
+  {
+    std::string names;
+    for (const auto& n : hb::cli::measurement_names()) names += (names.empty() ? "" : ", ") + n;
+    app.footer("Measurement-only switches (before/after figures, not options): HB_MEASURE=name[=value],... "
+               "in the environment, names: " + names + ". Reader limits: HB_READER_TIMEOUT_S, HB_READER_MEMORY_MB.");
+  }
   // Threads per process: by default all cores, shared among the ranks on one node.
   std::optional<hb::ThreadLimit> threads;
   int local_ranks = 1;

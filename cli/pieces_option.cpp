@@ -72,7 +72,10 @@ void apply_pieces_spec(const std::string& spec, BakeRecipe& recipe, const std::v
 #endif
   PiecesRecipe p = pieces_from_spec(spec);
   p.automatic = recipe.pieces.automatic;
-  if (p.kind == PiecesRecipe::Kind::automatic) p.automatic.progress = terminal_progress("decomposing");
+  if (p.kind == PiecesRecipe::Kind::automatic) {
+    p.automatic.progress = terminal_progress("decomposing");
+    p.automatic.on_phase = decompose_times();
+  }
   recipe.pieces = std::move(p);
 }
 

@@ -19,25 +19,140 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <sstream>
+
+namespace {
+
+struct ReportOpts {
+  hb::cli::ModelArgs model;
+  std::vector<std::string> inputs;
+  std::string out;
+  hb::BoxParams params;
+  hb::ReportOptions report;
+  hb::cli::WorkspaceArgs workspace;
+  std::vector<int> sweep_m, sweep_n;
+  bool no_sweep = false;
+  std::string cache;
+  bool no_image = false;
+  bool stability = false;
+  bool force = false;
+  std::string save_box;
+};
+
+// report's --sweep: "none", or m=A/B/C,n=D/E (the extra configurations' densities).
+void parse_sweep_spec(ReportOpts& o, const std::string& spec) {
+  const auto list = [](std::vector<int>& out, int hi) {
+    return [&out, hi](const std::string& v, const std::string& what) {
+      out.clear();
+      std::stringstream ss(v);
+      std::string item;
+      while (std::getline(ss, item, '/')) {
+        const double x = hb::cli::spec_number_or_usage(item, what, 2, hi);
+        if (x != double(int(x))) throw hb::cli::UsageError(what + ": '" + item + "' is not a whole number");
+        out.push_back(int(x));
+      }
+    };
+  };
+  std::string head;
+  hb::cli::parse_spec("--sweep", spec, {{"m", list(o.sweep_m, 4096)}, {"n", list(o.sweep_n, 1024)}}, &head);
+  if (head == "none") o.no_sweep = true;
+  else if (!head.empty()) throw hb::cli::UsageError("--sweep: '" + head + "' is neither none nor m=.../n=...");
+}
+
+// What the report is of: the box given (and its mesh), or the mesh baked for it.
+struct ReportInput {
+  hb::TriangleMesh mesh;
+  std::uint64_t mesh_hash = 0;
+  hb::BoxScene scene;
+  std::string mesh_path, box_path;
+  double bake_seconds = 0.0;
+};
+
+ReportInput load_or_bake(const ReportOpts& o, bool sampling_given) {
+  ReportInput in;
+  const bool first_is_box = hb::cli::is_box_file(o.inputs[0]);
+  if (first_is_box) {
+    in.box_path = o.inputs[0];
+    in.scene = hb::load_box_file(in.box_path);
+    in.mesh_path = o.inputs.size() > 1 ? o.inputs[1] : in.scene.source().mesh_path;
+    if (in.mesh_path.empty()) throw hb::cli::UsageError(in.box_path + ": records no mesh; give MESH after BOX");
+  } else {
+    if (o.inputs.size() > 1) throw hb::cli::UsageError("give MESH alone, or BOX then MESH");
+    in.mesh_path = o.inputs[0];
+  }
+  in.mesh = hb::cli::load_mesh(in.mesh_path, o.model);
+  in.mesh_hash = hb::cli::hash_model(in.mesh_path, o.model);
+  if (first_is_box) {
+    hb::cli::check_same_mesh(in.scene, in.box_path, in.mesh_path, in.mesh_hash, o.force);
+  } else {
+    // Without -m and -n, the default bake through the box cache; with either, exactly that
+    // sampling, one raw box (hb::cli::bake_model, as `field` decides).
+    hb::cli::ModelBake baked = hb::cli::bake_model(in.mesh, in.mesh_path, in.mesh_hash, sampling_given, o.params,
+                                                   o.cache);
+    in.scene = std::move(baked.scene);
+    if (baked.from_cache) in.box_path = baked.cache_path;  // the box file the report is of
+    in.bake_seconds = baked.seconds;
+    if (!o.save_box.empty()) {
+      if (hb::cli::communicator().is_root()) hb::save_box_file(in.scene, o.save_box);
+      in.box_path = o.save_box;
+    }
+  }
+  return in;
+}
+
+void run_report(ReportOpts& o, bool sampling_given) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (hb::cli::communicator().is_root()) hb::cli::check_output_folder(o.out);  // before the bake, not after
+  ReportInput in = load_or_bake(o, sampling_given);
+  const hb::TriangleMesh& mesh = in.mesh;
+  const hb::BoxScene& scene = in.scene;
+  const std::string& mesh_path = in.mesh_path;
+  // One request, as the window's Export Error Report builds it (report/report_request.h).
+  const vtkHapticBoxReferenceQueries refs(mesh);
+  hb::ReportRequest request;
+  request.mesh = &mesh;
+  request.scene = &scene;
+  request.mesh_path = mesh_path;
+  request.mesh_hash = in.mesh_hash;
+  request.box_path = in.box_path;
+  request.bake_seconds = in.bake_seconds;
+  request.references = refs.References();
+  request.options = o.report;
+  request.options.workspace = o.workspace.options();
+  request.options.judge = o.workspace.judge();
+  request.options.cache_dir = o.cache;
+  request.options.progress = hb::cli::terminal_progress("report");
+  request.options.communicator = &hb::cli::communicator();
+  request.sweep.enabled = !o.no_sweep;
+  request.sweep.m = o.sweep_m;
+  request.sweep.n = o.sweep_n;
+  request.product_version = HB_VERSION;
+  request.command_line = hb::cli::command_line();
+  // The error-field image needs X (Debian's VTK has no headless rendering).
+  if (o.no_image) request.no_image_note = "image not requested (--field image=off)";
+  else request.render_error_field = &vtkHapticBoxErrorFieldImage::RenderField;
+  std::string sweep_note;
+  hb::report_sweep_configs(scene, request.sweep, &sweep_note);
+  if (!sweep_note.empty() && hb::cli::communicator().is_root()) std::cerr << "hapticbox: note: " << sweep_note << "\n";
+  hb::ReportData data = hb::compute_report(request);
+  if (!hb::cli::communicator().is_root()) return;  // rank 0 holds the figures and writes the report
+  if (o.stability)
+    data.stability = std::make_shared<hb::StabilityReport>(hb::cli::default_stability(
+        scene, mesh, std::filesystem::path(mesh_path).filename().string(), 6));
+  hb::write_report(request, data, o.out);
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::cout << "report " << o.out << "/report.html (" << hb::count_text(double(mesh.triangle_count()))
+            << " triangles, " << hb::densities_text(data) << "; " << (data.pass() ? "within" : "OUTSIDE")
+            << " tolerances; " << hb::duration_text(total) << ")\n"
+            << hb::report_summary_text(data, o.out) << "\n";
+  if (data.error_field_image.empty()) std::cout << "  no error-field image: " << data.error_field_note << "\n";
+}
+
+} // namespace
 
 void add_report_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("report", "Write an error report (report.html, summary.json, samples.csv)");
-  struct Opts {
-    hb::cli::ModelArgs model;
-    std::vector<std::string> inputs;
-    std::string out;
-    hb::BoxParams params;
-    hb::ReportOptions report;
-    hb::cli::WorkspaceArgs workspace;
-    std::vector<int> sweep_m, sweep_n;
-    bool no_sweep = false;
-    std::string cache;
-    bool no_image = false;
-    bool stability = false;
-    bool force = false;
-    std::string save_box;
-  };
-  auto opts = std::make_shared<Opts>();
+  auto opts = std::make_shared<ReportOpts>();
   hb::cli::add_model_options(*cmd, opts->model);
   cmd->add_option("INPUT", opts->inputs, "MESH (baked for the report), or BOX [MESH] (MESH defaults to the box's source)")
       ->required()
@@ -50,16 +165,28 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("-n,--n", opts->params.n,
                   "From a MESH: bake one raw box of exactly this directional density (m 32 unless -m is given)")
       ->check(CLI::Range(2, 1024));
-  cmd->add_option("--samples", opts->report.samples, "Probes (as eval)")->check(CLI::Range(std::size_t(1), std::size_t(10000000)))->capture_default_str();
-  cmd->add_option("--seed", opts->report.probes.seed, "Probe seed (as eval)")->capture_default_str();
+  hb::cli::add_probe_options(*cmd, opts->report.samples, opts->report.probes.seed);
   cmd->add_option("--rounds", opts->report.timing_rounds, "Timing passes")->check(CLI::Range(1, 1000))->capture_default_str();
-  cmd->add_option("--sweep-m", opts->sweep_m, "Extra configurations for the chart: m values (default m/4, m/2, m)")->delimiter(',');
-  cmd->add_option("--sweep-n", opts->sweep_n, "Extra configurations for the chart: n values (default n/2, n)")->delimiter(',');
-  cmd->add_flag("--no-sweep", opts->no_sweep, "Only the box itself and the references in the chart");
+  cmd->add_option_function<std::string>(
+         "--sweep",
+         [opts](const std::string& spec) { parse_sweep_spec(*opts, spec); },
+         "The chart's extra configurations: m=A/B/C (default m/4/m/2/m), n=D/E (default n/2/n), or none (only "
+         "the box itself and the references)")
+      ->type_name("none|m=A/B,n=C/D");
   hb::cli::add_cache_option(*cmd, opts->cache);
-  cmd->add_option("--field-probes", opts->report.error_field_probes_per_vertex, "Error-field probes per vertex (0: none)")
-      ->check(CLI::Range(0, 10000))->capture_default_str();
-  cmd->add_flag("--no-image", opts->no_image, "Do not render the error field even with a display");
+  cmd->add_option_function<std::string>(
+         "--field",
+         [opts](const std::string& spec) {
+           bool image = true;
+           hb::cli::parse_spec("--field", spec,
+                               {hb::cli::number_key("probes", opts->report.error_field_probes_per_vertex, 0, 10000),
+                                hb::cli::flag_key("image", image)});
+           opts->no_image = !image;
+         },
+         "The error field: probes=N per vertex (0: none; default " +
+             std::to_string(hb::ReportOptions{}.error_field_probes_per_vertex) +
+             "), image=off (do not render it even with a display)")
+      ->type_name("probes=N,image=on|off");
   cmd->add_option("--tol-perceptible", opts->report.tolerances.perceptible,
                   "The verdict: at most this share of probes perceptibly different from exact (fraction)")
       ->check(hb::cli::finite_range(0.0, 1.0))
@@ -70,78 +197,5 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--save-box", opts->save_box, "When baking, also save the box file here");
   cmd->add_flag("--stability", opts->stability, "Also run the trajectory stability suite (as `stability`, 6 sites)");
   hb::cli::add_workspace_options(*cmd, opts->workspace);
-  cmd->callback([opts, cmd] {
-    const auto t0 = std::chrono::steady_clock::now();
-    if (hb::cli::communicator().is_root()) hb::cli::check_output_folder(opts->out);  // before the bake, not after
-    std::string mesh_path, box_path;
-    const bool first_is_box = hb::cli::is_box_file(opts->inputs[0]);
-    hb::BoxScene scene;
-    if (first_is_box) {
-      box_path = opts->inputs[0];
-      scene = hb::load_box_file(box_path);
-      mesh_path = opts->inputs.size() > 1 ? opts->inputs[1] : scene.source().mesh_path;
-      if (mesh_path.empty()) throw hb::cli::UsageError(box_path + ": records no mesh; give MESH after BOX");
-    } else {
-      if (opts->inputs.size() > 1) throw hb::cli::UsageError("give MESH alone, or BOX then MESH");
-      mesh_path = opts->inputs[0];
-    }
-    const hb::TriangleMesh mesh = hb::cli::load_mesh(mesh_path, opts->model);
-    const std::uint64_t mesh_hash = hb::cli::hash_model(mesh_path, opts->model);
-    double bake_seconds = 0.0;
-    if (first_is_box) {
-      hb::cli::check_same_mesh(scene, box_path, mesh_path, mesh_hash, opts->force);
-    } else {
-      // Without -m and -n, the default bake through the box cache; with either, exactly that
-      // sampling, one raw box (hb::cli::bake_model, as `field` decides).
-      const bool sampling_given = cmd->count("-m") + cmd->count("-n") > 0;
-      hb::cli::ModelBake baked = hb::cli::bake_model(mesh, mesh_path, mesh_hash, sampling_given, opts->params,
-                                                     opts->cache);
-      scene = std::move(baked.scene);
-      if (baked.from_cache) box_path = baked.cache_path;  // the box file the report is of
-      bake_seconds = baked.seconds;
-      if (!opts->save_box.empty()) {
-        if (hb::cli::communicator().is_root()) hb::save_box_file(scene, opts->save_box);
-        box_path = opts->save_box;
-      }
-    }
-    // One request, as the window's Export Error Report builds it (report/report_request.h).
-    const vtkHapticBoxReferenceQueries refs(mesh);
-    hb::ReportRequest request;
-    request.mesh = &mesh;
-    request.scene = &scene;
-    request.mesh_path = mesh_path;
-    request.mesh_hash = mesh_hash;
-    request.box_path = box_path;
-    request.bake_seconds = bake_seconds;
-    request.references = refs.References();
-    request.options = opts->report;
-    request.options.workspace = opts->workspace.options();
-    request.options.judge = opts->workspace.judge();
-    request.options.cache_dir = opts->cache;
-    request.options.progress = hb::cli::terminal_progress("report");
-    request.options.communicator = &hb::cli::communicator();
-    request.sweep.enabled = !opts->no_sweep;
-    request.sweep.m = opts->sweep_m;
-    request.sweep.n = opts->sweep_n;
-    request.product_version = HB_VERSION;
-    request.command_line = hb::cli::command_line();
-    // The error-field image needs X (Debian's VTK has no headless rendering).
-    if (opts->no_image) request.no_image_note = "image not requested (--no-image)";
-    else request.render_error_field = &vtkHapticBoxErrorFieldImage::RenderField;
-    std::string sweep_note;
-    hb::report_sweep_configs(scene, request.sweep, &sweep_note);
-    if (!sweep_note.empty() && hb::cli::communicator().is_root()) std::cerr << "hapticbox: note: " << sweep_note << "\n";
-    hb::ReportData data = hb::compute_report(request);
-    if (!hb::cli::communicator().is_root()) return;  // rank 0 holds the figures and writes the report
-    if (opts->stability)
-      data.stability = std::make_shared<hb::StabilityReport>(hb::cli::default_stability(
-          scene, mesh, std::filesystem::path(mesh_path).filename().string(), 6));
-    hb::write_report(request, data, opts->out);
-    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::cout << "report " << opts->out << "/report.html (" << hb::count_text(double(mesh.triangle_count()))
-              << " triangles, " << hb::densities_text(data) << "; " << (data.pass() ? "within" : "OUTSIDE")
-              << " tolerances; " << hb::duration_text(total) << ")\n"
-              << hb::report_summary_text(data, opts->out) << "\n";
-    if (data.error_field_image.empty()) std::cout << "  no error-field image: " << data.error_field_note << "\n";
-  });
+  cmd->callback([opts, cmd] { run_report(*opts, cmd->count("-m") + cmd->count("-n") > 0); });
 }

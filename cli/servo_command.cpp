@@ -316,7 +316,7 @@ void run_servo(const ServoArgs& a) {
     print_stats("query", r.query);
     std::printf("  real-time: %s (%s)\n", r.realtime_granted ? "granted" : "not granted",
                 r.realtime_message.c_str());
-    std::printf("  cache priming: %s\n", a.no_prime ? "off (--no-prime)"
+    std::printf("  cache priming: %s\n", a.no_prime ? "off (HB_MEASURE=no-prime)"
                                                       : "on (the last segment's query at the start of the busy-wait)");
     std::printf("  workspace: %s\n", ws.describe().c_str());
     std::printf("  stiffness %.1f N/m%s\n", r.stiffness_n_per_m,
@@ -364,10 +364,6 @@ void add_servo_command(CLI::App& app) {
   cmd->add_flag("--json", a->json, "Print the report as JSON");
   cmd->add_option("--rate", a->rate_hz, "Servo rate, Hz")->check(hb::cli::finite_range(1.0, 20000.0))->capture_default_str();
   cmd->add_flag("--no-realtime", a->no_realtime, "Do not ask for SCHED_FIFO");
-  cmd->add_option("--spin-us", a->spin_us, "Busy-wait the last N us before each deadline")
-      ->check(hb::cli::finite_range(0.0, 1000.0))->capture_default_str();
-  cmd->add_flag("--no-prime", a->no_prime,
-                "Do not query the last segment at the start of the busy-wait (the caches stay as the sleep left them)");
   hb::cli::add_workspace_options(*cmd, a->workspace);
   cmd->add_option("--firmware", a->firmware, "Falcon firmware file (supplied by you; not shipped)");
   cmd->add_option("--exact", a->exact,
@@ -394,6 +390,11 @@ void add_servo_command(CLI::App& app) {
                                    "columns with --exact)")
       ->needs(record);
   cmd->callback([a] {
+    // Measurement-only (HB_MEASURE): spin-us=N, the busy-wait before each deadline; no-prime,
+    // the busy-wait without querying the last segment (the caches as the sleep left them).
+    if (const auto spin = hb::cli::measurement("spin-us"))
+      a->spin_us = hb::cli::spec_number_or_usage(*spin, "HB_MEASURE spin-us", 0.0, 1000.0);
+    a->no_prime = hb::cli::measurement("no-prime").has_value();
     if (!a->trajectory.empty() && hb::cli::lower_extension(a->trajectory) != ".vtp")
       throw hb::cli::UsageError("--trajectory " + a->trajectory + ": the trajectory is written as VTK XML PolyData; name it .vtp");
     run_servo(*a);

@@ -77,35 +77,26 @@ void add_stability_command(CLI::App& app) {
       ->check(CLI::Range(std::size_t(1), std::size_t(1000)))
       ->capture_default_str();
   cmd->add_option("--seed", o->seed, "Site seed")->capture_default_str();
-  cmd->add_option("--safety", o->safety,
-                  "The servo's fault response in T6/T8: hold (hold and ramp from the held force), zero (the old "
-                  "zero-and-ramp), none (no safety filter)")
-      ->check(CLI::IsMember({"hold", "zero", "none"}))
-      ->capture_default_str();
   cmd->add_flag("--energy-guard", o->energy_guard, "Switch the passivity observer / controller on in T6/T8");
-  cmd->add_option("--depth-law", o->depth, "Force law depth: normal (default) or along (the paper's eq. 2)")
-      ->check(CLI::IsMember({"normal", "along"}))
-      ->capture_default_str();
   cmd->add_option("--law", o->law,
                   "How answers become forces along a trajectory: penalty (default: the depth law on each answer) "
                   "or proxy (a god-object over the same answerer, box and exact alike)")
       ->check(CLI::IsMember({"penalty", "proxy"}))
       ->capture_default_str();
   cmd->add_flag_callback("--proxy", [o] { o->law = "proxy"; }, "Same as --law proxy");
-  cmd->add_option("--unconfirmed", o->unconfirmed,
-                  "Refined scenes' unconfirmed blends: reject (default) or keep (the first refined scenes)")
-      ->check(CLI::IsMember({"reject", "keep"}))
-      ->capture_default_str();
-  cmd->add_option("--refine-walk", o->walk,
-                  "Refinement walks: all (default: when the nearest candidate's walk fails, walk from every "
-                  "candidate) or nearest (the first refined scenes)")
-      ->check(CLI::IsMember({"all", "nearest"}))
-      ->capture_default_str();
   hb::cli::add_route_option(*cmd, o->route);
   cmd->add_flag("--no-generated", o->no_generated, "Skip the generated walls, plates and grooves");
   cmd->add_flag("--strict", o->strict, "Exit 1 when a test fails because of the box (not the law)");
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->callback([o] {
+    // Measurement-only (HB_MEASURE): safety=hold|zero|none (the servo's fault response in T6/T8:
+    // hold and ramp, the old zero-and-ramp, no safety filter), depth-law=normal|along (the
+    // paper's eq. 2), unconfirmed=reject|keep and refine-walk=all|nearest (the first refined
+    // scenes).
+    o->safety = hb::cli::measurement_choice("safety", "hold", {"hold", "zero", "none"});
+    o->depth = hb::cli::measurement_choice("depth-law", "normal", {"normal", "along"});
+    o->unconfirmed = hb::cli::measurement_choice("unconfirmed", "reject", {"reject", "keep"});
+    o->walk = hb::cli::measurement_choice("refine-walk", "all", {"all", "nearest"});
     hb::BoxScene scene = hb::load_box_file(o->box);
     const hb::TriangleMesh mesh = hb::cli::load_mesh(o->mesh);
     hb::Communicator& comm = hb::cli::communicator();
@@ -138,7 +129,7 @@ void add_stability_command(CLI::App& app) {
       so.filter_name = std::string("safety ") + (o->safety == "zero" ? "zero-and-ramp" : "hold-and-ramp") +
                        (o->energy_guard ? " + energy guard" : "");
     } else if (o->energy_guard) {
-      throw hb::cli::UsageError("--energy-guard needs the safety filter (--safety hold or zero)");
+      throw hb::cli::UsageError("--energy-guard needs the safety filter (not HB_MEASURE safety=none)");
     }
     so.communicator = &comm;  // the tasks (gate, each test on each scene) dealt across the ranks of an MPI job
     const hb::StabilityReport rep = hb::run_stability_suite(scene, mesh, so);

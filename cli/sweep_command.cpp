@@ -70,9 +70,8 @@ void add_sweep_command(CLI::App& app) {
   hb::cli::add_pieces_options(*cmd, opts->pieces);
   cmd->add_flag("--refine", opts->refine,
                 "Also measure every configuration refined exactly on the mesh's triangles (codec+ref rows)");
-  cmd->add_option("--samples", opts->sweep.samples, "Probes per method")->check(CLI::Range(std::size_t(1), std::size_t(10000000)))->capture_default_str();
+  hb::cli::add_probe_options(*cmd, opts->sweep.samples, opts->sweep.probes.seed);
   cmd->add_option("--rounds", opts->sweep.timing_rounds, "Timing passes")->check(CLI::Range(1, 1000))->capture_default_str();
-  cmd->add_option("--seed", opts->sweep.probes.seed, "Probe seed")->capture_default_str();
   hb::cli::add_cache_option(*cmd, opts->cache);
   cmd->add_flag("--no-default-bake", opts->no_default_bake,
                 "Leave out the row of the default bake (`bake MESH -o BOX` with no option: the budgeted bake the "

@@ -186,7 +186,7 @@ void ServoLoop::stop() {
   }
 }
 
-void ServoLoop::run() noexcept {
+void ServoLoop::request_realtime() noexcept {
   ServoReport& rep = report_;
   // Wake-ups on time without SCHED_FIFO too: a normal thread's sleeps may end up to its timer
   // slack (50 us by default) late, which is the whole busy-wait window (and its priming).
@@ -202,6 +202,134 @@ void ServoLoop::run() noexcept {
   } else {
     rep.realtime_message = "not requested";
   }
+}
+
+std::int64_t ServoLoop::compare_shadow(const Segment& seg, const ForceLaw& law, const Contact& contact,
+                                       Contact& other) noexcept {
+  ShadowReport& sh = report_.shadow;
+  const std::int64_t s0 = now_ns();
+  other = shadow_proxy_ ? shadow_proxy_->step(seg, law) : shadow_->query(seg, law);
+  const std::int64_t shadow_ns = now_ns() - s0;
+  shadow_query_hist_.add(shadow_ns);
+  if (contact.contact && other.contact) ++sh.both_contact;
+  else if (contact.contact) ++sh.drive_only;
+  else if (other.contact) ++sh.shadow_only;
+  else ++sh.neither;
+  if (contact.contact || other.contact) {
+    ++sh.contact_ticks;
+    const PerceivedDifference felt =
+        options_.shadow_is_reference ? perceive(other, contact, options_.perceptual, device_.spec().max_force_n)
+                                     : perceive(contact, other, options_.perceptual, device_.spec().max_force_n);
+    sh.perceptible += felt.perceptible() ? 1 : 0;
+    const float diff = (contact.force - other.force).norm();
+    // (clamped: past 1e5 N it only counts as the overflow bin, and llround stays defined)
+    if (std::isfinite(diff)) force_diff_hist_.add(std::llround(std::min(double(diff), 1e5) * 1e4));
+  }
+  if (contact.contact && other.contact) {
+    const float na = contact.force.norm(), nb = other.force.norm();
+    if (na > 0.f && nb > 0.f && std::isfinite(na) && std::isfinite(nb)) {
+      const double c = std::clamp(double(contact.force.dot(other.force)) / (double(na) * nb), -1.0, 1.0);
+      angle_hist_.add(std::llround(std::acos(c) * (180.0 / 3.14159265358979323846) * 100.0));
+    }
+  }
+  return shadow_ns;
+}
+
+void ServoLoop::record_tick(std::uint64_t tick, const DeviceState& state, const Vec3& force, const Contact& contact,
+                            const Contact& other, const ServoSnapshot& snap, LogRecord& rec,
+                            ShadowRecord& shadow_rec) noexcept {
+  rec.time_s = state.time_s;
+  to_array(state.position_m, rec.position_m);
+  to_array(force, rec.force_n);
+  rec.depth = contact.depth;
+  rec.query_ns = snap.query_ns;
+  rec.buttons = state.buttons;
+  rec.contact = contact.contact;
+  rec.safety_flags = snap.safety_flags;
+  rec.tick = tick;
+  if (recorder_->comparison()) {
+    to_array(contact.force, shadow_rec.drive_force_n);
+    to_array(contact.normal, shadow_rec.drive_normal);
+    to_array(other.force, shadow_rec.shadow_force_n);
+    to_array(other.normal, shadow_rec.shadow_normal);
+    shadow_rec.shadow_depth = other.depth;
+    shadow_rec.shadow_query_ns = snap.shadow_query_ns;
+    shadow_rec.shadow_contact = other.contact;
+    recorder_->push(rec, &shadow_rec);
+  } else {
+    recorder_->push(rec);
+  }
+}
+
+void ServoLoop::finish_report(std::uint64_t tick, std::int64_t first_wake, std::int64_t prev_wake) {
+  ServoReport& rep = report_;
+  ShadowReport& sh = rep.shadow;
+  rep.ticks = tick;
+  rep.rate_hz = (prev_wake > first_wake && tick > 1)
+                    ? static_cast<double>(period_hist_.count()) / ((prev_wake - first_wake) * 1e-9)
+                    : 0.0;
+  rep.period = timing_stats(period_hist_);
+  rep.period_error = timing_stats(period_error_hist_);
+  rep.compute = timing_stats(compute_hist_);
+  rep.query = timing_stats(query_hist_);
+  rep.safety = safety_.counters();
+  if (proxy_) rep.proxy = proxy_->stats();
+  if (shadow_proxy_) rep.shadow_proxy = shadow_proxy_->stats();
+  if (sh.enabled) {
+    sh.query = timing_stats(shadow_query_hist_);
+    sh.force_diff_mean_n = force_diff_hist_.mean_ns() * 1e-4;
+    sh.force_diff_p50_n = force_diff_hist_.percentile_ns(0.5) * 1e-4;
+    sh.force_diff_p99_n = force_diff_hist_.percentile_ns(0.99) * 1e-4;
+    sh.force_diff_max_n = force_diff_hist_.max_ns() * 1e-4;
+    sh.angle_p50_deg = angle_hist_.percentile_ns(0.5) * 1e-2;
+    sh.angle_p99_deg = angle_hist_.percentile_ns(0.99) * 1e-2;
+    sh.angle_max_deg = angle_hist_.max_ns() * 1e-2;
+  }
+  switch (rep.exit) {
+    case ServoExit::disconnected:
+      rep.exit_message = "device disconnected at tick " + std::to_string(tick) +
+                         ": force zeroed, servo loop stopped";
+      break;
+    case ServoExit::end_of_stream:
+      rep.exit_message = "end of replay after " + std::to_string(tick) + " ticks";
+      break;
+    default:
+      rep.exit_message = "stopped after " + std::to_string(tick) + " ticks";
+  }
+  if (recorder_) {
+    rep.log_records = recorder_->written();
+    rep.log_dropped = recorder_->dropped();
+  }
+}
+
+void ServoLoop::publish_tick(std::uint64_t tick, const DeviceState& state, const Segment& seg, const Contact& contact,
+                             const Vec3& force, const Contact& other, std::int64_t query_ns, std::int64_t compute_ns,
+                             std::int64_t shadow_ns, ServoSnapshot& snap) noexcept {
+  snap.tick = tick;
+  snap.time_s = state.time_s;
+  to_array(state.position_m, snap.position_m);
+  to_array(seg.end, snap.tip_model);
+  to_array(contact.force, snap.desired_force_n);
+  to_array(force, snap.force_n);
+  to_array(contact.normal, snap.normal);
+  snap.depth = contact.depth;
+  snap.buttons = state.buttons;
+  snap.safety_flags = safety_.last_flags();
+  snap.query_ns = static_cast<std::uint32_t>(query_ns);
+  snap.compute_ns = static_cast<std::uint32_t>(compute_ns);
+  to_array(other.force, snap.shadow_force_n);
+  snap.shadow_query_ns = static_cast<std::uint32_t>(shadow_ns);
+  snap.shadow_contact = other.contact;
+  snap.contact = contact.contact;
+  snap.running = 1;
+  snap.emergency_stopped = safety_.emergency_stopped();
+  std::copy(safety_.counters().begin(), safety_.counters().end(), snap.safety_counts);
+  snapshot_.store(snap);
+}
+
+void ServoLoop::run() noexcept {
+  ServoReport& rep = report_;
+  request_realtime();
 
   const std::int64_t period = static_cast<std::int64_t>(std::llround(1e9 / options_.rate_hz));
   const std::int64_t spin = static_cast<std::int64_t>(std::max(0.0, options_.spin_s) * 1e9);
@@ -309,78 +437,11 @@ void ServoLoop::run() noexcept {
     // The shadow answer, on the same segment, once the force is out.
     Contact other;
     std::int64_t shadow_ns = 0;
-    if (shadow_) {
-      const std::int64_t s0 = now_ns();
-      other = shadow_proxy_ ? shadow_proxy_->step(seg, law) : shadow_->query(seg, law);
-      shadow_ns = now_ns() - s0;
-      shadow_query_hist_.add(shadow_ns);
-      if (contact.contact && other.contact) ++sh.both_contact;
-      else if (contact.contact) ++sh.drive_only;
-      else if (other.contact) ++sh.shadow_only;
-      else ++sh.neither;
-      if (contact.contact || other.contact) {
-        ++sh.contact_ticks;
-        const PerceivedDifference felt =
-            options_.shadow_is_reference ? perceive(other, contact, options_.perceptual, device_.spec().max_force_n)
-                                         : perceive(contact, other, options_.perceptual, device_.spec().max_force_n);
-        sh.perceptible += felt.perceptible() ? 1 : 0;
-        const float diff = (contact.force - other.force).norm();
-        // (clamped: past 1e5 N it only counts as the overflow bin, and llround stays defined)
-        if (std::isfinite(diff)) force_diff_hist_.add(std::llround(std::min(double(diff), 1e5) * 1e4));
-      }
-      if (contact.contact && other.contact) {
-        const float na = contact.force.norm(), nb = other.force.norm();
-        if (na > 0.f && nb > 0.f && std::isfinite(na) && std::isfinite(nb)) {
-          const double c = std::clamp(double(contact.force.dot(other.force)) / (double(na) * nb), -1.0, 1.0);
-          angle_hist_.add(std::llround(std::acos(c) * (180.0 / 3.14159265358979323846) * 100.0));
-        }
-      }
-    }
+    if (shadow_) shadow_ns = compare_shadow(seg, law, contact, other);
 
-    snap.tick = tick;
-    snap.time_s = state.time_s;
-    to_array(state.position_m, snap.position_m);
-    to_array(seg.end, snap.tip_model);
-    to_array(contact.force, snap.desired_force_n);
-    to_array(force, snap.force_n);
-    to_array(contact.normal, snap.normal);
-    snap.depth = contact.depth;
-    snap.buttons = state.buttons;
-    snap.safety_flags = safety_.last_flags();
-    snap.query_ns = static_cast<std::uint32_t>(q1 - c0);
-    snap.compute_ns = static_cast<std::uint32_t>(c1 - c0);
-    to_array(other.force, snap.shadow_force_n);
-    snap.shadow_query_ns = static_cast<std::uint32_t>(shadow_ns);
-    snap.shadow_contact = other.contact;
-    snap.contact = contact.contact;
-    snap.running = 1;
-    snap.emergency_stopped = safety_.emergency_stopped();
-    std::copy(safety_.counters().begin(), safety_.counters().end(), snap.safety_counts);
-    snapshot_.store(snap);
+    publish_tick(tick, state, seg, contact, force, other, q1 - c0, c1 - c0, shadow_ns, snap);
 
-    if (recorder_) {
-      rec.time_s = state.time_s;
-      to_array(state.position_m, rec.position_m);
-      to_array(force, rec.force_n);
-      rec.depth = contact.depth;
-      rec.query_ns = snap.query_ns;
-      rec.buttons = state.buttons;
-      rec.contact = contact.contact;
-      rec.safety_flags = snap.safety_flags;
-      rec.tick = tick;
-      if (recorder_->comparison()) {
-        to_array(contact.force, shadow_rec.drive_force_n);
-        to_array(contact.normal, shadow_rec.drive_normal);
-        to_array(other.force, shadow_rec.shadow_force_n);
-        to_array(other.normal, shadow_rec.shadow_normal);
-        shadow_rec.shadow_depth = other.depth;
-        shadow_rec.shadow_query_ns = snap.shadow_query_ns;
-        shadow_rec.shadow_contact = other.contact;
-        recorder_->push(rec, &shadow_rec);
-      } else {
-        recorder_->push(rec);
-      }
-    }
+    if (recorder_) record_tick(tick, state, force, contact, other, snap, rec, shadow_rec);
     ++tick;
 
     const std::int64_t end = now_ns();
@@ -395,42 +456,7 @@ void ServoLoop::run() noexcept {
     }
   }
 
-  rep.ticks = tick;
-  rep.rate_hz = (prev_wake > first_wake && tick > 1)
-                    ? static_cast<double>(period_hist_.count()) / ((prev_wake - first_wake) * 1e-9)
-                    : 0.0;
-  rep.period = timing_stats(period_hist_);
-  rep.period_error = timing_stats(period_error_hist_);
-  rep.compute = timing_stats(compute_hist_);
-  rep.query = timing_stats(query_hist_);
-  rep.safety = safety_.counters();
-  if (proxy_) rep.proxy = proxy_->stats();
-  if (shadow_proxy_) rep.shadow_proxy = shadow_proxy_->stats();
-  if (sh.enabled) {
-    sh.query = timing_stats(shadow_query_hist_);
-    sh.force_diff_mean_n = force_diff_hist_.mean_ns() * 1e-4;
-    sh.force_diff_p50_n = force_diff_hist_.percentile_ns(0.5) * 1e-4;
-    sh.force_diff_p99_n = force_diff_hist_.percentile_ns(0.99) * 1e-4;
-    sh.force_diff_max_n = force_diff_hist_.max_ns() * 1e-4;
-    sh.angle_p50_deg = angle_hist_.percentile_ns(0.5) * 1e-2;
-    sh.angle_p99_deg = angle_hist_.percentile_ns(0.99) * 1e-2;
-    sh.angle_max_deg = angle_hist_.max_ns() * 1e-2;
-  }
-  switch (rep.exit) {
-    case ServoExit::disconnected:
-      rep.exit_message = "device disconnected at tick " + std::to_string(tick) +
-                         ": force zeroed, servo loop stopped";
-      break;
-    case ServoExit::end_of_stream:
-      rep.exit_message = "end of replay after " + std::to_string(tick) + " ticks";
-      break;
-    default:
-      rep.exit_message = "stopped after " + std::to_string(tick) + " ticks";
-  }
-  if (recorder_) {
-    rep.log_records = recorder_->written();
-    rep.log_dropped = recorder_->dropped();
-  }
+  finish_report(tick, first_wake, prev_wake);
   snap.running = 0;
   snap.force_n[0] = snap.force_n[1] = snap.force_n[2] = 0.f;
   snapshot_.store(snap);

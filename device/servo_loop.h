@@ -18,6 +18,8 @@
 namespace hb {
 
 class LogRecorder;
+struct LogRecord;
+struct ShadowRecord;
 
 /// Device frame (m, origin at the workspace centre) to model frame (model units), and the probe.
 /// A 3-DOF device has no stylus orientation, so the probe is a virtual stylus of fixed
@@ -194,6 +196,17 @@ public:
 
 private:
   void run() noexcept;
+  // The steps of run() off the tick's critical path: the thread's scheduling, the shadow
+  // answer once the force is out (returns its ns), the tick's log record, the final report.
+  void request_realtime() noexcept;
+  std::int64_t compare_shadow(const Segment& seg, const ForceLaw& law, const Contact& contact, Contact& other) noexcept;
+  void record_tick(std::uint64_t tick, const DeviceState& state, const Vec3& force, const Contact& contact,
+                   const Contact& other, const ServoSnapshot& snap, LogRecord& rec, ShadowRecord& shadow_rec) noexcept;
+  void finish_report(std::uint64_t tick, std::int64_t first_wake, std::int64_t prev_wake);
+  /// The tick's snapshot for the window (seqlock), after the force is out.
+  void publish_tick(std::uint64_t tick, const DeviceState& state, const Segment& seg, const Contact& contact,
+                    const Vec3& force, const Contact& other, std::int64_t query_ns, std::int64_t compute_ns,
+                    std::int64_t shadow_ns, ServoSnapshot& snap) noexcept;
 
   HapticDevice& device_;
   const ContactQuery& scene_;

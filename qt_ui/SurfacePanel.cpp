@@ -115,18 +115,18 @@ SurfacePanel::SurfacePanel(HapticSession* session, QWidget* parent)
   iso_->setDecimals(1);
   iso_->setRange(-1e9, 1e9);
   iso_->setToolTip(tr("Iso-value in the file's calibrated units (Hounsfield units for CT): the surface where the "
-                      "values cross it (hapticbox --iso)"));
+                      "values cross it (hapticbox --volume iso=V)"));
   otsu_->setToolTip(tr("Back to the Otsu threshold of the histogram (the automatic iso-value)"));
   label_->setRange(-1000000, 1000000);
   label_->setEnabled(false);
-  useLabel_->setToolTip(tr("A label map: the boundary of the voxels holding this label (hapticbox --label)"));
+  useLabel_->setToolTip(tr("A label map: the boundary of the voxels holding this label (hapticbox --volume label=L)"));
   smooth_->setRange(0, 1000);
   smooth_->setToolTip(tr("Windowed-sinc smoothing iterations (0: none; 10-30 removes voxel steps and moves the "
-                         "surface by well under a voxel; hapticbox --smooth)"));
+                         "surface by well under a voxel; hapticbox --volume smooth=N)"));
   target_->setRange(0, 20000000);
   target_->setSingleStep(10000);
   target_->setSpecialValueText(tr("all"));
-  target_->setToolTip(tr("Decimate to about this many triangles (all: keep every triangle; hapticbox --target-triangles)"));
+  target_->setToolTip(tr("Decimate to about this many triangles (all: keep every triangle; hapticbox --volume triangles=N)"));
   auto* isoRow = new QHBoxLayout;
   isoRow->addWidget(iso_, 1);
   isoRow->addWidget(otsu_);

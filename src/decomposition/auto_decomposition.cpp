@@ -398,12 +398,11 @@ void Merger::merge(const Candidate& c) {
 }
 
 Decomposition Merger::run() {
-  // HB_DECOMPOSE_TIMES=1: each phase's end on stderr (a diagnostic for large meshes: the
-  // budgeted bake's stage times show the decomposition as one figure).
+  // Each phase's end to options.on_phase (a diagnostic for large meshes: the budgeted bake's
+  // stage times show the decomposition as one figure).
   const auto tq = std::chrono::steady_clock::now();
   const auto lap = [&](const char* what) {
-    if (std::getenv("HB_DECOMPOSE_TIMES"))
-      std::fprintf(stderr, "decompose %s at %.2f s\n", what, std::chrono::duration<double>(std::chrono::steady_clock::now() - tq).count());
+    if (options_.on_phase) options_.on_phase(what, std::chrono::duration<double>(std::chrono::steady_clock::now() - tq).count());
   };
   report(0.0);
   build_clusters();

@@ -34,6 +34,9 @@ struct AutoDecompositionOptions {
   std::uint64_t seed = 1;  ///< same mesh, same options, same seed: same pieces.
   /// Progress in [0, 1]; return false to cancel (throws hb::Cancelled).
   ProgressCallback progress;
+  /// Called at the end of each phase (clusters, lines, pieces, merged) with the seconds since
+  /// the start: a diagnostic for large meshes (`HB_MEASURE=decompose-times`); may be empty.
+  std::function<void(const char* phase, double seconds)> on_phase;
 };
 
 /// The result: a piece id per triangle (0..piece_count-1, numbered in order of each piece's

@@ -409,17 +409,20 @@ TEST_F(CliTest, BadSegmentsCsvNamesFileAndLine) {
 TEST_F(CliTest, NonFiniteOrAbsurdOptionValuesAreUsageErrorsNamingTheValue) {
   bake_once();
   const std::string q = "query " + path("sphere.hbox") + " --segment 0 0.1 30 0 0.1 9 ";
-  for (const char* opt : {"--stiffness nan", "--stiffness 1e38", "--stiffness -5", "--metres-per-unit inf"}) {
+  for (const char* opt : {"--workspace stiffness=nan", "--workspace stiffness=1e38", "--workspace stiffness=-5",
+                          "--workspace metres-per-unit=inf"}) {
     const Result r = run(q + opt);
     EXPECT_EQ(r.code, 2) << opt;
-    const std::string value = std::string(opt).substr(std::string(opt).find(' ') + 1);
+    const std::string value = "'" + std::string(opt).substr(std::string(opt).find('=') + 1) + "'";
     EXPECT_NE(r.err.find(value), std::string::npos) << opt << ": " << r.err;
   }
-  for (const char* opt : {"--seconds nan", "--seconds inf", "--stiffness 1e38", "--rate nan", "--spin-us nan",
-                          "--metres-per-unit -inf", "--workspace-mm 0", "--max-force nan", "--perceptual w=x"}) {
+  for (const char* opt : {"--seconds nan", "--seconds inf", "--workspace stiffness=1e38", "--rate nan",
+                          "--workspace metres-per-unit=-inf", "--workspace mm=0", "--workspace max-force=nan",
+                          "--perceptual w=x"}) {
     const Result r = run(std::string("servo plane --no-realtime ") + opt);
     EXPECT_EQ(r.code, 2) << opt << ": " << r.err;
   }
+  EXPECT_EQ(measure("spin-us=nan", "servo plane --no-realtime").code, 2);
   EXPECT_EQ(run("bake " + path("sphere.off") + " -o " + path("nan.hbox") + " --pieces none,padding=nan").code, 2);
 }
 
@@ -515,7 +518,7 @@ TEST_F(CliTest, ServoWithExactComparesBoxAndExactOnOneTrajectoryAndLogsBoth) {
   bake_once();
   const std::string log = path("shadow.hblog"), csv = path("shadow.csv");
   const Result r = run("servo " + path("sphere.hbox") + " --exact " + path("sphere.off") +
-                       " --no-realtime --seconds 0.3 --metres-per-unit 0.0025 --record " + log + " --csv " + csv + " --json");
+                       " --no-realtime --seconds 0.3 --workspace metres-per-unit=0.0025 --record " + log + " --csv " + csv + " --json");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   ASSERT_TRUE(j.contains("box_vs_exact")) << r.out;
@@ -534,7 +537,7 @@ TEST_F(CliTest, ServoWithExactComparesBoxAndExactOnOneTrajectoryAndLogsBoth) {
   EXPECT_NE(header.find("exact_fx_n"), std::string::npos) << header;
   // The exact answer can drive instead; the text summary names both.
   const Result exact = run("servo " + path("sphere.hbox") + " --exact " + path("sphere.off") +
-                           " --render exact --no-realtime --seconds 0.2 --metres-per-unit 0.0025");
+                           " --render exact --no-realtime --seconds 0.2 --workspace metres-per-unit=0.0025");
   ASSERT_EQ(exact.code, 0) << exact.err;
   EXPECT_NE(exact.out.find("exact drives the device, box in shadow"), std::string::npos) << exact.out;
   EXPECT_NE(exact.out.find("|F_box - F_exact|"), std::string::npos) << exact.out;
@@ -560,7 +563,7 @@ TEST_F(CliTest, ServoLawIsChosenNamedAndABadOneRefusedNamingTheValue) {
   EXPECT_NE(text.out.find("contact law: proxy"), std::string::npos) << text.out;
   bake_once();
   const Result both = run("servo " + path("sphere.hbox") + " --exact " + path("sphere.off") +
-                          " --law proxy --no-realtime --seconds 0.3 --metres-per-unit 0.0025 --json");
+                          " --law proxy --no-realtime --seconds 0.3 --workspace metres-per-unit=0.0025 --json");
   ASSERT_EQ(both.code, 0) << both.err;
   const auto j = nlohmann::json::parse(both.out);
   EXPECT_EQ(j["contact_law"], "proxy");
@@ -672,7 +675,7 @@ std::vector<double> csv_numbers(const std::string& line) {
 // Issue 37: one workspace for every command. The sphere (20 mm across, diagonal 34.6 mm) is
 // fitted to the device's 80 mm, at 1500 N/m: a force per unit of depth (along the normal) of
 // 1500 x 0.08 / 34.64 N per model unit, the same in `query`, `servo --exact` and `eval`, which
-// all state the workspace; `--real-size` shows the model at 1 unit = 1 mm instead.
+// all state the workspace; `--workspace real-size` shows the model at 1 unit = 1 mm instead.
 TEST_F(CliTest, EveryCommandComputesForcesAtTheOneWorkspaceScaleAndStatesIt) {
   bake_once();
   const double diagonal = hb::make_sphere(10.f, 4).bounds().diagonal();
@@ -727,14 +730,14 @@ TEST_F(CliTest, EveryCommandComputesForcesAtTheOneWorkspaceScaleAndStatesIt) {
   const Result text = run("eval " + path("sphere.hbox") + " " + path("sphere.off") + " --samples 2000");
   EXPECT_NE(text.out.find("perceptibly different"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("diagonal 80 mm"), std::string::npos) << text.out;
-  // --real-size: 1 unit = 1 mm, a diagonal of 34.6 mm; the strict preset feels at least as much.
+  // --workspace real-size: 1 unit = 1 mm, a diagonal of 34.6 mm; the strict preset feels at least as much.
   const Result real = run("eval " + path("sphere.hbox") + " " + path("sphere.off") +
-                          " --samples 2000 --json --real-size --perceptual strict");
+                          " --samples 2000 --json --workspace real-size --perceptual strict");
   ASSERT_EQ(real.code, 0) << real.err;
   const auto rj = nlohmann::json::parse(real.out);
   EXPECT_EQ(rj["workspace"]["fit"], "real-size");
   EXPECT_NEAR(rj["workspace"]["metres_per_unit"].get<double>(), 0.001, 1e-12);
   EXPECT_EQ(rj["perceptible"]["thresholds"], "w=7,f0=0.03,theta=18,fmin=0.2");
   // Two ways of scaling at once are a usage error.
-  EXPECT_EQ(run("eval " + path("sphere.hbox") + " " + path("sphere.off") + " --real-size --workspace-mm 100").code, 2);
+  EXPECT_EQ(run("eval " + path("sphere.hbox") + " " + path("sphere.off") + " --workspace real-size,mm=100").code, 2);
 }

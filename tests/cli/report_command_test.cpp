@@ -48,7 +48,7 @@ TEST_F(ReportCommandTest, ReportJsonCarriesTheFiguresEvalPrintsForTheSameInputAn
   const CommandResult eval = run("eval " + path("torus.hbox") + " " + path("torus.off") + " --samples 3000 --seed 7 --json");
   ASSERT_EQ(eval.code, 0) << eval.err;
   const CommandResult report = run("report " + path("torus.hbox") + " " + path("torus.off") + " -o " + path("rep") +
-                         " --samples 3000 --seed 7 --rounds 1 --cache none --sweep-m 4 --sweep-n 4");
+                         " --samples 3000 --seed 7 --rounds 1 --cache none --sweep m=4,n=4");
   ASSERT_EQ(report.code, 0) << report.err;
   EXPECT_NE(report.out.find("no error-field image"), std::string::npos) << report.out;
 
@@ -99,7 +99,7 @@ TEST_F(ReportCommandTest, AReportFromAMeshIsOfTheDefaultBakeThroughTheCacheUnles
   // What `bake MESH -o BOX` makes: several boxes refined on the surface cells, the budget met.
   const std::string cache = path("report_cache");
   const std::string args = "report " + path("torus.off") + " -o " + path("rep_default") +
-                           " --samples 2000 --rounds 1 --no-sweep --field-probes 0 --cache " + cache;
+                           " --samples 2000 --rounds 1 --sweep none --field probes=0 --cache " + cache;
   const CommandResult r = run(args);
   ASSERT_EQ(r.code, 0) << r.err;
   const auto s = nlohmann::json::parse(read("rep_default/summary.json"));
@@ -120,7 +120,7 @@ TEST_F(ReportCommandTest, AReportFromAMeshIsOfTheDefaultBakeThroughTheCacheUnles
 
 TEST_F(ReportCommandTest, ReportBakesFromAMesh) {
   const CommandResult r = run("report " + path("torus.off") + " -o " + path("rep2") + " -m 6 -n 4 --samples 500 --rounds 1 "
-                    "--no-sweep --cache none");
+                    "--sweep none --cache none");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto s = nlohmann::json::parse(read("rep2/summary.json"));
   EXPECT_GT(s["box"]["bake_seconds"].get<double>(), 0.0);

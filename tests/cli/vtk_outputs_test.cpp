@@ -101,7 +101,7 @@ TEST_F(VtkOutputsTest, FieldCarriesUnitsProvenanceNanPiecesAndBoxOutlines) {
   ASSERT_EQ(run("decompose " + path("torus.off") + " -o " + path("p2.txt") + " --plane 0,0,0,0,1,0").code, 0);
   ASSERT_EQ(run("bake " + path("torus.off") + " -o " + path("p2.hbox") + " -m 4 -n 3 --pieces " + path("p2.txt")).code, 0);
   const CommandResult r = run("field " + path("p2.hbox") + " " + path("torus.off") + " -o " + path("f.vtp") +
-                              " --seed 5 --stiffness 300 --real-size");
+                              " --seed 5 --workspace stiffness=300,real-size");
   ASSERT_EQ(r.code, 0) << r.err;
   vtkSmartPointer<vtkPolyData> pd = read_vtp(path("f.vtp"));
   ASSERT_GT(pd->GetNumberOfPoints(), 0);
@@ -154,7 +154,7 @@ TEST_F(VtkOutputsTest, FieldCarriesUnitsProvenanceNanPiecesAndBoxOutlines) {
 
 TEST_F(VtkOutputsTest, SamplesCsvReadsNoDataAsNanInParaViewsCsvReader) {
   const CommandResult r = run("report " + path("torus.off") + " -o " + path("rep") +
-                              " -m 3 -n 2 --samples 2000 --rounds 1 --no-sweep --cache none --field-probes 0");
+                              " -m 3 -n 2 --samples 2000 --rounds 1 --sweep none --cache none --field probes=0");
   ASSERT_EQ(r.code, 0) << r.err;
   vtkNew<vtkDelimitedTextReader> reader;  // what ParaView's CSV reader runs
   reader->SetFileName(path("rep/samples.csv").c_str());
@@ -185,7 +185,7 @@ TEST_F(VtkOutputsTest, SamplesCsvReadsNoDataAsNanInParaViewsCsvReader) {
 TEST_F(VtkOutputsTest, SummaryOfALoadedRefinedBoxSaysNullBakeTimeAndRefine) {
   ASSERT_EQ(run("bake " + path("torus.off") + " -o " + path("ref.hbox") + " -m 4 -n 3 --refine").code, 0);
   const CommandResult r = run("report " + path("ref.hbox") + " " + path("torus.off") + " -o " + path("rep_ref") +
-                              " --samples 300 --rounds 1 --no-sweep --cache none --field-probes 0");
+                              " --samples 300 --rounds 1 --sweep none --cache none --field probes=0");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto s = nlohmann::json::parse(read("rep_ref/summary.json"));
   EXPECT_TRUE(s["box"]["bake_seconds"].is_null());

@@ -153,7 +153,7 @@ TEST(SessionReportTest, WindowAndCommandLineGiveTheSameReport) {
   const QString cliDir = data.dir.filePath(QStringLiteral("cli-report"));
   QProcess cli;
   cli.start(QStringLiteral(HB_CLI_PATH), {QStringLiteral("report"), box, s.meshPath(), QStringLiteral("-o"), cliDir,
-                                          QStringLiteral("--samples"), QStringLiteral("1000"), QStringLiteral("--no-image")});
+                                          QStringLiteral("--samples"), QStringLiteral("1000"), QStringLiteral("--field"), QStringLiteral("image=off")});
   ASSERT_TRUE(cli.waitForFinished(300000));
   ASSERT_EQ(cli.exitCode(), 0) << cli.readAllStandardError().toStdString();
 
