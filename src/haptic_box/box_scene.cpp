@@ -56,6 +56,8 @@
 #include "exact/exact_query.h"
 #include "geometry/octahedral.h"
 #include <algorithm>
+#include <cstring>
+#include <unordered_map>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -237,24 +239,47 @@ bool handle_outside_behind(const SceneGrid& grid, const std::vector<HapticBox>& 
 
 } // namespace
 
-// The surface's triangles as a mesh of their own (three vertices each, the records' corners
-// and normals: the surface cells' answers' geometry and shading) and Embree over it.
+// The surface's triangles as a mesh of their own (the records' corners and normals: the
+// surface cells' answers' geometry and shading) and Embree over it. Corners with the same
+// position and normal bits are one vertex (most are: the tree's leaves then share them,
+// which random-order queries feel in the cache).
 struct BoxScene::EmbreeRoute {
   TriangleMesh mesh;
   std::unique_ptr<ExactQuery> exact;
   explicit EmbreeRoute(const SurfaceTriangles& surface) {
     const std::size_t n = surface.size();
-    mesh.positions.reserve(3 * n);
-    mesh.normals.reserve(3 * n);
+    mesh.positions.reserve(n);
+    mesh.normals.reserve(n);
     mesh.triangles.reserve(n);
+    struct Key {
+      std::uint32_t x, y, z, normal;
+      bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z && normal == o.normal; }
+    };
+    struct KeyHash {
+      std::size_t operator()(const Key& k) const noexcept {
+        std::uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
+        h ^= (h >> 29) ^ (k.y * 0xBF58476D1CE4E5B9ull);
+        h ^= (h >> 31) ^ (k.z * 0x94D049BB133111EBull);
+        return std::size_t(h ^ (h >> 30) ^ k.normal);
+      }
+    };
+    std::unordered_map<Key, std::uint32_t, KeyHash> index;
+    index.reserve(n);
+    const auto vertex = [&](const Vec3& p, std::uint32_t normal) {
+      Key k{0, 0, 0, normal};
+      std::memcpy(&k.x, &p.x(), 4), std::memcpy(&k.y, &p.y(), 4), std::memcpy(&k.z, &p.z(), 4);
+      const auto [it, added] = index.emplace(k, std::uint32_t(mesh.positions.size()));
+      if (added) {
+        mesh.positions.push_back(p);
+        mesh.normals.push_back(decode_octahedral32(normal));
+      }
+      return it->second;
+    };
     const SurfaceTriangles::Record* r = surface.records();
     for (std::size_t i = 0; i < n; ++i) {
       const Vec3 a(r[i].a[0], r[i].a[1], r[i].a[2]);
       const Vec3 e1(r[i].e1[0], r[i].e1[1], r[i].e1[2]), e2(r[i].e2[0], r[i].e2[1], r[i].e2[2]);
-      const std::uint32_t first = std::uint32_t(mesh.positions.size());
-      mesh.positions.insert(mesh.positions.end(), {a, a + e1, a + e2});
-      for (int k = 0; k < 3; ++k) mesh.normals.push_back(decode_octahedral32(r[i].normal[k]));
-      mesh.triangles.push_back({first, first + 1, first + 2});
+      mesh.triangles.push_back({vertex(a, r[i].normal[0]), vertex(a + e1, r[i].normal[1]), vertex(a + e2, r[i].normal[2])});
     }
     exact = std::make_unique<ExactQuery>(mesh);
   }
