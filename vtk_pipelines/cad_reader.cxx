@@ -10,6 +10,7 @@
 #include "cad_reader.h"
 #include "string_util.h"
 #include "errors.h"
+#include "formats/iges_global.h"
 #include <BRepAdaptor_Surface.hxx>
 #include <BRep_Builder.hxx>
 #include <TopoDS_Compound.hxx>
@@ -53,6 +54,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <unordered_map>
@@ -106,6 +108,13 @@ TopoDS_Shape read_shape(const std::string& path, bool step, nlohmann::json& fact
     if (lengths.Length() > 0) facts["file_unit"] = lengths.Value(1).ToCString();
     if (reader.TransferRoots() == 0) throw InvalidInput(path + ": the STEP file holds no shape OpenCASCADE can transfer");
     return reader.OneShape();
+  }
+  {
+    // OpenCASCADE takes inches when the global section does not parse, and the unit flag over
+    // the unit name: either rescales the model silently. The section is held to itself first.
+    std::ifstream in(path, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    facts["file_mm_per_unit"] = iges_mm_per_unit(path, bytes);
   }
   IGESControl_Reader reader;
   if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw InvalidInput(path + ": not a readable IGES file");

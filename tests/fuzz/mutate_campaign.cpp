@@ -596,6 +596,20 @@ int bench(const Campaign& c) {
     hb::vtk::write_polydata_xml(hb::vtk::piece_polydata(armadillo, ids), files.back().path);
   }
   std::printf("%-34s %10s %10s %7s %s\n", "file", "direct ms", "isolated ms", "ratio", "(median of the runs; each alternates)");
+  {
+    // The isolation alone: a reader that returns at once, and one that returns 10 MB.
+    hb::vtk::ReaderLimits limits;
+    for (const std::size_t bytes : {std::size_t(0), std::size_t(10) << 20}) {
+      std::vector<double> ms;
+      for (int rep = 0; rep < 2 * c.opt.bench + 1; ++rep) {
+        const auto t0 = std::chrono::steady_clock::now();
+        hb::vtk::run_isolated("x", "empty", limits, [&] { return std::string(bytes, 'x'); });
+        ms.push_back(1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      }
+      std::sort(ms.begin(), ms.end());
+      std::printf("run_isolated returning %zu MB: %.1f ms (median)\n", bytes >> 20, ms[ms.size() / 2]);
+    }
+  }
   for (const File& f : files) {
     if (!fs::exists(f.path)) continue;
     hb::vtk::ModelOptions o;
