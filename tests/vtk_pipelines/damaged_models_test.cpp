@@ -6,6 +6,7 @@
 #include "mesh/generators.h"
 #include "model_loader.h"
 #include "formats/iges_global.h"
+#include "polydata_files.h"
 #include <gtest/gtest.h>
 #include <filesystem>
 #include <fstream>
@@ -159,6 +160,42 @@ TEST_F(DamagedModelsTest, ThreeMfDamagedZipEntryOrMissingRootPartIsRefusedNotAnA
   EXPECT_NO_THROW(hb::vtk::load_model(path("s.3mf")));
 }
 #endif
+
+TEST_F(DamagedModelsTest, VtpPieceFileWithARepeatedArrayOrTagOrADamagedBlockIsRefusedBeforeVtk) {
+  // The campaign's contained cases: VTK's XML reader crashed on a repeated PieceId line, ran
+  // past 8 GB on a repeated AppendedData tag, and went on after a zlib error.
+  const hb::TriangleMesh sphere = hb::make_sphere(20.f, 3);
+  std::vector<std::uint32_t> ids(sphere.triangle_count());
+  for (std::size_t t = 0; t < ids.size(); ++t) ids[t] = std::uint32_t(t % 4);
+  hb::vtk::write_polydata_xml(hb::vtk::piece_polydata(sphere, ids), path("pieces.vtp"));
+  const std::string good = slurp(path("pieces.vtp"));
+  ASSERT_NE(good.find("compressor="), std::string::npos);
+  EXPECT_EQ(hb::vtk::read_piece_vtp(path("pieces.vtp"), ids.size()), ids);
+  auto refused = [&](const std::string& name, const std::string& bytes, const std::string& cause) {
+    const std::string file = write(name, bytes);
+    try {
+      hb::vtk::read_piece_vtp(file, ids.size());
+      ADD_FAILURE() << name << ": read";
+    } catch (const hb::InvalidInput& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(file + ": ", 0), 0u) << e.what();
+      EXPECT_NE(std::string(e.what()).find(cause), std::string::npos) << e.what();
+    }
+  };
+  const std::size_t line = good.find("<DataArray type=\"Int32\" Name=\"PieceId\"");
+  ASSERT_NE(line, std::string::npos);
+  const std::size_t line_end = good.find('\n', line) + 1;
+  std::string twice = good;
+  twice.insert(line_end, good.substr(line, line_end - line));
+  refused("twice.vtp", twice, "array PieceId appears twice in the CellData section");
+  refused("tag.vtp", replaced(good, "<AppendedData encoding=\"raw\">", "<AppendedData encoding=\"raw\">\n  <AppendedData encoding=\"raw\">"),
+          "between the AppendedData tag and its '_'");
+  std::string block = good;
+  const std::size_t end = block.rfind("</AppendedData>");
+  ASSERT_NE(end, std::string::npos);
+  const std::size_t trailer = block.find_last_not_of(" \n", end - 1) - 1;  // in the last stream's Adler-32
+  block[trailer] = char(block[trailer] ^ 0x5A);
+  refused("block.vtp", block, "does not inflate");
+}
 
 TEST_F(DamagedModelsTest, DicomSliceWithItsMarkerShiftedIsNamedNotDropped) {
   fs::path series = fs::path(HB_DATASETS_DIR) / "volumes" / "dicom" / "CT5N";
