@@ -303,7 +303,7 @@ void prepare_seeds(Campaign& c) {
     c.seeds.push_back({"scenes", (g / "elephant.gltf").string(), true, false, false, (g / "elephant.bin").string()});
     c.seeds.push_back({"scenes", (g / "elephant.3mf").string(), false, false, true, ""});
     c.seeds.push_back({"scenes", (g / "elephant.dae").string(), true, false, false, ""});
-    c.seeds.push_back({"scenes", (g / "elephant.fbx").string(), false, false, true, ""});
+    c.seeds.push_back({"scenes", (g / "elephant.fbx").string(), true, false, false, ""});  // ASCII FBX, as Assimp writes it
   }
   if (want("pieces")) {
     const hb::TriangleMesh sphere = hb::make_sphere(20.f, 3);
@@ -691,6 +691,10 @@ int main(int argc, char** argv) {
     }
   }
   if (o.families.empty() || !(o.timeout_s > 0) || o.memory_mb < 64) usage("bad families, timeout or memory");
+  // The readers that take their limits from the environment only (read_piece_vtp) get the
+  // campaign's too.
+  ::setenv("HB_READER_TIMEOUT_S", std::to_string(o.timeout_s).c_str(), 1);
+  ::setenv("HB_READER_MEMORY_MB", std::to_string(o.memory_mb).c_str(), 1);
   c.work = fs::temp_directory_path() / ("hb_campaign_" + std::to_string(::getpid()));
   fs::create_directories(c.work);
   struct Cleanup {

@@ -189,6 +189,8 @@ TEST_F(DamagedModelsTest, VtpPieceFileWithARepeatedArrayOrTagOrADamagedBlockIsRe
   refused("twice.vtp", twice, "array PieceId appears twice in the CellData section");
   refused("tag.vtp", replaced(good, "<AppendedData encoding=\"raw\">", "<AppendedData encoding=\"raw\">\n  <AppendedData encoding=\"raw\">"),
           "between the AppendedData tag and its '_'");
+  // A token before the '_' (VTK's reader spun for minutes).
+  refused("token.vtp", replaced(good, "   _", "  #999999 _"), "between the AppendedData tag and its '_'");
   std::string block = good;
   const std::size_t end = block.rfind("</AppendedData>");
   ASSERT_NE(end, std::string::npos);
