@@ -125,6 +125,12 @@ void check_3mf(const std::string& path) {
     const std::string damaged = path + ": zip entry " + entry + " is damaged (";
     if (local + 30 > zip.size() || le32(z + local) != 0x04034b50)
       throw InvalidInput(damaged + "no local header where the directory says)");
+    // The local header agrees with the directory (Assimp's unzip reads the local one, and
+    // aborted on a damaged CRC there); with a data descriptor (flag bit 3) its fields are 0.
+    const bool descriptor = (le16(z + local + 6) & 8) != 0;
+    if (le16(z + local + 8) != method || (!descriptor && (le32(z + local + 14) != crc || le32(z + local + 18) != packed ||
+                                                          le32(z + local + 22) != unpacked)))
+      throw InvalidInput(damaged + "its local header disagrees with the central directory on the method, CRC-32 or sizes)");
     const std::size_t data = std::size_t(local) + 30 + le16(z + local + 26) + le16(z + local + 28);
     if (data > zip.size() || packed > zip.size() - data) throw InvalidInput(damaged + "its data runs past the end of the file)");
     std::string out;

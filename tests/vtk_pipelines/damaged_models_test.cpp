@@ -154,6 +154,13 @@ TEST_F(DamagedModelsTest, ThreeMfDamagedZipEntryOrMissingRootPartIsRefusedNotAnA
   std::string flipped = good;
   for (std::size_t k = local + 60; k < local + 400 && k < flipped.size(); k += 7) flipped[k] = char(flipped[k] ^ 0x55);
   expect_refused(write("flipped.3mf", flipped), "is damaged (");
+  // The CRC-32 in the model part's local header (the campaign's remaining 3MF abort).
+  std::string crc = good;
+  const std::size_t header = crc.rfind("PK\x03\x04", local);
+  ASSERT_NE(header, std::string::npos);
+  crc[header + 14] = char(0xFF);
+  crc[header + 15] = char(0xFF);
+  expect_refused(write("crc.3mf", crc), "local header disagrees");
   // The root relationship renamed away.
   expect_refused(write("norels.3mf", replaced(replaced(good, "_rels/.rels", "_rels/.relx"), "_rels/.rels", "_rels/.relx")),
                  "no _rels/.rels part");
