@@ -376,6 +376,48 @@ void check_collada(const std::string& path) {
       throw InvalidInput(path + ": Collada accessor of " + source + " reads " + std::to_string(count) + " x " + std::to_string(stride) +
                          " values from an array of " + std::to_string(it->second));
   }
+  // Each <polylist> (and <triangles>) holds its count of polygons: one <vcount> of `count`
+  // sizes and one <p> of sum(vcount) x inputs indices (a polylist without its vcount crashed
+  // Assimp).
+  for (const char* kind : {"polylist", "triangles"}) {
+    const std::string open = std::string("<") + kind, close = std::string("</") + kind + ">";
+    for (std::size_t at = xml.find(open); at != std::string::npos; at = xml.find(open, at + 1)) {
+      if (at + open.size() < xml.size() && !std::isspace((unsigned char)xml[at + open.size()]) && xml[at + open.size()] != '>') continue;
+      const std::size_t end = xml.find(close, at);
+      if (end == std::string::npos) throw InvalidInput(path + ": a Collada <" + kind + "> is not closed");
+      const std::string body = xml.substr(at, end - at);
+      const std::uint64_t count = whole(attribute(body.substr(0, body.find('>')), "count"), std::string(kind) + " count");
+      std::uint64_t stride = 0;
+      for (std::size_t i = body.find("<input"); i != std::string::npos; i = body.find("<input", i + 1)) {
+        const std::string offset = attribute(body.substr(i, body.find('>', i) - i), "offset");
+        stride = std::max(stride, (offset.empty() ? 0 : whole(offset, "input offset")) + 1);
+      }
+      auto numbers_in = [&](const std::string& tag) -> std::vector<std::uint64_t> {
+        const std::size_t first = body.find("<" + tag + ">");
+        if (first == std::string::npos) return {};
+        if (body.find("<" + tag + ">", first + 1) != std::string::npos)
+          throw InvalidInput(path + ": a Collada <" + kind + "> holds two <" + tag + "> lists");
+        const std::size_t last = body.find("</" + tag + ">", first);
+        std::istringstream words(body.substr(first + tag.size() + 2, last == std::string::npos ? std::string::npos : last - first - tag.size() - 2));
+        std::vector<std::uint64_t> v;
+        for (std::string w; words >> w;) v.push_back(whole(w, "index in <" + tag + ">"));
+        return v;
+      };
+      std::uint64_t corners = 3 * count;
+      if (std::string(kind) == "polylist") {
+        const std::vector<std::uint64_t> vcount = numbers_in("vcount");
+        if (vcount.size() != count)
+          throw InvalidInput(path + ": a Collada <polylist> of " + std::to_string(count) + " polygons has " + std::to_string(vcount.size()) +
+                             " sizes in its <vcount>");
+        corners = 0;
+        for (std::uint64_t n : vcount) corners += n;
+      }
+      const std::size_t p_count = numbers_in("p").size();
+      if (p_count != corners * std::max<std::uint64_t>(stride, 1))
+        throw InvalidInput(path + ": a Collada <" + kind + "> of " + std::to_string(count) + " polygons (" + std::to_string(corners) +
+                           " corners x " + std::to_string(stride) + " inputs) holds " + std::to_string(p_count) + " indices in its <p>");
+    }
+  }
   for (const char* list : {"<p>", "<vcount>", "<v>"}) {
     const std::string close = std::string("</") + (list + 1);
     for (std::size_t at = xml.find(list); at != std::string::npos; at = xml.find(list, at + 1)) {

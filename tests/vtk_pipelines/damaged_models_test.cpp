@@ -142,6 +142,22 @@ TEST_F(DamagedModelsTest, FbxArrayHoldingMoreOrFewerValuesThanDeclaredIsRefused)
   EXPECT_NO_THROW(hb::vtk::load_model(path("s.fbx")));
 }
 
+TEST_F(DamagedModelsTest, ColladaPolylistWithoutItsSizesOrIndicesIsRefused) {
+  const hb::TriangleMesh sphere = hb::make_sphere(25.f, 3);
+  hb::vtk::write_scene(sphere, path("s.dae"));
+  const std::string good = slurp(path("s.dae"));
+  const std::size_t v = good.find("<vcount>");
+  if (v == std::string::npos) GTEST_SKIP() << "Assimp wrote no polylist";
+  // The <vcount> line deleted (the campaign's Collada crash).
+  const std::size_t line = good.rfind('\n', v) + 1;
+  std::string cut = good;
+  cut.erase(line, good.find('\n', v) + 1 - line);
+  expect_refused(write("novcount.dae", cut), "sizes in its <vcount>");
+  // An index too many in <p>.
+  expect_refused(write("extra.dae", replaced(good, "<p>", "<p>0 ")), "indices in its <p>");
+  EXPECT_NO_THROW(hb::vtk::load_model(path("s.dae")));
+}
+
 TEST_F(DamagedModelsTest, ThreeMfDamagedZipEntryOrMissingRootPartIsRefusedNotAnAbort) {
   const hb::TriangleMesh sphere = hb::make_sphere(25.f, 3);
   hb::vtk::write_scene(sphere, path("s.3mf"));
