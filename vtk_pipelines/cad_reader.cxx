@@ -11,6 +11,7 @@
 #include "string_util.h"
 #include "errors.h"
 #include "formats/iges_global.h"
+#include "formats/step_check.h"
 #include <BRepAdaptor_Surface.hxx>
 #include <BRep_Builder.hxx>
 #include <TopoDS_Compound.hxx>
@@ -97,6 +98,11 @@ const char* surface_type_name(GeomAbs_SurfaceType t) {
 TopoDS_Shape read_shape(const std::string& path, bool step, nlohmann::json& facts, int& file_faces) {
   file_faces = 0;
   if (step) {
+    {
+      // A reference to a missing instance crashed OpenCASCADE's translator.
+      std::ifstream in(path, std::ios::binary);
+      check_step_references(path, std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()));
+    }
     STEPControl_Reader reader;
     if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw InvalidInput(path + ": not a readable STEP file");
     const Handle(Interface_InterfaceModel) model = reader.Model();

@@ -67,6 +67,28 @@ hb::vtk::ModelOptions coarse() {
   return o;
 }
 
+TEST_F(DamagedModelsTest, StepReferenceToAMissingInstanceIsRefusedBeforeOpenCascade) {
+  // The campaign's most common STEP crash: a reference changed to #0 or to an id the file
+  // does not define (OpenCASCADE's translator: a segmentation fault).
+  hb::vtk::write_reference_solid_step(path("solid.step"), 10.0, 30.0);
+  const std::string good = slurp(path("solid.step"));
+  const std::size_t face = good.find("ADVANCED_FACE");
+  ASSERT_NE(face, std::string::npos);
+  const std::size_t ref = good.find('#', face);
+  const std::size_t ref_end = good.find_first_not_of("0123456789", ref + 1);
+  std::string missing = good, zero = good;
+  missing.replace(ref, ref_end - ref, "#999999");
+  zero.replace(ref, ref_end - ref, "#0");
+  expect_refused(write("missing.step", missing), "refers to #999999, which the file does not define", coarse());
+  expect_refused(write("zero.step", zero), "refers to #0", coarse());
+  // An instance defined twice.
+  const std::size_t first = good.find("\n#", good.find("DATA;")) + 1;
+  std::string twice = good;
+  twice.insert(first, "#2 = CARTESIAN_POINT('',(0.,0.,0.));\n");
+  expect_refused(write("twice.step", twice), "is defined twice", coarse());
+  EXPECT_NO_THROW(hb::vtk::load_model(path("solid.step"), coarse()));
+}
+
 TEST_F(DamagedModelsTest, IgesReferenceSolidLoadsInMillimetres) {
   hb::vtk::write_reference_solid_iges(path("solid.igs"), 10.0, 30.0);
   const hb::vtk::LoadedModel m = hb::vtk::load_model(path("solid.igs"), coarse());
