@@ -12,6 +12,9 @@ text formats a number, line or token of the header replaced), and runs `hapticbo
   empty     a rejection whose message does not name the file with a non-empty cause
   rejected  exit code 1 or 2 with a message naming the file and a cause
   accepted  exit code 0 (a harmless mutation, or a silent acceptance: read the samples)
+For counts in the thousands use build/tests/vtk_pipelines/hb_mutate_campaign (the same damage
+through load_model in one process, forked per case, about 30-150 ms of processor a run instead
+of a whole command); this script checks the command end to end (exit codes, stderr).
 Usage: scripts/mutate_models.py [--runs N] [--families volumes,cad,scenes,pieces] [--jobs 2]
        [--seed S] [--keep DIR]   (run from the source tree with the build in build/)
 """

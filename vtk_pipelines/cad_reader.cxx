@@ -10,6 +10,8 @@
 #include "cad_reader.h"
 #include "string_util.h"
 #include "errors.h"
+#include "formats/iges_global.h"
+#include "formats/step_check.h"
 #include <BRepAdaptor_Surface.hxx>
 #include <BRep_Builder.hxx>
 #include <TopoDS_Compound.hxx>
@@ -23,7 +25,10 @@
 #include <Geom_Surface.hxx>
 #include <ShapeAnalysis_Surface.hxx>
 #include <Bnd_Box.hxx>
+#include <IGESControl_Controller.hxx>
 #include <IGESControl_Reader.hxx>
+#include <IGESControl_Writer.hxx>
+#include <BRepBuilderAPI_NurbsConvert.hxx>
 #include <IGESData_IGESEntity.hxx>
 #include <IGESData_IGESModel.hxx>
 #include <Interface_InterfaceModel.hxx>
@@ -45,10 +50,12 @@
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
 #include <gp_Ax2.hxx>
+#include <gp_Pnt2d.hxx>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <unordered_map>
@@ -91,6 +98,11 @@ const char* surface_type_name(GeomAbs_SurfaceType t) {
 TopoDS_Shape read_shape(const std::string& path, bool step, nlohmann::json& facts, int& file_faces) {
   file_faces = 0;
   if (step) {
+    {
+      // A reference to a missing instance crashed OpenCASCADE's translator.
+      std::ifstream in(path, std::ios::binary);
+      check_step_references(path, std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()));
+    }
     STEPControl_Reader reader;
     if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw InvalidInput(path + ": not a readable STEP file");
     const Handle(Interface_InterfaceModel) model = reader.Model();
@@ -102,6 +114,13 @@ TopoDS_Shape read_shape(const std::string& path, bool step, nlohmann::json& fact
     if (lengths.Length() > 0) facts["file_unit"] = lengths.Value(1).ToCString();
     if (reader.TransferRoots() == 0) throw InvalidInput(path + ": the STEP file holds no shape OpenCASCADE can transfer");
     return reader.OneShape();
+  }
+  {
+    // OpenCASCADE takes inches when the global section does not parse, and the unit flag over
+    // the unit name: either rescales the model silently. The section is held to itself first.
+    std::ifstream in(path, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    facts["file_mm_per_unit"] = iges_mm_per_unit(path, bytes);
   }
   IGESControl_Reader reader;
   if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw InvalidInput(path + ": not a readable IGES file");
@@ -156,15 +175,28 @@ double measure_deviation(const TopTools_IndexedMapOfShape& faces) {
     if (surface.IsNull()) continue;
     ShapeAnalysis_Surface analysis(surface);
     const gp_Trsf trsf = tri_loc.Transformation();
+    const bool uv = tri->HasUVNodes();
     for (int t = 1; t <= tri->NbTriangles(); t += stride) {
       int n[3];
       tri->Triangle(t).Get(n[0], n[1], n[2]);
       gp_XYZ p[3];
       for (int k = 0; k < 3; ++k) p[k] = tri->Node(n[k]).Transformed(trsf).XYZ();
-      for (const gp_XYZ& q : {gp_XYZ((p[0] + p[1] + p[2]) / 3.0), gp_XYZ((p[0] + p[1]) / 2.0), gp_XYZ((p[1] + p[2]) / 2.0),
-                              gp_XYZ((p[0] + p[2]) / 2.0)}) {
-        analysis.ValueOfUV(gp_Pnt(q), 1e-7);
-        worst = std::max(worst, analysis.Gap());
+      const gp_XYZ q[4] = {(p[0] + p[1] + p[2]) / 3.0, (p[0] + p[1]) / 2.0, (p[1] + p[2]) / 2.0, (p[0] + p[2]) / 2.0};
+      if (uv) {
+        // The nodes' parameters give the projection its start: a local search, not a global
+        // one (a global projection onto a B-spline surface costs milliseconds a point).
+        gp_XY w[3];
+        for (int k = 0; k < 3; ++k) w[k] = tri->UVNode(n[k]).XY();
+        const gp_XY start[4] = {(w[0] + w[1] + w[2]) / 3.0, (w[0] + w[1]) / 2.0, (w[1] + w[2]) / 2.0, (w[0] + w[2]) / 2.0};
+        for (int k = 0; k < 4; ++k) {
+          analysis.NextValueOfUV(gp_Pnt2d(start[k]), gp_Pnt(q[k]), 1e-7);
+          worst = std::max(worst, analysis.Gap());
+        }
+      } else {
+        for (const gp_XYZ& x : q) {
+          analysis.ValueOfUV(gp_Pnt(x), 1e-7);
+          worst = std::max(worst, analysis.Gap());
+        }
       }
     }
   }
@@ -316,6 +348,23 @@ void write_reference_solid_step(const std::string& path, double radius_mm, doubl
   STEPControl_Writer writer;
   if (writer.Transfer(both, STEPControl_AsIs) != IFSelect_RetDone || writer.Write(path.c_str()) != IFSelect_RetDone)
     throw IoError(path + ": OpenCASCADE could not write the STEP file");
+}
+
+void write_reference_solid_iges(const std::string& path, double radius_mm, double height_mm) {
+  mute_opencascade();
+  const TopoDS_Shape cylinder = BRepPrimAPI_MakeCylinder(radius_mm, height_mm).Shape();
+  const TopoDS_Shape sphere = BRepBuilderAPI_NurbsConvert(
+                                  BRepPrimAPI_MakeSphere(gp_Pnt(3.0 * radius_mm, 0, 0.5 * height_mm), radius_mm).Shape())
+                                  .Shape();
+  TopoDS_Compound both;
+  BRep_Builder builder;
+  builder.MakeCompound(both);
+  builder.Add(both, cylinder);
+  builder.Add(both, sphere);
+  IGESControl_Controller::Init();
+  IGESControl_Writer writer("MM", 1);  // 1: BRep mode (faces, shells, solids)
+  if (!writer.AddShape(both) || (writer.ComputeModel(), !writer.Write(path.c_str())))
+    throw IoError(path + ": OpenCASCADE could not write the IGES file");
 }
 
 void write_vertex_only_step(const std::string& path) {

@@ -37,6 +37,11 @@ CadModel read_cad(const std::string& path, const CadOptions& options);
 /// write fails.
 void write_reference_solid_step(const std::string& path, double radius_mm, double height_mm);
 
+/// The same two solids as IGES (BRep mode: a manifold solid of shells and faces, entity types
+/// 186/514/510, in millimetres), the sphere's surface converted to a B-spline surface (entity
+/// 128) so that the file exercises the B-spline reader. Throws hb::IoError when the write fails.
+void write_reference_solid_iges(const std::string& path, double radius_mm, double height_mm);
+
 /// Writes a STEP file holding only a vertex (no solid, no surface), for the bad-input tests.
 void write_vertex_only_step(const std::string& path);
 

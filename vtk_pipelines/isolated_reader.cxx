@@ -1,13 +1,14 @@
 // A reader in a child process:
-//  1. the parent flushes its output streams and opens an anonymous temporary file (the result
-//     channel: a mesh can be far larger than a pipe's buffer) and a pipe (the child writes a
-//     mark on it once its result is whole, and its end closes when it dies, which wakes the
-//     parent without polling);
+//  1. the parent flushes its output streams and creates a memfd (the result channel: shared
+//     memory, as a mesh can be far larger than a pipe's buffer; the child sizes it and writes
+//     the result in place, the parent maps it: one copy across, and no file system) and a pipe
+//     (the child writes a mark on it once its result is whole, and its end closes when it
+//     dies, which wakes the parent without polling);
 //  2. the child lowers its limits (RLIMIT_AS: what it maps now plus the reader's allowance;
 //     RLIMIT_CPU: the timeout times the cores, as processor time adds up over threads), sends
 //     its standard output to standard error (stdout may be carrying JSON), runs the reader,
-//     writes a status byte and the result or the error's text to the file and _exits (no
-//     atexit handlers, no destructors of the parent's objects);
+//     which allocates its result in the memfd (a status byte first) or leaves the error's
+//     text there, and _exits (no atexit handlers, no destructors of the parent's objects);
 //  3. the parent waits for the mark, the pipe's closing or the timeout, kills the child at the
 //     timeout, reaps it (after the mark, in the background: the teardown of its address space
 //     costs tens of milliseconds), and turns what happened into the result or an error naming
@@ -27,7 +28,9 @@
 #include <poll.h>
 #include <sstream>
 #include <signal.h>
+#include <sys/mman.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
@@ -56,11 +59,11 @@ std::string failure(const std::string& path, const std::string& reader, const st
   return path + ": the " + reader + " reader failed on this file (" + why + "); " + ending;
 }
 
-// Runs `read`, mapping every exception to (status, text).
-char run_mapped(const std::string& path, const std::string& reader, const ReaderLimits& limits,
-                const std::function<std::string()>& read, std::string& out) {
+// Runs `run`, mapping every exception to (status, text); kOk when it returns.
+char run_mapped(const std::string& path, const std::string& reader, const ReaderLimits& limits, const std::function<void()>& run,
+                std::string& out) {
   try {
-    out = read();
+    run();
     return kOk;
   } catch (const IoError& e) {
     out = e.what();
@@ -86,6 +89,62 @@ char run_mapped(const std::string& path, const std::string& reader, const Reader
     return kOther;
   }
 }
+
+// In this process: the result in a string.
+class StringSink : public ResultSink {
+public:
+  char* allocate(std::size_t bytes) override {
+    data.assign(bytes, '\0');
+    return data.data();
+  }
+  std::string data;
+};
+
+// In the child: the result in the memfd, after its status byte.
+class MemfdSink : public ResultSink {
+public:
+  explicit MemfdSink(int fd) : fd_(fd) {}
+  ~MemfdSink() override {
+    if (map_) ::munmap(map_, size_);
+  }
+  char* allocate(std::size_t bytes) override {
+    if (map_) throw std::logic_error("ResultSink::allocate called twice");
+    size_ = bytes + 1;
+    if (::ftruncate(fd_, off_t(size_)) != 0) throw std::bad_alloc();
+    // MAP_POPULATE: the pages in one go, not a fault per page as they are written.
+    void* m = ::mmap(nullptr, size_, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_POPULATE, fd_, 0);
+    if (m == MAP_FAILED) throw std::bad_alloc();
+    map_ = static_cast<char*>(m);
+    return map_ + 1;
+  }
+  // The status byte (the result is in place) or, for an error, the status and the text.
+  bool finish(char status, const std::string& text) {
+    if (status == kOk && map_) {
+      map_[0] = kOk;
+      return true;
+    }
+    if (map_) {
+      ::munmap(map_, size_);
+      map_ = nullptr;
+    }
+    if (::ftruncate(fd_, 0) != 0) return false;
+    std::string all(1, status);
+    all += text;
+    std::size_t at = 0;
+    while (at < all.size()) {
+      const ssize_t w = ::pwrite(fd_, all.data() + at, all.size() - at, off_t(at));
+      if (w < 0 && errno == EINTR) continue;
+      if (w <= 0) return false;
+      at += std::size_t(w);
+    }
+    return true;
+  }
+
+private:
+  int fd_;
+  char* map_ = nullptr;
+  std::size_t size_ = 0;
+};
 
 [[noreturn]] void rethrow(char status, const std::string& text) {
   if (status == kIoError) throw IoError(text);
@@ -116,7 +175,7 @@ std::size_t mapped_bytes() {
 }
 
 [[noreturn]] void child(int result_fd, int done_fd, const std::string& path, const std::string& reader, const ReaderLimits& limits,
-                        const std::function<std::string()>& read) {
+                        const std::function<void(ResultSink&)>& write) {
   ::dup2(STDERR_FILENO, STDOUT_FILENO);
   const rlim_t extra = rlim_t(limits.memory_mb) << 20;
   rlimit as{mapped_bytes() + extra, mapped_bytes() + extra};
@@ -125,12 +184,13 @@ std::size_t mapped_bytes() {
   const rlim_t cpu = rlim_t(std::ceil(limits.timeout_s * cores)) + 1;
   rlimit cpu_limit{cpu, cpu + 5};
   ::setrlimit(RLIMIT_CPU, &cpu_limit);
-  std::string out;
-  const char status = run_mapped(path, reader, limits, read, out);
-  const bool ok = write_all(result_fd, &status, 1) && write_all(result_fd, out.data(), out.size());
+  std::string error;
+  MemfdSink sink(result_fd);
+  const char status = run_mapped(path, reader, limits, [&] { write(sink); }, error);
+  bool ok = sink.finish(status, error);
   // Tell the parent the result is complete: it need not wait for this process's teardown.
   const char done = 'D';
-  if (ok) write_all(done_fd, &done, 1);
+  if (ok) ok = write_all(done_fd, &done, 1);
   ::_exit(ok ? 0 : 3);
 }
 
@@ -157,21 +217,36 @@ ReaderLimits ReaderLimits::from_environment() {
 
 std::string run_isolated(const std::string& path, const std::string& reader, const ReaderLimits& limits,
                          const std::function<std::string()>& read) {
+  std::string out;
+  run_isolated_shared(
+      path, reader, limits,
+      [&](ResultSink& sink) {
+        const std::string bytes = read();
+        char* at = sink.allocate(bytes.size());
+        if (!bytes.empty()) std::memcpy(at, bytes.data(), bytes.size());
+      },
+      [&](std::string_view bytes) { out.assign(bytes); });
+  return out;
+}
+
+void run_isolated_shared(const std::string& path, const std::string& reader, const ReaderLimits& limits,
+                         const std::function<void(ResultSink&)>& write, const std::function<void(std::string_view)>& take) {
   if (!limits.isolate) {
-    std::string out;
-    const char status = run_mapped(path, reader, limits, read, out);
-    if (status != kOk) rethrow(status, out);
-    return out;
+    StringSink sink;
+    std::string error;
+    const char status = run_mapped(path, reader, limits, [&] { write(sink); }, error);
+    if (status != kOk) rethrow(status, error);
+    take(sink.data);
+    return;
   }
   if (!(limits.timeout_s > 0) || limits.memory_mb == 0)
     throw InvalidInput(path + ": the reader's time and memory limits must be > 0");
-  std::FILE* result = std::tmpfile();
-  if (!result) throw IoError(path + ": cannot create a temporary file for the reader (" + std::strerror(errno) + ")");
+  const int result_fd = ::memfd_create("hb-reader-result", MFD_CLOEXEC);
+  if (result_fd < 0) throw IoError(path + ": cannot create shared memory for the reader (" + std::strerror(errno) + ")");
   struct Closer {
-    std::FILE* f;
-    ~Closer() { std::fclose(f); }
-  } closer{result};
-  const int result_fd = fileno(result);
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{result_fd};
   int done[2];
   if (::pipe2(done, O_CLOEXEC) != 0) throw IoError(path + ": cannot create a pipe for the reader (" + std::strerror(errno) + ")");
   std::cout.flush();
@@ -186,7 +261,7 @@ std::string run_isolated(const std::string& path, const std::string& reader, con
   }
   if (pid == 0) {
     ::close(done[0]);
-    child(result_fd, done[1], path, reader, limits, read);
+    child(result_fd, done[1], path, reader, limits, write);
   }
   ::close(done[1]);
   // Wait for the child's end of the pipe to close (it exited or died), at most timeout_s.
@@ -245,29 +320,28 @@ std::string run_isolated(const std::string& path, const std::string& reader, con
       throw InvalidInput(failure(path, reader, why, "the file is damaged, or needs more time or memory (HB_READER_TIMEOUT_S, HB_READER_MEMORY_MB)"));
     throw InvalidInput(failure(path, reader, why));
   }
-  // Read the result file.
-  std::string bytes;
-  if (::lseek(result_fd, 0, SEEK_SET) == 0) {
-    char buffer[1 << 16];
-    for (;;) {
-      const ssize_t n = ::read(result_fd, buffer, sizeof buffer);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) break;
-      bytes.append(buffer, std::size_t(n));
-    }
-  }
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || bytes.empty()) {
+  // The result: mapped, read in place.
+  struct stat st {};
+  const std::size_t size = ::fstat(result_fd, &st) == 0 ? std::size_t(st.st_size) : 0;
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || size == 0) {
     const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    throw InvalidInput(failure(path, reader, bytes.empty() ? "it stopped with exit code " + std::to_string(code) + " and no result"
-                                                           : "it stopped with exit code " + std::to_string(code)));
+    throw InvalidInput(failure(path, reader, size == 0 ? "it stopped with exit code " + std::to_string(code) + " and no result"
+                                                       : "it stopped with exit code " + std::to_string(code)));
   }
-  const char s = bytes[0];
-  bytes.erase(0, 1);
-  if (s != kOk) {
-    if (bytes.empty()) bytes = failure(path, reader, "it gave no reason");
-    rethrow(s, bytes);
+  void* m = ::mmap(nullptr, size, PROT_READ, MAP_SHARED | MAP_POPULATE, result_fd, 0);
+  if (m == MAP_FAILED) throw IoError(path + ": cannot map the reader's result (" + std::strerror(errno) + ")");
+  struct Unmap {
+    void* m;
+    std::size_t n;
+    ~Unmap() { ::munmap(m, n); }
+  } unmap{m, size};
+  const char* bytes = static_cast<const char*>(m);
+  if (bytes[0] != kOk) {
+    std::string text(bytes + 1, size - 1);
+    if (text.empty()) text = failure(path, reader, "it gave no reason");
+    rethrow(bytes[0], text);
   }
-  return bytes;
+  take(std::string_view(bytes + 1, size - 1));
 }
 
 } // namespace hb::vtk

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <functional>
 #include <string>
+#include <string_view>
 
 namespace hb::vtk {
 
@@ -24,6 +25,15 @@ struct ReaderLimits {
   static ReaderLimits from_environment();
 };
 
+/// Where a reader in a child process puts its result: shared memory (a memfd) that the parent
+/// maps once the child is done, so that a mesh crosses the process boundary in one copy.
+class ResultSink {
+public:
+  virtual ~ResultSink() = default;
+  /// A writable buffer of `bytes` bytes for the result (call at most once).
+  virtual char* allocate(std::size_t bytes) = 0;
+};
+
 /// Runs `read` (which returns its result serialised as bytes) in a forked child under
 /// `limits` and returns those bytes. An hb::IoError or hb::InvalidInput thrown by `read` is
 /// rethrown here with the same type and message; std::bad_alloc and any other exception become
@@ -34,28 +44,51 @@ struct ReaderLimits {
 std::string run_isolated(const std::string& path, const std::string& reader, const ReaderLimits& limits,
                          const std::function<std::string()>& read);
 
-/// Appends and reads the fields of a serialised result (native byte order: the bytes never
-/// leave the machine).
+/// The same, without copies: `write` (in the child) allocates the result's bytes in shared
+/// memory through the sink and fills them; `take` (in this process) reads them in place.
+void run_isolated_shared(const std::string& path, const std::string& reader, const ReaderLimits& limits,
+                         const std::function<void(ResultSink&)>& write, const std::function<void(std::string_view)>& take);
+
+/// Appends the fields of a serialised result to a string, or writes them at a given address
+/// (sized beforehand by a counting writer); native byte order: the bytes never leave the
+/// machine.
 class ByteWriter {
 public:
-  template <class T> void put(const T& v) { bytes_.append(reinterpret_cast<const char*>(&v), sizeof(T)); }
+  ByteWriter() = default;  ///< appends to a string (take()).
+  explicit ByteWriter(char* out) : out_(out) {}  ///< writes at `out`.
+  static ByteWriter counter() {  ///< writes nothing, counts (size()).
+    ByteWriter w;
+    w.counting_ = true;
+    return w;
+  }
+  template <class T> void put(const T& v) { raw(&v, sizeof(T)); }
   void put_string(const std::string& s) {
     put<std::uint64_t>(s.size());
-    bytes_ += s;
+    raw(s.data(), s.size());
   }
   template <class T> void put_vector(const T& v) {
     put<std::uint64_t>(v.size());
-    bytes_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(typename T::value_type));
+    raw(v.data(), v.size() * sizeof(typename T::value_type));
   }
+  std::size_t size() const { return size_; }
   std::string take() { return std::move(bytes_); }
 
 private:
+  void raw(const void* p, std::size_t n) {
+    if (n == 0) return;
+    if (out_) std::memcpy(out_ + size_, p, n);
+    else if (!counting_) bytes_.append(static_cast<const char*>(p), n);
+    size_ += n;
+  }
   std::string bytes_;
+  char* out_ = nullptr;
+  bool counting_ = false;
+  std::size_t size_ = 0;
 };
 
 class ByteReader {
 public:
-  explicit ByteReader(const std::string& bytes) : bytes_(bytes) {}
+  explicit ByteReader(std::string_view bytes) : bytes_(bytes) {}
   template <class T> T get() {
     T v;
     need(sizeof(T));
@@ -66,7 +99,7 @@ public:
   std::string get_string() {
     const std::uint64_t n = get<std::uint64_t>();
     need(n);
-    std::string s = bytes_.substr(at_, n);
+    std::string s(bytes_.substr(at_, n));
     at_ += n;
     return s;
   }
@@ -75,7 +108,7 @@ public:
     const std::size_t each = sizeof(typename T::value_type);
     if (n > (bytes_.size() - at_) / each) fail();
     v.resize(n);
-    std::memcpy(static_cast<void*>(v.data()), bytes_.data() + at_, n * each);
+    if (n) std::memcpy(static_cast<void*>(v.data()), bytes_.data() + at_, n * each);
     at_ += n * each;
   }
 
@@ -84,7 +117,7 @@ private:
     if (n > bytes_.size() - at_) fail();
   }
   [[noreturn]] static void fail();
-  const std::string& bytes_;
+  std::string_view bytes_;
   std::size_t at_ = 0;
 };
 

@@ -191,9 +191,9 @@ LoadedModel load_here(const std::string& path, const ModelOptions& options) {
   return model;
 }
 
-// A model through the child process's result file.
-std::string serialise(const LoadedModel& m) {
-  ByteWriter w;
+// A model through the child process's shared memory: sized by a counting pass, then written
+// in place (the facts as JSON text, dumped once).
+void serialise(const LoadedModel& m, const std::string& facts, ByteWriter& w) {
   w.put_vector(m.mesh.positions);
   w.put_vector(m.mesh.triangles);
   w.put_vector(m.mesh.normals);
@@ -211,11 +211,18 @@ std::string serialise(const LoadedModel& m) {
   w.put_string(m.unit_source);
   w.put<double>(m.mm_per_unit);
   w.put_vector(m.face_ids);
-  w.put_string(m.facts.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));  // a file's bytes may not be UTF-8
-  return w.take();
+  w.put_string(facts);
 }
 
-LoadedModel deserialise(const std::string& bytes) {
+void serialise(const LoadedModel& m, ResultSink& sink) {
+  const std::string facts = m.facts.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);  // a file's bytes may not be UTF-8
+  ByteWriter count = ByteWriter::counter();
+  serialise(m, facts, count);
+  ByteWriter w(sink.allocate(count.size()));
+  serialise(m, facts, w);
+}
+
+LoadedModel deserialise(std::string_view bytes) {
   ByteReader r(bytes);
   LoadedModel m;
   r.get_vector(m.mesh.positions);
@@ -275,8 +282,11 @@ LoadedModel load_model(const std::string& path, const ModelOptions& options) {
   const bool foreign = is_volume_or_cad(path) || ext == ".vtp" || ext == ".vtk" ||
                        (options.use_vtk_readers && (ext == ".stl" || ext == ".obj" || ext == ".ply"));
   if (!foreign) return load_here(path, options);
-  return deserialise(run_isolated(path, reader_name(path), reader_limits(options),
-                                  [&] { return serialise(load_here(path, options)); }));
+  LoadedModel model;
+  run_isolated_shared(
+      path, reader_name(path), reader_limits(options), [&](ResultSink& sink) { serialise(load_here(path, options), sink); },
+      [&](std::string_view bytes) { model = deserialise(bytes); });
+  return model;
 }
 
 } // namespace hb::vtk

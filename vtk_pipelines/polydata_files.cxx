@@ -20,6 +20,10 @@
 #include <vtkUnsignedIntArray.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
+#include <zlib.h>
+#include <map>
+#include <set>
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -99,6 +103,8 @@ void check_vtp_appended_data(const std::string& path) {
   if (xml_attribute(bytes.substr(appended, appended_end - appended), "encoding") != "raw") return;  // base64: left to VTK
   const std::size_t underscore = bytes.find('_', appended);
   if (underscore == std::string::npos) throw InvalidInput(path + ": the AppendedData section has no '_' before its data");
+  if (bytes.find_first_not_of(" \t\r\n", appended_end + 1) != underscore)
+    throw InvalidInput(path + ": something other than white space between the AppendedData tag and its '_' (a damaged or repeated tag)");
   const std::size_t data = underscore + 1;
   const std::string header = bytes.substr(0, appended);
   const std::size_t vtkfile = header.find("<VTKFile");
@@ -118,6 +124,18 @@ void check_vtp_appended_data(const std::string& path) {
   };
   std::uint64_t points = 0, cells = 0;
   std::string section;
+  // Each section's arrays once by name; Points holds one, each cell section connectivity and
+  // offsets (a repeated array line crashed VTK's reader).
+  std::map<std::string, std::set<std::string>> arrays_of;
+  auto check_section = [&](const std::string& name) {
+    if (name.empty()) return;
+    const std::set<std::string>& a = arrays_of[name];
+    if (name == "Points" && a.size() != 1)
+      throw InvalidInput(path + ": the Points section holds " + std::to_string(a.size()) + " arrays, not 1");
+    if ((name == "Polys" || name == "Verts" || name == "Lines" || name == "Strips") &&
+        (a.size() != 2 || !a.count("connectivity") || !a.count("offsets")))
+      throw InvalidInput(path + ": the " + name + " section does not hold exactly a connectivity and an offsets array");
+  };
   for (std::size_t at = header.find('<'); at != std::string::npos; at = header.find('<', at + 1)) {
     const std::size_t end = header.find('>', at);
     if (end == std::string::npos) break;
@@ -129,9 +147,16 @@ void check_vtp_appended_data(const std::string& path) {
               xml_count(path, tag, "NumberOfPolys");
     } else if (name == "PointData" || name == "CellData" || name == "Points" || name == "Polys" || name == "Verts" ||
                name == "Lines" || name == "Strips" || name == "FieldData") {
+      if (arrays_of.count(name) && name != "FieldData") throw InvalidInput(path + ": the " + name + " section appears twice");
+      arrays_of[name];
       section = name;
+    } else if (name == "/Points" || name == "/Polys" || name == "/Verts" || name == "/Lines" || name == "/Strips") {
+      check_section(name.substr(1));
     }
-    if ((name != "DataArray" && name != "Array") || xml_attribute(tag, "format") != "appended") continue;
+    if (name != "DataArray" && name != "Array") continue;
+    if (section != "FieldData" && !arrays_of[section].insert(xml_attribute(tag, "Name")).second)
+      throw InvalidInput(path + ": array " + xml_attribute(tag, "Name") + " appears twice in the " + section + " section");
+    if (xml_attribute(tag, "format") != "appended") continue;
     const std::string array = xml_attribute(tag, "Name");
     const std::uint64_t offset = xml_count(path, tag, "offset");
     const std::uint64_t at_data = data + offset;
@@ -151,6 +176,19 @@ void check_vtp_appended_data(const std::string& path) {
       if (raw > 1100 * packed + 1024)
         throw InvalidInput(path + ": array " + array + " claims " + std::to_string(raw) + " bytes from " + std::to_string(packed) +
                            " compressed: beyond deflate's reach (a damaged header)");
+      // Every block inflates to exactly its size: VTK's reader went on after a zlib error
+      // with whatever it had (a connectivity of garbage crashed it).
+      std::uint64_t from = at_data + (3 + blocks) * h;
+      std::vector<unsigned char> out(std::size_t(std::min<std::uint64_t>(block, raw)) + 1);
+      for (std::uint64_t b = 0; b < blocks; ++b) {
+        const std::uint64_t size = b + 1 == blocks && last ? last : block, in = word(at_data + (3 + b) * h);
+        uLongf got = uLongf(out.size());
+        const int r = uncompress(out.data(), &got, reinterpret_cast<const Bytef*>(bytes.data() + from), uLong(in));
+        if (r != Z_OK || got != size)
+          throw InvalidInput(path + ": array " + array + ": compressed block " + std::to_string(b) + " of " + std::to_string(blocks) +
+                             (r != Z_OK ? " does not inflate (damaged data)" : " inflates to " + std::to_string(got) + " bytes, not " + std::to_string(size)));
+        from += in;
+      }
     } else {
       raw = word(at_data);
       if (at_data + h + raw > bytes.size())

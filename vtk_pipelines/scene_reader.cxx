@@ -98,14 +98,18 @@ void check_3mf(const std::string& path) {
   if (eocd == std::string::npos) throw InvalidInput(path + ": not a 3MF file (not a zip archive: no central directory)");
   std::size_t at = le32(z + eocd + 16);
   const std::size_t entries = le16(z + eocd + 10);
-  std::uint64_t total = 0, model_size = 0;
-  bool model = false;
+  std::uint64_t total = 0;
+  // Every entry inflated and held to its CRC and size (Assimp's unzip gives up on a damaged
+  // entry silently, and an unreadable root part is an assertion: the process aborts).
+  std::map<std::string, std::string> parts;
   for (std::size_t e = 0; e < entries; ++e) {
     if (at + 46 > zip.size() || le32(z + at) != 0x02014b50)
       throw InvalidInput(path + ": the 3MF zip's central directory is damaged (entry " + std::to_string(e) + " of " +
                          std::to_string(entries) + ")");
     const std::size_t name_len = le16(z + at + 28), extra = le16(z + at + 30), comment = le16(z + at + 32);
-    const std::uint64_t packed = le32(z + at + 20), unpacked = le32(z + at + 24);
+    const std::uint16_t method = le16(z + at + 10);
+    const std::uint32_t crc = le32(z + at + 16);
+    const std::uint64_t packed = le32(z + at + 20), unpacked = le32(z + at + 24), local = le32(z + at + 42);
     if (at + 46 + name_len > zip.size()) throw InvalidInput(path + ": the 3MF zip's central directory is cut short");
     const std::string entry(zip.data() + at + 46, name_len);
     at += 46 + name_len + extra + comment;
@@ -117,10 +121,62 @@ void check_3mf(const std::string& path) {
     if (packed > 0 && unpacked / packed > 1100)
       throw InvalidInput(path + ": zip entry " + entry + " claims " + std::to_string(unpacked) + " bytes from " + std::to_string(packed) +
                          ", beyond what deflate can pack: a damaged archive or a zip bomb");
-    if (lower(entry) == "3d/3dmodel.model") model = true, model_size = unpacked;
+    if (entry.empty() || entry.back() == '/') continue;  // a directory
+    const std::string damaged = path + ": zip entry " + entry + " is damaged (";
+    if (local + 30 > zip.size() || le32(z + local) != 0x04034b50)
+      throw InvalidInput(damaged + "no local header where the directory says)");
+    // The local header agrees with the directory (Assimp's unzip reads the local one, and
+    // aborted on a damaged CRC there); with a data descriptor (flag bit 3) its fields are 0.
+    const bool descriptor = (le16(z + local + 6) & 8) != 0;
+    if (le16(z + local + 8) != method || (!descriptor && (le32(z + local + 14) != crc || le32(z + local + 18) != packed ||
+                                                          le32(z + local + 22) != unpacked)))
+      throw InvalidInput(damaged + "its local header disagrees with the central directory on the method, CRC-32 or sizes)");
+    const std::size_t data = std::size_t(local) + 30 + le16(z + local + 26) + le16(z + local + 28);
+    if (data > zip.size() || packed > zip.size() - data) throw InvalidInput(damaged + "its data runs past the end of the file)");
+    std::string out;
+    if (method == 0) {
+      if (packed != unpacked) throw InvalidInput(damaged + "stored with sizes " + std::to_string(packed) + " and " + std::to_string(unpacked) + ")");
+      out = zip.substr(data, packed);
+    } else if (method == 8) {
+      out.assign(std::size_t(unpacked), '\0');
+      z_stream st{};
+      if (inflateInit2(&st, -15) != Z_OK) throw InvalidInput(damaged + "zlib would not start)");
+      st.next_in = const_cast<Bytef*>(z + data);
+      st.avail_in = uInt(packed);
+      st.next_out = reinterpret_cast<Bytef*>(out.data());
+      st.avail_out = uInt(unpacked);
+      const int r = inflate(&st, Z_FINISH);
+      const std::uint64_t got = unpacked - st.avail_out;
+      inflateEnd(&st);
+      if (r != Z_STREAM_END || got != unpacked)
+        throw InvalidInput(damaged + "its deflated data does not inflate to the " + std::to_string(unpacked) + " bytes declared)");
+    } else {
+      throw InvalidInput(damaged + "compression method " + std::to_string(method) + ", not stored or deflated)");
+    }
+    if (std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(out.data()), uInt(out.size()))) != crc)
+      throw InvalidInput(damaged + "its CRC-32 does not match its contents)");
+    parts[entry] = std::move(out);
   }
-  if (!model) return;  // Assimp says what is missing
-  const std::string xml = zip_entry_head(path, "3D/3dmodel.model", std::size_t(model_size));
+  // The root relationship (_rels/.rels) names the model part; Assimp asserts that both exist.
+  const auto rels = parts.find("_rels/.rels");
+  if (rels == parts.end()) throw InvalidInput(path + ": not a 3MF package: no _rels/.rels part in the zip");
+  std::string root;
+  static const std::regex relationship("<Relationship\\b[^>]*>"), target_re("\\bTarget\\s*=\\s*[\"']([^\"']*)[\"']"),
+      type_re("\\bType\\s*=\\s*[\"']([^\"']*)[\"']");
+  for (auto it = std::sregex_iterator(rels->second.begin(), rels->second.end(), relationship); it != std::sregex_iterator(); ++it) {
+    const std::string tag = it->str();
+    std::smatch t, ty;
+    if (std::regex_search(tag, ty, type_re) && ty[1].str().size() >= 8 && ty[1].str().compare(ty[1].str().size() - 8, 8, "/3dmodel") == 0 &&
+        std::regex_search(tag, t, target_re)) {
+      root = t[1].str();
+      break;
+    }
+  }
+  if (root.empty()) throw InvalidInput(path + ": _rels/.rels names no 3D model part (no relationship of the 3dmodel type)");
+  if (!root.empty() && root[0] == '/') root.erase(0, 1);
+  const auto model = parts.find(root);
+  if (model == parts.end()) throw InvalidInput(path + ": the 3D model part " + root + " named by _rels/.rels is not in the zip");
+  const std::string& xml = model->second;
   // Every transform="..." holds 12 numbers.
   for (std::size_t p = xml.find("transform"); p != std::string::npos; p = xml.find("transform", p + 9)) {
     std::size_t q = p + 9;
@@ -181,6 +237,81 @@ void check_3mf(const std::string& path) {
   }
 }
 
+
+// An ASCII FBX file before Assimp opens it: every array ("Name: *N { a: v,v,... }") holds the N
+// values it declares (Assimp reads what is there: a cut or repeated stretch of indices gave a
+// different mesh without a word), and the polygon indices refer to existing vertices.
+void check_fbx(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string t((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (t.compare(0, 18, "Kaydara FBX Binary") == 0) return;  // binary: Assimp's parser checks its record lengths
+  std::uint64_t vertices = 0;
+  bool have_vertices = false;
+  for (std::size_t p = t.find('*'); p != std::string::npos; p = t.find('*', p + 1)) {
+    std::size_t q = p + 1;
+    if (q >= t.size() || !std::isdigit((unsigned char)t[q])) continue;
+    std::uint64_t declared = 0;
+    while (q < t.size() && std::isdigit((unsigned char)t[q])) {
+      declared = declared * 10 + std::uint64_t(t[q] - '0');
+      if (declared > (std::uint64_t(1) << 40)) throw InvalidInput(path + ": an FBX array declares an absurd length");
+      ++q;
+    }
+    while (q < t.size() && std::isspace((unsigned char)t[q])) ++q;
+    if (q >= t.size() || t[q] != '{') continue;
+    // The array's name: the word before ':' on this line.
+    const std::size_t line = t.rfind('\n', p);
+    std::string name = t.substr(line == std::string::npos ? 0 : line + 1, p - (line == std::string::npos ? 0 : line + 1));
+    name.erase(0, name.find_first_not_of(" \t"));
+    name = name.substr(0, name.find(':'));
+    const std::size_t close = t.find('}', q);
+    if (close == std::string::npos) throw InvalidInput(path + ": the FBX array " + name + " is not closed");
+    std::size_t a = t.find("a:", q);
+    if (a == std::string::npos || a > close) {
+      if (declared != 0) throw InvalidInput(path + ": the FBX array " + name + " declares " + std::to_string(declared) + " values and holds none");
+      continue;
+    }
+    std::uint64_t count = 0;
+    bool in_value = false, polygon_indices = name == "PolygonVertexIndex";
+    long long value = 0;
+    bool negative = false;
+    auto end_value = [&] {
+      if (!in_value) return;
+      ++count;
+      if (polygon_indices && have_vertices) {
+        const long long index = negative ? value - 1 : value;  // a polygon's last index i is stored as -(i + 1)
+        if (index < 0 || std::uint64_t(index) >= vertices)
+          throw InvalidInput(path + ": FBX PolygonVertexIndex value " + std::to_string(negative ? -value : value) + " refers to vertex " +
+                             std::to_string(index) + " of " + std::to_string(vertices));
+      }
+      in_value = false;
+      value = 0;
+      negative = false;
+    };
+    for (std::size_t k = a + 2; k < close; ++k) {
+      const char ch = t[k];
+      if (ch == ',') {
+        if (!in_value) throw InvalidInput(path + ": the FBX array " + name + " has an empty value");
+        end_value();
+      } else if (!std::isspace((unsigned char)ch)) {
+        if (!in_value) in_value = true;
+        if (polygon_indices) {
+          if (ch == '-' && value == 0 && !negative) negative = true;
+          else if (std::isdigit((unsigned char)ch) && value < (1LL << 40)) value = value * 10 + (ch - '0');
+          else if (!std::isdigit((unsigned char)ch)) throw InvalidInput(path + ": FBX PolygonVertexIndex holds '" + std::string(1, ch) + "', not a whole number");
+        }
+      }
+    }
+    end_value();
+    if (count != declared)
+      throw InvalidInput(path + ": the FBX array " + name + " declares " + std::to_string(declared) + " values but holds " + std::to_string(count));
+    if (name == "Vertices") {
+      if (declared % 3 != 0) throw InvalidInput(path + ": the FBX array Vertices holds " + std::to_string(declared) + " numbers, not a multiple of 3");
+      vertices = declared / 3;
+      have_vertices = true;
+    }
+    p = close;
+  }
+}
 
 // A Collada file before Assimp opens it: every float_array holds the count of finite numbers
 // it declares (a wrong count crashed Assimp), every accessor reads within its array, and index
@@ -244,6 +375,48 @@ void check_collada(const std::string& path) {
     if (it != arrays.end() && (stride == 0 || count * stride > it->second))
       throw InvalidInput(path + ": Collada accessor of " + source + " reads " + std::to_string(count) + " x " + std::to_string(stride) +
                          " values from an array of " + std::to_string(it->second));
+  }
+  // Each <polylist> (and <triangles>) holds its count of polygons: one <vcount> of `count`
+  // sizes and one <p> of sum(vcount) x inputs indices (a polylist without its vcount crashed
+  // Assimp).
+  for (const char* kind : {"polylist", "triangles"}) {
+    const std::string open = std::string("<") + kind, close = std::string("</") + kind + ">";
+    for (std::size_t at = xml.find(open); at != std::string::npos; at = xml.find(open, at + 1)) {
+      if (at + open.size() < xml.size() && !std::isspace((unsigned char)xml[at + open.size()]) && xml[at + open.size()] != '>') continue;
+      const std::size_t end = xml.find(close, at);
+      if (end == std::string::npos) throw InvalidInput(path + ": a Collada <" + kind + "> is not closed");
+      const std::string body = xml.substr(at, end - at);
+      const std::uint64_t count = whole(attribute(body.substr(0, body.find('>')), "count"), std::string(kind) + " count");
+      std::uint64_t stride = 0;
+      for (std::size_t i = body.find("<input"); i != std::string::npos; i = body.find("<input", i + 1)) {
+        const std::string offset = attribute(body.substr(i, body.find('>', i) - i), "offset");
+        stride = std::max(stride, (offset.empty() ? 0 : whole(offset, "input offset")) + 1);
+      }
+      auto numbers_in = [&](const std::string& tag) -> std::vector<std::uint64_t> {
+        const std::size_t first = body.find("<" + tag + ">");
+        if (first == std::string::npos) return {};
+        if (body.find("<" + tag + ">", first + 1) != std::string::npos)
+          throw InvalidInput(path + ": a Collada <" + kind + "> holds two <" + tag + "> lists");
+        const std::size_t last = body.find("</" + tag + ">", first);
+        std::istringstream words(body.substr(first + tag.size() + 2, last == std::string::npos ? std::string::npos : last - first - tag.size() - 2));
+        std::vector<std::uint64_t> v;
+        for (std::string w; words >> w;) v.push_back(whole(w, "index in <" + tag + ">"));
+        return v;
+      };
+      std::uint64_t corners = 3 * count;
+      if (std::string(kind) == "polylist") {
+        const std::vector<std::uint64_t> vcount = numbers_in("vcount");
+        if (vcount.size() != count)
+          throw InvalidInput(path + ": a Collada <polylist> of " + std::to_string(count) + " polygons has " + std::to_string(vcount.size()) +
+                             " sizes in its <vcount>");
+        corners = 0;
+        for (std::uint64_t n : vcount) corners += n;
+      }
+      const std::size_t p_count = numbers_in("p").size();
+      if (p_count != corners * std::max<std::uint64_t>(stride, 1))
+        throw InvalidInput(path + ": a Collada <" + kind + "> of " + std::to_string(count) + " polygons (" + std::to_string(corners) +
+                           " corners x " + std::to_string(stride) + " inputs) holds " + std::to_string(p_count) + " indices in its <p>");
+    }
   }
   for (const char* list : {"<p>", "<vcount>", "<v>"}) {
     const std::string close = std::string("</") + (list + 1);
@@ -325,6 +498,7 @@ SceneModel read_scene(const std::string& path) {
   if (ext == ".glb" || ext == ".gltf") check_gltf(path, ext == ".glb");
   if (ext == ".3mf") check_3mf(path);
   if (ext == ".dae") check_collada(path);
+  if (ext == ".fbx") check_fbx(path);
   Assimp::Importer importer;
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |

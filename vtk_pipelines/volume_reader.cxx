@@ -498,8 +498,23 @@ Volume read_dicom_series(const std::string& input, std::size_t max_voxels) {
   for (const auto& entry : fs::directory_iterator(dir)) {
     if (!entry.is_regular_file()) continue;
     const std::string name = entry.path().filename().string();
-    if (lower(name) == "dicomdir" || !dicom_candidate(entry.path())) continue;
+    if (lower(name).rfind("dicomdir", 0) == 0 || name[0] == '.') continue;
     const std::string f = entry.path().string();
+    if (!dicom_candidate(entry.path())) {
+      // Scanners write slices without an extension. In a directory opened as a series, such a
+      // file without the "DICM" marker is a damaged slice (the marker shifted or cut) far
+      // more often than a stranger: dropping it would leave a silently shorter volume (a
+      // slice lost at either end leaves no gap to notice). It must read as DICOM (some
+      // files have no preamble) or the series is refused naming it.
+      const std::string ext = lower(entry.path().extension().string());
+      if (from_file || !(ext.empty() || ext == ".ima" || ext == ".dicom")) continue;
+      try {
+        check_dicom_header(f, dicom_bytes(f));
+      } catch (const InvalidInput& e) {
+        throw InvalidInput(std::string(e.what()) + "; in the DICOM series directory " + dir.string() +
+                           " (remove the file, or open one of the series' files to read its series)");
+      }
+    }
     if (from_file && fs::equivalent(entry.path(), input)) {
       files.push_back(input);
       continue;

@@ -1,0 +1,14 @@
+#pragma once
+// A STEP (ISO 10303-21) file's instance references checked before OpenCASCADE reads it: every
+// "#N" an entity refers to is defined once in the DATA section (a reference to a missing
+// instance, or "#0", crashed OpenCASCADE's translator: a segmentation fault, not an
+// exception). Pure function over bytes (no file access).
+#include <string>
+
+namespace hb {
+
+/// Throws hb::InvalidInput naming `name`, the referring instance and the missing one (or the
+/// instance defined twice, an unterminated string or comment, no DATA section).
+void check_step_references(const std::string& name, const std::string& bytes);
+
+} // namespace hb
