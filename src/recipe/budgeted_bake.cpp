@@ -151,6 +151,23 @@ namespace {
 BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source,
                                          std::unique_ptr<ExactQuery>& exact);
 
+// The fresh probes' figures (and the budget they were judged by) into the report.
+void record_fresh_check(BudgetReport& r, const BudgetRecipe& br, const ComparisonStats& checked, std::size_t probes,
+                        std::size_t tuning_probes) {
+  r.present = true;
+  r.budget = br.budget;
+  r.met = meets_budget(checked, br.budget);
+  r.probes = probes;
+  r.seed = br.check_seed;
+  r.agreement = checked.contact_agreement;
+  r.force_median = checked.force_error_median;
+  r.force_p95 = checked.force_error_p95;
+  r.direction_p99_deg = checked.angle_error_p99_deg;
+  r.perceptible = checked.perceptible_share;
+  r.tuning_probes = tuning_probes;
+  r.tuning_seed = br.tuning_seed;
+}
+
 BudgetReport::RawTried raw_tried_record(const RawCandidate& c) {
   BudgetReport::RawTried t;
   t.m = c.m, t.n = c.n, t.bytes = c.bytes, t.probes_felt = c.probes_felt, t.ticks_felt = c.ticks_felt;
@@ -211,18 +228,7 @@ std::optional<BakeResult> bake_raw(const TriangleMesh& mesh, const BakeRecipe& r
     return std::nullopt;
   }
   BudgetReport r = rep;
-  r.present = true;
-  r.budget = br.budget;
-  r.met = true;
-  r.probes = check.size();
-  r.seed = br.check_seed;
-  r.agreement = checked.contact_agreement;
-  r.force_median = checked.force_error_median;
-  r.force_p95 = checked.force_error_p95;
-  r.direction_p99_deg = checked.angle_error_p99_deg;
-  r.perceptible = checked.perceptible_share;
-  r.tuning_probes = tuning.probes.size();
-  r.tuning_seed = br.tuning_seed;
+  record_fresh_check(r, br, checked, check.size(), tuning.probes.size());
   r.tuning_agreement = r.agreement;  // the tuning probes judged only what a hand feels
   r.candidates_tried = std::uint32_t(trial.tried.size());
   const RawCandidate& kept =
@@ -801,18 +807,7 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
   const std::vector<Segment> check = sample_probes(mesh, br.probes, fresh);
   const ComparisonStats checked = compare_queries(scene, exact, check, law, diagonal);
   stage_done("fresh_check", seconds_since(tstage));
-  rep.present = true;
-  rep.budget = br.budget;
-  rep.met = meets_budget(checked, br.budget);
-  rep.probes = check.size();
-  rep.seed = br.check_seed;
-  rep.agreement = checked.contact_agreement;
-  rep.force_median = checked.force_error_median;
-  rep.force_p95 = checked.force_error_p95;
-  rep.direction_p99_deg = checked.angle_error_p99_deg;
-  rep.perceptible = checked.perceptible_share;
-  rep.tuning_probes = tuning.probes.size();
-  rep.tuning_seed = br.tuning_seed;
+  record_fresh_check(rep, br, checked, check.size(), tuning.probes.size());
   rep.tuning_agreement = tuned.contact_agreement;
   rep.tuning_force_median = tuned.force_error_median;
   rep.tuning_force_p95 = tuned.force_error_p95;
