@@ -210,7 +210,9 @@ std::string BudgetReport::summary() const {
   if (answer == "raw") os << "; answered by the raw haptic box (no triangle test)";
   else if (answer == "embree") os << "; answered by exact Embree (faster than the surface cells here)";
   else if (answer == "cells") os << "; answered exactly by the surface cells";
-  if (answer_ns > 0 && exact_ns > 0)
+  if (cells_ns > 0 && embree_ns > 0)
+    os << " (a query at bake time: the cells " << cells_ns << " ns, Embree " << embree_ns << " ns)";
+  else if (answer_ns > 0 && exact_ns > 0)
     os << " (" << answer_ns << " ns a query against exact's " << exact_ns << " at bake time)";
   for (const RawTried& t : raw_tried) {
     os << "; raw m" << t.m << " n" << t.n << " " << t.outcome << ": " << t.probes_felt * 100.0 << "% of probes";
