@@ -106,7 +106,7 @@ TEST_F(DamagedModelsTest, IgesBSplineOfTooHighADegreeIsALostFaceRefusedUnlessAcc
   // The sphere's B-spline surface (entity 128): K1 = 6 (7 control points in u), degree M1 2 -> 9.
   const std::string bad = write("degree.igs", replaced(slurp(path("solid.igs")), "\n128,6,4,2,2,", "\n128,6,4,9,2,"));
   expect_refused(bad, "1 of 4 faces lost (1 failed to translate", coarse());
-  expect_refused(bad, "--accept-lost-faces", coarse());
+  expect_refused(bad, "--cad accept-lost-faces", coarse());
   hb::vtk::ModelOptions accept = coarse();
   accept.cad.accept_lost_faces = true;
   const hb::vtk::LoadedModel kept = hb::vtk::load_model(bad, accept);
