@@ -147,9 +147,32 @@ double simplification_bound(const ErrorBudget& budget) {
 }
 
 namespace {
-// `exact`: the full mesh's exact answers, built on first use and kept for the next attempt.
+// The full mesh's exact reference and the tuning probes with its answers: built on first
+// use, the same for the raw trial and every attempt (they depend on the mesh and the seed only).
+struct Reference {
+  std::unique_ptr<ExactQuery> exact;
+  std::optional<Tuning> tuning;
+};
+
+// The reference, built where missing; the stages named as they finish.
+template <class StageDone>
+const Tuning& reference_of(const TriangleMesh& mesh, const BudgetRecipe& br, const ForceLaw& law, Reference& ref,
+                           StageDone&& stage_done) {
+  auto t = std::chrono::steady_clock::now();
+  if (!ref.exact) {
+    ref.exact = std::make_unique<ExactQuery>(mesh, BvhBuild::quick);  // queried ~50,000 times: the build dominates
+    stage_done("exact_build", seconds_since(t));
+  }
+  if (!ref.tuning) {
+    t = std::chrono::steady_clock::now();
+    ref.tuning = tune_probes(mesh, *ref.exact, br.probes, br.tuning_seed, law);
+    stage_done("tuning_probes", seconds_since(t));
+  }
+  return *ref.tuning;
+}
+
 BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source,
-                                         std::unique_ptr<ExactQuery>& exact);
+                                         Reference& ref);
 
 // The fresh probes' figures (and the budget they were judged by) into the report.
 void record_fresh_check(BudgetReport& r, const BudgetRecipe& br, const ComparisonStats& checked, std::size_t probes,
@@ -184,24 +207,18 @@ BudgetReport::RawTried raw_tried_record(const RawCandidate& c) {
 // fresh probes, it fits the memory cap and answers faster than exact. Otherwise nothing, and
 // `rep` holds what was tried (raw_tried, its stages' seconds).
 std::optional<BakeResult> bake_raw(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source,
-                                   std::unique_ptr<ExactQuery>& exact_built, BudgetReport& rep) {
+                                   Reference& ref, BudgetReport& rep) {
   const BudgetRecipe& br = recipe.budget;
   const auto t0 = std::chrono::steady_clock::now();
   const auto stage_done = [&](const std::string& name, double seconds) {
     rep.add_stage(name, seconds);
     if (br.on_stage) br.on_stage(name, seconds);
   };
-  auto tstage = std::chrono::steady_clock::now();
-  if (!exact_built) {
-    exact_built = std::make_unique<ExactQuery>(mesh, BvhBuild::quick);
-    stage_done("exact_build", seconds_since(tstage));
-  }
-  const ExactQuery& exact = *exact_built;
   const float diagonal = mesh.bounds().diagonal();
   const ForceLaw law = make_workspace(diagonal).law();
-  tstage = std::chrono::steady_clock::now();
-  const Tuning tuning = tune_probes(mesh, exact, br.probes, br.tuning_seed, law);
-  stage_done("tuning_probes", seconds_since(tstage));
+  const Tuning& tuning = reference_of(mesh, br, law, ref, stage_done);
+  const ExactQuery& exact = *ref.exact;
+  auto tstage = std::chrono::steady_clock::now();
   SourceInfo src = source;
   if (src.triangles == 0) src.triangles = mesh.triangle_count();
   if (!(src.diagonal > 0.f)) src.diagonal = diagonal;
@@ -248,7 +265,7 @@ std::optional<BakeResult> bake_raw(const TriangleMesh& mesh, const BakeRecipe& r
 } // namespace
 
 BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source) {
-  std::unique_ptr<ExactQuery> exact;  // the same for every attempt: built once
+  Reference ref;  // the same for the raw trial and every attempt: built once
   if (recipe.options.communicator && recipe.options.communicator->size() > 1)
     throw InvalidInput("bake: a budgeted bake runs in one process (give the sampling options for a bake across ranks)");
   if (mesh.triangle_count() == 0) throw InvalidInput("bake: mesh has no triangles");
@@ -257,8 +274,8 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   BudgetReport raw_rep;
   const bool own_pieces = recipe.pieces.kind == PiecesRecipe::Kind::automatic || recipe.pieces.kind == PiecesRecipe::Kind::none;
   if (recipe.budget.budget.raw && own_pieces)
-    if (std::optional<BakeResult> raw = bake_raw(mesh, recipe, source, exact, raw_rep)) return std::move(*raw);
-  BakeResult result = bake_to_budget_on_one_surface(mesh, recipe, source, exact);
+    if (std::optional<BakeResult> raw = bake_raw(mesh, recipe, source, ref, raw_rep)) return std::move(*raw);
+  BakeResult result = bake_to_budget_on_one_surface(mesh, recipe, source, ref);
   double seconds = 0.0;          // the attempts' time, counted into the bake's
   std::uint64_t rejected = 0;    // the last surface that missed
   std::string why;               // and what it missed
@@ -277,11 +294,11 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     why = result.surface_miss;
     if (retry == kSimplifyRetries || !(diagonal > 0.0)) {
       tighter.budget.simplify = false;  // the full mesh, as without simplify
-      result = bake_to_budget_on_one_surface(mesh, tighter, source, exact);
+      result = bake_to_budget_on_one_surface(mesh, tighter, source, ref);
       break;
     }
     tighter.budget.simplify_deviation = 0.25 * tried.surface_bound / diagonal;
-    result = bake_to_budget_on_one_surface(mesh, tighter, source, exact);
+    result = bake_to_budget_on_one_surface(mesh, tighter, source, ref);
   }
   BudgetReport rep = result.scene.budget_report();
   if (rejected > 0) {
@@ -306,7 +323,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
 
 namespace {
 BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source,
-                                         std::unique_ptr<ExactQuery>& exact_built) {
+                                         Reference& ref) {
   const BudgetRecipe& br = recipe.budget;
   if (br.samplings.empty()) throw InvalidInput("bake: the budget has no samplings to try");
   for (const Sampling& s : br.samplings)
@@ -383,14 +400,13 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
   const TriangleMesh& base = use_simplified ? simplified : mesh;
   // What the rays hit and the refinement's records shade with (a map, when fitted, overrides).
   const TriangleMesh& cast = use_simplified && br.shading_map_side < 0 ? shaded : use_simplified ? simplified : mesh;
+  // Forces at the one workspace scale every command judges at (the model fitted to the
+  // device's workspace, k 1500 N/m): the perceptual criterion is in newtons a hand feels.
+  const ForceLaw law = make_workspace(diagonal).law();
   // The exact answers' BVH of the full mesh first: a decomposition of the full mesh casts its
   // lines against it instead of building its own (one 13M-triangle BVH build fewer).
-  auto tstage = std::chrono::steady_clock::now();
-  if (!exact_built) {
-    exact_built = std::make_unique<ExactQuery>(mesh, BvhBuild::quick);  // queried ~50,000 times: the build dominates
-    stage_done("exact_build", seconds_since(tstage));
-  }
-  const ExactQuery& exact = *exact_built;
+  const Tuning& tuning = reference_of(mesh, br, law, ref, stage_done);
+  const ExactQuery& exact = *ref.exact;
   const auto td = std::chrono::steady_clock::now();
   std::vector<std::uint32_t> ids = resolve_piece_ids(base, recipe.pieces, use_simplified ? nullptr : &exact.scene());
   if (recipe.pieces.kind == PiecesRecipe::Kind::automatic) result.decompose_seconds = seconds_since(td);
@@ -398,13 +414,7 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
   SourceInfo src = source;
   if (src.triangles == 0) src.triangles = mesh.triangle_count();
   if (!(src.diagonal > 0.f)) src.diagonal = diagonal;
-  // Forces at the one workspace scale every command judges at (the model fitted to the
-  // device's workspace, k 1500 N/m): the perceptual criterion is in newtons a hand feels.
-  const ForceLaw law = make_workspace(diagonal).law();
-  tstage = std::chrono::steady_clock::now();
-  const Tuning tuning = tune_probes(mesh, exact, br.probes, br.tuning_seed, law);
-  stage_done("tuning_probes", seconds_since(tstage));
-  tstage = std::chrono::steady_clock::now();
+  auto tstage = std::chrono::steady_clock::now();
   std::shared_ptr<const SurfaceTriangles> surface;
   {
     auto records = std::make_shared<SurfaceTriangles>(cast);
