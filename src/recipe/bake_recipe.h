@@ -171,6 +171,9 @@ struct BakeResult {
   /// (sliding along the model, box against exact) the box fails and exact passes); such a
   /// surface is dropped (bake_to_budget). Empty when it met it, or on the full mesh.
   std::string surface_miss;
+  /// That surface's exact scene answered slower than Embree over the full mesh: no tighter
+  /// simplification is tried, the full mesh is baked.
+  bool surface_slower_than_exact = false;
 };
 
 /// A piece id per triangle for `pieces`, numbered 0..K-1 in increasing order of the original

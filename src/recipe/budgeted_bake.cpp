@@ -292,7 +292,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     seconds += tried.seconds;
     rejected = tried.surface_triangles;
     why = result.surface_miss;
-    if (retry == kSimplifyRetries || !(diagonal > 0.0)) {
+    if (retry == kSimplifyRetries || !(diagonal > 0.0) || result.surface_slower_than_exact) {
       tighter.budget.simplify = false;  // the full mesh, as without simplify
       result = bake_to_budget_on_one_surface(mesh, tighter, source, ref);
       break;
@@ -641,6 +641,63 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
     scored = 2;
     if (exact_scene) choice.assign(pieces, 1);
     else refined_coarse = BoxScene{};
+  } else if (!br.full_search && pieces == 1) {
+    // One piece: no cells, so its refined box is exact only where its triangle ids reach.
+    // When the coarsest blend misses and its refined twin meets the budget on every probe's
+    // surface, nothing finer is cheaper that could also serve (the raw trial judged the
+    // finer blends): that box is taken.
+    timed_score(0);
+    const Counts blend = totals();
+    timed_score(1, &refined_coarse);
+    const Counts refined = totals();
+    exact_scene = (excess(blend) > 0.0 || blend.off_surface > 0) && excess(refined) <= 0.0 && refined.off_surface == 0;
+    scored = 2;
+    if (exact_scene) choice.assign(pieces, 1);
+    else refined_coarse = BoxScene{};
+  }
+  // Step 2b. Exact first: the exact scene (the cells, or one refined box) timed against
+  // Embree before any finer sampling is baked. On the full mesh, when Embree answers faster,
+  // the search ends here and step 5b routes the scene to Embree (its tables would answer
+  // nothing); on a simplified surface, when Embree over the full mesh is faster, the surface
+  // is dropped (bake_to_budget bakes the full mesh): it would serve neither time nor
+  // accuracy.
+  std::optional<PairedTiming> early;
+  const std::vector<Segment> timed(tuning.probes.begin(),
+                                   tuning.probes.begin() + std::min<std::size_t>(tuning.probes.size(), 5000));
+  if (br.fastest_exact && !br.full_search && (exact_scene || pieces == 1)) {
+    tstage = std::chrono::steady_clock::now();
+    if (!exact_scene) {
+      choice.assign(pieces, 1);
+      refined_coarse = compose();
+    }
+    if (use_simplified) {
+      early = paired_query_ns(refined_coarse, exact, timed, law);
+    } else {
+      BoxScene by_embree = refined_coarse;
+      by_embree.set_route(SceneRoute::embree);
+      early = paired_query_ns(refined_coarse, by_embree, timed, law);
+    }
+    stage_done("exact_first", seconds_since(tstage));
+    if (early->a_ns > early->b_ns && use_simplified) {
+      std::ostringstream why;
+      why.precision(3);
+      why << "the simplified surface's exact scene (" << early->a_ns << " ns a query) is slower than Embree over the full mesh ("
+          << early->b_ns << " ns)";
+      rep.seconds = seconds_since(t0);
+      refined_coarse.set_budget_report(rep);
+      result.scene = std::move(refined_coarse);
+      result.surface_miss = why.str();
+      result.surface_slower_than_exact = true;
+      return result;
+    }
+    if (early->a_ns > early->b_ns) {
+      exact_scene = true;
+      choice.assign(pieces, 1);
+    } else if (!exact_scene) {
+      refined_coarse = BoxScene{};
+      choice.assign(pieces, 0);
+      early.reset();
+    }
   }
   if (!exact_scene) {
     for (std::size_t c = 1; c < samplings; ++c) {
@@ -788,13 +845,12 @@ BakeResult bake_to_budget_on_one_surface(const TriangleMesh& mesh, const BakeRec
   // the cells at 800K triangles and up; docs/speed.md). A simplified surface keeps the cells
   // (only they shade through its normal map); it is timed against exact on the full mesh.
   tstage = std::chrono::steady_clock::now();
-  const std::vector<Segment> timed(tuning.probes.begin(),
-                                   tuning.probes.begin() + std::min<std::size_t>(tuning.probes.size(), 5000));
   const bool exact_route = scene.answering_route() == SceneRoute::cells || scene.has_triangle_ids();
   if (br.fastest_exact && exact_route && scene.surface() && scene.surface()->normal_map_side() == 0) {
     BoxScene by_embree = scene;
     by_embree.set_route(SceneRoute::embree);
-    const PairedTiming t = paired_query_ns(scene, by_embree, timed, law);
+    // The scene timed at step 2b is this one: its timing stands.
+    const PairedTiming t = early ? *early : paired_query_ns(scene, by_embree, timed, law);
     rep.cells_ns = t.a_ns, rep.embree_ns = t.b_ns;
     rep.exact_ns = t.b_ns;
     rep.answer_ns = std::min(t.a_ns, t.b_ns);

@@ -28,6 +28,12 @@ double slide_ticks_felt(const BoxScene& scene, const TriangleMesh& mesh, const E
 
 } // namespace
 
+bool slides_hopeless(double screen_ticks_felt, const RawSampling& screen, const RawSampling& finest, double allowed_share) {
+  if (!(screen_ticks_felt >= 0.0) || screen.m <= 0 || screen.n <= 0) return false;
+  const double refine = std::max(double(finest.m) / double(screen.m), double(finest.n) / double(screen.n));
+  return screen_ticks_felt / (refine * refine) > allowed_share;
+}
+
 float raw_codec_bound(const ForceLaw& law, const PerceptualThresholds& thresholds, double box_diagonal) {
   const double metres = box_diagonal * double(law.metres_per_unit);
   if (!(metres > 0.0) || !(law.stiffness_n_per_m > 0.f)) return 0.f;
@@ -54,7 +60,8 @@ RawTrial try_raw_boxes(const TriangleMesh& mesh, const ExactQuery& exact, const 
   };
   std::unique_ptr<ExactQuery> timing_reference;  // exact with its best tree, as `bench` times it
   // One sampling judged: its scene when every test passed (outcome "kept").
-  const auto judge = [&](const RawSampling& s, RawCandidate& c) -> std::optional<BoxScene> {
+  // `screen`: the slides are judged even when the probes failed (the screen's forecast below).
+  const auto judge = [&](const RawSampling& s, RawCandidate& c, bool screen = false) -> std::optional<BoxScene> {
     c.m = s.m, c.n = s.n;
     auto t = std::chrono::steady_clock::now();
     BakeOptions bo = base;
@@ -86,7 +93,14 @@ RawTrial try_raw_boxes(const TriangleMesh& mesh, const ExactQuery& exact, const 
     });
     c.probes_felt = probes.empty() ? 1.0 : double(felt) / double(probes.size());
     stage("raw_probes", seconds_since(t));
-    if (c.probes_felt > o.allowed_share) return c.outcome = "felt on probes", std::nullopt;
+    if (c.probes_felt > o.allowed_share) {
+      if (screen && o.slides && c.probes_felt <= o.hopeless_share) {
+        t = std::chrono::steady_clock::now();
+        c.ticks_felt = slide_ticks_felt(scene, mesh, exact);
+        stage("raw_slides", seconds_since(t));
+      }
+      return c.outcome = "felt on probes", std::nullopt;
+    }
     if (c.bytes > o.memory_cap_bytes) return c.outcome = "over the memory cap", std::nullopt;
     if (o.slides) {
       t = std::chrono::steady_clock::now();
@@ -119,7 +133,7 @@ RawTrial try_raw_boxes(const TriangleMesh& mesh, const ExactQuery& exact, const 
   for (std::size_t step = 0; step < order.size(); ++step) {
     const std::size_t k = order[step];
     RawCandidate c;
-    std::optional<BoxScene> scene = judge(o.samplings[k], c);
+    std::optional<BoxScene> scene = judge(o.samplings[k], c, step == 0);
     trial.tried.push_back(c);
     if (step == 0) {
       if (scene) {
@@ -127,6 +141,10 @@ RawTrial try_raw_boxes(const TriangleMesh& mesh, const ExactQuery& exact, const 
         return trial;
       }
       if (c.probes_felt > o.hopeless_share || c.outcome == "slower than exact") return trial;
+      if (count > 1 && slides_hopeless(c.ticks_felt, o.samplings[0], o.samplings[count - 1], o.allowed_share)) {
+        trial.tried.back().outcome = "felt on slides";
+        return trial;
+      }
       continue;
     }
     if (step == 1) {

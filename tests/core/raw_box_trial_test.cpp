@@ -1,0 +1,67 @@
+// The budgeted bake's raw-box trial (recipe/raw_box_trial.h): the screen, its forecast along
+// the slides, and the codec bound derived from the force threshold.
+#include "contact/perceptible.h"
+#include "contact/workspace.h"
+#include "evaluation/probe_sampling.h"
+#include "exact/exact_query.h"
+#include "mesh/generators.h"
+#include "recipe/raw_box_trial.h"
+#include <gtest/gtest.h>
+#include <vector>
+
+namespace hb {
+namespace {
+
+TEST(RawBoxTrialTest, AScreenFeltOnSlidesBeyondWhatTheFinestCouldFixForecastsNoSamplingServes) {
+  const RawSampling screen{16, 8}, finest{32, 16};
+  const double allowed = 0.0008;
+  // The bumpy sphere's m16 n8 (14.5% of slide ticks felt): even a fourfold fall leaves 3.6%.
+  EXPECT_TRUE(slides_hopeless(0.145, screen, finest, allowed));
+  // 0.2% at the screen could fall below 0.08% at twice the sampling: the finest is tried.
+  EXPECT_FALSE(slides_hopeless(0.002, screen, finest, allowed));
+  // Not judged (no contact along the slides): no forecast.
+  EXPECT_FALSE(slides_hopeless(-1.0, screen, finest, allowed));
+  // The refinement is the larger of the two ratios: m16 n8 to m24 n24 is threefold.
+  EXPECT_TRUE(slides_hopeless(0.008, screen, {24, 24}, allowed));
+  EXPECT_FALSE(slides_hopeless(0.007, screen, {24, 24}, allowed));
+}
+
+TEST(RawBoxTrialTest, CodecBoundMakesHalfTheForceThresholdAtTheWorkspaceStiffness) {
+  const double diagonal = 2.0;  // model units
+  const ForceLaw law = make_workspace(diagonal).law();
+  const PerceptualThresholds t;
+  const float bound = raw_codec_bound(law, t, diagonal);  // a fraction of the diagonal
+  const double force = double(bound) * diagonal * double(law.metres_per_unit) * double(law.stiffness_n_per_m);
+  EXPECT_NEAR(force, 0.5 * t.floor_n, 1e-6);
+}
+
+TEST(RawBoxTrialTest, TheScreenOfABumpySphereJudgesItsSlidesAndStopsWhenTheyCannotServe) {
+  BumpySphereOptions bo;
+  bo.subdivisions = 5;  // 20,480 triangles
+  const TriangleMesh mesh = make_bumpy_sphere(bo);
+  const ExactQuery exact(mesh);
+  const ForceLaw law = make_workspace(mesh.bounds().diagonal()).law();
+  ProbeOptions po;
+  po.seed = 7;
+  const std::vector<Segment> probes = sample_probes(mesh, 4000, po);
+  std::vector<Contact> answers;
+  for (const Segment& s : probes) answers.push_back(exact.query(s, law));
+  RawTrialOptions o;
+  o.samplings = {{16, 8}, {32, 16}};
+  o.codec_bound = raw_codec_bound(law, o.thresholds, double(mesh.bounds().diagonal()));
+  const RawTrial trial = try_raw_boxes(mesh, exact, probes, answers, law, BakeOptions{}, SourceInfo{}, o);
+  ASSERT_FALSE(trial.tried.empty());
+  const RawCandidate& first = trial.tried.front();
+  EXPECT_EQ(first.m, 16);
+  EXPECT_GT(first.probes_felt, o.allowed_share);  // a coarse box is felt on some probes
+  ASSERT_GE(first.ticks_felt, 0.0);               // and its slides were judged all the same
+  const bool hopeless = slides_hopeless(first.ticks_felt, o.samplings[0], o.samplings[1], o.allowed_share);
+  EXPECT_EQ(trial.tried.size(), hopeless ? 1u : 2u);
+  if (hopeless) {
+    EXPECT_EQ(first.outcome, "felt on slides");
+    EXPECT_FALSE(trial.scene.has_value());
+  }
+}
+
+} // namespace
+} // namespace hb
