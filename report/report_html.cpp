@@ -94,8 +94,9 @@ SpeedAgainstExact speed_against_exact(const ReportData& d) {
   const SweepRow* exact = find_row(d.rows, "exact_embree");
   SpeedAgainstExact v;
   v.exact_ns = exact ? exact->query_ns : 0.0;
-  v.faster = v.exact_ns > 0 && d.box_ns > 0 && v.exact_ns >= d.box_ns;
-  v.text = v.exact_ns > 0 && d.box_ns > 0 ? speed_verdict(d.box_ns, v.exact_ns) : "not measured";
+  const SpeedComparison speed = compare_speed(d.box_ns, v.exact_ns);
+  v.faster = speed == SpeedComparison::faster || speed == SpeedComparison::as_fast;
+  v.text = speed_verdict(d.box_ns, v.exact_ns);
   return v;
 }
 
