@@ -13,9 +13,29 @@
 #ifdef HB_WITH_VTK
 #include "model_loader.h"
 #include "model_options_key.h"
+#include "volume_spec.h"
 #endif
 
 namespace hb::cli {
+
+namespace {
+// --volume's help and syntax: hb::vtk's, which the window shows too (without VTK the option
+// is refused when a model is read).
+std::string volume_help() {
+#ifdef HB_WITH_VTK
+  return hb::vtk::volume_spec_help();
+#else
+  return "Volumes (needs the VTK pipelines)";
+#endif
+}
+std::string volume_syntax() {
+#ifdef HB_WITH_VTK
+  return hb::vtk::kVolumeSpecSyntax;
+#else
+  return "iso=V|label=L,smooth=N,triangles=N";
+#endif
+}
+} // namespace
 
 void add_model_options(CLI::App& cmd, ModelArgs& args) {
   const std::string group = "Reading the model";
@@ -39,24 +59,18 @@ void add_model_options(CLI::App& cmd, ModelArgs& args) {
   cmd.add_option_function<std::string>(
          "--volume",
          [&args](const std::string& spec) {
-           parse_spec("--volume", spec,
-                      {{"iso", [&args](const std::string& v, const std::string& what) {
-                          args.iso = spec_number_or_usage(v, what, -1e30, 1e30);
-                        }},
-                       {"label", [&args](const std::string& v, const std::string& what) {
-                          const double x = spec_number_or_usage(v, what, -9.2e18, 9.2e18);
-                          if (x != std::floor(x)) throw UsageError(what + ": '" + v + "' is not a whole number");
-                          args.label = long(x);
-                        }},
-                       number_key("smooth", args.smooth, 0, 1000),
-                       number_key("triangles", args.target_triangles, 0, 1e15)});
-           if (args.iso && args.label) throw UsageError("--volume: iso and label exclude each other (give one)");
+#ifdef HB_WITH_VTK
+           hb::vtk::VolumeSurfaceOptions checked;  // a bad spec is a usage error now, before any file is read
+           try {
+             hb::vtk::parse_volume_spec(spec, checked);
+           } catch (const InvalidInput& e) {
+             throw UsageError(e.what());
+           }
+#endif
+           args.volume = spec;
          },
-         "Volumes: iso=V (the surface's iso-value in the file's calibrated units, HU for CT; default: the Otsu "
-         "threshold, see `info`) or label=L (label maps: the voxels with this label), smooth=N (windowed-sinc "
-         "iterations, 0-1000; default 0), triangles=N (decimate to about N; default 0: keep all). Reader limits: "
-         "$HB_READER_TIMEOUT_S (default 120 s), $HB_READER_MEMORY_MB (default 8192)")
-      ->type_name("iso=V|label=L,smooth=N,triangles=N")
+         volume_help())
+      ->type_name(volume_syntax())
       ->group(group);
   cmd.add_option_function<std::string>(
          "--cad",
@@ -81,7 +95,7 @@ void add_model_options(CLI::App& cmd, ModelArgs& args) {
 #ifndef HB_WITH_VTK
 namespace {
 bool has_model_args(const ModelArgs& a) {
-  return a.iso || a.label || !a.unit.empty() || a.smooth || a.target_triangles || a.chordal_mm > 0 || a.accept_lost_faces;
+  return !a.volume.empty() || !a.unit.empty() || a.chordal_mm > 0 || a.accept_lost_faces;
 }
 } // namespace
 #endif
@@ -92,10 +106,7 @@ TriangleMesh load_mesh(const std::string& path, MeshReadReport* report) { return
 hb::vtk::ModelOptions to_model_options(const ModelArgs& args) {
   hb::vtk::ModelOptions options;
   options.unit = args.unit;
-  options.volume.iso = args.iso;
-  options.volume.label = args.label;
-  options.volume.smooth_iterations = args.smooth;
-  options.volume.target_triangles = args.target_triangles;
+  hb::vtk::parse_volume_spec(args.volume, options.volume);
   options.cad.chordal_deviation_mm = args.chordal_mm;
   options.cad.force_tolerance_n = args.force_tolerance_n;
   options.cad.accept_lost_faces = args.accept_lost_faces;
@@ -122,7 +133,8 @@ TriangleMesh load_mesh(const std::string& path, const ModelArgs& args, MeshReadR
 namespace {
 TriangleMesh load_mesh_unguarded(const std::string& path, const ModelArgs& args, MeshReadReport* report) {
 #ifdef HB_WITH_VTK
-  hb::vtk::LoadedModel model = hb::vtk::load_model(path, to_model_options(args));
+  const hb::vtk::ModelOptions options = to_model_options(args);
+  hb::vtk::LoadedModel model = hb::vtk::load_model(path, options);
   for (const std::string& w : model.report.warnings) std::cerr << "hapticbox: warning: " << w << "\n";
   if (model.kind == hb::vtk::ModelKind::Volume) {
     // Figures as the rest of the tool prints them (4 significant digits), not raw doubles.
@@ -135,7 +147,7 @@ TriangleMesh load_mesh_unguarded(const std::string& path, const ModelArgs& args,
     std::cerr << "hapticbox: " << path << ": " << model.format << " " << list(model.facts["dimensions"], " x ")
               << " voxels, spacing " << list(model.facts["spacing_mm"], " x ") << " mm, ";
     if (model.facts.contains("label")) std::cerr << "label " << model.facts["label"].dump();
-    else std::cerr << "iso " << sig(model.facts["iso"].get<double>(), 4) << (args.iso ? "" : " (automatic; set --iso)");
+    else std::cerr << "iso " << sig(model.facts["iso"].get<double>(), 4) << (options.volume.iso ? "" : " (automatic; set --volume iso=V)");
     std::cerr << ": " << model.mesh.triangle_count() << " triangles in mm\n";
   } else if (model.kind == hb::vtk::ModelKind::Cad) {
     std::cerr << "hapticbox: " << path << ": " << model.format << ", " << model.facts.value("faces", 0) << " faces, chordal deviation "

@@ -24,11 +24,8 @@ namespace hb::cli {
 /// Every command that takes a mesh takes these, so it also takes a volume, a CAD solid or a
 /// glTF/3MF/FBX/Collada scene.
 struct ModelArgs {
-  std::optional<double> iso;
-  std::optional<long> label;
   std::string unit;
-  int smooth = 0;
-  std::size_t target_triangles = 0;
+  std::string volume;  ///< --volume's spec as given (hb::vtk::parse_volume_spec reads it).
   double chordal_mm = 0.0;
   double force_tolerance_n = 0.01;
   bool accept_lost_faces = false;  ///< CAD: keep a model some of whose faces failed to translate.
@@ -43,8 +40,8 @@ struct ModelArgs {
 hb::vtk::ModelOptions to_model_options(const ModelArgs& args);
 #endif
 
-/// Adds --unit, --volume (iso, label, smooth, triangles) and --cad (chordal-mm, force-tolerance,
-/// accept-lost-faces). The readers' limits come from $HB_READER_TIMEOUT_S and $HB_READER_MEMORY_MB.
+/// Adds --unit, --volume (iso, label, smooth, triangles: hb::vtk::parse_volume_spec, the window's
+/// --volume too) and --cad (chordal-mm, force-tolerance, accept-lost-faces). The readers' limits come from $HB_READER_TIMEOUT_S and $HB_READER_MEMORY_MB.
 void add_model_options(CLI::App& cmd, ModelArgs& args);
 
 /// Reads a model (mesh, volume, CAD, scene; in millimetres), printing the reader's warnings to

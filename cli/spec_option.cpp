@@ -1,9 +1,7 @@
 #include "spec_option.h"
 #include "errors.h"
 #include "evaluation/segments_csv.h"
-#include <algorithm>
 #include <cstdio>
-#include <sstream>
 
 namespace hb::cli {
 
@@ -42,29 +40,10 @@ SpecKey flag_key(const std::string& key, bool& field) {
 
 void parse_spec(const std::string& option, const std::string& spec, const std::vector<SpecKey>& keys,
                 std::string* head) {
-  const auto known = [&] {
-    std::string k;
-    for (const SpecKey& key : keys) k += (k.empty() ? "" : ", ") + key.key;
-    return k;
-  };
-  std::stringstream ss(spec);
-  std::string item;
-  bool first = true;
-  while (std::getline(ss, item, ',')) {
-    item = spec_trim(item);
-    const auto eq = item.find('=');
-    const std::string key = spec_trim(item.substr(0, eq)), value = eq == std::string::npos ? "" : item.substr(eq + 1);
-    const auto it = std::find_if(keys.begin(), keys.end(), [&](const SpecKey& k) { return k.key == key; });
-    if (it == keys.end() && first && head) {
-      *head = item;
-      first = false;
-      continue;
-    }
-    first = false;
-    if (item.empty()) continue;
-    if (it == keys.end())
-      throw UsageError(option + ": unknown key '" + key + "' (keys: " + known() + ")");
-    it->set(value, option + " " + key);
+  try {
+    hb::parse_spec_keys(option, spec, keys, head);
+  } catch (const InvalidInput& e) {
+    throw UsageError(e.what());
   }
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // Options given as "[head,]key=value,key,...": the usage error they throw, the grammar that
-// reads them (keys in any order, any subset) and the keys that set a number or a flag.
+// reads them (hb::parse_spec_keys: keys in any order, any subset) and the keys that set a number or
+// a flag.
 #include "spec_parse.h"
 #include <CLI/CLI.hpp>
 #include <functional>
@@ -21,16 +22,10 @@ public:
 /// since no comparison with NaN fails). The message names the value and the range.
 CLI::Validator finite_range(double lo, double hi);
 
-/// One key of a spec option ("--codec block,ratio=20,strict"): its name and what it sets from
-/// its value ("" for a bare key); `what` names the option and key for error messages.
-struct SpecKey {
-  std::string key;
-  std::function<void(const std::string& value, const std::string& what)> set;
-};
-/// Parses "[head,]key=value,key,..." given to `option`: each item sets its key (any order, any
-/// subset); `head` (when not null) receives a first item that is not one of the keys. Throws
-/// UsageError (exit 2) naming the option and the unknown key (with the known ones) or the bad
-/// value.
+/// One key of a spec option ("--codec block,ratio=20,strict"): hb::SpecKey (spec_parse.h).
+using SpecKey = hb::SpecKey;
+/// hb::parse_spec_keys (the grammar both front ends share), its errors UsageErrors (exit 2): the
+/// unknown key (with the known ones) or the bad value.
 void parse_spec(const std::string& option, const std::string& spec, const std::vector<SpecKey>& keys,
                 std::string* head = nullptr);
 /// hb::spec_number, its hb::InvalidInput a UsageError.

@@ -1,12 +1,14 @@
 // hapticbox-gui [MESH|SESSION] [--device virtual|falcon|replay:LOG] [--no-bake]
 //               [--screenshot PNG] [--measure-fps N] [--no-realtime] [--spin-us US] [--timing]
-//               [--iso V | --label L] [--smooth N] [--target-triangles N]
+//               [--volume iso=V|label=L,smooth=N,triangles=N]
 #include "BackgroundJob.h"
 #include "DevicePanel.h"
 #include "HapticSession.h"
 #include "MainWindow.h"
 #include "ProbeView.h"
+#include "errors.h"
 #include "parallel/huge_pages.h"
+#include "volume_spec.h"
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QCoreApplication>
@@ -19,7 +21,6 @@
 #include <vtkObject.h>
 #include <vtkRenderWindow.h>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
@@ -47,16 +48,15 @@ struct Options {
   QCommandLineOption noRealtime{QStringLiteral("no-realtime"), QStringLiteral("Run the device thread without SCHED_FIFO")};
   QCommandLineOption spin{QStringLiteral("spin-us"), QStringLiteral("Servo busy-wait before each deadline, us (default 0: sleep only)"), QStringLiteral("us"), QStringLiteral("0")};
   QCommandLineOption timing{QStringLiteral("timing"), QStringLiteral("Print where opening a model spends its time")};
-  QCommandLineOption iso{QStringLiteral("iso"), QStringLiteral("Volumes: iso-value in calibrated units (HU for CT); default the Otsu threshold"), QStringLiteral("value")};
-  QCommandLineOption label{QStringLiteral("label"), QStringLiteral("Volumes (label maps): the surface of the voxels with this label"), QStringLiteral("label")};
-  QCommandLineOption smooth{QStringLiteral("smooth"), QStringLiteral("Volumes: windowed-sinc smoothing iterations (0: none)"), QStringLiteral("iterations")};
-  QCommandLineOption target{QStringLiteral("target-triangles"), QStringLiteral("Volumes: decimate to about this many triangles (0: keep all)"), QStringLiteral("count")};
+  // The command line's --volume: the same spec, parser and help (hb::vtk::parse_volume_spec).
+  QCommandLineOption volume{QStringLiteral("volume"), QString::fromStdString(hb::vtk::volume_spec_help()),
+                            QString::fromLatin1(hb::vtk::kVolumeSpecSyntax)};
   explicit Options(QCommandLineParser& parser) {
     parser.setApplicationDescription(QStringLiteral("HapticBox desktop window"));
     parser.addHelpOption();
     parser.addVersionOption();
     parser.addPositionalArgument(QStringLiteral("file"), QStringLiteral("Model (mesh, volume file or DICOM folder, CAD, scene) or session (.hbsession)"));
-    parser.addOptions({device, noBake, shot, fps, field, sweep, noRealtime, spin, timing, iso, label, smooth, target});
+    parser.addOptions({device, noBake, shot, fps, field, sweep, noRealtime, spin, timing, volume});
   }
 };
 
@@ -77,35 +77,17 @@ bool readRunSettings(const QCommandLineParser& parser, const Options& options) {
   return true;
 }
 
-/// The volume options, checked before any window opens: each bad value named, as the
-/// command line's --iso, --label, --smooth and --target-triangles are. False after saying on
-/// stderr what is wrong.
+/// --volume, checked before any window opens as `hapticbox` checks it: a bad spec is named on
+/// stderr and is a usage error. False after saying what is wrong.
 bool readVolumeOptions(const QCommandLineParser& parser, const Options& options, hb::vtk::ModelOptions& model) {
-  const auto bad = [](const char* option, const QString& value, const char* want) {
-    std::fprintf(stderr, "hapticbox-gui: %s %s: %s\n", option, qPrintable(value), want);
+  if (!parser.isSet(options.volume)) return true;
+  try {
+    hb::vtk::parse_volume_spec(parser.value(options.volume).toStdString(), model.volume);
+    return true;
+  } catch (const hb::InvalidInput& e) {
+    std::fprintf(stderr, "hapticbox-gui: %s\n", e.what());
     return false;
-  };
-  bool ok = true;
-  if (parser.isSet(options.iso)) {
-    const double v = parser.value(options.iso).toDouble(&ok);
-    if (!ok || !std::isfinite(v)) return bad("--iso", parser.value(options.iso), "a finite number (calibrated units, HU for CT)");
-    model.volume.iso = v;
   }
-  if (parser.isSet(options.label)) {
-    model.volume.label = parser.value(options.label).toLong(&ok);
-    if (!ok) return bad("--label", parser.value(options.label), "a whole number (a label of the label map)");
-  }
-  if (model.volume.iso && model.volume.label) return bad("--label", parser.value(options.label), "not with --iso (one or the other)");
-  if (parser.isSet(options.smooth)) {
-    model.volume.smooth_iterations = parser.value(options.smooth).toInt(&ok);
-    if (!ok || model.volume.smooth_iterations < 0)
-      return bad("--smooth", parser.value(options.smooth), "a whole number of iterations, >= 0");
-  }
-  if (parser.isSet(options.target)) {
-    model.volume.target_triangles = parser.value(options.target).toULongLong(&ok);
-    if (!ok) return bad("--target-triangles", parser.value(options.target), "a whole number of triangles, >= 0");
-  }
-  return true;
 }
 
 /// The device --device names (virtual is the window's own default).
