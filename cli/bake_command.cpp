@@ -1,10 +1,10 @@
 // hapticbox bake MESH -o BOX.hbox [--budget felt=0.1,raw=on,memory=48] [--json]: the default,
 // budgeted bake (hb::default_recipe); or, with any of -m, -n, --cell, --refine, a bake of exactly
-// that sampling: [-m 32] [-n 16] [--refine] [--cell C [--max-m 64]] [--pieces auto|FILE|none]
-// [--codec none|haar|block] [--max-error E | --ratio R].
+// that sampling: [-m 32] [-n 16] [--refine] [--cell C[,max-m=M]] [--pieces auto|FILE|none]
+// [--codec none|haar|block[,max-error=E|ratio=R]].
 // Through the box cache (hb::bake_cached, the one the window, sweep and report use): a scene
 // cached for the model's hash and the whole recipe is copied to -o instead of baked; a bake is
-// stored there. [--cache DIR] [--no-cache].
+// stored there. [--cache DIR|none].
 #include "cli_support.h"
 #include "figure_text.h"
 #include "commands.h"
@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <unistd.h>
 
@@ -64,41 +65,39 @@ BudgetArgs parse_budget_args(const std::string& spec) {
   return a;
 }
 
-} // namespace
+// What the command line gave bake.
+struct BakeOpts {
+  hb::cli::ModelArgs model;
+  std::string mesh, out;
+  hb::BakeRecipe recipe;
+  hb::cli::PiecesArgs pieces;
+  std::string codec = "none";
+  bool bound_given = false;
+  std::string budget;
+  std::string cache;
+  bool json = false;
+  bool strict = false;
+};
 
-void add_bake_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("bake", "Bake a haptic box file from a mesh");
-  struct Opts {
-    hb::cli::ModelArgs model;
-    std::string mesh, out;
-    hb::BakeRecipe recipe;
-    hb::cli::PiecesArgs pieces;
-    std::string codec = "none";
-    bool bound_given = false;
-    std::string budget;
-    std::string cache;
-    bool json = false;
-    bool strict = false;
-  };
-  auto opts = std::make_shared<Opts>();
+void add_bake_options(CLI::App& cmd, const std::shared_ptr<BakeOpts>& opts) {
   const hb::BakeRecipe d;
   const hb::BudgetRecipe db;
-  cmd->add_option("MESH", opts->mesh, "Input mesh")->required();
-  cmd->add_option("-o,--output", opts->out, "Output box file (.hbox)")->required();
-  cmd->add_option("--budget", opts->budget,
-                  "The default bake meets this error budget at the lowest cost it finds, against exact Embree: "
-                  "felt=PERCENT (default 0.1: at most 0.1% of probes and of slide ticks perceptibly different, forces "
-                  "with the model fitted to an 80 mm workspace at 1500 N/m); raw=on|off (default on: try the paper's "
-                  "raw box first) and memory=MB (its cap, default 48); the relative criteria p95=PERCENT,"
-                  "median=PERCENT,dir99=DEGREES,agree=PERCENT (off unless named); and for meshes above simplify-above=N "
-                  "triangles (default " + std::to_string(db.simplify_above) + "), simplify=on|off (default on: bake "
-                  "against the mesh simplified within deviation=F of the diagonal, default 0: the depth whose force is a sixteenth of the force threshold, 2.1e-5; "
-                  "shaded by a normal map of side shading-map=S, default 0: automatic, -1: none; the full mesh "
-                  "instead when it misses the budget)")
+  cmd.add_option("MESH", opts->mesh, "Input mesh")->required();
+  cmd.add_option("-o,--output", opts->out, "Output box file (.hbox)")->required();
+  cmd.add_option("--budget", opts->budget,
+                 "The default bake meets this error budget at the lowest cost it finds, against exact Embree: "
+                 "felt=PERCENT (default 0.1: at most 0.1% of probes and of slide ticks perceptibly different, forces "
+                 "with the model fitted to an 80 mm workspace at 1500 N/m); raw=on|off (default on: try the paper's "
+                 "raw box first) and memory=MB (its cap, default 48); the relative criteria p95=PERCENT,"
+                 "median=PERCENT,dir99=DEGREES,agree=PERCENT (off unless named); and for meshes above simplify-above=N "
+                 "triangles (default " + std::to_string(db.simplify_above) + "), simplify=on|off (default on: bake "
+                 "against the mesh simplified within deviation=F of the diagonal, default 0: the depth whose force is a sixteenth of the force threshold, 2.1e-5; "
+                 "shaded by a normal map of side shading-map=S, default 0: automatic, -1: none; the full mesh "
+                 "instead when it misses the budget)")
       ->type_name("KEY=VALUE,...")
       ->group("Default bake");
-  hb::cli::add_pieces_options(*cmd, opts->pieces, "auto for the default bake, none for one sampling");
-  hb::cli::add_codec_option(*cmd, opts->codec, opts->recipe.codec, &opts->strict, &opts->bound_given,
+  hb::cli::add_pieces_options(cmd, opts->pieces, "auto for the default bake, none for one sampling");
+  hb::cli::add_codec_option(cmd, opts->codec, opts->recipe.codec, &opts->strict, &opts->bound_given,
                             {"none", "haar", "block"},
                             "Table codec: none, haar (the paper's) or block (ours) (default block for the default bake, "
                             "none for one sampling); then max-error=E (bound on |t1 - t0| / box diagonal, default " +
@@ -108,11 +107,11 @@ void add_bake_command(CLI::App& app) {
                                 "coordinate, 6-14; default " + std::to_string(d.codec.normal_bits) + ")")
       ->type_name("NAME[,KEY=VALUE...]");
   const std::string one = "One sampling (instead of the default bake)";
-  cmd->add_option("-m", opts->recipe.options.params.m, "Position points per PBB face edge (default 32)")
+  cmd.add_option("-m", opts->recipe.options.params.m, "Position points per PBB face edge (default 32)")
       ->check(CLI::Range(2, 1024))->group(one);
-  cmd->add_option("-n", opts->recipe.options.params.n, "Directional points per sub-block face edge (default 16)")
+  cmd.add_option("-n", opts->recipe.options.params.n, "Directional points per sub-block face edge (default 16)")
       ->check(CLI::Range(2, 256))->group(one);
-  cmd->add_option_function<std::string>(
+  cmd.add_option_function<std::string>(
          "--cell",
          [opts](const std::string& spec) {
            std::string cell;
@@ -123,211 +122,271 @@ void add_bake_command(CLI::App& app) {
          "max-m=M: the largest per-box m (default " + std::to_string(d.options.density.max_m) + ")")
       ->type_name("C[,max-m=M]")
       ->group(one);
-  cmd->add_flag("--refine", opts->recipe.options.refine,
-                "Store the triangle each sample hit and the mesh's triangles: queries then refine the blend exactly "
-                "(2 or 4 bytes more per sample, 64 per triangle)")
+  cmd.add_flag("--refine", opts->recipe.options.refine,
+               "Store the triangle each sample hit and the mesh's triangles: queries then refine the blend exactly "
+               "(2 or 4 bytes more per sample, 64 per triangle)")
       ->group(one);
-  hb::cli::add_cache_option(*cmd, opts->cache);
-  cmd->add_flag("--json", opts->json, "Print a JSON summary");
-  hb::cli::add_model_options(*cmd, opts->model);
-  cmd->callback([opts, cmd] {
-    hb::cli::check_output_file(opts->out);  // an unwritable -o fails now, not after the bake
-    // Without a sampling option the bake is the default, budgeted one (hb::default_recipe):
-    // the pieces, codec and seam options given still apply to it.
-    const bool sampling_given = cmd->count("-m") + cmd->count("-n") + cmd->count("--cell") + cmd->count("--refine") > 0;
-    const BudgetArgs budget_args = parse_budget_args(opts->budget);
-    // Measurement-only switches of the default bake (HB_MEASURE, cli_support.h).
-    const auto full_search = hb::cli::measurement("full-search"), keep_ids = hb::cli::measurement("keep-ids"),
-               shading = hb::cli::measurement("simplify-shading"),
-               shading_check = hb::cli::measurement("simplify-shading-check");
-    if (sampling_given && (budget_args.simplify_keys() || shading || shading_check))
-      throw hb::cli::UsageError("bake: --budget's simplify keys belong to the default bake; drop -m, -n, --cell and --refine, or them");
-    if (sampling_given && full_search)
-      throw hb::cli::UsageError("bake: full-search (HB_MEASURE) belongs to the default bake (-m, -n, --cell and --refine bake one sampling); drop it");
-    if (sampling_given && keep_ids)
-      throw hb::cli::UsageError("bake: keep-ids (HB_MEASURE) belongs to the default bake (a --refine bake always keeps its ids); drop it");
-    if (sampling_given && cmd->count("--budget"))
-      throw hb::cli::UsageError("bake: --budget chooses -n, --cell and --refine per piece; drop -m, -n, --cell and --refine, or --budget");
-    if (!sampling_given) {
-      hb::BakeRecipe r = hb::default_recipe();
-      try {
-        r.budget.budget = hb::parse_budget(budget_args.budget);
-      } catch (const hb::InvalidInput& e) {
-        throw hb::cli::UsageError(std::string("bake: ") + e.what());
-      }
-      if (budget_args.simplify) r.budget.simplify = *budget_args.simplify;
-      if (budget_args.simplify_above) r.budget.simplify_above = std::size_t(*budget_args.simplify_above);
-      if (budget_args.deviation) r.budget.simplify_deviation = *budget_args.deviation;
-      if (budget_args.shading_map) r.budget.shading_map_side = int(*budget_args.shading_map);
-      if (shading) r.budget.simplify_shading_deg = hb::cli::spec_number_or_usage(*shading, "HB_MEASURE simplify-shading", 0.0, 180.0);
-      if (shading_check) {
-        if (*shading_check != "fit" && *shading_check != "ring")
-          throw hb::cli::UsageError("HB_MEASURE simplify-shading-check: '" + *shading_check + "' is not fit or ring");
-        r.budget.simplify_shading_check = *shading_check == "ring" ? hb::DecimationOptions::ShadingCheck::ring
-                                                                   : hb::DecimationOptions::ShadingCheck::fit;
-      }
-      r.budget.keep_triangle_ids = keep_ids.has_value();
-      r.budget.full_search = full_search.has_value();
-      if (cmd->count("--cell")) r.options.density.max_m = opts->recipe.options.density.max_m;
-      if (!opts->pieces.given) opts->pieces.spec = "auto";
-      if (!cmd->count("--codec")) opts->codec = "block";
-      if (opts->bound_given) {
-        r.codec.max_error = opts->recipe.codec.max_error;
-        r.codec.ratio = opts->recipe.codec.ratio;
-      }
-      r.pieces.automatic.progress = opts->recipe.pieces.automatic.progress;
-      opts->recipe = r;
-    }
-    opts->pieces.apply_tuning(opts->recipe);
-    opts->recipe.codec.codec = hb::parse_codec(opts->codec);
-    if (opts->recipe.codec.codec == hb::CodecId::none && opts->bound_given)
-      throw hb::cli::UsageError("bake: --codec's max-error and ratio need the codec haar or block");
-    const hb::TriangleMesh mesh = hb::cli::load_mesh(opts->mesh, opts->model);
-    hb::SourceInfo source{opts->mesh, hb::cli::hash_model(opts->mesh, opts->model), mesh.triangle_count(), mesh.bounds().diagonal()};
-    opts->recipe.options.progress = hb::cli::terminal_progress("baking");
-    // Each stage of a budgeted bake as it finishes (on stderr, over the progress bar when there
-    // is one), so a long bake shows where its minutes go before it ends.
-    if (hb::cli::communicator().is_root()) {
-      const bool tty = isatty(STDERR_FILENO);
-      opts->recipe.budget.on_stage = [tty](const std::string& stage, double seconds) {
-        std::fprintf(stderr, "%sstage %s: %s%s\n", tty ? "\r" : "", stage.c_str(), hb::duration_text(seconds).c_str(),
-                     tty ? "\033[K" : "");
-        std::fflush(stderr);
-      };
-    }
-    opts->recipe.options.density.min_m = std::min(opts->recipe.options.density.min_m, opts->recipe.options.density.max_m);
-    hb::Communicator& comm = hb::cli::communicator();
-    opts->recipe.options.communicator = &comm;  // position points dealt across the ranks of an MPI job
-    hb::cli::apply_pieces_spec(opts->pieces.spec, opts->recipe, opts->model.face_ids);
-    std::optional<hb::BoxCache> cache;
-    if (!opts->cache.empty()) cache.emplace(opts->cache);
-    const hb::CachedBake cached = hb::bake_cached(mesh, opts->recipe, source, cache ? &*cache : nullptr);
-    if (!comm.is_root()) return;  // rank 0 holds the tables and writes the file
-    const hb::BakeResult& baked = cached.result;
-    if (!cached.from_cache) hb::cli::print_decomposition(opts->recipe, baked);
-    if (!cached.warning.empty()) std::cerr << "warning: " << cached.warning << "\n";
-    const hb::BoxScene& scene = baked.scene;
-    const hb::BakeStats& stats = baked.stats;
-    namespace fs = std::filesystem;
-    std::error_code same_ec;
-    if (cached.from_cache && fs::equivalent(cached.path, opts->out, same_ec)) {
-      // -o is the cache entry itself: nothing to write.
-    } else if (cached.from_cache) {
-      // The cache entry is the bake's file byte for byte: copy it.
-      std::error_code ec;
-      fs::copy_file(cached.path, opts->out, fs::copy_options::overwrite_existing, ec);
-      if (ec) throw hb::IoError(opts->out + ": cannot write the box file (" + ec.message() + ")");
-    } else {
-      hb::save_box_file(scene, opts->out);
-    }
-    const hb::SceneCodecStats cs = hb::scene_codec_stats(scene);
-    const hb::BudgetReport& budget = scene.budget_report();
-    const auto bytes = std::filesystem::file_size(opts->out);
-    std::vector<int> box_m, box_n;
-    for (const hb::HapticBox& box : scene.boxes()) box_m.push_back(box.params().m), box_n.push_back(box.params().n);
-    const auto range = [](const std::vector<int>& v) {
-      const int lo = *std::min_element(v.begin(), v.end()), hi = *std::max_element(v.begin(), v.end());
-      return lo == hi ? std::to_string(lo) : std::to_string(lo) + ".." + std::to_string(hi);
-    };
-    std::size_t refined_boxes = 0, id_bytes = 0;
-    for (const hb::HapticBox& box : scene.boxes()) {
-      refined_boxes += box.refines() ? 1 : 0;
-      id_bytes += box.triangle_id_bytes();
-    }
-    const nlohmann::json jj = {{"mesh", opts->mesh},
-                              {"output", opts->out},
-                              {"triangles", mesh.triangle_count()},
-                              {"boxes", scene.boxes().size()},
-                              {"m", opts->recipe.options.params.m},
-                              {"box_m", box_m},
-                              {"n", budget.present ? box_n.back() : opts->recipe.options.params.n},
-                              {"box_n", box_n},
-                              {"refined_boxes", refined_boxes},
-                              {"from_cache", cached.from_cache},
-                              {"cache_path", cached.path},
-                              {"seconds", stats.seconds},
-                              {"rays", stats.rays},
-                              {"rays_per_second", stats.rays_per_second},
-                              {"hit_fraction", stats.rays ? double(stats.hits) / double(stats.rays) : 0.0},
-                              {"bytes", bytes},
-                              {"refine", scene.refines()},
-                              {"triangle_id_bytes", id_bytes},
-                              {"codec", opts->codec},
-                              {"table_bytes", cs.table_bytes},
-                              {"raw_table_bytes", cs.raw_bytes},
-                              {"compression_ratio", cs.compression_ratio()},
-                              {"max_error_bound", cs.max_error_bound},
-                              {"t_error_mean", cs.t_error_mean},
-                              {"t_error_max", cs.t_error_max},
-                              {"normal_error_mean_deg", cs.normal_error_mean_deg},
-                              {"normal_error_max_deg", cs.normal_error_max_deg}};
-    nlohmann::json j = jj;
-    if (opts->recipe.codec.codec != hb::CodecId::none)
-      hb::cli::check_ratio_target(opts->recipe.codec.ratio, cs.compression_ratio(), cs.max_error_bound, cs.t_error_mean,
-                                  opts->strict, j);
-    // How the work was shared: per rank the rays cast, the seconds its share took and the
-    // bytes it sent; the busiest rank against the mean; the bytes sent against the tables.
-    {
-      nlohmann::json per_rank = nlohmann::json::array();
-      double busiest = 0, mean = 0;
-      std::uint64_t sent = 0;
-      for (const hb::RankWork& w : stats.ranks) {
-        per_rank.push_back({{"rank", w.rank}, {"rays", w.work}, {"seconds", w.seconds}, {"bytes_sent", w.bytes_sent}});
-        busiest = std::max(busiest, w.seconds);
-        mean += w.seconds / double(stats.ranks.size());
-        sent += w.bytes_sent;
-      }
-      // Rank 0 keeps its own share: the others' shares are what must travel.
-      std::uint64_t others_rays = 0;
-      for (const hb::RankWork& w : stats.ranks)
-        if (w.rank != 0) others_rays += w.work;
-      const double expected = stats.rays ? double(stats.table_bytes) * double(others_rays) / double(stats.rays) : 0.0;
-      j["rank_work"] = per_rank;
-      j["load_balance"] = mean > 0 ? busiest / mean : 1.0;
-      j["bytes_sent"] = sent;
-      j["bytes_sent_over_tables"] = expected > 0 ? double(sent) / expected : 0.0;
-    }
-    j["budget"] = hb::cli::budget_json(budget);
-    if (opts->json) {
-      hb::cli::print_json(j);
-    } else {
-      if (cached.from_cache)
-        std::cout << "baked " << opts->out << " from cache (" << cached.path << "): " << scene.boxes().size()
-                  << " box(es), m=" << range(box_m) << " n=" << range(box_n) << ", " << hb::bytes_text(bytes);
-      else
-        std::cout << "baked " << opts->out << ": " << scene.boxes().size() << " box(es), m=" << range(box_m)
-                  << " n=" << range(box_n) << ", " << hb::count_text(double(stats.rays)) << " rays in "
-                  << hb::duration_text(stats.seconds) << " (" << hb::count_text(stats.rays_per_second) << " rays/s), "
-                  << hb::bytes_text(bytes);
-      if (refined_boxes > 0)
-        std::cout << " (" << (refined_boxes == scene.boxes().size() ? std::string("all") : std::to_string(refined_boxes))
-                  << " box(es) with triangle ids and surface for exact refinement)";
-      else if (scene.refines())
-        std::cout << " (exact through the surface cells: surface " << hb::bytes_text(scene.surface()->bytes())
-                  << (scene.surface()->normal_map_bytes() > 0
-                          ? " and its normal map " + hb::bytes_text(scene.surface()->normal_map_bytes())
-                          : std::string())
-                  << ", no triangle ids)";
+  hb::cli::add_cache_option(cmd, opts->cache);
+  cmd.add_flag("--json", opts->json, "Print a JSON summary");
+  hb::cli::add_model_options(cmd, opts->model);
+}
+
+// The default bake's recipe (hb::default_recipe) with the budget, the measurement switches and
+// the pieces, codec and cell options given on the command line.
+void use_default_recipe(BakeOpts& o, const BudgetArgs& budget_args, bool cell_given, bool codec_given) {
+  const auto full_search = hb::cli::measurement("full-search"), keep_ids = hb::cli::measurement("keep-ids"),
+             shading = hb::cli::measurement("simplify-shading"),
+             shading_check = hb::cli::measurement("simplify-shading-check");
+  hb::BakeRecipe r = hb::default_recipe();
+  try {
+    r.budget.budget = hb::parse_budget(budget_args.budget);
+  } catch (const hb::InvalidInput& e) {
+    throw hb::cli::UsageError(std::string("bake: ") + e.what());
+  }
+  if (budget_args.simplify) r.budget.simplify = *budget_args.simplify;
+  if (budget_args.simplify_above) r.budget.simplify_above = std::size_t(*budget_args.simplify_above);
+  if (budget_args.deviation) r.budget.simplify_deviation = *budget_args.deviation;
+  if (budget_args.shading_map) r.budget.shading_map_side = int(*budget_args.shading_map);
+  if (shading) r.budget.simplify_shading_deg = hb::cli::spec_number_or_usage(*shading, "HB_MEASURE simplify-shading", 0.0, 180.0);
+  if (shading_check) {
+    if (*shading_check != "fit" && *shading_check != "ring")
+      throw hb::cli::UsageError("HB_MEASURE simplify-shading-check: '" + *shading_check + "' is not fit or ring");
+    r.budget.simplify_shading_check = *shading_check == "ring" ? hb::DecimationOptions::ShadingCheck::ring
+                                                               : hb::DecimationOptions::ShadingCheck::fit;
+  }
+  r.budget.keep_triangle_ids = keep_ids.has_value();
+  r.budget.full_search = full_search.has_value();
+  if (cell_given) r.options.density.max_m = o.recipe.options.density.max_m;
+  if (!o.pieces.given) o.pieces.spec = "auto";
+  if (!codec_given) o.codec = "block";
+  if (o.bound_given) {
+    r.codec.max_error = o.recipe.codec.max_error;
+    r.codec.ratio = o.recipe.codec.ratio;
+  }
+  r.pieces.automatic.progress = o.recipe.pieces.automatic.progress;
+  o.recipe = r;
+}
+
+// The recipe of this bake. Without a sampling option (-m, -n, --cell, --refine) it is the
+// default, budgeted one (hb::default_recipe): the pieces, codec and seam options given still
+// apply to it; with one, exactly that sampling.
+void choose_bake_recipe(BakeOpts& o, const CLI::App& cmd) {
+  const bool sampling_given = cmd.count("-m") + cmd.count("-n") + cmd.count("--cell") + cmd.count("--refine") > 0;
+  const BudgetArgs budget_args = parse_budget_args(o.budget);
+  // Measurement-only switches of the default bake (HB_MEASURE, measurement_switches.h).
+  const bool full_search = hb::cli::measurement("full-search").has_value(),
+             keep_ids = hb::cli::measurement("keep-ids").has_value(),
+             shading = hb::cli::measurement("simplify-shading") || hb::cli::measurement("simplify-shading-check");
+  if (sampling_given && (budget_args.simplify_keys() || shading))
+    throw hb::cli::UsageError("bake: --budget's simplify keys belong to the default bake; drop -m, -n, --cell and --refine, or them");
+  if (sampling_given && full_search)
+    throw hb::cli::UsageError("bake: full-search (HB_MEASURE) belongs to the default bake (-m, -n, --cell and --refine bake one sampling); drop it");
+  if (sampling_given && keep_ids)
+    throw hb::cli::UsageError("bake: keep-ids (HB_MEASURE) belongs to the default bake (a --refine bake always keeps its ids); drop it");
+  if (sampling_given && cmd.count("--budget"))
+    throw hb::cli::UsageError("bake: --budget chooses -n, --cell and --refine per piece; drop -m, -n, --cell and --refine, or --budget");
+  if (!sampling_given) use_default_recipe(o, budget_args, cmd.count("--cell") > 0, cmd.count("--codec") > 0);
+  o.pieces.apply_tuning(o.recipe);
+  o.recipe.codec.codec = hb::parse_codec(o.codec);
+  if (o.recipe.codec.codec == hb::CodecId::none && o.bound_given)
+    throw hb::cli::UsageError("bake: --codec's max-error and ratio need the codec haar or block");
+}
+
+// Each stage of a budgeted bake as it finishes (on stderr, over the progress bar when there
+// is one), so a long bake shows where its minutes go before it ends.
+void report_bake_stages(hb::BakeRecipe& recipe) {
+  if (!hb::cli::communicator().is_root()) return;
+  const bool tty = isatty(STDERR_FILENO);
+  recipe.budget.on_stage = [tty](const std::string& stage, double seconds) {
+    std::fprintf(stderr, "%sstage %s: %s%s\n", tty ? "\r" : "", stage.c_str(), hb::duration_text(seconds).c_str(),
+                 tty ? "\033[K" : "");
+    std::fflush(stderr);
+  };
+}
+
+// Writes -o: the scene baked now, or a copy of the cache entry (the bake's file byte for byte).
+void write_baked_file(const hb::CachedBake& cached, const std::string& out) {
+  namespace fs = std::filesystem;
+  std::error_code same_ec;
+  if (cached.from_cache && fs::equivalent(cached.path, out, same_ec)) return;  // -o is the cache entry itself
+  if (!cached.from_cache) {
+    hb::save_box_file(cached.result.scene, out);
+    return;
+  }
+  std::error_code ec;
+  fs::copy_file(cached.path, out, fs::copy_options::overwrite_existing, ec);
+  if (ec) throw hb::IoError(out + ": cannot write the box file (" + ec.message() + ")");
+}
+
+// "lo..hi" of a per-box value, or the value when all boxes share it.
+std::string per_box_range(const std::vector<int>& v) {
+  const int lo = *std::min_element(v.begin(), v.end()), hi = *std::max_element(v.begin(), v.end());
+  return lo == hi ? std::to_string(lo) : std::to_string(lo) + ".." + std::to_string(hi);
+}
+
+// How the work was shared: per rank the rays cast, the seconds its share took and the bytes it
+// sent; the busiest rank against the mean; the bytes sent against the tables.
+void add_rank_work(const hb::BakeStats& stats, nlohmann::json& j) {
+  nlohmann::json per_rank = nlohmann::json::array();
+  double busiest = 0, mean = 0;
+  std::uint64_t sent = 0;
+  for (const hb::RankWork& w : stats.ranks) {
+    per_rank.push_back({{"rank", w.rank}, {"rays", w.work}, {"seconds", w.seconds}, {"bytes_sent", w.bytes_sent}});
+    busiest = std::max(busiest, w.seconds);
+    mean += w.seconds / double(stats.ranks.size());
+    sent += w.bytes_sent;
+  }
+  // Rank 0 keeps its own share: the others' shares are what must travel.
+  std::uint64_t others_rays = 0;
+  for (const hb::RankWork& w : stats.ranks)
+    if (w.rank != 0) others_rays += w.work;
+  const double expected = stats.rays ? double(stats.table_bytes) * double(others_rays) / double(stats.rays) : 0.0;
+  j["rank_work"] = per_rank;
+  j["load_balance"] = mean > 0 ? busiest / mean : 1.0;
+  j["bytes_sent"] = sent;
+  j["bytes_sent_over_tables"] = expected > 0 ? double(sent) / expected : 0.0;
+}
+
+// What a bake made, for its JSON and its text.
+struct BakeSummary {
+  std::vector<int> box_m, box_n;
+  std::size_t refined_boxes = 0, id_bytes = 0;
+  std::uintmax_t bytes = 0;
+  hb::SceneCodecStats codec;
+};
+
+BakeSummary summarise_bake(const hb::BoxScene& scene, const std::string& out) {
+  BakeSummary s;
+  s.codec = hb::scene_codec_stats(scene);
+  s.bytes = std::filesystem::file_size(out);
+  for (const hb::HapticBox& box : scene.boxes()) {
+    s.box_m.push_back(box.params().m);
+    s.box_n.push_back(box.params().n);
+    s.refined_boxes += box.refines() ? 1 : 0;
+    s.id_bytes += box.triangle_id_bytes();
+  }
+  return s;
+}
+
+nlohmann::json bake_json(const BakeOpts& o, const hb::TriangleMesh& mesh, const hb::CachedBake& cached,
+                         const BakeSummary& s) {
+  const hb::BoxScene& scene = cached.result.scene;
+  const hb::BakeStats& stats = cached.result.stats;
+  const hb::SceneCodecStats& cs = s.codec;
+  nlohmann::json j = {{"mesh", o.mesh},
+                      {"output", o.out},
+                      {"triangles", mesh.triangle_count()},
+                      {"boxes", scene.boxes().size()},
+                      {"m", o.recipe.options.params.m},
+                      {"box_m", s.box_m},
+                      {"n", scene.budget_report().present ? s.box_n.back() : o.recipe.options.params.n},
+                      {"box_n", s.box_n},
+                      {"refined_boxes", s.refined_boxes},
+                      {"from_cache", cached.from_cache},
+                      {"cache_path", cached.path},
+                      {"seconds", stats.seconds},
+                      {"rays", stats.rays},
+                      {"rays_per_second", stats.rays_per_second},
+                      {"hit_fraction", stats.rays ? double(stats.hits) / double(stats.rays) : 0.0},
+                      {"bytes", s.bytes},
+                      {"refine", scene.refines()},
+                      {"triangle_id_bytes", s.id_bytes},
+                      {"codec", o.codec},
+                      {"table_bytes", cs.table_bytes},
+                      {"raw_table_bytes", cs.raw_bytes},
+                      {"compression_ratio", cs.compression_ratio()},
+                      {"max_error_bound", cs.max_error_bound},
+                      {"t_error_mean", cs.t_error_mean},
+                      {"t_error_max", cs.t_error_max},
+                      {"normal_error_mean_deg", cs.normal_error_mean_deg},
+                      {"normal_error_max_deg", cs.normal_error_max_deg}};
+  if (o.recipe.codec.codec != hb::CodecId::none)
+    hb::cli::check_ratio_target(o.recipe.codec.ratio, cs.compression_ratio(), cs.max_error_bound, cs.t_error_mean,
+                                o.strict, j);
+  add_rank_work(stats, j);
+  j["budget"] = hb::cli::budget_json(scene.budget_report());
+  return j;
+}
+
+// The first line: what was written, how (baked now or from the cache) and what it holds.
+void print_bake_line(const BakeOpts& o, const hb::CachedBake& cached, const BakeSummary& s) {
+  const hb::BoxScene& scene = cached.result.scene;
+  const hb::BakeStats& stats = cached.result.stats;
+  if (cached.from_cache)
+    std::cout << "baked " << o.out << " from cache (" << cached.path << "): " << scene.boxes().size()
+              << " box(es), m=" << per_box_range(s.box_m) << " n=" << per_box_range(s.box_n) << ", " << hb::bytes_text(s.bytes);
+  else
+    std::cout << "baked " << o.out << ": " << scene.boxes().size() << " box(es), m=" << per_box_range(s.box_m)
+              << " n=" << per_box_range(s.box_n) << ", " << hb::count_text(double(stats.rays)) << " rays in "
+              << hb::duration_text(stats.seconds) << " (" << hb::count_text(stats.rays_per_second) << " rays/s), "
+              << hb::bytes_text(s.bytes);
+  if (s.refined_boxes > 0)
+    std::cout << " (" << (s.refined_boxes == scene.boxes().size() ? std::string("all") : std::to_string(s.refined_boxes))
+              << " box(es) with triangle ids and surface for exact refinement)";
+  else if (scene.refines())
+    std::cout << " (exact through the surface cells: surface " << hb::bytes_text(scene.surface()->bytes())
+              << (scene.surface()->normal_map_bytes() > 0
+                      ? " and its normal map " + hb::bytes_text(scene.surface()->normal_map_bytes())
+                      : std::string())
+              << ", no triangle ids)";
+  std::cout << "\n";
+}
+
+void print_bake(const BakeOpts& o, const hb::CachedBake& cached, const BakeSummary& s, const nlohmann::json& j) {
+  print_bake_line(o, cached, s);
+  const hb::BudgetReport& budget = cached.result.scene.budget_report();
+  if (budget.present) {
+    std::cout << "budget " << budget.summary() << "; " << budget.candidates_tried << " sampling bake(s)";
+    if (budget.seconds > 0) std::cout << ", " << hb::duration_text(budget.seconds) << " in all";
+    std::cout << "\n";
+    if (!budget.stage_seconds.empty()) {
+      std::cout << "stages:";
+      for (const auto& st : budget.stage_seconds) std::cout << " " << st.first << " " << hb::duration_text(st.second);
       std::cout << "\n";
-      if (budget.present) {
-        std::cout << "budget " << budget.summary() << "; " << budget.candidates_tried << " sampling bake(s)";
-        if (budget.seconds > 0) std::cout << ", " << hb::duration_text(budget.seconds) << " in all";
-        std::cout << "\n";
-        if (!budget.stage_seconds.empty()) {
-          std::cout << "stages:";
-          for (const auto& st : budget.stage_seconds) std::cout << " " << st.first << " " << hb::duration_text(st.second);
-          std::cout << "\n";
-        }
-      }
-      if (comm.size() > 1)
-        std::cout << comm.size() << " ranks: busiest " << hb::sig(j["load_balance"].get<double>()) << " x the mean; sent "
-                  << hb::bytes_text(j["bytes_sent"].get<std::uint64_t>()) << ", "
-                  << hb::sig(j["bytes_sent_over_tables"].get<double>()) << " x their tables\n";
-      if (opts->recipe.codec.codec != hb::CodecId::none)
-        std::cout << "codec " << opts->codec << ": ratio " << hb::sig(cs.compression_ratio()) << ":1, bound "
-                  << hb::percent(cs.max_error_bound) << " of the box diagonal; t error mean " << hb::percent(cs.t_error_mean)
-                  << ", max " << hb::percent(cs.t_error_max) << "; normal error mean " << hb::sig(cs.normal_error_mean_deg)
-                  << " deg, max " << hb::sig(cs.normal_error_max_deg) << " deg (means weighted by box samples)\n";
     }
-  });
+  }
+  const hb::Communicator& comm = hb::cli::communicator();
+  if (comm.size() > 1)
+    std::cout << comm.size() << " ranks: busiest " << hb::sig(j["load_balance"].get<double>()) << " x the mean; sent "
+              << hb::bytes_text(j["bytes_sent"].get<std::uint64_t>()) << ", "
+              << hb::sig(j["bytes_sent_over_tables"].get<double>()) << " x their tables\n";
+  const hb::SceneCodecStats& cs = s.codec;
+  if (o.recipe.codec.codec != hb::CodecId::none)
+    std::cout << "codec " << o.codec << ": ratio " << hb::sig(cs.compression_ratio()) << ":1, bound "
+              << hb::percent(cs.max_error_bound) << " of the box diagonal; t error mean " << hb::percent(cs.t_error_mean)
+              << ", max " << hb::percent(cs.t_error_max) << "; normal error mean " << hb::sig(cs.normal_error_mean_deg)
+              << " deg, max " << hb::sig(cs.normal_error_max_deg) << " deg (means weighted by box samples)\n";
+}
+
+void run_bake(BakeOpts& o, const CLI::App& cmd) {
+  hb::cli::check_output_file(o.out);  // an unwritable -o fails now, not after the bake
+  choose_bake_recipe(o, cmd);
+  const hb::TriangleMesh mesh = hb::cli::load_mesh(o.mesh, o.model);
+  hb::SourceInfo source{o.mesh, hb::cli::hash_model(o.mesh, o.model), mesh.triangle_count(), mesh.bounds().diagonal()};
+  o.recipe.options.progress = hb::cli::terminal_progress("baking");
+  report_bake_stages(o.recipe);
+  o.recipe.options.density.min_m = std::min(o.recipe.options.density.min_m, o.recipe.options.density.max_m);
+  hb::Communicator& comm = hb::cli::communicator();
+  o.recipe.options.communicator = &comm;  // position points dealt across the ranks of an MPI job
+  hb::cli::apply_pieces_spec(o.pieces.spec, o.recipe, o.model.face_ids);
+  std::optional<hb::BoxCache> cache;
+  if (!o.cache.empty()) cache.emplace(o.cache);
+  const hb::CachedBake cached = hb::bake_cached(mesh, o.recipe, source, cache ? &*cache : nullptr);
+  if (!comm.is_root()) return;  // rank 0 holds the tables and writes the file
+  if (!cached.from_cache) hb::cli::print_decomposition(o.recipe, cached.result);
+  if (!cached.warning.empty()) std::cerr << "warning: " << cached.warning << "\n";
+  write_baked_file(cached, o.out);
+  const BakeSummary summary = summarise_bake(cached.result.scene, o.out);
+  const nlohmann::json j = bake_json(o, mesh, cached, summary);
+  if (o.json) hb::cli::print_json(j);
+  else print_bake(o, cached, summary, j);
+}
+
+} // namespace
+
+void add_bake_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("bake", "Bake a haptic box file from a mesh");
+  auto opts = std::make_shared<BakeOpts>();
+  add_bake_options(*cmd, opts);
+  cmd->callback([opts, cmd] { run_bake(*opts, *cmd); });
 }

@@ -120,16 +120,6 @@ nlohmann::json tail_json(const hb::QueryLatency& t) {
                         {"probe_p999_ns", t.probe_p999_ns}, {"probe_max_ns", t.probe_max_ns}};
 }
 
-// The verdict of each order: faster or slower than exact, and by how much.
-std::string verdict(double box, double exact) {
-  if (!(box > 0.0) || !(exact > 0.0)) return std::string("not measured");
-  std::ostringstream v;
-  v << std::fixed << std::setprecision(2);
-  if (exact >= box) v << "faster than exact, " << exact / box << "x";
-  else v << "SLOWER than exact, " << box / exact << "x";
-  return v.str();
-}
-
 // Everything a bench measured, for its JSON and its text.
 struct BenchResult {
   OrderTimes t;
@@ -243,9 +233,10 @@ void print_bench(const BenchOpts& o, const hb::TriangleMesh& mesh, const hb::Box
   for (const auto& k : m.by_met)
     std::cout << "    meeting " << k["boxes_met"].get<std::string>() << " box(es): " << std::setprecision(1)
               << k["box_ns"].get<double>() << " ns/query (" << k["queries"].get<std::size_t>() << " queries)\n";
-  int faster = 0;
-  for (const char* order : {"random", "batched", "coherent", "strokes"})
-    faster += r.verdicts[order].get<std::string>().rfind("faster", 0) == 0 ? 1 : 0;
+  const int faster = int(hb::compare_speed(t.box_ns, t.exact_ns) == hb::SpeedComparison::faster) +
+                     int(hb::compare_speed(t.box_many_ns, t.exact_many_ns) == hb::SpeedComparison::faster) +
+                     int(hb::compare_speed(t.box_coherent_ns, t.exact_coherent_ns) == hb::SpeedComparison::faster) +
+                     int(hb::compare_speed(t.box_stroke_ns, t.exact_stroke_ns) == hb::SpeedComparison::faster);
   std::cout << "verdict: the haptic box is faster than exact in " << faster << " of 4 orders: one at a time "
             << hb::speed_verdict(t.box_ns, t.exact_ns) << "; batched " << hb::speed_verdict(t.box_many_ns, t.exact_many_ns)
             << "; coherent " << hb::speed_verdict(t.box_coherent_ns, t.exact_coherent_ns) << "; strokes "
@@ -293,13 +284,14 @@ void run_bench(BenchOpts& o) {
   // larger than the last-level cache.
   r.walks = scene.grid() && scene.answering_route() == hb::SceneRoute::cells && scene.surface_cells()->walks_side_by_side();
   const OrderTimes& t = r.t;
-  r.verdicts = {{"random", verdict(t.box_ns, t.exact_ns)},
-                {"batched", verdict(t.box_many_ns, t.exact_many_ns)},
-                {"coherent", verdict(t.box_coherent_ns, t.exact_coherent_ns)},
-                {"strokes", verdict(t.box_stroke_ns, t.exact_stroke_ns)},
-                {"p99", verdict(r.box_tail.p99_ns, r.exact_tail.p99_ns)},
-                {"p999", verdict(r.box_tail.p999_ns, r.exact_tail.p999_ns)},
-                {"probe_p999", verdict(r.box_tail.probe_p999_ns, r.exact_tail.probe_p999_ns)}};
+  // The verdict of each order (hb::speed_verdict: the text's words too).
+  r.verdicts = {{"random", hb::speed_verdict(t.box_ns, t.exact_ns)},
+                {"batched", hb::speed_verdict(t.box_many_ns, t.exact_many_ns)},
+                {"coherent", hb::speed_verdict(t.box_coherent_ns, t.exact_coherent_ns)},
+                {"strokes", hb::speed_verdict(t.box_stroke_ns, t.exact_stroke_ns)},
+                {"p99", hb::speed_verdict(r.box_tail.p99_ns, r.exact_tail.p99_ns)},
+                {"p999", hb::speed_verdict(r.box_tail.p999_ns, r.exact_tail.p999_ns)},
+                {"probe_p999", hb::speed_verdict(r.box_tail.probe_p999_ns, r.exact_tail.probe_p999_ns)}};
   if (o.json) hb::cli::print_json(bench_json(o, mesh, scene, probes.size(), r, ws, judge));
   else print_bench(o, mesh, scene, probes.size(), r, ws);
 }

@@ -9,6 +9,9 @@
 //  4. Picking casts the mouse ray against a static cell locator of the model, so it works
 //     whichever of model or proxy is on screen.
 //  5. Renders are coalesced to one per event-loop pass and skipped when nothing moved.
+// This file builds the view and draws the probe; the colouring is in ProbeViewColoring.cpp, the
+// level-of-detail proxy and the surface preview in ProbeViewDetail.cpp, the camera and the
+// screenshot in ProbeViewCamera.cpp.
 #include "ProbeView.h"
 #include "series_colours.h"
 #include "ProbeInteractorStyle.h"
@@ -128,7 +131,14 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   renderer_->SetBackground2(0.08, 0.08, 0.12);
   renderer_->GradientBackgroundOn();
   window_->AddRenderer(renderer_);
+  addModelActors();
+  addProbeActors();
+  connectInteraction();
+  addOverlays();
+  setFocusPolicy(Qt::StrongFocus);
+}
 
+void ProbeView::addModelActors() {
   surfaceMapper_ = vtkSmartPointer<vtkPolyDataMapper>::New();
   surfaceMapper_->SetStatic(1);  // the surface changes only through setSurface
   surfaceActor_ = vtkSmartPointer<vtkActor>::New();
@@ -183,7 +193,9 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   outlineActor_->GetProperty()->LightingOff();
   outlineActor_->VisibilityOff();
   renderer_->AddActor(outlineActor_);
+}
 
+void ProbeView::addProbeActors() {
   probeLine_ = vtkSmartPointer<vtkLineSource>::New();
   auto probeMapper = vtkSmartPointer<vtkPolyDataMapper>::New();
   probeMapper->SetInputConnection(probeLine_->GetOutputPort());
@@ -239,7 +251,9 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   legendApprox_ = makeLegend("-> haptic box force", kApproxColor, 1);
   renderer_->AddViewProp(legendExact_);
   renderer_->AddViewProp(legendApprox_);
+}
 
+void ProbeView::addOverlays() {
   // A horizontal bar along the bottom: its title reads whole, whatever its length.
   scalarBar_ = vtkSmartPointer<vtkScalarBarActor>::New();
   scalarBar_->SetOrientationToHorizontal();
@@ -251,19 +265,6 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   scalarBar_->SetVerticalTitleSeparation(4);
   scalarBar_->VisibilityOff();
   renderer_->AddViewProp(scalarBar_);
-
-
-  style_ = vtkSmartPointer<ProbeInteractorStyle>::New();
-  style_->SetDefaultRenderer(renderer_);
-  style_->ProbeCallback = [this](int x, int y, bool press) {
-    hb::Vec3 p;
-    if (press) setInteracting(true);
-    if (!pickSurface(x, y, p)) return false;
-    emit surfaceDragged(p, press);
-    return true;
-  };
-  style_->DepthCallback = [this](int step) { emit depthStepped(step); };
-  interactor()->SetInteractorStyle(style_);
   // Orientation axes in the lower-left corner, as ParaView and Slicer show them.
   auto axes = vtkSmartPointer<vtkAxesActor>::New();
   axes->SetShaftTypeToCylinder();
@@ -280,6 +281,20 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   axesWidget_->SetViewport(0.0, 0.0, 0.14, 0.2);
   axesWidget_->SetEnabled(1);
   axesWidget_->InteractiveOff();
+}
+
+void ProbeView::connectInteraction() {
+  style_ = vtkSmartPointer<ProbeInteractorStyle>::New();
+  style_->SetDefaultRenderer(renderer_);
+  style_->ProbeCallback = [this](int x, int y, bool press) {
+    hb::Vec3 p;
+    if (press) setInteracting(true);
+    if (!pickSurface(x, y, p)) return false;
+    emit surfaceDragged(p, press);
+    return true;
+  };
+  style_->DepthCallback = [this](int step) { emit depthStepped(step); };
+  interactor()->SetInteractorStyle(style_);
   auto interaction = vtkSmartPointer<vtkCallbackCommand>::New();
   interaction->SetClientData(this);
   interaction->SetCallback([](vtkObject*, unsigned long event, void* self, void*) {
@@ -293,7 +308,6 @@ ProbeView::ProbeView(QWidget* parent) : QVTKOpenGLNativeWidget(parent) {
   });
   style_->AddObserver(vtkCommand::StartInteractionEvent, interaction);
   style_->AddObserver(vtkCommand::EndInteractionEvent, interaction);
-  setFocusPolicy(Qt::StrongFocus);
 }
 
 ProbeView::~ProbeView() = default;
@@ -334,208 +348,6 @@ void ProbeView::setOutlinesVisible(bool on) {
 }
 
 bool ProbeView::outlinesVisible() const { return outlineActor_->GetVisibility() != 0; }
-
-void ProbeView::setColorMode(ColorMode mode, ErrorMetric metric) {
-  colorMode_ = mode;
-  metric_ = metric;
-  updateColoring();
-  renderNow();
-}
-
-void ProbeView::updateColoring() {
-  scalarBar_->VisibilityOff();
-  if (!surface_) return;
-  const char* name = HapticSession::errorArrayName(metric_);
-  vtkDataArray* field = surface_->GetPointData()->GetArray(name);
-  if (colorMode_ == ColorMode::ErrorField && field && metric_ == ErrorMetric::Perceptible) {
-    // Anchored at what a hand feels: below a ratio of 1 the model's plain colour (nothing to
-    // see), from 1 on a ramp to kPerceptibleTop and above: only feelable differences show.
-    double plain[3];
-    hb::vtk::plain_surface_colour(plain);
-    vtkSmartPointer<vtkLookupTable> lut = hb::vtk::perceptible_table(plain);
-    surfaceMapper_->SetLookupTable(lut);
-    surfaceMapper_->SetScalarModeToUsePointFieldData();
-    surfaceMapper_->SelectColorArray(name);
-    surfaceMapper_->SetScalarRange(0.0, hb::vtk::kPerceptibleTop);
-    surfaceMapper_->ScalarVisibilityOn();
-    hb::vtk::style_perceptible_bar(scalarBar_, lut, true);
-    scalarBar_->VisibilityOn();
-  } else if (colorMode_ == ColorMode::ErrorField && field) {
-    double range[2] = {0.0, 1.0};
-    // Robust range: the 95th percentile of the finite values, so a few outliers do not wash
-    // the map out (the bar's top label then means "this or more").
-    std::vector<double> v;
-    v.reserve(static_cast<std::size_t>(field->GetNumberOfTuples()));
-    for (vtkIdType i = 0; i < field->GetNumberOfTuples(); ++i) {
-      const double x = field->GetTuple1(i);
-      if (std::isfinite(x)) v.push_back(x);
-    }
-    if (!v.empty()) {
-      const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(0.95 * v.size()));
-      std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-      range[1] = v[k] > 0.0 ? v[k] : 1.0;
-    }
-    if (metric_ == ErrorMetric::ContactDisagreement) range[1] = std::max(range[1], 0.05);
-    // One probe a vertex makes the disagreement yes/no: a categorical legend, not a bar.
-    bool categorical = metric_ == ErrorMetric::ContactDisagreement;
-    for (vtkIdType i = 0; categorical && i < field->GetNumberOfTuples(); ++i) {
-      const double x = field->GetTuple1(i);
-      categorical = std::isnan(x) || x == 0.0 || x == 1.0;
-    }
-    // Fractions are shown in percent (the panel's text says %): a display copy times 100.
-    const char* shown = name;
-    std::string title = HapticSession::errorMetricTitle(metric_).toStdString();
-    if (metric_ == ErrorMetric::Direction) title += ", deg";
-    if (!categorical && metric_ != ErrorMetric::Direction) {
-      static const char* kPercent = "DisplayPercent";
-      auto percent = vtkSmartPointer<vtkFloatArray>::New();
-      percent->SetName(kPercent);
-      percent->SetNumberOfValues(field->GetNumberOfTuples());
-      for (vtkIdType i = 0; i < field->GetNumberOfTuples(); ++i) percent->SetValue(i, float(100.0 * field->GetTuple1(i)));
-      surface_->GetPointData()->RemoveArray(kPercent);
-      surface_->GetPointData()->AddArray(percent);
-      shown = kPercent;
-      range[1] *= 100.0;
-      title += metric_ == ErrorMetric::ContactDisagreement ? ", % of probes" : ", %";
-    }
-    vtkSmartPointer<vtkLookupTable> lut = categorical ? hb::vtk::agreement_table() : hb::vtk::viridis_table(range[1]);
-    surfaceMapper_->SetLookupTable(lut);
-    surfaceMapper_->SetScalarModeToUsePointFieldData();
-    surfaceMapper_->SelectColorArray(shown);
-    surfaceMapper_->SetScalarRange(categorical ? 0.0 : range[0], categorical ? 1.0 : range[1]);
-    surfaceMapper_->ScalarVisibilityOn();
-    hb::vtk::style_scalar_bar(scalarBar_, lut, title + "  (grey: no data)", categorical, true);
-    scalarBar_->VisibilityOn();
-  } else {
-    vtkDataArray* pieces = surface_->GetCellData()->GetArray("PieceId");
-    const double count = pieces ? pieces->GetRange()[1] + 1.0 : 1.0;
-    if (count <= 1.0) {
-      surfaceMapper_->ScalarVisibilityOff();
-      double plain[3];
-      hb::vtk::plain_surface_colour(plain);
-      surfaceActor_->GetProperty()->SetColor(plain);
-    } else {
-      auto lut = vtkSmartPointer<vtkLookupTable>::New();
-      lut->SetNumberOfTableValues(static_cast<vtkIdType>(count));
-      lut->SetTableRange(0.0, count - 1.0);
-      for (vtkIdType i = 0; i < static_cast<vtkIdType>(count); ++i) {
-        // Golden-angle hues: neighbouring ids get distinct colours.
-        const double h = std::fmod(0.61803398875 * static_cast<double>(i), 1.0);
-        double rgb[3];
-        vtkMath::HSVToRGB(h, 0.45, 0.95, rgb + 0, rgb + 1, rgb + 2);
-        lut->SetTableValue(i, rgb[0], rgb[1], rgb[2], 1.0);
-      }
-      surfaceMapper_->SetLookupTable(lut);
-      surfaceMapper_->SetScalarModeToUseCellFieldData();
-      surfaceMapper_->SelectColorArray("PieceId");
-      surfaceMapper_->SetScalarRange(0.0, count - 1.0);
-      surfaceMapper_->ScalarVisibilityOn();
-    }
-  }
-  surfaceMapper_->Modified();
-  updateProxyColors();
-}
-
-void ProbeView::buildProxy() {
-  proxy_ = nullptr;
-  proxySource_ = nullptr;
-  proxyMapper_->SetInputData(nullptr);
-  constexpr vtkIdType kProxyAbove = 30000;  // triangles; smaller models are drawn as they are
-  constexpr vtkIdType kProxyTarget = 15000;
-  if (!surface_ || surface_->GetNumberOfCells() <= kProxyAbove) return;
-  // Quadric clustering: fast (one pass) and keeps the silhouette; the grid is refined once
-  // towards the target triangle count.
-  int divisions = 96;
-  vtkSmartPointer<vtkPolyData> coarse;
-  for (int attempt = 0; attempt < 3; ++attempt) {
-    auto cluster = vtkSmartPointer<vtkQuadricClustering>::New();
-    cluster->SetInputData(surface_);
-    cluster->SetNumberOfDivisions(divisions, divisions, divisions);
-    cluster->AutoAdjustNumberOfDivisionsOn();
-    cluster->CopyCellDataOn();
-    cluster->Update();
-    coarse = cluster->GetOutput();
-    const double ratio = static_cast<double>(coarse->GetNumberOfCells()) / kProxyTarget;
-    if (ratio < 1.3 && ratio > 0.5) break;
-    divisions = std::max(16, static_cast<int>(divisions / std::sqrt(ratio)));
-  }
-  auto normals = vtkSmartPointer<vtkPolyDataNormals>::New();
-  normals->SetInputData(coarse);
-  normals->SplittingOff();
-  normals->ConsistencyOff();
-  normals->Update();
-  proxy_ = normals->GetOutput();
-  // Nearest model vertex of each proxy point, to carry the error field's point arrays over.
-  auto locator = vtkSmartPointer<vtkStaticPointLocator>::New();
-  locator->SetDataSet(surface_);
-  locator->BuildLocator();
-  proxySource_ = vtkSmartPointer<vtkIdTypeArray>::New();
-  proxySource_->SetNumberOfTuples(proxy_->GetNumberOfPoints());
-  for (vtkIdType i = 0; i < proxy_->GetNumberOfPoints(); ++i)
-    proxySource_->SetValue(i, locator->FindClosestPoint(proxy_->GetPoint(i)));
-  proxyMapper_->SetInputData(proxy_);
-}
-
-void ProbeView::updateProxyColors() {
-  if (!proxy_) return;
-  // Point arrays of the error field: copied from the nearest model vertex.
-  vtkPointData* from = surface_->GetPointData();
-  for (ErrorMetric m : kErrorMetrics) {
-    const char* name = HapticSession::errorArrayName(m);
-    vtkDataArray* a = from->GetArray(name);
-    if (!a) {
-      proxy_->GetPointData()->RemoveArray(name);
-      continue;
-    }
-    vtkDataArray* b = proxy_->GetPointData()->GetArray(name);
-    if (!b || b->GetMTime() < a->GetMTime()) {
-      vtkSmartPointer<vtkDataArray> copy;
-      copy.TakeReference(a->NewInstance());
-      copy->SetName(name);
-      copy->SetNumberOfComponents(1);
-      copy->SetNumberOfTuples(proxy_->GetNumberOfPoints());
-      for (vtkIdType i = 0; i < proxy_->GetNumberOfPoints(); ++i)
-        copy->SetTuple1(i, a->GetTuple1(proxySource_->GetValue(i)));
-      proxy_->GetPointData()->AddArray(copy);
-    }
-  }
-  proxyMapper_->SetLookupTable(surfaceMapper_->GetLookupTable());
-  proxyMapper_->SetScalarMode(surfaceMapper_->GetScalarMode());
-  proxyMapper_->SelectColorArray(surfaceMapper_->GetArrayName());
-  proxyMapper_->SetScalarRange(surfaceMapper_->GetScalarRange());
-  proxyMapper_->SetScalarVisibility(surfaceMapper_->GetScalarVisibility());
-  proxy_->Modified();
-  proxyMapper_->Modified();
-}
-
-void ProbeView::setPreview(vtkPolyData* preview, const QString& caption) {
-  if (!preview && !preview_) return;
-  const bool first = preview && !preview_;
-  preview_ = preview;
-  previewMapper_->SetInputData(preview);
-  previewActor_->SetVisibility(preview != nullptr);
-  previewCaption_->SetInput(caption.toUtf8().constData());
-  previewCaption_->SetVisibility(preview != nullptr && !caption.isEmpty());
-  interacting_ = !interacting_;  // re-apply the visibility of the model and its proxy
-  setInteracting(!interacting_);
-  // The first preview is framed (a bone inside a skin is much smaller); later ones keep the
-  // camera the user chose.
-  if (first) renderer_->ResetCamera(preview->GetBounds());
-  renderNow();
-}
-
-vtkIdType ProbeView::previewTriangles() const { return preview_ ? preview_->GetNumberOfPolys() : 0; }
-
-vtkIdType ProbeView::proxyTriangles() const { return proxy_ ? proxy_->GetNumberOfCells() : 0; }
-
-void ProbeView::setInteracting(bool on) {
-  if (on == interacting_) return;
-  interacting_ = on;
-  const bool proxy = on && proxy_ != nullptr;
-  const bool preview = preview_ != nullptr;
-  surfaceActor_->SetVisibility(surface_ != nullptr && !proxy && !preview);
-  proxyActor_->SetVisibility(proxy && !preview);
-}
 
 void ProbeView::setReading(const ProbeReading& r, double forceScale) {
   std::array<float, 12> key{};
@@ -650,99 +462,6 @@ bool ProbeView::pickSurface(int x, int y, hb::Vec3& point) const {
   return true;
 }
 
-hb::Vec3 ProbeView::viewDirection() const {
-  double d[3];
-  renderer_->GetActiveCamera()->GetDirectionOfProjection(d);
-  return hb::Vec3(static_cast<float>(d[0]), static_cast<float>(d[1]), static_cast<float>(d[2])).normalized();
-}
-
-hb::Vec3 ProbeView::viewRight() const {
-  double up[3];
-  renderer_->GetActiveCamera()->GetViewUp(up);
-  const hb::Vec3 u(static_cast<float>(up[0]), static_cast<float>(up[1]), static_cast<float>(up[2]));
-  return viewDirection().cross(u).normalized();
-}
-
-void ProbeView::resetCamera() {
-  renderer_->ResetCamera();
-  renderNow();
-}
-
-void ProbeView::centreOn(const hb::Vec3& point) {
-  vtkCamera* c = renderer_->GetActiveCamera();
-  double focal[3], position[3];
-  c->GetFocalPoint(focal);
-  c->GetPosition(position);
-  for (int a = 0; a < 3; ++a) {
-    const double shift = double(point[a]) - focal[a];
-    focal[a] += shift;
-    position[a] += shift;
-  }
-  c->SetFocalPoint(focal);
-  c->SetPosition(position);
-  renderer_->ResetCameraClippingRange();
-  renderNow();
-}
-
-hb::Vec3 ProbeView::focalPoint() const {
-  double f[3];
-  renderer_->GetActiveCamera()->GetFocalPoint(f);
-  return hb::Vec3(float(f[0]), float(f[1]), float(f[2]));
-}
-
-void ProbeView::viewAlong(int axis, int sign) {
-  vtkCamera* c = renderer_->GetActiveCamera();
-  double focal[3];
-  c->GetFocalPoint(focal);
-  const double distance = c->GetDistance();
-  double position[3] = {focal[0], focal[1], focal[2]};
-  position[axis] -= (sign > 0 ? 1.0 : -1.0) * distance;  // looking toward +axis: the camera on the - side
-  c->SetPosition(position);
-  if (axis == 2) c->SetViewUp(0.0, 1.0, 0.0);
-  else c->SetViewUp(0.0, 0.0, 1.0);
-  renderer_->ResetCamera();
-  renderNow();
-}
-
-void ProbeView::setOrientationAxesVisible(bool on) {
-  axesWidget_->SetEnabled(on ? 1 : 0);
-  if (on) axesWidget_->InteractiveOff();
-  renderNow();
-}
-
-bool ProbeView::orientationAxesVisible() const { return axesWidget_->GetEnabled() != 0; }
-
-void ProbeView::orbitCamera(double azimuth, double elevation) {
-  vtkCamera* c = renderer_->GetActiveCamera();
-  c->Azimuth(azimuth);
-  c->Elevation(elevation);
-  c->OrthogonalizeViewUp();
-  renderer_->ResetCameraClippingRange();
-  renderNow();
-}
-
-CameraState ProbeView::cameraState() const {
-  CameraState s;
-  vtkCamera* c = renderer_->GetActiveCamera();
-  c->GetPosition(s.position.data());
-  c->GetFocalPoint(s.focalPoint.data());
-  c->GetViewUp(s.viewUp.data());
-  s.viewAngle = c->GetViewAngle();
-  s.parallelScale = c->GetParallelScale();
-  return s;
-}
-
-void ProbeView::setCameraState(const CameraState& s) {
-  vtkCamera* c = renderer_->GetActiveCamera();
-  c->SetPosition(s.position.data());
-  c->SetFocalPoint(s.focalPoint.data());
-  c->SetViewUp(s.viewUp.data());
-  c->SetViewAngle(s.viewAngle);
-  c->SetParallelScale(s.parallelScale);
-  renderer_->ResetCameraClippingRange();
-  renderNow();
-}
-
 void ProbeView::renderNow() {
   // Coalesced: every change of one event-loop pass (surface, colours, probe) costs one render.
   if (renderPending_) return;
@@ -753,71 +472,11 @@ void ProbeView::renderNow() {
   });
 }
 
-QSize ProbeView::viewPixels() const {
-  const int* size = const_cast<ProbeView*>(this)->renderWindow()->GetSize();
-  return QSize(size[0], size[1]);
-}
-
-void ProbeView::saveScreenshot(const QString& path, int magnification, bool transparent) {
-  if (magnification < 1 || magnification > 8)
-    throw hb::InvalidInput("screenshot magnification " + std::to_string(magnification) + " is outside [1, 8]");
-  stillTimer_->stop();
-  setInteracting(false);  // a screenshot shows the full model, never the proxy
-  const bool gradient = renderer_->GetGradientBackground() != 0;
-  if (transparent) {
-    // ParaView's "transparent background": the background's alpha at 0, everything drawn opaque.
-    renderer_->GradientBackgroundOff();
-    renderer_->SetBackgroundAlpha(0.0);
-    window_->SetAlphaBitPlanes(1);
-  }
-  renderWindow()->Render();
-  auto grab = vtkSmartPointer<vtkWindowToImageFilter>::New();
-  grab->SetInput(renderWindow());
-  // Magnified: VTK renders the view in tiles at the window's size and stitches them (text
-  // and bars are placed per tile and keep their pixel size).
-  grab->SetScale(magnification, magnification);
-  grab->FixBoundaryOn();
-  if (transparent) grab->SetInputBufferTypeToRGBA();
-  else grab->SetInputBufferTypeToRGB();
-  grab->ReadFrontBufferOff();
-  grab->Update();
-  if (transparent) {
-    renderer_->SetBackgroundAlpha(1.0);
-    renderer_->SetGradientBackground(gradient);
-  }
-  renderNow();
-  auto writer = vtkSmartPointer<vtkPNGWriter>::New();
-  writer->SetFileName(QFile::encodeName(path).constData());
-  writer->SetInputConnection(grab->GetOutputPort());
-  writer->Write();
-  if (writer->GetErrorCode() != 0 || !QFile::exists(path))
-    throw hb::IoError(QFile::encodeName(path).toStdString() + ": cannot write the screenshot");
-}
-
-double ProbeView::measureFrameRate(int frames, bool interactive) {
-  vtkCamera* c = renderer_->GetActiveCamera();
-  stillTimer_->stop();
-  setInteracting(interactive);
-  renderWindow()->Render();
-  const auto t0 = std::chrono::steady_clock::now();
-  for (int i = 0; i < frames; ++i) {
-    c->Azimuth(360.0 / frames);
-    renderWindow()->Render();
-  }
-  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  setInteracting(false);
-  return s > 0 ? frames / s : 0.0;
-}
-
 bool ProbeView::exactArrowShown() const { return exactArrow_->GetVisibility() != 0; }
 bool ProbeView::approxArrowShown() const { return approxArrow_->GetVisibility() != 0; }
 bool ProbeView::scalarBarShown() const { return scalarBar_->GetVisibility() != 0; }
-vtkScalarsToColors* ProbeView::surfaceColorTable() const { return surfaceMapper_->GetLookupTable(); }
-bool ProbeView::surfaceColoredByScalars() const { return surfaceMapper_->GetScalarVisibility() != 0; }
-vtkUnsignedCharArray* ProbeView::mappedSurfaceColors() { return surfaceMapper_->MapScalars(1.0); }
 std::array<double, 3> ProbeView::arrowColor(bool exact) const {
   std::array<double, 3> c{};
   (exact ? exactArrow_ : approxArrow_)->GetProperty()->GetColor(c.data());
   return c;
 }
-std::string ProbeView::scalarBarTitle() const { return scalarBar_->GetTitle() ? scalarBar_->GetTitle() : ""; }

@@ -113,6 +113,12 @@ signals:
   void depthStepped(int step);
 
 private:
+  // The constructor's parts: the model, its proxy, preview and outlines; the probe, arrows,
+  // captions and legend; the interaction; the scalar bar and orientation axes.
+  void addModelActors();
+  void addProbeActors();
+  void connectInteraction();
+  void addOverlays();
   void updateColoring();
   void updateArrowCaptions();
   void buildProxy();

@@ -94,11 +94,21 @@ std::string duration_text(double seconds) {
   return sig(seconds * 1e9) + " ns";
 }
 
-std::string speed_verdict(double box_seconds, double exact_seconds) {
-  if (!(box_seconds > 0.0) || !(exact_seconds > 0.0)) return {};
+SpeedComparison compare_speed(double box_seconds, double exact_seconds) {
+  if (!(box_seconds > 0.0) || !(exact_seconds > 0.0)) return SpeedComparison::not_measured;
   const double ratio = exact_seconds / box_seconds;
-  if (ratio >= 0.95 && ratio <= 1.0 / 0.95) return "as fast as exact (" + sig(ratio, 2) + "x)";
-  if (ratio > 1.0) return sig(ratio, 2) + "x faster than exact";
+  if (ratio >= 0.95 && ratio <= 1.0 / 0.95) return SpeedComparison::as_fast;
+  return ratio > 1.0 ? SpeedComparison::faster : SpeedComparison::slower;
+}
+
+std::string speed_verdict(double box_seconds, double exact_seconds) {
+  const double ratio = exact_seconds / box_seconds;
+  switch (compare_speed(box_seconds, exact_seconds)) {
+    case SpeedComparison::not_measured: return "not measured";
+    case SpeedComparison::as_fast: return "as fast as exact (" + sig(ratio, 2) + "x)";
+    case SpeedComparison::faster: return sig(ratio, 2) + "x faster than exact";
+    case SpeedComparison::slower: break;
+  }
   return sig(1.0 / ratio, 2) + "x slower than exact";
 }
 

@@ -30,8 +30,14 @@ std::string count_text(double count);
 /// A duration with its unit chosen for 1-999: "1.23 s", "450 ms", "3.1 us", "310 ns".
 std::string duration_text(double seconds);
 
-/// "N.Nx faster than exact" / "N.Nx slower than exact" / "as fast as exact" (within 5 %) for
-/// two times of the same probes (box first). Empty when either is not positive.
+/// How the box's time compares with exact's on the same probes (box first): as fast within 5 %
+/// either way; not measured when either time is not positive. Every speed verdict the CLI, the
+/// report and the window state comes from this one rule.
+enum class SpeedComparison { not_measured, faster, as_fast, slower };
+SpeedComparison compare_speed(double box_seconds, double exact_seconds);
+
+/// compare_speed in words: "N.Nx faster than exact" / "N.Nx slower than exact" / "as fast as
+/// exact (N.Nx)" / "not measured".
 std::string speed_verdict(double box_seconds, double exact_seconds);
 
 } // namespace hb

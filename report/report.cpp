@@ -263,7 +263,10 @@ std::string report_json(const ReportData& d) {
   if (timing.contains("exact_embree_ns") && d.box_ns > 0) {
     const double exact_ns = timing["exact_embree_ns"].get<double>();
     timing["speedup_vs_exact"] = exact_ns / d.box_ns;
-    timing["verdict"] = exact_ns >= d.box_ns ? "faster than exact" : "slower than exact";
+    const SpeedComparison speed = compare_speed(d.box_ns, exact_ns);
+    timing["verdict"] = speed == SpeedComparison::faster  ? "faster than exact"
+                        : speed == SpeedComparison::as_fast ? "as fast as exact"
+                                                            : "slower than exact";
     timing["verdict_text"] = "the box is " + speed_verdict(d.box_ns, exact_ns) + " (same probes, one at a time, one core)";
   }
   j["timing"] = timing;

@@ -83,18 +83,24 @@ const SweepRow* find_row(const std::vector<SweepRow>& rows, const std::string& m
 
 std::string ns_text(double ns) { return ns > 0 ? duration_text(ns * 1e-9) : "n/a"; }
 
-} // namespace
+// The speed of the box against exact Embree, as the verdicts and the accuracy table say it.
+struct SpeedAgainstExact {
+  double exact_ns = 0.0;
+  bool faster = false;
+  std::string text;
+};
 
-std::string report_html(const ReportData& d, const ChartFiles& charts) {
-  const ComparisonStats& s = d.stats;
-  const ReportTolerances& tol = d.options.tolerances;
-  auto verdict = [](bool ok) { return ok ? "<td class=pass>pass</td>" : "<td class=fail>fail</td>"; };
+SpeedAgainstExact speed_against_exact(const ReportData& d) {
   const SweepRow* exact = find_row(d.rows, "exact_embree");
-  const SweepRow* vtk = find_row(d.rows, "vtk_static_cell_locator");
-  const double exact_ns = exact ? exact->query_ns : 0.0;
-  const bool faster = exact_ns > 0 && d.box_ns > 0 && exact_ns >= d.box_ns;
-  const std::string speed = exact_ns > 0 && d.box_ns > 0 ? speed_verdict(d.box_ns, exact_ns) : "not measured";
-  std::ostringstream h;
+  SpeedAgainstExact v;
+  v.exact_ns = exact ? exact->query_ns : 0.0;
+  const SpeedComparison speed = compare_speed(d.box_ns, v.exact_ns);
+  v.faster = speed == SpeedComparison::faster || speed == SpeedComparison::as_fast;
+  v.text = speed_verdict(d.box_ns, v.exact_ns);
+  return v;
+}
+
+void write_page_head(std::ostringstream& h, const ReportData& d) {
   h << "<!DOCTYPE html>\n<html lang=en><head><meta charset=utf-8><title>HapticBox report: "
     << html_escape(fs::path(d.mesh_path).filename().string()) << "</title>\n<style>"
     << "body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222;line-height:1.4}"
@@ -105,14 +111,21 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
     << ".stamp{color:#555;font-size:90%}.verdicts td{font-size:110%}code{background:#f4f4f4;padding:0 3px}"
     << "@media print{body{max-width:none;margin:1cm}}</style></head><body>\n";
   h << "<h1>HapticBox error report: " << html_escape(fs::path(d.mesh_path).filename().string()) << "</h1>\n";
-  // 1. The stamp.
+}
+
+// 1. The stamp: what, when, where, how asked for.
+void write_stamp(std::ostringstream& h, const ReportData& d) {
   h << "<p class=stamp>Generated " << html_escape(d.generated_at) << " on " << html_escape(d.machine)
     << " by hapticbox " << html_escape(d.product_version);
   if (!d.command_line.empty()) h << ":<br><code>" << html_escape(d.command_line) << "</code>";
   h << "<br>Mesh " << html_escape(d.mesh_path) << " (hash " << hash_text(d.mesh_hash) << ")";
   if (!d.box_path.empty()) h << "; box file " << html_escape(d.box_path) << (d.box_hash ? " (hash " + hash_text(d.box_hash) + ")" : "");
   h << ".</p>\n";
-  // 2. The verdicts, side by side.
+}
+
+// 2. The verdicts, side by side, and what was measured.
+void write_verdicts(std::ostringstream& h, const ReportData& d, const SpeedAgainstExact& speed) {
+  const ComparisonStats& s = d.stats;
   h << "<table class=verdicts><tr><th class=l>accuracy against the exact answer</th><td class=l>"
     << (d.pass() ? "<span class=pass>no one could feel the difference</span>"
                  : "<span class=fail>a hand would feel the difference</span>")
@@ -120,14 +133,19 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
     << "; threshold " << html_escape(thresholds_text(s.thresholds)) << "); secondary: median force error "
     << percent(s.force_error_median) << ", p95 " << percent(s.force_error_p95) << ", contact agreement "
     << agreement_percent(s.contact_agreement) << "</td></tr>\n"
-    << "<tr><th class=l>speed against exact Embree</th><td class=l><span class=" << (faster ? "pass" : "slow")
-    << ">the box is " << html_escape(speed) << "</span> (" << ns_text(d.box_ns) << " against " << ns_text(exact_ns)
+    << "<tr><th class=l>speed against exact Embree</th><td class=l><span class=" << (speed.faster ? "pass" : "slow")
+    << ">the box is " << html_escape(speed.text) << "</span> (" << ns_text(d.box_ns) << " against " << ns_text(speed.exact_ns)
     << " a query; same probes, one at a time, one core)</td></tr></table>\n";
   h << "<p>What was measured: " << count_text(double(s.samples)) << " random probe segments (seed "
     << d.options.probes.seed << "; tips on the surface, within " << sig(d.options.probes.cone_degrees)
     << " deg of the inward normal), each answered by the haptic box and by the exact reference on the same "
        "segment with the same contact rule and force law ("
     << html_escape(d.workspace.describe()) << ").</p>\n";
+}
+
+void write_summary(std::ostringstream& h, const ReportData& d) {
+  const SweepRow* exact = find_row(d.rows, "exact_embree");
+  const SweepRow* vtk = find_row(d.rows, "vtk_static_cell_locator");
   h << "<h2>Summary</h2>\n<table>\n";
   auto tr = [&h](const std::string& k, const std::string& v) { h << "<tr><th class=l>" << k << "</th><td class=l>" << v << "</td></tr>\n"; };
   tr("model", html_escape(fs::path(d.mesh_path).filename().string()));
@@ -142,7 +160,15 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
   tr("query time, haptic box", ns_text(d.box_ns));
   if (exact) tr("query time, exact Embree", ns_text(exact->query_ns));
   if (vtk) tr("query time, VTK vtkStaticCellLocator", ns_text(vtk->query_ns));
-  h << "</table>\n<h2>Accuracy and speed against the exact answer</h2>\n<table>\n"
+  h << "</table>\n";
+}
+
+// The figures against their tolerances.
+void write_accuracy(std::ostringstream& h, const ReportData& d, const SpeedAgainstExact& speed) {
+  const ComparisonStats& s = d.stats;
+  const ReportTolerances& tol = d.options.tolerances;
+  auto verdict = [](bool ok) { return ok ? "<td class=pass>pass</td>" : "<td class=fail>fail</td>"; };
+  h << "<h2>Accuracy and speed against the exact answer</h2>\n<table>\n"
     << "<tr><th class=l>figure</th><th>value</th><th>tolerance</th><th>verdict</th></tr>\n"
     << "<tr><td class=l>median relative force error</td><td>" << percent(s.force_error_median) << "</td><td>&le; "
     << percent(tol.force_error_median) << "</td>" << verdict(d.pass_median) << "</tr>\n"
@@ -150,8 +176,8 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
     << percent(tol.force_error_p95) << "</td>" << verdict(d.pass_p95) << "</tr>\n"
     << "<tr><td class=l>contact agreement</td><td>" << agreement_percent(s.contact_agreement) << "</td><td>&ge; "
     << percent(tol.contact_agreement) << "</td>" << verdict(d.pass_agreement) << "</tr>\n"
-    << "<tr><td class=l>speed: box against exact Embree</td><td>" << ns_text(d.box_ns) << " / " << ns_text(exact_ns)
-    << "</td><td>none stated</td><td class=" << (faster ? "pass" : "slow") << ">" << html_escape(speed) << "</td></tr>\n"
+    << "<tr><td class=l>speed: box against exact Embree</td><td>" << ns_text(d.box_ns) << " / " << ns_text(speed.exact_ns)
+    << "</td><td>none stated</td><td class=" << (speed.faster ? "pass" : "slow") << ">" << html_escape(speed.text) << "</td></tr>\n"
     << "<tr><td class=l>largest force error</td><td>" << percent(s.force_error_max)
     << "</td><td colspan=2 class=l>where the exact force is tiny; see the worst probes below</td></tr>\n"
     << "<tr><td class=l>direction error median / p99</td><td>" << sig(s.angle_error_median_deg) << " / "
@@ -160,7 +186,10 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
     << s.samples << "</td><td></td><td></td></tr>\n"
     << "<tr><td class=l>depth RMS / diagonal</td><td>" << sig(s.depth_rms_over_diag) << "</td><td></td><td></td></tr>\n"
     << "</table>\n";
-  // 3. Worst probes.
+}
+
+// 3. The worst probes: where, how wrong, why.
+void write_worst_probes(std::ostringstream& h, const ReportData& d) {
   h << "<h2 id=worst>Worst probes</h2>\n";
   if (d.worst.empty()) {
     h << "<p class=note>No probe disagrees and no force error to list.</p>\n";
@@ -188,7 +217,10 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
     }
     h << "</table>\n";
   }
-  // 4. Charts.
+}
+
+// 4. The charts and the sweep's table.
+void write_charts(std::ostringstream& h, const ReportData& d, const ChartFiles& charts) {
   h << "<h2>Speed against accuracy</h2>\n";
   if (!charts.speed.empty()) h << image(charts.speed, "speed against accuracy chart") << "\n";
   h << "<table>\n<tr><th class=l>method</th><th>m</th><th>n</th><th>codec</th><th>query time</th><th>memory</th>"
@@ -212,7 +244,10 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
   if (!d.compression_curve.empty() && !charts.compression.empty())
     h << "<h2>Compression (" << html_escape(d.options.compression_codec) << ")</h2>\n"
       << image(charts.compression, "compression curve") << "\n";
-  // 5. Error field.
+}
+
+// 5. The error field: how many vertices a hand would feel, and its image.
+void write_error_field(std::ostringstream& h, const ReportData& d) {
   std::size_t felt = 0;
   double largest = 0.0;
   for (float r : d.error_field.perceptible_ratio)
@@ -232,6 +267,21 @@ std::string report_html(const ReportData& d, const ChartFiles& charts) {
   else
     h << "<p class=note>No rendered image: " << html_escape(d.error_field_note.empty() ? "not requested" : d.error_field_note)
       << "</p>\n";
+}
+
+} // namespace
+
+std::string report_html(const ReportData& d, const ChartFiles& charts) {
+  const SpeedAgainstExact speed = speed_against_exact(d);
+  std::ostringstream h;
+  write_page_head(h, d);
+  write_stamp(h, d);
+  write_verdicts(h, d, speed);
+  write_summary(h, d);
+  write_accuracy(h, d, speed);
+  write_worst_probes(h, d);
+  write_charts(h, d, charts);
+  write_error_field(h, d);
   if (d.stability) h << stability_html_section(*d.stability, charts.stability_dir);
   h << "<h2>Reproducing</h2>\n<p>summary.json holds every figure above and every parameter (and this page's "
        "summary as text, also in summary.txt); samples.csv one row per probe with both answers (nan: no data). "

@@ -1,12 +1,16 @@
 #pragma once
-// Reading "key=value,key=value" specs (an error budget, perceptual thresholds): trimming and
-// range-checked numbers whose errors name the key and the bad text.
+// Reading "key=value,key=value" specs (an error budget, perceptual thresholds, a volume's
+// surface): trimming, range-checked numbers whose errors name the key and the bad text, and
+// the grammar "[head,]key=value,key,..." that every front end's spec options share.
 #include "errors.h"
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace hb {
 
@@ -35,6 +39,44 @@ inline std::string spec_format(double v) {
   os.precision(6);
   os << v;
   return os.str();
+}
+
+/// One key of a spec ("block,ratio=20,strict"): its name and what it sets from its value (""
+/// for a bare key); `what` names the option and key for error messages.
+struct SpecKey {
+  std::string key;
+  std::function<void(const std::string& value, const std::string& what)> set;
+};
+
+/// Parses "[head,]key=value,key,..." given to `option`: each item sets its key (any order, any
+/// subset); `head` (when not null) receives a first item that is not one of the keys. Throws
+/// hb::InvalidInput naming the option and the unknown key (with the known ones); a key's own
+/// errors are its setter's.
+inline void parse_spec_keys(const std::string& option, const std::string& spec, const std::vector<SpecKey>& keys,
+                            std::string* head = nullptr) {
+  const auto known = [&] {
+    std::string k;
+    for (const SpecKey& key : keys) k += (k.empty() ? "" : ", ") + key.key;
+    return k;
+  };
+  std::stringstream ss(spec);
+  std::string item;
+  bool first = true;
+  while (std::getline(ss, item, ',')) {
+    item = spec_trim(item);
+    const auto eq = item.find('=');
+    const std::string key = spec_trim(item.substr(0, eq)), value = eq == std::string::npos ? "" : item.substr(eq + 1);
+    const auto it = std::find_if(keys.begin(), keys.end(), [&](const SpecKey& k) { return k.key == key; });
+    if (it == keys.end() && first && head) {
+      *head = item;
+      first = false;
+      continue;
+    }
+    first = false;
+    if (item.empty()) continue;
+    if (it == keys.end()) throw InvalidInput(option + ": unknown key '" + key + "' (keys: " + known() + ")");
+    it->set(value, option + " " + key);
+  }
 }
 
 } // namespace hb

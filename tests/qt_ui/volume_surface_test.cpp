@@ -8,6 +8,7 @@
 #include "errors.h"
 #include "mesh/mesh_io.h"
 #include "model_options_key.h"
+#include "volume_spec.h"
 #include "mesh/file_hash.h"
 #include "window_test_support.h"
 #include <QAction>
@@ -96,8 +97,8 @@ TEST(VolumeSurfaceTest, TheBoneIsoOfTheFemurCtFindsTheFemurWithinAVoxel) {
   ASSERT_TRUE(w.session()->model()->modelOptions().volume.iso.has_value());
   EXPECT_DOUBLE_EQ(*w.session()->model()->modelOptions().volume.iso, 300.0);
   EXPECT_NE(w.session()->meshHash(), skinHash);
-  hb::vtk::ModelOptions cli;  // what `hapticbox bake femur_ct.nii.gz --iso 300` hashes
-  cli.volume.iso = 300.0;
+  hb::vtk::ModelOptions cli;  // what `hapticbox bake femur_ct.nii.gz --volume iso=300` hashes
+  hb::vtk::parse_volume_spec("iso=300", cli.volume);
   EXPECT_EQ(w.session()->meshHash(), hb::hash_model(kFemurCt.toStdString(), hb::vtk::model_options_key(cli)));
 
   const hb::TriangleMesh source = hb::read_mesh(kFemurSource.toStdString());

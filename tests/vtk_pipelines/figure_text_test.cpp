@@ -41,5 +41,7 @@ TEST(FigureTextTest, SpeedVerdictSaysFasterOrSlowerAndByHowMuch) {
   EXPECT_EQ(hb::speed_verdict(3.72e-6, 0.4e-6), "9.3x slower than exact");
   EXPECT_EQ(hb::speed_verdict(56e-9, 1060e-9), "19x faster than exact");
   EXPECT_EQ(hb::speed_verdict(1.0, 1.02), "as fast as exact (1x)");
-  EXPECT_EQ(hb::speed_verdict(0.0, 1.0), "");
+  EXPECT_EQ(hb::speed_verdict(0.0, 1.0), "not measured");
+  EXPECT_EQ(hb::compare_speed(1.0, 1.02), hb::SpeedComparison::as_fast);
+  EXPECT_EQ(hb::compare_speed(56e-9, 1060e-9), hb::SpeedComparison::faster);
 }
