@@ -174,13 +174,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   // trajectories (a curved surface whose faces sag between the kept vertices more than the
   // quadric bound says) is simplified again within a quarter of the bound, twice at most (a
   // tighter bound is still within the one asked for); then the full mesh (the chess piece:
-  // its lathe surface fails T2 at every bound tried, docs/speed.md). Not after a T2 miss at
-  // the perceptual budget's own bound: its deviation's force is already a sixteenth of the
-  // threshold, and what a hand feels there is mostly the slides' contact events: tighter
-  // bounds lowered it but never within the budget on the models tried (the smooth ellipsoid
-  // 0.92% of slide ticks felt at the bound, 0.23% at a sixteenth of it; the bumpy sphere
-  // 0.15-1.1%; the chess piece at every bound): the full mesh at once.
-  const bool perceptual_bound = recipe.budget.simplify_deviation <= 0.0 && !recipe.budget.budget.relative;
+  // its lathe surface fails T2 at every bound tried, docs/speed.md).
   BakeRecipe tighter = recipe;
   const double diagonal = double(mesh.bounds().diagonal());
   for (int retry = 0;; ++retry) {
@@ -189,8 +183,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     seconds += tried.seconds;
     rejected = tried.surface_triangles;
     why = result.surface_miss;
-    const bool contact_events = perceptual_bound && retry == 0 && why.rfind("T2's trajectories", 0) == 0;
-    if (retry == kSimplifyRetries || !(diagonal > 0.0) || result.surface_slower_than_exact || contact_events) {
+    if (retry == kSimplifyRetries || !(diagonal > 0.0) || result.surface_slower_than_exact) {
       tighter.budget.simplify = false;  // the full mesh, as without simplify
       result = BudgetSearch(mesh, tighter, source, ref).run();
       break;
