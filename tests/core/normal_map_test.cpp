@@ -129,6 +129,7 @@ TEST_F(NormalMapFileTest, TheSimplifiedBakeKeepsTheFullShadingThroughItsFile) {
   recipe.budget.samplings = {{0.1f, 6}};
   recipe.budget.simplify = true;
   recipe.budget.simplify_above = 1000;
+  recipe.budget.fastest_exact = false;  // the simplified surface's scene, not Embree's
   const BakeResult baked = bake(fine, recipe);
   const BudgetReport& rep = baked.scene.budget_report();
   ASSERT_TRUE(rep.met) << rep.summary();
