@@ -169,10 +169,10 @@ void use_default_recipe(BakeOpts& o, const BudgetArgs& budget_args, bool cell_gi
 }
 
 // The recipe of this bake. Without a sampling option (-m, -n, --cell, --refine) it is the
-// default, budgeted one (hb::default_recipe): the pieces, codec and seam options given still
+// default, budgeted one (hb::choose_recipe): the pieces, codec and seam options given still
 // apply to it; with one, exactly that sampling.
 void choose_bake_recipe(BakeOpts& o, const CLI::App& cmd) {
-  const bool sampling_given = cmd.count("-m") + cmd.count("-n") + cmd.count("--cell") + cmd.count("--refine") > 0;
+  const bool sampling_given = !hb::bakes_default_recipe(hb::cli::sampling_given(cmd));
   const BudgetArgs budget_args = parse_budget_args(o.budget);
   // Measurement-only switches of the default bake (HB_MEASURE, measurement_switches.h).
   const bool full_search = hb::cli::measurement("full-search").has_value(),
