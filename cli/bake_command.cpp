@@ -12,6 +12,7 @@
 #include "recipe/bake_recipe.h"
 #include "recipe/box_cache.h"
 #include "haptic_box/box_file.h"
+#include "haptic_box/density_range.h"
 #include "haptic_box/scene_codec_stats.h"
 #include "mesh/mesh_io.h"
 #include "pieces_option.h"
@@ -168,10 +169,10 @@ void use_default_recipe(BakeOpts& o, const BudgetArgs& budget_args, bool cell_gi
 }
 
 // The recipe of this bake. Without a sampling option (-m, -n, --cell, --refine) it is the
-// default, budgeted one (hb::default_recipe): the pieces, codec and seam options given still
+// default, budgeted one (hb::choose_recipe): the pieces, codec and seam options given still
 // apply to it; with one, exactly that sampling.
 void choose_bake_recipe(BakeOpts& o, const CLI::App& cmd) {
-  const bool sampling_given = cmd.count("-m") + cmd.count("-n") + cmd.count("--cell") + cmd.count("--refine") > 0;
+  const bool sampling_given = !hb::bakes_default_recipe(hb::cli::sampling_given(cmd));
   const BudgetArgs budget_args = parse_budget_args(o.budget);
   // Measurement-only switches of the default bake (HB_MEASURE, measurement_switches.h).
   const bool full_search = hb::cli::measurement("full-search").has_value(),
@@ -216,12 +217,6 @@ void write_baked_file(const hb::CachedBake& cached, const std::string& out) {
   std::error_code ec;
   fs::copy_file(cached.path, out, fs::copy_options::overwrite_existing, ec);
   if (ec) throw hb::IoError(out + ": cannot write the box file (" + ec.message() + ")");
-}
-
-// "lo..hi" of a per-box value, or the value when all boxes share it.
-std::string per_box_range(const std::vector<int>& v) {
-  const int lo = *std::min_element(v.begin(), v.end()), hi = *std::max_element(v.begin(), v.end());
-  return lo == hi ? std::to_string(lo) : std::to_string(lo) + ".." + std::to_string(hi);
 }
 
 // How the work was shared: per rank the rays cast, the seconds its share took and the bytes it
@@ -312,12 +307,13 @@ nlohmann::json bake_json(const BakeOpts& o, const hb::TriangleMesh& mesh, const 
 void print_bake_line(const BakeOpts& o, const hb::CachedBake& cached, const BakeSummary& s) {
   const hb::BoxScene& scene = cached.result.scene;
   const hb::BakeStats& stats = cached.result.stats;
+  const std::string densities = hb::density_range_text(hb::density_range(scene));
   if (cached.from_cache)
     std::cout << "baked " << o.out << " from cache (" << cached.path << "): " << scene.boxes().size()
-              << " box(es), m=" << per_box_range(s.box_m) << " n=" << per_box_range(s.box_n) << ", " << hb::bytes_text(s.bytes);
+              << " box(es), " << densities << ", " << hb::bytes_text(s.bytes);
   else
-    std::cout << "baked " << o.out << ": " << scene.boxes().size() << " box(es), m=" << per_box_range(s.box_m)
-              << " n=" << per_box_range(s.box_n) << ", " << hb::count_text(double(stats.rays)) << " rays in "
+    std::cout << "baked " << o.out << ": " << scene.boxes().size() << " box(es), " << densities << ", "
+              << hb::count_text(double(stats.rays)) << " rays in "
               << hb::duration_text(stats.seconds) << " (" << hb::count_text(stats.rays_per_second) << " rays/s), "
               << hb::bytes_text(s.bytes);
   if (s.refined_boxes > 0)

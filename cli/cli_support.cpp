@@ -105,18 +105,25 @@ double model_diagonal(const BoxScene& scene) {
   return scene.boxes().empty() ? 0.0 : double(scene_bounds(scene).diagonal());
 }
 
+SamplingGiven sampling_given(const CLI::App& cmd) {
+  const auto given = [&cmd](const char* name) {
+    const CLI::Option* option = cmd.get_option_no_throw(name);
+    return option != nullptr && option->count() > 0;
+  };
+  return {given("-m"), given("-n"), given("--cell"), given("--refine")};
+}
+
 ModelBake bake_model(const TriangleMesh& mesh, const std::string& mesh_path, std::uint64_t mesh_hash,
-                     bool sampling_given, const BoxParams& params, const std::string& cache_dir) {
+                     const SamplingGiven& given, const BoxParams& params, const std::string& cache_dir) {
   Communicator& comm = communicator();
-  BakeRecipe recipe;
-  if (sampling_given) {
-    recipe.options.params = params;
-    // Baked across the ranks of an MPI job; every rank needs the scene for the evaluation.
-    recipe.options.communicator = &comm;
-    recipe.options.scene_on_every_rank = true;
-  } else {
-    recipe = default_recipe();  // one process's bake: each rank of a job bakes it alone
-  }
+  const bool sampling_given = !bakes_default_recipe(given);
+  BakeRecipe sampling;
+  sampling.options.params = params;
+  // Baked across the ranks of an MPI job; every rank needs the scene for the evaluation.
+  sampling.options.communicator = &comm;
+  sampling.options.scene_on_every_rank = true;
+  // The default is one process's bake: each rank of a job bakes it alone.
+  BakeRecipe recipe = choose_recipe(given, std::move(sampling));
   recipe.options.progress = terminal_progress("bake");
   // The cache only for the default and one process: ranks must not evaluate different scenes
   // (a cached one and a fresh one of another build).

@@ -21,6 +21,7 @@
 #include "parallel/communicator.h"
 #include "progress.h"
 #include "recipe/error_budget.h"
+#include "recipe/recipe_choice.h"
 #include "spec_parse.h"
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -55,10 +56,14 @@ Bounds scene_bounds(const BoxScene& scene);
 /// boxes' bounds for a file that does not record it.
 double model_diagonal(const BoxScene& scene);
 
+/// The sampling options (-m, -n, --cell, --refine) given to `cmd`, for hb::choose_recipe; an
+/// option the command does not define counts as not given.
+SamplingGiven sampling_given(const CLI::App& cmd);
+
 /// The bake a command makes of a MESH it was given without a box file (report, field): the
 /// default (budgeted) bake through the box cache, as `bake`, ./run.sh and the window make it,
-/// or, when the user asked for a sampling (-m / -n), exactly one raw box of it, shared across
-/// the ranks of an MPI job. `seconds` is the whole bake's wall time (0 from the cache).
+/// or, when the user gave a sampling option (hb::choose_recipe), exactly one raw box of it,
+/// shared across the ranks of an MPI job. `seconds` is the whole bake's wall time (0 from the cache).
 struct ModelBake {
   BoxScene scene;
   bool from_cache = false;
@@ -66,9 +71,9 @@ struct ModelBake {
   double seconds = 0.0;
   bool default_recipe = true;
 };
-/// `params`: the sampling when `sampling_given`; `cache_dir` empty: no cache.
+/// `params`: the sampling when `given` has any; `cache_dir` empty: no cache.
 ModelBake bake_model(const TriangleMesh& mesh, const std::string& mesh_path, std::uint64_t mesh_hash,
-                     bool sampling_given, const BoxParams& params, const std::string& cache_dir);
+                     const SamplingGiven& given, const BoxParams& params, const std::string& cache_dir);
 
 /// Adds --route boxes|cells (hb::SceneRoute) to a command; `route` holds the name.
 void add_route_option(CLI::App& cmd, std::string& route);

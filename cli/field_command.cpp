@@ -71,10 +71,10 @@ void add_field_command(CLI::App& app) {
       loaded->SetScene(std::make_shared<const hb::BoxScene>(hb::load_box_file(opts->inputs[0])));
       box_label = opts->inputs[0];
     } else {
-      const bool sampling_given = cmd->count("-m") + cmd->count("-n") > 0;
-      hb::cli::ModelBake baked =
-          hb::cli::bake_model(mesh, mesh_path, hb::cli::hash_model(mesh_path, opts->model), sampling_given,
-                              opts->params, opts->cache);
+      const hb::SamplingGiven sampling = hb::cli::sampling_given(*cmd);
+      const bool sampling_given = !hb::bakes_default_recipe(sampling);
+      hb::cli::ModelBake baked = hb::cli::bake_model(mesh, mesh_path, hb::cli::hash_model(mesh_path, opts->model),
+                                                     sampling, opts->params, opts->cache);
       bake_seconds = baked.seconds;
       box_label = baked.from_cache ? baked.cache_path + " (the default bake, from the box cache)"
                   : sampling_given ? "(one raw box m" + std::to_string(opts->params.m) + " n" +

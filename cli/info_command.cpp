@@ -8,6 +8,7 @@
 #include "errors.h"
 #include "figure_text.h"
 #include "haptic_box/box_file.h"
+#include "haptic_box/density_range.h"
 #include "haptic_box/scene_codec_stats.h"
 #include "mesh/file_hash.h"
 #include "mesh/mesh_io.h"
@@ -126,11 +127,7 @@ nlohmann::json box_info(const std::string& path, bool verify) {
                      {"half_extents", {o.half.x(), o.half.y(), o.half.z()}}});
   }
   const auto& first = scene.boxes().front();
-  std::pair<int, int> m_range{first.params().m, first.params().m}, n_range{first.params().n, first.params().n};
-  for (const hb::HapticBox& box : scene.boxes()) {
-    m_range = {std::min(m_range.first, box.params().m), std::max(m_range.second, box.params().m)};
-    n_range = {std::min(n_range.first, box.params().n), std::max(n_range.second, box.params().n)};
-  }
+  const hb::DensityRange densities = hb::density_range(scene);
   const hb::SceneCodecStats codec = hb::scene_codec_stats(scene);
   const double table_bytes = double(scene.table_bytes());
   return {{"kind", "box"},
@@ -140,10 +137,10 @@ nlohmann::json box_info(const std::string& path, bool verify) {
           {"boxes", scene.boxes().size()},
           {"m", first.params().m},  // the first box's; a scene's boxes differ: m_min..m_max
           {"n", first.params().n},
-          {"m_min", m_range.first},
-          {"m_max", m_range.second},
-          {"n_min", n_range.first},
-          {"n_max", n_range.second},
+          {"m_min", densities.m_min},
+          {"m_max", densities.m_max},
+          {"n_min", densities.n_min},
+          {"n_max", densities.n_max},
           {"codec", codec.codec},
           {"raw_table_bytes", codec.raw_bytes},
           {"compression_ratio", table_bytes > 0 ? double(codec.raw_bytes) / table_bytes : 0.0},
@@ -210,8 +207,7 @@ void add_info_command(CLI::App& app) {
       if (scene && (key == "m" || key == "n")) {
         // A scene's boxes each have their own densities: the range, never the first box's.
         const int lo = j[key + "_min"].get<int>(), hi = j[key + "_max"].get<int>();
-        std::cout << key << ": " << (lo == hi ? std::to_string(lo) : std::to_string(lo) + ".." + std::to_string(hi))
-                  << " (over " << j["boxes"].get<int>() << " boxes)\n";
+        std::cout << key << ": " << hb::range_text(lo, hi) << " (over " << j["boxes"].get<int>() << " boxes)\n";
         continue;
       }
       std::cout << key << ": " << info_text(*it) << "\n";

@@ -1,6 +1,5 @@
 #include "model_args.h"
 #include "errors.h"
-#include "figure_text.h"
 #include "mesh/file_hash.h"
 #include "mesh/mesh_io.h"
 #include "spec_option.h"
@@ -11,6 +10,7 @@
 #include <new>
 #include <stdexcept>
 #ifdef HB_WITH_VTK
+#include "model_load_text.h"
 #include "model_loader.h"
 #include "model_options_key.h"
 #include "volume_spec.h"
@@ -136,26 +136,8 @@ TriangleMesh load_mesh_unguarded(const std::string& path, const ModelArgs& args,
   const hb::vtk::ModelOptions options = to_model_options(args);
   hb::vtk::LoadedModel model = hb::vtk::load_model(path, options);
   for (const std::string& w : model.report.warnings) std::cerr << "hapticbox: warning: " << w << "\n";
-  if (model.kind == hb::vtk::ModelKind::Volume) {
-    // Figures as the rest of the tool prints them (4 significant digits), not raw doubles.
-    const auto list = [](const nlohmann::json& v, const char* sep) {
-      std::string out;
-      for (std::size_t i = 0; v.is_array() && i < v.size(); ++i)
-        out += (i ? sep : "") + (v[i].is_number() ? sig(v[i].get<double>(), 4) : v[i].dump());
-      return out;
-    };
-    std::cerr << "hapticbox: " << path << ": " << model.format << " " << list(model.facts["dimensions"], " x ")
-              << " voxels, spacing " << list(model.facts["spacing_mm"], " x ") << " mm, ";
-    if (model.facts.contains("label")) std::cerr << "label " << model.facts["label"].dump();
-    else std::cerr << "iso " << sig(model.facts["iso"].get<double>(), 4) << (options.volume.iso ? "" : " (automatic; set --volume iso=V)");
-    std::cerr << ": " << model.mesh.triangle_count() << " triangles in mm\n";
-  } else if (model.kind == hb::vtk::ModelKind::Cad) {
-    std::cerr << "hapticbox: " << path << ": " << model.format << ", " << model.facts.value("faces", 0) << " faces, chordal deviation "
-              << model.facts.value("chordal_deviation_mm", 0.0) << " mm: " << model.mesh.triangle_count() << " triangles in mm\n";
-  } else if (model.unit_source != "default (the format has no unit)") {
-    std::cerr << "hapticbox: " << path << ": " << model.format << ", unit " << model.unit << " (" << model.unit_source
-              << "), scaled to mm\n";
-  }
+  const std::string how = hb::vtk::model_load_text(model, options, "; set --volume iso=V");
+  if (!how.empty()) std::cerr << "hapticbox: " << path << ": " << how << "\n";
   args.facts = model.facts;
   args.face_ids = model.face_ids;
   if (report) *report = model.report;
@@ -173,8 +155,8 @@ TriangleMesh load_mesh_unguarded(const std::string& path, const ModelArgs& args,
 
 std::uint64_t hash_model(const std::string& path, const ModelArgs& args) {
 #ifdef HB_WITH_VTK
-  // The window keys its bakes by the same text (hb::vtk::model_options_key).
-  return hb::hash_model(path, hb::vtk::model_options_key(to_model_options(args)));
+  // The window keys its bakes by the same hash.
+  return hb::vtk::model_hash(path, to_model_options(args));
 #else
   (void)args;  // without VTK no option shapes the surface (load_mesh refuses them)
   return hb::hash_model(path);

@@ -68,7 +68,7 @@ struct ReportInput {
   double bake_seconds = 0.0;
 };
 
-ReportInput load_or_bake(const ReportOpts& o, bool sampling_given) {
+ReportInput load_or_bake(const ReportOpts& o, const hb::SamplingGiven& sampling) {
   ReportInput in;
   const bool first_is_box = hb::cli::is_box_file(o.inputs[0]);
   if (first_is_box) {
@@ -86,8 +86,8 @@ ReportInput load_or_bake(const ReportOpts& o, bool sampling_given) {
     hb::cli::check_same_mesh(in.scene, in.box_path, in.mesh_path, in.mesh_hash, o.force);
   } else {
     // Without -m and -n, the default bake through the box cache; with either, exactly that
-    // sampling, one raw box (hb::cli::bake_model, as `field` decides).
-    hb::cli::ModelBake baked = hb::cli::bake_model(in.mesh, in.mesh_path, in.mesh_hash, sampling_given, o.params,
+    // sampling, one raw box (hb::choose_recipe, as `bake`, `field` and the window decide).
+    hb::cli::ModelBake baked = hb::cli::bake_model(in.mesh, in.mesh_path, in.mesh_hash, sampling, o.params,
                                                    o.cache);
     in.scene = std::move(baked.scene);
     if (baked.from_cache) in.box_path = baked.cache_path;  // the box file the report is of
@@ -100,10 +100,10 @@ ReportInput load_or_bake(const ReportOpts& o, bool sampling_given) {
   return in;
 }
 
-void run_report(ReportOpts& o, bool sampling_given) {
+void run_report(ReportOpts& o, const hb::SamplingGiven& sampling) {
   const auto t0 = std::chrono::steady_clock::now();
   if (hb::cli::communicator().is_root()) hb::cli::check_output_folder(o.out);  // before the bake, not after
-  ReportInput in = load_or_bake(o, sampling_given);
+  ReportInput in = load_or_bake(o, sampling);
   const hb::TriangleMesh& mesh = in.mesh;
   const hb::BoxScene& scene = in.scene;
   const std::string& mesh_path = in.mesh_path;
@@ -197,5 +197,5 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--save-box", opts->save_box, "When baking, also save the box file here");
   cmd->add_flag("--stability", opts->stability, "Also run the trajectory stability suite (as `stability`, 6 sites)");
   hb::cli::add_workspace_options(*cmd, opts->workspace);
-  cmd->callback([opts, cmd] { run_report(*opts, cmd->count("-m") + cmd->count("-n") > 0); });
+  cmd->callback([opts, cmd] { run_report(*opts, hb::cli::sampling_given(*cmd)); });
 }

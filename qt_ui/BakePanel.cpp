@@ -2,6 +2,7 @@
 #include "BackgroundJob.h"
 #include "HapticSession.h"
 #include "figure_text.h"
+#include "haptic_box/density_range.h"
 #include "haptic_box/haptic_box.h"
 #include <QCheckBox>
 #include <QComboBox>
@@ -236,20 +237,15 @@ void BakePanel::updateState() {
   }
   if (!busy) progress_->setValue(1000);
   const hb::BoxScene& s = *session_->boxes();
-  const auto& p = s.boxes().front().params();
   const std::size_t refineBytes = s.refinement_bytes();
   const QString tables = tr("%1 of tables").arg(QString::fromStdString(hb::bytes_text(s.table_bytes())));
   // A scene's boxes have their own densities: the range, not the first box's.
-  int mLo = p.m, mHi = p.m, nLo = p.n, nHi = p.n;
-  for (const hb::HapticBox& b : s.boxes()) {
-    mLo = std::min(mLo, b.params().m), mHi = std::max(mHi, b.params().m);
-    nLo = std::min(nLo, b.params().n), nHi = std::max(nHi, b.params().n);
-  }
-  const auto span = [](int lo, int hi) { return lo == hi ? QString::number(lo) : QStringLiteral("%1-%2").arg(lo).arg(hi); };
+  const hb::DensityRange d = hb::density_range(s);
+  const auto span = [](int lo, int hi) { return QString::fromStdString(hb::range_text(lo, hi)); };
   info_->setText(tr("%1 box(es), m %2, n %3, %4, %5")
                      .arg(s.boxes().size())
-                     .arg(span(mLo, mHi))
-                     .arg(span(nLo, nHi))
+                     .arg(span(d.m_min, d.m_max))
+                     .arg(span(d.n_min, d.n_max))
                      .arg(refineBytes > 0 ? tables + tr(" + %1 for exact refinement")
                                                          .arg(QString::fromStdString(hb::bytes_text(refineBytes)))
                                           : tables)

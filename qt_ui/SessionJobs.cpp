@@ -16,6 +16,7 @@
 #include "SessionPipeline.h"
 #include "vtkHapticBoxBakeFilter.h"
 #include "errors.h"
+#include "recipe/recipe_choice.h"
 #include "report_request.h"
 #include "vtkHapticBoxErrorFieldFilter.h"
 #include "vtkHapticBoxReferenceQueries.h"
@@ -30,7 +31,9 @@
 // --- bake settings ---------------------------------------------------------------------
 
 hb::BakeRecipe BakeSettings::recipe() const {
-  if (!advanced) return hb::default_recipe();  // what `hapticbox bake MESH -o BOX` bakes
+  // The rule `hapticbox bake` follows: Advanced gives the sampling options -m, -n and --refine.
+  const hb::SamplingGiven given = hb::SamplingGiven::advanced(advanced);
+  if (hb::bakes_default_recipe(given)) return hb::default_recipe();  // `hapticbox bake MESH -o BOX`
   hb::BakeRecipe r;
   r.options.params.m = m;
   r.options.params.n = n;

@@ -1,7 +1,7 @@
 // SessionModel: the window's model.
 //  1. openMesh runs the pipeline's reader (vtkHapticBoxMeshReader: every format, volumes, CAD
 //     and scenes through hb::vtk::load_model, as the command line), hashes the input with
-//     hb::hash_model, starts the references (exact Embree, VTK locator) on their own thread,
+//     hb::vtk::model_hash, starts the references (exact Embree, VTK locator) on their own thread,
 //     and takes the reader's output as the surface the views draw.
 //     The reader stays the head of the model's pipeline (SessionPipeline).
 //  2. installBoxes takes the boxes a job baked (or the cache or a file held); the piece ids
@@ -12,7 +12,7 @@
 #include "SessionPipeline.h"
 #include "errors.h"
 #include "haptic_box/box_file.h"
-#include "mesh/file_hash.h"
+#include "model_load_text.h"
 #include "model_loader.h"
 #include "model_options_key.h"
 #include "vtkHapticBoxMeshReader.h"
@@ -73,13 +73,9 @@ bool SessionModel::openMesh(const QString& path, QString* error, OpenTiming* tim
     if (!out || out->GetNumberOfCells() == 0) throw hb::InvalidInput(p + ": no triangles could be read");
     const hb::vtk::LoadedModel& model = reader->GetLoadedModel();
     auto mesh = std::make_shared<hb::TriangleMesh>(model.mesh);
-    QString modelNote;
-    const nlohmann::json& f = model.facts;
-    if (f.contains("iso")) modelNote = QStringLiteral(", iso-value %1").arg(f["iso"].get<double>());
-    if (f.contains("label")) modelNote = QStringLiteral(", label %1").arg(f["label"].get<long>());
-    if (f.contains("chordal_deviation_mm"))
-      modelNote = QStringLiteral(", chordal deviation %1 mm").arg(f["chordal_deviation_mm"].get<double>());
-    if (!modelNote.isEmpty()) modelNote = QStringLiteral(" (%1%2, mm)").arg(QString::fromStdString(model.format), modelNote);
+    // The line `hapticbox` prints on reading the same model.
+    const QString modelNote = QString::fromStdString(
+        hb::vtk::model_load_text(model, options, "; set another in the Surface panel"));
     const auto tRead = std::chrono::steady_clock::now();
     // A volume's histogram and Otsu threshold, for choosing another iso-value.
     hb::vtk::VolumeHistogram histogram;
@@ -92,7 +88,7 @@ bool SessionModel::openMesh(const QString& path, QString* error, OpenTiming* tim
       otsu = hb::vtk::otsu_threshold(histogram);
     }
     // As the command line with the same options (hb::cli::hash_model).
-    const std::uint64_t hash = hb::hash_model(p, hb::vtk::model_options_key(options));
+    const std::uint64_t hash = hb::vtk::model_hash(p, options);
     const auto tHash = std::chrono::steady_clock::now();
     References references = std::async(std::launch::async, [mesh] { return buildReferences(mesh); }).share();
     const auto tExact = std::chrono::steady_clock::now();
@@ -129,7 +125,7 @@ bool SessionModel::openMesh(const QString& path, QString* error, OpenTiming* tim
     outlines_ = vtkSmartPointer<vtkPolyData>::New();
     const auto tSurface = std::chrono::steady_clock::now();
     emit meshChanged();
-    if (!modelNote.isEmpty()) emit statusMessage(tr("Opened %1%2").arg(QFileInfo(path).fileName(), modelNote));
+    if (!modelNote.isEmpty()) emit statusMessage(tr("Opened %1: %2").arg(QFileInfo(path).fileName(), modelNote));
     if (timing) {
       const auto tView = std::chrono::steady_clock::now();
       *timing = OpenTiming{msBetween(t0, tRead), msBetween(tRead, tHash), msBetween(tHash, tExact),

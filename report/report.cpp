@@ -109,12 +109,7 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   d.codec = codec_name(scene.boxes().front().codec());
   d.refine = scene.refines();
   d.route = route_name(scene.answering_route());
-  d.m_min = d.m_max = d.params.m;
-  d.n_min = d.n_max = d.params.n;
-  for (const HapticBox& b : scene.boxes()) {
-    d.m_min = std::min(d.m_min, b.params().m), d.m_max = std::max(d.m_max, b.params().m);
-    d.n_min = std::min(d.n_min, b.params().n), d.n_max = std::max(d.n_max, b.params().n);
-  }
+  d.densities = density_range(scene);
   d.generated_at = utc_now_iso();
   d.machine = machine_description();
   const ContactQuery& exact = *references.front().query;
@@ -153,8 +148,7 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   own.n = d.params.n;
   if (d.pieces > 1) {
     // A scene is not the first box's (m, n): its chart point says what it is.
-    const auto span = [](int lo, int hi) { return lo == hi ? std::to_string(lo) : std::to_string(lo) + "-" + std::to_string(hi); };
-    own.label = "scene: " + std::to_string(d.pieces) + " boxes, m " + span(d.m_min, d.m_max) + ", n " + span(d.n_min, d.n_max);
+    own.label = "scene: " + std::to_string(d.pieces) + " boxes, " + densities_text(d);
   }
   own.codec = d.codec;
   own.refine = d.refine;
@@ -228,8 +222,8 @@ std::string report_json(const ReportData& d) {
   j["model"] = {{"vertices", d.vertices}, {"triangles", d.triangles}, {"pieces", d.pieces}, {"diagonal", d.diagonal}};
   j["box"] = {{"m", d.params.m},
               {"n", d.params.n},
-              {"m_range", {d.m_min, d.m_max}},
-              {"n_range", {d.n_min, d.n_max}},
+              {"m_range", {d.densities.m_min, d.densities.m_max}},
+              {"n_range", {d.densities.n_min, d.densities.n_max}},
               {"codec", d.codec},
               {"memory_bytes", d.memory_bytes},
               {"refine", d.refine},

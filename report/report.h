@@ -10,6 +10,7 @@
 #include "recipe/sweep.h"
 #include "evaluation/worst_probes.h"
 #include "haptic_box/box_scene.h"
+#include "haptic_box/density_range.h"
 #include <memory>
 #include <string>
 #include <utility>
@@ -62,8 +63,8 @@ struct ReportData {
   std::uint64_t mesh_hash = 0, box_hash = 0;
   std::size_t vertices = 0, triangles = 0, pieces = 0;
   float diagonal = 0.f;
-  BoxParams params;                      ///< the first box's (see m_min..n_max for all boxes).
-  int m_min = 0, m_max = 0, n_min = 0, n_max = 0; ///< densities over the scene's boxes.
+  BoxParams params;                      ///< the first box's (see `densities` for all boxes).
+  DensityRange densities;                ///< m and n over the scene's boxes.
   std::string codec = "none";
   bool refine = false;                   ///< the boxes refine exactly (bake --refine).
   std::string route = "boxes";           ///< the scene's route (hb::SceneRoute) the figures were measured on.

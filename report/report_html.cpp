@@ -229,7 +229,7 @@ void write_charts(std::ostringstream& h, const ReportData& d, const ChartFiles& 
     const bool box = r.method == "haptic_box";
     const bool own = box && &r == &d.rows.back();
     h << "<tr><td class=l>" << html_escape(own ? "haptic_box (this report's box)" : r.method) << "</td><td>"
-      << (box ? (own && d.m_min != d.m_max ? std::to_string(d.m_min) + "-" + std::to_string(d.m_max) : std::to_string(r.m)) : "")
+      << (box ? (own ? range_text(d.densities.m_min, d.densities.m_max) : std::to_string(r.m)) : "")
       << "</td><td>" << (box ? std::to_string(r.n) : "") << "</td><td>" << html_escape(r.codec) << (r.refine ? ", refined" : "")
       << "</td><td>" << ns_text(r.query_ns) << "</td><td>" << bytes_text(r.memory_bytes) << "</td><td>"
       << (r.from_cache ? std::string("cached") : r.bake_seconds > 0 ? duration_text(r.bake_seconds) : std::string("loaded"))

@@ -7,8 +7,8 @@
 namespace hb {
 
 std::string densities_text(const ReportData& d) {
-  auto range = [](int lo, int hi) { return lo == hi ? std::to_string(lo) : std::to_string(lo) + "-" + std::to_string(hi); };
-  return "m " + range(d.m_min, d.m_max) + ", n " + range(d.n_min, d.n_max);
+  const DensityRange& r = d.densities;
+  return "m " + range_text(r.m_min, r.m_max) + ", n " + range_text(r.n_min, r.n_max);
 }
 
 std::string report_summary_text(const ReportData& d, const std::string& dir) {

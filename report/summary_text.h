@@ -10,7 +10,7 @@ namespace hb {
 /// The summary of `data`; `dir` (may be empty) is named as where the full report is.
 std::string report_summary_text(const ReportData& data, const std::string& dir);
 
-/// "m 8-37, n 8" (or "m 32, n 16" for one density).
+/// "m 8..37, n 8" (or "m 32, n 16" for one density): hb::range_text over the boxes.
 std::string densities_text(const ReportData& data);
 
 } // namespace hb

@@ -1,5 +1,6 @@
 // model_options_key: one text for the options a model was loaded with (see the header).
 #include "model_options_key.h"
+#include "mesh/file_hash.h"
 #include <sstream>
 
 namespace hb::vtk {
@@ -17,6 +18,10 @@ std::string model_options_key(const ModelOptions& o) {
        << " smooth=" << o.volume.smooth_iterations << " target=" << o.volume.target_triangles
        << " chordal=" << o.cad.chordal_deviation_mm << " ftol=" << o.cad.force_tolerance_n;
   return text.str();
+}
+
+std::uint64_t model_hash(const std::string& path, const ModelOptions& options) {
+  return hb::hash_model(path, model_options_key(options));
 }
 
 } // namespace hb::vtk

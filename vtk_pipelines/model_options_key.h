@@ -4,6 +4,7 @@
 // smoothing, decimation, unit or chordal deviation is never taken for this one. The command
 // line and the window both call it: the same options give the same hash.
 #include "model_loader.h"
+#include <cstdint>
 #include <string>
 
 namespace hb::vtk {
@@ -13,5 +14,8 @@ bool model_options_default(const ModelOptions& options);
 /// Empty when model_options_default, else "iso=... label=... unit=... smooth=... target=...
 /// chordal=... ftol=...".
 std::string model_options_key(const ModelOptions& options);
+/// hb::hash_model of `path` with model_options_key(options): the hash a box file and the box
+/// cache record for a model read with these options.
+std::uint64_t model_hash(const std::string& path, const ModelOptions& options);
 
 } // namespace hb::vtk

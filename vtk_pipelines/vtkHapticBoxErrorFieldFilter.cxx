@@ -9,6 +9,7 @@
 #include "codec/codec.h"
 #include "evaluation/error_field.h"
 #include "exact/exact_query.h"
+#include "haptic_box/density_range.h"
 #include "vtkHapticBoxSet.h"
 #include "vtkHapticBoxUtilities.h"
 #include <vtkCellArray.h>
@@ -158,11 +159,7 @@ int vtkHapticBoxErrorFieldFilter::RequestData(vtkInformation*, vtkInformationVec
     hb::vtk::label_units(fd, seconds, "s");
     // Provenance: what was measured, with what, so the file explains itself.
     const hb::BoxScene& scene = *boxes->GetScene();
-    int m_min = 1 << 30, m_max = 0, n_min = 1 << 30, n_max = 0;
-    for (const hb::HapticBox& b : scene.boxes()) {
-      m_min = std::min(m_min, b.params().m), m_max = std::max(m_max, b.params().m);
-      n_min = std::min(n_min, b.params().n), n_max = std::max(n_max, b.params().n);
-    }
+    const hb::DensityRange densities = hb::density_range(scene);
     hb::vtk::Provenance p;
     p.strings = {{"Codec", hb::codec_name(scene.boxes().front().codec())},
                  {"Refined", scene.refines() ? "yes" : "no"},
@@ -171,10 +168,10 @@ int vtkHapticBoxErrorFieldFilter::RequestData(vtkInformation*, vtkInformationVec
                  {"NoData", "NaN in RelativeForceError and DirectionError: no probe at the point had a contact in both "
                             "answers (no data, not zero error; see ContactDisagreement and AbsoluteForceError)"}};
     p.numbers = {{"Boxes", double(scene.boxes().size())},
-                 {"MMin", double(m_min)},
-                 {"MMax", double(m_max)},
-                 {"NMin", double(n_min)},
-                 {"NMax", double(n_max)},
+                 {"MMin", double(densities.m_min)},
+                 {"MMax", double(densities.m_max)},
+                 {"NMin", double(densities.n_min)},
+                 {"NMax", double(densities.n_max)},
                  {"ProbesPerPoint", double(this->ProbesPerPoint)},
                  {"Probes", double(field.probes)},
                  {"Seed", double(this->Seed)},

@@ -4,6 +4,8 @@
 #include "errors.h"
 #include "recipe/bake_recipe.h"
 #include "recipe/box_cache.h"
+#include "recipe/recipe_choice.h"
+#include "haptic_box/density_range.h"
 #include "haptic_box/box_file.h"
 #include "mesh/generators.h"
 #include <gtest/gtest.h>
@@ -122,6 +124,35 @@ TEST(BakeRecipeTest, SceneRejectsPieceIdsNamingMissingBoxes) {
   recipe.options.params = {3, 2};
   BoxScene scene = bake(sphere, recipe).scene;
   EXPECT_THROW(scene.set_piece_of_triangle(std::vector<std::uint32_t>(sphere.triangle_count(), 1u)), InvalidInput);
+}
+
+TEST(RecipeChoiceTest, AnySamplingOptionBakesExactlyThatSamplingElseTheDefault) {
+  EXPECT_TRUE(bakes_default_recipe({}));
+  EXPECT_TRUE(bakes_default_recipe(SamplingGiven::advanced(false)));
+  for (const SamplingGiven given : {SamplingGiven{true, false, false, false}, SamplingGiven{false, true, false, false},
+                                    SamplingGiven{false, false, true, false}, SamplingGiven{false, false, false, true},
+                                    SamplingGiven::advanced(true)})
+    EXPECT_FALSE(bakes_default_recipe(given));
+  BakeRecipe sampling;
+  sampling.options.params = {6, 3};
+  EXPECT_EQ(choose_recipe({}, sampling).budget.enabled, default_recipe().budget.enabled);
+  EXPECT_TRUE(choose_recipe({}, sampling).budget.enabled);
+  const BakeRecipe chosen = choose_recipe({false, true, false, false}, sampling);
+  EXPECT_FALSE(chosen.budget.enabled);
+  EXPECT_EQ(chosen.options.params.m, 6);
+  EXPECT_EQ(chosen.options.params.n, 3);
+}
+
+TEST(DensityRangeTest, ASceneIsItsBoxesRangeNotItsFirstBox) {
+  EXPECT_EQ(range_text(8, 8), "8");
+  EXPECT_EQ(range_text(8, 15), "8..15");
+  EXPECT_EQ(density_range_text({8, 15, 6, 6}), "m=8..15 n=6");
+  const DensityRange none = density_range(BoxScene{});
+  EXPECT_EQ(none.m_max, 0);
+  BakeRecipe recipe;
+  recipe.options.params = {6, 3};
+  const DensityRange one = density_range(bake(make_sphere(1.f, 2), recipe).scene);
+  EXPECT_EQ(density_range_text(one), "m=6 n=3");
 }
 
 } // namespace
