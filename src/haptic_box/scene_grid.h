@@ -106,7 +106,7 @@ public:
   const std::vector<std::uint8_t>& bricks() const { return bricks_; }
   static constexpr std::uint8_t kBrickSurface = 3;
 
-  /// The file form (box_file.cpp): a small header, the codes, the lists.
+  /// The file form (a section of the .hbox file, box_file_format.h): a small header, the codes, the lists.
   std::vector<std::uint8_t> serialize() const;
   /// Reads serialize()'s bytes; throws hb::InvalidInput (truncated, inconsistent).
   static SceneGrid deserialize(const std::uint8_t* data, std::size_t bytes);
