@@ -1,7 +1,7 @@
 #pragma once
 #include "haptic_box/budget_report.h"
 #include "haptic_box/haptic_box.h"
-#include "haptic_box/scene_grid.h"
+#include "haptic_box/surface_cells.h"
 #include <memory>
 #include <string>
 #include <vector>
