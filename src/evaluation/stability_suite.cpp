@@ -1,790 +1,33 @@
-// The stability suite.
+// The stability suite (stability_suite.h).
 // 1. Calibration gate: free bounces and prescribed strokes on an AnalyticWall must give the
-//    reference simulation's figures (docs/stability.md), else the harness is wrong.
+//    reference simulation's figures (docs/stability.md), else the harness is wrong
+//    (stability_calibration.cpp).
 // 2. Scenes: the model (its box against exact Embree on its mesh, OBB diagonal mapped to
-//    80 mm) and, optionally, generated objects in mm (a wall, plates, V-grooves), each baked
-//    into a box here with the model box's refinement.
+//    80 mm) and, optionally, generated objects in mm (a wall, plates, V-grooves;
+//    stability_objects.cpp), each baked into a box here with the model box's refinement.
 // 3. Sites on the model: surface points by area (sample_probes), kept when exact Embree
 //    answers a 1 mm-deep probe along the inward normal there.
-// 4. Tests T1-T8 (issue 11), each a trajectory run on the box and on exact, the same
-//    trajectory for both; every figure becomes a StabilityMetric judged against its
-//    threshold, for the box and for exact (a failure exact shares is the law's).
+// 4. Tests T1-T8 (issue 11; stability_tests.cpp), each a trajectory run on the box and on
+//    exact, the same trajectory for both; every figure becomes a StabilityMetric judged
+//    against its threshold, for the box and for exact (a failure exact shares is the law's).
 // 5. Ranks: the gate and each (scene, test) pair are tasks dealt to the ranks in turn; every
 //    rank receives every task's figures and traces and assembles them in task order, so the
 //    report is the one process's (StabilityOptions::communicator).
-#include "contact/perceptible.h"
-#include "evaluation/stability_suite.h"
-#include "math/constants.h"
+#include "evaluation/stability_harness.h"
 #include "errors.h"
-#include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
 #include "haptic_box/bake.h"
-#include "mesh/triangle_mesh.h"
 #include "parallel/byte_buffer.h"
 #include "parallel/work_split.h"
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <optional>
 #include <functional>
 #include <iterator>
-#include <limits>
 #include <memory>
+#include <optional>
 
 namespace hb {
-namespace {
-
-constexpr double kFloor = 0.05;  // N: the JND floor of the protocol
-const double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-StabilityMetric metric(const std::string& test, const std::string& scene, const std::string& name,
-                       const std::string& unit, double box, double exact, StabilityRule rule, double threshold,
-                       double tolerance = 0) {
-  StabilityMetric m;
-  m.test = test, m.scene = scene, m.metric = name, m.unit = unit;
-  m.box = box, m.exact = exact, m.rule = rule, m.threshold = threshold, m.tolerance = tolerance;
-  judge(m);
-  return m;
-}
-
-// ---- the simulated free bounce of the calibration and of T1 ----------------------------
-
-struct Bounce {
-  double restitution = 0;
-  bool popped = false;  // the tip went on inward: contact lost while moving in
-};
-
-Bounce free_bounce(const ContactQuery& q, const ForceLaw& law, const DeviceSpaceMap& map, const DeviceProfile& dev,
-                   const Vec3d& surface_m, const Vec3d& inward, double v0, double stylus_m,
-                   const std::vector<Stall>& stalls = {}, TickFilter* filter = nullptr,
-                   ContactLaw contact_law = ContactLaw::penalty) {
-  ClosedLoopRun run;
-  run.contact_law = contact_law;
-  run.device = dev;
-  run.start_m = surface_m - 1e-9 * inward;  // at the surface: v0 is the entry speed
-  run.start_velocity = v0 * inward;
-  run.seconds = 0.5;
-  run.stylus_dir = inward;
-  run.stylus_m = stylus_m;
-  run.stop_after_contact_ticks = 1;
-  run.stalls = stalls;
-  run.filter = filter;
-  const auto ticks = run_closed_loop(q, law, map, run);
-  Bounce b;
-  if (ticks.empty()) return b;
-  // Exit speed over entry speed (on a curved surface the exit is not along the entry); a tip
-  // still moving inward when the contact ended went through.
-  const Vec3d v = ticks.back().v;
-  b.popped = v.dot(inward) > 0;
-  b.restitution = b.popped ? -v.norm() / v0 : v.norm() / v0;
-  return b;
-}
-
-// A closed run of the wall used by the gate: the plane z = 0 of a model in metres.
-struct Wall {
-  AnalyticWall wall{Vec3::Zero(), Vec3(0, 0, 1)};
-  DeviceSpaceMap map;  // model units are metres
-  ForceLaw law;
-  Wall(double k) {
-    map.metres_per_unit = 1.0;
-    law.stiffness_n_per_m = float(k);
-    law.metres_per_unit = 1.f;
-  }
-};
-
-// ---- generated objects --------------------------------------------------------------------
-
-// Adds a grid of `div` x `div` quads over the planar quad a, b, c, d (in order around it)
-// with its own vertices and `normal` (flat shading); winding made outward.
-void add_quad(TriangleMesh& m, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& normal,
-              int div) {
-  const std::uint32_t base = std::uint32_t(m.positions.size());
-  for (int i = 0; i <= div; ++i)
-    for (int j = 0; j <= div; ++j) {
-      const float u = float(i) / div, v = float(j) / div;
-      m.positions.push_back((1 - u) * (1 - v) * a + u * (1 - v) * b + u * v * c + (1 - u) * v * d);
-      m.normals.push_back(normal);
-    }
-  const bool flip = (b - a).cross(d - a).dot(normal) < 0;
-  const auto id = [&](int i, int j) { return base + std::uint32_t(i * (div + 1) + j); };
-  for (int i = 0; i < div; ++i)
-    for (int j = 0; j < div; ++j) {
-      Triangle t1{id(i, j), id(i + 1, j), id(i + 1, j + 1)}, t2{id(i, j), id(i + 1, j + 1), id(i, j + 1)};
-      if (flip) std::swap(t1[1], t1[2]), std::swap(t2[1], t2[2]);
-      m.triangles.push_back(t1);
-      m.triangles.push_back(t2);
-    }
-}
-
-// A prism: the polygon (x, z) (star-shaped from its first vertex) extruded over y in
-// [-half_y, half_y], flat shaded.
-TriangleMesh extrude(std::vector<Eigen::Vector2f> poly, float half_y, int div) {
-  double area = 0;
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const auto& p = poly[i];
-    const auto& q = poly[(i + 1) % poly.size()];
-    area += double(p.x()) * q.y() - double(q.x()) * p.y();
-  }
-  if (area < 0) std::reverse(poly.begin() + 1, poly.end());
-  TriangleMesh m;
-  const auto at = [&](const Eigen::Vector2f& p, float y) { return Vec3(p.x(), y, p.y()); };
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const auto& p = poly[i];
-    const auto& q = poly[(i + 1) % poly.size()];
-    const Eigen::Vector2f e = q - p;
-    const Vec3 normal = Vec3(e.y(), 0, -e.x()).normalized();
-    add_quad(m, at(p, -half_y), at(q, -half_y), at(q, half_y), at(p, half_y), normal, div);
-  }
-  for (float side : {-1.f, 1.f}) {
-    const Vec3 normal(0, side, 0);
-    for (std::size_t i = 1; i + 1 < poly.size(); ++i) {
-      const std::uint32_t base = std::uint32_t(m.positions.size());
-      for (const auto* p : {&poly[0], &poly[i], &poly[i + 1]}) {
-        m.positions.push_back(at(*p, side * half_y));
-        m.normals.push_back(normal);
-      }
-      Triangle t{base, base + 1, base + 2};
-      if ((m.positions[base + 1] - m.positions[base]).cross(m.positions[base + 2] - m.positions[base]).dot(normal) < 0)
-        std::swap(t[1], t[2]);
-      m.triangles.push_back(t);
-    }
-  }
-  return m;
-}
-
-// ---- sites on the model -------------------------------------------------------------------
-
-struct Site {
-  Vec3d surface_m;  // device space
-  Vec3d inward;     // unit, into the object
-};
-
-Vec3d tilted(const Vec3d& inward, double degrees, std::size_t which) {
-  Vec3d u = inward.unitOrthogonal();
-  if (which % 2) u = inward.cross(u);
-  const double a = degrees * kPi / 180.0;
-  return (std::cos(a) * inward + std::sin(a) * u).normalized();
-}
-
-struct Scene {
-  std::string name;
-  const ContactQuery* box = nullptr;
-  const ContactQuery* exact = nullptr;
-  const BoxScene* box_scene = nullptr;
-  DeviceSpaceMap map;
-  std::vector<Site> sites;
-};
-
-std::vector<Site> pick_sites(const TriangleMesh& mesh, const ContactQuery& exact, const DeviceSpaceMap& map,
-                             const ForceLaw& law, std::size_t count, std::uint64_t seed, double stylus_m) {
-  ProbeOptions po;
-  po.cone_degrees = 0.f;
-  po.max_depth_fraction = 0.f;
-  po.length_fraction = 0.05f;
-  po.seed = seed;
-  const auto probes = sample_probes(mesh, count * 8, po);
-  std::vector<Site> sites;
-  for (const Segment& s : probes) {
-    if (sites.size() >= count) break;
-    Site site;
-    site.surface_m = map.to_device(s.end);
-    site.inward = (s.end - s.start).cast<double>().normalized();
-    // Keep points where exact answers probes 1 mm deep and 2 mm deep along the normal with
-    // about those depths (not a pocket of the stylus, not a thin rim).
-    bool ok = true;
-    for (double depth : {0.001, 0.002}) {
-      const Rendered r = render(exact, law, map, site.surface_m + depth * site.inward, site.inward, stylus_m);
-      ok = ok && r.contact && std::fabs(r.depth_m - depth) < 0.2e-3;
-    }
-    if (ok) sites.push_back(site);
-  }
-  return sites;
-}
-
-// ---- helpers over tick records ------------------------------------------------------------
-
-double rms_speed(const std::vector<TickRecord>& ticks, double t0, double t1) {
-  double s = 0;
-  int n = 0;
-  for (const auto& r : ticks)
-    if (r.t >= t0 && r.t < t1) s += r.v.squaredNorm(), ++n;
-  return n ? std::sqrt(s / n) : 0.0;
-}
-
-double angle_deg(const Vec3d& a, const Vec3d& b) {
-  const double na = a.norm(), nb = b.norm();
-  if (!(na > 0) || !(nb > 0)) return 0;
-  return std::acos(std::clamp(a.dot(b) / (na * nb), -1.0, 1.0)) * 180.0 / kPi;
-}
-
-class Suite {
-public:
-  Suite(const StabilityOptions& o) : o_(o) {}
-
-  bool want(const std::string& t) const {
-    return o_.tests.empty() || std::find(o_.tests.begin(), o_.tests.end(), t) != o_.tests.end();
-  }
-
-  ForceLaw law(const Scene& s, double k) const {
-    ForceLaw l;
-    l.stiffness_n_per_m = float(k);
-    l.metres_per_unit = float(s.map.metres_per_unit);
-    l.depth = o_.depth_law;
-    return l;
-  }
-  double k_max() const { return o_.device.max_stiffness_n_per_m; }
-  ContactLaw cl() const { return o_.contact_law; }
-  double k_half() const { return 0.5 * k_max(); }
-
-  std::unique_ptr<TickFilter> filter() const {
-    if (!o_.filter) return nullptr;
-    auto f = o_.filter();
-    // The servo has been running: the start ramp is over before the trajectory begins.
-    for (int i = 0; i < 2000; ++i) f->apply(Vec3d::Zero(), Vec3d::Zero(), Vec3d::Zero(), 0.0);
-    return f;
-  }
-
-  // A hold at `site`: a light grip starting 2 mm outside and pulling towards 30 mm inside
-  // (reached in 0.5 s, then held), the stylus along the inward normal, for `seconds`.
-  ClosedLoopRun hold_run(const Site& site, double seconds) const {
-    ClosedLoopRun run;
-    run.device = o_.device;
-    run.hand = light_grip();
-    run.start_m = site.surface_m - 0.002 * site.inward;
-    const Vec3d from = run.start_m, to = site.surface_m + 0.03 * site.inward;
-    run.set_point = [from, to](double t) { return t < 0.5 ? from + (to - from) * (t / 0.5) : to; };
-    run.seconds = seconds;
-    run.stylus_dir = site.inward;
-    run.stylus_m = o_.stylus_m;
-    run.contact_law = cl();
-    return run;
-  }
-
-  void add(StabilityMetric m) { out_.push_back(std::move(m)); }
-
-  // T1: free bounces at k = K_max with b = 0 and b at the passivity bound; hold and release.
-  void t1(const Scene& s) {
-    const ForceLaw lw = law(s, k_max());
-    double worst_diff = -1e9, box0 = 0, ex0 = 0, boxb = 0, exb = 0, boxf = 0, exf = 0;
-    std::size_t n = 0, both_bounce = 0, box_pops = 0, exact_pops = 0;
-    for (const Site& site : s.sites) {
-      DeviceProfile dev = o_.device;
-      dev.damping_n_s_per_m = 0;
-      const Bounce bb = free_bounce(*s.box, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {}, nullptr, cl());
-      const Bounce be = free_bounce(*s.exact, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {}, nullptr, cl());
-      dev.damping_n_s_per_m = dev.passivity_damping(k_max());
-      const Bounce db = free_bounce(*s.box, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {}, nullptr, cl());
-      const Bounce de = free_bounce(*s.exact, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {}, nullptr, cl());
-      // A bounce that went through (the tip slid off an edge and went on inward) has no
-      // restitution: the difference is over the sites where both bounce, and the sites where
-      // only one goes through are counted apart (the box going through where exact bounces
-      // fails; exact going through is the law's, at edges the box may round off).
-      box_pops += bb.popped && !be.popped, exact_pops += be.popped && !bb.popped;
-      if (!bb.popped && !be.popped && bb.restitution - be.restitution > worst_diff)
-        worst_diff = bb.restitution - be.restitution, box0 = bb.restitution, ex0 = be.restitution;
-      both_bounce += !bb.popped && !be.popped;
-      boxb = std::max(boxb, db.restitution), exb = std::max(exb, de.restitution);
-      if (o_.filter) {  // the same bounce through the servo's force path (energy guard, safety)
-        auto fb = filter(), fe = filter();
-        const Bounce gb = free_bounce(*s.box, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {},
-                                      fb.get(), cl());
-        const Bounce ge = free_bounce(*s.exact, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {},
-                                      fe.get(), cl());
-        boxf = std::max(boxf, gb.restitution), exf = std::max(exf, ge.restitution);
-      }
-      ++n;
-    }
-    if (n == 0) return;
-    if (both_bounce)
-      add(metric("T1", s.name, "free bounce restitution, b = 0 (site of the largest box - exact)", "", box0, ex0,
-                 StabilityRule::difference_at_most, 0.02));
-    add(metric("T1", s.name, "free bounces (b = 0) going through where the other bounces, of " + std::to_string(n) +
-                   " sites", "", double(box_pops), double(exact_pops), StabilityRule::at_most, 0));
-    add(metric("T1", s.name, "free bounce restitution, b = kT/2 (passivity bound), worst site", "", boxb, exb,
-               StabilityRule::at_most, 1.0));
-    if (o_.filter)
-      add(metric("T1", s.name, "same, through the servo's filter (" + o_.filter_name + "), worst site", "", boxf, exf,
-                 StabilityRule::at_most, 1.0));
-    // Hold and release: light grip pushing about 1.5 N at k = K_max / 2, then letting go.
-    const ForceLaw lh = law(s, k_half());
-    double decay_b = 0, decay_e = 0;
-    for (std::size_t i = 0; i < std::min<std::size_t>(3, s.sites.size()); ++i) {
-      const Site& site = s.sites[i];
-      for (int which = 0; which < 2; ++which) {
-        const ClosedLoopRun run = hold_run(site, 2.5);
-        const auto ticks = run_closed_loop(which ? *s.exact : *s.box, lh, s.map, run);
-        const double early = rms_speed(ticks, 1.0, 1.75), late = rms_speed(ticks, 1.75, 2.5);
-        const double decay = early > 1e-4 ? late / early : 0.0;
-        (which ? decay_e : decay_b) = std::max(which ? decay_e : decay_b, decay);
-      }
-    }
-    add(metric("T1", s.name, "hold decay ratio (light grip, k = K_max/2), worst site", "", decay_b, decay_e,
-               StabilityRule::at_most, 0.5));
-  }
-
-  // Path along the surface at 1 mm normal depth, the stylus fixed (as a 3-DOF device's).
-  std::vector<Vec3d> surface_path(const Scene& s, const Site& site, const Vec3d& dir, double speed,
-                                  std::size_t ticks, std::size_t which) const {
-    const ForceLaw lw = law(s, k_half());
-    std::vector<Vec3d> tips;
-    Vec3d surf = site.surface_m, n = -site.inward;
-    Vec3d u = site.inward.unitOrthogonal();
-    if (which % 2) u = site.inward.cross(u).normalized();
-    const double step = speed * o_.device.period_s, h = 0.004;
-    for (std::size_t k = 0; k < ticks; ++k) {
-      const double cosine = std::max(0.2, -dir.dot(n));
-      tips.push_back(surf + (0.001 / cosine) * dir);
-      const Vec3d guess = surf + step * u;
-      // The surface along the stylus line through the guess, from exact Embree.
-      const Rendered r = render(*s.exact, lw, s.map, guess + h * dir, dir, 2 * h);
-      if (!r.contact) break;
-      surf = guess + h * dir - r.depth_m * dir;
-      n = r.normal;
-      u = (u - u.dot(n) * n).normalized();
-    }
-    return tips;
-  }
-
-  // T2: sliding at 1 mm depth, normal and 30-degree stylus, 50-200 mm/s.
-  void t2(const Scene& s) {
-    const ForceLaw lw = law(s, k_half());
-    std::size_t contact = 0, jump = 0, jump_box = 0, jump_exact = 0, dir_jump = 0, lost = 0, extra = 0, ghost = 0, other = 0, ratio_out = 0,
-                both = 0, seam = 0, seam_out = 0, ticks = 0, felt = 0;
-    double max_excess = 0;
-    bool traced = false;
-    const PerceptualThresholds felt_thresholds;  // nominal: what a hand tells apart
-    for (std::size_t i = 0; i < s.sites.size(); ++i)
-      for (double tilt : {0.0, 30.0})
-        for (double speed : {0.05, 0.1, 0.2}) {
-          const Site& site = s.sites[i];
-          const Vec3d dir = tilt > 0 ? tilted(site.inward, tilt, i) : site.inward;
-          const auto tips = surface_path(s, site, dir, speed, 150, i + std::size_t(speed * 100));
-          if (tips.size() < 10) continue;
-          const auto rb = play_positions(*s.box, lw, s.map, tips, dir, o_.stylus_m, o_.device.period_s, cl());
-          const auto re = play_positions(*s.exact, lw, s.map, tips, dir, o_.stylus_m, o_.device.period_s, cl());
-          std::size_t prev_met = 0;
-          for (std::size_t k = 0; k < tips.size(); ++k) {
-            const bool cb = rb[k].contact, ce = re[k].contact;
-            const double fb = rb[k].force.norm(), fe = re[k].force.norm();
-            if (ce) ++contact;
-            if (cb || ce) {
-              ++ticks;
-              Contact xb, xe;
-              xb.contact = cb, xe.contact = ce;
-              xb.force = rb[k].force.cast<float>(), xe.force = re[k].force.cast<float>();
-              felt += perceive(xe, xb, felt_thresholds, o_.device.max_force_n).perceptible();
-            }
-            if (ce && !cb) ++lost;
-            if (cb && !ce && fb > kFloor) ++extra;
-            const Rendered qb = render(*s.box, lw, s.map, tips[k], dir, o_.stylus_m);
-            const Rendered qe = render(*s.exact, lw, s.map, tips[k], dir, o_.stylus_m);
-            if (qb.contact && qb.force.norm() > kFloor) {
-              if (!qe.contact || std::fabs(qb.depth_m - qe.depth_m) > 0.25e-3) ++other;
-              // A ghost: no triangle of the mesh at the box's surface point (exact Embree on a
-              // 0.2 mm segment across it, both ways: front or back face; and on 0.1 mm from
-              // just before the point each way, so that a face within a few microns on the other
-              // side, an ear touching the head, does not hide the one the point is on).
-              const Vec3d a = qb.point_m - 1e-4 * dir, b = qb.point_m + 1e-4 * dir;
-              const bool there = render(*s.exact, lw, s.map, b, dir, 2e-4).contact ||
-                                 render(*s.exact, lw, s.map, a, -dir, 2e-4).contact ||
-                                 render(*s.exact, lw, s.map, b, dir, 1e-4 + 1e-6).contact ||
-                                 render(*s.exact, lw, s.map, a, -dir, 1e-4 + 1e-6).contact;
-              if (!there) ++ghost;
-            }
-            std::size_t met = 0;
-            if (s.box_scene) {
-              const Vec3 tip = s.map.to_model(tips[k]);
-              met = s.box_scene->boxes_met(
-                  Segment{tip - (dir * (o_.stylus_m / s.map.metres_per_unit)).cast<float>(), tip});
-            }
-            const bool at_seam = k > 0 && met != prev_met;
-            prev_met = met;
-            if (cb && ce && fe > kFloor) {
-              ++both;
-              const double ratio = fb / fe;
-              const bool out = ratio < 0.93 || ratio > 1.07;
-              ratio_out += out;
-              if (at_seam) ++seam, seam_out += out;
-            }
-            if (k == 0 || !ce || !re[k - 1].contact) continue;
-            const double jb = (rb[k].force - rb[k - 1].force).norm(), je = (re[k].force - re[k - 1].force).norm();
-            const double thr = std::max(0.07 * fe, kFloor);
-            if (jb - je > thr) ++jump;
-            if (jb > thr) ++jump_box;
-            if (je > thr) ++jump_exact;
-            max_excess = std::max(max_excess, jb - je);
-            if (cb && rb[k - 1].contact &&
-                angle_deg(rb[k].force, rb[k - 1].force) - angle_deg(re[k].force, re[k - 1].force) > 10.0)
-              ++dir_jump;
-          }
-          if (!traced && tilt == 0.0 && speed == 0.1) {
-            ForceTrace tr;
-            tr.test = "T2", tr.scene = s.name, tr.label = "slide at 1 mm depth, 100 mm/s, normal stylus";
-            for (std::size_t k = 0; k < tips.size(); ++k) {
-              tr.t_s.push_back(rb[k].t);
-              tr.box_n.push_back(rb[k].force.norm());
-              tr.exact_n.push_back(re[k].force.norm());
-            }
-            traces_.push_back(std::move(tr));
-            traced = true;
-          }
-        }
-    if (contact == 0) return;
-    const double c = double(contact);
-    add(metric("T2", s.name, "share of contact ticks perceptibly different from exact (max(10% |F|, 0.04 N), 25 deg)", "",
-               ticks ? double(felt) / double(ticks) : 0.0, 0.0, StabilityRule::at_most, 0.001));
-    add(metric("T2", s.name, "share of ticks whose jump exceeds exact's by max(7% |F|, 0.05 N)", "", jump / c, 0.0,
-               StabilityRule::at_most, 0.001));
-    add(metric("T2", s.name, "share of ticks with a jump above max(7% |F|, 0.05 N)", "", jump_box / c,
-               jump_exact / c, StabilityRule::difference_at_most, 0.001));
-    add(metric("T2", s.name, "largest per-tick jump excess over exact", "N", max_excess, 0.0, StabilityRule::info, 0));
-    add(metric("T2", s.name, "share of ticks with a direction jump > 10 deg beyond exact's", "", dir_jump / c, 0.0,
-               StabilityRule::at_most, 0.001));
-    add(metric("T2", s.name, "share of exact's contact ticks the box loses", "", lost / c, 0.0,
-               StabilityRule::at_most, 0.001));
-    add(metric("T2", s.name, "share of ticks with a contact exact does not have (> 0.05 N)", "", extra / c, 0.0,
-               StabilityRule::at_most, 0.0));
-    add(metric("T2", s.name, "ghost ticks: a box force (> 0.05 N) from a point no triangle is at", "", ghost / c, 0.0,
-               StabilityRule::at_most, 0.0));
-    add(metric("T2", s.name, "ticks answered from another surface than exact's (> 0.25 mm apart)", "", other / c,
-               0.0, StabilityRule::at_most, 0.001));
-    add(metric("T2", s.name, "share of contact ticks with |F_box|/|F_exact| outside [0.93, 1.07]", "",
-               both ? ratio_out / double(both) : 0.0, 0.0, StabilityRule::at_most, 0.01));
-    if (s.box_scene && s.box_scene->boxes().size() > 1)
-      add(metric("T2", s.name, "same, at ticks where the boxes met change (seams)", "",
-                 seam ? seam_out / double(seam) : 0.0, 0.0, StabilityRule::at_most, 0.01));
-  }
-
-  // T3: thin plates, prescribed push-through at 0.1 m/s, normal and 45 degrees.
-  void t3(const Scene& s, double thickness_mm) {
-    const ForceLaw lw = law(s, k_half());
-    double flips[2] = {0, 0}, pop[2] = {1e9, 1e9};
-    const Vec3d top(0.37e-3, 0.21e-3, 0.5 * thickness_mm * 1e-3);  // off the grid's vertices and edges
-    for (double tilt : {0.0, 45.0}) {
-      const Vec3d dir = tilted(Vec3d(0, 0, -1), tilt, 0);
-      std::vector<Vec3d> tips;
-      for (double d = -0.001; d <= 0.012; d += 0.1 * o_.device.period_s) tips.push_back(top + d * dir);
-      for (int which = 0; which < 2; ++which) {
-        const auto r = play_positions(which ? *s.exact : *s.box, lw, s.map, tips, dir, o_.stylus_m,
-                                      o_.device.period_s, cl());
-        bool began = false;
-        for (std::size_t k = 0; k < r.size(); ++k) {
-          if (r[k].force.z() < -kFloor) ++flips[which];
-          const double depth = (tips[k] - top).dot(dir);
-          if (r[k].contact) began = true;
-          if (began && !r[k].contact && depth > 0) {
-            pop[which] = std::min(pop[which], depth * 1e3);
-            break;
-          }
-        }
-      }
-    }
-    add(metric("T3", s.name, "ticks with the force pointing through the plate (sign flip)", "", flips[0], flips[1],
-               StabilityRule::at_most, 0));
-    const double need = std::min(o_.stylus_m, o_.device.max_force_n / k_half()) * 1e3 * 0.99;
-    add(metric("T3", s.name, "depth at which the force first vanishes (pop-through)", "mm",
-               std::min(pop[0], 99.0), std::min(pop[1], 99.0), StabilityRule::at_least, need));
-  }
-
-  // T4: concave corner, light grip pushing along the bisector, 0.5 mm lateral offset, 2 s.
-  void t4(const Scene& s) {
-    const ForceLaw lw = law(s, k_half());
-    double ripple[2], switches[2];
-    for (int which = 0; which < 2; ++which) {
-      ClosedLoopRun run;
-      run.device = o_.device;
-      run.hand = light_grip();
-      run.start_m = Vec3d(0.0005, 0.0013, 0.002);
-      const Vec3d sp(0, 0.0013, -0.02);
-      run.set_point = [sp](double) { return sp; };
-      run.seconds = 2.0;
-      run.stylus_dir = Vec3d(0, 0, -1);
-      run.stylus_m = o_.stylus_m;
-      run.contact_law = cl();
-      const auto ticks = run_closed_loop(which ? *s.exact : *s.box, lw, s.map, run);
-      double lat2 = 0, fsum = 0;
-      int n = 0, sw = 0, last = 0;
-      for (const auto& r : ticks) {
-        if (r.t < 1.0) continue;
-        lat2 += r.force.x() * r.force.x();
-        fsum += r.force.norm();
-        ++n;
-        const int wall = r.normal.x() > 0.05 ? 1 : (r.normal.x() < -0.05 ? -1 : 0);
-        if (wall != 0 && last != 0 && wall != last) ++sw;
-        if (wall != 0) last = wall;
-      }
-      // No force at all in the corner (the contact lost) fails both figures.
-      const bool held = n && fsum / n > 0.1;
-      ripple[which] = held ? std::sqrt(lat2 / n) / (fsum / n) : 99.0;
-      switches[which] = held ? sw / std::max(1e-9, ticks.back().t - 1.0) : 99.0;
-    }
-    add(metric("T4", s.name, "lateral force ripple (rms / mean |F|) after 1 s", "", ripple[0], ripple[1],
-               StabilityRule::at_most, 0.07));
-    add(metric("T4", s.name, "wall switches per second after 1 s", "1/s", switches[0], switches[1],
-               StabilityRule::at_most, 2.0));
-  }
-
-  // T5: felt stiffness of a prescribed normal stroke (1 mm deep, 0.1 m/s) with a tilted stylus.
-  double keff_ratio(const Scene& s, const ContactQuery& q, const Site& site, double tilt, std::size_t which) const {
-    const double k = k_half();
-    const ForceLaw lw = law(s, k);
-    const Vec3d dir = tilt > 0 ? tilted(site.inward, tilt, which) : site.inward;
-    std::vector<Vec3d> tips;
-    const double step = 0.1 * o_.device.period_s;
-    for (double d = -0.0005; d < 0.001; d += step) tips.push_back(site.surface_m + d * site.inward);
-    for (double d = 0.001; d > -0.0005; d -= step) tips.push_back(site.surface_m + d * site.inward);
-    const auto r = play_positions(q, lw, s.map, tips, dir, o_.stylus_m, o_.device.period_s, cl());
-    return passivity_equivalent_stiffness(r, o_.device.period_s) / k;
-  }
-
-  void t5(const Scene& s, bool model) {
-    for (double tilt : model ? std::vector<double>{30, 60, 75} : std::vector<double>{0, 30, 45, 60, 75}) {
-      std::vector<double> b, e;
-      for (std::size_t i = 0; i < s.sites.size(); ++i) {
-        b.push_back(keff_ratio(s, *s.box, s.sites[i], tilt, i));
-        e.push_back(keff_ratio(s, *s.exact, s.sites[i], tilt, i));
-      }
-      if (b.empty()) continue;
-      std::nth_element(b.begin(), b.begin() + b.size() / 2, b.end());
-      std::nth_element(e.begin(), e.begin() + e.size() / 2, e.end());
-      add(metric("T5", s.name,
-                 "felt stiffness K_eff / k, stylus tilted " + std::to_string(int(tilt)) + " deg" +
-                     (model ? " (median site)" : ""),
-                 "", b[b.size() / 2], e[e.size() / 2], StabilityRule::at_most, 1.05));
-    }
-  }
-
-  // T6: the probe starts inside (0.5-5 mm): first-tick force and ramp; random handles in the
-  // workspace: forces pointing into the object.
-  void t6(const Scene& s) {
-    const ForceLaw lw = law(s, k_half());
-    double first[2] = {0, 0}, ramp[2] = {1e9, 1e9};
-    for (std::size_t i = 0; i < std::min<std::size_t>(4, s.sites.size()); ++i)
-      for (double depth : {0.0005, 0.002, 0.005})
-        for (int which = 0; which < 2; ++which) {
-          const Site& site = s.sites[i];
-          const ContactQuery& q = which ? *s.exact : *s.box;
-          auto f = o_.filter ? o_.filter() : nullptr;  // a servo (re)starting: its ramp runs
-          const Vec3d tip = site.surface_m + depth * site.inward;
-          std::vector<double> mags;
-          TrajectoryRenderer rend(q, lw, s.map, cl());
-          for (int k = 0; k < 300; ++k) {
-            const Rendered r = rend(tip, site.inward, o_.stylus_m);
-            Vec3d out = f ? f->apply(r.force, tip, Vec3d::Zero(), 0.0) : r.force;
-            if (out.norm() > o_.device.max_force_n) out *= o_.device.max_force_n / out.norm();
-            mags.push_back(out.norm());
-          }
-          first[which] = std::max(first[which], mags[0]);
-          const double target = mags.back();
-          std::size_t k90 = 0;
-          while (k90 < mags.size() && mags[k90] < 0.9 * target) ++k90;
-          if (target > kFloor) ramp[which] = std::min(ramp[which], double(k90) * o_.device.period_s * 1e3);
-        }
-    add(metric("T6", s.name, "first-tick force, tip starting 0.5-5 mm inside (filter: " + o_.filter_name + ")", "N",
-               first[0], first[1], StabilityRule::at_most, 0.5));
-    add(metric("T6", s.name, "shortest time to 90% of the force (ramp)", "ms", std::min(ramp[0], 1e6),
-               std::min(ramp[1], 1e6), StabilityRule::at_least, 100.0));
-    // Random handles inside the workspace (the OBB mapped to 80 mm), random directions.
-    std::uint64_t state = o_.seed * 6364136223846793005ULL + 1442695040888963407ULL;
-    const auto uniform = [&]() {
-      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-      return double(state >> 11) * (1.0 / 9007199254740992.0);
-    };
-    std::size_t into = 0, wrong = 0, into_exact = 0;
-    const std::size_t probes = 4000;
-    const double half = 0.5 * o_.diagonal_m / std::sqrt(3.0);
-    for (std::size_t i = 0; i < probes; ++i) {
-      const Vec3d tip(half * (2 * uniform() - 1), half * (2 * uniform() - 1), half * (2 * uniform() - 1));
-      Vec3d dir(2 * uniform() - 1, 2 * uniform() - 1, 2 * uniform() - 1);
-      if (dir.norm() < 1e-6) continue;
-      dir.normalize();
-      const Rendered b = render(*s.box, lw, s.map, tip, dir, o_.stylus_m);
-      const Rendered e = render(*s.exact, lw, s.map, tip, dir, o_.stylus_m);
-      if (b.contact && b.force.norm() > kFloor && !e.contact) ++wrong;
-      if (b.contact && e.contact && b.force.dot(e.normal) < -kFloor) ++into;
-      if (e.contact && e.force.dot(e.normal) < -kFloor) ++into_exact;
-    }
-    add(metric("T6", s.name, "random handles: box contacts exact does not have (> 0.05 N)", "",
-               wrong / double(probes), 0.0, StabilityRule::at_most, 0.003));
-    add(metric("T6", s.name, "random handles: forces pointing into the object", "", double(into), double(into_exact),
-               StabilityRule::at_most, 0));
-  }
-
-  // T7: release: retract from 1 mm depth at 0.01-0.5 m/s; hover 0.1-0.5 mm above.
-  void t7(const Scene& s) {
-    const ForceLaw lw = law(s, k_half());
-    double late = 0, hover = 0, hover_exact = 0;
-    for (const Site& site : s.sites) {
-      for (double speed : {0.01, 0.1, 0.5}) {
-        std::vector<Vec3d> tips;
-        for (double d = 0.001; d > -0.002; d -= speed * o_.device.period_s)
-          tips.push_back(site.surface_m + d * site.inward);
-        const auto rb = play_positions(*s.box, lw, s.map, tips, site.inward, o_.stylus_m, o_.device.period_s, cl());
-        const auto re = play_positions(*s.exact, lw, s.map, tips, site.inward, o_.stylus_m, o_.device.period_s, cl());
-        std::size_t end_e = 0, end_b = 0;
-        for (std::size_t k = 0; k < tips.size(); ++k) {
-          if (re[k].contact) end_e = k + 1;
-          if (rb[k].contact && rb[k].force.norm() > kFloor) end_b = k + 1;
-        }
-        late = std::max(late, double(end_b > end_e ? end_b - end_e : 0));
-      }
-      for (double h : {0.0001, 0.0003, 0.0005}) {
-        const Vec3d tip = site.surface_m - h * site.inward;
-        hover += render(*s.box, lw, s.map, tip, site.inward, o_.stylus_m).force.norm() > kFloor;
-        hover_exact += render(*s.exact, lw, s.map, tip, site.inward, o_.stylus_m).force.norm() > kFloor;
-      }
-    }
-    add(metric("T7", s.name, "ticks of force after exact's contact ended (retract 0.01-0.5 m/s), worst", "ticks",
-               late, 0.0, StabilityRule::at_most, 1.0));
-    add(metric("T7", s.name, "forces hovering 0.1-0.5 mm above the surface", "", hover, hover_exact,
-               StabilityRule::at_most, 0));
-  }
-
-  // T8: servo stalls of 2, 5, 10 ms while in contact. During a stall the device holds its last
-  // force (nothing can act then); what is judged is the servo's response after it.
-  void t8(const Scene& s) {
-    const ForceLaw lh = law(s, k_half());
-    const ForceLaw lb = law(s, k_max());
-    double popped[2] = {0, 0}, added[2] = {-1e9, -1e9}, with[2] = {0, 0}, alone[2] = {0, 0};
-    for (std::size_t i = 0; i < std::min<std::size_t>(4, s.sites.size()); ++i) {
-      const Site& site = s.sites[i];
-      for (int which = 0; which < 2; ++which) {
-        const ContactQuery& q = which ? *s.exact : *s.box;
-        DeviceProfile dev = o_.device;
-        dev.damping_n_s_per_m = dev.passivity_damping(k_max());
-        double deepest_plain = 0;
-        for (std::size_t ms : {0, 2, 5, 10}) {
-          const std::size_t ticks = std::size_t(std::llround(ms * 1e-3 / o_.device.period_s));
-          // A hold: light grip pushing about 1.5 N, no device damping, the stall at 1 s (the
-          // first run has none: on a curved model the hand may slide the tip along the
-          // surface, and only what the stall adds to the penetration counts).
-          ClosedLoopRun run = hold_run(site, 2.0);
-          run.stalls = {Stall{1000, ticks}};
-          auto f = filter();
-          run.filter = f.get();
-          const auto rec = run_closed_loop(q, lh, s.map, run);
-          double deepest = 0;
-          for (const auto& r : rec) deepest = std::max(deepest, (r.x - site.surface_m).dot(site.inward));
-          if (ms == 0) {
-            deepest_plain = deepest;
-            continue;
-          }
-          // Sank under the hand by more than a millimetre: the stylus is going through.
-          if (deepest > deepest_plain + 0.001) popped[which] += 1;
-          // A free bounce at k = K_max, damping at the bound, the stall on the way out (past the
-          // deepest point): the held force then exceeds the spring's, so the stall alone injects
-          // energy; the response after it must add none.
-          const double quarter = 0.5 * kPi * std::sqrt(dev.mass_kg / k_max()) / dev.period_s;
-          const std::vector<Stall> stall{Stall{std::size_t(std::llround(1.2 * quarter)) + 1, ticks}};
-          auto g = filter();
-          const Bounce b = free_bounce(q, lb, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, stall, g.get(), cl());
-          const Bounce n = free_bounce(q, lb, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, stall, nullptr, cl());
-          const double rb = b.popped ? 9.0 : b.restitution, rn = n.popped ? 9.0 : n.restitution;
-          added[which] = std::max(added[which], rb - rn);
-          with[which] = std::max(with[which], rb);
-          alone[which] = std::max(alone[which], rn);
-        }
-      }
-    }
-    add(metric("T8", s.name, "holds popped through by a 2/5/10 ms stall (filter: " + o_.filter_name + ")", "",
-               popped[0], popped[1], StabilityRule::at_most, 0));
-    add(metric("T8", s.name, "restitution the servo's response adds to a stalled bounce (b = kT/2), worst", "",
-               added[0], added[1], StabilityRule::at_most, 0.02));
-    add(metric("T8", s.name, "bounce restitution with the stall and the response, worst", "", with[0], with[1],
-               StabilityRule::info, 0));
-    add(metric("T8", s.name, "bounce restitution with the stall alone (force held, then fresh)", "", alone[0],
-               alone[1], StabilityRule::info, 0));
-  }
-
-  std::vector<StabilityMetric> out_;
-  std::vector<ForceTrace> traces_;
-
-private:
-  const StabilityOptions& o_;
-};
-
-} // namespace
-
-void judge(StabilityMetric& m) {
-  const auto ok = [&](double v) {
-    switch (m.rule) {
-      case StabilityRule::info: return true;
-      case StabilityRule::at_most: return v <= m.threshold;
-      case StabilityRule::at_least: return v >= m.threshold;
-      case StabilityRule::within: return std::fabs(v - m.threshold) <= m.tolerance;
-      case StabilityRule::difference_at_most: return m.box - m.exact <= m.threshold;
-    }
-    return false;
-  };
-  m.pass = ok(m.box);
-  m.exact_pass = std::isnan(m.exact) ? true : (m.rule == StabilityRule::difference_at_most ? true : ok(m.exact));
-  m.verdict = m.rule == StabilityRule::info ? "info"
-              : m.pass ? "pass" : (m.exact_pass ? "fail (box)" : "fail (law: exact fails too)");
-}
-
-std::vector<StabilityMetric> run_calibration(const DeviceProfile& device) {
-  std::vector<StabilityMetric> out;
-  DeviceProfile dev = device;
-  dev.delay_ticks = 0;
-  dev.quantum_m = 0;
-  dev.mass_kg = 0.1;
-  dev.max_force_n = 1e9;
-  const Wall w(3000.0);
-  for (double b : {0.0, 1.5}) {
-    dev.damping_n_s_per_m = b;
-    const double expected = b > 0 ? 0.990 : 1.148;
-    double worst = 0;
-    for (double v0 : {0.05, 0.3}) {
-      const Bounce r = free_bounce(w.wall, w.law, w.map, dev, Vec3d::Zero(), Vec3d(0, 0, -1), v0, 0.05);
-      if (v0 == 0.05 || std::fabs(r.restitution - expected) > std::fabs(worst - expected)) worst = r.restitution;
-    }
-    out.push_back(metric("calibration", "analytic wall", "free bounce restitution, K = 3000 N/m, b = " +
-                                                             std::string(b > 0 ? "1.5" : "0") + " N s/m",
-                         "", worst, kNaN, StabilityRule::within, b > 0 ? 0.990 : 1.148, 0.01));
-  }
-  // Prescribed strokes: K_eff / K in [0.976, 1.000] (reference: 0.976 at 0.1 m/s).
-  for (double v : {0.01, 0.1, 0.5}) {
-    std::vector<Vec3d> tips;
-    const double step = v * 1e-3;
-    const double depth = 0.002;
-    const int in = int(std::llround(0.003 / step));
-    for (int k = 0; k <= in; ++k) tips.push_back(Vec3d(0, 0, 0.001 - k * step));
-    for (int k = 1; k <= in; ++k) tips.push_back(Vec3d(0, 0, -depth + k * step));
-    const Wall w3(3000.0);
-    const auto r = play_positions(w3.wall, w3.law, w3.map, tips, Vec3d(0, 0, -1), 0.05, 1e-3);
-    const double ratio = passivity_equivalent_stiffness(r, 1e-3) / 3000.0;
-    char name[96];
-    std::snprintf(name, sizeof name, "K_eff / K, prescribed in-out stroke 2 mm at %.2f m/s", v);
-    out.push_back(metric("calibration", "analytic wall", name, "", ratio, kNaN, StabilityRule::within, 0.988, 0.0125));
-  }
-  return out;
-}
-
-TriangleMesh make_plate(float thickness_mm) {
-  if (!(thickness_mm > 0)) throw InvalidInput("make_plate: thickness must be > 0");
-  const float h = 0.5f * thickness_mm;
-  return extrude({{-15, -h}, {15, -h}, {15, h}, {-15, h}}, 15.f, 8);
-}
-
-TriangleMesh make_v_groove(float degrees, bool welded, int divisions) {
-  if (!(degrees > 10 && degrees < 170)) throw InvalidInput("make_v_groove: angle must be in (10, 170) degrees");
-  const float a = float(degrees * kPi / 360.0), wall = 15.f;
-  const float s = std::sin(a), c = std::cos(a);
-  const float top = wall * c, x = wall * s + 5.f;
-  TriangleMesh m = extrude({{0, 0}, {wall * s, top}, {x, top}, {x, -10}, {-x, -10}, {-x, top}, {-wall * s, top}},
-                           15.f, divisions);
-  if (welded) {
-    // The two walls' vertices on the crease (x = 0, z = 0) share the averaged normal.
-    const Vec3 n = Vec3(0, 0, 1);
-    for (std::size_t i = 0; i < m.positions.size(); ++i) {
-      const Vec3& p = m.positions[i];
-      if (std::fabs(p.x()) < 1e-5f && std::fabs(p.z()) < 1e-5f && std::fabs(m.normals[i].y()) < 0.5f) m.normals[i] = n;
-    }
-  }
-  return m;
-}
-
 namespace {
 
 // One rank's share of the suite travels as: per task, its metrics then its traces.
@@ -825,6 +68,185 @@ std::vector<ForceTrace> get_traces(ByteReader& r) {
   return ts;
 }
 
+using stability::Scene;
+using stability::Site;
+using stability::Suite;
+
+// The scenes the tests run on, made on first use: the model (its sites picked the first
+// time a test asks) and the generated objects, baked with the model box's settings.
+class SuiteScenes {
+public:
+  struct Generated {
+    std::string name;
+    TriangleMesh mesh;
+    std::unique_ptr<BoxScene> box;
+    std::unique_ptr<ExactQuery> exact;
+  };
+
+  // Every rank fits the model and picks the same sites: both are deterministic.
+  SuiteScenes(const BoxScene& box, const TriangleMesh& mesh, const StabilityOptions& o)
+      : box_(box), mesh_(mesh), o_(o), exact_(o.exact ? *o.exact : own_exact_.emplace(mesh)) {
+    model_.name = o.model_name;
+    model_.box = &box;
+    model_.exact = &exact_;
+    model_.box_scene = &box;
+    model_.map = fit_device_space(mesh, o.diagonal_m);
+    bake_.params.m = o.generated_m;
+    bake_.params.n = o.generated_n;
+    bake_.refine = o.generated_refine;
+  }
+
+  const Scene& model(Suite& suite) {
+    if (!sites_picked_) {
+      model_.sites = stability::pick_sites(mesh_, exact_, model_.map, suite.law(model_, suite.k_half()), o_.sites, o_.seed, o_.stylus_m);
+      sites_picked_ = true;
+    }
+    return model_;
+  }
+
+  const Scene& wall() {
+    if (!wall_) {
+      wall_ = make("flat wall", stability::extrude({{-20, -10}, {20, -10}, {20, 0}, {-20, 0}}, 20.f, 8));
+      wall_scene_ = scene_of(*wall_);
+      for (double x : {-3.1, 0.0, 2.7, 5.3}) wall_scene_.sites.push_back(Site{Vec3d(x * 1e-3, 1.3e-3 * x, 0), Vec3d(0, 0, -1)});
+    }
+    return wall_scene_;
+  }
+
+  // A generated object baked with the model box's settings and its exact reference.
+  std::unique_ptr<Generated> make(std::string name, TriangleMesh m) const {
+    auto g = std::make_unique<Generated>();
+    g->name = std::move(name);
+    g->mesh = std::move(m);
+    g->box = std::make_unique<BoxScene>(bake_scene(g->mesh, {}, bake_, SourceInfo{}));
+    g->box->set_unconfirmed_blend(box_.unconfirmed_blend());
+    // The model's route where the generated scene can take it (an embree route needs a
+    // surface; a generated scene without one keeps its own).
+    if (box_.route() != SceneRoute::embree || g->box->surface()) g->box->set_route(box_.route());
+    g->box->set_walk_all_candidates(box_.boxes().empty() || box_.boxes()[0].walk_all_candidates());
+    g->exact = std::make_unique<ExactQuery>(g->mesh);
+    return g;
+  }
+
+  static Scene scene_of(const Generated& g) {
+    Scene sc;
+    sc.name = g.name;
+    sc.box = g.box.get();
+    sc.exact = g.exact.get();
+    sc.box_scene = g.box.get();
+    sc.map.metres_per_unit = 0.001;  // mm
+    return sc;
+  }
+
+private:
+  const BoxScene& box_;
+  const TriangleMesh& mesh_;
+  const StabilityOptions& o_;
+  std::optional<ExactQuery> own_exact_;
+  const ExactQuery& exact_;
+  Scene model_;
+  bool sites_picked_ = false;
+  BakeOptions bake_;
+  std::unique_ptr<Generated> wall_;
+  Scene wall_scene_;
+};
+
+using SuiteTask = std::function<void(Suite&)>;
+
+// The tasks, in the order of the report: the calibration gate, the model's tests, then the
+// generated objects'.
+std::vector<SuiteTask> suite_tasks(SuiteScenes& scenes, const StabilityOptions& o) {
+  const Suite wanted(o);
+  std::vector<SuiteTask> tasks;
+  tasks.push_back([&](Suite& s) { s.out_ = run_calibration(o.device); });
+  if (wanted.want("T1")) tasks.push_back([&](Suite& s) { s.t1(scenes.model(s)); });
+  if (wanted.want("T2")) tasks.push_back([&](Suite& s) { s.t2(scenes.model(s)); });
+  if (wanted.want("T5")) tasks.push_back([&](Suite& s) { s.t5(scenes.model(s), true); });
+  if (wanted.want("T6")) tasks.push_back([&](Suite& s) { s.t6(scenes.model(s)); });
+  if (wanted.want("T7")) tasks.push_back([&](Suite& s) { s.t7(scenes.model(s)); });
+  if (wanted.want("T8")) tasks.push_back([&](Suite& s) { s.t8(scenes.model(s)); });
+  if (!o.generated) return tasks;
+  if (wanted.want("T1")) tasks.push_back([&](Suite& s) { s.t1(scenes.wall()); });
+  if (wanted.want("T5")) tasks.push_back([&](Suite& s) { s.t5(scenes.wall(), false); });
+  if (wanted.want("T7")) tasks.push_back([&](Suite& s) { s.t7(scenes.wall()); });
+  if (wanted.want("T8")) tasks.push_back([&](Suite& s) { s.t8(scenes.wall()); });
+  if (wanted.want("T3"))
+    for (double h : {0.25, 0.5, 1.0, 2.0})
+      tasks.push_back([&scenes, h](Suite& s) {
+        char name[32];
+        std::snprintf(name, sizeof name, "plate %.2f mm", h);
+        const auto g = scenes.make(name, make_plate(float(h)));
+        s.t3(SuiteScenes::scene_of(*g), h);
+      });
+  if (wanted.want("T4"))
+    for (double deg : {60.0, 90.0, 120.0})
+      for (bool welded : {false, true})
+        tasks.push_back([&scenes, deg, welded](Suite& s) {
+          const std::string name = std::to_string(int(deg)) + " deg groove, " + (welded ? "welded" : "crisp");
+          const auto g = scenes.make(name, make_v_groove(float(deg), welded));
+          s.t4(SuiteScenes::scene_of(*g));
+        });
+  return tasks;
+}
+
+// Every task's figures and traces, in task order.
+struct TaskResults {
+  std::vector<std::vector<StabilityMetric>> metrics;
+  std::vector<std::vector<ForceTrace>> traces;
+};
+
+// Each task runs into a Suite of its own; with several ranks they are dealt in turn (task k
+// on rank k % ranks) and every rank receives every result: the report of one process.
+TaskResults run_tasks(const std::vector<SuiteTask>& tasks, const StabilityOptions& o, Communicator& comm) {
+  const DealtChunks deal{tasks.size(), 1, comm.size()};
+  TaskResults res;
+  res.metrics.resize(tasks.size());
+  res.traces.resize(tasks.size());
+  ByteWriter mine;
+  try {
+    deal.for_each_of(comm.rank(), [&](std::size_t k, std::size_t) {
+      Suite suite(o);
+      tasks[k](suite);
+      res.metrics[k] = std::move(suite.out_);
+      res.traces[k] = std::move(suite.traces_);
+      if (comm.size() > 1) put_metrics(mine, res.metrics[k]), put_traces(mine, res.traces[k]);
+    });
+  } catch (const std::exception& e) {
+    if (comm.size() == 1) throw;
+    comm.abort("hapticbox: rank " + std::to_string(comm.rank()) + " of " + std::to_string(comm.size()) +
+                   ": stability suite: " + e.what(),
+               1);
+  }
+  if (comm.size() > 1) {
+    const std::vector<Bytes> all = comm.all_gather(mine.bytes());
+    for (int r = 0; r < comm.size(); ++r) {
+      ByteReader in(all[std::size_t(r)], "run_stability_suite: rank " + std::to_string(r));
+      deal.for_each_of(r, [&](std::size_t k, std::size_t) {
+        res.metrics[k] = get_metrics(in);
+        res.traces[k] = get_traces(in);
+      });
+    }
+  }
+  return res;
+}
+
+// The gate's figures (task 0), then every test's, counted.
+void assemble(StabilityReport& rep, TaskResults& res) {
+  rep.calibration = std::move(res.metrics[0]);
+  rep.calibration_pass = std::all_of(rep.calibration.begin(), rep.calibration.end(), [](auto& m) { return m.pass; });
+  for (std::size_t k = 1; k < res.metrics.size(); ++k) {
+    rep.metrics.insert(rep.metrics.end(), std::make_move_iterator(res.metrics[k].begin()),
+                       std::make_move_iterator(res.metrics[k].end()));
+    rep.traces.insert(rep.traces.end(), std::make_move_iterator(res.traces[k].begin()),
+                      std::make_move_iterator(res.traces[k].end()));
+  }
+  for (const auto& m : rep.metrics) {
+    if (m.rule == StabilityRule::info) continue;
+    if (m.pass) ++rep.passed;
+    else ++rep.failed, rep.failed_law += !m.exact_pass;
+  }
+}
+
 } // namespace
 
 StabilityReport run_stability_suite(const BoxScene& box, const TriangleMesh& mesh, const StabilityOptions& o) {
@@ -839,148 +261,10 @@ StabilityReport run_stability_suite(const BoxScene& box, const TriangleMesh& mes
   rep.filter = o.filter_name;
   rep.depth_law = o.depth_law == DepthLaw::normal ? "normal" : "along_segment";
   rep.contact_law = to_string(o.contact_law);
-  const Suite wanted(o);
-
-  // The model (every rank fits it and picks the same sites: both are deterministic).
-  std::optional<ExactQuery> own_exact;
-  const ExactQuery& exact = o.exact ? *o.exact : own_exact.emplace(mesh);
-  Scene model;
-  model.name = o.model_name;
-  model.box = &box;
-  model.exact = &exact;
-  model.box_scene = &box;
-  model.map = fit_device_space(mesh, o.diagonal_m);
-
-  // The generated objects, baked on the ranks whose tasks need them (the first time).
-  BakeOptions bo;
-  bo.params.m = o.generated_m;
-  bo.params.n = o.generated_n;
-  bo.refine = o.generated_refine;
-  struct Generated {
-    std::string name;
-    TriangleMesh mesh;
-    std::unique_ptr<BoxScene> box;
-    std::unique_ptr<ExactQuery> exact;
-  };
-  const auto make = [&](std::string name, TriangleMesh m) {
-    auto g = std::make_unique<Generated>();
-    g->name = std::move(name);
-    g->mesh = std::move(m);
-    g->box = std::make_unique<BoxScene>(bake_scene(g->mesh, {}, bo, SourceInfo{}));
-    g->box->set_unconfirmed_blend(box.unconfirmed_blend());
-    // The model's route where the generated scene can take it (an embree route needs a
-    // surface; a generated scene without one keeps its own).
-    if (box.route() != SceneRoute::embree || g->box->surface()) g->box->set_route(box.route());
-    g->box->set_walk_all_candidates(box.boxes().empty() || box.boxes()[0].walk_all_candidates());
-    g->exact = std::make_unique<ExactQuery>(g->mesh);
-    return g;
-  };
-  const auto scene_of = [&](const Generated& g) {
-    Scene sc;
-    sc.name = g.name;
-    sc.box = g.box.get();
-    sc.exact = g.exact.get();
-    sc.box_scene = g.box.get();
-    sc.map.metres_per_unit = 0.001;  // mm
-    return sc;
-  };
-  std::unique_ptr<Generated> wall;
-  Scene wall_scene;
-  const auto the_wall = [&]() -> const Scene& {
-    if (!wall) {
-      wall = make("flat wall", extrude({{-20, -10}, {20, -10}, {20, 0}, {-20, 0}}, 20.f, 8));
-      wall_scene = scene_of(*wall);
-      for (double x : {-3.1, 0.0, 2.7, 5.3})
-        wall_scene.sites.push_back(Site{Vec3d(x * 1e-3, 1.3e-3 * x, 0), Vec3d(0, 0, -1)});
-    }
-    return wall_scene;
-  };
-  bool sites_picked = false;
-  const auto the_model = [&](Suite& suite) -> const Scene& {
-    if (!sites_picked) {
-      model.sites = pick_sites(mesh, exact, model.map, suite.law(model, suite.k_half()), o.sites, o.seed, o.stylus_m);
-      sites_picked = true;
-    }
-    return model;
-  };
-
-  // The tasks, in the order of the report: the calibration gate, the model's tests, then the
-  // generated objects'. Each runs into a Suite of its own; with several ranks they are dealt
-  // in turn (task k on rank k % ranks) and every rank receives every result, assembled in
-  // task order: the report of one process.
-  std::vector<std::function<void(Suite&)>> tasks;
-  tasks.push_back([&](Suite& s) { s.out_ = run_calibration(o.device); });
-  if (wanted.want("T1")) tasks.push_back([&](Suite& s) { s.t1(the_model(s)); });
-  if (wanted.want("T2")) tasks.push_back([&](Suite& s) { s.t2(the_model(s)); });
-  if (wanted.want("T5")) tasks.push_back([&](Suite& s) { s.t5(the_model(s), true); });
-  if (wanted.want("T6")) tasks.push_back([&](Suite& s) { s.t6(the_model(s)); });
-  if (wanted.want("T7")) tasks.push_back([&](Suite& s) { s.t7(the_model(s)); });
-  if (wanted.want("T8")) tasks.push_back([&](Suite& s) { s.t8(the_model(s)); });
-  if (o.generated) {
-    if (wanted.want("T1")) tasks.push_back([&](Suite& s) { s.t1(the_wall()); });
-    if (wanted.want("T5")) tasks.push_back([&](Suite& s) { s.t5(the_wall(), false); });
-    if (wanted.want("T7")) tasks.push_back([&](Suite& s) { s.t7(the_wall()); });
-    if (wanted.want("T8")) tasks.push_back([&](Suite& s) { s.t8(the_wall()); });
-    if (wanted.want("T3"))
-      for (double h : {0.25, 0.5, 1.0, 2.0})
-        tasks.push_back([&, h](Suite& s) {
-          char name[32];
-          std::snprintf(name, sizeof name, "plate %.2f mm", h);
-          const auto g = make(name, make_plate(float(h)));
-          s.t3(scene_of(*g), h);
-        });
-    if (wanted.want("T4"))
-      for (double deg : {60.0, 90.0, 120.0})
-        for (bool welded : {false, true})
-          tasks.push_back([&, deg, welded](Suite& s) {
-            const std::string name = std::to_string(int(deg)) + " deg groove, " + (welded ? "welded" : "crisp");
-            const auto g = make(name, make_v_groove(float(deg), welded));
-            s.t4(scene_of(*g));
-          });
-  }
-
-  const DealtChunks deal{tasks.size(), 1, comm.size()};
-  std::vector<std::vector<StabilityMetric>> metrics(tasks.size());
-  std::vector<std::vector<ForceTrace>> traces(tasks.size());
-  ByteWriter mine;
-  try {
-    deal.for_each_of(comm.rank(), [&](std::size_t k, std::size_t) {
-      Suite suite(o);
-      tasks[k](suite);
-      metrics[k] = std::move(suite.out_);
-      traces[k] = std::move(suite.traces_);
-      if (comm.size() > 1) put_metrics(mine, metrics[k]), put_traces(mine, traces[k]);
-    });
-  } catch (const std::exception& e) {
-    if (comm.size() == 1) throw;
-    comm.abort("hapticbox: rank " + std::to_string(comm.rank()) + " of " + std::to_string(comm.size()) +
-                   ": stability suite: " + e.what(),
-               1);
-  }
-  if (comm.size() > 1) {
-    const std::vector<Bytes> all = comm.all_gather(mine.bytes());
-    for (int r = 0; r < comm.size(); ++r) {
-      ByteReader in(all[std::size_t(r)], "run_stability_suite: rank " + std::to_string(r));
-      deal.for_each_of(r, [&](std::size_t k, std::size_t) {
-        metrics[k] = get_metrics(in);
-        traces[k] = get_traces(in);
-      });
-    }
-  }
-
-  rep.calibration = std::move(metrics[0]);
-  rep.calibration_pass = std::all_of(rep.calibration.begin(), rep.calibration.end(), [](auto& m) { return m.pass; });
-  for (std::size_t k = 1; k < tasks.size(); ++k) {
-    rep.metrics.insert(rep.metrics.end(), std::make_move_iterator(metrics[k].begin()),
-                       std::make_move_iterator(metrics[k].end()));
-    rep.traces.insert(rep.traces.end(), std::make_move_iterator(traces[k].begin()),
-                      std::make_move_iterator(traces[k].end()));
-  }
-  for (const auto& m : rep.metrics) {
-    if (m.rule == StabilityRule::info) continue;
-    if (m.pass) ++rep.passed;
-    else ++rep.failed, rep.failed_law += !m.exact_pass;
-  }
+  SuiteScenes scenes(box, mesh, o);
+  const std::vector<SuiteTask> tasks = suite_tasks(scenes, o);
+  TaskResults results = run_tasks(tasks, o, comm);
+  assemble(rep, results);
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
 }

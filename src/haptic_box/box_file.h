@@ -26,7 +26,7 @@ struct LoadOptions {
   bool huge_pages = false;
 };
 
-/// Loads a box file (versions 1 to 6; the format is described at the top of box_file.cpp).
+/// Loads a box file (versions 1 to 7; the format is described in box_file_format.h).
 /// Throws hb::IoError (missing, unreadable) or hb::InvalidInput (truncated, corrupt checksum,
 /// corrupt compressed payload header, wrong version, not a box file); messages name the file
 /// and the cause.

@@ -36,7 +36,7 @@
 //     is no contact. Without it (UnconfirmedBlend::keep) a blend nearer the handle than the
 //     true surface, which refinement cannot confirm, won and pushed up to 1.2 mm from any
 //     triangle (issue 11: +10.9 N jumps on the armadillo; docs/stability.md).
-//  7. The triangles below the grid's surface cells (SurfaceCells, scene_grid.h; built from
+//  7. The triangles below the grid's surface cells (SurfaceCells, surface_cells.h; built from
 //     the grid and the boxes' shared surface when the scene is made; default on, with
 //     `reject`; set_cell_triangles(false) is the routing before, 2026-12-02). (a) A handle in
 //     a surface cell is inside or outside by its cell's triangles (the crossing nearest it
@@ -51,7 +51,7 @@
 //     from a refining box the segment meets (HapticBox::query_near, no walk), else steps 1-4.
 //     Measured on the elephant (2026-12-02): T2 ticks answered from another surface 0.29% ->
 //     0.014%, lost contacts 0.25% -> 0, `eval --seed 2` agreement 99.56% -> 99.925%.
-#include "haptic_box/box_scene.h"
+#include "haptic_box/box_scene_parts.h"
 #include "errors.h"
 #include "exact/exact_query.h"
 #include "geometry/octahedral.h"
@@ -64,73 +64,8 @@
 
 namespace hb {
 
-// The surface cells a routed query's walk crossed (step 7).
-struct BoxScene::Visited {
-  static constexpr int kMax = 32;
-  std::uint32_t cell[kMax];
-  std::uint16_t code[kMax];
-  float s[kMax];
-  int count = 0;
-  bool overflow = false;
-};
-
-namespace {
-// The surface cells of a grid and a surface: built once for the pair however many scenes hold
-// them (a budgeted bake composes three or more; at 13M triangles each build takes seconds).
-// Both are immutable once built; the last pair's cells are kept while something holds them,
-// and weak pointers make sure the pair is the same objects, not new ones at old addresses.
-std::shared_ptr<const SurfaceCells> surface_cells_of(const std::shared_ptr<const SceneGrid>& grid,
-                                                     const std::shared_ptr<const SurfaceTriangles>& surface) {
-  static std::mutex mutex;
-  static std::weak_ptr<const SceneGrid> last_grid;
-  static std::weak_ptr<const SurfaceTriangles> last_surface;
-  static std::weak_ptr<const SurfaceCells> last_cells;
-  {
-    std::lock_guard<std::mutex> lock(mutex);
-    if (last_grid.lock() == grid && last_surface.lock() == surface)
-      if (auto cells = last_cells.lock()) return cells;
-  }
-  auto cells = std::make_shared<const SurfaceCells>(*grid, surface);
-  std::lock_guard<std::mutex> lock(mutex);
-  last_grid = grid;
-  last_surface = surface;
-  last_cells = cells;
-  return cells;
-}
-} // namespace
-
-BoxScene::BoxScene(std::vector<HapticBox> boxes, SourceInfo source, std::vector<std::uint32_t> piece_of_triangle,
-                   std::shared_ptr<const SceneGrid> grid, std::shared_ptr<const SurfaceTriangles> surface)
-    : boxes_(std::move(boxes)), source_(std::move(source)), grid_(std::move(grid)), surface_(std::move(surface)) {
-  set_piece_of_triangle(std::move(piece_of_triangle));
-  if (grid_ && grid_->empty()) grid_.reset();
-  if (grid_ && grid_->list_count() > 0 && grid_->max_box() >= boxes_.size())
-    throw InvalidInput("box scene: the scene grid names box " + std::to_string(grid_->max_box()) + ", the scene has " +
-                       std::to_string(boxes_.size()));
-  // The surface the refining boxes share (or the one given), and the triangles below the
-  // grid's surface cells from it.
-  bool shared = true;
-  const bool given = surface_ != nullptr;
-  for (const HapticBox& box : boxes_)
-    if (box.refines()) {
-      if (given && surface_ != box.surface())
-        throw InvalidInput("box scene: a box refines against another surface than the scene's");
-      if (surface_ && surface_ != box.surface()) shared = false;
-      surface_ = box.surface();
-    }
-  if (!shared) surface_.reset();
-  if (grid_ && surface_) cells_ = surface_cells_of(grid_, surface_);
-  for (auto& b : bounds_) b.reserve(boxes_.size());
-  for (const HapticBox& box : boxes_) {
-    const Obb& o = box.obb();
-    // Half extents of the OBB along world axes: |R| * half.
-    const Vec3 extent = o.axes.cwiseAbs() * o.half;
-    for (int a = 0; a < 3; ++a) {
-      bounds_[a].push_back(o.center[a] - extent[a]);
-      bounds_[3 + a].push_back(o.center[a] + extent[a]);
-    }
-  }
-}
+using scene_handle::handle_inside;
+using scene_handle::handle_outside_behind;
 
 std::size_t BoxScene::cull(const Segment& segment, std::size_t first, std::size_t last,
                            std::uint32_t* out) const noexcept {
@@ -166,159 +101,6 @@ std::size_t BoxScene::boxes_met(const Segment& segment) const noexcept {
     if (intersect_line_obb(box.obb(), segment.start, l, hit) && hit.t_enter <= length && hit.t_exit >= 0.f) ++met;
   }
   return met;
-}
-
-namespace {
-
-// True when the handle lies inside the box's piece along the segment's line: walking from the
-// box entry towards the handle meets the piece's outside first (the line entered the piece
-// before the handle), and walking back from the box exit towards the handle does too (the
-// piece goes on past the handle). Both are ordinary box queries on the same tables.
-// The piece's far surface must also come before the contact found ahead (`contact_along`
-// from the handle): otherwise the line leaves the piece, and the handle sits in a pocket of
-// it, not inside it.
-bool handle_inside(const HapticBox& box, const Segment& segment, const ForceLaw& law, float contact_along,
-                   std::size_t* asked) noexcept {
-  const Vec3 delta = segment.end - segment.start;
-  const float length = delta.norm();
-  if (!(length > 0.f)) return false;
-  const Vec3 l = delta / length;
-  LineBoxHit hit;
-  if (!intersect_line_obb(box.obb(), segment.start, l, hit) || hit.t_enter >= 0.f || hit.t_exit <= 0.f)
-    return false;
-  const float margin = 1e-3f * box.obb().diagonal();
-  if (asked) *asked += 2;
-  Contact c;
-  float along = 0.f;
-  if (!box.query_into({segment.start + (hit.t_enter - margin) * l, segment.start}, law, c, along, Refine::misses)) return false;
-  if (!box.query_into({segment.start + (hit.t_exit + margin) * l, segment.start}, law, c, along, Refine::misses)) return false;
-  const float far_surface = hit.t_exit + margin - along;  // from the handle along l
-  return far_surface < contact_along;
-}
-
-// A handle in a surface cell lies outside the object when a point a little behind it on the
-// segment's line is in an outside cell and no refining box whose surface the short segment
-// from there to the handle crosses finds an entering crossing on it (the first crossing from
-// outside enters). False (undecided: the caller takes the unrouted path) when no outside cell
-// is within kBehind cells, a listed box does not refine, or a crossing is found.
-bool handle_outside_behind(const SceneGrid& grid, const std::vector<HapticBox>& boxes, const Segment& segment,
-                           const ForceLaw& law, std::size_t* asked_count) noexcept {
-  constexpr int kBehind = 4;
-  constexpr int kMaxAsked = 8;
-  const Vec3 delta = segment.end - segment.start;
-  const float length = delta.norm();
-  if (!(length > 0.f) || !std::isfinite(length)) return false;
-  const Vec3 l = delta / length;
-  Vec3 behind = segment.start;
-  bool found = false;
-  for (int k = 1; k <= kBehind && !found; ++k) {
-    behind = segment.start - (float(k) * grid.cell()) * l;
-    const std::uint16_t code = grid.code_at(behind);
-    if (code == SceneGrid::kOutside) found = true;
-    else if (code < SceneGrid::kFirstSurface) return false;  // inside or unknown behind
-  }
-  if (!found) return false;
-  const Segment back{behind, segment.start};
-  std::uint32_t asked[kMaxAsked];
-  int n_asked = 0;
-  bool outside = true;
-  grid.walk_surface(back.start, back.end, [&](std::uint16_t code, float) {
-    for (const std::uint32_t* b = grid.boxes_begin(code); b != grid.boxes_end(code); ++b) {
-      if (std::find(asked, asked + n_asked, *b) != asked + n_asked) continue;
-      if (n_asked == kMaxAsked || !boxes[*b].refines()) return outside = false;
-      asked[n_asked++] = *b;
-      if (asked_count) ++*asked_count;
-      Contact c;
-      float along = 0.f;
-      if (boxes[*b].query_refined(back, law, c, along)) return outside = false;
-    }
-    return true;
-  });
-  return outside;
-}
-
-} // namespace
-
-// The surface's triangles as a mesh of their own (the records' corners and normals: the
-// surface cells' answers' geometry and shading) and Embree over it. Corners with the same
-// position and normal bits are one vertex (most are: the tree's leaves then share them,
-// which random-order queries feel in the cache).
-struct BoxScene::EmbreeRoute {
-  TriangleMesh mesh;
-  std::unique_ptr<ExactQuery> exact;
-  explicit EmbreeRoute(const SurfaceTriangles& surface) {
-    const std::size_t n = surface.size();
-    mesh.positions.reserve(n);
-    mesh.normals.reserve(n);
-    mesh.triangles.reserve(n);
-    struct Key {
-      std::uint32_t x, y, z, normal;
-      bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z && normal == o.normal; }
-    };
-    struct KeyHash {
-      std::size_t operator()(const Key& k) const noexcept {
-        std::uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
-        h ^= (h >> 29) ^ (k.y * 0xBF58476D1CE4E5B9ull);
-        h ^= (h >> 31) ^ (k.z * 0x94D049BB133111EBull);
-        return std::size_t(h ^ (h >> 30) ^ k.normal);
-      }
-    };
-    std::unordered_map<Key, std::uint32_t, KeyHash> index;
-    index.reserve(n);
-    const auto vertex = [&](const Vec3& p, std::uint32_t normal) {
-      Key k{0, 0, 0, normal};
-      std::memcpy(&k.x, &p.x(), 4), std::memcpy(&k.y, &p.y(), 4), std::memcpy(&k.z, &p.z(), 4);
-      const auto [it, added] = index.emplace(k, std::uint32_t(mesh.positions.size()));
-      if (added) {
-        mesh.positions.push_back(p);
-        mesh.normals.push_back(decode_octahedral32(normal));
-      }
-      return it->second;
-    };
-    const SurfaceTriangles::Record* r = surface.records();
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec3 a(r[i].a[0], r[i].a[1], r[i].a[2]);
-      const Vec3 e1(r[i].e1[0], r[i].e1[1], r[i].e1[2]), e2(r[i].e2[0], r[i].e2[1], r[i].e2[2]);
-      mesh.triangles.push_back({vertex(a, r[i].normal[0]), vertex(a + e1, r[i].normal[1]), vertex(a + e2, r[i].normal[2])});
-    }
-    exact = std::make_unique<ExactQuery>(mesh);
-  }
-};
-
-void BoxScene::set_route(SceneRoute route) {
-  if (route == SceneRoute::embree && !embree_) {
-    if (!surface_) throw InvalidInput("box scene: the embree route needs the scene's surface (this scene has none)");
-    if (surface_->normal_map_side() > 0)
-      throw InvalidInput("box scene: the embree route needs the full surface; this one is simplified (a normal map shades it)");
-    embree_ = std::make_shared<const EmbreeRoute>(*surface_);
-  }
-  route_ = route;
-}
-
-std::size_t BoxScene::embree_bytes() const noexcept {
-  return embree_ ? embree_->mesh.positions.size() * 2 * sizeof(Vec3) + embree_->mesh.triangles.size() * 12 : 0;
-}
-
-bool BoxScene::has_triangle_ids() const noexcept {
-  for (const HapticBox& b : boxes_)
-    if (b.refines()) return true;
-  return false;
-}
-
-bool BoxScene::refines() const noexcept { return cells_ != nullptr || has_triangle_ids(); }
-
-BoxScene BoxScene::without_triangle_ids() const {
-  if (!cells_) return *this;
-  std::vector<HapticBox> boxes;
-  boxes.reserve(boxes_.size());
-  for (const HapticBox& b : boxes_) boxes.push_back(b.without_refinement());
-  BoxScene s(std::move(boxes), source_, piece_of_triangle_, grid_, surface_);
-  s.unconfirmed_ = unconfirmed_;
-  s.use_cells_ = use_cells_;
-  s.route_ = route_;
-  s.embree_ = embree_;
-  s.budget_ = budget_;
-  return s;
 }
 
 Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexcept {
@@ -773,49 +555,6 @@ void BoxScene::query_many(const Segment* segments, std::size_t count, const Forc
     for (std::size_t k = 0; k < walks; ++k)
       out[which[k]] = crossing_contact(segments[which[k]], length[k], law, crossing[k].triangle, crossing[k].front);
   }
-}
-
-void BoxScene::set_piece_of_triangle(std::vector<std::uint32_t> piece_of_triangle) {
-  for (std::uint32_t id : piece_of_triangle)
-    if (id >= boxes_.size())
-      throw InvalidInput("box scene: piece id " + std::to_string(id) + " but " + std::to_string(boxes_.size()) +
-                         " boxes");
-  piece_of_triangle_ = std::move(piece_of_triangle);
-}
-
-std::size_t BoxScene::table_bytes() const {
-  std::size_t sum = 0;
-  for (const HapticBox& box : boxes_) sum += box.table_bytes();
-  return sum;
-}
-
-std::size_t BoxScene::memory_bytes() const {
-  return table_bytes() + refinement_bytes() + (surface_ ? surface_->normal_map_bytes() : 0) +
-         (grid_ ? grid_->bytes() : 0) + (cells_ ? cells_->bytes() : 0) + embree_bytes();
-}
-
-std::size_t BoxScene::refinement_bytes() const {
-  std::size_t sum = surface_ ? surface_->bytes() : 0;
-  const SurfaceTriangles* counted = surface_.get();
-  for (const HapticBox& box : boxes_) {
-    sum += box.triangle_id_bytes();
-    if (!surface_ && box.refines() && box.surface().get() != counted) {  // boxes on different surfaces
-      counted = box.surface().get();
-      sum += counted->bytes();
-    }
-  }
-  return sum;
-}
-
-BoxScene BoxScene::compressed(const CodecOptions& options) const {
-  std::vector<HapticBox> boxes;
-  boxes.reserve(boxes_.size());
-  for (const HapticBox& box : boxes_) boxes.push_back(box.compressed(options));
-  BoxScene s(std::move(boxes), source_, piece_of_triangle_, grid_, surface_);
-  s.budget_ = budget_;
-  s.route_ = route_;
-  s.embree_ = embree_;
-  return s;
 }
 
 } // namespace hb

@@ -1,7 +1,7 @@
 #pragma once
 #include "haptic_box/budget_report.h"
 #include "haptic_box/haptic_box.h"
-#include "haptic_box/scene_grid.h"
+#include "haptic_box/surface_cells.h"
 #include <memory>
 #include <string>
 #include <vector>
@@ -257,7 +257,7 @@ private:
   SceneRoute route_ = SceneRoute::cells;
   SideBySide side_by_side_ = SideBySide::automatic;
   BudgetReport budget_;
-  // SceneRoute::embree: the surface as a mesh and Embree over it (box_scene.cpp).
+  // SceneRoute::embree: the surface as a mesh and Embree over it (box_scene_parts.h, box_scene_build.cpp).
   struct EmbreeRoute;
   std::shared_ptr<const EmbreeRoute> embree_;
   // The routed query's cell-triangle steps (box_scene.cpp, step 7).

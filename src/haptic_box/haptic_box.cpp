@@ -39,6 +39,7 @@
 // 10. query_many() on a raw table without refinement runs 4 or 8 queries side by side in SIMD
 //     lanes instead, with the same arithmetic bit for bit (query_lanes.cpp, docs/speed.md).
 #include "haptic_box/haptic_box.h"
+#include "haptic_box/sample_fetch.h"
 #include "errors.h"
 #include "geometry/octahedral.h"
 #include "prefetch.h"
@@ -48,262 +49,8 @@
 #include <type_traits>
 #include <emmintrin.h>  // SSE2: the x86-64 baseline
 
+
 namespace hb {
-namespace {
-
-// Blend of up to four (t, normal) values with miss handling (overview step 5).
-struct Blend {
-  float t = 0.f;
-  Vec3 n{Vec3::Zero()};
-  bool hit = false;
-};
-
-// The 2 x 2 directional samples of one corner's quad (SSE2, branch-free, memory order):
-// per sample the weight (zero for a miss, t < 0), and the weighted t and octahedral normal
-// decoded un-normalised (the caller normalises the blend once). Kept per lane so that the
-// raw path can sum four corners at once.
-struct CornerLanes {
-  __m128 w, t, nx, ny, nz;
-};
-inline CornerLanes corner_lanes(const Sample* base, std::size_t row, __m128 w) noexcept {
-  const __m128 r0 = _mm_loadu_ps(reinterpret_cast<const float*>(base));
-  const __m128 r1 = _mm_loadu_ps(reinterpret_cast<const float*>(base + row));
-  const __m128 t = _mm_shuffle_ps(r0, r1, _MM_SHUFFLE(2, 0, 2, 0));
-  const __m128i codes = _mm_castps_si128(_mm_shuffle_ps(r0, r1, _MM_SHUFFLE(3, 1, 3, 1)));
-  w = _mm_and_ps(w, _mm_cmpge_ps(t, _mm_setzero_ps()));
-  const __m128 scale = _mm_set1_ps(1.f / 32767.f);
-  __m128 u = _mm_mul_ps(_mm_cvtepi32_ps(_mm_srai_epi32(_mm_slli_epi32(codes, 16), 16)), scale);
-  __m128 v = _mm_mul_ps(_mm_cvtepi32_ps(_mm_srai_epi32(codes, 16)), scale);
-  const __m128 sign = _mm_set1_ps(-0.f);
-  const __m128 z = _mm_sub_ps(_mm_sub_ps(_mm_set1_ps(1.f), _mm_andnot_ps(sign, u)), _mm_andnot_ps(sign, v));
-  const __m128 fold = _mm_max_ps(_mm_sub_ps(_mm_setzero_ps(), z), _mm_setzero_ps());
-  u = _mm_sub_ps(u, _mm_or_ps(fold, _mm_and_ps(u, sign)));
-  v = _mm_sub_ps(v, _mm_or_ps(fold, _mm_and_ps(v, sign)));
-  return {w, _mm_mul_ps(w, t), _mm_mul_ps(w, u), _mm_mul_ps(w, v), _mm_mul_ps(w, z)};
-}
-
-// Lane c of the result: the sum of the four lanes of x_c.
-inline __m128 lane_sums(__m128 x0, __m128 x1, __m128 x2, __m128 x3) noexcept {
-  _MM_TRANSPOSE4_PS(x0, x1, x2, x3);
-  return _mm_add_ps(_mm_add_ps(x0, x1), _mm_add_ps(x2, x3));
-}
-
-// The weighted sums over one corner's quad.
-struct CornerBlend {
-  float weight, t, nx, ny, nz;
-};
-
-// The four corners' blends side by side (lane c: corner c), through any policy's blend().
-struct Corners4 {
-  __m128 w, t, nx, ny, nz;
-};
-template <class Fetch>
-inline Corners4 blend_each(const Fetch& fetch, const typename Fetch::Corner* corners, const float w[4]) noexcept {
-  alignas(16) float cw[4], ct[4], cnx[4], cny[4], cnz[4];
-  for (int c = 0; c < 4; ++c) {
-    const CornerBlend b = fetch.blend(corners[c], w);
-    cw[c] = b.weight, ct[c] = b.t, cnx[c] = b.nx, cny[c] = b.ny, cnz[c] = b.nz;
-  }
-  return {_mm_load_ps(cw), _mm_load_ps(ct), _mm_load_ps(cnx), _mm_load_ps(cny), _mm_load_ps(cnz)};
-}
-
-inline void split_cell(float f, int cells, int& i0, float& w) noexcept {
-  // f in [0, cells] (NaN: 0); i0 in [0, cells - 1], w in [0, 1].
-  // f >= 0 ? f : 0 is std::max(f, 0.f) for every number (-0 kept) and maps NaN to 0, so no
-  // input, finite or not, makes an index outside the grid (query_lanes_kernel.inc: the same).
-  f = std::min(f >= 0.f ? f : 0.f, float(cells));
-  i0 = std::min(int(f), cells - 1);
-  w = f - float(i0);
-}
-
-// Directional interpolation at one corner over its decoded quad (hit mask and values in the
-// quad order, as a codec's fetch_quad gives them): missed samples and zero weights are
-// dropped, weights summed (the caller applies the miss rule and normalises). Samples are
-// added in k order 0..3 by add_sample(), so every codec's sums follow the same float ops.
-inline void add_sample(CornerBlend& b, float w, float t, const Vec3& n) noexcept {
-  b.weight += w;
-  b.t += w * t;
-  b.nx += w * n.x();
-  b.ny += w * n.y();
-  b.nz += w * n.z();
-}
-inline CornerBlend blend_quad(unsigned hits, const float t[4], const float u[4], const float v[4],
-                              const float w[4]) noexcept {
-  CornerBlend b{0.f, 0.f, 0.f, 0.f, 0.f};
-  for (int k = 0; k < 4; ++k) {
-    if (w[k] <= 0.f || !((hits >> k) & 1u)) continue;
-    add_sample(b, w[k], t[k], oct_decode_unnormalized(u[k], v[k]));
-  }
-  return b;
-}
-
-// Sample fetch policies: begin() locates (and prefetches) the 2 x 2 directional quad at
-// (a0, b0) of one corner's tile, resolve() runs a codec's second, dependent fetch, and
-// blend4() blends the four corners' quads (directional interpolation, samples in the order
-// (0,0), (1,0), (1,1), (0,1) of the directional weights).
-struct RawFetch {
-  const Sample* table;
-  const BoxLayout& layout;
-  std::size_t n;
-  RawFetch(const Sample* table, const BoxLayout& layout)
-      : table(table), layout(layout), n(std::size_t(layout.params().n)) {}
-  struct Corner {
-    const Sample* base;
-  };
-  void begin(std::size_t position, std::size_t sf, int a0, int b0, Corner& c) const noexcept {
-    c.base = table + layout.first_sample(position, sf, a0, b0);
-    hb::prefetch(c.base);
-    hb::prefetch(c.base + n);
-  }
-  void resolve(Corner&) const noexcept {}
-  // Raw samples: each quad is two 16-byte loads, blended with SSE2 (weights reordered to the
-  // memory order (0,0), (0,1), (1,0), (1,1)); per-sample lanes for all four corners, then
-  // one transpose per quantity sums them.
-  Corners4 blend4(const Corner* c, const float w[4]) const noexcept {
-    const __m128 wv = _mm_setr_ps(w[0], w[3], w[1], w[2]);
-    const CornerLanes a = corner_lanes(c[0].base, n, wv), b = corner_lanes(c[1].base, n, wv);
-    const CornerLanes e = corner_lanes(c[2].base, n, wv), f = corner_lanes(c[3].base, n, wv);
-    return {lane_sums(a.w, b.w, e.w, f.w), lane_sums(a.t, b.t, e.t, f.t), lane_sums(a.nx, b.nx, e.nx, f.nx),
-            lane_sums(a.ny, b.ny, e.ny, f.ny), lane_sums(a.nz, b.nz, e.nz, f.nz)};
-  }
-};
-
-// Sample fetch for a codec's view (RawFetch's interface), one specialisation per codec.
-template <class View> struct CodecFetch;
-
-// The Haar codec: a corner's quad in one fetch_quad() (header, shared coarse coefficients
-// and bitmap ranks read once, not per sample), blended by blend_quad().
-template <> struct CodecFetch<HaarTable> {
-  const HaarTable& view;
-  struct Corner {
-    std::size_t tile;
-    int a0, b0;
-  };
-  void begin(std::size_t position, std::size_t sf, int a0, int b0, Corner& c) const noexcept {
-    c = {BoxLayout::tile_index(position, sf), a0, b0};
-    view.prefetch(c.tile, a0, b0);
-  }
-  void resolve(Corner&) const noexcept {}
-  CornerBlend blend(const Corner& c, const float w[4]) const noexcept {
-    float t[4], u[4], v[4];
-    const unsigned hits = view.fetch_quad(c.tile, c.a0, c.b0, t, u, v);
-    return blend_quad(hits, t, u, v, w);
-  }
-  Corners4 blend4(const Corner* c, const float w[4]) const noexcept { return blend_each(*this, c, w); }
-};
-
-// The block codec in two phases: begin() prefetches the index entries of the quad's blocks,
-// resolve() (after all corners began) reads them and prefetches the records, so the two
-// dependent loads of the four corners overlap instead of running in series.
-template <> struct CodecFetch<BlockTable> {
-  const BlockTable& view;
-  struct Corner {
-    std::size_t tile;
-    int a0, b0;
-    const std::uint8_t* rec[4];
-  };
-  void begin(std::size_t position, std::size_t sf, int a0, int b0, Corner& c) const noexcept {
-    c.tile = BoxLayout::tile_index(position, sf);
-    c.a0 = a0;
-    c.b0 = b0;
-    view.prefetch(c.tile, a0, b0);
-    view.prefetch(c.tile, a0 + 1, b0 + 1);
-  }
-  void resolve(Corner& c) const noexcept {
-    view.quad_records(c.tile, c.a0, c.b0, c.rec);
-    for (int k = 0; k < 4; ++k) {
-      hb::prefetch(c.rec[k]);
-      hb::prefetch(c.rec[k] + 64);
-    }
-  }
-  // The quad in one fetch_quad_from() (each block's header read once), blended by blend_quad().
-  CornerBlend blend(const Corner& c, const float w[4]) const noexcept {
-    float t[4], u[4], v[4];
-    const unsigned hits = view.fetch_quad_from(c.rec, c.a0, c.b0, t, u, v);
-    return blend_quad(hits, t, u, v, w);
-  }
-  Corners4 blend4(const Corner* c, const float w[4]) const noexcept { return blend_each(*this, c, w); }
-};
-
-} // namespace
-
-HapticBox::HapticBox(const Obb& obb, const BoxParams& params, std::vector<Sample> table)
-    : obb_(obb), params_(params) {
-  if (params_.m < 2 || params_.n < 2)
-    throw InvalidInput("HapticBox: m and n must be >= 2 (m=" + std::to_string(params_.m) +
-                       ", n=" + std::to_string(params_.n) + ")");
-  if (table.size() != params_.sample_count())
-    throw InvalidInput("HapticBox: table has " + std::to_string(table.size()) +
-                       " samples, expected " + std::to_string(params_.sample_count()));
-  auto owned = std::make_shared<const std::vector<Sample>>(std::move(table));
-  table_ = owned->data();
-  owner_ = std::move(owned);
-  samples_ = SampleTable(table_, params_);
-  stats_.raw_bytes = stats_.bytes = raw_table_bytes();
-  check_geometry();
-  layout_ = BoxLayout(obb_, params_);
-}
-
-HapticBox::HapticBox(const Obb& obb, const BoxParams& params, const Sample* table,
-                     std::shared_ptr<const void> owner)
-    : obb_(obb), params_(params), table_(table), owner_(std::move(owner)) {
-  if (params_.m < 2 || params_.n < 2) throw InvalidInput("HapticBox: m and n must be >= 2");
-  if (!table_) throw InvalidInput("HapticBox: null table");
-  samples_ = SampleTable(table_, params_);
-  stats_.raw_bytes = stats_.bytes = raw_table_bytes();
-  check_geometry();
-  layout_ = BoxLayout(obb_, params_);
-}
-
-HapticBox::HapticBox(const Obb& obb, const BoxParams& params, CompressedTable table)
-    : obb_(obb), params_(params), stats_(table.stats) {
-  if (params_.m < 2 || params_.n < 2) throw InvalidInput("HapticBox: m and n must be >= 2");
-  auto owned = std::make_shared<const std::vector<std::uint8_t>>(std::move(table.payload));
-  samples_ = SampleTable(table.codec, owned->data(), owned->size(), params_);
-  owner_ = std::move(owned);
-  check_geometry();
-  layout_ = BoxLayout(obb_, params_);
-}
-
-HapticBox::HapticBox(const Obb& obb, const BoxParams& params, CodecId codec, const std::uint8_t* payload,
-                     std::size_t bytes, std::shared_ptr<const void> owner, const CodecStats& stats)
-    : obb_(obb), params_(params), stats_(stats), owner_(std::move(owner)) {
-  if (params_.m < 2 || params_.n < 2) throw InvalidInput("HapticBox: m and n must be >= 2");
-  samples_ = SampleTable(codec, payload, bytes, params_);
-  stats_.bytes = bytes;
-  stats_.raw_bytes = raw_table_bytes();
-  check_geometry();
-  layout_ = BoxLayout(obb_, params_);
-}
-
-HapticBox HapticBox::compressed(const CodecOptions& options) const {
-  if (!table_) throw InvalidInput("HapticBox: the table is already compressed");
-  HapticBox box(obb_, params_, compress_table(table_, params_, obb_.diagonal(), options));
-  if (surface_) box.attach_surface(triangle_ids_, params_.sample_count(), ids_owner_, surface_, false);
-  return box;
-}
-
-void HapticBox::attach_surface(const TriangleIds& triangle_ids, std::size_t count,
-                               std::shared_ptr<const void> ids_owner, std::shared_ptr<const SurfaceTriangles> surface,
-                               bool validate) {
-  if (!triangle_ids.data || !surface) throw InvalidInput("HapticBox: refinement needs triangle ids and a surface");
-  if (triangle_ids.width != 2 && triangle_ids.width != 4)
-    throw InvalidInput("HapticBox: triangle ids of " + std::to_string(triangle_ids.width) + " bytes (2 or 4)");
-  if (count != params_.sample_count())
-    throw InvalidInput("HapticBox: " + std::to_string(count) + " triangle ids, expected " +
-                       std::to_string(params_.sample_count()));
-  if (validate)
-    for (std::size_t k = 0; k < count; ++k)
-      if (triangle_ids.at(k) != kNoTriangle && triangle_ids.at(k) >= surface->size())
-        throw InvalidInput("HapticBox: sample " + std::to_string(k) + " names triangle " +
-                           std::to_string(triangle_ids.at(k)) + ", the surface has " + std::to_string(surface->size()));
-  triangle_ids_ = triangle_ids;
-  ids_owner_ = std::move(ids_owner);
-  surface_ = std::move(surface);
-  // A refined hit farther than this from the blended one is a different surface than the one
-  // the samples blend (a candidate behind the first one): two position cells.
-  refine_tolerance_ = 2.f * 2.f * obb_.half.maxCoeff() / float(params_.m - 1);
-}
 
 // Most edges a refinement walk crosses. Measured (eval and bench, 20,000 probes): on the
 // 31-box armadillo (52K triangles, cells 1.6% of the diagonal) 3 steps give p95 13.8%, 6 give
@@ -312,14 +59,26 @@ void HapticBox::attach_surface(const TriangleIds& triangle_ids, std::size_t coun
 // 1.26 / 1.52 / 1.98 us a query. A walk is bounded, so the query cost stays bounded.
 constexpr int kWalkSteps = 8;
 
-// Step 6: the triangles the 16 blended samples hit are the candidates for the true contact.
-// The line from P1 along l is tested against each (distinct) one exactly; the nearest hit,
-// when it is a front face and agrees with the blend within the tolerance, replaces the blend.
-bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const float p1[3], const float l[3],
-                       float t_blend, float& t0, Vec3& normal, std::uint32_t& triangle) const noexcept {
-  // The 16 samples' ids (4 corners x the 2 x 2 quad), then the distinct ones in the order
-  // first seen (misses dropped), without a branch a sample: id k is kept when no id before it
-  // is equal (one 16-lane equality mask per id) and it is not a miss.
+// A refinement's best crossing so far (s: along l from P1).
+struct HapticBox::RefineHit {
+  float s = std::numeric_limits<float>::infinity();
+  Vec3 normal = Vec3::Zero();
+  bool front = false;
+  std::uint32_t id = kNoTriangle;
+};
+
+// A crossing refine() takes: a front face within the tolerance of the blend (any, when the
+// blend missed: t_blend < 0).
+bool HapticBox::refine_accepts(float s, bool front, float t_blend) const noexcept {
+  return s < std::numeric_limits<float>::infinity() && front &&
+         (t_blend < 0.f || std::fabs(s - t_blend) <= refine_tolerance_);
+}
+
+// The 16 samples' ids (4 corners x the 2 x 2 quad), then the distinct ones in the order
+// first seen (misses dropped), without a branch a sample: id k is kept when no id before it
+// is equal (one 16-lane equality mask per id) and it is not a miss. Returns their count.
+int HapticBox::refine_candidates(std::size_t p00, int a0, int b0, std::size_t sf,
+                                 std::uint32_t candidates[16]) const noexcept {
   const std::size_t n = std::size_t(params_.n);
   alignas(16) std::uint32_t ids[16];
   for (int c = 0; c < 4; ++c) {
@@ -329,40 +88,87 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
     ids[4 * c + 2] = triangle_ids_.at(first + n);
     ids[4 * c + 3] = triangle_ids_.at(first + n + 1);
   }
-  std::uint32_t candidates[16];
   int count = 0;
-  {
-    const __m128i i0 = _mm_load_si128(reinterpret_cast<const __m128i*>(ids));
-    const __m128i i1 = _mm_load_si128(reinterpret_cast<const __m128i*>(ids + 4));
-    const __m128i i2 = _mm_load_si128(reinterpret_cast<const __m128i*>(ids + 8));
-    const __m128i i3 = _mm_load_si128(reinterpret_cast<const __m128i*>(ids + 12));
-    for (int k = 0; k < 16; ++k) {
-      const __m128i v = _mm_set1_epi32(int(ids[k]));
-      const __m128i lo = _mm_packs_epi32(_mm_cmpeq_epi32(v, i0), _mm_cmpeq_epi32(v, i1));
-      const __m128i hi = _mm_packs_epi32(_mm_cmpeq_epi32(v, i2), _mm_cmpeq_epi32(v, i3));
-      const unsigned equal = unsigned(_mm_movemask_epi8(_mm_packs_epi16(lo, hi)));
-      const bool keep = (equal & ((1u << k) - 1u)) == 0u && ids[k] != kNoTriangle;
-      candidates[count] = ids[k];
-      count += keep ? 1 : 0;
+  const __m128i i0 = _mm_load_si128(reinterpret_cast<const __m128i*>(ids));
+  const __m128i i1 = _mm_load_si128(reinterpret_cast<const __m128i*>(ids + 4));
+  const __m128i i2 = _mm_load_si128(reinterpret_cast<const __m128i*>(ids + 8));
+  const __m128i i3 = _mm_load_si128(reinterpret_cast<const __m128i*>(ids + 12));
+  for (int k = 0; k < 16; ++k) {
+    const __m128i v = _mm_set1_epi32(int(ids[k]));
+    const __m128i lo = _mm_packs_epi32(_mm_cmpeq_epi32(v, i0), _mm_cmpeq_epi32(v, i1));
+    const __m128i hi = _mm_packs_epi32(_mm_cmpeq_epi32(v, i2), _mm_cmpeq_epi32(v, i3));
+    const unsigned equal = unsigned(_mm_movemask_epi8(_mm_packs_epi16(lo, hi)));
+    const bool keep = (equal & ((1u << k) - 1u)) == 0u && ids[k] != kNoTriangle;
+    candidates[count] = ids[k];
+    count += keep ? 1 : 0;
+  }
+  return count;
+}
+
+// No candidate crossed and accepted: the line passes between them. Walk from the candidate
+// it passes nearest (`start`), across the edges it passes, to the triangle it crosses; when
+// that walk ends at a crease, a border or a fold (it turned back), or crosses a surface the
+// blend does not see, walk from every other candidate (at most 15 bounded walks, only here)
+// and keep the nearest accepted crossing: at creases and grazing strokes the nearest
+// candidate is often on the other face (issue 11: the contacts `reject` lost on slides,
+// fandisk 8.3% of the ticks before, 3.5% after). None accepted: the walk from the nearest
+// candidate goes on (a surface far from the box face, where the samples' hits lie many
+// triangles from the crossing: a handle deep in the PBB, a thin rim between samples). Rare
+// (31-445 of 20,000 random probes on the default bakes); it cut the slides' lost contacts
+// 10-20x (issue 11, docs/stability.md).
+bool HapticBox::refine_walks(std::uint32_t start, const std::uint32_t* candidates, int count, const float p1[3],
+                             const float l[3], float t_blend, RefineHit& best) const noexcept {
+  if (start == kNoTriangle) return false;
+  if (surface_->walk(start, p1, l, 0.f, kWalkSteps, best.s, best.normal, best.front, &best.id) &&
+      refine_accepts(best.s, best.front, t_blend))
+    return true;
+  bool found = false;
+  if (walk_from_all_ && count >= 2) {
+    // The walks mostly run into each other's paths: a memo of the triangles walked (the
+    // first walk's path recorded again) stops a walk where an earlier one went on with at
+    // least its budget, with the same answer (SurfaceTriangles::WalkMemo).
+    SurfaceTriangles::WalkMemo memo;
+    {
+      float s = 0.f;
+      Vec3 nrm;
+      bool front = false;
+      surface_->walk(start, p1, l, 0.f, kWalkSteps, s, nrm, front, nullptr, &memo);
+    }
+    float nearest = std::numeric_limits<float>::infinity();
+    for (int k = 0; k < count; ++k) {
+      if (candidates[k] == start) continue;
+      float s = 0.f;
+      Vec3 nrm;
+      bool front = false;
+      std::uint32_t id = kNoTriangle;
+      if (surface_->walk(candidates[k], p1, l, 0.f, kWalkSteps, s, nrm, front, &id, &memo) &&
+          refine_accepts(s, front, t_blend) && s < nearest) {
+        nearest = s;
+        best.s = s, best.normal = nrm, best.front = front, best.id = id;
+        found = true;
+      }
     }
   }
+  if (!found && long_walk_steps_ > kWalkSteps)
+    found = surface_->walk(start, p1, l, 0.f, long_walk_steps_, best.s, best.normal, best.front, &best.id) &&
+            refine_accepts(best.s, best.front, t_blend);
+  return found;
+}
+
+// Step 7: the triangles the 16 blended samples hit are the candidates for the true contact.
+// The line from P1 along l is tested against each (distinct) one exactly; the nearest hit,
+// when it is a front face and agrees with the blend within the tolerance, replaces the blend.
+bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const float p1[3], const float l[3],
+                       float t_blend, float& t0, Vec3& normal, std::uint32_t& triangle) const noexcept {
+  std::uint32_t candidates[16];
+  const int count = refine_candidates(p00, a0, b0, sf, candidates);
   for (int k = 0; k < count; ++k) surface_->prefetch(candidates[k]);
-  float best = std::numeric_limits<float>::infinity();
-  Vec3 best_normal = Vec3::Zero();
-  bool best_front = false;
-  std::uint32_t best_id = kNoTriangle;
-  std::uint32_t start = kNoTriangle;
-  float nearest_outside = std::numeric_limits<float>::infinity();
   // intersect() of every candidate, the plane crossings four at a time; the shading (three
   // normal decodes) only for a crossing nearer than the best so far, the only ones that can
   // change it. shade() fails only for s < 0, which is tested first, so a crossing skipped
   // that way counts as crossed exactly as intersect() would have it.
   float hu[16], hv[16], hs[16];
   const unsigned planes = surface_->plane_hits(candidates, count, p1, l, hu, hv, hs);
-  const auto accepted = [&](float s, bool front) {
-    return s < std::numeric_limits<float>::infinity() && front &&
-           (t_blend < 0.f || std::fabs(s - t_blend) <= refine_tolerance_);
-  };
   if (nearest_first_) {
     // The common case first: the nearest crossing by the planes alone (first among equals),
     // shaded once. When its shading succeeds, the loop below would pick the same candidate
@@ -376,19 +182,20 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
       const bool inside = ((planes >> k) & 1u) && std::min(std::min(u, v), 1.f - u - v) >= 0.f && sk >= 0.f;
       if (inside && sk < nearest_s) nearest_s = sk, nearest = k;
     }
-    if (nearest >= 0) {
-      float s = 0.f;
-      Vec3 nrm;
-      bool front = false;
-      if (surface_->shade(candidates[nearest], l, hu[nearest], hv[nearest], hs[nearest], 0.f, s, nrm, front) &&
-          accepted(s, front)) {
-        t0 = s;
-        normal = nrm;
-        triangle = candidates[nearest];
-        return true;
-      }
+    float s = 0.f;
+    Vec3 nrm;
+    bool front = false;
+    if (nearest >= 0 && surface_->shade(candidates[nearest], l, hu[nearest], hv[nearest], hs[nearest], 0.f, s, nrm, front) &&
+        refine_accepts(s, front, t_blend)) {
+      t0 = s;
+      normal = nrm;
+      triangle = candidates[nearest];
+      return true;
     }
   }
+  RefineHit best;
+  std::uint32_t start = kNoTriangle;  // the candidate the line passes nearest, when it crosses none
+  float nearest_outside = std::numeric_limits<float>::infinity();
   for (int k = 0; k < count; ++k) {
     float s = 0.f, outside = std::numeric_limits<float>::infinity();
     Vec3 nrm = Vec3::Zero();
@@ -402,7 +209,7 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
       } else {
         outside = 0.f;
         if (!(hs[k] >= 0.f)) crossed = false;
-        else if (hs[k] < best) crossed = surface_->shade(candidates[k], l, u, v, hs[k], 0.f, s, nrm, front);
+        else if (hs[k] < best.s) crossed = surface_->shade(candidates[k], l, u, v, hs[k], 0.f, s, nrm, front);
         else crossed = true, s = hs[k];
       }
     }
@@ -410,73 +217,14 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
       nearest_outside = outside;
       start = candidates[k];
     }
-    if (crossed && s < best) {
-      best = s;
-      best_normal = nrm;
-      best_front = front;
-      best_id = candidates[k];
-    }
+    if (crossed && s < best.s) best = {s, nrm, front, candidates[k]};
   }
-  if (!accepted(best, best_front)) {
-    // No candidate is crossed: the line passes between them. Walk from the candidate it
-    // passes nearest, across the edges it passes, to the triangle it crosses.
-    if (start == kNoTriangle) return false;
-    if (!surface_->walk(start, p1, l, 0.f, kWalkSteps, best, best_normal, best_front, &best_id) ||
-        !accepted(best, best_front)) {
-      // That walk ended at a crease, a border or a fold (it turned back), or crossed a
-      // surface the blend does not see. Walk from every other candidate (at most 15 bounded
-      // walks, only here) and keep the nearest accepted crossing: at creases and grazing
-      // strokes the nearest candidate is often on the other face (issue 11: the contacts
-      // `reject` lost on slides, fandisk 8.3% of the ticks before, 3.5% after).
-      bool found = false;
-      if (walk_from_all_ && count >= 2) {
-        // The walks mostly run into each other's paths: a memo of the triangles walked (the
-        // first walk's path recorded again) stops a walk where an earlier one went on with at
-        // least its budget, with the same answer (SurfaceTriangles::WalkMemo).
-        SurfaceTriangles::WalkMemo memo;
-        {
-          float s = 0.f;
-          Vec3 nrm;
-          bool front = false;
-          surface_->walk(start, p1, l, 0.f, kWalkSteps, s, nrm, front, nullptr, &memo);
-        }
-        float nearest = std::numeric_limits<float>::infinity();
-        for (int k = 0; k < count; ++k) {
-          if (candidates[k] == start) continue;
-          float s = 0.f;
-          Vec3 nrm;
-          bool front = false;
-          std::uint32_t id = kNoTriangle;
-          if (surface_->walk(candidates[k], p1, l, 0.f, kWalkSteps, s, nrm, front, &id, &memo) &&
-              accepted(s, front) && s < nearest) {
-            nearest = s;
-            best = s, best_normal = nrm, best_front = front, best_id = id;
-            found = true;
-          }
-        }
-      }
-      // None accepted: the walk from the nearest candidate goes on (a surface far from the
-      // box face, where the samples' hits lie many triangles from the crossing: a handle deep
-      // in the PBB, a thin rim between samples). Rare (31-445 of 20,000 random probes on the
-      // default bakes); it cut the slides' lost contacts 10-20x (issue 11, docs/stability.md).
-      if (!found && long_walk_steps_ > kWalkSteps) {
-        found = surface_->walk(start, p1, l, 0.f, long_walk_steps_, best, best_normal, best_front, &best_id) &&
-                accepted(best, best_front);
-      }
-      if (!found) return false;
-    }
-  }
-  t0 = best;
-  normal = best_normal;
-  triangle = best_id;
+  if (!refine_accepts(best.s, best.front, t_blend) && !refine_walks(start, candidates, count, p1, l, t_blend, best))
+    return false;
+  t0 = best.s;
+  normal = best.normal;
+  triangle = best.id;
   return true;
-}
-
-void HapticBox::check_geometry() const {
-  if (const std::string why = obb_problem(obb_); !why.empty()) throw InvalidInput("HapticBox: the box's " + why);
-  if (params_.m > 4096 || params_.n > 4096)
-    throw InvalidInput("HapticBox: m and n must be <= 4096 (m=" + std::to_string(params_.m) +
-                       ", n=" + std::to_string(params_.n) + ")");
 }
 
 bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact& out,
@@ -484,13 +232,13 @@ bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact&
                            std::uint32_t* triangle) const noexcept {
   switch (samples_.codec()) {
   case CodecId::block:
-    return query_with(CodecFetch<BlockTable>{samples_.block()}, segment, law, out, distance_from_handle, refine_hit,
+    return query_with(box_query::CodecFetch<BlockTable>{samples_.block()}, segment, law, out, distance_from_handle, refine_hit,
                       refined, triangle);
   case CodecId::haar:
-    return query_with(CodecFetch<HaarTable>{samples_.haar()}, segment, law, out, distance_from_handle, refine_hit,
+    return query_with(box_query::CodecFetch<HaarTable>{samples_.haar()}, segment, law, out, distance_from_handle, refine_hit,
                       refined, triangle);
   default:
-    return query_with(RawFetch(table_, layout_), segment, law, out,
+    return query_with(box_query::RawFetch(table_, layout_), segment, law, out,
                       distance_from_handle, refine_hit, refined, triangle);
   }
 }
@@ -567,8 +315,8 @@ bool HapticBox::locate(const Fetch& fetch, const Segment& segment, Located<Fetch
   const float half_cells = 0.5f * float(cells_m);
   int i0, j0;
   float d1, d2;
-  split_cell((o[fa.u] + s_enter * D[fa.u]) * L.grid_scale[fa.u] + half_cells, cells_m, i0, d1);
-  split_cell((o[fa.v] + s_enter * D[fa.v]) * L.grid_scale[fa.v] + half_cells, cells_m, j0, d2);
+  box_query::split_cell((o[fa.u] + s_enter * D[fa.u]) * L.grid_scale[fa.u] + half_cells, cells_m, i0, d1);
+  box_query::split_cell((o[fa.v] + s_enter * D[fa.v]) * L.grid_scale[fa.v] + half_cells, cells_m, j0, d2);
 
   // 3. Directional cell, once for all corners (cube-map projection with one reciprocal).
   const float x = D[fa.u], y = D[fa.v], z = -fa.sign * D[fa.a];
@@ -587,8 +335,8 @@ bool HapticBox::locate(const Fetch& fetch, const Segment& segment, Located<Fetch
   const float dir_scale = float(cells_n) / den;
   int a0, b0;
   float wa, wb;
-  split_cell(num1 * dir_scale, cells_n, a0, wa);
-  split_cell(num2 * dir_scale, cells_n, b0, wb);
+  box_query::split_cell(num1 * dir_scale, cells_n, a0, wa);
+  box_query::split_cell(num2 * dir_scale, cells_n, b0, wb);
   const std::size_t sf = BoxLayout::sub_face(sub, sface);
   const float dir_w[4] = {(1.f - wa) * (1.f - wb), wa * (1.f - wb), wa * wb, (1.f - wa) * wb};
 
@@ -638,7 +386,7 @@ bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceL
   const float t_enter = q.t_enter, d = q.d, d1 = q.d1, d2 = q.d2;
   const int face = q.face, i0 = q.i0, j0 = q.j0, a0 = q.a0, b0 = q.b0;
   const std::size_t p00 = q.p00, sf = q.sf;
-  const Corners4 blended = fetch.blend4(q.corners, q.dir_w);
+  const box_query::Corners4 blended = fetch.blend4(q.corners, q.dir_w);
 
   // The four corners side by side (SSE2 lanes): miss rule, normalisation, half of the
   // tangent-plane correction from the corner to P1, positional blend.
@@ -767,12 +515,12 @@ void HapticBox::query_many(const Segment* segments, std::size_t count, const For
                            Contact* out) const noexcept {
   switch (samples_.codec()) {
   case CodecId::block:
-    return query_many_with(CodecFetch<BlockTable>{samples_.block()}, segments, count, law, out);
+    return query_many_with(box_query::CodecFetch<BlockTable>{samples_.block()}, segments, count, law, out);
   case CodecId::haar:
-    return query_many_with(CodecFetch<HaarTable>{samples_.haar()}, segments, count, law, out);
+    return query_many_with(box_query::CodecFetch<HaarTable>{samples_.haar()}, segments, count, law, out);
   default:
     if (!surface_) return query_many_lanes(segments, count, law, out);
-    return query_many_with(RawFetch(table_, layout_), segments, count,
+    return query_many_with(box_query::RawFetch(table_, layout_), segments, count,
                            law, out);
   }
 }

@@ -178,6 +178,12 @@ private:
   void query_many_lanes(const Segment* segments, std::size_t count, const ForceLaw& law, Contact* out) const noexcept;
   bool refine(std::size_t p00, int a0, int b0, std::size_t sf, const float p1[3], const float l[3], float t_blend,
               float& t0, Vec3& normal, std::uint32_t& triangle) const noexcept;
+  // refine()'s steps (haptic_box.cpp).
+  struct RefineHit;
+  bool refine_accepts(float s, bool front, float t_blend) const noexcept;
+  int refine_candidates(std::size_t p00, int a0, int b0, std::size_t sf, std::uint32_t candidates[16]) const noexcept;
+  bool refine_walks(std::uint32_t start, const std::uint32_t* candidates, int count, const float p1[3], const float l[3],
+                    float t_blend, RefineHit& best) const noexcept;
   template <class Fetch>
   bool query_with(const Fetch& fetch, const Segment& segment, const ForceLaw& law, Contact& out,
                   float& distance_from_handle, Refine refine, bool* refined = nullptr,

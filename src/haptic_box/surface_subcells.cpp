@@ -2,7 +2,7 @@
 #include "haptic_box/surface_subcells.h"
 #include "geometry/cell_dda.h"
 #include "geometry/triangle_box.h"
-#include "haptic_box/scene_grid.h"
+#include "haptic_box/surface_cells.h"
 #include "prefetch.h"
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

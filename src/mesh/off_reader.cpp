@@ -87,21 +87,15 @@ void for_each_chunk(std::vector<Chunk>& chunks, const Body& body) {
   });
 }
 
-} // namespace
+InvalidInput off_error(const std::string& path, std::size_t line, const std::string& cause) {
+  return InvalidInput(path + ":" + std::to_string(line) + ": " + cause);
+}
 
-PolygonSoup read_off(const std::string& path, const MappedFile& file, MeshReadReport& report) {
-  const std::string_view text = file.text();
-  const auto invalid = [&](std::size_t line, const std::string& cause) {
-    return InvalidInput(path + ":" + std::to_string(line) + ": " + cause);
-  };
-  if (std::memchr(text.data(), '\0', text.size()))
-    throw InvalidInput(path + ": not a text OFF file (contains NUL bytes; binary OFF is not supported)");
-
-  LineReader lines(text);
+// Steps 1-2: the header keyword ([ST][C][N]OFF; "4OFF"/"nOFF" (other dimensions) and binary
+// are refused) and the counts 'vertices faces [edges]', on the header line or the next one.
+std::vector<long long> read_off_counts(const std::string& path, LineReader& lines) {
   std::string_view line;
   if (!lines.next(line)) throw IoError(path + ": file has no content (only blanks or comments)");
-
-  // Header keyword: [ST][C][N]OFF; "4OFF"/"nOFF" (other dimensions) and binary are refused.
   Tokens head(line);
   std::string_view tok;
   head.next(tok);
@@ -111,21 +105,21 @@ PolygonSoup read_off(const std::string& path, const MappedFile& file, MeshReadRe
   if (keyword) {
     const std::string prefix = key.substr(0, key.size() - 3);
     if (prefix.find('4') != std::string::npos || prefix.find('n') != std::string::npos)
-      throw invalid(lines.line_number(), "OFF variant '" + key + "' (not 3D) is not supported");
+      throw off_error(path, lines.line_number(), "OFF variant '" + key + "' (not 3D) is not supported");
     for (char c : prefix)
       if (c != 'S' && c != 'T' && c != 'C' && c != 'N')
-        throw invalid(lines.line_number(), "unrecognised OFF header '" + key + "'");
+        throw off_error(path, lines.line_number(), "unrecognised OFF header '" + key + "'");
   } else {
     // Some writers omit the keyword; then the first line must be the counts.
     long long v;
     if (!parse_number(tok, v))
-      throw invalid(lines.line_number(), "not an OFF file (header '" + key.substr(0, 40) + "')");
+      throw off_error(path, lines.line_number(), "not an OFF file (header '" + key.substr(0, 40) + "')");
     counts.push_back(v);
   }
   while (head.next(tok)) {
     long long v;
-    if (tok == "BINARY") throw invalid(lines.line_number(), "binary OFF is not supported");
-    if (!parse_number(tok, v)) throw invalid(lines.line_number(), "bad count '" + std::string(tok) + "'");
+    if (tok == "BINARY") throw off_error(path, lines.line_number(), "binary OFF is not supported");
+    if (!parse_number(tok, v)) throw off_error(path, lines.line_number(), "bad count '" + std::string(tok) + "'");
     counts.push_back(v);
   }
   if (counts.empty()) {  // counts on their own line
@@ -133,16 +127,20 @@ PolygonSoup read_off(const std::string& path, const MappedFile& file, MeshReadRe
     Tokens t(line);
     while (t.next(tok)) {
       long long v;
-      if (!parse_number(tok, v)) throw invalid(lines.line_number(), "bad count '" + std::string(tok) + "'");
+      if (!parse_number(tok, v)) throw off_error(path, lines.line_number(), "bad count '" + std::string(tok) + "'");
       counts.push_back(v);
     }
   }
   if (counts.size() < 2 || counts.size() > 3)
-    throw invalid(lines.line_number(), "expected 'vertices faces [edges]' counts");
-  if (counts[0] < 0 || counts[1] < 0) throw invalid(lines.line_number(), "negative vertex or face count");
+    throw off_error(path, lines.line_number(), "expected 'vertices faces [edges]' counts");
+  if (counts[0] < 0 || counts[1] < 0) throw off_error(path, lines.line_number(), "negative vertex or face count");
+  return counts;
+}
 
-  // Step 3: chunks of whole lines, their content and physical lines counted in parallel.
-  std::vector<Chunk> chunks = cut_chunks(text, lines.position());
+// Step 3: each chunk's content and physical lines counted in parallel, then their prefix
+// sums (the header ends at line `header_lines`). Returns the content lines after the header.
+std::size_t count_off_lines(std::vector<Chunk>& chunks, std::string_view text, const MappedFile& file,
+                            std::size_t header_lines) {
   for_each_chunk(chunks, [&](Chunk& c) {
     LineReader r(text.substr(c.begin, c.end - c.begin));
     std::string_view l;
@@ -152,44 +150,35 @@ PolygonSoup read_off(const std::string& path, const MappedFile& file, MeshReadRe
     // should not be resident next to it (they fault back in from the page cache).
     file.release(c.begin, c.end);
   });
-  std::size_t available = 0, line_number = lines.line_number();
+  std::size_t available = 0, line_number = header_lines;
   for (Chunk& c : chunks) {
     c.first_content = available;
     c.line_before = line_number;
     available += c.content_lines;
     line_number += c.physical_lines;
   }
+  return available;
+}
 
-  // Step 4: the declared counts against the lines present, before reserving anything.
-  const auto n_vertices = static_cast<std::size_t>(counts[0]);
-  const auto n_faces = static_cast<std::size_t>(counts[1]);
-  if (n_vertices > std::numeric_limits<std::uint32_t>::max())
-    throw invalid(lines.line_number(), "vertex count " + std::to_string(n_vertices) + " is too large");
-  if (n_vertices > available || n_faces > available - n_vertices)
-    throw IoError(path + ": truncated: header declares " + std::to_string(n_vertices) + " vertices and " +
-                  std::to_string(n_faces) + " faces but only " + std::to_string(available) +
-                  " data lines follow");
-  report.input_vertices = n_vertices;
-  report.input_faces = n_faces;
-  const std::size_t n_lines = n_vertices + n_faces;  // content lines read; any after: ignored
-  // Only the chunks that hold a vertex or a face line take part from here on.
-  while (!chunks.empty() && chunks.back().first_content >= n_lines) chunks.pop_back();
+// A face line's corner count (its first token), when it parses and fits the line.
+bool off_corner_count(std::string_view face_line, long long& k) {
+  Tokens t(face_line);
+  std::string_view first;
+  return t.next(first) && parse_number(first, k) && k >= 0 && static_cast<unsigned long long>(k) <= face_line.size();
+}
 
-  // Step 5: the corners each chunk stores. A face line that does not parse counts nothing
-  // here; step 6 stops its chunk at that line with the error, before writing anything of it.
-  const auto corner_count = [](std::string_view face_line, long long& k) {
-    Tokens t(face_line);
-    std::string_view first;
-    return t.next(first) && parse_number(first, k) && k >= 0 &&
-           static_cast<unsigned long long>(k) <= face_line.size();
-  };
+// Step 5: the corners and kept faces each chunk stores, and where they start. A face line that
+// does not parse counts nothing here; step 6 stops its chunk at that line with the error,
+// before writing anything of it.
+void count_off_corners(std::vector<Chunk>& chunks, std::string_view text, const MappedFile& file, std::size_t n_vertices,
+                       std::size_t n_lines) {
   for_each_chunk(chunks, [&](Chunk& c) {
     if (c.first_content + c.content_lines <= n_vertices) return;
     LineReader r(text.substr(c.begin, c.end - c.begin));
     std::string_view l;
     for (std::size_t g = c.first_content; g < n_lines && r.next(l); ++g) {
       long long k;
-      if (g < n_vertices || !corner_count(l, k) || k < 3) continue;
+      if (g < n_vertices || !off_corner_count(l, k) || k < 3) continue;
       c.corners += std::size_t(k);
       ++c.faces_kept;
     }
@@ -202,82 +191,106 @@ PolygonSoup read_off(const std::string& path, const MappedFile& file, MeshReadRe
     corners += c.corners;
     kept += c.faces_kept;
   }
+}
 
+// One vertex line: 3 numbers (extra values, normals, colours, texture coordinates, are
+// ignored). Empty, or the error.
+std::string parse_off_vertex(Tokens& t, std::size_t v, PolygonSoup& soup) {
+  std::string_view tok;
+  double x[3];
+  for (double& xi : x)
+    if (!t.next(tok) || !parse_number(tok, xi)) return "vertex " + std::to_string(v) + ": expected 3 numeric coordinates";
+  soup.positions[v] = Vec3(float(x[0]), float(x[1]), float(x[2]));
+  return {};
+}
+
+// One face line: a corner count then that many indices in range (a colour after them is
+// ignored); stored at `corner` when it has 3 corners or more (`stored` then true). Empty, or
+// the error.
+std::string parse_off_face(Tokens& t, std::string_view line, std::size_t f, std::size_t n_vertices, PolygonSoup& soup,
+                           std::size_t corner, long long& k) {
+  std::string_view tok;
+  if (!t.next(tok) || !parse_number(tok, k) || k < 0) return "face " + std::to_string(f) + ": expected a corner count";
+  if (static_cast<unsigned long long>(k) > line.size())  // each index needs >= 2 characters
+    return "face " + std::to_string(f) + ": corner count " + std::to_string(k) + " exceeds the line";
+  // Faces with fewer than 3 corners are checked but not stored (skipped, counted).
+  const bool store = k >= 3;
+  for (long long i = 0; i < k; ++i) {
+    long long idx;
+    if (!t.next(tok) || !parse_number(tok, idx))
+      return "face " + std::to_string(f) + ": expected " + std::to_string(k) + " integer vertex indices";
+    if (idx < 0 || idx >= static_cast<long long>(n_vertices))
+      return "face " + std::to_string(f) + ": vertex index " + std::to_string(idx) + " out of range [0, " +
+             std::to_string(n_vertices) + ")";
+    if (store) soup.indices[corner + std::size_t(i)] = idx;
+  }
+  return {};
+}
+
+// Step 6: chunk c parses into its own places of the soup; its first error is kept.
+void parse_off_chunk(Chunk& c, std::string_view text, std::size_t n_vertices, std::size_t n_lines, PolygonSoup& soup) {
+  LineReader r(text.substr(c.begin, c.end - c.begin));
+  std::string_view l;
+  std::size_t corner = c.first_corner, face_kept = c.first_kept;
+  for (std::size_t g = c.first_content; g < n_lines && r.next(l); ++g) {
+    Tokens t(l);
+    long long k = 0;
+    std::string error = g < n_vertices ? parse_off_vertex(t, g, soup)
+                                       : parse_off_face(t, l, g - n_vertices, n_vertices, soup, corner, k);
+    if (!error.empty()) {
+      c.error_line = c.line_before + r.line_number();
+      c.error = std::move(error);
+      break;
+    }
+    if (g < n_vertices) continue;
+    if (k < 3) {
+      ++c.short_faces;
+      continue;
+    }
+    corner += std::size_t(k);
+    soup.offsets[++face_kept] = corner;
+  }
+}
+
+} // namespace
+
+PolygonSoup read_off(const std::string& path, const MappedFile& file, MeshReadReport& report) {
+  const std::string_view text = file.text();
+  if (std::memchr(text.data(), '\0', text.size()))
+    throw InvalidInput(path + ": not a text OFF file (contains NUL bytes; binary OFF is not supported)");
+  LineReader lines(text);
+  const std::vector<long long> counts = read_off_counts(path, lines);
+
+  std::vector<Chunk> chunks = cut_chunks(text, lines.position());
+  const std::size_t available = count_off_lines(chunks, text, file, lines.line_number());
+
+  // Step 4: the declared counts against the lines present, before reserving anything.
+  const auto n_vertices = static_cast<std::size_t>(counts[0]);
+  const auto n_faces = static_cast<std::size_t>(counts[1]);
+  if (n_vertices > std::numeric_limits<std::uint32_t>::max())
+    throw off_error(path, lines.line_number(), "vertex count " + std::to_string(n_vertices) + " is too large");
+  if (n_vertices > available || n_faces > available - n_vertices)
+    throw IoError(path + ": truncated: header declares " + std::to_string(n_vertices) + " vertices and " +
+                  std::to_string(n_faces) + " faces but only " + std::to_string(available) +
+                  " data lines follow");
+  report.input_vertices = n_vertices;
+  report.input_faces = n_faces;
+  const std::size_t n_lines = n_vertices + n_faces;  // content lines read; any after: ignored
+  // Only the chunks that hold a vertex or a face line take part from here on.
+  while (!chunks.empty() && chunks.back().first_content >= n_lines) chunks.pop_back();
+
+  count_off_corners(chunks, text, file, n_vertices, n_lines);
   PolygonSoup soup;
   soup.positions.resize(n_vertices);
-  soup.indices.resize(corners);
-  soup.offsets.resize(kept + 1);
+  soup.indices.resize(chunks.empty() ? 0 : chunks.back().first_corner + chunks.back().corners);
+  soup.offsets.resize((chunks.empty() ? 0 : chunks.back().first_kept + chunks.back().faces_kept) + 1);
   soup.offsets[0] = 0;
-
-  // Step 6: every chunk parses into its own places; the first error of each is kept.
   for_each_chunk(chunks, [&](Chunk& c) {
-    LineReader r(text.substr(c.begin, c.end - c.begin));
-    std::string_view l, t_tok;
-    std::size_t corner = c.first_corner, face_kept = c.first_kept;
-    const auto fail = [&](const std::string& cause) {
-      c.error_line = c.line_before + r.line_number();
-      c.error = cause;
-    };
-    for (std::size_t g = c.first_content; g < n_lines && r.next(l); ++g) {
-      Tokens t(l);
-      if (g < n_vertices) {
-        const std::size_t v = g;
-        double x[3];
-        bool ok = true;
-        for (double& xi : x)
-          if (!t.next(t_tok) || !parse_number(t_tok, xi)) {
-            ok = false;
-            break;
-          }
-        if (!ok) {
-          fail("vertex " + std::to_string(v) + ": expected 3 numeric coordinates");
-          break;
-        }
-        // Extra values (normals, colours, texture coordinates) are ignored.
-        soup.positions[v] = Vec3(float(x[0]), float(x[1]), float(x[2]));
-        continue;
-      }
-      const std::size_t f = g - n_vertices;
-      long long k;
-      if (!t.next(t_tok) || !parse_number(t_tok, k) || k < 0) {
-        fail("face " + std::to_string(f) + ": expected a corner count");
-        break;
-      }
-      if (static_cast<unsigned long long>(k) > l.size()) {  // each index needs >= 2 characters
-        fail("face " + std::to_string(f) + ": corner count " + std::to_string(k) + " exceeds the line");
-        break;
-      }
-      // Faces with fewer than 3 corners are checked but not stored (skipped, counted).
-      const bool store = k >= 3;
-      bool ok = true;
-      for (long long i = 0; i < k; ++i) {
-        long long idx;
-        if (!t.next(t_tok) || !parse_number(t_tok, idx)) {
-          fail("face " + std::to_string(f) + ": expected " + std::to_string(k) + " integer vertex indices");
-          ok = false;
-          break;
-        }
-        if (idx < 0 || idx >= static_cast<long long>(n_vertices)) {
-          fail("face " + std::to_string(f) + ": vertex index " + std::to_string(idx) + " out of range [0, " +
-               std::to_string(n_vertices) + ")");
-          ok = false;
-          break;
-        }
-        if (store) soup.indices[corner + std::size_t(i)] = idx;
-      }
-      if (!ok) break;
-      // Anything after the indices is a face colour: ignored.
-      if (!store) {
-        ++c.short_faces;
-        continue;
-      }
-      corner += std::size_t(k);
-      soup.offsets[++face_kept] = corner;
-    }
+    parse_off_chunk(c, text, n_vertices, n_lines, soup);
     file.release(c.begin, c.end);
   });
   for (const Chunk& c : chunks) {
-    if (c.error_line) throw invalid(*c.error_line, c.error);
+    if (c.error_line) throw off_error(path, *c.error_line, c.error);
     soup.short_faces += c.short_faces;
   }
   return soup;

@@ -63,74 +63,28 @@ void mark_pareto_front(std::vector<SweepRow>& rows) {
   }
 }
 
-std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& source, const std::vector<SweepReference>& references,
-                                const SweepOptions& options) {
-  if (references.empty() || !references.front().query)
-    throw InvalidInput("run_sweep: needs the exact reference first");
-  for (const SweepConfig& c : options.configs) check_sweep_config(c);
-  const std::optional<BoxCache> cache =
-      options.cache_dir.empty() ? std::nullopt : std::optional<BoxCache>(BoxCache(options.cache_dir));
+namespace {
 
-  // The pieces are cut once; every configuration bakes the same ones.
-  const std::vector<std::uint32_t> piece_of_triangle = resolve_piece_ids(mesh, options.recipe.pieces);
-  const std::vector<Segment> probes = sample_probes(mesh, options.samples, options.probes);
-  const float diagonal = mesh.bounds().diagonal();
-  const ContactQuery& exact = *references.front().query;
-  const double steps = double(references.size() + 2 * options.configs.size() + (options.default_bake ? 2 : 0));
-  double done = 0.0;
-  auto step = [&](double amount) {
-    done += amount;
-    if (options.progress && !options.progress(std::min(1.0, done / steps))) throw Cancelled("run_sweep: cancelled");
-  };
+// One sweep's shared state (the probes, the pieces, the cache, the progress, the ranks' tally)
+// and its steps, a method each.
+class SweepRun {
+public:
+  SweepRun(const TriangleMesh& mesh, const SourceInfo& source, const std::vector<SweepReference>& references,
+           const SweepOptions& options)
+      : mesh_(mesh), source_(source), options_(options),
+        cache_(options.cache_dir.empty() ? std::nullopt : std::optional<BoxCache>(BoxCache(options.cache_dir))),
+        // The pieces are cut once; every configuration bakes the same ones.
+        piece_of_triangle_(resolve_piece_ids(mesh, options.recipe.pieces)),
+        probes_(sample_probes(mesh, options.samples, options.probes)), diagonal_(mesh.bounds().diagonal()),
+        exact_(*references.front().query),
+        steps_(double(references.size() + 2 * options.configs.size() + (options.default_bake ? 2 : 0))),
+        comm_(communicator_or_serial(options.communicator)), sent_before_(comm_.bytes_sent()),
+        tally_(std::size_t(comm_.size())) {
+    for (int r = 0; r < comm_.size(); ++r) tally_[std::size_t(r)].rank = r;
+  }
 
-  Communicator& comm = communicator_or_serial(options.communicator);
-  const std::uint64_t sent_before = comm.bytes_sent();
-  std::vector<RankWork> tally(std::size_t(comm.size()));
-  for (int r = 0; r < comm.size(); ++r) tally[std::size_t(r)].rank = r;
-  auto add_work = [&](const std::vector<RankWork>& shares) {
-    for (const RankWork& w : shares) {
-      tally[std::size_t(w.rank)].work += w.work;
-      tally[std::size_t(w.rank)].seconds += w.seconds;
-    }
-  };
-
-  std::vector<SweepRow> rows;
-  std::size_t measured = 0;
-  auto measure = [&](SweepRow row, const ContactQuery& q) {
-    std::vector<RankWork> shares;
-    const ComparisonStats s = compare_queries(q, exact, probes, options.law, diagonal, nullptr, &comm, &shares, options.judge);
-    add_work(shares);
-    row.force_error_median = s.force_error_median;
-    row.force_error_p95 = s.force_error_p95;
-    row.contact_agreement = s.contact_agreement;
-    row.angle_error_median_deg = s.angle_error_median_deg;
-    row.angle_error_p99_deg = s.angle_error_p99_deg;
-    row.perceptible_share = s.perceptible_share;
-    row.within_budget = meets_budget(s, options.budget);
-    // One core of one rank times the method; the ranks take turns.
-    const int owner = int(measured++ % std::size_t(comm.size()));
-    double timing_seconds = 0.0;
-    if (comm.rank() == owner) {
-      const auto t0 = std::chrono::steady_clock::now();
-      row.query_ns = median_query_ns(q, probes, options.law, options.timing_rounds);
-      timing_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    }
-    if (comm.size() > 1) {
-      ByteWriter w;
-      w.put(row.query_ns);
-      w.put(timing_seconds);
-      comm.broadcast(w.bytes(), owner);
-      ByteReader r(w.bytes(), "run_sweep: timing");
-      row.query_ns = r.get<double>();
-      timing_seconds = r.get<double>();
-    }
-    tally[std::size_t(owner)].work += probes.size() * std::size_t(options.timing_rounds);
-    tally[std::size_t(owner)].seconds += timing_seconds;
-    if (options.on_row && comm.is_root()) options.on_row(row);
-    rows.push_back(row);
-  };
-
-  for (const SweepReference& ref : references) {
+  // Step 2: a reference measured as it is.
+  void reference(const SweepReference& ref) {
     if (!ref.query) throw InvalidInput("run_sweep: reference '" + ref.method + "' has no query");
     SweepRow row;
     row.method = ref.method;
@@ -140,7 +94,8 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& sour
     step(1.0);
   }
 
-  for (const SweepConfig& config : options.configs) {
+  // Step 3: a configuration loaded from the cache or baked (and cached), then measured.
+  void configuration(const SweepConfig& config) {
     SweepRow row;
     row.method = "haptic_box";
     row.m = config.m;
@@ -148,44 +103,38 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& sour
     row.codec = config.codec;
     row.refine = config.refine;
     // The cache holds raw scenes; a codec is applied in memory after loading or baking.
-    BakeRecipe recipe = options.recipe;
+    BakeRecipe recipe = options_.recipe;
     recipe.pieces = {};
-    if (!piece_of_triangle.empty()) {
+    if (!piece_of_triangle_.empty()) {
       recipe.pieces.kind = PiecesRecipe::Kind::given;
-      recipe.pieces.given = piece_of_triangle;
+      recipe.pieces.given = piece_of_triangle_;
     }
     recipe.options.params.m = config.m;
     recipe.options.params.n = config.n;
     recipe.options.refine = config.refine;
     recipe.codec.codec = CodecId::none;
-    const double base = done;
-    recipe.options.progress = [&](double f) {
-      return !options.progress || options.progress(std::min(1.0, (base + f) / steps));
-    };
-    recipe.options.communicator = &comm;  // every rank bakes its share and receives the scene
+    recipe.options.progress = progress_from(done_);
+    recipe.options.communicator = &comm_;  // every rank bakes its share and receives the scene
     recipe.options.scene_on_every_rank = true;
-    CachedBake baked = bake_cached(mesh, recipe, source, cache ? &*cache : nullptr);
+    CachedBake baked = bake_cached(mesh_, recipe, source_, cache_ ? &*cache_ : nullptr);
     BoxScene scene = std::move(baked.result.scene);
     row.bake_seconds = baked.result.stats.seconds;
     add_work(baked.result.stats.ranks);
-    const bool loaded = baked.from_cache;
     if (!baked.warning.empty()) throw IoError(baked.path + ": " + baked.warning);
-    row.from_cache = loaded;
+    row.from_cache = baked.from_cache;
     if (config.codec != "none") scene = compress_scene(scene, config.codec);
     row.memory_bytes = scene.memory_bytes();
     step(1.0);
     measure(row, scene);
     step(1.0);
   }
-  if (options.default_bake) {
-    // The default bake as a user gets it, measured like the configurations.
+
+  // The default bake as a user gets it, measured like the configurations.
+  void default_bake() {
     BakeRecipe recipe = default_recipe();
-    const double base = done;
-    recipe.options.progress = [&](double f) {
-      return !options.progress || options.progress(std::min(1.0, (base + f) / steps));
-    };
+    recipe.options.progress = progress_from(done_);
     const auto t0 = std::chrono::steady_clock::now();
-    CachedBake baked = bake_cached(mesh, recipe, source, cache && comm.is_root() ? &*cache : nullptr);
+    CachedBake baked = bake_cached(mesh_, recipe, source_, cache_ && comm_.is_root() ? &*cache_ : nullptr);
     if (!baked.warning.empty()) throw IoError(baked.path + ": " + baked.warning);
     const BoxScene& scene = baked.result.scene;
     SweepRow row;
@@ -201,22 +150,110 @@ std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& sour
     measure(row, scene);
     step(1.0);
   }
-  mark_pareto_front(rows);
-  if (options.rank_work) {
-    tally[std::size_t(comm.rank())].bytes_sent = comm.bytes_sent() - sent_before;
-    if (comm.size() > 1) {
-      // Every rank's own byte count, to rank 0.
-      ByteWriter w;
-      w.put(tally[std::size_t(comm.rank())].bytes_sent);
-      const std::vector<Bytes> all = comm.gather(w.bytes());
-      for (std::size_t r = 0; r < all.size(); ++r) {
-        ByteReader reader(all[r], "run_sweep: bytes");
-        tally[r].bytes_sent = reader.get<std::uint64_t>();
+
+  // Step 4 and the tally (with SweepOptions::rank_work: every rank's own byte count, to rank 0).
+  std::vector<SweepRow> finish() {
+    mark_pareto_front(rows_);
+    if (options_.rank_work) {
+      tally_[std::size_t(comm_.rank())].bytes_sent = comm_.bytes_sent() - sent_before_;
+      if (comm_.size() > 1) {
+        ByteWriter w;
+        w.put(tally_[std::size_t(comm_.rank())].bytes_sent);
+        const std::vector<Bytes> all = comm_.gather(w.bytes());
+        for (std::size_t r = 0; r < all.size(); ++r) {
+          ByteReader reader(all[r], "run_sweep: bytes");
+          tally_[r].bytes_sent = reader.get<std::uint64_t>();
+        }
       }
+      *options_.rank_work = tally_;
     }
-    *options.rank_work = tally;
+    return std::move(rows_);
   }
-  return rows;
+
+private:
+  void step(double amount) {
+    done_ += amount;
+    if (options_.progress && !options_.progress(std::min(1.0, done_ / steps_))) throw Cancelled("run_sweep: cancelled");
+  }
+  // A bake's progress f in [0, 1] as the sweep's, from `base` steps done.
+  ProgressCallback progress_from(double base) const {
+    const SweepOptions& options = options_;
+    const double steps = steps_;
+    return [&options, base, steps](double f) {
+      return !options.progress || options.progress(std::min(1.0, (base + f) / steps));
+    };
+  }
+  void add_work(const std::vector<RankWork>& shares) {
+    for (const RankWork& w : shares) {
+      tally_[std::size_t(w.rank)].work += w.work;
+      tally_[std::size_t(w.rank)].seconds += w.seconds;
+    }
+  }
+  // Accuracy against the first reference on every rank's share of the probes; the median
+  // query time on one core of one rank (the ranks take turns), broadcast.
+  void measure(SweepRow row, const ContactQuery& q) {
+    std::vector<RankWork> shares;
+    const ComparisonStats s =
+        compare_queries(q, exact_, probes_, options_.law, diagonal_, nullptr, &comm_, &shares, options_.judge);
+    add_work(shares);
+    row.force_error_median = s.force_error_median;
+    row.force_error_p95 = s.force_error_p95;
+    row.contact_agreement = s.contact_agreement;
+    row.angle_error_median_deg = s.angle_error_median_deg;
+    row.angle_error_p99_deg = s.angle_error_p99_deg;
+    row.perceptible_share = s.perceptible_share;
+    row.within_budget = meets_budget(s, options_.budget);
+    const int owner = int(measured_++ % std::size_t(comm_.size()));
+    double timing_seconds = 0.0;
+    if (comm_.rank() == owner) {
+      const auto t0 = std::chrono::steady_clock::now();
+      row.query_ns = median_query_ns(q, probes_, options_.law, options_.timing_rounds);
+      timing_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+    if (comm_.size() > 1) {
+      ByteWriter w;
+      w.put(row.query_ns);
+      w.put(timing_seconds);
+      comm_.broadcast(w.bytes(), owner);
+      ByteReader r(w.bytes(), "run_sweep: timing");
+      row.query_ns = r.get<double>();
+      timing_seconds = r.get<double>();
+    }
+    tally_[std::size_t(owner)].work += probes_.size() * std::size_t(options_.timing_rounds);
+    tally_[std::size_t(owner)].seconds += timing_seconds;
+    if (options_.on_row && comm_.is_root()) options_.on_row(row);
+    rows_.push_back(row);
+  }
+
+  const TriangleMesh& mesh_;
+  const SourceInfo& source_;
+  const SweepOptions& options_;
+  const std::optional<BoxCache> cache_;
+  const std::vector<std::uint32_t> piece_of_triangle_;
+  const std::vector<Segment> probes_;
+  const float diagonal_;
+  const ContactQuery& exact_;
+  const double steps_;
+  double done_ = 0.0;
+  Communicator& comm_;
+  const std::uint64_t sent_before_;
+  std::vector<RankWork> tally_;
+  std::vector<SweepRow> rows_;
+  std::size_t measured_ = 0;
+};
+
+} // namespace
+
+std::vector<SweepRow> run_sweep(const TriangleMesh& mesh, const SourceInfo& source, const std::vector<SweepReference>& references,
+                                const SweepOptions& options) {
+  if (references.empty() || !references.front().query)
+    throw InvalidInput("run_sweep: needs the exact reference first");
+  for (const SweepConfig& c : options.configs) check_sweep_config(c);
+  SweepRun run(mesh, source, references, options);
+  for (const SweepReference& ref : references) run.reference(ref);
+  for (const SweepConfig& config : options.configs) run.configuration(config);
+  if (options.default_bake) run.default_bake();
+  return run.finish();
 }
 
 std::string configuration_name(const SweepRow& r) {

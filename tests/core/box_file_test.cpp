@@ -50,7 +50,7 @@ protected:
     }
   }
 
-  // Layout of this one-box version-7 file (box_file.cpp): the prefix, the box's entry, the
+  // Layout of this one-box version-7 file (box_file_format.h): the prefix, the box's entry, the
   // surface, piece-id, scene-grid, budget-report and normal-map sections.
   static constexpr std::size_t kPrefix = 8 + 4 + 4 + 8 + 8 + 4 + 4 + 10;  // path "sphere.off"
   static constexpr std::size_t kCenter = kPrefix + 12, kAxes = kCenter + 12, kHalf = kAxes + 36;

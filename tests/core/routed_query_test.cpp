@@ -5,6 +5,7 @@
 #include "exact/exact_query.h"
 #include "haptic_box/bake.h"
 #include "haptic_box/scene_grid.h"
+#include "haptic_box/surface_cells.h"
 #include "two_spheres.h"
 #include <gtest/gtest.h>
 

@@ -6,6 +6,7 @@
 #include "haptic_box/bake.h"
 #include "haptic_box/box_file.h"
 #include "haptic_box/scene_grid.h"
+#include "haptic_box/surface_cells.h"
 #include "two_spheres.h"
 #include <gtest/gtest.h>
 #include <array>
