@@ -22,6 +22,8 @@ if grep -rEn '#\s*include\s*[<"](vtk|Q[A-Z]|qt|libusb)' src; then
 fi
 # Rooms: no folder-level include cycle in src/, and device/ includes no evaluation/ header.
 bash scripts/folder_edges.sh --check
+# Size: no source file over 600 lines and no function over 150 in the code folders.
+bash scripts/long_functions.sh --check
 
 (cd build && xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --output-on-failure -j2 --timeout 600)
 

@@ -24,6 +24,7 @@ PACKAGES=(
   libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev libocct-foundation-dev
   libassimp-dev zlib1g-dev
   python3-nibabel python3-pydicom
+  universal-ctags  # scripts/long_functions.sh (./test.sh: no function over 150 lines, no file over 600)
 )
 
 # HB_PRETEND_INSTALLED="pkg ..." / HB_PRETEND_MISSING="pkg ..." treat those packages as
