@@ -10,6 +10,7 @@
 #include "cad_reader.h"
 #include "string_util.h"
 #include "errors.h"
+#include "formats/iges_check.h"
 #include "formats/iges_global.h"
 #include "formats/step_check.h"
 #include <BRepAdaptor_Surface.hxx>
@@ -31,7 +32,9 @@
 #include <BRepBuilderAPI_NurbsConvert.hxx>
 #include <IGESData_IGESEntity.hxx>
 #include <IGESData_IGESModel.hxx>
+#include <Interface_Check.hxx>
 #include <Interface_InterfaceModel.hxx>
+#include <TCollection_HAsciiString.hxx>
 #include <StepShape_FaceSurface.hxx>
 #include <Interface_Static.hxx>
 #include <Message.hxx>
@@ -52,6 +55,7 @@
 #include <gp_Ax2.hxx>
 #include <gp_Pnt2d.hxx>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -92,6 +96,30 @@ const char* surface_type_name(GeomAbs_SurfaceType t) {
   }
 }
 
+// OpenCASCADE's reader records what it could not read (a syntax error, a parameter of the
+// wrong type or count, a reference to an instance that failed) and goes on; its translator
+// then follows what was left unset and crashes. Such a file is refused, naming the first fault.
+void refuse_read_failures(const std::string& path, const char* format, const Handle(Interface_InterfaceModel)& model) {
+  if (model.IsNull()) return;
+  auto text = [](const char* s) {
+    std::string t = s ? s : "";
+    while (!t.empty() && std::isspace((unsigned char)t.back())) t.pop_back();
+    return t.empty() ? std::string("a parameter could not be read") : t;
+  };
+  const Handle(Interface_Check)& global = model->GlobalCheck(Standard_True);
+  if (!global.IsNull() && global->NbFails() > 0)
+    throw InvalidInput(path + ": the " + format + " file is damaged: " + text(global->CFail(1)));
+  for (int i = 1; i <= model->NbEntities(); ++i) {
+    if (!model->IsErrorEntity(i)) continue;
+    const Handle(Interface_Check)& check = model->Check(i, Standard_True);
+    if (check.IsNull() || check->NbFails() == 0) continue;
+    const Handle(Standard_Transient)& entity = model->Value(i);
+    const Handle(TCollection_HAsciiString) label = entity.IsNull() ? nullptr : model->StringLabel(entity);
+    throw InvalidInput(path + ": the " + format + " file is damaged at instance " +
+                       (label.IsNull() ? std::to_string(i) : std::string(label->ToCString())) + ": " + text(check->CFail(1)));
+  }
+}
+
 // Reads and transfers the file; `file_faces` is the number of faces the file defines (STEP
 // face surfaces; IGES faces, else trimmed and bounded surfaces), to be held against the faces
 // the transfer produced: OpenCASCADE drops a face it cannot translate without failing.
@@ -106,6 +134,7 @@ TopoDS_Shape read_shape(const std::string& path, bool step, nlohmann::json& fact
     STEPControl_Reader reader;
     if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw InvalidInput(path + ": not a readable STEP file");
     const Handle(Interface_InterfaceModel) model = reader.Model();
+    refuse_read_failures(path, "STEP", model);
     if (!model.IsNull())
       for (int i = 1; i <= model->NbEntities(); ++i)
         if (!model->Value(i).IsNull() && model->Value(i)->IsKind(STANDARD_TYPE(StepShape_FaceSurface))) ++file_faces;
@@ -121,6 +150,9 @@ TopoDS_Shape read_shape(const std::string& path, bool step, nlohmann::json& fact
     std::ifstream in(path, std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     facts["file_mm_per_unit"] = iges_mm_per_unit(path, bytes);
+    // Its translator trusts the directory's pointers and the counts in the parameter data: a
+    // damaged one was a segmentation fault.
+    check_iges_structure(path, bytes);
   }
   IGESControl_Reader reader;
   if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw InvalidInput(path + ": not a readable IGES file");
