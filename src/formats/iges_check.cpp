@@ -43,7 +43,7 @@ struct IgesFile {
   throw InvalidInput(f.name + ": " + why + ": the IGES file is damaged");
 }
 
-std::string trimmed(const std::string& s) {
+std::string blank_trimmed(const std::string& s) {
   const std::size_t a = s.find_first_not_of(' ');
   if (a == std::string::npos) return {};
   return s.substr(a, s.find_last_not_of(' ') - a + 1);
@@ -51,7 +51,7 @@ std::string trimmed(const std::string& s) {
 
 // A whole number (an optional sign and digits); empty text is 0, IGES's default.
 bool parse_integer(const std::string& text, long& out) {
-  const std::string t = trimmed(text);
+  const std::string t = blank_trimmed(text);
   out = 0;
   if (t.empty()) return true;
   std::size_t i = (t[0] == '+' || t[0] == '-') ? 1 : 0;
@@ -64,7 +64,7 @@ bool parse_integer(const std::string& text, long& out) {
 
 // A finite real (IGES writes exponents with E or D); empty text is 0.
 bool parse_real(const std::string& text) {
-  std::string t = trimmed(text);
+  std::string t = blank_trimmed(text);
   if (t.empty()) return true;
   for (char& c : t)
     if (c == 'D' || c == 'd') c = 'E';
@@ -102,7 +102,7 @@ void split_sections(IgesFile& f, const std::string& bytes) {
     section = s;
     long seq = 0;
     if (!parse_integer(line.substr(73, 7), seq) || seq != long(counts[s] + 1))
-      refuse(f, "line " + std::to_string(line_no) + " is numbered '" + quoted_text(trimmed(line.substr(73, 7))) + "' where " + line[72] +
+      refuse(f, "line " + std::to_string(line_no) + " is numbered '" + quoted_text(blank_trimmed(line.substr(73, 7))) + "' where " + line[72] +
                     std::to_string(counts[s] + 1) + " belongs (a line missing, repeated or damaged)");
     ++counts[s];
     if (s == 2) {
@@ -120,7 +120,7 @@ void split_sections(IgesFile& f, const std::string& bytes) {
     long declared = 0;
     if (t_line[std::size_t(8 * s)] != kOrder[s] || !parse_integer(t_line.substr(std::size_t(8 * s + 1), 7), declared) ||
         declared != long(counts[s]))
-      refuse(f, std::string("the terminate line counts '") + quoted_text(trimmed(t_line.substr(std::size_t(8 * s), 8))) + "' where the file has " +
+      refuse(f, std::string("the terminate line counts '") + quoted_text(blank_trimmed(t_line.substr(std::size_t(8 * s), 8))) + "' where the file has " +
                     kOrder[s] + std::to_string(counts[s]) + " lines");
   }
   if (f.d.size() % 2) refuse(f, "the directory section has " + std::to_string(f.d.size()) + " lines, not two an entry");
@@ -144,7 +144,7 @@ std::vector<std::string> split_parameters(const IgesFile& f, const std::string& 
     } else {
       while (i < data.size() && data[i] != param && data[i] != record) value += data[i++];
     }
-    values.push_back(trimmed(value));
+    values.push_back(blank_trimmed(value));
     if (i >= data.size())
       refuse(f, "the parameter data of entry D" + std::to_string(de) + " does not end with the record delimiter '" + std::string(1, record) + "'");
     if (data[i] == record) return values;
@@ -194,7 +194,7 @@ void read_entries(IgesFile& f, char param, char record) {
       long back = 0;
       if (!parse_integer(p.substr(65, 7), back) || back != long(entry.de_line))
         refuse(f, "P line " + std::to_string(l) + " (line " + std::to_string(f.p_first + std::size_t(l) - 1) + ") belongs to D" +
-                      quoted_text(trimmed(p.substr(65, 7))) + ", but " + where + " points to it");
+                      quoted_text(blank_trimmed(p.substr(65, 7))) + ", but " + where + " points to it");
       data += p.substr(0, 64);
     }
     std::vector<std::string> values = split_parameters(f, data, param, record, entry.de_line);
