@@ -132,6 +132,18 @@ TEST_F(DamagedModelsTest, IgesDamagedDirectoryOrParameterDataIsRefusedBeforeOpen
   EXPECT_NO_THROW(hb::check_iges_structure("x", good));
 }
 
+TEST_F(DamagedModelsTest, IgesFaceTiltedAwayFromItsEdgesIsRefusedBeforeTheMesher) {
+  // The cylinder's axis (the first direction, 123) from (0, 0, 1) to (1, 0, 1): well-formed,
+  // but its edges no longer lie on it; OpenCASCADE widened their tolerance to 18 mm and its
+  // mesher ran past 120 s (823 MB). Refused after the transfer, in about a second.
+  hb::vtk::write_reference_solid_iges(path("solid.igs"), 10.0, 30.0);
+  const std::string tilted = write("tilted.igs", replaced(slurp(path("solid.igs")), "123,0.,0.,1.;", "123,1.,0.,1.;"));
+  hb::vtk::ModelOptions o = coarse();
+  o.reader_timeout_s = 60.0;
+  expect_refused(tilted, "its edges miss their faces by up to", o);
+  expect_refused(tilted, "meshing it would not end", o);
+}
+
 TEST_F(DamagedModelsTest, IgesReferenceSolidLoadsInMillimetres) {
   hb::vtk::write_reference_solid_iges(path("solid.igs"), 10.0, 30.0);
   const hb::vtk::LoadedModel m = hb::vtk::load_model(path("solid.igs"), coarse());
