@@ -144,6 +144,23 @@ TEST_F(DamagedModelsTest, IgesFaceTiltedAwayFromItsEdgesIsRefusedBeforeTheMesher
   expect_refused(tilted, "meshing it would not end", o);
 }
 
+TEST_F(DamagedModelsTest, StepPlaneMovedOffItsEdgesStopsRefiningWithAWarning) {
+  // The cylinder's bottom plane 1 mm off its circle: the measured deviation stays at 1 mm
+  // however fine the mesh, and the refinement rounds (each finer by 0.9 x asked / measured)
+  // ran to 3 GB and past 120 s. Now at most 10x finer a round, and no round after one that
+  // did not bring the deviation closer: a mesh, and a warning that says why it is off.
+  hb::vtk::write_reference_solid_step(path("solid.step"), 10.0, 30.0);
+  const std::string moved = write("moved.step", replaced(slurp(path("solid.step")), "#117 = CARTESIAN_POINT('',(0.,0.,0.));",
+                                                         "#117 = CARTESIAN_POINT('',(0.,0.,1.));"));
+  hb::vtk::ModelOptions o = coarse();
+  o.reader_timeout_s = 60.0;
+  const hb::vtk::LoadedModel m = hb::vtk::load_model(moved, o);
+  EXPECT_GT(m.mesh.triangle_count(), 0u);
+  EXPECT_LT(m.mesh.triangle_count(), 100000u);
+  ASSERT_FALSE(m.report.warnings.empty());
+  EXPECT_NE(m.report.warnings.back().find("a finer mesh did not bring it closer"), std::string::npos) << m.report.warnings.back();
+}
+
 TEST_F(DamagedModelsTest, IgesReferenceSolidLoadsInMillimetres) {
   hb::vtk::write_reference_solid_iges(path("solid.igs"), 10.0, 30.0);
   const hb::vtk::LoadedModel m = hb::vtk::load_model(path("solid.igs"), coarse());
