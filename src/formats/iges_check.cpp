@@ -8,8 +8,10 @@
 //  3. The parameter data of the entities solids and trimmed surfaces are made of, held to
 //     their layout (IGES 5.3, chapter 4): counts against the values present, numbers where
 //     numbers belong, pointers to entries of a fitting type, list indices within their list.
-//     B-spline curves and surfaces (126, 128) are left to OpenCASCADE: it refuses a bad one
-//     and drops its face, which the CAD reader counts as a lost face.
+//     B-spline curves and surfaces (126, 128): every value a number, and when their counts fit
+//     their values, knots that never decrease and positive weights; counts that do not fit
+//     are left to OpenCASCADE, which refuses the spline and drops its face (the CAD reader
+//     counts a lost face).
 #include "formats/iges_check.h"
 #include "errors.h"
 #include "formats/iges_global.h"
@@ -20,6 +22,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <initializer_list>
+#include <utility>
 #include <vector>
 
 namespace hb {
@@ -93,6 +96,12 @@ void split_sections(IgesFile& f, const std::string& bytes) {
     }
     if (line.size() < 80)
       refuse(f, "line " + std::to_string(line_no) + " has " + std::to_string(line.size()) + " columns, not 80");
+    // IGES is text: a control byte (a NUL inside a number ended it there for OpenCASCADE,
+    // which read a different curve without a word).
+    for (std::size_t k = 0; k < line.size(); ++k)
+      if ((unsigned char)line[k] < 0x20 || line[k] == 0x7F)
+        refuse(f, "line " + std::to_string(line_no) + " holds the control byte " + quoted_text(line.substr(k, 1)) + " in column " +
+                      std::to_string(k + 1));
     if (!t_line.empty()) refuse(f, "line " + std::to_string(line_no) + " follows the terminate (T) line");
     const char* letter = std::char_traits<char>::find(kOrder, 5, line[72]);
     if (!letter) refuse(f, "line " + std::to_string(line_no) + " has '" + quoted_text(line.substr(72, 1)) + "' in column 73, not a section letter (S, G, D, P, T)");
@@ -275,9 +284,42 @@ private:
 const std::initializer_list<long> kCurves = {100, 102, 104, 106, 110, 112, 126, 130};
 const std::initializer_list<long> kSurfaces = {108, 114, 118, 120, 122, 128, 140, 143, 144, 190, 192, 194, 196, 198};
 
+// A B-spline (126 curve, 128 surface) whose counts fit its values: knots that never decrease
+// and positive weights (a weight changed to 0 collapsed the sphere's face to a sliver, read
+// without a word). Counts that do not fit are OpenCASCADE's to refuse (it drops the face).
+void check_bspline_weights(const EntityCheck& c) {
+  const std::vector<std::string>& p = c.entry().params;
+  const bool surface = c.entry().type == 128;
+  std::vector<long> k(surface ? 4 : 2);
+  for (std::size_t i = 0; i < k.size(); ++i)
+    if (!parse_integer(p.size() > i ? p[i] : "", k[i]) || k[i] < 0 || std::size_t(k[i]) > p.size()) return;
+  const long uk = k[0], vk = surface ? k[1] : 0, um = surface ? k[2] : k[1], vm = surface ? k[3] : 0;
+  if (um < 1 || uk < um || (surface && (vm < 1 || vk < vm))) return;
+  std::vector<std::pair<std::size_t, std::size_t>> knots = {{surface ? 9 : 6, std::size_t(uk + um + 2)}};
+  if (surface) knots.push_back({knots[0].first + knots[0].second, std::size_t(vk + vm + 2)});
+  const std::size_t weights_at = knots.back().first + knots.back().second, weights = std::size_t(uk + 1) * std::size_t(vk + 1);
+  if (weights_at + 4 * weights > p.size()) return;
+  auto value = [&](std::size_t i) {
+    std::string t = blank_trimmed(p[i]);
+    for (char& ch : t)
+      if (ch == 'D' || ch == 'd') ch = 'E';
+    return std::strtod(t.c_str(), nullptr);
+  };
+  for (const auto& [at, n] : knots)
+    for (std::size_t i = at + 1; i < at + n; ++i)
+      if (value(i) < value(i - 1)) c.fail("knot " + std::to_string(i - at + 1) + " (value " + std::to_string(i + 1) + ") is below the one before it");
+  for (std::size_t i = weights_at; i < weights_at + weights; ++i)
+    if (!(value(i) > 0)) c.fail("weight " + std::to_string(i - weights_at + 1) + " (value " + std::to_string(i + 1) + ") is not positive");
+}
+
 void check_entity(const IgesFile& f, const IgesEntry& e) {
   const EntityCheck c(f, e);
   switch (e.type) {
+    case 126:
+    case 128:
+      c.reals(0, e.params.size());
+      check_bspline_weights(c);
+      break;
     case 100: c.reals(0, 7); break;
     case 110: c.reals(0, 6); break;
     case 116: c.reals(0, 3); break;

@@ -18,7 +18,9 @@ namespace hb {
 /// ends with the record delimiter; for the entities of solids and surfaces (100, 102, 110,
 /// 116, 123, 124, 142, 144, 186, 190, 192, 194, 196, 502, 504, 508, 510, 514) the
 /// counts agree with the parameters present, the numbers are numbers, the pointers refer to
-/// entries of a fitting type and the list indices lie within their lists.
+/// entries of a fitting type and the list indices lie within their lists; B-splines (126,
+/// 128) hold numbers only, and when their counts fit, knots that never decrease and positive
+/// weights. Every line is text (no control byte).
 /// Throws hb::InvalidInput naming `name`, the line or the directory entry (by its sequence
 /// number, as IGES tools name them) and the cause.
 void check_iges_structure(const std::string& name, const std::string& bytes);

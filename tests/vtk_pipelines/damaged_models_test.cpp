@@ -117,16 +117,26 @@ TEST_F(DamagedModelsTest, IgesDamagedDirectoryOrParameterDataIsRefusedBeforeOpen
   std::string lost = good;
   lost.erase(good.rfind('\n', d9) + 1, d9 + 9 - good.rfind('\n', d9) - 1);
   expect_refused(write("d_lost.igs", lost), "is numbered '0000010' where D9 belongs (a line missing, repeated or damaged)", coarse());
-  std::string nul = good;
+  std::string entry = good;
   const std::size_t p2 = good.find("0000003P0000002");
   ASSERT_NE(p2, std::string::npos);
-  nul[p2 + 3] = '\0';
-  expect_refused(write("p_nul.igs", nul), "P line 2 (line 89) belongs to D000\\x00003, but directory entry D3", coarse());
+  entry[p2 + 3] = 'X';
+  expect_refused(write("p_entry.igs", entry), "P line 2 (line 89) belongs to D000X003, but directory entry D3", coarse());
   // The second shell's face: D69 -> D57, a point (116).
   expect_refused(write("kind.igs", replaced(good, "514,1,69,1;", "514,1,57,1;")), "points to D57, of type 116", coarse());
   // A loop's edge: index 1 -> 9 into the 4 edges of list D19.
   expect_refused(write("index.igs", replaced(good, "508,1,0,19,1,1,0;", "508,1,0,19,9,1,0;")), "index 9 into D19, a list of 4", coarse());
   expect_refused(write("count.igs", replaced(good, "510,43,1,1,51;", "510,43,7,1,51;")), "its count 7 (value 2) does not fit", coarse());
+  // A B-spline curve's first weight 1 -> 0, and a NUL inside one of its knots: OpenCASCADE
+  // read both (the NUL ending the number) and the sphere's face collapsed to a sliver.
+  const std::string spline = "6.283185307,7.853981634,7.853981634,7.853981634,1.,1.,1.,1.,1.,";
+  const std::size_t d77 = good.find(spline);
+  ASSERT_NE(d77, std::string::npos);
+  std::string weight = good, nul_knot = good;
+  weight[d77 + spline.find("1.,")] = '0';
+  nul_knot[d77 + 18] = '\0';
+  expect_refused(write("weight.igs", weight), "entity D77 (type 126): weight 1 (value 15) is not positive", coarse());
+  expect_refused(write("nul_knot.igs", nul_knot), "holds the control byte \\x00 in column 19", coarse());
   // The terminate line's counts.
   expect_refused(write("t.igs", replaced(good, "D     82P", "D     80P")), "the terminate line counts 'D     80' where the file has D82", coarse());
   EXPECT_NO_THROW(hb::check_iges_structure("x", good));
