@@ -104,6 +104,9 @@ TEST_F(DamagedModelsTest, StepParameterOfTheWrongKindOrASyntaxErrorIsRefusedNami
                  "the STEP file is damaged", coarse());
   expect_refused(write("junk.step", replaced(good, "= VERTEX_POINT('',#45);", "= VERTEX_POINT(''\x01#45);")),
                  "the STEP file is damaged", coarse());
+  // Read as 1.5 without a word: the cylinder's axis tilted.
+  expect_refused(write("fraction.step", replaced(good, "#21 = DIRECTION('',(0.,0.,1.));", "#21 = DIRECTION('',(1.5.,0.,1.));")),
+                 "STEP instance #21 holds '1.5.', not a number", coarse());
 }
 
 TEST_F(DamagedModelsTest, IgesDamagedDirectoryOrParameterDataIsRefusedBeforeOpenCascade) {
