@@ -65,7 +65,7 @@ bool parse_integer(const std::string& text, long& out) {
   return true;
 }
 
-// A finite real (IGES writes exponents with E or D); empty text is 0.
+// A finite real below 1e100 (IGES writes exponents with E or D); empty text is 0.
 bool parse_real(const std::string& text) {
   std::string t = blank_trimmed(text);
   if (t.empty()) return true;
@@ -73,7 +73,8 @@ bool parse_real(const std::string& text) {
     if (c == 'D' || c == 'd') c = 'E';
   char* end = nullptr;
   const double v = std::strtod(t.c_str(), &end);
-  return end == t.c_str() + t.size() && std::isfinite(v) && t.find_first_of("xXnNiI") == std::string::npos;
+  // Below OpenCASCADE's infinity (2e100, Precision::Infinite).
+  return end == t.c_str() + t.size() && std::fabs(v) < 1e100 && t.find_first_of("xXnNiI") == std::string::npos;
 }
 
 // Pass 1: the sections and their line numbers.
@@ -248,7 +249,7 @@ public:
   void reals(std::size_t from, std::size_t n) const {
     need(from + n);
     for (std::size_t k = from; k < from + n; ++k)
-      if (!parse_real(e_.params[k])) fail("value " + std::to_string(k + 1) + " '" + quoted_text(e_.params[k]) + "' is not a finite number");
+      if (!parse_real(e_.params[k])) fail("value " + std::to_string(k + 1) + " '" + quoted_text(e_.params[k]) + "' is not a number below 1e100");
   }
   // A pointer to an entry of one of `types` (any type when empty); 0 allowed when `optional`.
   const IgesEntry* pointer(std::size_t k, std::initializer_list<long> types, bool optional = false) const {

@@ -1,11 +1,14 @@
 // STEP references: one pass over the DATA section, skipping strings ('...', '' inside) and
 // comments (/* */); "#N =" at the start of a statement defines N, any other "#N" refers to it;
-// a number where a token starts must be whole (digits, a fraction, an exponent, a delimiter).
+// a number where a token starts must be whole (digits, a fraction, an exponent, a delimiter)
+// and below 1e100.
 #include "formats/step_check.h"
 #include "errors.h"
 #include "formats/quoted_text.h"
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <cstdint>
 #include <unordered_set>
@@ -101,6 +104,12 @@ void check_step_references(const std::string& name, const std::string& bytes) {
       if (!ok || k >= n || !std::strchr(",) \t\r\n", bytes[k]))
         throw InvalidInput(name + ": STEP instance #" + std::to_string(current) + " holds '" +
                            quoted_text(bytes.substr(at, std::min<std::size_t>(k + 1, n) - at)) + "', not a number");
+      // OpenCASCADE takes 2e100 for infinite (Precision::Infinite); a point at -2.4e65535 (an
+      // overflow) kept its translator busy past 60 s.
+      const double v = std::strtod(bytes.substr(at, k - at).c_str(), nullptr);
+      if (!(std::fabs(v) < 1e100))
+        throw InvalidInput(name + ": STEP instance #" + std::to_string(current) + " holds " + quoted_text(bytes.substr(at, k - at), 40) +
+                           ", beyond any model's range (1e100)");
       at = k;
       continue;
     }

@@ -107,6 +107,10 @@ TEST_F(DamagedModelsTest, StepParameterOfTheWrongKindOrASyntaxErrorIsRefusedNami
   // Read as 1.5 without a word: the cylinder's axis tilted.
   expect_refused(write("fraction.step", replaced(good, "#21 = DIRECTION('',(0.,0.,1.));", "#21 = DIRECTION('',(1.5.,0.,1.));")),
                  "STEP instance #21 holds '1.5.', not a number", coarse());
+  // An exponent that overflows: OpenCASCADE's translator was still busy after 60 s.
+  expect_refused(write("overflow.step", replaced(good, "#79 = CARTESIAN_POINT('',(10.,-2.449293598295E-15,0.));",
+                                                 "#79 = CARTESIAN_POINT('',(10.,-2.449293598295E65535,0.));")),
+                 "STEP instance #79 holds -2.449293598295E65535, beyond any model's range (1e100)", coarse());
 }
 
 TEST_F(DamagedModelsTest, IgesDamagedDirectoryOrParameterDataIsRefusedBeforeOpenCascade) {
