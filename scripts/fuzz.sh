@@ -7,14 +7,14 @@
 # HB_FUZZ_JOBS=N runs N targets at once (default 1; ./test.sh runs 2, one a core).
 # HB_FUZZ_SEED=S fixes libFuzzer's random seed (./test.sh uses 1), so a short run from the
 # seed corpus repeats the same mutations: CI checks a known prefix, long runs explore.
-#   scripts/fuzz.sh [SECONDS | --runs N] [TARGET...]     (targets: off obj ply stl box servo_log segments_csv volume_header dicom gltf)
+#   scripts/fuzz.sh [SECONDS | --runs N] [TARGET...]     (targets: off obj ply stl box servo_log segments_csv volume_header dicom gltf cad)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 limit=(-max_total_time=600)
 if [ "${1:-}" = "--runs" ]; then limit=(-runs="$2"); shift 2
 elif [ -n "${1:-}" ] && [[ "$1" =~ ^[0-9]+$ ]]; then limit=(-max_total_time="$1"); shift; fi
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(off obj ply stl box servo_log segments_csv volume_header dicom gltf)
+[ ${#targets[@]} -eq 0 ] && targets=(off obj ply stl box servo_log segments_csv volume_header dicom gltf cad)
 jobs=${HB_FUZZ_JOBS:-1}
 seed_opt=()
 if [ -n "${HB_FUZZ_SEED:-}" ]; then
@@ -23,11 +23,11 @@ if [ -n "${HB_FUZZ_SEED:-}" ]; then
 fi
 [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz.sh: HB_FUZZ_JOBS must be a positive integer, not '$jobs'" >&2; exit 2; }
 for t in "${targets[@]}"; do
-  case "$t" in off|obj|ply|stl|box|servo_log|segments_csv|volume_header|dicom|gltf) ;;
-    *) echo "fuzz.sh: unknown target '$t' (targets: off obj ply stl box servo_log segments_csv volume_header dicom gltf)" >&2; exit 2 ;;
+  case "$t" in off|obj|ply|stl|box|servo_log|segments_csv|volume_header|dicom|gltf|cad) ;;
+    *) echo "fuzz.sh: unknown target '$t' (targets: off obj ply stl box servo_log segments_csv volume_header dicom gltf cad)" >&2; exit 2 ;;
   esac
 done
-[ -x build-asan/tests/fuzz/fuzz_box ] && [ -x build-asan/tests/fuzz/fuzz_gltf ] || bash scripts/build_sanitized.sh
+[ -x build-asan/tests/fuzz/fuzz_box ] && [ -x build-asan/tests/fuzz/fuzz_cad ] || bash scripts/build_sanitized.sh
 mkdir -p build-asan/fuzz-artifacts
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=0}
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/scripts/lsan_suppressions.txt}

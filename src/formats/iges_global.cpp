@@ -3,6 +3,7 @@
 // delimiter (field 2, default ';'); strings are Hollerith (nHtext, n characters after the H).
 #include "formats/iges_global.h"
 #include "errors.h"
+#include "formats/quoted_text.h"
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -81,7 +82,7 @@ std::vector<std::string> parse_iges_global(const std::string& name, const std::s
     fields.push_back(value);
     if (i >= g.size()) fail("the section ends without its record delimiter");
     if (g[i] == record) break;
-    if (g[i] != param) fail(std::string("'") + g[i] + "' where a delimiter belongs");
+    if (g[i] != param) fail("'" + quoted_text(std::string(1, g[i])) + "' where a delimiter belongs");
     ++i;
     if (fields.size() > 64) fail("more than 64 fields");
   }
@@ -98,21 +99,21 @@ double iges_mm_per_unit(const std::string& name, const std::string& bytes) {
   char* end = nullptr;
   const long flag = flag_text.empty() ? 1 : std::strtol(flag_text.c_str(), &end, 10);  // empty: the default, inches
   if (!flag_text.empty() && (*end || flag < 1 || flag > 11))
-    throw InvalidInput(name + ": the IGES global section's unit flag (field 14) is '" + flag_text.substr(0, 20) +
+    throw InvalidInput(name + ": the IGES global section's unit flag (field 14) is '" + quoted_text(flag_text) +
                        "', not 1 to 11: its length unit cannot be trusted");
   if (flag == 3) {
     for (int k = 1; k <= 11; ++k)
       for (const char* n : kUnits[k].names)
         if (n && unit == n) return kUnits[k].mm;
     throw InvalidInput(name + ": the IGES global section's unit flag 3 takes its unit from the name (field 15), and '" +
-                       unit.substr(0, 20) + "' is not a unit");
+                       quoted_text(unit) + "' is not a unit");
   }
   if (!unit.empty()) {
     bool agrees = false;
     for (const char* n : kUnits[flag].names) agrees = agrees || (n && unit == n);
     if (!agrees)
       throw InvalidInput(name + ": the IGES global section's unit flag " + std::to_string(flag) + " (field 14) and unit name '" +
-                         unit.substr(0, 20) + "' (field 15) disagree: the file is damaged and its length unit cannot be trusted");
+                         quoted_text(unit) + "' (field 15) disagree: the file is damaged and its length unit cannot be trusted");
   }
   return kUnits[flag].mm;
 }

@@ -1,8 +1,15 @@
 // STEP references: one pass over the DATA section, skipping strings ('...', '' inside) and
-// comments (/* */); "#N =" at the start of a statement defines N, any other "#N" refers to it.
+// comments (/* */); "#N =" at the start of a statement defines N, any other "#N" refers to it;
+// a number where a token starts must be whole (digits, a fraction, an exponent, a delimiter)
+// and below 1e100.
 #include "formats/step_check.h"
 #include "errors.h"
+#include "formats/quoted_text.h"
+#include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <cstdint>
 #include <unordered_set>
 #include <utility>
@@ -72,6 +79,38 @@ void check_step_references(const std::string& name, const std::string& bytes) {
     if (c == ';') {
       statement_start = true;
       ++at;
+      continue;
+    }
+    // A number where a token starts: [+-]digits[.digits][E[+-]digits], then a delimiter
+    // ("1.5." read as 1.5 by OpenCASCADE: a different direction without a word).
+    if (!statement_start && (std::isdigit((unsigned char)c) || ((c == '-' || c == '+') && at + 1 < n && std::isdigit((unsigned char)bytes[at + 1]))) &&
+        at > 0 && std::strchr("(,= \t\r\n", bytes[at - 1])) {
+      std::size_t k = at + (std::isdigit((unsigned char)c) ? 0 : 1);
+      auto digits = [&] {
+        const std::size_t from = k;
+        while (k < n && std::isdigit((unsigned char)bytes[k])) ++k;
+        return k > from;
+      };
+      bool ok = digits();
+      if (ok && k < n && bytes[k] == '.') {
+        ++k;
+        digits();
+      }
+      if (ok && k < n && (bytes[k] == 'E' || bytes[k] == 'e')) {
+        ++k;
+        if (k < n && (bytes[k] == '+' || bytes[k] == '-')) ++k;
+        ok = digits();
+      }
+      if (!ok || k >= n || !std::strchr(",) \t\r\n", bytes[k]))
+        throw InvalidInput(name + ": STEP instance #" + std::to_string(current) + " holds '" +
+                           quoted_text(bytes.substr(at, std::min<std::size_t>(k + 1, n) - at)) + "', not a number");
+      // OpenCASCADE takes 2e100 for infinite (Precision::Infinite); a point at -2.4e65535 (an
+      // overflow) kept its translator busy past 60 s.
+      const double v = std::strtod(bytes.substr(at, k - at).c_str(), nullptr);
+      if (!(std::fabs(v) < 1e100))
+        throw InvalidInput(name + ": STEP instance #" + std::to_string(current) + " holds " + quoted_text(bytes.substr(at, k - at), 40) +
+                           ", beyond any model's range (1e100)");
+      at = k;
       continue;
     }
     if (statement_start && !std::isspace((unsigned char)c)) {

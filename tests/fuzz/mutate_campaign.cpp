@@ -34,6 +34,8 @@
 //     processor seconds and the cost per run; --json writes every case.
 // Usage: hb_mutate_campaign [--runs N] [--families volumes,cad,scenes,pieces] [--seed S]
 //        [--jobs 2] [--timeout 3] [--memory-mb 2048] [--keep DIR] [--json FILE] [--only N]
+//        (--keep keeps every case but a plain rejection or acceptance; with --only, the case
+//        whatever its outcome)
 //        [--bench REPS]  (valid files: load time with and without isolation)
 //        [--write-seeds DIR]  (writes the generated seeds there and stops)
 // Exit status 1 when any case is crash, hang, blowup, empty, unstable or suspect.
@@ -486,7 +488,7 @@ Result run_case(const Campaign& c, std::size_t index) {
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const bool bad = r.outcome != "rejected" && r.outcome != "unchanged" && r.outcome != "changed" && r.outcome != "contained";
-  if (!c.opt.keep.empty() && (bad || r.outcome == "contained")) {
+  if (!c.opt.keep.empty() && (bad || r.outcome == "contained" || c.opt.only >= 0)) {
     const fs::path dest = fs::path(c.opt.keep) / (r.outcome + "-" + family + "-" + std::to_string(index));
     fs::create_directories(dest);
     fs::copy(cased, dest, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
