@@ -13,16 +13,16 @@
 #include "haptic_box/box_file.h"
 #include "haptic_box/box_file_format.h"
 #include "errors.h"
+#include "mesh/mapped_file.h"
 #include <xxhash.h>
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <fcntl.h>
+#include <filesystem>
+#include <memory>
 #include <optional>
 #include <sys/mman.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 namespace hb {
 namespace {
@@ -51,15 +51,6 @@ private:
   std::size_t size_;
   std::string path_;
   std::size_t pos_ = 0;
-};
-
-// Owns a read-only mapping of a whole file.
-struct FileMap {
-  void* data = MAP_FAILED;
-  std::size_t size = 0;
-  ~FileMap() {
-    if (data != MAP_FAILED) munmap(data, size);
-  }
 };
 
 // Owns an anonymous private copy of a file, 2 MB aligned and advised for huge pages.
@@ -103,24 +94,12 @@ struct FileHeader {
 };
 
 // The whole file mapped read-only; throws what load_box_file documents.
-std::shared_ptr<FileMap> map_box_file(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw IoError(path + ": cannot open box file (" + std::strerror(errno) + ")");
-  struct stat st {};
-  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    ::close(fd);
-    throw IoError(path + ": not a regular file");
-  }
-  auto map = std::make_shared<FileMap>();
-  map->size = std::size_t(st.st_size);
-  if (map->size < sizeof(kBoxFileMagic) + 8) {
-    ::close(fd);
-    throw InvalidInput(path + ": not a HapticBox box file (too short: " + std::to_string(map->size) + " bytes)");
-  }
-  map->data = ::mmap(nullptr, map->size, PROT_READ, MAP_PRIVATE, fd, 0);
-  ::close(fd);
-  if (map->data == MAP_FAILED) throw IoError(path + ": cannot map box file (" + std::strerror(errno) + ")");
-  return map;
+std::shared_ptr<const detail::MappedFile> map_box_file(const std::string& path) {
+  std::error_code ec;
+  const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+  if (!ec && bytes < sizeof(kBoxFileMagic) + 8)
+    throw InvalidInput(path + ": not a HapticBox box file (too short: " + std::to_string(bytes) + " bytes)");
+  return std::make_shared<const detail::MappedFile>(path, detail::MappedFile::Access::random);
 }
 
 Section read_section(Reader& r) {
@@ -198,20 +177,20 @@ FileHeader read_header(const char* data, std::size_t size, const std::string& pa
 
 // LoadOptions::huge_pages: the file copied into anonymous memory advised for huge pages;
 // `data` then points into the copy and the result owns it.
-std::shared_ptr<const void> huge_page_copy(const FileMap& map, const char*& data, const std::string& path) {
+std::shared_ptr<const void> huge_page_copy(std::size_t size, const char*& data, const std::string& path) {
   auto copy = std::make_shared<HugeCopy>();
-  const std::size_t rounded = (map.size + kHugePage - 1) / kHugePage * kHugePage;
+  const std::size_t rounded = (size + kHugePage - 1) / kHugePage * kHugePage;
   copy->region_size = rounded + kHugePage;
   copy->region = ::mmap(nullptr, copy->region_size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
   if (copy->region == MAP_FAILED)
-    throw IoError(path + ": cannot allocate " + std::to_string(map.size) + " bytes for the tables (" +
+    throw IoError(path + ": cannot allocate " + std::to_string(size) + " bytes for the tables (" +
                   std::strerror(errno) + ")");
   const auto base = reinterpret_cast<std::uintptr_t>(copy->region);
   copy->data = reinterpret_cast<char*>((base + kHugePage - 1) / kHugePage * kHugePage);
 #ifdef MADV_HUGEPAGE
   ::madvise(copy->data, rounded, MADV_HUGEPAGE);  // advice only: 4 KB pages when refused
 #endif
-  std::memcpy(copy->data, data, map.size);
+  std::memcpy(copy->data, data, size);
   data = copy->data;
   return std::shared_ptr<const void>(copy, copy->data);
 }
@@ -394,14 +373,14 @@ BudgetReport read_budget_report(const FileHeader& h, const Mapped& m) {
 } // namespace
 
 BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
-  const std::shared_ptr<FileMap> map = map_box_file(path);
-  const char* data = static_cast<const char*>(map->data);
-  const FileHeader h = read_header(data, map->size, path);
+  const std::shared_ptr<const detail::MappedFile> map = map_box_file(path);
+  const char* data = map->data();
+  const FileHeader h = read_header(data, map->size(), path);
   std::shared_ptr<const void> keep = map;
-  if (options.huge_pages) keep = huge_page_copy(*map, data, path);
-  const Mapped m{data, map->size, keep, path};
+  if (options.huge_pages) keep = huge_page_copy(map->size(), data, path);
+  const Mapped m{data, map->size(), keep, path};
   const std::shared_ptr<const SurfaceTriangles> surface = read_surface(h, m, options);
-  check_header_values(h, map->size, options, path);
+  check_header_values(h, map->size(), options, path);
   std::vector<std::uint32_t> pieces = read_piece_ids(h, m);
   std::vector<HapticBox> boxes;
   boxes.reserve(h.count);

@@ -13,7 +13,7 @@
 
 namespace hb::detail {
 
-MappedFile::MappedFile(const std::string& path) {
+MappedFile::MappedFile(const std::string& path, Access access) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throw IoError(path + ": cannot open for reading (" + std::strerror(errno) + ")");
   struct stat st {};
@@ -32,7 +32,7 @@ MappedFile::MappedFile(const std::string& path) {
   if (p == MAP_FAILED) throw IoError(path + ": cannot map the file (" + std::strerror(map_errno) + ")");
   data_ = static_cast<const char*>(p);
   // The parsers read front to back (each thread its own run of chunks): ask for read-ahead.
-  ::madvise(p, size_, MADV_SEQUENTIAL);
+  if (access == Access::sequential) ::madvise(p, size_, MADV_SEQUENTIAL);
 }
 
 MappedFile::~MappedFile() {
