@@ -102,7 +102,9 @@ BakeResult BudgetSearch::run() {
 
   tstage = std::chrono::steady_clock::now();
   BoxScene scene = exact_scene ? std::move(refined_coarse) : compose();
+  const std::vector<std::size_t> timed_choice = choice_;
   const ComparisonStats tuned = check_whole_scene(scene);
+  if (choice_ != timed_choice) early_.reset();  // not the scene step 2b timed: step 5b times it again
   stage_done("tuning_check", seconds_since(tstage));  // includes its re-bakes and grids
   report_progress(0.9);
   // The cells route reads the surface and the grid, never the boxes' triangle ids: a scene
