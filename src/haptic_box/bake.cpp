@@ -28,6 +28,7 @@
 #include <tbb/parallel_for.h>
 #include <atomic>
 #include <chrono>
+#include <optional>
 #include <thread>
 
 namespace hb {
@@ -146,9 +147,12 @@ HapticBox make_box(const BoxPlan& plan, std::vector<Sample> table, const std::ve
 
 HapticBox bake_one(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, const BoxPlan& plan,
                    const std::shared_ptr<const SurfaceTriangles>& surface, ProgressState& progress,
-                   std::uint64_t& hits) {
+                   std::uint64_t& hits, const EmbreeScene* whole_mesh_bvh) {
   const BoxParams& p = plan.params;
-  const EmbreeScene scene(mesh, triangles);
+  std::optional<EmbreeScene> own;
+  const bool whole = whole_mesh_bvh && &whole_mesh_bvh->mesh() == &mesh &&
+                     (triangles.empty() || triangles.size() == mesh.triangle_count());
+  const EmbreeScene& scene = whole ? *whole_mesh_bvh : own.emplace(mesh, triangles);
   std::vector<Sample> table(p.sample_count());
   std::vector<std::uint32_t> ids(surface ? p.sample_count() : 0, kNoTriangle);
   hits += cast_positions(scene, plan, 0, p.position_count(), table.data(), surface ? ids.data() : nullptr,
@@ -307,7 +311,7 @@ HapticBox bake_box(const TriangleMesh& mesh, const std::vector<std::uint32_t>& t
   progress.total = plan.params.sample_count();
   std::uint64_t hits = 0;
   const auto surface = !options.refine ? nullptr : options.surface ? options.surface : std::make_shared<const SurfaceTriangles>(mesh);
-  HapticBox box = bake_one(mesh, triangles, plan, surface, progress, hits);
+  HapticBox box = bake_one(mesh, triangles, plan, surface, progress, hits, options.whole_mesh_bvh);
   if (stats) {
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     stats->rays = plan.params.sample_count();
@@ -365,7 +369,7 @@ BoxScene bake_scene_from_lists(const TriangleMesh& mesh, const std::vector<std::
     progress.total = rays;
     boxes.reserve(pieces.size());
     for (std::size_t p = 0; p < pieces.size(); ++p)
-      boxes.push_back(bake_one(mesh, pieces[p], plans[p], surface, progress, hits));
+      boxes.push_back(bake_one(mesh, pieces[p], plans[p], surface, progress, hits, options.whole_mesh_bvh));
     if (stats)
       stats->ranks = {{0, rays, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0}};
   } else {

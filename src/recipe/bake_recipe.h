@@ -87,6 +87,12 @@ struct BudgetRecipe {
   /// at most), then the full mesh baked: the bake then costs the attempts too.
   bool simplify = true;
   std::size_t simplify_above = 200000;
+  /// With `simplify`, above this many triangles the full mesh is decimated once, within the
+  /// last retry's bound, and each attempt's surface is decimated from that one (within the
+  /// rest of its bound): a 13M-triangle mesh's decimation was most of its bake, three times
+  /// over (117 s, 2026-12-07). Below, each attempt decimates the full mesh (a surface that
+  /// meets at once then costs one decimation, not two).
+  std::size_t simplify_once_above = 2000000;
   /// With `simplify`: the simplified surface shades through a normal map of this side
   /// (SurfaceTriangles::set_normal_map, hb::fit_normal_map: the full mesh's shading on a
   /// lattice over each simplified triangle, continuous across its edges), so the decimation

@@ -35,6 +35,17 @@ TuningProbes tune_probes(const TriangleMesh& mesh, const ExactQuery& exact, std:
 struct BudgetReference {
   std::unique_ptr<ExactQuery> exact;
   std::optional<TuningProbes> tuning;
+  /// The full mesh simplified within the tightest bound an attempt may ask (bake_to_budget
+  /// sets `finest_fraction`, the last retry's bound over the first's): the first simplified
+  /// attempt makes it, and every attempt's surface is then simplified from it (within its
+  /// bound less this one's), so a huge mesh is decimated once however often the bound is
+  /// tightened (budget_surface.cpp).
+  struct Simplified {
+    TriangleMesh mesh;
+    double bound = 0.0;  ///< model units
+  };
+  std::optional<Simplified> finest;
+  double finest_fraction = 0.0;  ///< 0: every attempt decimates the full mesh
 };
 
 /// The reference's tuning probes, building what is missing; `stage_done(name, seconds)` names

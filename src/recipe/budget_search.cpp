@@ -118,7 +118,7 @@ BakeResult BudgetSearch::run() {
 // Step 0 and the first of step 1: the surface to bake against, the reference, the pieces and
 // the refinement records.
 void BudgetSearch::prepare_surface() {
-  surface_mesh_ = simplify_for_budget(mesh_, recipe_, rep_, stage_callback());
+  surface_mesh_ = simplify_for_budget(mesh_, recipe_, rep_, stage_callback(), ref_);
   base_ = &surface_mesh_.base(mesh_);
   cast_ = &surface_mesh_.cast(mesh_, br_);
   // Forces at the one workspace scale every command judges at (the model fitted to the

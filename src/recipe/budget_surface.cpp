@@ -3,6 +3,8 @@
 //     decimated within the deviation bound (BudgetRecipe::simplify_deviation, or
 //     simplification_bound()), with the shading check the recipe asks for (none beyond the
 //     budget's when a normal map carries the shading).
+//     Above BudgetRecipe::simplify_once_above triangles (bake_to_budget's cascade) the full mesh is decimated once, within
+//     the last retry's bound, and every attempt's surface from that one.
 //  2. A simplification that keeps 90% of the triangles or more is not used.
 //  3. Without a normal map the simplified surface takes corner normals fitted to the full
 //     mesh's shading (fit_shading); either way its deviation from the full surface is measured
@@ -22,7 +24,7 @@
 namespace hb {
 
 BudgetSurface simplify_for_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, BudgetReport& rep,
-                                  const BudgetStageDone& stage_done) {
+                                  const BudgetStageDone& stage_done, BudgetReference& ref) {
   const BudgetRecipe& br = recipe.budget;
   BudgetSurface out;
   // Piece files and given ids name the full mesh's triangles: those bakes keep it.
@@ -40,9 +42,27 @@ BudgetSurface simplify_for_budget(const TriangleMesh& mesh, const BakeRecipe& re
   d.max_shading_deviation_deg = br.simplify_shading_deg > 0 ? br.simplify_shading_deg
                                 : br.shading_map_side >= 0   ? 180.0  // the map carries the shading
                                                              : (fit_check ? 0.3 : 0.2) * br.budget.direction_p99_deg;
+  const double bound = d.max_deviation;
   auto tstage = std::chrono::steady_clock::now();
-  DecimationResult dr = decimate(mesh, d);
-  stage_done("decimate", seconds_since(tstage));
+  // The cascade (BudgetReference::finest): the full mesh decimated once, within the tightest
+  // bound an attempt may ask; each attempt's surface decimated from that one within the rest of
+  // its bound (a point of it is then within the two bounds' sum of the full surface).
+  if (ref.finest_fraction > 0.0 && !ref.finest) {
+    DecimationOptions f = d;
+    f.max_deviation = bound * ref.finest_fraction;
+    ref.finest = BudgetReference::Simplified{decimate(mesh, f).mesh, f.max_deviation};
+    stage_done("decimate", seconds_since(tstage));
+    tstage = std::chrono::steady_clock::now();
+  }
+  const bool from_finest = ref.finest && ref.finest->bound <= bound;
+  DecimationResult dr;
+  if (from_finest && bound - ref.finest->bound <= 1e-9 * bound) {
+    dr.mesh = ref.finest->mesh;
+  } else {
+    if (from_finest) d.max_deviation = bound - ref.finest->bound;
+    dr = decimate(from_finest ? ref.finest->mesh : mesh, d);
+  }
+  stage_done(from_finest ? "redecimate" : "decimate", seconds_since(tstage));
   if (double(dr.mesh.triangle_count()) < 0.9 * double(mesh.triangle_count())) {
     out.simplified = std::move(dr.mesh);
     out.use_simplified = true;
@@ -63,7 +83,7 @@ BudgetSurface simplify_for_budget(const TriangleMesh& mesh, const BakeRecipe& re
     stage_done("deviation", seconds_since(tstage));
     rep.full_triangles = mesh.triangle_count();
     rep.surface_triangles = out.simplified.triangle_count();
-    rep.surface_bound = d.max_deviation;
+    rep.surface_bound = bound;
     rep.surface_deviation_mean = dev.mean;
     rep.surface_deviation_p99 = dev.p99;
     rep.surface_deviation_max = dev.max;

@@ -8,6 +8,7 @@
 #include "haptic_box/surface_triangles.h"
 #include "mesh/triangle_mesh.h"
 #include "recipe/bake_recipe.h"
+#include "recipe/budget_probes.h"
 #include <functional>
 #include <memory>
 
@@ -36,8 +37,10 @@ struct BudgetSurface {
 /// simplification keeps less than 90% of the triangles (pieces from a file or given ids keep
 /// the full mesh: they name its triangles). Records the surface's figures in `rep`. Throws
 /// hb::InvalidInput for a simplify deviation out of [0, 0.1).
+/// With `ref.finest_fraction` > 0 the surface is simplified from `ref.finest` (made on the
+/// first call) instead of from `mesh`.
 BudgetSurface simplify_for_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, BudgetReport& rep,
-                                  const BudgetStageDone& stage_done);
+                                  const BudgetStageDone& stage_done, BudgetReference& ref);
 
 /// The refinement records of `surface` (SurfaceTriangles of its cast mesh); a simplified
 /// surface with BudgetRecipe::shading_map_side >= 0 shades through a normal map of the full

@@ -56,6 +56,7 @@
 #include "stopwatch.h"
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <optional>
 
 namespace hb {
@@ -64,7 +65,6 @@ namespace {
 // How often a simplified surface that missed the budget is simplified again within a quarter
 // of its bound before the full mesh is baked (bake_to_budget).
 constexpr int kSimplifyRetries = 2;
-
 } // namespace
 
 double simplification_bound(const ErrorBudget& budget) {
@@ -157,6 +157,8 @@ std::optional<BakeResult> bake_raw(const TriangleMesh& mesh, const BakeRecipe& r
 
 BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source) {
   BudgetReference ref;  // the same for the raw trial and every attempt: built once
+  if (recipe.budget.simplify && mesh.triangle_count() > recipe.budget.simplify_once_above)
+    ref.finest_fraction = std::pow(0.25, kSimplifyRetries);
   if (recipe.options.communicator && recipe.options.communicator->size() > 1)
     throw InvalidInput("bake: a budgeted bake runs in one process (give the sampling options for a bake across ranks)");
   if (mesh.triangle_count() == 0) throw InvalidInput("bake: mesh has no triangles");
@@ -168,6 +170,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     if (std::optional<BakeResult> raw = bake_raw(mesh, recipe, source, ref, raw_rep)) return std::move(*raw);
   BakeResult result = BudgetSearch(mesh, recipe, source, ref).run();
   double seconds = 0.0;          // the attempts' time, counted into the bake's
+  BudgetReport stages = raw_rep;  // and their stages (stage_seconds), the raw trial's first
   std::uint64_t rejected = 0;    // the last surface that missed
   std::string why;               // and what it missed
   // A simplified surface that missed the budget on the fresh probes or along T2's
@@ -181,6 +184,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     const BudgetReport& tried = result.scene.budget_report();
     if (tried.surface_triangles == 0 || result.surface_miss.empty()) break;
     seconds += tried.seconds;
+    for (const auto& [name, secs] : tried.stage_seconds) stages.add_stage(name, secs);
     rejected = tried.surface_triangles;
     why = result.surface_miss;
     if (retry == kSimplifyRetries || !(diagonal > 0.0) || result.surface_slower_than_exact) {
@@ -200,14 +204,8 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   // What the raw trial tried, and its time, first in the record.
   rep.raw_tried = raw_rep.raw_tried;
   for (const auto& [name, secs] : raw_rep.stage_seconds) rep.seconds += secs;
-  auto stages = raw_rep.stage_seconds;
-  for (const auto& st : rep.stage_seconds) {
-    bool merged = false;
-    for (auto& mine : stages)
-      if (mine.first == st.first) mine.second += st.second, merged = true;
-    if (!merged) stages.push_back(st);
-  }
-  rep.stage_seconds = std::move(stages);
+  for (const auto& [name, secs] : rep.stage_seconds) stages.add_stage(name, secs);
+  rep.stage_seconds = std::move(stages.stage_seconds);
   result.scene.set_budget_report(std::move(rep));
   return result;
 }

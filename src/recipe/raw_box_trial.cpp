@@ -73,6 +73,7 @@ RawTrial try_raw_boxes(const TriangleMesh& mesh, const ExactQuery& exact, const 
     bo.scene_grid = false;
     bo.communicator = nullptr;
     bo.progress = nullptr;
+    bo.whole_mesh_bvh = &exact.scene();  // the exact reference's BVH of the full mesh
     BakeStats stats;
     BoxScene scene = bake_scene(mesh, {}, bo, source, &stats);
     if (o.codec_bound > 0.f && !scene.boxes().empty()) {

@@ -1,5 +1,6 @@
 // Haptic box bake and query on shapes with closed-form answers.
 #include "errors.h"
+#include "exact/embree_scene.h"
 #include "haptic_box/bake.h"
 #include "haptic_box/box_scene.h"
 #include "mesh/generators.h"
@@ -185,6 +186,26 @@ TEST(HapticBoxBakeTest, ProgressIsReportedAndCancelThrows) {
   EXPECT_DOUBLE_EQ(last, 1.0);
   options.progress = [](double) { return false; };
   EXPECT_THROW(bake_box(sphere, {}, options), Cancelled);
+}
+
+// A one-box bake given a BVH of the whole mesh already built (the budgeted bake's exact
+// reference, BakeOptions::whole_mesh_bvh) casts against it: the same table, byte for byte,
+// as the bake's own BVH; a BVH of another mesh is not used.
+TEST(HapticBoxBakeTest, AGivenWholeMeshBvhGivesTheSameTable) {
+  const TriangleMesh sphere = make_sphere(1.f, 4);
+  BakeOptions options;
+  options.params = {8, 4};
+  const HapticBox own = bake_box(sphere, {}, options);
+  const EmbreeScene bvh(sphere, {}, BvhBuild::quick);
+  options.whole_mesh_bvh = &bvh;
+  const HapticBox given = bake_box(sphere, {}, options);
+  const std::size_t bytes = own.params().sample_count() * sizeof(Sample);
+  ASSERT_EQ(given.params().sample_count(), own.params().sample_count());
+  EXPECT_EQ(std::memcmp(own.table(), given.table(), bytes), 0);
+  const TriangleMesh other = make_sphere(2.f, 4);
+  const EmbreeScene wrong(other, {}, BvhBuild::quick);
+  options.whole_mesh_bvh = &wrong;
+  EXPECT_EQ(std::memcmp(own.table(), bake_box(sphere, {}, options).table(), bytes), 0);
 }
 
 TEST(HapticBoxBakeTest, InvalidDensitiesAreRejected) {
