@@ -51,6 +51,8 @@ nlohmann::json budget_json(const BudgetReport& r) {
   if (r.surface_triangles > 0 && r.simplify_seconds > 0) j["surface"]["seconds"] = r.simplify_seconds;
   if (r.surface_rejected > 0) j["surface_rejected_triangles"] = r.surface_rejected;
   if (!r.surface_rejected_why.empty()) j["surface_rejected_why"] = r.surface_rejected_why;
+  for (const BudgetReport::SurfaceMissed& m : r.surfaces_missed)
+    j["surfaces_missed"].push_back({{"triangles", m.triangles}, {"bound", m.bound}, {"why", m.why}});
   if (!r.stage_seconds.empty()) {
     nlohmann::json stages = nlohmann::json::array();  // an array: the step order is the point
     for (const auto& st : r.stage_seconds) stages.push_back({{"stage", st.first}, {"seconds", st.second}});

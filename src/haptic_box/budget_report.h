@@ -105,6 +105,14 @@ struct BudgetReport {
   /// What that surface missed, one line (BakeResult::surface_miss); empty when none was
   /// rejected, or in files written before 2026-12-06.
   std::string surface_rejected_why;
+  /// Every simplified surface this run tried and dropped, in order: its triangles, its bound
+  /// (model units) and what it missed. Like `seconds`, not in the file form (bake --json).
+  struct SurfaceMissed {
+    std::uint64_t triangles = 0;
+    double bound = 0;
+    std::string why;
+  };
+  std::vector<SurfaceMissed> surfaces_missed;
   double simplify_seconds = 0;
   /// This run's wall seconds per stage of the budgeted bake, in step order ("simplify",
   /// "decompose", "tables", ...; budgeted_bake.cpp names them), so anyone can see where a

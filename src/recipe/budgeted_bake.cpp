@@ -173,6 +173,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   BudgetReport stages = raw_rep;  // and their stages (stage_seconds), the raw trial's first
   std::uint64_t rejected = 0;    // the last surface that missed
   std::string why;               // and what it missed
+  std::vector<BudgetReport::SurfaceMissed> missed;  // every one dropped
   // A simplified surface that missed the budget on the fresh probes or along T2's
   // trajectories (a curved surface whose faces sag between the kept vertices more than the
   // quadric bound says) is simplified again within a quarter of the bound, twice at most (a
@@ -187,6 +188,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     for (const auto& [name, secs] : tried.stage_seconds) stages.add_stage(name, secs);
     rejected = tried.surface_triangles;
     why = result.surface_miss;
+    missed.push_back({tried.surface_triangles, tried.surface_bound, why});
     if (retry == kSimplifyRetries || !(diagonal > 0.0) || result.surface_slower_than_exact) {
       tighter.budget.simplify = false;  // the full mesh, as without simplify
       result = BudgetSearch(mesh, tighter, source, ref).run();
@@ -199,6 +201,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   if (rejected > 0) {
     rep.surface_rejected = rejected;
     rep.surface_rejected_why = why;
+    rep.surfaces_missed = std::move(missed);
     rep.seconds += seconds;
   }
   // What the raw trial tried, and its time, first in the record.

@@ -156,6 +156,12 @@ TEST(DecimationTest, ASimplifiedSurfaceThatMissesTheBudgetIsSimplifiedAgainWithi
     const double ratio = rep.surface_bound / asked;  // a quarter per retry
     EXPECT_TRUE(std::fabs(ratio - 0.25) < 1e-9 || std::fabs(ratio - 0.0625) < 1e-9) << ratio;
     EXPECT_NE(rep.summary().find("simplified again within a tighter bound"), std::string::npos) << rep.summary();
+    // Every surface dropped is on record, tighter one after another, the last the one named.
+    ASSERT_FALSE(rep.surfaces_missed.empty());
+    EXPECT_EQ(rep.surfaces_missed.back().triangles, rep.surface_rejected);
+    EXPECT_EQ(rep.surfaces_missed.back().why, rep.surface_rejected_why);
+    for (std::size_t i = 1; i < rep.surfaces_missed.size(); ++i)
+      EXPECT_NEAR(rep.surfaces_missed[i].bound, 0.25 * rep.surfaces_missed[i - 1].bound, 1e-12);
     // What the dropped surface missed, named: a figure over the budget on the fresh probes,
     // or T2's metrics.
     EXPECT_TRUE(rep.surface_rejected_why.rfind("fresh probes: ", 0) == 0 ||
