@@ -229,7 +229,8 @@ TEST(ErrorBudgetTest, DefaultBakeDropsTheTriangleIdsTheCellsRouteDoesNotRead) {
   ASSERT_TRUE(dropped.scene.surface() != nullptr);
   EXPECT_EQ(dropped.scene.refinement_bytes(), dropped.scene.surface()->bytes());
   EXPECT_LT(dropped.scene.refinement_bytes(), kept.scene.refinement_bytes());
-  EXPECT_EQ(dropped.scene.budget_report().serialize(), kept.scene.budget_report().serialize());
+  // The same choice and figures; only the query times each bake measured differ.
+  EXPECT_EQ(dropped.scene.budget_report().without_times().serialize(), kept.scene.budget_report().without_times().serialize());
 
   const std::string path = "/tmp/hb_ids_test_" + std::to_string(::getpid()) + ".hbox";
   save_box_file(dropped.scene, path);
