@@ -1,9 +1,11 @@
 // 1. Map data to scene pixels with the bottom and left axes' ends (Point1, Point2) and ranges.
-// 2. The line's words first (right end, above the line; the line itself kept free), then each
-//    label: right of its point, else left, each at the point's height, then a line above or
-//    below, the first place that covers no earlier text and stays inside the axes.
+// 2. The legend's box is kept free; the line's words first (right end, above the line; the
+//    line itself kept free), then each label: right of its point, else left, each at the
+//    point's height, then a line above or below, the first place that covers no earlier text
+//    and stays inside the axes.
 #include "ChartPointLabels.h"
 #include <vtkAxis.h>
+#include <vtkChartLegend.h>
 #include <vtkChartXY.h>
 #include <vtkContext2D.h>
 #include <vtkObjectFactory.h>
@@ -59,7 +61,12 @@ bool ChartPointLabels::Paint(vtkContext2D* painter) {
     taken.push_back({x, x + bounds[2], y, y + bounds[3]});
     taken.push_back({left, right, y - 5.f, y - 1.f});  // the line itself: no words across it
   }
-  // Every point's own mark is kept clear of the words.
+  // The legend's box (scene pixels, as the chart lays it out) and every point's own mark are
+  // kept clear of the words.
+  if (chart_->GetShowLegend() && chart_->GetLegend() && chart_->GetLegend()->GetVisible()) {
+    const vtkRectf r = chart_->GetLegend()->GetBoundingRect(painter);
+    taken.push_back({r.GetX(), r.GetX() + r.GetWidth(), r.GetY(), r.GetY() + r.GetHeight()});
+  }
   for (const Label& l : labels_) {
     const float px = sx(l.x), py = sy(l.y);
     taken.push_back({px - 6.f, px + 6.f, py - 6.f, py + 6.f});

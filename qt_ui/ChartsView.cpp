@@ -86,7 +86,7 @@ ChartsView::ChartsView(QWidget* parent) : QWidget(parent) {
   speedWidget_ = new QVTKOpenGLNativeWidget;
   compressionWidget_ = new QVTKOpenGLNativeWidget;
   speedView_ = makeView(speedWidget_, speedChart_, "Speed against what a hand feels", "query time (ns, log)",
-                        "probes perceptibly different from exact (%)");
+                        "perceptibly different probes (%)");  // as the report's chart
   labels_ = vtkSmartPointer<ChartPointLabels>::New();
   labels_->setChart(speedChart_);
   speedView_->GetScene()->AddItem(labels_);  // after the chart: drawn over it
