@@ -41,9 +41,12 @@ nlohmann::json budget_json(const BudgetReport& r) {
   for (const BudgetReport::RawTried& t : r.raw_tried)
     raw.push_back({{"m", t.m}, {"n", t.n}, {"bytes", t.bytes}, {"probes_felt", t.probes_felt},
                    {"slide_ticks_felt", t.ticks_felt < 0 ? nlohmann::json(nullptr) : nlohmann::json(t.ticks_felt)},
-                   {"outcome", t.outcome}});
+                   {"outcome", t.outcome},
+                   // at bake time, one core, random order (null: a file written before 2026-12-07)
+                   {"box_ns", t.box_ns > 0 ? nlohmann::json(t.box_ns) : nlohmann::json(nullptr)},
+                   {"exact_ns", t.exact_ns > 0 ? nlohmann::json(t.exact_ns) : nlohmann::json(nullptr)}});
   j["raw_tried"] = raw;
-  // Query times at bake time (this run's, bake --json only).
+  // Query times at bake time (in the file since 2026-12-07).
   if (r.answer_ns > 0) j["answer_ns"] = r.answer_ns, j["exact_ns"] = r.exact_ns;
   if (r.cells_ns > 0) j["cells_ns"] = r.cells_ns, j["embree_ns"] = r.embree_ns;
   // Wall times are this run's (bake --json) or an older file's; a file written now holds none.

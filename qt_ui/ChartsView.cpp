@@ -1,4 +1,5 @@
 #include "ChartsView.h"
+#include "ChartPointLabels.h"
 #include "series_colours.h"
 #include <array>
 #include <QLabel>
@@ -16,6 +17,7 @@
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkIdTypeArray.h>
 #include <vtkPlot.h>
+#include <vtkPen.h>
 #include <vtkPlotPoints.h>
 #include <vtkRenderer.h>
 #include <vtkStringArray.h>
@@ -84,7 +86,10 @@ ChartsView::ChartsView(QWidget* parent) : QWidget(parent) {
   speedWidget_ = new QVTKOpenGLNativeWidget;
   compressionWidget_ = new QVTKOpenGLNativeWidget;
   speedView_ = makeView(speedWidget_, speedChart_, "Speed against what a hand feels", "query time (ns, log)",
-                        "probes perceptibly different from exact (%)");
+                        "perceptibly different probes (%)");  // as the report's chart
+  labels_ = vtkSmartPointer<ChartPointLabels>::New();
+  labels_->setChart(speedChart_);
+  speedView_->GetScene()->AddItem(labels_);  // after the chart: drawn over it
   compressionView_ = makeView(compressionWidget_, compressionChart_, "Compression against error",
                               "compression rate (x : 1)", "median force error against raw tables (fraction)");
   hint_ = new QLabel(emptyHint());
@@ -132,9 +137,12 @@ bool ChartsView::eventFilter(QObject* watched, QEvent* event) {
 bool ChartsView::tooltipVisible() const { return speedChart_->GetTooltip() && speedChart_->GetTooltip()->GetVisible(); }
 
 std::string ChartsView::speedTooltip(std::size_t index) const {
-  if (!boxPlot_ || !boxPlot_->GetIndexedLabels() || vtkIdType(index) >= boxPlot_->GetIndexedLabels()->GetNumberOfValues())
+  // boxRows_: boxPlot_'s rows, then rawPlot_'s.
+  vtkPlot* plot = index < boxPlotRows_ ? boxPlot_ : rawPlot_;
+  if (index >= boxPlotRows_) index -= boxPlotRows_;
+  if (!plot || !plot->GetIndexedLabels() || vtkIdType(index) >= plot->GetIndexedLabels()->GetNumberOfValues())
     return {};
-  return std::string(boxPlot_->GetTooltipLabel(vtkVector2d(0, 0), vtkIdType(index), 0));
+  return std::string(plot->GetTooltipLabel(vtkVector2d(0, 0), vtkIdType(index), 0));
 }
 
 std::vector<std::string> ChartsView::speedAxisLabels() const {
@@ -144,7 +152,12 @@ std::vector<std::string> ChartsView::speedAxisLabels() const {
   return out;
 }
 
-int ChartsView::legendEntries() const { return speedChart_->GetShowLegend() ? int(speedChart_->GetNumberOfPlots()) : 0; }
+int ChartsView::legendEntries() const {
+  if (!speedChart_->GetShowLegend()) return 0;
+  int entries = 0;
+  for (vtkIdType i = 0; i < speedChart_->GetNumberOfPlots(); ++i) entries += speedChart_->GetPlot(i)->GetLegendVisibility() ? 1 : 0;
+  return entries;
+}
 
 ChartsView::~ChartsView() = default;
 
@@ -153,33 +166,108 @@ QString ChartsView::emptyHint() {
             "click a haptic-box point to load that configuration.");
 }
 
-void ChartsView::setRows(const std::vector<hb::SweepRow>& rows, const std::vector<std::pair<double, double>>& compression) {
+void ChartsView::setRows(const std::vector<hb::SweepRow>& rows, const std::vector<std::pair<double, double>>& compression,
+                         const std::vector<std::string>& notes) {
+  showsBake_ = false;
+  drawSpeed(rows, notes);
+  drawCompression(compression);
+  hint_->setText(rows.empty() ? emptyHint()
+                              : tr("%1 rows; click a haptic-box point to load that configuration.").arg(rows.size()));
+  speedWidget_->renderWindow()->Render();
+  compressionWidget_->renderWindow()->Render();
+}
+
+void ChartsView::showBake(const std::vector<hb::BakeChartPoint>& points,
+                          const std::vector<std::pair<double, double>>& compression) {
+  std::vector<hb::SweepRow> rows;
+  std::vector<std::string> notes;
+  for (const hb::BakeChartPoint& p : points) {
+    rows.push_back(p.row);
+    notes.push_back(p.about);
+  }
+  setRows(rows, compression, notes);
+  showsBake_ = !rows.empty();
+  if (showsBake_)
+    hint_->setText(tr("The bake's own figures, timed when it baked: the default bake, exact and the raw samplings it "
+                      "tried (hover a point for what it is). Tools > Run Sweep adds samplings; click the default bake "
+                      "to load it again."));
+}
+
+namespace {
+
+// A point's tooltip: what it is, its time, what a hand feels, its errors.
+std::string rowTooltip(const hb::SweepRow& r) {
+  const std::string codec = r.codec.empty() ? std::string("none") : r.codec;
+  const std::string t = r.method == "haptic_box" && !r.label.empty() ? r.label + ", " + codec
+                        : r.method == "haptic_box" ? "m " + std::to_string(r.m) + ", n " + std::to_string(r.n) + ", " + codec +
+                                                       (r.refine ? ", refined" : "")
+                                                   : r.method;
+  std::string tip = t + ": " + hb::duration_text(r.query_ns * 1e-9) + " a query, perceptibly different on " +
+                    hb::percent(r.perceptible_share) + " of the probes";
+  if (r.contact_agreement >= 0.0)
+    tip += " (median error " + hb::percent(r.force_error_median) + ", agreement " + hb::agreement_percent(r.contact_agreement) + ")";
+  return tip;
+}
+
+// The words beside a point: references and named rows (the default bake, a raw sampling a
+// bake tried); a sweep's samplings are many and say what they are in their tooltips.
+std::string pointWords(const hb::SweepRow& r) {
+  if (r.method == "exact_embree") return "exact Embree";
+  if (r.method != "haptic_box") return "VTK locator";
+  return r.label;
+}
+
+}  // namespace
+
+void ChartsView::drawSpeed(const std::vector<hb::SweepRow>& rows, const std::vector<std::string>& notes) {
   speedChart_->ClearPlots();
   boxRows_.clear();
-  boxPlot_ = nullptr;
-  std::vector<double> bx, by, ex, ey, lx, ly;
-  for (const auto& r : rows) {
+  boxPlot_ = rawPlot_ = nullptr;
+  boxPlotRows_ = 0;
+  budgetLine_.clear();
+  struct Series {
+    std::vector<double> x, y;
+    std::vector<std::string> tips;
+  };
+  Series box, raw, exact, vtk;
+  std::vector<hb::SweepRow> rawRows;
+  std::vector<ChartPointLabels::Label> words;
+  // Only the series present get a plot (and so a legend entry), in the series colours
+  // (series_colours.h, as the report's charts and the 3D arrows): box blue, exact red, VTK
+  // orange, the raw samplings a bake tried purple.
+  const auto colourOf = [](const hb::SweepRow& r) {
+    const hb::SeriesColour& c = hb::is_raw_trial_row(r)     ? hb::kRawTrialSeries
+                                : r.method == "haptic_box"   ? hb::kBoxSeries
+                                : r.method == "exact_embree" ? hb::kExactSeries
+                                                             : hb::kVtkSeries;
+    return std::array<unsigned char, 3>{(unsigned char)c.r, (unsigned char)c.g, (unsigned char)c.b};
+  };
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const hb::SweepRow& r = rows[i];
     const double x = std::log10(std::max(r.query_ns, 1.0));
     // The headline: the share of probes a hand would tell apart (hapticbox sweep's felt_%).
     const double y = 100.0 * r.perceptible_share;
-    if (r.method == "haptic_box") {
-      bx.push_back(x);
-      by.push_back(y);
-      boxRows_.push_back(r);
-    } else if (r.method == "exact_embree") {
-      ex.push_back(x);
-      ey.push_back(y);
-    } else {
-      lx.push_back(x);
-      ly.push_back(y);
+    const bool rawTrial = hb::is_raw_trial_row(r);
+    Series& s = rawTrial ? raw : r.method == "haptic_box" ? box : r.method == "exact_embree" ? exact : vtk;
+    s.x.push_back(x);
+    s.y.push_back(y);
+    s.tips.push_back(i < notes.size() && !notes[i].empty() ? notes[i] : rowTooltip(r));
+    if (rawTrial) rawRows.push_back(r);
+    else if (r.method == "haptic_box") boxRows_.push_back(r);
+    const std::string w = pointWords(r);
+    if (!w.empty()) {
+      const auto c = colourOf(r);
+      words.push_back({x, y, w, c[0], c[1], c[2]});
     }
   }
+  boxPlotRows_ = boxRows_.size();
+  boxRows_.insert(boxRows_.end(), rawRows.begin(), rawRows.end());
   // The x axis is log10 of the time; its ticks are labelled with real times (1, 2, 5 per decade).
   vtkAxis* xAxis = speedChart_->GetAxis(vtkAxis::BOTTOM);
   xAxis->SetTitle("query time (log scale)");
   double lo = 1e300, hi = -1e300;
-  for (const auto* v : {&bx, &ex, &lx})
-    for (double x : *v) lo = std::min(lo, x), hi = std::max(hi, x);
+  for (const Series* v : {&box, &raw, &exact, &vtk})
+    for (double x : v->x) lo = std::min(lo, x), hi = std::max(hi, x);
   if (lo <= hi) {
     lo = std::floor(lo - 0.1);
     hi = std::ceil(hi + 0.1);
@@ -195,28 +283,57 @@ void ChartsView::setRows(const std::vector<hb::SweepRow>& rows, const std::vecto
     xAxis->SetBehavior(vtkAxis::FIXED);
     xAxis->SetRange(lo, hi);
     xAxis->SetCustomTickPositions(positions, labels);
+    // The default budget's share, a dashed green line across with its words (as the report's).
+    const double budget = 100.0 * hb::ErrorBudget{}.perceptible;
+    vtkPlot* line = speedChart_->AddPlot(vtkChart::LINE);
+    auto table = vtkSmartPointer<vtkTable>::New();
+    for (const char* name : {"x", "default budget"}) {
+      auto column = vtkSmartPointer<vtkDoubleArray>::New();
+      column->SetName(name);
+      table->AddColumn(column);
+    }
+    table->SetNumberOfRows(2);
+    table->SetValue(0, 0, lo), table->SetValue(0, 1, budget);
+    table->SetValue(1, 0, hi), table->SetValue(1, 1, budget);
+    line->SetInputData(table, 0, 1);
+    line->SetColor(44, 160, 44, 255);
+    line->SetWidth(1.5);
+    line->GetPen()->SetLineType(vtkPen::DASH_LINE);
+    line->SetLegendVisibility(false);
+    line->SetSelectable(false);
+    budgetLine_ = "default budget: at most " + hb::sig(budget) + " % perceptibly different";
+    labels_->setLineLabel(budget, budgetLine_, 44, 160, 44);
+  } else {
+    labels_->setLineLabel(0.0, "", 0, 0, 0);
   }
-  auto tip = [](const hb::SweepRow& r) {
-    std::string t = r.method == "haptic_box" && !r.label.empty() ? r.label + ", " + (r.codec.empty() ? std::string("none") : r.codec)
-                    : r.method == "haptic_box" ? "m " + std::to_string(r.m) + ", n " + std::to_string(r.n) + ", " +
-                                                   (r.codec.empty() ? std::string("none") : r.codec) + (r.refine ? ", refined" : "")
-                                             : r.method;
-    return t + ": " + hb::duration_text(r.query_ns * 1e-9) + " a query, perceptibly different on " +
-           hb::percent(r.perceptible_share) + " of the probes (median error " + hb::percent(r.force_error_median) +
-           ", agreement " + hb::agreement_percent(r.contact_agreement) + ")";
+  labels_->setLabels(words);
+  // Room above the highest point for its words, and the budget's line in view (as the report's).
+  double ymax = 10.0 * 100.0 * hb::ErrorBudget{}.perceptible;
+  for (const Series* v : {&box, &raw, &exact, &vtk})
+    for (double y : v->y) ymax = std::max(ymax, y);
+  vtkAxis* yAxis = speedChart_->GetAxis(vtkAxis::LEFT);
+  yAxis->SetBehavior(vtkAxis::FIXED);
+  yAxis->SetRange(-0.04 * ymax, 1.15 * ymax);
+  const auto add = [&](const char* name, const Series& s, const hb::SweepRow& like, int marker) -> vtkPlot* {
+    if (s.x.empty()) return nullptr;
+    const auto c = colourOf(like);
+    return addPoints(speedChart_, name, s.x, s.y, c[0], c[1], c[2], marker, s.tips);
   };
-  std::vector<std::string> bt, et, lt;
-  for (const auto& r : rows) (r.method == "haptic_box" ? bt : r.method == "exact_embree" ? et : lt).push_back(tip(r));
-  // Only the series present get a plot (and so a legend entry), in the series colours
-  // (series_colours.h, as the report's charts and the 3D arrows): box blue, exact red, VTK orange.
-  const auto c = [](const hb::SeriesColour& s) { return std::array<unsigned char, 3>{(unsigned char)s.r, (unsigned char)s.g, (unsigned char)s.b}; };
-  const auto box = c(hb::kBoxSeries), exact = c(hb::kExactSeries), vtk = c(hb::kVtkSeries);
-  if (!bx.empty()) boxPlot_ = addPoints(speedChart_, "haptic box", bx, by, box[0], box[1], box[2], VTK_MARKER_CIRCLE, bt);
-  if (!ex.empty()) addPoints(speedChart_, "exact Embree", ex, ey, exact[0], exact[1], exact[2], VTK_MARKER_DIAMOND, et);
-  if (!lx.empty()) addPoints(speedChart_, "VTK static cell locator", lx, ly, vtk[0], vtk[1], vtk[2], VTK_MARKER_SQUARE, lt);
+  hb::SweepRow kind;
+  kind.method = "haptic_box";
+  boxPlot_ = add("haptic box", box, kind, VTK_MARKER_CIRCLE);
+  kind.label = "raw m1 n1 (tried by the bake)";
+  rawPlot_ = add("raw box, tried by the bake", raw, kind, VTK_MARKER_CROSS);
+  kind.label.clear();
+  kind.method = "exact_embree";
+  add("exact Embree", exact, kind, VTK_MARKER_DIAMOND);
+  kind.method = "vtk_static_cell_locator";
+  add("VTK static cell locator", vtk, kind, VTK_MARKER_SQUARE);
   speedChart_->SetShowLegend(!rows.empty());
   speedChart_->RecalculateBounds();
+}
 
+void ChartsView::drawCompression(const std::vector<std::pair<double, double>>& compression) {
   compressionChart_->ClearPlots();
   compressionWidget_->setVisible(!compression.empty());
   compressionNote_->setVisible(compression.empty());
@@ -235,10 +352,6 @@ void ChartsView::setRows(const std::vector<hb::SweepRow>& rows, const std::vecto
     compressionChart_->SetTitle("Compression against error: no curve yet");
   }
   compressionChart_->RecalculateBounds();
-  hint_->setText(rows.empty() ? emptyHint()
-                              : tr("%1 rows; click a haptic-box point to load that configuration.").arg(rows.size()));
-  speedWidget_->renderWindow()->Render();
-  compressionWidget_->renderWindow()->Render();
 }
 
 void ChartsView::onSelection() {
@@ -251,8 +364,17 @@ void ChartsView::onSelection() {
 void ChartsView::choose(std::size_t index) {
   if (index >= boxRows_.size()) return;
   const hb::SweepRow& r = boxRows_[index];
+  // A raw sampling a bake tried is one box over the whole model, which no window bake makes:
+  // its tooltip says what it is, a click loads nothing.
+  if (hb::is_raw_trial_row(r)) return;
   if (!r.label.empty()) emit defaultBakeChosen();  // the default bake's row: its recipe, not one sampling
   else emit configurationChosen(r.m, r.n, QString::fromStdString(r.codec.empty() ? "none" : r.codec));
+}
+
+std::vector<std::string> ChartsView::speedPointLabels() const {
+  std::vector<std::string> out;
+  for (const ChartPointLabels::Label& l : labels_->labels()) out.push_back(l.text);
+  return out;
 }
 
 QString ChartsView::hintText() const { return hint_->text(); }

@@ -101,6 +101,13 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
   connect(session_, &HapticSession::boxesChanged, this, [this] {
     view_->setOutlines(session_->outlines());
     view_->setColorMode(ProbeView::ColorMode::Pieces);
+    // Until a sweep (or a report) fills it, the speed chart shows the bake's own points (the
+    // default bake, exact, the raw samplings it tried), read off its budget report; a scene
+    // without one (a given sampling) leaves the chart as it is.
+    if (!charts_->showsSweep() && session_->boxes()) {
+      const std::vector<hb::BakeChartPoint> points = hb::bake_chart_points(*session_->boxes());
+      if (!points.empty()) charts_->showBake(points, session_->compressionCurve());
+    }
     updateActions();
   });
   connect(session_, &HapticSession::jobFinished, this, &MainWindow::onJobFinished);

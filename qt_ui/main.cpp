@@ -1,5 +1,5 @@
 // hapticbox-gui [MESH|SESSION] [--device virtual|falcon|replay:LOG] [--no-bake]
-//               [--screenshot PNG] [--measure-fps N] [--no-realtime] [--spin-us US] [--timing]
+//               [--screenshot PNG [--charts]] [--measure-fps N] [--no-realtime] [--spin-us US] [--timing]
 //               [--volume iso=V|label=L,smooth=N,triangles=N]
 #include "BackgroundJob.h"
 #include "DevicePanel.h"
@@ -45,6 +45,7 @@ struct Options {
   QCommandLineOption fps{QStringLiteral("measure-fps"), QStringLiteral("Render N frames of the probe view with the device thread on, print frames/s and quit"), QStringLiteral("frames")};
   QCommandLineOption field{QStringLiteral("error-field"), QStringLiteral("With --screenshot: compute the error field and show it")};
   QCommandLineOption sweep{QStringLiteral("sweep"), QStringLiteral("With --screenshot: run a small sweep and show the charts")};
+  QCommandLineOption charts{QStringLiteral("charts"), QStringLiteral("With --screenshot: show the charts (the bake's own points without --sweep)")};
   QCommandLineOption noRealtime{QStringLiteral("no-realtime"), QStringLiteral("Run the device thread without SCHED_FIFO")};
   QCommandLineOption spin{QStringLiteral("spin-us"), QStringLiteral("Servo busy-wait before each deadline, us (default 0: sleep only)"), QStringLiteral("us"), QStringLiteral("0")};
   QCommandLineOption timing{QStringLiteral("timing"), QStringLiteral("Print where opening a model spends its time")};
@@ -56,7 +57,7 @@ struct Options {
     parser.addHelpOption();
     parser.addVersionOption();
     parser.addPositionalArgument(QStringLiteral("file"), QStringLiteral("Model (mesh, volume file or DICOM folder, CAD, scene) or session (.hbsession)"));
-    parser.addOptions({device, noBake, shot, fps, field, sweep, noRealtime, spin, timing, volume});
+    parser.addOptions({device, noBake, shot, fps, field, sweep, charts, noRealtime, spin, timing, volume});
   }
 };
 
@@ -194,6 +195,8 @@ int runScripted(MainWindow& window, const QCommandLineParser& parser, const Opti
   if (parser.isSet(options.sweep)) {
     window.session()->startSweep({8, 16}, {4, 8}, 2000);
     waitFor([&] { return !window.session()->job()->isRunning(); }, 600);
+  }
+  if (parser.isSet(options.sweep) || parser.isSet(options.charts)) {
     if (auto* d = window.findChild<QDockWidget*>(QStringLiteral("ChartsDock"))) {
       d->show();
       window.resizeDocks({d}, {window.height() * 2 / 5}, Qt::Vertical);

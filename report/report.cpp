@@ -12,6 +12,7 @@
 #include "errors.h"
 #include "evaluation/probe_sampling.h"
 #include "evaluation/query_timing.h"
+#include "bake_chart_points.h"
 #include "report_charts.h"
 #include "report_html.h"
 #include "machine_info.h"
@@ -82,7 +83,10 @@ nlohmann::json row_json(const SweepRow& r) {
           {"from_cache", r.from_cache},
           {"force_error_median", r.force_error_median},
           {"force_error_p95", r.force_error_p95},
-          {"contact_agreement", r.contact_agreement},
+          // null: not measured (a raw sampling a bake tried judges what a hand feels only)
+          {"contact_agreement", r.contact_agreement < 0.0 ? nlohmann::json(nullptr) : nlohmann::json(r.contact_agreement)},
+          {"perceptible_share", r.perceptible_share},
+          {"tried_by_the_bake", is_raw_trial_row(r)},
           {"angle_error_median_deg", r.angle_error_median_deg},
           {"angle_error_p99_deg", r.angle_error_p99_deg},
           {"within_budget", r.within_budget},
@@ -146,7 +150,10 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   own.method = "haptic_box";
   own.m = d.params.m;
   own.n = d.params.n;
-  if (d.pieces > 1) {
+  if (scene.budget_report().present) {
+    // A bake to a budget (the default bake from a mesh) says so, as the sweep's row of it.
+    own.label = bake_label(scene);
+  } else if (d.pieces > 1) {
     // A scene is not the first box's (m, n): its chart point says what it is.
     own.label = "scene: " + std::to_string(d.pieces) + " boxes, " + densities_text(d);
   }
@@ -164,6 +171,13 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   own.within_budget = meets_budget(d.stats, so.budget);
   d.rows.push_back(own);
   mark_pareto_front(d.rows);
+  // The raw samplings the bake tried, as its budget report holds them (their query times at
+  // bake time, their shares of its tuning probes): beside the sweep's samplings, off the Pareto
+  // front (other probes, another run's clock), before the box's own row, which stays last.
+  std::vector<SweepRow> tried;
+  for (const SweepRow& r : bake_chart_rows(scene))
+    if (is_raw_trial_row(r)) tried.push_back(r);
+  d.rows.insert(d.rows.end() - 1, tried.begin(), tried.end());
   report_progress(options.progress, 0.9);
 
   const ReportTolerances& tol = options.tolerances;

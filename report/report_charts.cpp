@@ -2,6 +2,7 @@
 // when printed; pngcairo otherwise; no display), with a white background and a small fixed
 // palette; the stream ends (and the file is flushed) when the plstream goes out of scope.
 #include "report_charts.h"
+#include "bake_chart_points.h"
 #include "series_colours.h"
 #include "errors.h"
 #include "figure_text.h"
@@ -19,7 +20,7 @@
 namespace hb {
 namespace {
 
-enum Colour { kWhite = 0, kBlack = 1, kBlue = 2, kRed = 3, kGreen = 4, kOrange = 5, kGrey = 6 };
+enum Colour { kWhite = 0, kBlack = 1, kBlue = 2, kRed = 3, kGreen = 4, kOrange = 5, kGrey = 6, kPurple = 7 };
 
 std::unique_ptr<plstream> open_png(const std::string& path, int width = 900, int height = 560) {
   auto pls = std::make_unique<plstream>();
@@ -27,11 +28,11 @@ std::unique_ptr<plstream> open_png(const std::string& path, int width = 900, int
   pls->sdev(svg ? "svgcairo" : "pngcairo");
   pls->sfnam(path.c_str());
   pls->spage(0, 0, width, height, 0, 0);
-  // kBlue, kRed, kOrange: the series colours (series_colours.h), as the window draws them.
-  const PLINT r[] = {255, 0, kBoxSeries.r, kExactSeries.r, 44, kVtkSeries.r, 150};
-  const PLINT g[] = {255, 0, kBoxSeries.g, kExactSeries.g, 160, kVtkSeries.g, 150};
-  const PLINT b[] = {255, 0, kBoxSeries.b, kExactSeries.b, 44, kVtkSeries.b, 150};
-  pls->scmap0(r, g, b, 7);
+  // kBlue, kRed, kOrange, kPurple: the series colours (series_colours.h), as the window draws them.
+  const PLINT r[] = {255, 0, kBoxSeries.r, kExactSeries.r, 44, kVtkSeries.r, 150, kRawTrialSeries.r};
+  const PLINT g[] = {255, 0, kBoxSeries.g, kExactSeries.g, 160, kVtkSeries.g, 150, kRawTrialSeries.g};
+  const PLINT b[] = {255, 0, kBoxSeries.b, kExactSeries.b, 44, kVtkSeries.b, 150, kRawTrialSeries.b};
+  pls->scmap0(r, g, b, 8);
   pls->init();
   pls->col0(kBlack);
   return pls;
@@ -108,7 +109,10 @@ void LabelPlacer::reserve(double x0, double x1, double y0, double y1) { taken_.p
 namespace {
 
 std::string row_label(const SweepRow& r) {
-  if (r.method == "haptic_box") return configuration_name(r);
+  // The default bake and the raw samplings it tried by their names alone ("default bake: 19
+  // boxes", "raw m16 n8 (tried by the bake)"); a sampling or a scene with its codec and route.
+  const bool named = r.label.rfind("default bake", 0) == 0 || r.label.rfind("bake to ", 0) == 0 || is_raw_trial_row(r);
+  if (r.method == "haptic_box") return named ? r.label : configuration_name(r);
   return r.method.find("vtk") != std::string::npos ? "VTK locator" : "exact Embree";
 }
 
@@ -126,7 +130,7 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
       xmin = std::min(xmin, x);
       xmax = std::max(xmax, x);
       ymax = std::max(ymax, 100.0 * r.perceptible_share);
-      amin = std::min(amin, 100.0 * r.contact_agreement);
+      if (r.contact_agreement >= 0.0) amin = std::min(amin, 100.0 * r.contact_agreement);  // < 0: not measured
     }
     if (rows.empty()) xmin = 1, xmax = 10;
     const double lx0 = std::floor(std::log10(xmin) - 0.05), lx1 = std::ceil(std::log10(xmax) + 0.05);
@@ -139,7 +143,7 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
     for (const SweepRow& r : rows)
       if (r.pareto) front.push_back(&r);
     std::sort(front.begin(), front.end(), [](const SweepRow* a, const SweepRow* b) { return a->query_ns < b->query_ns; });
-    bool have_front = false, have_dominated = false, have_exact = false, have_vtk = false;
+    bool have_front = false, have_dominated = false, have_exact = false, have_vtk = false, have_raw = false;
     pls->adv(0);
     for (int panel = 0; panel < 2; ++panel) {
       const bool top = panel == 0;
@@ -199,22 +203,26 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
         pls->line(PLINT(fx.size()), fx.data(), fy.data());
         pls->lsty(1);
       }
+      // A raw sampling the bake tried has no contact agreement measured: the top panel only.
+      const auto shown = [&](const SweepRow& r) { return top || r.contact_agreement >= 0.0; };
       for (const SweepRow& r : rows)
-        labels.mark(std::log10(std::max(r.query_ns, 1.0)), value(r), r.method != "haptic_box");
-      // The references and the front first: they get the free places.
+        if (shown(r)) labels.mark(std::log10(std::max(r.query_ns, 1.0)), value(r), r.method != "haptic_box");
+      // The references, the front and the named rows (the default bake, the raw samplings the
+      // bake tried) first: they get the free places.
       std::vector<const SweepRow*> order;
       for (const SweepRow& r : rows)
-        if (r.method != "haptic_box" || r.pareto || !r.label.empty()) order.push_back(&r);
+        if (shown(r) && (r.method != "haptic_box" || r.pareto || !r.label.empty())) order.push_back(&r);
       for (const SweepRow& r : rows)
-        if (!(r.method != "haptic_box" || r.pareto || !r.label.empty())) order.push_back(&r);
+        if (shown(r) && !(r.method != "haptic_box" || r.pareto || !r.label.empty())) order.push_back(&r);
       pls->schr(0, 0.65);
       for (const SweepRow* rp : order) {
         const SweepRow& r = *rp;
         PLFLT x = std::log10(std::max(r.query_ns, 1.0)), y = value(r);
         const bool box = r.method == "haptic_box";
         const bool vtk = r.method.find("vtk") != std::string::npos;
-        (box ? (r.pareto ? have_front : have_dominated) : (vtk ? have_vtk : have_exact)) = true;
-        const int colour = box ? (r.pareto ? kBlue : kGrey) : (vtk ? kOrange : kRed);
+        const bool raw = is_raw_trial_row(r);
+        (raw ? have_raw : box ? (r.pareto ? have_front : have_dominated) : (vtk ? have_vtk : have_exact)) = true;
+        const int colour = raw ? kPurple : box ? (r.pareto ? kBlue : kGrey) : (vtk ? kOrange : kRed);
         pls->col0(colour);
         pls->ssym(0, box ? 1.2 : 1.6);
         pls->poin(1, &x, &y, box ? 17 : 16);
@@ -230,14 +238,20 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
     const Entry entries[] = {{have_front, kBlue, "box, Pareto front"},
                              {have_dominated, kGrey, "box, dominated"},
                              {have_exact, kRed, "exact Embree"},
-                             {have_vtk, kOrange, "VTK vtkStaticCellLocator"}};
+                             {have_vtk, kOrange, "VTK vtkStaticCellLocator"},
+                             {have_raw, kPurple, "raw box, tried by the bake"}};
+    // One line across the panel: smaller letters when the series present need more room.
+    double width = 0.0;
+    for (const Entry& e : entries)
+      if (e.present) width += 0.03 + 0.0125 * double(std::string(e.text).size());
+    const double shrink = std::min(1.0, 0.98 / std::max(width, 1e-9));
     double pos = 0.0;
-    pls->schr(0, 0.7);
+    pls->schr(0, 0.7 * shrink);
     for (const Entry& e : entries) {
       if (!e.present) continue;
       pls->col0(e.colour);
       pls->mtex("t", 1.1, pos, 0.0, (std::string("\u25CF ") + e.text).c_str());
-      pos += 0.03 + 0.0125 * double(std::string(e.text).size());
+      pos += shrink * (0.03 + 0.0125 * double(std::string(e.text).size()));
     }
     pls->col0(kBlack);
   }

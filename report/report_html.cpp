@@ -2,6 +2,7 @@
 // (accuracy and speed side by side, in words), the figures (significant digits), the worst
 // probes (where, how wrong, why), the charts (SVG) and the error field.
 #include "report_html.h"
+#include "bake_chart_points.h"
 #include "mesh/file_hash.h"
 #include "errors.h"
 #include "figure_text.h"
@@ -228,6 +229,14 @@ void write_charts(std::ostringstream& h, const ReportData& d, const ChartFiles& 
   for (const SweepRow& r : d.rows) {
     const bool box = r.method == "haptic_box";
     const bool own = box && &r == &d.rows.back();
+    if (is_raw_trial_row(r)) {
+      // Figures of the bake's own trial: time at bake time, no contact agreement measured.
+      h << "<tr><td class=l>" << html_escape(r.label) << "</td><td>" << r.m << "</td><td>" << r.n << "</td><td>"
+        << html_escape(r.codec) << "</td><td>" << ns_text(r.query_ns) << "</td><td>" << bytes_text(r.memory_bytes)
+        << "</td><td>at bake time</td><td colspan=3>felt on " << percent(r.perceptible_share)
+        << " of the bake's tuning probes</td><td></td></tr>\n";
+      continue;
+    }
     h << "<tr><td class=l>" << html_escape(own ? "haptic_box (this report's box)" : r.method) << "</td><td>"
       << (box ? (own ? range_text(d.densities.m_min, d.densities.m_max) : std::to_string(r.m)) : "")
       << "</td><td>" << (box ? std::to_string(r.n) : "") << "</td><td>" << html_escape(r.codec) << (r.refine ? ", refined" : "")

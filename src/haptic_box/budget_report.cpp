@@ -70,9 +70,12 @@ std::string budget_spec(const ErrorBudget& b) {
   return spec;
 }
 
-// The file form leaves out `seconds` (this run's wall time of the budgeted bake): the same
-// inputs then give the same bytes, which the box cache and the byte-for-byte tests rely on.
-// parse() still reads `seconds=` from files written before 2026-12-02.
+// The file form leaves out `seconds` and the stages' (this run's wall times of the budgeted
+// bake). It keeps the query times measured at bake time (answer_ns, ..., each raw sampling's),
+// which the speed chart of a loaded box shows: the same inputs give the same bytes but for
+// them, and without_times() gives what the byte-for-byte comparisons compare. parse() still
+// reads `seconds=` from files written before 2026-12-02 and six-field raw_tried lines (no
+// times) from files written before 2026-12-07.
 std::string BudgetReport::serialize() const {
   std::ostringstream os;
   os.precision(9);
@@ -104,8 +107,18 @@ std::string BudgetReport::serialize() const {
   if (!answer.empty()) os << "answer=" << answer << "\n";
   for (const RawTried& t : raw_tried)
     os << "raw_tried=" << t.m << " " << t.n << " " << t.bytes << " " << t.probes_felt << " " << t.ticks_felt << " "
-       << t.outcome << "\n";
+       << t.outcome << " " << t.box_ns << " " << t.exact_ns << "\n";
+  // Measured at bake time: the only lines two bakes of the same inputs differ in.
+  if (answer_ns > 0) os << "answer_ns=" << answer_ns << "\nexact_ns=" << exact_ns << "\n";
+  if (cells_ns > 0) os << "cells_ns=" << cells_ns << "\nembree_ns=" << embree_ns << "\n";
   return os.str();
+}
+
+BudgetReport BudgetReport::without_times() const {
+  BudgetReport r = *this;
+  r.answer_ns = r.exact_ns = r.cells_ns = r.embree_ns = 0;
+  for (RawTried& t : r.raw_tried) t.box_ns = t.exact_ns = 0;
+  return r;
 }
 
 BudgetReport BudgetReport::parse(const std::string& text) {
@@ -153,6 +166,10 @@ BudgetReport BudgetReport::parse(const std::string& text) {
     }
     else if (key == "surface_map_side") r.surface_map_side = std::uint32_t(number(v, key, 1, 64));
     else if (key == "simplify_seconds") r.simplify_seconds = number(v, key, 0, 1e9);
+    else if (key == "answer_ns") r.answer_ns = number(v, key, 0, 1e12);
+    else if (key == "exact_ns") r.exact_ns = number(v, key, 0, 1e12);
+    else if (key == "cells_ns") r.cells_ns = number(v, key, 0, 1e12);
+    else if (key == "embree_ns") r.embree_ns = number(v, key, 0, 1e12);
     else if (key == "piece") {
       std::stringstream ps(v);
       std::string cell, n, refine, probes, extra;
@@ -171,9 +188,11 @@ BudgetReport BudgetReport::parse(const std::string& text) {
       r.answer = v;
     } else if (key == "raw_tried") {
       std::stringstream ps(v);
-      std::string m, n, bytes, probes, ticks, outcome, extra;
-      if (!(ps >> m >> n >> bytes >> probes >> ticks >> outcome) || (ps >> extra))
-        throw InvalidInput("budget report: raw_tried line '" + v.substr(0, 80) + "' is not 'm n bytes probes ticks outcome'");
+      std::string m, n, bytes, probes, ticks, outcome, box_ns, exact_ns, extra;
+      // Six fields before 2026-12-07; since, the query times too.
+      if (!(ps >> m >> n >> bytes >> probes >> ticks >> outcome) || ((ps >> box_ns) && !(ps >> exact_ns)) || (ps >> extra))
+        throw InvalidInput("budget report: raw_tried line '" + v.substr(0, 80) +
+                           "' is not 'm n bytes probes ticks outcome [box_ns exact_ns]'");
       RawTried t;
       t.m = int(number(m, "budget report raw_tried m", 2, 4096));
       t.n = int(number(n, "budget report raw_tried n", 2, 4096));
@@ -184,6 +203,10 @@ BudgetReport BudgetReport::parse(const std::string& text) {
           outcome != "slower")
         throw InvalidInput("budget report: raw_tried outcome '" + outcome.substr(0, 40) + "' unknown");
       t.outcome = outcome;
+      if (!box_ns.empty()) {
+        t.box_ns = number(box_ns, "budget report raw_tried box_ns", 0, 1e12);
+        t.exact_ns = number(exact_ns, "budget report raw_tried exact_ns", 0, 1e12);
+      }
       r.raw_tried.push_back(t);
       if (r.raw_tried.size() > 64) throw InvalidInput("budget report: too many raw_tried lines");
     } else
@@ -218,6 +241,7 @@ std::string BudgetReport::summary() const {
     os << "; raw m" << t.m << " n" << t.n << " " << t.outcome << ": " << t.probes_felt * 100.0 << "% of probes";
     if (t.ticks_felt >= 0) os << ", " << t.ticks_felt * 100.0 << "% of slide ticks";
     os << " felt, " << t.bytes / 1e6 << " MB";
+    if (t.box_ns > 0) os << ", " << t.box_ns << " ns a query against exact's " << t.exact_ns;
   }
   if (surface_rejected > 0)
     os << "; a surface simplified to " << surface_rejected << " triangles missed the budget ("

@@ -50,8 +50,8 @@ struct PieceChoice {
 };
 
 /// What a budgeted bake chose and achieved, measured against exact Embree on probes of a seed
-/// the choice never saw. Stored in the box file (version 6) and shown by `info`, `--json`
-/// and the report.
+/// the choice never saw. Stored in the box file (version 6) and shown by `info`, `--json`,
+/// the report and the window's speed chart.
 struct BudgetReport {
   bool present = false;             ///< false: the scene was not baked to a budget.
   ErrorBudget budget;
@@ -72,18 +72,26 @@ struct BudgetReport {
   /// written before 2026-12-06 (the cells).
   std::string answer;
   /// The raw samplings tried (recipe/raw_box_trial.h): "m n bytes probes_felt ticks_felt
-  /// outcome" with outcome one of kept, serves (a finer one that a cheaper kept one made
-  /// unneeded), felt-probes, felt-slides, over-cap, slower.
+  /// outcome box_ns exact_ns" with outcome one of kept, serves (a finer one that a cheaper kept
+  /// one made unneeded), felt-probes, felt-slides, over-cap, slower; box_ns and exact_ns the
+  /// raw box's query time and exact Embree's beside it at bake time (one core, random order, on
+  /// the tuning probes; 0 in files written before 2026-12-07, whose lines have six fields).
   struct RawTried {
     int m = 0, n = 0;
     double bytes = 0, probes_felt = 0, ticks_felt = -1;
     std::string outcome;
+    double box_ns = 0, exact_ns = 0;
   };
   std::vector<RawTried> raw_tried;
-  /// This run's query times at bake time, one core, random order, ns (not in the file form,
-  /// like `seconds`: timings differ run to run): the answer chosen and exact Embree's; the
-  /// cells route's and Embree's over the scene's surface when both were timed.
+  /// The query times measured at bake time, one core, random order, ns: the answer chosen and
+  /// exact Embree's; the cells route's and Embree's over the scene's surface when both were
+  /// timed. In the file form since 2026-12-07 (the speed chart a loaded box shows, hb::
+  /// bake_chart_rows), so two bakes of the same inputs differ in these values only; 0 in older
+  /// files.
   double answer_ns = 0, exact_ns = 0, cells_ns = 0, embree_ns = 0;
+  /// This report with every query time above set to 0: what the same inputs bake to byte for
+  /// byte (the file form of two bakes differs in nothing else).
+  BudgetReport without_times() const;
   /// The surface the boxes were baked and refined against (BudgetRecipe::simplify):
   /// surface_triangles 0 when it is the full mesh; otherwise the simplified triangle count,
   /// the deviation bound asked (model units) and the deviation measured from the full surface

@@ -69,7 +69,9 @@ std::uint64_t recipe_key(const BakeRecipe& r) {
     k << ' ' << hexfloat(r.codec.max_error) << ' ' << hexfloat(r.codec.ratio) << ' ' << r.codec.normal_bits;
   if (r.budget.enabled) {
     const BudgetRecipe& b = r.budget;
-    k << " budget " << budget_spec(b.budget) << ' ' << b.probes << ' ' << b.tuning_seed << ' ' << b.check_seed;
+    // "timed": entries since 2026-12-07 hold the query times of every raw sampling tried (an
+    // older entry would give the speed chart nothing to place; it is baked again).
+    k << " budget timed " << budget_spec(b.budget) << ' ' << b.probes << ' ' << b.tuning_seed << ' ' << b.check_seed;
     for (const Sampling& s : b.samplings) k << ' ' << hexfloat(s.cell) << ' ' << s.n;
     if (b.surface_tolerance > 0) k << " surface " << hexfloat(float(b.surface_tolerance));
     k << (b.keep_triangle_ids ? " ids kept" : " ids dropped");

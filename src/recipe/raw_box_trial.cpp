@@ -59,6 +59,16 @@ RawTrial try_raw_boxes(const TriangleMesh& mesh, const ExactQuery& exact, const 
     if (o.on_stage) o.on_stage(name, seconds);
   };
   std::unique_ptr<ExactQuery> timing_reference;  // exact with its best tree, as `bench` times it
+  const std::vector<Segment> timed(probes.begin(), probes.begin() + std::min<std::size_t>(probes.size(), 5000));
+  // Every sampling tried is timed, so the speed chart can place it (hb::bake_chart_rows): one
+  // that failed against the bake's own exact reference (built already; the best tree is built
+  // only for a sampling that may be kept, whose time decides), one core, random order.
+  const auto time_against = [&](const BoxScene& scene, const ExactQuery& reference, RawCandidate& c) {
+    const auto t = std::chrono::steady_clock::now();
+    const PairedTiming speed = paired_query_ns(scene, reference, timed, law);
+    c.box_ns = speed.a_ns, c.exact_ns = speed.b_ns;
+    stage("raw_timing", seconds_since(t));
+  };
   // One sampling judged: its scene when every test passed (outcome "kept").
   // `screen`: the slides are judged even when the probes failed (the screen's forecast below).
   const auto judge = [&](const RawSampling& s, RawCandidate& c, bool screen = false) -> std::optional<BoxScene> {
@@ -94,27 +104,30 @@ RawTrial try_raw_boxes(const TriangleMesh& mesh, const ExactQuery& exact, const 
     });
     c.probes_felt = probes.empty() ? 1.0 : double(felt) / double(probes.size());
     stage("raw_probes", seconds_since(t));
+    const auto fails = [&](const char* outcome) {
+      time_against(scene, exact, c);
+      c.outcome = outcome;
+      return std::nullopt;
+    };
     if (c.probes_felt > o.allowed_share) {
       if (screen && o.slides && c.probes_felt <= o.hopeless_share) {
         t = std::chrono::steady_clock::now();
         c.ticks_felt = slide_ticks_felt(scene, mesh, exact);
         stage("raw_slides", seconds_since(t));
       }
-      return c.outcome = "felt on probes", std::nullopt;
+      return fails("felt on probes");
     }
-    if (c.bytes > o.memory_cap_bytes) return c.outcome = "over the memory cap", std::nullopt;
+    if (c.bytes > o.memory_cap_bytes) return fails("over the memory cap");
     if (o.slides) {
       t = std::chrono::steady_clock::now();
       c.ticks_felt = slide_ticks_felt(scene, mesh, exact);
       stage("raw_slides", seconds_since(t));
-      if (c.ticks_felt > o.allowed_share) return c.outcome = "felt on slides", std::nullopt;
+      if (c.ticks_felt > o.allowed_share) return fails("felt on slides");
     }
     t = std::chrono::steady_clock::now();
     if (!timing_reference) timing_reference = std::make_unique<ExactQuery>(mesh, BvhBuild::best);
-    const std::vector<Segment> timed(probes.begin(), probes.begin() + std::min<std::size_t>(probes.size(), 5000));
-    const PairedTiming speed = paired_query_ns(scene, *timing_reference, timed, law);
-    c.box_ns = speed.a_ns, c.exact_ns = speed.b_ns;
     stage("raw_timing", seconds_since(t));
+    time_against(scene, *timing_reference, c);
     if (!(c.box_ns < c.exact_ns)) return c.outcome = "slower than exact", std::nullopt;
     c.outcome = "kept";
     trial.stats = stats;

@@ -63,5 +63,32 @@ TEST(RawBoxTrialTest, TheScreenOfABumpySphereJudgesItsSlidesAndStopsWhenTheyCann
   }
 }
 
+// Every sampling the trial tries is timed against exact, one that failed too (the speed chart
+// places each, hb::bake_chart_points): a coarse box felt on most probes, which stops the trial
+// at the screen, still has its query time and exact's beside it.
+TEST(RawBoxTrialTest, EverySamplingTriedIsTimedAgainstExactWhateverItsOutcome) {
+  BumpySphereOptions bo;
+  bo.subdivisions = 3;  // 1,280 triangles
+  const TriangleMesh mesh = make_bumpy_sphere(bo);
+  const ExactQuery exact(mesh);
+  const ForceLaw law = make_workspace(mesh.bounds().diagonal()).law();
+  ProbeOptions po;
+  po.seed = 11;
+  const std::vector<Segment> probes = sample_probes(mesh, 2000, po);
+  std::vector<Contact> answers;
+  for (const Segment& s : probes) answers.push_back(exact.query(s, law));
+  RawTrialOptions o;
+  o.samplings = {{4, 2}, {8, 4}};
+  o.slides = false;
+  const RawTrial trial = try_raw_boxes(mesh, exact, probes, answers, law, BakeOptions{}, SourceInfo{}, o);
+  ASSERT_FALSE(trial.tried.empty());
+  EXPECT_EQ(trial.tried.front().outcome, "felt on probes");  // m4 n2: far too coarse to serve
+  for (const RawCandidate& c : trial.tried) {
+    EXPECT_GT(c.box_ns, 0.0) << c.describe();
+    EXPECT_GT(c.exact_ns, 0.0) << c.describe();
+    EXPECT_NE(c.describe().find(" ns against exact's "), std::string::npos) << c.describe();
+  }
+}
+
 } // namespace
 } // namespace hb

@@ -1,0 +1,109 @@
+// The bake's own chart points: exact, the bake, the raw samplings tried, read off the budget
+// report (query times at bake time, one core, random order; shares of the fresh probes for
+// the bake, of the tuning probes for the raw samplings, as the bake judged them).
+#include "bake_chart_points.h"
+#include "codec/codec.h"
+#include "figure_text.h"
+
+namespace hb {
+namespace {
+
+const char kRawSuffix[] = " (tried by the bake)";
+
+std::string outcome_words(const std::string& outcome) {
+  if (outcome == "kept") return "kept: it answers the bake";
+  if (outcome == "serves") return "serves, but a cheaper sampling was kept";
+  if (outcome == "felt-probes") return "felt on probes, not kept";
+  if (outcome == "felt-slides") return "felt along slides, not kept";
+  if (outcome == "over-cap") return "over the memory cap, not kept";
+  return "slower than exact, not kept";
+}
+
+std::string answer_words(const std::string& answer) {
+  if (answer == "raw") return "the raw haptic box";
+  if (answer == "embree") return "exact Embree over the surface";
+  if (answer == "boxes") return "boxes refining exactly";
+  return "the surface cells (exact)";
+}
+
+} // namespace
+
+std::string bake_label(const BoxScene& scene) {
+  const std::size_t boxes = scene.boxes().size();
+  const BudgetReport& r = scene.budget_report();
+  const std::string budget = budget_spec(r.budget) == budget_spec(ErrorBudget{}) ? "default bake" : "bake to " + budget_spec(r.budget);
+  return budget + ": " + std::to_string(boxes) + (boxes == 1 ? " box" : " boxes");
+}
+
+bool is_raw_trial_row(const SweepRow& row) {
+  const std::string suffix = kRawSuffix;
+  return row.method == "haptic_box" && row.label.rfind("raw m", 0) == 0 && row.label.size() > suffix.size() &&
+         row.label.compare(row.label.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+std::vector<BakeChartPoint> bake_chart_points(const BoxScene& scene) {
+  std::vector<BakeChartPoint> out;
+  const BudgetReport& r = scene.budget_report();
+  if (!r.present) return out;
+  const std::string timed = " a query at bake time (one core, random order)";
+  if (r.exact_ns > 0) {
+    BakeChartPoint p;
+    p.row.method = "exact_embree";
+    p.row.query_ns = r.exact_ns;
+    p.row.contact_agreement = 1.0;
+    p.row.within_budget = true;
+    p.about = "exact Embree: " + duration_text(r.exact_ns * 1e-9) + timed + ", beside the bake's answer; the reference";
+    out.push_back(p);
+  }
+  if (r.answer_ns > 0) {
+    BakeChartPoint p;
+    SweepRow& row = p.row;
+    row.method = "haptic_box";
+    row.label = bake_label(scene);
+    // As the sweep's row of the default bake names it.
+    row.refine = scene.surface() != nullptr;
+    row.codec = scene.boxes().empty() ? "none" : codec_name(scene.boxes().front().codec());
+    row.query_ns = r.answer_ns;
+    row.memory_bytes = scene.memory_bytes();
+    row.force_error_median = r.force_median;
+    row.force_error_p95 = r.force_p95;
+    row.contact_agreement = r.agreement;
+    row.angle_error_p99_deg = r.direction_p99_deg;
+    row.perceptible_share = r.perceptible;
+    row.within_budget = r.met;
+    p.about = row.label + ", answered by " + answer_words(r.answer) + ": " + duration_text(r.answer_ns * 1e-9) + timed +
+              ", perceptibly different on " + percent(r.perceptible) + " of " + count_text(double(r.probes)) +
+              " fresh probes (the budget: at most " + percent(r.budget.perceptible) + ", " + (r.met ? "met" : "MISSED") +
+              "); " + bytes_text(scene.memory_bytes());
+    out.push_back(p);
+  }
+  for (const BudgetReport::RawTried& t : r.raw_tried) {
+    if (!(t.box_ns > 0)) continue;
+    BakeChartPoint p;
+    SweepRow& row = p.row;
+    row.method = "haptic_box";
+    row.m = t.m, row.n = t.n;
+    row.codec = "none";
+    row.label = "raw m" + std::to_string(t.m) + " n" + std::to_string(t.n) + kRawSuffix;
+    row.query_ns = t.box_ns;
+    row.memory_bytes = std::size_t(t.bytes);
+    row.contact_agreement = -1.0;  // the trial judges what a hand feels only
+    row.perceptible_share = t.probes_felt;
+    row.within_budget = t.outcome == "kept";
+    p.about = row.label + ", the paper's raw haptic box over the whole model: " + duration_text(t.box_ns * 1e-9) + timed +
+              " against exact's " + duration_text(t.exact_ns * 1e-9) + ", perceptibly different on " + percent(t.probes_felt) +
+              " of " + count_text(double(r.tuning_probes)) + " tuning probes" +
+              (t.ticks_felt >= 0 ? " and " + percent(t.ticks_felt) + " of slide ticks" : std::string()) + "; " +
+              bytes_text(std::uint64_t(t.bytes)) + "; " + outcome_words(t.outcome);
+    out.push_back(p);
+  }
+  return out;
+}
+
+std::vector<SweepRow> bake_chart_rows(const BoxScene& scene) {
+  std::vector<SweepRow> rows;
+  for (const BakeChartPoint& p : bake_chart_points(scene)) rows.push_back(p.row);
+  return rows;
+}
+
+} // namespace hb
