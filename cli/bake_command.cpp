@@ -203,6 +203,10 @@ void report_bake_stages(hb::BakeRecipe& recipe) {
                  tty ? "\033[K" : "");
     std::fflush(stderr);
   };
+  recipe.budget.on_note = [tty](const std::string& note) {
+    std::fprintf(stderr, "%sbake: %s%s\n", tty ? "\r" : "", note.c_str(), tty ? "\033[K" : "");
+    std::fflush(stderr);
+  };
 }
 
 // Writes -o: the scene baked now, or a copy of the cache entry (the bake's file byte for byte).

@@ -129,6 +129,9 @@ struct BudgetRecipe {
   /// BudgetReport::stage_seconds, the seconds of that part): `bake` prints them as it goes, so
   /// a bake of minutes shows where it is spending them before it ends. May be empty.
   std::function<void(const std::string& stage, double seconds)> on_stage;
+  /// Called as a simplified surface is dropped, with one line: its triangles, its bound and
+  /// what it missed (BudgetReport::surfaces_missed), and what the bake tries next. May be empty.
+  std::function<void(const std::string& note)> on_note;
 };
 
 /// The deviation (fraction of the mesh diagonal) a budgeted bake may simplify its surface by:

@@ -58,6 +58,7 @@
 #include <chrono>
 #include <cmath>
 #include <optional>
+#include <sstream>
 
 namespace hb {
 namespace {
@@ -190,7 +191,16 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     rejected = tried.surface_triangles;
     why = result.surface_miss;
     missed.push_back({tried.surface_triangles, tried.surface_bound, why});
-    if (retry == kSimplifyRetries || !(diagonal > 0.0) || result.surface_slower_than_exact) {
+    const bool last = retry == kSimplifyRetries || !(diagonal > 0.0) || result.surface_slower_than_exact;
+    if (recipe.budget.on_note) {
+      std::ostringstream note;
+      note.precision(3);
+      note << "the surface simplified to " << tried.surface_triangles << " triangles (within " << tried.surface_bound
+           << ") missed the budget (" << why << "): "
+           << (last ? "baking the full mesh" : "simplifying again within a quarter of the bound");
+      recipe.budget.on_note(note.str());
+    }
+    if (last) {
       tighter.budget.simplify = false;  // the full mesh, as without simplify
       result = BudgetSearch(mesh, tighter, source, ref).run();
       break;

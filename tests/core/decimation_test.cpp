@@ -148,7 +148,10 @@ TEST(DecimationTest, ASimplifiedSurfaceThatMissesTheBudgetIsSimplifiedAgainWithi
   {
     const TriangleMesh fine = subdivide_midpoint(make_sphere(1.f, 3), 2);  // 20,480 triangles
     recipe.budget.simplify_deviation = 4e-4;  // far looser than the automatic bound
+    std::vector<std::string> notes;  // said as each surface is dropped
+    recipe.budget.on_note = [&](const std::string& note) { notes.push_back(note); };
     const BudgetReport rep = bake(fine, recipe).scene.budget_report();
+    recipe.budget.on_note = nullptr;
     EXPECT_TRUE(rep.met) << rep.summary();
     EXPECT_GT(rep.surface_rejected, 0u) << rep.summary();
     EXPECT_GT(rep.surface_triangles, 0u) << rep.summary();
@@ -160,6 +163,9 @@ TEST(DecimationTest, ASimplifiedSurfaceThatMissesTheBudgetIsSimplifiedAgainWithi
     ASSERT_FALSE(rep.surfaces_missed.empty());
     EXPECT_EQ(rep.surfaces_missed.back().triangles, rep.surface_rejected);
     EXPECT_EQ(rep.surfaces_missed.back().why, rep.surface_rejected_why);
+    ASSERT_EQ(notes.size(), rep.surfaces_missed.size());
+    EXPECT_NE(notes.back().find(std::to_string(rep.surface_rejected) + " triangles"), std::string::npos) << notes.back();
+    EXPECT_NE(notes.back().find(rep.surface_rejected_why), std::string::npos) << notes.back();
     for (std::size_t i = 1; i < rep.surfaces_missed.size(); ++i)
       EXPECT_NEAR(rep.surfaces_missed[i].bound, 0.25 * rep.surfaces_missed[i - 1].bound, 1e-12);
     // What the dropped surface missed, named: a figure over the budget on the fresh probes,
