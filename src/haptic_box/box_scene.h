@@ -156,6 +156,15 @@ public:
   /// Whether any box holds triangle ids (HapticBox::refines): what SceneRoute::boxes and the
   /// per-probe query state refine with.
   bool has_triangle_ids() const noexcept;
+  /// The same scene with every box a frame (HapticBox::frame: its OBB and sampling, no table,
+  /// no triangle ids), the surface, grid and piece ids kept, answered by exact Embree over the
+  /// surface: what a scene the bake routes to Embree stores (its tables and ids were most of
+  /// its file and that route never reads them). The window still draws the frames and the
+  /// pieces; `--route cells` still answers where the grid has surface cells. Throws
+  /// hb::InvalidInput as set_route(SceneRoute::embree).
+  BoxScene without_tables() const;
+  /// Whether every box holds a table (false: frames, see without_tables()).
+  bool has_tables() const noexcept;
 
   /// A copy with every box's table compressed (see HapticBox::compressed); throws
   /// hb::InvalidInput when a box is already compressed or the options are out of range.
@@ -176,7 +185,8 @@ public:
   /// See SceneRoute (no effect without surface cells). SceneRoute::embree builds an Embree
   /// tree over the surface (once; the copies of this scene share it) and throws
   /// hb::InvalidInput when the scene has no surface or its surface carries a normal map (a
-  /// simplified stand-in that only the cells shade as the full mesh).
+  /// simplified stand-in that only the cells shade as the full mesh). Also throws when the
+  /// route would leave the boxes to answer and they are frames (without_tables()).
   void set_route(SceneRoute route);
   SceneRoute route() const noexcept { return route_; }
   /// Whether query_many() on the cells route runs its walks side by side: when the surface

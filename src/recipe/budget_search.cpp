@@ -470,7 +470,10 @@ void BudgetSearch::choose_route(BoxScene& scene) {
     rep_.cells_ns = t.a_ns, rep_.embree_ns = t.b_ns;
     rep_.exact_ns = t.b_ns;
     rep_.answer_ns = std::min(t.a_ns, t.b_ns);
-    if (t.a_ns > t.b_ns) scene = std::move(by_embree);
+    // Embree reads the surface alone: the boxes keep their frames (the window draws them,
+    // `info` lists them), not their tables and ids (most of the file), unless asked to
+    // (BudgetRecipe::keep_triangle_ids: `--route boxes` to compare).
+    if (t.a_ns > t.b_ns) scene = br_.keep_triangle_ids ? std::move(by_embree) : by_embree.without_tables();
   } else {
     const PairedTiming t = paired_query_ns(scene, *exact_, timed_, law_);
     rep_.answer_ns = t.a_ns, rep_.exact_ns = t.b_ns;
