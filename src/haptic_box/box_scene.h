@@ -189,6 +189,15 @@ public:
   /// route would leave the boxes to answer and they are frames (without_tables()).
   void set_route(SceneRoute route);
   SceneRoute route() const noexcept { return route_; }
+  /// Takes `other`'s Embree tree (built by its set_route(SceneRoute::embree)) when both
+  /// scenes answer from the same surface, the same object: this scene's Embree route then
+  /// builds none. For a search composing several scenes over one surface (the budgeted bake
+  /// times Embree at its steps 2b and 5b). Returns whether it took it.
+  bool take_embree_tree(const BoxScene& other) noexcept {
+    if (!other.embree_ || !surface_ || other.surface_ != surface_) return false;
+    embree_ = other.embree_;
+    return true;
+  }
   /// Whether query_many() on the cells route runs its walks side by side: when the surface
   /// exceeds the last-level cache (automatic, SurfaceCells::walks_side_by_side), always or
   /// never (for tests and before/after figures). The same answers either way.

@@ -359,9 +359,9 @@ bool BudgetSearch::exact_first(BoxScene& refined_coarse, bool exact_scene) {
   if (surface_mesh_.use_simplified) {
     early_ = paired_query_ns(refined_coarse, *exact_, timed_, law_);
   } else {
-    BoxScene by_embree = refined_coarse;
-    by_embree.set_route(SceneRoute::embree);
-    early_ = paired_query_ns(refined_coarse, by_embree, timed_, law_);
+    embree_tree_ = refined_coarse;
+    embree_tree_.set_route(SceneRoute::embree);  // its tree serves step 5b (the same surface)
+    early_ = paired_query_ns(refined_coarse, embree_tree_, timed_, law_);
   }
   stage_done("exact_first", seconds_since(tstage));
   if (early_->a_ns > early_->b_ns) {
@@ -464,6 +464,7 @@ void BudgetSearch::choose_route(BoxScene& scene) {
   const bool exact_route = scene.answering_route() == SceneRoute::cells || scene.has_triangle_ids();
   if (br_.fastest_exact && exact_route && scene.surface() && scene.surface()->normal_map_side() == 0) {
     BoxScene by_embree = scene;
+    by_embree.take_embree_tree(embree_tree_);  // step 2b's tree: no second build over the same surface
     by_embree.set_route(SceneRoute::embree);
     // The scene timed at step 2b is this one: its timing stands.
     const PairedTiming t = early_ ? *early_ : paired_query_ns(scene, by_embree, timed_, law_);

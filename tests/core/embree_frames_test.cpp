@@ -144,6 +144,21 @@ TEST(EmbreeFramesTest, AFramesFileNamingNoRouteToAnswerItIsCorrupt) {
   std::filesystem::remove(path);
 }
 
+TEST(EmbreeFramesTest, AScenesEmbreeTreeServesAnotherOnlyOverTheSameSurface) {
+  const test::TwoSpheres two = test::two_spheres(3.f);
+  const BoxScene cells = test::refined_two_spheres(two).without_triangle_ids();
+  BoxScene routed = cells;
+  routed.set_route(SceneRoute::embree);
+  BoxScene same = cells;  // the same surface object
+  EXPECT_EQ(same.embree_bytes(), 0u);
+  EXPECT_TRUE(same.take_embree_tree(routed));
+  EXPECT_EQ(same.embree_bytes(), routed.embree_bytes());
+  EXPECT_EQ(same.answering_route(), SceneRoute::cells);  // the route is still the caller's to set
+  BoxScene other = test::refined_two_spheres(two).without_triangle_ids();  // an equal surface, not the same
+  EXPECT_FALSE(other.take_embree_tree(routed));
+  EXPECT_EQ(other.embree_bytes(), 0u);
+}
+
 // The default bake's scene answered by Embree (small meshes; the clock decides) holds frames
 // only; one answered by the cells keeps its tables; --keep-ids keeps them either way.
 TEST(EmbreeFramesTest, ABudgetedBakeRoutedToEmbreeKeepsOnlyFramesUnlessIdsAreKept) {
