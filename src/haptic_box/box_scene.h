@@ -260,6 +260,9 @@ private:
   // The query without the grid: every box whose PBB the segment meets.
   Contact query_met(const Segment& segment, const ForceLaw& law, std::size_t* asked, std::uint32_t* box = nullptr,
                     std::uint32_t* triangle = nullptr) const noexcept;
+  // A scene of `boxes` (this scene's, each changed alike) with this scene's source, piece ids,
+  // grid, surface, route, Embree tree and settings.
+  BoxScene with_boxes(std::vector<HapticBox> boxes) const;
   // Boxes in [first, last) whose axis-aligned bounds the segment meets, written into `out`.
   std::size_t cull(const Segment& segment, std::size_t first, std::size_t last, std::uint32_t* out) const noexcept;
 

@@ -139,15 +139,21 @@ bool BoxScene::has_tables() const noexcept {
   return true;
 }
 
-BoxScene BoxScene::without_tables() const {
-  std::vector<HapticBox> boxes;
-  boxes.reserve(boxes_.size());
-  for (const HapticBox& b : boxes_) boxes.push_back(b.frame());
+BoxScene BoxScene::with_boxes(std::vector<HapticBox> boxes) const {
   BoxScene s(std::move(boxes), source_, piece_of_triangle_, grid_, surface_);
   s.unconfirmed_ = unconfirmed_;
   s.use_cells_ = use_cells_;
+  s.route_ = route_;
   s.embree_ = embree_;
   s.budget_ = budget_;
+  return s;
+}
+
+BoxScene BoxScene::without_tables() const {
+  std::vector<HapticBox> frames;
+  frames.reserve(boxes_.size());
+  for (const HapticBox& b : boxes_) frames.push_back(b.frame());
+  BoxScene s = with_boxes(std::move(frames));
   s.set_route(SceneRoute::embree);
   return s;
 }
@@ -159,13 +165,7 @@ BoxScene BoxScene::without_triangle_ids() const {
   std::vector<HapticBox> boxes;
   boxes.reserve(boxes_.size());
   for (const HapticBox& b : boxes_) boxes.push_back(b.without_refinement());
-  BoxScene s(std::move(boxes), source_, piece_of_triangle_, grid_, surface_);
-  s.unconfirmed_ = unconfirmed_;
-  s.use_cells_ = use_cells_;
-  s.route_ = route_;
-  s.embree_ = embree_;
-  s.budget_ = budget_;
-  return s;
+  return with_boxes(std::move(boxes));
 }
 
 void BoxScene::set_piece_of_triangle(std::vector<std::uint32_t> piece_of_triangle) {

@@ -198,6 +198,12 @@ std::vector<std::vector<std::uint32_t>> seamed_piece_lists(const TriangleMesh& m
                                                            const std::vector<std::uint32_t>& piece_ids,
                                                            const SeamOptions& seams, const BakeOptions& options);
 
+/// `base` for one of a search's own bakes, in this process (the budgeted bake's pieces at a
+/// sampling, the raw trial's boxes): refined against `surface` (none: the blend alone), no
+/// scene grid (the search builds its own), no communicator, no progress (the search reports
+/// its own). The caller sets the sampling.
+BakeOptions search_bake_options(BakeOptions base, std::shared_ptr<const SurfaceTriangles> surface);
+
 /// Bakes `mesh` per `recipe`: pieces (resolve_piece_ids), seams (seamed_piece_lists), one box
 /// per piece (bake_scene_from_lists), then the codec. The scene records `source` and the
 /// piece ids. Throws hb::InvalidInput, hb::IoError (piece file), hb::Cancelled, hb::LibraryError.

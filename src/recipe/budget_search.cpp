@@ -168,14 +168,9 @@ void BudgetSearch::assign_ownership() {
 }
 
 BakeOptions BudgetSearch::options_for(std::size_t c) const {
-  BakeOptions o = recipe_.options;
+  BakeOptions o = search_bake_options(recipe_.options, surface_);
   o.params.n = br_.samplings[c].n;
   o.density.cell = br_.samplings[c].cell;
-  o.refine = true;
-  o.surface = surface_;
-  o.scene_grid = false;
-  o.communicator = nullptr;
-  o.progress = nullptr;
   return o;
 }
 

@@ -7,6 +7,7 @@
 #include "haptic_box/bake.h"
 #include "haptic_box/box_file.h"
 #include "recipe/bake_recipe.h"
+#include "same_answers.h"
 #include "two_spheres.h"
 #include <gtest/gtest.h>
 #include <cstring>
@@ -81,19 +82,9 @@ TEST(EmbreeFramesTest, AnEmbreeRoutedScenesFileHoldsFramesNotTablesAndAnswersThe
   EXPECT_EQ(loaded.budget_report().serialize(), tables.budget_report().serialize());
 
   const ForceLaw law = make_workspace(two.mesh.bounds().diagonal()).law();
-  std::size_t contacts = 0;
-  for (const Segment& s : sample_probes(two.mesh, 3000, ProbeOptions{})) {
-    const Contact a = tables.query(s, law), b = loaded.query(s, law), c = frames.query(s, law);
-    ASSERT_EQ(a.contact, b.contact);
-    ASSERT_EQ(a.contact, c.contact);
-    if (!a.contact) continue;
-    ++contacts;
-    EXPECT_EQ(a.depth, b.depth);
-    EXPECT_EQ(a.force, b.force);
-    EXPECT_EQ(a.normal, b.normal);
-    EXPECT_EQ(a.force, c.force);
-  }
-  EXPECT_GT(contacts, 300u);
+  const std::vector<Segment> probes = sample_probes(two.mesh, 3000, ProbeOptions{});
+  EXPECT_GT(test::expect_same_answers(tables, loaded, probes, law), 300u);
+  EXPECT_GT(test::expect_same_answers(tables, frames, probes, law), 300u);
 }
 
 TEST(EmbreeFramesTest, FramesRefuseTheBoxesRouteAndCompressionNamingWhy) {
