@@ -289,6 +289,7 @@ nlohmann::json bake_json(const BakeOpts& o, const hb::TriangleMesh& mesh, const 
                       {"hit_fraction", stats.rays ? double(stats.hits) / double(stats.rays) : 0.0},
                       {"bytes", s.bytes},
                       {"refine", scene.refines()},
+                      {"tables", scene.has_tables()},  // false: box frames (answered by exact Embree)
                       {"triangle_id_bytes", s.id_bytes},
                       {"codec", o.codec},
                       {"table_bytes", cs.table_bytes},
@@ -320,7 +321,10 @@ void print_bake_line(const BakeOpts& o, const hb::CachedBake& cached, const Bake
               << hb::count_text(double(stats.rays)) << " rays in "
               << hb::duration_text(stats.seconds) << " (" << hb::count_text(stats.rays_per_second) << " rays/s), "
               << hb::bytes_text(s.bytes);
-  if (s.refined_boxes > 0)
+  if (!scene.has_tables())
+    std::cout << " (exact Embree over the surface " << hb::bytes_text(scene.surface()->bytes())
+              << ": box frames, no tables, no triangle ids)";
+  else if (s.refined_boxes > 0)
     std::cout << " (" << (s.refined_boxes == scene.boxes().size() ? std::string("all") : std::to_string(s.refined_boxes))
               << " box(es) with triangle ids and surface for exact refinement)";
   else if (scene.refines())

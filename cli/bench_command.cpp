@@ -279,7 +279,8 @@ void run_bench(BenchOpts& o) {
   r.isa_name = hb::lane_isa_name(hb::lane_isa());
   // query_many runs queries side by side in SIMD lanes for one raw, unrefined box only ...
   const auto& boxes = scene.boxes();
-  r.lanes = boxes.size() == 1 && boxes[0].codec() == hb::CodecId::none && !boxes[0].refines();
+  r.lanes = boxes.size() == 1 && boxes[0].has_table() && boxes[0].codec() == hb::CodecId::none && !boxes[0].refines() &&
+            scene.answering_route() != hb::SceneRoute::embree;
   // ... and, on the cells route, runs several queries' walks side by side on a surface
   // larger than the last-level cache.
   r.walks = scene.grid() && scene.answering_route() == hb::SceneRoute::cells && scene.surface_cells()->walks_side_by_side();

@@ -150,18 +150,18 @@ void add_route_option(CLI::App& cmd, std::string& route) {
 
 void apply_route(BoxScene& scene, const std::string& route) {
   if (route == "auto") return;
+  if (route == "boxes" && !scene.has_tables())
+    throw UsageError("--route boxes: this scene's boxes are frames without tables (the bake answered it by exact "
+                     "Embree and dropped what no other route reads); bake it with HB_MEASURE=keep-ids to compare the routes");
   if (route == "boxes" && scene.refines() && !scene.has_triangle_ids())
     throw UsageError("--route boxes: this scene holds no triangle ids (the default bake drops them: the cells route "
                      "does not read them); bake it with HB_MEASURE=keep-ids to compare the routes");
-  if (route == "embree") {
-    try {
-      scene.set_route(SceneRoute::embree);
-    } catch (const InvalidInput& e) {
-      throw UsageError(std::string("--route embree: ") + e.what());
-    }
-    return;
+  try {
+    scene.set_route(route == "embree" ? SceneRoute::embree : route == "cells" ? SceneRoute::cells : SceneRoute::boxes);
+  } catch (const InvalidInput& e) {
+    throw UsageError("--route " + route + ": " + e.what());
   }
-  scene.set_route(route == "cells" ? SceneRoute::cells : SceneRoute::boxes);
+  if (route == "embree") return;
   if (route == "cells" && scene.answering_route() != SceneRoute::cells && scene.refines())
     std::fprintf(stderr, "warning: --route cells: this scene has no surface cells (no grid, or no shared refined "
                          "surface); the boxes answer\n");

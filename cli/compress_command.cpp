@@ -28,6 +28,9 @@ void add_compress_command(CLI::App& app) {
     hb::cli::check_output_file(opts->out);
     const hb::BoxScene scene = hb::load_box_file(opts->box);
     opts->codec_options.codec = hb::parse_codec(opts->codec);
+    if (!scene.has_tables())
+      throw hb::cli::UsageError(opts->box + ": its boxes are frames without tables (the bake answered the scene by "
+                                "exact Embree): nothing to compress");
     for (const hb::HapticBox& box : scene.boxes())
       if (box.codec() != hb::CodecId::none)
         throw hb::cli::UsageError(opts->box + ": already compressed (codec " + hb::codec_name(box.codec()) + ")");

@@ -73,6 +73,9 @@ void add_compress_sweep_command(CLI::App& app) {
   cmd->add_flag("--json", opts->json, "Print JSON to stdout");
   cmd->callback([opts] {
     const hb::BoxScene scene = hb::load_box_file(opts->box);
+    if (!scene.has_tables())
+      throw hb::cli::UsageError(opts->box + ": its boxes are frames without tables (the bake answered the scene by "
+                                "exact Embree): no table to compress");
     for (const hb::HapticBox& box : scene.boxes())
       if (box.codec() != hb::CodecId::none)
         throw hb::cli::UsageError(opts->box + ": compress-sweep needs uncompressed tables (bake with --codec none)");

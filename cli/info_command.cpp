@@ -115,7 +115,8 @@ nlohmann::json box_info(const std::string& path, bool verify) {
                      {"codec", name},
                      {"table_bytes", box.table_bytes()},
                      {"raw_table_bytes", box.raw_table_bytes()},
-                     {"compression_ratio", double(box.raw_table_bytes()) / double(box.table_bytes())},
+                     {"table", box.has_table()},  // false: a frame (the scene answered by exact Embree)
+                     {"compression_ratio", box.has_table() ? double(box.raw_table_bytes()) / double(box.table_bytes()) : 0.0},
                      {"max_error_bound", cs.max_error_bound},
                      {"t_error_mean", cs.t_error_mean},
                      {"t_error_max", cs.t_error_max},
@@ -130,6 +131,7 @@ nlohmann::json box_info(const std::string& path, bool verify) {
   const hb::DensityRange densities = hb::density_range(scene);
   const hb::SceneCodecStats codec = hb::scene_codec_stats(scene);
   const double table_bytes = double(scene.table_bytes());
+  const char* frames = "yes (exact Embree over the surface; box frames, no tables, no triangle ids)";
   return {{"kind", "box"},
           {"file", path},
           {"bytes", std::filesystem::file_size(path)},
@@ -149,7 +151,11 @@ nlohmann::json box_info(const std::string& path, bool verify) {
           {"t_error_max", codec.t_error_max},
           {"normal_error_mean_deg", codec.normal_error_mean_deg},
           {"normal_error_max_deg", codec.normal_error_max_deg},
-          {"refine", refined == scene.boxes().size() ? "yes"
+          {"tables", scene.has_tables() ? "yes"
+                     : "none: box frames only (exact Embree over the surface answers; the bake dropped the tables and "
+                       "ids that route never reads)"},
+          {"refine", !scene.has_tables()               ? frames
+                     : refined == scene.boxes().size() ? "yes"
                      : refined > 0                  ? "some boxes"
                      : scene.refines()              ? "yes (the surface cells; no triangle ids)"
                                                     : "no"},
@@ -215,6 +221,11 @@ void add_info_command(CLI::App& app) {
     if (j.contains("box_list") && j["box_list"].size() > 1) {
       for (std::size_t b = 0; b < j["box_list"].size(); ++b) {
         const auto& x = j["box_list"][b];
+        if (!x["table"].get<bool>()) {
+          std::cout << "box " << b << ": m " << x["m"].get<int>() << " n " << x["n"].get<int>() << ", centre "
+                    << info_text(x["center"]) << ", half extents " << info_text(x["half_extents"]) << ", a frame (no table)\n";
+          continue;
+        }
         std::cout << "box " << b << ": m " << x["m"].get<int>() << " n " << x["n"].get<int>() << ", centre "
                   << info_text(x["center"]) << ", half extents " << info_text(x["half_extents"]) << ", codec "
                   << x["codec"].get<std::string>() << ", " << hb::bytes_text(x["table_bytes"].get<std::uint64_t>())

@@ -238,7 +238,9 @@ void BakePanel::updateState() {
   if (!busy) progress_->setValue(1000);
   const hb::BoxScene& s = *session_->boxes();
   const std::size_t refineBytes = s.refinement_bytes();
-  const QString tables = tr("%1 of tables").arg(QString::fromStdString(hb::bytes_text(s.table_bytes())));
+  // A scene answered by exact Embree keeps its boxes as frames (no tables): say so, not "0 B".
+  const QString tables = s.has_tables() ? tr("%1 of tables").arg(QString::fromStdString(hb::bytes_text(s.table_bytes())))
+                                        : tr("box frames (no tables: exact Embree answers)");
   // A scene's boxes have their own densities: the range, not the first box's.
   const hb::DensityRange d = hb::density_range(s);
   const auto span = [](int lo, int hi) { return QString::fromStdString(hb::range_text(lo, hi)); };

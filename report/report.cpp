@@ -162,13 +162,7 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   own.query_ns = d.box_ns;
   own.memory_bytes = d.memory_bytes;
   own.bake_seconds = bake_seconds;
-  own.force_error_median = d.stats.force_error_median;
-  own.force_error_p95 = d.stats.force_error_p95;
-  own.contact_agreement = d.stats.contact_agreement;
-  own.angle_error_median_deg = d.stats.angle_error_median_deg;
-  own.angle_error_p99_deg = d.stats.angle_error_p99_deg;
-  own.perceptible_share = d.stats.perceptible_share;
-  own.within_budget = meets_budget(d.stats, so.budget);
+  own.set_accuracy(d.stats, so.budget);
   d.rows.push_back(own);
   mark_pareto_front(d.rows);
   // The raw samplings the bake tried, as its budget report holds them (their query times at

@@ -30,6 +30,8 @@ void add_query_errors(CompressionSweepPoint& p, const BoxScene& scene, const Box
 } // namespace
 
 std::vector<CompressionSweepPoint> compression_sweep(const BoxScene& raw, const CompressionSweepOptions& o) {
+  if (!raw.has_tables())
+    throw InvalidInput("compression sweep: the scene's boxes are frames without tables (answered by exact Embree)");
   for (const HapticBox& box : raw.boxes())
     if (box.codec() != CodecId::none)
       throw InvalidInput(std::string("compression sweep: needs uncompressed tables, the scene holds a '") +

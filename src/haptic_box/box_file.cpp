@@ -68,7 +68,7 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
   auto write_header = [&](const std::vector<std::uint64_t>& offsets) {
     Writer w;
     w.put_bytes(kBoxFileMagic, sizeof(kBoxFileMagic));
-    w.put(kBoxFileVersion);
+    w.put(scene.has_tables() ? kBoxFileVersionWithTables : kBoxFileVersion);
     w.put(std::uint32_t(boxes.size()));
     w.put(src.mesh_hash);
     w.put(src.triangles);
@@ -84,9 +84,9 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
       for (int c = 0; c < 3; ++c)
         for (int r = 0; r < 3; ++r) w.put(box.obb().axes(r, c));
       for (int c = 0; c < 3; ++c) w.put(box.obb().half[c]);
-      w.put(std::uint64_t(offsets.empty() ? 0 : offsets[b]));
+      w.put(std::uint64_t(offsets.empty() || !box.has_table() ? 0 : offsets[b]));
       w.put(std::uint64_t(box.table_bytes()));
-      w.put(std::uint64_t(XXH3_64bits(box.samples().data(), box.table_bytes())));
+      w.put(std::uint64_t(box.has_table() ? XXH3_64bits(box.samples().data(), box.table_bytes()) : 0));
       const CodecStats& cs = box.codec_stats();
       w.put(cs.max_error_bound);
       w.put(cs.t_error_mean);

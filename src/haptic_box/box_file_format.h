@@ -1,5 +1,5 @@
 #pragma once
-// The .hbox file format, version 7 (little-endian; versions 1 to 6 are still read):
+// The .hbox file format, version 8 (little-endian; versions 1 to 7 are still read):
 //  1. Header: magic "HBOXFILE", u32 version, u32 box count, u64 mesh hash, u64 triangles,
 //     f32 diagonal, u32 path length + path bytes; then per box: u32 codec (CodecId: 0 raw
 //     8-byte samples, 1 Haar, 2 block), i32 m, i32 n, f32 centre[3], axes[9] (columns),
@@ -15,8 +15,11 @@
 //     adds the budget report (u64 offset, u64 bytes: 0 for a scene not baked to a budget,
 //     u64 hash; its bytes: BudgetReport::serialize, key=value text); version 7 adds the
 //     surface's normal map (u32 side: 0 without one, u64 offset, u64 bytes, u64 hash; its
-//     bytes: u32 octahedral codes, SurfaceTriangles::set_normal_map); then u64 hash of all
-//     header bytes before it.
+//     bytes: u32 octahedral codes, SurfaceTriangles::set_normal_map); version 8 lets a box
+//     hold no table (table offset, bytes and hash 0, codec 0, no triangle ids: a frame,
+//     HapticBox::frame; its scene answered by exact Embree, BoxScene::without_tables) and is
+//     written only when a box does (every other file is written as version 7, byte for byte
+//     as before); then u64 hash of all header bytes before it.
 //  2. Tables at 64-byte aligned offsets: raw records in BoxLayout::sample_index order (box_layout.h), or a
 //     compressed payload (codec/table_payload.h); then each refined box's triangle ids
 //     (same order; u16 offsets or u32 slots), then the SurfaceTriangles records, then the
@@ -30,7 +33,9 @@
 namespace hb {
 
 constexpr char kBoxFileMagic[8] = {'H', 'B', 'O', 'X', 'F', 'I', 'L', 'E'};
-constexpr std::uint32_t kBoxFileVersion = 7;
+constexpr std::uint32_t kBoxFileVersion = 8;
+/// The version of a file whose boxes all hold tables (version 8 adds only frames).
+constexpr std::uint32_t kBoxFileVersionWithTables = 7;
 /// Every section starts at a multiple of this.
 constexpr std::size_t kBoxFileAlign = 64;
 

@@ -293,10 +293,21 @@ std::vector<std::uint32_t> read_piece_ids(const FileHeader& h, const Mapped& m) 
 }
 
 // Box b's table (format step 2), and its triangle ids against the shared surface.
-HapticBox read_box(std::size_t b, const BoxEntry& e, const Mapped& m, const std::shared_ptr<const SurfaceTriangles>& surface,
-                   const LoadOptions& options) {
+HapticBox read_box(std::size_t b, const BoxEntry& e, std::uint32_t version, const Mapped& m,
+                   const std::shared_ptr<const SurfaceTriangles>& surface, const LoadOptions& options) {
   const std::string& path = m.path;
   const std::string box = "box " + std::to_string(b);
+  if (e.bytes == 0 && version >= 8) {
+    // A frame (format version 8): no table, no ids; its scene must be answered by Embree.
+    if (e.codec != CodecId::none || e.offset != 0 || e.hash != 0 || e.ids.bytes != 0 || e.params.m > 1024 ||
+        e.params.n > 256)
+      throw InvalidInput(path + ": corrupt box file (" + box + " is a frame without a table but names table data)");
+    try {
+      return HapticBox(e.obb, e.params);
+    } catch (const InvalidInput& err) {
+      throw InvalidInput(path + ": corrupt box file (" + box + " " + err.what() + ")");
+    }
+  }
   if (e.params.m < 2 || e.params.n < 2 || e.params.m > 1024 || e.params.n > 256 ||
       (e.codec == CodecId::none && e.bytes != e.params.sample_count() * sizeof(Sample)) || e.offset % alignof(Sample) != 0)
     throw InvalidInput(path + ": corrupt box file (" + box + " has inconsistent sizes)");
@@ -384,12 +395,14 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
   std::vector<std::uint32_t> pieces = read_piece_ids(h, m);
   std::vector<HapticBox> boxes;
   boxes.reserve(h.count);
-  for (std::size_t b = 0; b < h.entries.size(); ++b) boxes.push_back(read_box(b, h.entries[b], m, surface, options));
+  for (std::size_t b = 0; b < h.entries.size(); ++b) boxes.push_back(read_box(b, h.entries[b], h.version, m, surface, options));
   std::shared_ptr<const SceneGrid> grid = read_grid(h, m);
   BudgetReport budget = read_budget_report(h, m);
   try {
     BoxScene scene(std::move(boxes), h.src, std::move(pieces), std::move(grid), surface);
     scene.set_budget_report(std::move(budget));
+    if (!scene.has_tables() && scene.answering_route() == SceneRoute::boxes)
+      throw InvalidInput("box frames without tables, and the scene names no Embree route (nor surface cells) to answer it");
     return scene;
   } catch (const InvalidInput& err) {
     throw InvalidInput(path + ": corrupt box file (" + err.what() + ")");

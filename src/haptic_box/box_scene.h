@@ -156,6 +156,15 @@ public:
   /// Whether any box holds triangle ids (HapticBox::refines): what SceneRoute::boxes and the
   /// per-probe query state refine with.
   bool has_triangle_ids() const noexcept;
+  /// The same scene with every box a frame (HapticBox::frame: its OBB and sampling, no table,
+  /// no triangle ids), the surface, grid and piece ids kept, answered by exact Embree over the
+  /// surface: what a scene the bake routes to Embree stores (its tables and ids were most of
+  /// its file and that route never reads them). The window still draws the frames and the
+  /// pieces; `--route cells` still answers where the grid has surface cells. Throws
+  /// hb::InvalidInput as set_route(SceneRoute::embree).
+  BoxScene without_tables() const;
+  /// Whether every box holds a table (false: frames, see without_tables()).
+  bool has_tables() const noexcept;
 
   /// A copy with every box's table compressed (see HapticBox::compressed); throws
   /// hb::InvalidInput when a box is already compressed or the options are out of range.
@@ -176,9 +185,19 @@ public:
   /// See SceneRoute (no effect without surface cells). SceneRoute::embree builds an Embree
   /// tree over the surface (once; the copies of this scene share it) and throws
   /// hb::InvalidInput when the scene has no surface or its surface carries a normal map (a
-  /// simplified stand-in that only the cells shade as the full mesh).
+  /// simplified stand-in that only the cells shade as the full mesh). Also throws when the
+  /// route would leave the boxes to answer and they are frames (without_tables()).
   void set_route(SceneRoute route);
   SceneRoute route() const noexcept { return route_; }
+  /// Takes `other`'s Embree tree (built by its set_route(SceneRoute::embree)) when both
+  /// scenes answer from the same surface, the same object: this scene's Embree route then
+  /// builds none. For a search composing several scenes over one surface (the budgeted bake
+  /// times Embree at its steps 2b and 5b). Returns whether it took it.
+  bool take_embree_tree(const BoxScene& other) noexcept {
+    if (!other.embree_ || !surface_ || other.surface_ != surface_) return false;
+    embree_ = other.embree_;
+    return true;
+  }
   /// Whether query_many() on the cells route runs its walks side by side: when the surface
   /// exceeds the last-level cache (automatic, SurfaceCells::walks_side_by_side), always or
   /// never (for tests and before/after figures). The same answers either way.
@@ -241,6 +260,9 @@ private:
   // The query without the grid: every box whose PBB the segment meets.
   Contact query_met(const Segment& segment, const ForceLaw& law, std::size_t* asked, std::uint32_t* box = nullptr,
                     std::uint32_t* triangle = nullptr) const noexcept;
+  // A scene of `boxes` (this scene's, each changed alike) with this scene's source, piece ids,
+  // grid, surface, route, Embree tree and settings.
+  BoxScene with_boxes(std::vector<HapticBox> boxes) const;
   // Boxes in [first, last) whose axis-aligned bounds the segment meets, written into `out`.
   std::size_t cull(const Segment& segment, std::size_t first, std::size_t last, std::uint32_t* out) const noexcept;
 

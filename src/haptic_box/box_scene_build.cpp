@@ -113,7 +113,14 @@ void BoxScene::set_route(SceneRoute route) {
       throw InvalidInput("box scene: the embree route needs the full surface; this one is simplified (a normal map shades it)");
     embree_ = std::make_shared<const EmbreeRoute>(*surface_);
   }
+  const SceneRoute before = route_;
   route_ = route;
+  if (answering_route() == SceneRoute::boxes && !has_tables()) {
+    route_ = before;
+    throw InvalidInput(std::string("box scene: the ") + route_name(route) +
+                       " route leaves the boxes to answer, and they are frames without tables (the bake answered "
+                       "this scene by exact Embree)");
+  }
 }
 
 std::size_t BoxScene::embree_bytes() const noexcept {
@@ -126,13 +133,13 @@ bool BoxScene::has_triangle_ids() const noexcept {
   return false;
 }
 
-bool BoxScene::refines() const noexcept { return cells_ != nullptr || has_triangle_ids(); }
+bool BoxScene::has_tables() const noexcept {
+  for (const HapticBox& b : boxes_)
+    if (!b.has_table()) return false;
+  return true;
+}
 
-BoxScene BoxScene::without_triangle_ids() const {
-  if (!cells_) return *this;
-  std::vector<HapticBox> boxes;
-  boxes.reserve(boxes_.size());
-  for (const HapticBox& b : boxes_) boxes.push_back(b.without_refinement());
+BoxScene BoxScene::with_boxes(std::vector<HapticBox> boxes) const {
   BoxScene s(std::move(boxes), source_, piece_of_triangle_, grid_, surface_);
   s.unconfirmed_ = unconfirmed_;
   s.use_cells_ = use_cells_;
@@ -140,6 +147,25 @@ BoxScene BoxScene::without_triangle_ids() const {
   s.embree_ = embree_;
   s.budget_ = budget_;
   return s;
+}
+
+BoxScene BoxScene::without_tables() const {
+  std::vector<HapticBox> frames;
+  frames.reserve(boxes_.size());
+  for (const HapticBox& b : boxes_) frames.push_back(b.frame());
+  BoxScene s = with_boxes(std::move(frames));
+  s.set_route(SceneRoute::embree);
+  return s;
+}
+
+bool BoxScene::refines() const noexcept { return cells_ != nullptr || has_triangle_ids(); }
+
+BoxScene BoxScene::without_triangle_ids() const {
+  if (!cells_) return *this;
+  std::vector<HapticBox> boxes;
+  boxes.reserve(boxes_.size());
+  for (const HapticBox& b : boxes_) boxes.push_back(b.without_refinement());
+  return with_boxes(std::move(boxes));
 }
 
 void BoxScene::set_piece_of_triangle(std::vector<std::uint32_t> piece_of_triangle) {

@@ -230,6 +230,7 @@ bool HapticBox::refine(std::size_t p00, int a0, int b0, std::size_t sf, const fl
 bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact& out,
                            float& distance_from_handle, Refine refine_hit, bool* refined,
                            std::uint32_t* triangle) const noexcept {
+  if (!has_table()) return out = Contact{}, false;  // a frame answers nothing
   switch (samples_.codec()) {
   case CodecId::block:
     return query_with(box_query::CodecFetch<BlockTable>{samples_.block()}, segment, law, out, distance_from_handle, refine_hit,
@@ -242,7 +243,6 @@ bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact&
                       distance_from_handle, refine_hit, refined, triangle);
   }
 }
-
 
 // Whether locate() starts loading the four quads' triangle ids (every policy but the
 // geometry-only one of query_near, which reads no ids).
@@ -513,6 +513,7 @@ void HapticBox::query_many_with(const Fetch& fetch, const Segment* segments, std
 
 void HapticBox::query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
                            Contact* out) const noexcept {
+  if (!has_table()) return std::fill(out, out + count, Contact{});
   switch (samples_.codec()) {
   case CodecId::block:
     return query_many_with(box_query::CodecFetch<BlockTable>{samples_.block()}, segments, count, law, out);

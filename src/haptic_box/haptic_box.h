@@ -47,6 +47,16 @@ public:
   /// header only (O(1), touches one page). Throws hb::InvalidInput.
   HapticBox(const Obb& obb, const BoxParams& params, CodecId codec, const std::uint8_t* payload,
             std::size_t bytes, std::shared_ptr<const void> owner, const CodecStats& stats);
+  /// A frame: the box's OBB and sampling without a table (nor triangle ids). What a scene
+  /// answered by exact Embree keeps of its boxes (BoxScene::without_tables): the window draws
+  /// them, `info` lists them, the route never reads a table. Its queries answer no contact;
+  /// compressed() and attach_surface() throw hb::InvalidInput. Throws as the other constructors
+  /// for a bad OBB or sampling.
+  HapticBox(const Obb& obb, const BoxParams& params);
+  /// This box's frame (see above).
+  HapticBox frame() const { return HapticBox(obb_, params_); }
+  /// Whether the box holds a table (false: a frame).
+  bool has_table() const noexcept { return samples_.data() != nullptr; }
 
   /// Exact refinement (step 7 of the query, see the .cpp overview): `triangle_ids` holds,
   /// per sample in the layout of BoxLayout::sample_index(), the surface slot of the triangle the
@@ -152,8 +162,8 @@ public:
   const CodecStats& codec_stats() const { return stats_; }
   /// Bytes of the stored table (compressed payload, or 8 bytes a sample when raw).
   std::size_t table_bytes() const { return samples_.bytes(); }
-  /// Bytes of the table uncompressed.
-  std::size_t raw_table_bytes() const { return params_.sample_count() * sizeof(Sample); }
+  /// Bytes of the table uncompressed (0 for a frame).
+  std::size_t raw_table_bytes() const { return has_table() ? params_.sample_count() * sizeof(Sample) : 0u; }
 
   /// Where the samples are, in space and in the table (box_layout.h).
   const BoxLayout& layout() const { return layout_; }

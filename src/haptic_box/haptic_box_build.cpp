@@ -56,7 +56,15 @@ HapticBox::HapticBox(const Obb& obb, const BoxParams& params, CodecId codec, con
   layout_ = BoxLayout(obb_, params_);
 }
 
+HapticBox::HapticBox(const Obb& obb, const BoxParams& params) : obb_(obb), params_(params) {
+  if (params_.m < 2 || params_.n < 2) throw InvalidInput("HapticBox: m and n must be >= 2");
+  check_geometry();
+  layout_ = BoxLayout(obb_, params_);
+}
+
 HapticBox HapticBox::compressed(const CodecOptions& options) const {
+  if (!has_table())
+    throw InvalidInput("HapticBox: a frame has no table to compress (its scene is answered by exact Embree)");
   if (!table_) throw InvalidInput("HapticBox: the table is already compressed");
   HapticBox box(obb_, params_, compress_table(table_, params_, obb_.diagonal(), options));
   if (surface_) box.attach_surface(triangle_ids_, params_.sample_count(), ids_owner_, surface_, false);
@@ -67,6 +75,7 @@ void HapticBox::attach_surface(const TriangleIds& triangle_ids, std::size_t coun
                                std::shared_ptr<const void> ids_owner, std::shared_ptr<const SurfaceTriangles> surface,
                                bool validate) {
   if (!triangle_ids.data || !surface) throw InvalidInput("HapticBox: refinement needs triangle ids and a surface");
+  if (!has_table()) throw InvalidInput("HapticBox: a frame (no table) cannot refine");
   if (triangle_ids.width != 2 && triangle_ids.width != 4)
     throw InvalidInput("HapticBox: triangle ids of " + std::to_string(triangle_ids.width) + " bytes (2 or 4)");
   if (count != params_.sample_count())

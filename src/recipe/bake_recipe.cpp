@@ -78,6 +78,15 @@ std::vector<std::vector<std::uint32_t>> seamed_piece_lists(const TriangleMesh& m
   });
 }
 
+BakeOptions search_bake_options(BakeOptions base, std::shared_ptr<const SurfaceTriangles> surface) {
+  base.refine = surface != nullptr;
+  base.surface = std::move(surface);
+  base.scene_grid = false;
+  base.communicator = nullptr;
+  base.progress = nullptr;
+  return base;
+}
+
 BakeRecipe default_recipe() {
   BakeRecipe r;
   r.pieces.kind = PiecesRecipe::Kind::automatic;

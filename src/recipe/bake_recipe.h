@@ -113,8 +113,10 @@ struct BudgetRecipe {
   /// Whether the chosen scene keeps its boxes' triangle ids. By default a scene whose grid's
   /// surface cells answer (SceneRoute::cells, every scene of several pieces with a refined
   /// one) drops them (BoxScene::without_triangle_ids): the cells route never reads them, and
-  /// they were two thirds of a default file (bunny 20.4 of 32.2 MB, 2026-12-04). Keep them
-  /// to compare `--route boxes` on the default recipe (`bake --keep-ids`).
+  /// they were two thirds of a default file (bunny 20.4 of 32.2 MB, 2026-12-04); and a scene
+  /// routed to Embree (BudgetReport::answer "embree") keeps only its boxes' frames, no tables
+  /// nor ids (BoxScene::without_tables: Embree reads the surface alone). Keep them to compare
+  /// `--route boxes` on the default recipe (`bake --keep-ids`).
   bool keep_triangle_ids = false;
   /// Bake every piece at every sampling and search them all even when the surface cells
   /// answer the scene exactly (budgeted_bake.cpp step 2a): the bakes before 2026-12-04, for
@@ -198,6 +200,12 @@ std::vector<std::uint32_t> resolve_piece_ids(const TriangleMesh& mesh, const Pie
 std::vector<std::vector<std::uint32_t>> seamed_piece_lists(const TriangleMesh& mesh,
                                                            const std::vector<std::uint32_t>& piece_ids,
                                                            const SeamOptions& seams, const BakeOptions& options);
+
+/// `base` for one of a search's own bakes, in this process (the budgeted bake's pieces at a
+/// sampling, the raw trial's boxes): refined against `surface` (none: the blend alone), no
+/// scene grid (the search builds its own), no communicator, no progress (the search reports
+/// its own). The caller sets the sampling.
+BakeOptions search_bake_options(BakeOptions base, std::shared_ptr<const SurfaceTriangles> surface);
 
 /// Bakes `mesh` per `recipe`: pieces (resolve_piece_ids), seams (seamed_piece_lists), one box
 /// per piece (bake_scene_from_lists), then the codec. The scene records `source` and the

@@ -74,7 +74,8 @@ std::uint64_t recipe_key(const BakeRecipe& r) {
     k << " budget timed " << budget_spec(b.budget) << ' ' << b.probes << ' ' << b.tuning_seed << ' ' << b.check_seed;
     for (const Sampling& s : b.samplings) k << ' ' << hexfloat(s.cell) << ' ' << s.n;
     if (b.surface_tolerance > 0) k << " surface " << hexfloat(float(b.surface_tolerance));
-    k << (b.keep_triangle_ids ? " ids kept" : " ids dropped");
+    // "frames": an Embree-routed scene keeps no tables (entries from before held them).
+    k << (b.keep_triangle_ids ? " ids kept" : " ids dropped, embree frames");
     if (b.full_search) k << " full search";
     if (b.simplify)
       k << " simplify " << b.simplify_above << ' ' << hexfloat(float(b.simplify_deviation)) << ' '

@@ -168,14 +168,9 @@ void BudgetSearch::assign_ownership() {
 }
 
 BakeOptions BudgetSearch::options_for(std::size_t c) const {
-  BakeOptions o = recipe_.options;
+  BakeOptions o = search_bake_options(recipe_.options, surface_);
   o.params.n = br_.samplings[c].n;
   o.density.cell = br_.samplings[c].cell;
-  o.refine = true;
-  o.surface = surface_;
-  o.scene_grid = false;
-  o.communicator = nullptr;
-  o.progress = nullptr;
   return o;
 }
 
@@ -359,9 +354,9 @@ bool BudgetSearch::exact_first(BoxScene& refined_coarse, bool exact_scene) {
   if (surface_mesh_.use_simplified) {
     early_ = paired_query_ns(refined_coarse, *exact_, timed_, law_);
   } else {
-    BoxScene by_embree = refined_coarse;
-    by_embree.set_route(SceneRoute::embree);
-    early_ = paired_query_ns(refined_coarse, by_embree, timed_, law_);
+    embree_tree_ = refined_coarse;
+    embree_tree_.set_route(SceneRoute::embree);  // its tree serves step 5b (the same surface)
+    early_ = paired_query_ns(refined_coarse, embree_tree_, timed_, law_);
   }
   stage_done("exact_first", seconds_since(tstage));
   if (early_->a_ns > early_->b_ns) {
@@ -464,13 +459,17 @@ void BudgetSearch::choose_route(BoxScene& scene) {
   const bool exact_route = scene.answering_route() == SceneRoute::cells || scene.has_triangle_ids();
   if (br_.fastest_exact && exact_route && scene.surface() && scene.surface()->normal_map_side() == 0) {
     BoxScene by_embree = scene;
+    by_embree.take_embree_tree(embree_tree_);  // step 2b's tree: no second build over the same surface
     by_embree.set_route(SceneRoute::embree);
     // The scene timed at step 2b is this one: its timing stands.
     const PairedTiming t = early_ ? *early_ : paired_query_ns(scene, by_embree, timed_, law_);
     rep_.cells_ns = t.a_ns, rep_.embree_ns = t.b_ns;
     rep_.exact_ns = t.b_ns;
     rep_.answer_ns = std::min(t.a_ns, t.b_ns);
-    if (t.a_ns > t.b_ns) scene = std::move(by_embree);
+    // Embree reads the surface alone: the boxes keep their frames (the window draws them,
+    // `info` lists them), not their tables and ids (most of the file), unless asked to
+    // (BudgetRecipe::keep_triangle_ids: `--route boxes` to compare).
+    if (t.a_ns > t.b_ns) scene = br_.keep_triangle_ids ? std::move(by_embree) : by_embree.without_tables();
   } else {
     const PairedTiming t = paired_query_ns(scene, *exact_, timed_, law_);
     rep_.answer_ns = t.a_ns, rep_.exact_ns = t.b_ns;

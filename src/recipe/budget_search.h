@@ -114,6 +114,7 @@ private:
   std::vector<std::size_t> choice_;              // per piece: its variant
   std::vector<Segment> timed_;                   // the tuning probes the routes are timed on
   std::optional<PairedTiming> early_;            // step 2b's timing of the exact scene taken
+  BoxScene embree_tree_;                         // step 2b's scene on Embree: its tree serves step 5b
   bool slower_than_exact_ = false;               // step 2b: the simplified surface is dropped
 };
 

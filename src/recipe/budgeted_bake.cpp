@@ -41,7 +41,10 @@
 //     owning a failing probe moves up one variant (at most as many rounds as variants), and
 //     an unrefined piece owning a probe answered off the surface is refined.
 //  5. A scene the surface cells answer (SceneRoute::cells) drops its boxes' triangle ids
-//     (BudgetRecipe::keep_triangle_ids): that route never reads them.
+//     (BudgetRecipe::keep_triangle_ids): that route never reads them. 5b: the cells and
+//     Embree over the surface are timed (step 2b's tree and, for the scene it timed, its
+//     timing reused); a scene routed to Embree keeps only its boxes' frames, no tables nor
+//     ids (BoxScene::without_tables): Embree reads the surface alone.
 //  6. The scene is measured on fresh probes (BudgetRecipe::check_seed) and the figures are
 //     recorded in BudgetReport (the box file, `info`, `--json`, the report).
 //  The steps 0-6 are BudgetSearch (budget_search.h), one method a step; the surface of step 0

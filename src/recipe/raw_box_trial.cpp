@@ -1,4 +1,5 @@
 #include "recipe/raw_box_trial.h"
+#include "recipe/bake_recipe.h"
 #include "evaluation/query_timing.h"
 #include "evaluation/stability_suite.h"
 #include "exact/exact_query.h"
@@ -74,15 +75,10 @@ RawTrial try_raw_boxes(const TriangleMesh& mesh, const ExactQuery& exact, const 
   const auto judge = [&](const RawSampling& s, RawCandidate& c, bool screen = false) -> std::optional<BoxScene> {
     c.m = s.m, c.n = s.n;
     auto t = std::chrono::steady_clock::now();
-    BakeOptions bo = base;
+    BakeOptions bo = search_bake_options(base, nullptr);
     bo.params.m = s.m;
     bo.params.n = s.n;
     bo.density = PositionDensity{};
-    bo.refine = false;
-    bo.surface = nullptr;
-    bo.scene_grid = false;
-    bo.communicator = nullptr;
-    bo.progress = nullptr;
     bo.whole_mesh_bvh = &exact.scene();  // the exact reference's BVH of the full mesh
     BakeStats stats;
     BoxScene scene = bake_scene(mesh, {}, bo, source, &stats);

@@ -46,6 +46,16 @@ std::vector<SweepConfig> sweep_grid(const std::vector<int>& ms, const std::vecto
   return grid;
 }
 
+void SweepRow::set_accuracy(const ComparisonStats& s, const ErrorBudget& budget) {
+  force_error_median = s.force_error_median;
+  force_error_p95 = s.force_error_p95;
+  contact_agreement = s.contact_agreement;
+  angle_error_median_deg = s.angle_error_median_deg;
+  angle_error_p99_deg = s.angle_error_p99_deg;
+  perceptible_share = s.perceptible_share;
+  within_budget = meets_budget(s, budget);
+}
+
 void mark_pareto_front(std::vector<SweepRow>& rows) {
   for (SweepRow& r : rows) {
     r.pareto = true;
@@ -196,13 +206,7 @@ private:
     const ComparisonStats s =
         compare_queries(q, exact_, probes_, options_.law, diagonal_, nullptr, &comm_, &shares, options_.judge);
     add_work(shares);
-    row.force_error_median = s.force_error_median;
-    row.force_error_p95 = s.force_error_p95;
-    row.contact_agreement = s.contact_agreement;
-    row.angle_error_median_deg = s.angle_error_median_deg;
-    row.angle_error_p99_deg = s.angle_error_p99_deg;
-    row.perceptible_share = s.perceptible_share;
-    row.within_budget = meets_budget(s, options_.budget);
+    row.set_accuracy(s, options_.budget);
     const int owner = int(measured_++ % std::size_t(comm_.size()));
     double timing_seconds = 0.0;
     if (comm_.rank() == owner) {

@@ -61,6 +61,9 @@ struct SweepRow {
   /// force error, direction p99); the references count too (exact is within any budget).
   bool within_budget = false;
   bool pareto = false;             ///< on the Pareto front (see mark_pareto_front).
+  /// The accuracy figures above from `s` (a comparison against the exact reference), and
+  /// within_budget by `budget`: one place for `sweep`'s rows and the report's own row.
+  void set_accuracy(const ComparisonStats& s, const ErrorBudget& budget);
   /// What charts call a row that is not one (m, n) configuration, e.g. a report's own scene
   /// of several boxes ("scene: 19 boxes, m 8-26, n 6-8"); empty: "m<m> n<n>".
   std::string label;

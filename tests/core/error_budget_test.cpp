@@ -7,6 +7,7 @@
 #include "exact/exact_query.h"
 #include "recipe/bake_recipe.h"
 #include "haptic_box/box_file.h"
+#include "same_answers.h"
 #include "two_spheres.h"
 #include <gtest/gtest.h>
 #include <algorithm>
@@ -240,17 +241,7 @@ TEST(ErrorBudgetTest, DefaultBakeDropsTheTriangleIdsTheCellsRouteDoesNotRead) {
   EXPECT_EQ(loaded.answering_route(), SceneRoute::cells);
   ProbeOptions po;
   po.seed = 7;
-  std::size_t contacts = 0;
-  for (const Segment& s : sample_probes(two.mesh, 3000, po)) {
-    const Contact a = kept.scene.query(s, ForceLaw{}), b = loaded.query(s, ForceLaw{});
-    ASSERT_EQ(a.contact, b.contact);
-    if (!a.contact) continue;
-    ++contacts;
-    EXPECT_EQ(a.depth, b.depth);
-    EXPECT_EQ(a.force, b.force);
-    EXPECT_EQ(a.normal, b.normal);
-  }
-  EXPECT_GT(contacts, 300u);
+  EXPECT_GT(test::expect_same_answers(kept.scene, loaded, sample_probes(two.mesh, 3000, po), ForceLaw{}), 300u);
 }
 
 // A scene the surface cells answer gives exact's answers whatever its pieces' samplings: the
@@ -283,16 +274,7 @@ TEST(ErrorBudgetTest, ASceneTheSurfaceCellsAnswerIsBakedAtTheCoarsestSamplingOnl
   EXPECT_LE(quick_tables, full_tables);
   ProbeOptions po;
   po.seed = 9;
-  std::size_t contacts = 0;
-  for (const Segment& s : sample_probes(two.mesh, 3000, po)) {
-    const Contact a = quick.scene.query(s, ForceLaw{}), b = full.scene.query(s, ForceLaw{});
-    ASSERT_EQ(a.contact, b.contact);
-    if (!a.contact) continue;
-    ++contacts;
-    EXPECT_EQ(a.depth, b.depth);
-    EXPECT_EQ(a.force, b.force);
-  }
-  EXPECT_GT(contacts, 300u);
+  EXPECT_GT(test::expect_same_answers(quick.scene, full.scene, sample_probes(two.mesh, 3000, po), ForceLaw{}), 300u);
 }
 
 // The bake records where its time went, stage by stage in step order (issue 17: the 13M bake's
