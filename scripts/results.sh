@@ -4,7 +4,7 @@
 # and the machine. Rerunning it refreshes the table between the results markers in README.md and
 # the whole of docs/results.md. Not run by ./test.sh (it measures; tests assert).
 #
-#   scripts/results.sh [--quick] [--large] [--no-write]
+#   scripts/results.sh [--quick] [--large] [--huge] [--no-write]
 #
 #   (default)   elephant, fandisk, armadillo, bunny, chess piece, the armadillo subdivided to
 #               832K triangles, the bumpy sphere and the smooth ellipsoid (the smooth, quasi-convex
@@ -12,6 +12,8 @@
 #   --quick     elephant and armadillo only
 #   --large     also the armadillo subdivided to 13M triangles (a 539 MB OFF; about 5 minutes
 #               more, 3.5 GB of memory)
+#   --huge      also the armadillo subdivided to 53M triangles (a 1 GB binary PLY; about 8 minutes
+#               more, 8 GB of memory)
 #   --no-write  print the tables, change no file
 #
 # Every model is baked with `hapticbox bake MESH -o BOX` and no other option (the default bake),
@@ -28,8 +30,9 @@ for arg in "$@"; do
   case "$arg" in
     --quick) models=(elephant armadillo) ;;
     --large) models+=(armadillo_13m) ;;
+    --huge) models+=(armadillo_53m) ;;
     --no-write) write=0 ;;
-    -h|--help) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "results.sh: unknown argument '$arg' (try --help)" >&2; exit 2 ;;
   esac
 done
@@ -49,9 +52,11 @@ mesh_of() {
     elephant|fandisk|armadillo) echo "$data/meshes/$1.off" ;;
     bunny) echo "$data/meshes/bunny00.off" ;;
     chess_piece|bumpy_sphere|smooth_ellipsoid) echo "$data/generated/$1.off" ;;
-    armadillo_832k|armadillo_13m)
-      local levels=2; [ "$1" = armadillo_13m ] && levels=4
-      local m="$out/$1.off"
+    armadillo_832k|armadillo_13m|armadillo_53m)
+      local levels=2 ext=off
+      [ "$1" = armadillo_13m ] && levels=4
+      [ "$1" = armadillo_53m ] && levels=5 ext=ply  # binary: a 2 GB OFF reads slowly
+      local m="$out/$1.$ext"
       if [ ! -f "$m" ] || [ "$data/meshes/armadillo.off" -nt "$m" ]; then
         "$HB" subdivide "$data/meshes/armadillo.off" -o "$m" --levels "$levels" >&2
       fi
@@ -89,6 +94,7 @@ out, write, commit, started, machine, load, version, took = sys.argv[1:9]
 models = sys.argv[9:]
 titles = {"elephant": "elephant", "fandisk": "fandisk", "armadillo": "armadillo", "bunny": "bunny",
           "chess_piece": "chess piece", "armadillo_832k": "armadillo 832K", "armadillo_13m": "armadillo 13M",
+          "armadillo_53m": "armadillo 53M",
           "bumpy_sphere": "bumpy sphere", "smooth_ellipsoid": "smooth ellipsoid"}
 
 def read(name, step):
