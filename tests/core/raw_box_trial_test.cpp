@@ -12,6 +12,28 @@
 namespace hb {
 namespace {
 
+// A bumpy sphere subdivided `subdivisions` times, its exact reference, `count` probes of
+// `seed` on it and exact's answers at the workspace's law (built in place: exact holds the mesh).
+struct BumpyProbes {
+  BumpyProbes(int subdivisions, std::size_t count, std::uint64_t seed)
+      : mesh(make_bumpy_sphere(options(subdivisions))), exact(mesh), law(make_workspace(mesh.bounds().diagonal()).law()) {
+    ProbeOptions po;
+    po.seed = seed;
+    probes = sample_probes(mesh, count, po);
+    for (const Segment& s : probes) answers.push_back(exact.query(s, law));
+  }
+  static BumpySphereOptions options(int subdivisions) {
+    BumpySphereOptions bo;
+    bo.subdivisions = subdivisions;
+    return bo;
+  }
+  const TriangleMesh mesh;
+  const ExactQuery exact;
+  const ForceLaw law;
+  std::vector<Segment> probes;
+  std::vector<Contact> answers;
+};
+
 TEST(RawBoxTrialTest, AScreenFeltOnSlidesBeyondWhatTheFinestCouldFixForecastsNoSamplingServes) {
   const RawSampling screen{16, 8}, finest{32, 16};
   const double allowed = 0.0008;
@@ -36,20 +58,11 @@ TEST(RawBoxTrialTest, CodecBoundMakesHalfTheForceThresholdAtTheWorkspaceStiffnes
 }
 
 TEST(RawBoxTrialTest, TheScreenOfABumpySphereJudgesItsSlidesAndStopsWhenTheyCannotServe) {
-  BumpySphereOptions bo;
-  bo.subdivisions = 5;  // 20,480 triangles
-  const TriangleMesh mesh = make_bumpy_sphere(bo);
-  const ExactQuery exact(mesh);
-  const ForceLaw law = make_workspace(mesh.bounds().diagonal()).law();
-  ProbeOptions po;
-  po.seed = 7;
-  const std::vector<Segment> probes = sample_probes(mesh, 4000, po);
-  std::vector<Contact> answers;
-  for (const Segment& s : probes) answers.push_back(exact.query(s, law));
+  const BumpyProbes b(5, 4000, 7);  // 20,480 triangles
   RawTrialOptions o;
   o.samplings = {{16, 8}, {32, 16}};
-  o.codec_bound = raw_codec_bound(law, o.thresholds, double(mesh.bounds().diagonal()));
-  const RawTrial trial = try_raw_boxes(mesh, exact, probes, answers, law, BakeOptions{}, SourceInfo{}, o);
+  o.codec_bound = raw_codec_bound(b.law, o.thresholds, double(b.mesh.bounds().diagonal()));
+  const RawTrial trial = try_raw_boxes(b.mesh, b.exact, b.probes, b.answers, b.law, BakeOptions{}, SourceInfo{}, o);
   ASSERT_FALSE(trial.tried.empty());
   const RawCandidate& first = trial.tried.front();
   EXPECT_EQ(first.m, 16);
@@ -67,20 +80,11 @@ TEST(RawBoxTrialTest, TheScreenOfABumpySphereJudgesItsSlidesAndStopsWhenTheyCann
 // places each, hb::bake_chart_points): a coarse box felt on most probes, which stops the trial
 // at the screen, still has its query time and exact's beside it.
 TEST(RawBoxTrialTest, EverySamplingTriedIsTimedAgainstExactWhateverItsOutcome) {
-  BumpySphereOptions bo;
-  bo.subdivisions = 3;  // 1,280 triangles
-  const TriangleMesh mesh = make_bumpy_sphere(bo);
-  const ExactQuery exact(mesh);
-  const ForceLaw law = make_workspace(mesh.bounds().diagonal()).law();
-  ProbeOptions po;
-  po.seed = 11;
-  const std::vector<Segment> probes = sample_probes(mesh, 2000, po);
-  std::vector<Contact> answers;
-  for (const Segment& s : probes) answers.push_back(exact.query(s, law));
+  const BumpyProbes b(3, 2000, 11);  // 1,280 triangles
   RawTrialOptions o;
   o.samplings = {{4, 2}, {8, 4}};
   o.slides = false;
-  const RawTrial trial = try_raw_boxes(mesh, exact, probes, answers, law, BakeOptions{}, SourceInfo{}, o);
+  const RawTrial trial = try_raw_boxes(b.mesh, b.exact, b.probes, b.answers, b.law, BakeOptions{}, SourceInfo{}, o);
   ASSERT_FALSE(trial.tried.empty());
   EXPECT_EQ(trial.tried.front().outcome, "felt on probes");  // m4 n2: far too coarse to serve
   for (const RawCandidate& c : trial.tried) {
