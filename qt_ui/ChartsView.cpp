@@ -166,6 +166,17 @@ QString ChartsView::emptyHint() {
             "click a haptic-box point to load that configuration.");
 }
 
+QString ChartsView::untimedBakeHint() {
+  return tr("This box file was baked before bakes timed what they tried (2026-12-07), so there is nothing to chart: "
+            "bake the model again (Bake) to see the default bake, exact and the raw samplings it tried, or run a "
+            "sweep (Tools > Run Sweep).");
+}
+
+void ChartsView::showUntimedBake() {
+  setRows({}, {});
+  hint_->setText(untimedBakeHint());
+}
+
 void ChartsView::setRows(const std::vector<hb::SweepRow>& rows, const std::vector<std::pair<double, double>>& compression,
                          const std::vector<std::string>& notes) {
   showsBake_ = false;

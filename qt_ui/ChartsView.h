@@ -52,6 +52,10 @@ public:
   bool tooltipVisible() const;
   /// The hint shown while the charts are empty, and the hint shown now.
   static QString emptyHint();
+  /// A box baked to a budget before bakes timed what they tried (its file holds no query
+  /// times): the hint says to bake it again; the charts are cleared.
+  void showUntimedBake();
+  static QString untimedBakeHint();
   QString hintText() const;
 
 protected:

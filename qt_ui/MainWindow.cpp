@@ -107,6 +107,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
     if (!charts_->showsSweep() && session_->boxes()) {
       const std::vector<hb::BakeChartPoint> points = hb::bake_chart_points(*session_->boxes());
       if (!points.empty()) charts_->showBake(points, session_->compressionCurve());
+      else if (session_->boxes()->budget_report().present) charts_->showUntimedBake();  // an older file
     }
     updateActions();
   });

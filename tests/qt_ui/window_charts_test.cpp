@@ -4,6 +4,7 @@
 // a box file loaded back shows the same points (the times are in the file); a sweep replaces
 // them.
 #include "ChartsView.h"
+#include "haptic_box/box_file.h"
 #include "window_test_support.h"
 #include <QDockWidget>
 #include <QFileInfo>
@@ -106,6 +107,20 @@ TEST(WindowChartsTest, RightAfterTheDefaultBakeTheSpeedChartShowsItExactAndTheRa
   EXPECT_TRUE(charts->showsBake());
   EXPECT_EQ(charts->pointCount(), points);
   EXPECT_DOUBLE_EQ(charts->boxRows()[0].query_ns, answerNs);
+
+  // A file baked before bakes timed what they tried: nothing to chart, and the hint says to
+  // bake again.
+  const QString untimed = data.dir.filePath(QStringLiteral("untimed.hbox"));
+  {
+    hb::BoxScene old = *w.session()->boxes();
+    old.set_budget_report(old.budget_report().without_times());
+    hb::save_box_file(old, untimed.toStdString());
+  }
+  ASSERT_TRUE(w.session()->openBoxFile(untimed, &error)) << error.toStdString();
+  ASSERT_TRUE(waitFor([&] { return charts->hintText() == ChartsView::untimedBakeHint(); }, 60)) << charts->hintText().toStdString();
+  EXPECT_EQ(charts->pointCount(), 0u);
+  ASSERT_TRUE(w.session()->openBoxFile(box, &error)) << error.toStdString();
+  ASSERT_TRUE(waitFor([&] { return charts->showsBake(); }, 60));
 
   // A sweep replaces them with its rows (the default bake among them).
   ASSERT_TRUE(w.session()->startSweep({8}, {4}, 500, &error)) << error.toStdString();
