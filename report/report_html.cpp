@@ -154,8 +154,7 @@ void write_summary(std::ostringstream& h, const ReportData& d) {
   tr("pieces (boxes)", std::to_string(d.pieces));
   tr(d.pieces > 1 ? "densities (over the boxes)" : "densities", densities_text(d));
   tr("codec", html_escape(d.codec) + (d.refine ? ", exact refinement" : ""));
-  tr("route", d.route == "cells" ? "cells: the first crossing among the grid's surface-cell triangles answers"
-                                 : "boxes: the boxes answer (their samples, refined where they store triangle ids)");
+  tr("route", html_escape(d.route + ": " + route_words(d.route)));
   tr("memory (what its queries read: tables, triangle ids, surface, normal map, grid, cells)", bytes_text(d.memory_bytes));
   tr("bake time", d.bake_seconds > 0 ? duration_text(d.bake_seconds) : "loaded from a box file");
   tr("query time, haptic box", ns_text(d.box_ns));

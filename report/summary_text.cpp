@@ -19,7 +19,7 @@ std::string report_summary_text(const ReportData& d, const std::string& dir) {
   o << "measured: the haptic box (" << (d.box_path.empty() ? std::string("baked for the report") : d.box_path) << ": "
     << d.pieces << (d.pieces == 1 ? " box, " : " boxes, ") << densities_text(d) << ", codec " << d.codec
     << (d.refine ? ", exact refinement" : "")
-    << (d.route == "cells" ? ", answered from the grid's surface-cell triangles" : "") << ") against the exact answer (Embree on the "
+    << (d.route == "boxes" ? "" : ", answered by " + route_words(d.route)) << ") against the exact answer (Embree on the "
     << count_text(double(d.triangles)) << "-triangle mesh " << mesh << "), on the same " << count_text(double(s.samples))
     << " random probes (seed " << d.options.probes.seed << ")\n";
   o << "workspace: " << d.workspace.describe() << "\n";
@@ -56,6 +56,14 @@ std::string report_summary_text(const ReportData& d, const std::string& dir) {
   else
     o << "speed: not measured";
   return o.str();
+}
+
+std::string route_words(const std::string& route) {
+  if (route == "cells") return "the first crossing among the grid's surface-cell triangles (exact)";
+  if (route == "embree")
+    return "exact Embree over the scene's surface (measured faster than the surface cells at bake time; the boxes are "
+           "frames only)";
+  return "the boxes (their samples, refined where they store triangle ids)";
 }
 
 } // namespace hb

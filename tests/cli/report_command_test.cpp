@@ -106,6 +106,13 @@ TEST_F(ReportCommandTest, AReportFromAMeshIsOfTheDefaultBakeThroughTheCacheUnles
   EXPECT_GE(s["eval"]["contact_agreement"].get<double>(), 0.995);
   EXPECT_LE(s["eval"]["force_error_p95"].get<double>(), 0.07);
   EXPECT_GT(s["box"]["bake_seconds"].get<double>(), 0.0);
+  // What answers it, in words, whichever route the bake's clock chose (the summary and the page).
+  const std::string route = s["eval"]["route"].get<std::string>();
+  const std::string words = route == "embree" ? "exact Embree over the scene's surface"
+                            : route == "cells" ? "surface-cell triangles"
+                                               : "the boxes (their samples";
+  EXPECT_NE(s["summary_text"].get<std::string>().find(words), std::string::npos) << route << ": " << s["summary_text"];
+  EXPECT_NE(read("rep_default/report.html").find(words), std::string::npos) << route;
   ASSERT_EQ(run("bake " + path("torus.off") + " -o " + path("default.hbox") + " --cache " + cache).code, 0);
   const CommandResult info = run("info " + path("default.hbox") + " --json");
   ASSERT_EQ(info.code, 0) << info.err;
