@@ -1,7 +1,6 @@
 #include "ChartsView.h"
 #include "ChartPointLabels.h"
 #include "series_colours.h"
-#include <array>
 #include <QLabel>
 #include <QHBoxLayout>
 #include <QVBoxLayout>
@@ -246,19 +245,18 @@ void ChartsView::drawSpeed(const std::vector<hb::SweepRow>& rows, const std::vec
   // Only the series present get a plot (and so a legend entry), in the series colours
   // (series_colours.h, as the report's charts and the 3D arrows): box blue, exact red, VTK
   // orange, the raw samplings a bake tried purple.
-  const auto colourOf = [](const hb::SweepRow& r) {
-    const hb::SeriesColour& c = hb::is_raw_trial_row(r)     ? hb::kRawTrialSeries
-                                : r.method == "haptic_box"   ? hb::kBoxSeries
-                                : r.method == "exact_embree" ? hb::kExactSeries
-                                                             : hb::kVtkSeries;
-    return std::array<unsigned char, 3>{(unsigned char)c.r, (unsigned char)c.g, (unsigned char)c.b};
+  const auto seriesOf = [](const hb::SweepRow& r) -> const hb::SeriesColour& {
+    return r.tried_by_the_bake ? hb::kRawTrialSeries
+           : r.method == "haptic_box"   ? hb::kBoxSeries
+           : r.method == "exact_embree" ? hb::kExactSeries
+                                        : hb::kVtkSeries;
   };
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const hb::SweepRow& r = rows[i];
     const double x = std::log10(std::max(r.query_ns, 1.0));
     // The headline: the share of probes a hand would tell apart (hapticbox sweep's felt_%).
     const double y = 100.0 * r.perceptible_share;
-    const bool rawTrial = hb::is_raw_trial_row(r);
+    const bool rawTrial = r.tried_by_the_bake;
     Series& s = rawTrial ? raw : r.method == "haptic_box" ? box : r.method == "exact_embree" ? exact : vtk;
     s.x.push_back(x);
     s.y.push_back(y);
@@ -267,8 +265,8 @@ void ChartsView::drawSpeed(const std::vector<hb::SweepRow>& rows, const std::vec
     else if (r.method == "haptic_box") boxRows_.push_back(r);
     const std::string w = pointWords(r);
     if (!w.empty()) {
-      const auto c = colourOf(r);
-      words.push_back({x, y, w, c[0], c[1], c[2]});
+      const hb::SeriesColour& c = seriesOf(r);
+      words.push_back({x, y, w, (unsigned char)c.r, (unsigned char)c.g, (unsigned char)c.b});
     }
   }
   boxPlotRows_ = boxRows_.size();
@@ -325,21 +323,14 @@ void ChartsView::drawSpeed(const std::vector<hb::SweepRow>& rows, const std::vec
   vtkAxis* yAxis = speedChart_->GetAxis(vtkAxis::LEFT);
   yAxis->SetBehavior(vtkAxis::FIXED);
   yAxis->SetRange(-0.04 * ymax, 1.15 * ymax);
-  const auto add = [&](const char* name, const Series& s, const hb::SweepRow& like, int marker) -> vtkPlot* {
+  const auto add = [&](const char* name, const Series& s, const hb::SeriesColour& c, int marker) -> vtkPlot* {
     if (s.x.empty()) return nullptr;
-    const auto c = colourOf(like);
-    return addPoints(speedChart_, name, s.x, s.y, c[0], c[1], c[2], marker, s.tips);
+    return addPoints(speedChart_, name, s.x, s.y, (unsigned char)c.r, (unsigned char)c.g, (unsigned char)c.b, marker, s.tips);
   };
-  hb::SweepRow kind;
-  kind.method = "haptic_box";
-  boxPlot_ = add("haptic box", box, kind, VTK_MARKER_CIRCLE);
-  kind.label = "raw m1 n1 (tried by the bake)";
-  rawPlot_ = add("raw box, tried by the bake", raw, kind, VTK_MARKER_CROSS);
-  kind.label.clear();
-  kind.method = "exact_embree";
-  add("exact Embree", exact, kind, VTK_MARKER_DIAMOND);
-  kind.method = "vtk_static_cell_locator";
-  add("VTK static cell locator", vtk, kind, VTK_MARKER_SQUARE);
+  boxPlot_ = add("haptic box", box, hb::kBoxSeries, VTK_MARKER_CIRCLE);
+  rawPlot_ = add("raw box, tried by the bake", raw, hb::kRawTrialSeries, VTK_MARKER_CROSS);
+  add("exact Embree", exact, hb::kExactSeries, VTK_MARKER_DIAMOND);
+  add("VTK static cell locator", vtk, hb::kVtkSeries, VTK_MARKER_SQUARE);
   speedChart_->SetShowLegend(!rows.empty());
   speedChart_->RecalculateBounds();
 }
@@ -377,7 +368,7 @@ void ChartsView::choose(std::size_t index) {
   const hb::SweepRow& r = boxRows_[index];
   // A raw sampling a bake tried is one box over the whole model, which no window bake makes:
   // its tooltip says what it is, a click loads nothing.
-  if (hb::is_raw_trial_row(r)) return;
+  if (r.tried_by_the_bake) return;
   if (!r.label.empty()) emit defaultBakeChosen();  // the default bake's row: its recipe, not one sampling
   else emit configurationChosen(r.m, r.n, QString::fromStdString(r.codec.empty() ? "none" : r.codec));
 }

@@ -4,6 +4,7 @@
 #include "bake_chart_points.h"
 #include "codec/codec.h"
 #include "figure_text.h"
+#include "summary_text.h"
 
 namespace hb {
 namespace {
@@ -19,13 +20,6 @@ std::string outcome_words(const std::string& outcome) {
   return "slower than exact, not kept";
 }
 
-std::string answer_words(const std::string& answer) {
-  if (answer == "raw") return "the raw haptic box";
-  if (answer == "embree") return "exact Embree over the surface";
-  if (answer == "boxes") return "boxes refining exactly";
-  return "the surface cells (exact)";
-}
-
 } // namespace
 
 std::string bake_label(const BoxScene& scene) {
@@ -33,12 +27,6 @@ std::string bake_label(const BoxScene& scene) {
   const BudgetReport& r = scene.budget_report();
   const std::string budget = budget_spec(r.budget) == budget_spec(ErrorBudget{}) ? "default bake" : "bake to " + budget_spec(r.budget);
   return budget + ": " + std::to_string(boxes) + (boxes == 1 ? " box" : " boxes");
-}
-
-bool is_raw_trial_row(const SweepRow& row) {
-  const std::string suffix = kRawSuffix;
-  return row.method == "haptic_box" && row.label.rfind("raw m", 0) == 0 && row.label.size() > suffix.size() &&
-         row.label.compare(row.label.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 std::vector<BakeChartPoint> bake_chart_points(const BoxScene& scene) {
@@ -71,7 +59,8 @@ std::vector<BakeChartPoint> bake_chart_points(const BoxScene& scene) {
     row.angle_error_p99_deg = r.direction_p99_deg;
     row.perceptible_share = r.perceptible;
     row.within_budget = r.met;
-    p.about = row.label + ", answered by " + answer_words(r.answer) + ": " + duration_text(r.answer_ns * 1e-9) + timed +
+    const std::string answer = r.answer.empty() ? "cells" : r.answer;  // files before 2026-12-06: the cells
+    p.about = row.label + ", answered by " + route_words(answer) + ": " + duration_text(r.answer_ns * 1e-9) + timed +
               ", perceptibly different on " + percent(r.perceptible) + " of " + count_text(double(r.probes)) +
               " fresh probes (the budget: at most " + percent(r.budget.perceptible) + ", " + (r.met ? "met" : "MISSED") +
               "); " + bytes_text(scene.memory_bytes());
@@ -82,6 +71,7 @@ std::vector<BakeChartPoint> bake_chart_points(const BoxScene& scene) {
     BakeChartPoint p;
     SweepRow& row = p.row;
     row.method = "haptic_box";
+    row.tried_by_the_bake = true;
     row.m = t.m, row.n = t.n;
     row.codec = "none";
     row.label = "raw m" + std::to_string(t.m) + " n" + std::to_string(t.n) + kRawSuffix;

@@ -23,15 +23,12 @@ struct BakeChartPoint {
 /// answer, 0 % perceptibly different); the bake ("haptic_box", labelled as the sweep's row,
 /// "default bake: N boxes", or "bake to <budget>: N boxes" for another budget; its share of
 /// the fresh probes perceptibly different); each raw sampling tried ("haptic_box", labelled
-/// "raw m16 n8 (tried by the bake)"; its share of the tuning probes; contact agreement -1:
-/// not measured). Empty for a scene not baked to a budget.
+/// "raw m16 n8 (tried by the bake)", SweepRow::tried_by_the_bake; its share of the tuning
+/// probes; contact agreement -1: not measured). Empty for a scene not baked to a budget.
 std::vector<BakeChartPoint> bake_chart_points(const BoxScene& scene);
 
 /// The rows of bake_chart_points(scene).
 std::vector<SweepRow> bake_chart_rows(const BoxScene& scene);
-
-/// Whether `row` is a raw sampling a bake tried (bake_chart_points' label).
-bool is_raw_trial_row(const SweepRow& row);
 
 /// The label bake_chart_points gives the bake itself ("default bake: 19 boxes").
 std::string bake_label(const BoxScene& scene);

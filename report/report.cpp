@@ -86,7 +86,7 @@ nlohmann::json row_json(const SweepRow& r) {
           // null: not measured (a raw sampling a bake tried judges what a hand feels only)
           {"contact_agreement", r.contact_agreement < 0.0 ? nlohmann::json(nullptr) : nlohmann::json(r.contact_agreement)},
           {"perceptible_share", r.perceptible_share},
-          {"tried_by_the_bake", is_raw_trial_row(r)},
+          {"tried_by_the_bake", r.tried_by_the_bake},
           {"angle_error_median_deg", r.angle_error_median_deg},
           {"angle_error_p99_deg", r.angle_error_p99_deg},
           {"within_budget", r.within_budget},
@@ -170,7 +170,7 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   // front (other probes, another run's clock), before the box's own row, which stays last.
   std::vector<SweepRow> tried;
   for (const SweepRow& r : bake_chart_rows(scene))
-    if (is_raw_trial_row(r)) tried.push_back(r);
+    if (r.tried_by_the_bake) tried.push_back(r);
   d.rows.insert(d.rows.end() - 1, tried.begin(), tried.end());
   report_progress(options.progress, 0.9);
 

@@ -111,7 +111,7 @@ namespace {
 std::string row_label(const SweepRow& r) {
   // The default bake and the raw samplings it tried by their names alone ("default bake: 19
   // boxes", "raw m16 n8 (tried by the bake)"); a sampling or a scene with its codec and route.
-  const bool named = r.label.rfind("default bake", 0) == 0 || r.label.rfind("bake to ", 0) == 0 || is_raw_trial_row(r);
+  const bool named = r.label.rfind("default bake", 0) == 0 || r.label.rfind("bake to ", 0) == 0 || r.tried_by_the_bake;
   if (r.method == "haptic_box") return named ? r.label : configuration_name(r);
   return r.method.find("vtk") != std::string::npos ? "VTK locator" : "exact Embree";
 }
@@ -220,7 +220,7 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
         PLFLT x = std::log10(std::max(r.query_ns, 1.0)), y = value(r);
         const bool box = r.method == "haptic_box";
         const bool vtk = r.method.find("vtk") != std::string::npos;
-        const bool raw = is_raw_trial_row(r);
+        const bool raw = r.tried_by_the_bake;
         (raw ? have_raw : box ? (r.pareto ? have_front : have_dominated) : (vtk ? have_vtk : have_exact)) = true;
         const int colour = raw ? kPurple : box ? (r.pareto ? kBlue : kGrey) : (vtk ? kOrange : kRed);
         pls->col0(colour);

@@ -228,7 +228,7 @@ void write_charts(std::ostringstream& h, const ReportData& d, const ChartFiles& 
   for (const SweepRow& r : d.rows) {
     const bool box = r.method == "haptic_box";
     const bool own = box && &r == &d.rows.back();
-    if (is_raw_trial_row(r)) {
+    if (r.tried_by_the_bake) {
       // Figures of the bake's own trial: time at bake time, no contact agreement measured.
       h << "<tr><td class=l>" << html_escape(r.label) << "</td><td>" << r.m << "</td><td>" << r.n << "</td><td>"
         << html_escape(r.codec) << "</td><td>" << ns_text(r.query_ns) << "</td><td>" << bytes_text(r.memory_bytes)

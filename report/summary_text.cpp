@@ -59,6 +59,7 @@ std::string report_summary_text(const ReportData& d, const std::string& dir) {
 }
 
 std::string route_words(const std::string& route) {
+  if (route == "raw") return "the paper's raw haptic box (no triangle test)";
   if (route == "cells") return "the first crossing among the grid's surface-cell triangles (exact)";
   if (route == "embree")
     return "exact Embree over the scene's surface (measured faster than the surface cells at bake time; the boxes are "

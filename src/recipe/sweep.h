@@ -61,6 +61,9 @@ struct SweepRow {
   /// force error, direction p99); the references count too (exact is within any budget).
   bool within_budget = false;
   bool pareto = false;             ///< on the Pareto front (see mark_pareto_front).
+  /// A raw sampling a budgeted bake tried, read off its budget report (hb::bake_chart_points:
+  /// its time at bake time, its share of the bake's tuning probes), not a row this sweep measured.
+  bool tried_by_the_bake = false;
   /// The accuracy figures above from `s` (a comparison against the exact reference), and
   /// within_budget by `budget`: one place for `sweep`'s rows and the report's own row.
   void set_accuracy(const ComparisonStats& s, const ErrorBudget& budget);

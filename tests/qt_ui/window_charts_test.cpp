@@ -68,7 +68,7 @@ TEST(WindowChartsTest, RightAfterTheDefaultBakeTheSpeedChartShowsItExactAndTheRa
   EXPECT_DOUBLE_EQ(rows[0].perceptible_share, rep.perceptible);
   for (std::size_t i = 0; i < rep.raw_tried.size(); ++i) {
     const hb::SweepRow& raw = rows[1 + i];
-    EXPECT_TRUE(hb::is_raw_trial_row(raw)) << raw.label;
+    EXPECT_TRUE(raw.tried_by_the_bake) << raw.label;
     EXPECT_EQ(raw.label, "raw m" + std::to_string(rep.raw_tried[i].m) + " n" + std::to_string(rep.raw_tried[i].n) +
                              " (tried by the bake)");
     EXPECT_GT(raw.query_ns, 0.0);
