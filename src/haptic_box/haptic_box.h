@@ -107,6 +107,10 @@ public:
   /// box is already compressed or the options are out of range.
   HapticBox compressed(const CodecOptions& options) const;
 
+  /// A blended hit whose unit normal makes n . l above -kGrazingCosine (the line more than
+  /// 53 degrees from the normal) is settled across the surface (step 6a of the .cpp overview).
+  static constexpr float kGrazingCosine = 0.6f;
+
   /// Paper section 5, see the .cpp overview. Contact per hb::Contact. Works on raw and
   /// compressed tables alike (the codec is dispatched once per query).
   Contact query(const Segment& segment, const ForceLaw& law) const noexcept override;
@@ -176,6 +180,12 @@ private:
   template <class Fetch> struct Located;
   template <class Fetch>
   bool locate(const Fetch& fetch, const Segment& segment, Located<Fetch>& q) const noexcept;
+  template <class Fetch>
+  bool blend(const Fetch& fetch, const Located<Fetch>& q, float& t0, float& nx, float& ny, float& nz,
+             int& corners_hit, bool any_hit) const noexcept;
+  template <class Fetch>
+  bool settle_grazing(const Fetch& fetch, float p1x, float p1y, float p1z, float lx, float ly, float lz, float& t0,
+                      float& nx, float& ny, float& nz) const noexcept;
   template <class Fetch>
   bool finish(const Fetch& fetch, const Located<Fetch>& q, const ForceLaw& law, Contact& out,
               float& distance_from_handle, Refine refine, bool* refined = nullptr,

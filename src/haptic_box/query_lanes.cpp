@@ -39,6 +39,10 @@ struct LaneBox {
   int m, n;
   const BoxLayout* layout;
   const Sample* table;
+  // The lanes a scalar query answers (step 6a, grazing): query_into() on `box`.
+  const HapticBox* box;
+  float grazing_cosine;
+  void (*scalar)(const HapticBox& box, const Segment& segment, const ForceLaw& law, Contact& out) noexcept;
 };
 
 } // namespace
@@ -152,6 +156,12 @@ void HapticBox::query_many_lanes(const Segment* segments, std::size_t count, con
   b.n = params_.n;
   b.layout = &layout_;
   b.table = table_;
+  b.box = this;
+  b.grazing_cosine = kGrazingCosine;
+  b.scalar = [](const HapticBox& box, const Segment& segment, const ForceLaw& law, Contact& out) noexcept {
+    float along = 0.f;
+    box.query_into(segment, law, out, along);
+  };
   switch (lane_isa()) {
   case LaneIsa::avx512:
     return lanes_avx512::run(b, segments, count, law, out);

@@ -1,6 +1,7 @@
 // Haptic box bake and query on shapes with closed-form answers.
 #include "errors.h"
 #include "exact/embree_scene.h"
+#include "exact/exact_query.h"
 #include "haptic_box/bake.h"
 #include "haptic_box/box_scene.h"
 #include "mesh/generators.h"
@@ -117,6 +118,43 @@ TEST(HapticBoxQueryTest, EllipsoidDepthConvergesToExact) {
   EXPECT_LE(err_fine, err_coarse);
 }
 
+// A line 55-85 degrees from the surface normal: the blend of parallel rays is ill-conditioned
+// there (their hits lie a cell over the cosine apart), so the box settles the crossing across
+// the surface (step 6a). Against exact on the same mesh, force magnitudes agree within the
+// force JND (10%) or a depth of 0.2% of the radius, as on lines near the normal (the blend
+// alone: 175 of 398 differed, 27 contacts lost).
+TEST(HapticBoxQueryTest, AGrazingLineIsAnsweredAsExactlyAsANormalOne) {
+  const Vec3 radii(1.f, 0.7f, 0.5f);
+  const TriangleMesh ellipsoid = make_ellipsoid(radii, 6);
+  const HapticBox box = bake(ellipsoid, 32, 16);
+  const ExactQuery exact(ellipsoid);
+  std::mt19937 rng(21);
+  std::uniform_int_distribution<std::size_t> which(0, ellipsoid.triangle_count() - 1);
+  std::uniform_real_distribution<float> angle(55.f, 85.f), spin(0.f, 6.2831853f);
+  int probes = 0, differ = 0, contacts = 0;
+  for (int i = 0; i < 400; ++i) {
+    const Triangle& t = ellipsoid.triangles[which(rng)];
+    const Vec3 a = ellipsoid.positions[t[0]], b = ellipsoid.positions[t[1]], c = ellipsoid.positions[t[2]];
+    const Vec3 n = (b - a).cross(c - a).normalized();
+    const Vec3 u = n.unitOrthogonal(), v = n.cross(u);
+    const float theta = angle(rng) * float(M_PI) / 180.f, phi = spin(rng);
+    const Vec3 l = -std::cos(theta) * n + std::sin(theta) * (std::cos(phi) * u + std::sin(phi) * v);
+    // The tip at 0.02 (of the largest radius) below the surface along the normal.
+    const Vec3 hit = (a + b + c) / 3.f;
+    const Segment segment{hit - 0.3f * l, hit + (0.02f / std::cos(theta)) * l};
+    const Contact e = exact.query(segment, kLaw);
+    if (!e.contact) continue;
+    ++probes;
+    const Contact x = box.query(segment, kLaw);
+    contacts += x.contact;
+    const float threshold = std::max(0.1f * e.force.norm(), 0.002f * kLaw.stiffness_n_per_m);
+    if (std::fabs(x.force.norm() - e.force.norm()) > threshold) ++differ;
+  }
+  ASSERT_GT(probes, 350);
+  EXPECT_GE(contacts, probes - 2);
+  EXPECT_LE(differ, probes / 100) << differ << " of " << probes;
+}
+
 TEST(HapticBoxQueryTest, CubeFaceGivesFlatDepthAndAxisNormal) {
   const TriangleMesh cube = make_cube(Vec3(1.f, 1.f, 1.f), 4);
   const HapticBox box = bake(cube, 8, 6);
@@ -132,20 +170,23 @@ TEST(HapticBoxQueryTest, QueryAtStoredSampleReturnsStoredValue) {
   const HapticBox box = bake(sphere, 8, 5);
   int checked = 0;
   for (int face = 0; face < 6; ++face)
-    for (int sface = 0; sface < 3; ++sface) {
-      const int i = 3, j = 4, sub = face % 4, a = 2, b = 1;
-      const Sample& sample = box.table()[box.layout().sample_index(face, i, j, sub, sface, a, b)];
-      if (sample.t < 0.f) continue;
-      const Vec3 p = box.layout().position_point(face, i, j);
-      const Vec3 dir = box.layout().sample_direction(face, sub, sface, a, b);
-      const float depth = 0.05f;
-      const Segment s{p - 0.5f * dir, p + (sample.t + depth) * dir};
-      const Contact c = box.query(s, kLaw);
-      ASSERT_TRUE(c.contact);
-      EXPECT_NEAR(c.depth, depth, 2e-4f);
-      ++checked;
-    }
-  EXPECT_GT(checked, 6);
+    for (int sface = 0; sface < 3; ++sface)
+      for (const auto [i, j] : {std::pair{3, 4}, std::pair{4, 3}, std::pair{2, 5}}) {
+        const int sub = face % 4, a = 2, b = 1;
+        const Sample& sample = box.table()[box.layout().sample_index(face, i, j, sub, sface, a, b)];
+        if (sample.t < 0.f) continue;
+        const Vec3 p = box.layout().position_point(face, i, j);
+        const Vec3 dir = box.layout().sample_direction(face, sub, sface, a, b);
+        // A grazing sample is settled across the surface (step 6a), not read back.
+        if ((p + sample.t * dir).normalized().dot(dir) > -HapticBox::kGrazingCosine) continue;
+        const float depth = 0.05f;
+        const Segment s{p - 0.5f * dir, p + (sample.t + depth) * dir};
+        const Contact c = box.query(s, kLaw);
+        ASSERT_TRUE(c.contact);
+        EXPECT_NEAR(c.depth, depth, 2e-4f);
+        ++checked;
+      }
+  EXPECT_GT(checked, 12);
 }
 
 TEST(HapticBoxQueryTest, SegmentMissingTheBoxHasNoContact) {
