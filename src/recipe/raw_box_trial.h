@@ -42,10 +42,12 @@ struct RawTrialOptions {
 };
 
 /// The screen's forecast along the slides: the coarsest sampling's share of slide ticks felt,
-/// divided by the square of the finest's refinement over it (the interpolation's error falls
-/// at most with the square of the sample spacing; measured it falls slower: m16 n8 to m32 n16
-/// took the bumpy sphere from 14.5% to 7.0%, the smooth ellipsoid from 11.2% to 4.7%), is
-/// still above the allowed share: no sampling up to the finest can serve, none is baked.
+/// divided by the fourth power of the finest's refinement over it, is still above the allowed
+/// share: no sampling up to the finest can serve, none is baked. Measured (raw tables, since
+/// grazing lines settle across the surface, 2026-12-07): m16 n8 to m32 n16 took the smooth
+/// ellipsoid from 2.03% to 0.23% (8.8x) and the bumpy sphere from 1.80% to 0.17% (10.6x), a
+/// fall between the cube and the fourth power of the refinement (before: the square, 14.5% to
+/// 7.0%; the forecast then divided by the square).
 bool slides_hopeless(double screen_ticks_felt, const RawSampling& screen, const RawSampling& finest, double allowed_share);
 
 /// The codec bound (fraction of a box's diagonal) whose worst position error makes a force
