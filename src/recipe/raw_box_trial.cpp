@@ -38,7 +38,7 @@ bool slides_hopeless(double screen_ticks_felt, const RawSampling& screen, const 
 float raw_codec_bound(const ForceLaw& law, const PerceptualThresholds& thresholds, double box_diagonal) {
   const double metres = box_diagonal * double(law.metres_per_unit);
   if (!(metres > 0.0) || !(law.stiffness_n_per_m > 0.f)) return 0.f;
-  const double bound = 0.5 * thresholds.floor_n / (double(law.stiffness_n_per_m) * metres);
+  const double bound = 0.125 * thresholds.floor_n / (double(law.stiffness_n_per_m) * metres);
   return float(std::clamp(bound, 1e-5, 0.1));
 }
 

@@ -51,8 +51,11 @@ struct RawTrialOptions {
 bool slides_hopeless(double screen_ticks_felt, const RawSampling& screen, const RawSampling& finest, double allowed_share);
 
 /// The codec bound (fraction of a box's diagonal) whose worst position error makes a force
-/// error of at most half the force threshold F0 at the workspace's stiffness: k d <= F0 / 2,
-/// d = bound x box diagonal x metres per unit.
+/// error of at most an eighth of the force threshold F0 at the workspace's stiffness:
+/// k d <= F0 / 8, d = bound x box diagonal x metres per unit. An eighth, not a half, for the
+/// grazing lines of slides, where an error across the surface moves the crossing by it over
+/// the cosine: measured on the bumpy sphere's m32 n16 (T2 slide ticks felt), F0 / 2 (0.017%
+/// of the diagonal, 17.3 MB) 0.51%, F0 / 8 (19.2 MB) 0.22%, the raw table (151 MB) 0.17%.
 float raw_codec_bound(const ForceLaw& law, const PerceptualThresholds& thresholds, double box_diagonal);
 
 /// One sampling tried.

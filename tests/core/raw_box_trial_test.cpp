@@ -48,13 +48,13 @@ TEST(RawBoxTrialTest, AScreenFeltOnSlidesBeyondWhatTheFinestCouldFixForecastsNoS
   EXPECT_FALSE(slides_hopeless(0.06, screen, {24, 24}, allowed));
 }
 
-TEST(RawBoxTrialTest, CodecBoundMakesHalfTheForceThresholdAtTheWorkspaceStiffness) {
+TEST(RawBoxTrialTest, CodecBoundMakesAnEighthOfTheForceThresholdAtTheWorkspaceStiffness) {
   const double diagonal = 2.0;  // model units
   const ForceLaw law = make_workspace(diagonal).law();
   const PerceptualThresholds t;
   const float bound = raw_codec_bound(law, t, diagonal);  // a fraction of the diagonal
   const double force = double(bound) * diagonal * double(law.metres_per_unit) * double(law.stiffness_n_per_m);
-  EXPECT_NEAR(force, 0.5 * t.floor_n, 1e-6);
+  EXPECT_NEAR(force, 0.125 * t.floor_n, 1e-6);
 }
 
 TEST(RawBoxTrialTest, TheScreenOfABumpySphereJudgesItsSlidesAndStopsWhenTheyCannotServe) {
