@@ -199,6 +199,7 @@ void Suite::t2(const Scene& s) {
   const ForceLaw lw = law(s, k_half());
   std::size_t contact = 0, jump = 0, jump_box = 0, jump_exact = 0, dir_jump = 0, lost = 0, extra = 0, ghost = 0, other = 0, ratio_out = 0,
               both = 0, seam = 0, seam_out = 0, ticks = 0, felt = 0;
+  std::size_t ticks_at[2] = {0, 0}, felt_at[2] = {0, 0};  // [1]: the stylus within 6 deg of tangent
   double max_excess = 0;
   bool traced = false;
   const PerceptualThresholds felt_thresholds;  // nominal: what a hand tells apart
@@ -221,7 +222,13 @@ void Suite::t2(const Scene& s) {
             Contact xb, xe;
             xb.contact = cb, xe.contact = ce;
             xb.force = rb[k].force.cast<float>(), xe.force = re[k].force.cast<float>();
-            felt += perceive(xe, xb, felt_thresholds, o_.device.max_force_n).perceptible();
+            const bool felt_here = perceive(xe, xb, felt_thresholds, o_.device.max_force_n).perceptible();
+            felt += felt_here;
+            // Where along the slide: the stylus within 6 degrees of the surface's tangent
+            // plane (|n . l| < 0.1, the normal of exact's contact, else the box's) or steeper.
+            const Vec3d& n = ce ? re[k].normal : rb[k].normal;
+            const bool grazing = std::fabs(n.dot(dir)) < 0.1;
+            ++ticks_at[grazing], felt_at[grazing] += felt_here;
           }
           if (ce && !cb) ++lost;
           if (cb && !ce && fb > kFloor) ++extra;
@@ -282,6 +289,12 @@ void Suite::t2(const Scene& s) {
   const double c = double(contact);
   add(metric("T2", s.name, "share of contact ticks perceptibly different from exact (max(10% |F|, 0.04 N), 25 deg)", "",
              ticks ? double(felt) / double(ticks) : 0.0, 0.0, StabilityRule::at_most, 0.001));
+  for (int g = 1; g >= 0; --g)
+    add(metric("T2", s.name,
+               std::string("of them, with the stylus ") +
+                   (g ? "within 6 deg of the tangent plane (|n . l| < 0.1): " : "steeper (|n . l| >= 0.1): ") +
+                   std::to_string(ticks_at[g]) + " ticks, share felt",
+               "", ticks_at[g] ? double(felt_at[g]) / double(ticks_at[g]) : 0.0, 0.0, StabilityRule::info, 0));
   add(metric("T2", s.name, "share of ticks whose jump exceeds exact's by max(7% |F|, 0.05 N)", "", jump / c, 0.0,
              StabilityRule::at_most, 0.001));
   add(metric("T2", s.name, "share of ticks with a jump above max(7% |F|, 0.05 N)", "", jump_box / c,
