@@ -284,8 +284,6 @@ inline bool HapticBox::blend(const Fetch& fetch, const Located<Fetch>& q, float&
 // by less than kSettledCells position cells along the normal; otherwise (a miss, a far or
 // tangent plane, no convergence) the blend stands (false). Same table, no memory; only grazing
 // answers pay (two to four blends more).
-static inline float dot3(const float a[3], const float b[3]) noexcept { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
 template <class Fetch>
 bool HapticBox::settle_grazing(const Fetch& fetch, float p1x, float p1y, float p1z, float lx, float ly, float lz,
                                float& t0, float& nx, float& ny, float& nz) const noexcept {
@@ -300,59 +298,50 @@ bool HapticBox::settle_grazing(const Fetch& fetch, float p1x, float p1y, float p
   const float cell = 1.f / std::min(std::min(L.grid_scale[0], L.grid_scale[1]), L.grid_scale[2]);
   const float reach = kReachCells * cell;
   // The surface across point y along -m: its point x and unit normal a.
-  const auto across = [&](const float y[3], const float m[3], float x[3], float a[3]) {
-    const Segment segment{Vec3(y[0] + reach * m[0], y[1] + reach * m[1], y[2] + reach * m[2]),
-                          Vec3(y[0] - reach * m[0], y[1] - reach * m[1], y[2] - reach * m[2])};
+  const auto across = [&](const Vec3& y, const Vec3& m, Vec3& x, Vec3& a) {
     Located<Fetch> q;
-    if (!locate(fetch, segment, q)) return false;
+    if (!locate(fetch, Segment{y + reach * m, y - reach * m}, q)) return false;
     for (typename Fetch::Corner& c : q.corners) fetch.resolve(c);
     float tx;
     int corners = 0;
-    if (!blend(fetch, q, tx, a[0], a[1], a[2], corners, false)) return false;
+    if (!blend(fetch, q, tx, a.x(), a.y(), a.z(), corners, false)) return false;
     // It must lie within the segment across (no other sheet).
     const float along = q.t_enter + tx;
     if (!(along >= 0.f && along <= 2.f * reach)) return false;
-    x[0] = q.sx + along * q.lx, x[1] = q.sy + along * q.ly, x[2] = q.sz + along * q.lz;
+    x = Vec3(q.sx + along * q.lx, q.sy + along * q.ly, q.sz + along * q.lz);
     return true;
   };
-  const float p1[3] = {p1x, p1y, p1z}, l[3] = {lx, ly, lz};
-  float t = t0, m[3] = {nx, ny, nz};
+  // The normal's component along l decides the force at a grazing angle; the blended normal
+  // m strays by a degree on a bumpy surface. The surface's tangent along l's projection,
+  // from two more points across the surface either side of y, corrects it (m when they fail).
+  const Vec3 p1(p1x, p1y, p1z), l(lx, ly, lz);
+  const auto tangent_corrected = [&](const Vec3& y, const Vec3& m) {
+    const Vec3 u = l - l.dot(m) * m;
+    const float ul = u.norm();
+    if (!(ul > 0.f)) return m;
+    const Vec3 step = (kTangentCells * cell) * u / ul;
+    Vec3 xa, xb, aa, ab;
+    if (!across(y + step, m, xa, aa) || !across(y - step, m, xb, ab)) return m;
+    const Vec3 v = xa - xb;
+    const float vv = v.squaredNorm();
+    if (!(vv > 0.f)) return m;
+    const Vec3 c = m - (m.dot(v) / vv) * v;
+    return Vec3(c / c.norm());
+  };
+  float t = t0;
+  Vec3 m(nx, ny, nz);
   for (int step = 0; step < kSteps; ++step) {
-    const float y[3] = {p1x + t * lx, p1y + t * ly, p1z + t * lz};
-    float x[3], a[3];
-    if (!across(y, m, x, a)) return false;
-    const float ln = dot3(a, l);
+    Vec3 x, a;
+    if (!across(p1 + t * l, m, x, a)) return false;
+    const float ln = a.dot(l);
     if (!(ln < -kTangentCosine)) return false;  // tangent or facing along l: no crossing to settle on
-    const float xp[3] = {x[0] - p1[0], x[1] - p1[1], x[2] - p1[2]};
-    const float next = dot3(xp, a) / ln;
+    const float next = (x - p1).dot(a) / ln;
     if (!(std::fabs(next - t) <= kFarthestCells * cell)) return false;
     const float moved = std::fabs((next - t) * ln);
-    t = next, m[0] = a[0], m[1] = a[1], m[2] = a[2];
+    t = next, m = a;
     if (moved < kSettledCells * cell) {
-      t0 = t, nx = m[0], ny = m[1], nz = m[2];
-      // The normal's component along l decides the force at a grazing angle; the blended
-      // normal strays by a degree on a bumpy surface. The surface's tangent along l's
-      // projection, from two more points across the surface on either side, corrects it.
-      const float e = kTangentCells * cell;
-      const float ln2 = dot3(m, l);
-      float u[3] = {lx - ln2 * m[0], ly - ln2 * m[1], lz - ln2 * m[2]};
-      const float ul = std::sqrt(dot3(u, u));
-      if (ul > 0.f) {
-        const float yc[3] = {p1x + t * lx, p1y + t * ly, p1z + t * lz};
-        const float ya[3] = {yc[0] + e * u[0] / ul, yc[1] + e * u[1] / ul, yc[2] + e * u[2] / ul};
-        const float yb[3] = {yc[0] - e * u[0] / ul, yc[1] - e * u[1] / ul, yc[2] - e * u[2] / ul};
-        float xa[3], xb[3], aa[3], ab[3];
-        if (across(ya, m, xa, aa) && across(yb, m, xb, ab)) {
-          const float v[3] = {xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]};
-          const float vv = dot3(v, v);
-          if (vv > 0.f) {
-            const float mv = dot3(m, v) / vv;
-            float c[3] = {m[0] - mv * v[0], m[1] - mv * v[1], m[2] - mv * v[2]};
-            const float cl = std::sqrt(dot3(c, c));
-            nx = c[0] / cl, ny = c[1] / cl, nz = c[2] / cl;
-          }
-        }
-      }
+      const Vec3 n = tangent_corrected(p1 + t * l, m);
+      t0 = t, nx = n.x(), ny = n.y(), nz = n.z();
       return true;
     }
   }

@@ -39,10 +39,7 @@ struct LaneBox {
   int m, n;
   const BoxLayout* layout;
   const Sample* table;
-  // The lanes a scalar query answers (step 6a, grazing): query_into() on `box`.
-  const HapticBox* box;
-  float grazing_cosine;
-  void (*scalar)(const HapticBox& box, const Segment& segment, const ForceLaw& law, Contact& out) noexcept;
+  const HapticBox* box;  // answers the lanes the scalar query takes (step 6a, grazing)
 };
 
 } // namespace
@@ -157,11 +154,6 @@ void HapticBox::query_many_lanes(const Segment* segments, std::size_t count, con
   b.layout = &layout_;
   b.table = table_;
   b.box = this;
-  b.grazing_cosine = kGrazingCosine;
-  b.scalar = [](const HapticBox& box, const Segment& segment, const ForceLaw& law, Contact& out) noexcept {
-    float along = 0.f;
-    box.query_into(segment, law, out, along);
-  };
   switch (lane_isa()) {
   case LaneIsa::avx512:
     return lanes_avx512::run(b, segments, count, law, out);

@@ -2,6 +2,7 @@
 #include "errors.h"
 #include "exact/embree_scene.h"
 #include "exact/exact_query.h"
+#include "grazing_probes.h"
 #include "haptic_box/bake.h"
 #include "haptic_box/box_scene.h"
 #include "mesh/generators.h"
@@ -128,20 +129,9 @@ TEST(HapticBoxQueryTest, AGrazingLineIsAnsweredAsExactlyAsANormalOne) {
   const TriangleMesh ellipsoid = make_ellipsoid(radii, 6);
   const HapticBox box = bake(ellipsoid, 32, 16);
   const ExactQuery exact(ellipsoid);
-  std::mt19937 rng(21);
-  std::uniform_int_distribution<std::size_t> which(0, ellipsoid.triangle_count() - 1);
-  std::uniform_real_distribution<float> angle(55.f, 85.f), spin(0.f, 6.2831853f);
   int probes = 0, differ = 0, contacts = 0;
-  for (int i = 0; i < 400; ++i) {
-    const Triangle& t = ellipsoid.triangles[which(rng)];
-    const Vec3 a = ellipsoid.positions[t[0]], b = ellipsoid.positions[t[1]], c = ellipsoid.positions[t[2]];
-    const Vec3 n = (b - a).cross(c - a).normalized();
-    const Vec3 u = n.unitOrthogonal(), v = n.cross(u);
-    const float theta = angle(rng) * float(M_PI) / 180.f, phi = spin(rng);
-    const Vec3 l = -std::cos(theta) * n + std::sin(theta) * (std::cos(phi) * u + std::sin(phi) * v);
-    // The tip at 0.02 (of the largest radius) below the surface along the normal.
-    const Vec3 hit = (a + b + c) / 3.f;
-    const Segment segment{hit - 0.3f * l, hit + (0.02f / std::cos(theta)) * l};
+  // The tip at 0.02 (of the largest radius) below the surface along the normal.
+  for (const Segment& segment : test::grazing_segments(ellipsoid, 400, 21, 55.f, 85.f, 0.3f, 0.02f)) {
     const Contact e = exact.query(segment, kLaw);
     if (!e.contact) continue;
     ++probes;
@@ -171,7 +161,7 @@ TEST(HapticBoxQueryTest, QueryAtStoredSampleReturnsStoredValue) {
   int checked = 0;
   for (int face = 0; face < 6; ++face)
     for (int sface = 0; sface < 3; ++sface)
-      for (const auto [i, j] : {std::pair{3, 4}, std::pair{4, 3}, std::pair{2, 5}}) {
+      for (const auto& [i, j] : {std::pair{3, 4}, std::pair{4, 3}, std::pair{2, 5}}) {
         const int sub = face % 4, a = 2, b = 1;
         const Sample& sample = box.table()[box.layout().sample_index(face, i, j, sub, sface, a, b)];
         if (sample.t < 0.f) continue;

@@ -3,6 +3,7 @@
 #include "haptic_box/bake.h"
 #include "haptic_box/box_scene.h"
 #include "mesh/generators.h"
+#include "grazing_probes.h"
 #include "two_spheres.h"
 #include <gtest/gtest.h>
 #include <cstring>
@@ -21,33 +22,14 @@ bool same_bits(const Contact& a, const Contact& b) {
          eq(a.normal, b.normal) && eq(a.force, b.force);
 }
 
-// Segments into the surface at 55-89 degrees from its normal (a blend the scalar query
-// settles across the surface, step 6a): from triangle centroids, tip a little inside.
-std::vector<Segment> grazing_probes(const TriangleMesh& mesh, int count, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_int_distribution<std::size_t> which(0, mesh.triangle_count() - 1);
-  std::uniform_real_distribution<float> angle(55.f, 89.f), spin(0.f, 6.2831853f);
-  const float length = 0.1f * mesh.bounds().diagonal();
-  std::vector<Segment> out;
-  for (int i = 0; i < count; ++i) {
-    const Triangle& t = mesh.triangles[which(rng)];
-    const Vec3 a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
-    const Vec3 n = (b - a).cross(c - a).normalized();
-    const Vec3 u = n.unitOrthogonal(), v = n.cross(u);
-    const float theta = angle(rng) * 3.14159265f / 180.f, phi = spin(rng);
-    const Vec3 l = -std::cos(theta) * n + std::sin(theta) * (std::cos(phi) * u + std::sin(phi) * v);
-    const Vec3 hit = (a + b + c) / 3.f;
-    out.push_back({hit - 0.6f * length * l, hit + 0.4f * length * l});
-  }
-  return out;
-}
-
 // Probes of the usual distribution, grazing ones, plus segments that miss the box, a
 // degenerate one and reversed ones (handle inside), in a count that is not a multiple of any
 // group size.
 std::vector<Segment> mixed_probes(const TriangleMesh& mesh) {
   std::vector<Segment> probes = sample_probes(mesh, 997);
-  const std::vector<Segment> grazing = grazing_probes(mesh, 301, 5);
+  // Segments 55-89 degrees from the normal (the lanes hand them to the scalar query).
+  const float diagonal = mesh.bounds().diagonal();
+  const std::vector<Segment> grazing = test::grazing_segments(mesh, 301, 5, 55.f, 89.f, 0.06f * diagonal, 0.002f * diagonal);
   probes.insert(probes.end(), grazing.begin(), grazing.end());
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(-3.f, 3.f);
