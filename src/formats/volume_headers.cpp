@@ -39,14 +39,16 @@ std::vector<std::string> words(const std::string& s) {
   return w;
 }
 
-// A whole number written in full (no sign unless allowed, no trailing text).
+// A whole number written in full: an optional sign, at most 15 digits (so differences of two
+// never overflow), no trailing text. Anything else is not a number here (the caller names it).
 bool parse_integer(const std::string& w, long long& out) {
-  if (w.empty() || w.size() > 19) return false;
-  std::size_t i = (w[0] == '-' || w[0] == '+') ? 1 : 0;
-  if (i == w.size()) return false;
+  const std::size_t i = (!w.empty() && (w[0] == '-' || w[0] == '+')) ? 1 : 0;
+  if (i == w.size() || w.size() - i > 15) return false;
   for (std::size_t k = i; k < w.size(); ++k)
     if (!std::isdigit((unsigned char)w[k])) return false;
-  out = std::stoll(w);
+  long long v = 0;
+  for (std::size_t k = i; k < w.size(); ++k) v = v * 10 + (w[k] - '0');
+  out = w[0] == '-' ? -v : v;
   return true;
 }
 
