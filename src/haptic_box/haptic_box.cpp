@@ -17,7 +17,8 @@
 //     blends a far exit distance into t0.
 //  6a. Grazing (the raw box, no refinement): where the blended normal makes |n . l| below
 //     kGrazingCosine, the blend of parallel rays is ill-conditioned and t0 strays; the
-//     crossing is found by Newton steps across the surface instead (settle_grazing()), and a
+//     crossing is found on a quadric fitted to the samples across the surface instead
+//     (settle_grazing(), geometry/surface_fit.h), and a
 //     miss of step 5 whose samples did hit is tried the same way.
 //  6. Contact test (Figure 7): the surface point P1 + t0 l must lie between the handle and
 //     the tip, on the outside of the surface (n . l < 0); depth = d - t0; F = k depth n.
@@ -272,76 +273,95 @@ inline bool HapticBox::blend(const Fetch& fetch, const Located<Fetch>& q, float&
   return blended_hit;
 }
 
+// Step 6a's surface points: the 16 samples of a located query (4 corners x 2 x 2 directions)
+// that hit, each with its hit point, unit normal and interpolation weight.
+template <class Fetch>
+int HapticBox::surface_points(const Located<Fetch>& q, OrientedPoint out[16]) const noexcept {
+  const int sub = int(q.sf / 3), sface = int(q.sf % 3);
+  int count = 0;
+  for (int c = 0; c < 4; ++c) {
+    const int i = q.i0 + (c == 1 || c == 2 ? 1 : 0), j = q.j0 + (c >= 2 ? 1 : 0);
+    const float pw = (c == 1 || c == 2 ? q.d1 : 1.f - q.d1) * (c >= 2 ? q.d2 : 1.f - q.d2);
+    const Vec3 origin = layout_.position_point(q.face, i, j);
+    const std::size_t tile = BoxLayout::tile_index(q.p00 + layout_.corner_step(c), q.sf);
+    for (int k = 0; k < 4; ++k) {  // q.dir_w's order: (0,0), (1,0), (1,1), (0,1)
+      const int a = q.a0 + (k == 1 || k == 2 ? 1 : 0), b = q.b0 + (k >= 2 ? 1 : 0);
+      const DecodedSample s = samples_.decode(tile, a, b);
+      if (!(s.t >= 0.f)) continue;
+      const Vec3 n = oct_decode_unnormalized(s.u, s.v);
+      out[count++] = {origin + s.t * layout_.sample_direction(q.face, sub, sface, a, b), n / n.norm(),
+                      pw * q.dir_w[k]};
+    }
+  }
+  return count;
+}
+
 // Step 6a. Along a line that meets the surface at a grazing angle, the blend of parallel rays
 // from neighbouring position points is ill-conditioned: their hits lie far apart on the
 // surface (a position cell over the cosine), so t0 strays by the surface's curvature times
 // that distance squared, over the cosine again (measured before 2026-12-07: every slide tick
 // of the smooth ellipsoid and the bumpy sphere felt against exact had |n . l| < 0.55, none
-// above). The line's crossing is found instead by Newton steps on the surface, each asking
-// the same table along the current normal, where the blend is well-conditioned: from the
-// point Y on the line, a segment across the surface along -n gives the surface point X and
-// its normal n'; the line meets the plane (X, n') at the next Y. Settled when a step moves Y
-// by less than kSettledCells position cells along the normal; otherwise (a miss, a far or
-// tangent plane, no convergence) the blend stands (false). Same table, no memory; only grazing
-// answers pay (two to four blends more).
+// above). The line's crossing is found instead on the surface itself, seen across: from the
+// point y on the line, the 16 samples of a segment across the surface along -n (where they
+// are well-conditioned) give their hits and normals, and a quadric height field fitted to
+// them (surface_fit.h: second-order exact, where a blend is first-order) is met by the line;
+// its crossing is the next y, the quadric's normal there the next n. A line that passes the
+// quadric moves to where it comes closest. Near tangency a tangent-plane (Newton) step
+// converges slowly and from one side (on a convex surface it stops short: measured before,
+// the crossing 0.1-0.6 mm early and the normal a degree steep); the quadric's crossing
+// settles in two to four fits. Settled when a step moves y by less than kSettledCells
+// position cells along l; otherwise (no fit, a far crossing, no convergence) the blend
+// stands (false). Same table, no memory; only grazing answers pay.
 template <class Fetch>
 bool HapticBox::settle_grazing(const Fetch& fetch, float p1x, float p1y, float p1z, float lx, float ly, float lz,
                                float& t0, float& nx, float& ny, float& nz) const noexcept {
-  constexpr int kSteps = 4;
-  // Across the surface from 3 position cells out; settled when a step moves less than 0.02
-  // of a cell; a step farther than 8 cells, or a plane within 0.1 deg of l, is no crossing.
-  constexpr float kReachCells = 3.f, kSettledCells = 0.02f, kFarthestCells = 8.f, kTangentCosine = 0.002f;
-  // The tangent's two points, half a cell either side (measured on the T2 slides, m32 n16:
-  // a quarter and a third of a cell as good, one cell worse on the bumpy sphere, two far worse).
-  constexpr float kTangentCells = 0.5f;
+  // At most 6 fits; the surface is fitted from the samples of a segment 3 position cells
+  // either side of the line's point; settled when a step moves less than 0.01 cell along l
+  // (0.003 measured no better: the fit's own error); a step farther than 8 cells is no
+  // crossing. The fit's reach: a Gaussian of 0.4 position cells around the line, on top of
+  // the blend's own weights plus 0.1 (measured on grazing lines of the bumpy sphere, m32 n16
+  // block-coded: 0.3 a little worse, 0.6 alike).
+  constexpr int kSteps = 6;
+  constexpr float kReachCells = 3.f, kFarthestCells = 8.f, kSettledCells = 0.01f;
+  constexpr float kFitSigmaCells = 0.4f, kFitWeightFloor = 0.1f;
   const BoxLayout::Local& L = layout_.local();
   const float cell = 1.f / std::min(std::min(L.grid_scale[0], L.grid_scale[1]), L.grid_scale[2]);
   const float reach = kReachCells * cell;
-  // The surface across point y along -m: its point x and unit normal a.
-  const auto across = [&](const Vec3& y, const Vec3& m, Vec3& x, Vec3& a) {
+  // The surface around y, seen along m: a quadric fitted to the samples of the segment across,
+  // within that segment (no other sheet).
+  const auto fit = [&](const Vec3& y, const Vec3& m, LocalQuadric& quadric) {
     Located<Fetch> q;
     if (!locate(fetch, Segment{y + reach * m, y - reach * m}, q)) return false;
-    for (typename Fetch::Corner& c : q.corners) fetch.resolve(c);
-    float tx;
-    int corners = 0;
-    if (!blend(fetch, q, tx, a.x(), a.y(), a.z(), corners, false)) return false;
-    // It must lie within the segment across (no other sheet).
-    const float along = q.t_enter + tx;
-    if (!(along >= 0.f && along <= 2.f * reach)) return false;
-    x = Vec3(q.sx + along * q.lx, q.sy + along * q.ly, q.sz + along * q.lz);
-    return true;
+    OrientedPoint points[16];
+    const int count = surface_points(q, points);
+    return fit_local_quadric(points, count, y, m, kFitSigmaCells * cell, kFitWeightFloor, quadric) &&
+           std::fabs(quadric.c[0]) <= double(reach);
   };
-  // The normal's component along l decides the force at a grazing angle; the blended normal
-  // m strays by a degree on a bumpy surface. The surface's tangent along l's projection,
-  // from two more points across the surface either side of y, corrects it (m when they fail).
   const Vec3 p1(p1x, p1y, p1z), l(lx, ly, lz);
-  const auto tangent_corrected = [&](const Vec3& y, const Vec3& m) {
-    const Vec3 u = l - l.dot(m) * m;
-    const float ul = u.norm();
-    if (!(ul > 0.f)) return m;
-    const Vec3 step = (kTangentCells * cell) * u / ul;
-    Vec3 xa, xb, aa, ab;
-    if (!across(y + step, m, xa, aa) || !across(y - step, m, xb, ab)) return m;
-    const Vec3 v = xa - xb;
-    const float vv = v.squaredNorm();
-    if (!(vv > 0.f)) return m;
-    const Vec3 c = m - (m.dot(v) / vv) * v;
-    return Vec3(c / c.norm());
-  };
   float t = t0;
   Vec3 m(nx, ny, nz);
   for (int step = 0; step < kSteps; ++step) {
-    Vec3 x, a;
-    if (!across(p1 + t * l, m, x, a)) return false;
-    const float ln = a.dot(l);
-    if (!(ln < -kTangentCosine)) return false;  // tangent or facing along l: no crossing to settle on
-    const float next = (x - p1).dot(a) / ln;
-    if (!(std::fabs(next - t) <= kFarthestCells * cell)) return false;
-    const float moved = std::fabs((next - t) * ln);
-    t = next, m = a;
-    if (moved < kSettledCells * cell) {
-      const Vec3 n = tangent_corrected(p1 + t * l, m);
-      t0 = t, nx = n.x(), ny = n.y(), nz = n.z();
+    const Vec3 y = p1 + t * l;
+    LocalQuadric quadric;
+    if (!fit(y, m, quadric)) return false;
+    float s = 0.f;
+    if (!quadric.entry(y, l, s)) {
+      // The line passes the fitted surface: go to where it comes closest and fit there. When
+      // that is here already, the line passes within the fit's error: nothing to settle on.
+      const LocalQuadric::Height h = quadric.height_along(y, l);
+      if (!(h.a > 0.0)) return false;
+      s = float(-h.b / (2.0 * h.a));
+      if (!(std::fabs(s) <= kFarthestCells * cell) || std::fabs(s) < kSettledCells * cell) return false;
+      t += s;
+      m = quadric.normal_at(y + s * l);
+      continue;
+    }
+    if (!(std::fabs(s) <= kFarthestCells * cell)) return false;
+    t += s;
+    m = quadric.normal_at(y + s * l);
+    if (!(m.dot(l) < 0.f)) return false;
+    if (std::fabs(s) < kSettledCells * cell) {
+      t0 = t, nx = m.x(), ny = m.y(), nz = m.z();
       return true;
     }
   }

@@ -2,6 +2,7 @@
 // The haptic box (paper sections 3-5): a PBB whose faces carry m x m position points, each with
 // a directional hemi-cube (DHC) of 4 sub-blocks x 3 faces x n x n directional samples.
 #include "geometry/obb.h"
+#include "geometry/surface_fit.h"
 #include "codec/sample_table.h"
 #include "haptic_box/box_layout.h"
 #include "contact/contact.h"
@@ -183,6 +184,8 @@ private:
   template <class Fetch>
   bool blend(const Fetch& fetch, const Located<Fetch>& q, float& t0, float& nx, float& ny, float& nz,
              int& corners_hit, bool any_hit) const noexcept;
+  template <class Fetch>
+  int surface_points(const Located<Fetch>& q, OrientedPoint out[16]) const noexcept;
   template <class Fetch>
   bool settle_grazing(const Fetch& fetch, float p1x, float p1y, float p1z, float lx, float ly, float lz, float& t0,
                       float& nx, float& ny, float& nz) const noexcept;

@@ -32,7 +32,7 @@ double slide_ticks_felt(const BoxScene& scene, const TriangleMesh& mesh, const E
 bool slides_hopeless(double screen_ticks_felt, const RawSampling& screen, const RawSampling& finest, double allowed_share) {
   if (!(screen_ticks_felt >= 0.0) || screen.m <= 0 || screen.n <= 0) return false;
   const double refine = std::max(double(finest.m) / double(screen.m), double(finest.n) / double(screen.n));
-  return screen_ticks_felt / (refine * refine * refine * refine) > allowed_share;
+  return screen_ticks_felt / std::pow(refine, 5.0) > allowed_share;
 }
 
 float raw_codec_bound(const ForceLaw& law, const PerceptualThresholds& thresholds, double box_diagonal) {

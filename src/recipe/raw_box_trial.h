@@ -42,12 +42,12 @@ struct RawTrialOptions {
 };
 
 /// The screen's forecast along the slides: the coarsest sampling's share of slide ticks felt,
-/// divided by the fourth power of the finest's refinement over it, is still above the allowed
-/// share: no sampling up to the finest can serve, none is baked. Measured (raw tables, since
-/// grazing lines settle across the surface, 2026-12-07): m16 n8 to m32 n16 took the smooth
-/// ellipsoid from 2.03% to 0.23% (8.8x) and the bumpy sphere from 1.80% to 0.17% (10.6x), a
-/// fall between the cube and the fourth power of the refinement (before: the square, 14.5% to
-/// 7.0%; the forecast then divided by the square).
+/// divided by the fifth power of the finest's refinement over it, is still above the allowed
+/// share: no sampling up to the finest can serve, none is baked. Measured (block-coded at
+/// raw_codec_bound, grazing lines settled on a fitted quadric, 2026-12-07): m16 n8 to m32 n16
+/// took the bumpy sphere from 1.57% to 0.039% (40x) and the smooth ellipsoid from 1.32% to
+/// 0.039% (34x). (Settled by tangent-plane steps the fall was 9-11x, and before any settle
+/// the square of the refinement.)
 bool slides_hopeless(double screen_ticks_felt, const RawSampling& screen, const RawSampling& finest, double allowed_share);
 
 /// The codec bound (fraction of a box's diagonal) whose worst position error makes a force

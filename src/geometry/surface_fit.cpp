@@ -1,0 +1,88 @@
+// fit_local_quadric and LocalQuadric (surface_fit.h):
+//  1. A frame (e1, e2, axis) at the origin; every point's lateral position (x, y) and height
+//     z, scaled by 1 / sigma so the normal equations are well conditioned whatever the units.
+//  2. Weighted least squares over 6 coefficients: per point one row for the height and two
+//     for the slopes (-n.e1 / n.axis, -n.e2 / n.axis), the slope rows at the same weight
+//     (a slope error over sigma counts as a height error of the same size).
+//  3. Solved in double (6 x 6 LDLT) and scaled back to the caller's units.
+//  4. entry(): the line in the frame, z(s) - Q(x(s), y(s)) = A s^2 + B s + C; the root
+//     nearest 0 where that decreases (the line going inside), in the cancellation-free form.
+#include "geometry/surface_fit.h"
+#include <Eigen/Dense>
+#include <cmath>
+
+namespace hb {
+
+Vec3 LocalQuadric::normal_at(const Vec3& p) const noexcept {
+  const Vec3 r = p - origin;
+  const double x = double(r.dot(e1)), y = double(r.dot(e2));
+  const double gx = c[1] + 2.0 * c[3] * x + c[4] * y, gy = c[2] + c[4] * x + 2.0 * c[5] * y;
+  const Vec3 n = axis - float(gx) * e1 - float(gy) * e2;
+  return n / n.norm();
+}
+
+LocalQuadric::Height LocalQuadric::height_along(const Vec3& p, const Vec3& l) const noexcept {
+  const Vec3 r = p - origin;
+  const double x0 = double(r.dot(e1)), y0 = double(r.dot(e2)), z0 = double(r.dot(axis));
+  const double lx = double(l.dot(e1)), ly = double(l.dot(e2)), lz = double(l.dot(axis));
+  const double q0 = c[0] + c[1] * x0 + c[2] * y0 + c[3] * x0 * x0 + c[4] * x0 * y0 + c[5] * y0 * y0;
+  const double gx = c[1] + 2.0 * c[3] * x0 + c[4] * y0, gy = c[2] + c[4] * x0 + 2.0 * c[5] * y0;
+  return {-(c[3] * lx * lx + c[4] * lx * ly + c[5] * ly * ly), lz - (gx * lx + gy * ly), z0 - q0};
+}
+
+bool LocalQuadric::entry(const Vec3& p, const Vec3& l, float& s) const noexcept {
+  const Height h = height_along(p, l);
+  const double a = h.a, b = h.b, cc = h.c;
+  // f(s) = a s^2 + b s + cc, f'(s) = 2 a s + b: at the roots (-b -+ root) / 2a, f' = -+root,
+  // so the entering root is (-b - root) / 2a = 2 cc / (root - b) (no cancellation). A
+  // tangent line (root 0) does not enter.
+  const double disc = b * b - 4.0 * a * cc;
+  if (!(disc > 0.0)) return false;
+  const double root = std::sqrt(disc);
+  if (!(root - b > 0.0)) return false;  // b >= root: a plane-like surface the line leaves
+  const double best = 2.0 * cc / (root - b);
+  if (!std::isfinite(best)) return false;
+  s = float(best);
+  return true;
+}
+
+bool fit_local_quadric(const OrientedPoint* points, int count, const Vec3& origin, const Vec3& axis, float sigma,
+                       float weight_floor, LocalQuadric& out) noexcept {
+  if (!(sigma > 0.f) || count < 3) return false;
+  const Vec3 e1 = axis.unitOrthogonal(), e2 = axis.cross(e1);
+  const double inv_sigma = 1.0 / double(sigma);
+  Eigen::Matrix<double, 6, 6> a = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+  int used = 0;
+  for (int i = 0; i < count; ++i) {
+    const OrientedPoint& p = points[i];
+    const double nz = double(p.normal.dot(axis));
+    if (!(nz >= 0.2)) continue;
+    const Vec3 r = p.point - origin;
+    const double x = double(r.dot(e1)) * inv_sigma, y = double(r.dot(e2)) * inv_sigma;
+    const double z = double(r.dot(axis)) * inv_sigma;
+    const double gx = -double(p.normal.dot(e1)) / nz, gy = -double(p.normal.dot(e2)) / nz;
+    const double w = (double(p.weight) + double(weight_floor)) * std::exp(-0.5 * (x * x + y * y));
+    if (!(w > 0.0)) continue;
+    Eigen::Matrix<double, 6, 1> f, fx, fy;
+    f << 1.0, x, y, x * x, x * y, y * y;
+    fx << 0.0, 1.0, 0.0, 2.0 * x, y, 0.0;
+    fy << 0.0, 0.0, 1.0, 0.0, x, 2.0 * y;
+    a.noalias() += w * (f * f.transpose() + fx * fx.transpose() + fy * fy.transpose());
+    b.noalias() += w * (z * f + gx * fx + gy * fy);
+    ++used;
+  }
+  if (used < 3) return false;
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(a);
+  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-12)) return false;
+  const Eigen::Matrix<double, 6, 1> c = ldlt.solve(b);
+  if (!c.allFinite()) return false;
+  const double s = double(sigma);
+  out.origin = origin, out.e1 = e1, out.e2 = e2, out.axis = axis;
+  // z / sigma = c0 + c1 x / sigma + ... + c3 (x / sigma)^2 ...: back to the caller's units.
+  out.c[0] = c[0] * s, out.c[1] = c[1], out.c[2] = c[2];
+  out.c[3] = c[3] / s, out.c[4] = c[4] / s, out.c[5] = c[5] / s;
+  return true;
+}
+
+}  // namespace hb
