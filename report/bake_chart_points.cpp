@@ -17,6 +17,7 @@ std::string outcome_words(const std::string& outcome) {
   if (outcome == "felt-probes") return "felt on probes, not kept";
   if (outcome == "felt-slides") return "felt along slides, not kept";
   if (outcome == "over-cap") return "over the memory cap, not kept";
+  if (outcome == "slower-strokes") return "faster at random but slower than exact along strokes, not kept";
   return "slower than exact, not kept";
 }
 

@@ -107,7 +107,9 @@ std::string BudgetReport::serialize() const {
   if (!answer.empty()) os << "answer=" << answer << "\n";
   for (const RawTried& t : raw_tried)
     os << "raw_tried=" << t.m << " " << t.n << " " << t.bytes << " " << t.probes_felt << " " << t.ticks_felt << " "
-       << t.outcome << " " << t.box_ns << " " << t.exact_ns << "\n";
+       << t.outcome << " " << t.box_ns << " " << t.exact_ns
+       << (t.box_stroke_ns > 0 ? " " + std::to_string(t.box_stroke_ns) + " " + std::to_string(t.exact_stroke_ns) : std::string())
+       << "\n";
   // Measured at bake time: the only lines two bakes of the same inputs differ in.
   if (answer_ns > 0) os << "answer_ns=" << answer_ns << "\nexact_ns=" << exact_ns << "\n";
   if (cells_ns > 0) os << "cells_ns=" << cells_ns << "\nembree_ns=" << embree_ns << "\n";
@@ -117,7 +119,7 @@ std::string BudgetReport::serialize() const {
 BudgetReport BudgetReport::without_times() const {
   BudgetReport r = *this;
   r.answer_ns = r.exact_ns = r.cells_ns = r.embree_ns = 0;
-  for (RawTried& t : r.raw_tried) t.box_ns = t.exact_ns = 0;
+  for (RawTried& t : r.raw_tried) t.box_ns = t.exact_ns = t.box_stroke_ns = t.exact_stroke_ns = 0;
   return r;
 }
 
@@ -188,11 +190,13 @@ BudgetReport BudgetReport::parse(const std::string& text) {
       r.answer = v;
     } else if (key == "raw_tried") {
       std::stringstream ps(v);
-      std::string m, n, bytes, probes, ticks, outcome, box_ns, exact_ns, extra;
-      // Six fields before 2026-12-07; since, the query times too.
-      if (!(ps >> m >> n >> bytes >> probes >> ticks >> outcome) || ((ps >> box_ns) && !(ps >> exact_ns)) || (ps >> extra))
+      std::string m, n, bytes, probes, ticks, outcome, box_ns, exact_ns, stroke_ns, exact_stroke_ns, extra;
+      // Six fields before 2026-12-07; since, the query times too (random order, then along
+      // strokes when timed).
+      if (!(ps >> m >> n >> bytes >> probes >> ticks >> outcome) || ((ps >> box_ns) && !(ps >> exact_ns)) ||
+          ((ps >> stroke_ns) && !(ps >> exact_stroke_ns)) || (ps >> extra))
         throw InvalidInput("budget report: raw_tried line '" + v.substr(0, 80) +
-                           "' is not 'm n bytes probes ticks outcome [box_ns exact_ns]'");
+                           "' is not 'm n bytes probes ticks outcome [box_ns exact_ns [stroke_ns exact_stroke_ns]]'");
       RawTried t;
       t.m = int(number(m, "budget report raw_tried m", 2, 4096));
       t.n = int(number(n, "budget report raw_tried n", 2, 4096));
@@ -200,12 +204,16 @@ BudgetReport BudgetReport::parse(const std::string& text) {
       t.probes_felt = number(probes, "budget report raw_tried probes", 0, 1);
       t.ticks_felt = number(ticks, "budget report raw_tried ticks", -1, 1);
       if (outcome != "kept" && outcome != "serves" && outcome != "felt-probes" && outcome != "felt-slides" && outcome != "over-cap" &&
-          outcome != "slower")
+          outcome != "slower" && outcome != "slower-strokes")
         throw InvalidInput("budget report: raw_tried outcome '" + outcome.substr(0, 40) + "' unknown");
       t.outcome = outcome;
       if (!box_ns.empty()) {
         t.box_ns = number(box_ns, "budget report raw_tried box_ns", 0, 1e12);
         t.exact_ns = number(exact_ns, "budget report raw_tried exact_ns", 0, 1e12);
+      }
+      if (!stroke_ns.empty()) {
+        t.box_stroke_ns = number(stroke_ns, "budget report raw_tried stroke_ns", 0, 1e12);
+        t.exact_stroke_ns = number(exact_stroke_ns, "budget report raw_tried exact_stroke_ns", 0, 1e12);
       }
       r.raw_tried.push_back(t);
       if (r.raw_tried.size() > 64) throw InvalidInput("budget report: too many raw_tried lines");
@@ -242,6 +250,7 @@ std::string BudgetReport::summary() const {
     if (t.ticks_felt >= 0) os << ", " << t.ticks_felt * 100.0 << "% of slide ticks";
     os << " felt, " << t.bytes / 1e6 << " MB";
     if (t.box_ns > 0) os << ", " << t.box_ns << " ns a query against exact's " << t.exact_ns;
+    if (t.box_stroke_ns > 0) os << ", along strokes " << t.box_stroke_ns << " ns against " << t.exact_stroke_ns;
   }
   if (surface_rejected > 0)
     os << "; a surface simplified to " << surface_rejected << " triangles missed the budget ("

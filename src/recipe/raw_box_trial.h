@@ -69,7 +69,11 @@ struct RawCandidate {
   /// against exact's best tree when it passed the accuracy tests (its time decides whether it
   /// is kept), else against the exact reference the trial was given.
   double box_ns = 0, exact_ns = 0;
-  std::string outcome;       ///< "kept", "felt on probes", "felt on slides", "over the memory cap", "slower than exact".
+  /// Along 10 hand-like strokes (sample_strokes: 500 ticks each), the scene through a
+  /// SceneProbe (its query state) against exact, for a sampling that passed everything else
+  /// and was faster at random (0: not timed). Kept only when faster here too.
+  double box_stroke_ns = 0, exact_stroke_ns = 0;
+  std::string outcome;       ///< "kept", "felt on probes", "felt on slides", "over the memory cap", "slower than exact", "slower than exact on strokes".
   /// "m16 n8 felt on probes: 4.5% of probes" style line.
   std::string describe() const;
 };

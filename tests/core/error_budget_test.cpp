@@ -142,6 +142,23 @@ TEST(ErrorBudgetTest, ReportKeepsTheBakesQueryTimesAndReadsOlderFilesWithout) {
   EXPECT_NE(back.summary().find("raw m16 n8 felt-probes: 71% of probes felt, 4.5 MB, 210.5 ns a query against exact's 1398"),
             std::string::npos)
       << back.summary();
+  // A sampling that was faster at random but slower along strokes keeps both pairs of times.
+  BudgetReport::RawTried u = t;
+  u.m = 32, u.n = 16, u.probes_felt = 0, u.ticks_felt = 0.0003, u.outcome = "slower-strokes";
+  u.box_stroke_ns = 181.5, u.exact_stroke_ns = 130.5;
+  r.raw_tried.push_back(u);
+  const BudgetReport both = BudgetReport::parse(r.serialize());
+  ASSERT_EQ(both.raw_tried.size(), 2u);
+  EXPECT_DOUBLE_EQ(both.raw_tried[1].box_stroke_ns, 181.5);
+  EXPECT_DOUBLE_EQ(both.raw_tried[1].exact_stroke_ns, 130.5);
+  EXPECT_EQ(both.raw_tried[1].outcome, "slower-strokes");
+  EXPECT_EQ(both.raw_tried[0].box_stroke_ns, 0.0);
+  EXPECT_NE(both.summary().find("raw m32 n16 slower-strokes: 0% of probes, 0.03% of slide ticks felt, 4.5 MB, 210.5 ns a query "
+                                "against exact's 1398, along strokes 181.5 ns against 130.5"),
+            std::string::npos)
+      << both.summary();
+  EXPECT_EQ(both.without_times().raw_tried[1].box_stroke_ns, 0.0);
+  r.raw_tried.pop_back();
   // Written before 2026-12-07: six fields, no times.
   const BudgetReport old = BudgetReport::parse("met=1\nraw_tried=16 8 4500000 0.71 -1 felt-probes\n");
   ASSERT_EQ(old.raw_tried.size(), 1u);
@@ -149,6 +166,7 @@ TEST(ErrorBudgetTest, ReportKeepsTheBakesQueryTimesAndReadsOlderFilesWithout) {
   EXPECT_EQ(old.answer_ns, 0.0);
   // A time without exact's beside it is a corrupt line.
   EXPECT_THROW(BudgetReport::parse("raw_tried=16 8 4500000 0.71 -1 felt-probes 210\n"), InvalidInput);
+  EXPECT_THROW(BudgetReport::parse("raw_tried=16 8 4500000 0.71 -1 slower-strokes 210 300 400\n"), InvalidInput);
   EXPECT_THROW(BudgetReport::parse("answer_ns=-3\n"), InvalidInput);
   // Another run's times: the same bytes once the times are left out.
   BudgetReport again = r;
