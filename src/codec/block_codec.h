@@ -128,11 +128,30 @@ public:
   /// never out of bounds.
   unsigned fetch_quad_from(const std::uint8_t* const rec[4], int a0, int b0, float* t, float* u,
                            float* v) const noexcept {
+    __m128 tv, uv, vv;
+    const __m128 hit = quad_lanes(rec, a0, b0, tv, uv, vv);
+    _mm_storeu_ps(t, _mm_or_ps(_mm_and_ps(hit, tv), _mm_andnot_ps(hit, _mm_set1_ps(kMissT))));
+    _mm_storeu_ps(u, _mm_and_ps(hit, uv));
+    _mm_storeu_ps(v, _mm_and_ps(hit, vv));
+    return unsigned(_mm_movemask_ps(hit));
+  }
+  /// fetch_quad_from() in SSE2 lanes (lane k: sample k): the hit mask (all ones for a hit),
+  /// and t, u, v, whose lanes are meaningful for hits only (the caller masks them).
+  __m128 quad_lanes(const std::uint8_t* const rec[4], int a0, int b0, __m128& tv, __m128& uv, __m128& vv) const noexcept {
     const int la = a0 & (kBlock - 1), lb = b0 & (kBlock - 1);
-    if (__builtin_expect(la == kBlock - 1 || lb == kBlock - 1, 0)) return fetch_quad_split(rec, a0, b0, t, u, v);
+    if (__builtin_expect(la == kBlock - 1 || lb == kBlock - 1, 0)) {
+      alignas(16) float t[4], u[4], v[4];
+      const unsigned hits = fetch_quad_split(rec, a0, b0, t, u, v);
+      tv = _mm_load_ps(t), uv = _mm_load_ps(u), vv = _mm_load_ps(v);
+      const __m128i lane_bit = _mm_setr_epi32(1, 2, 4, 8);
+      return _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(int(hits)), lane_bit), lane_bit));
+    }
     const std::uint8_t* r = rec[0];
     const unsigned mode = r[0];
-    if (mode == 0) return quad_misses(t, u, v);
+    if (mode == 0) {
+      tv = uv = vv = _mm_setzero_ps();
+      return _mm_setzero_ps();
+    }
     unsigned rank0, rank1, hits;
     const std::uint8_t* bits = r + kHeaderBytes;
     if (mode == 2) {
@@ -179,16 +198,12 @@ public:
       return _mm_cvtepi32_ps(_mm_add_epi32(_mm_add_epi32(_mm_set1_epi32(base), p), res));
     };
     const __m128 one = _mm_set1_ps(1.f), minus_one = _mm_set1_ps(-1.f);
-    const __m128 tv = _mm_mul_ps(channel(t_base, t_ga, t_gb, rt), _mm_set1_ps(t_step_));
-    const __m128 uv = _mm_min_ps(_mm_max_ps(_mm_mul_ps(channel(u_base, u_ga, u_gb, ru), _mm_set1_ps(n_step_)), minus_one), one);
-    const __m128 vv = _mm_min_ps(_mm_max_ps(_mm_mul_ps(channel(v_base, v_ga, v_gb, rv), _mm_set1_ps(n_step_)), minus_one), one);
+    tv = _mm_mul_ps(channel(t_base, t_ga, t_gb, rt), _mm_set1_ps(t_step_));
+    uv = _mm_min_ps(_mm_max_ps(_mm_mul_ps(channel(u_base, u_ga, u_gb, ru), _mm_set1_ps(n_step_)), minus_one), one);
+    vv = _mm_min_ps(_mm_max_ps(_mm_mul_ps(channel(v_base, v_ga, v_gb, rv), _mm_set1_ps(n_step_)), minus_one), one);
     const __m128i lane_bit = _mm_setr_epi32(1, 2, 4, 8);
     const __m128 in_mask = _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(int(hits)), lane_bit), lane_bit));
-    const __m128 hit = _mm_and_ps(in_mask, _mm_cmpge_ps(tv, _mm_setzero_ps()));
-    _mm_storeu_ps(t, _mm_or_ps(_mm_and_ps(hit, tv), _mm_andnot_ps(hit, _mm_set1_ps(kMissT))));
-    _mm_storeu_ps(u, _mm_and_ps(hit, uv));
-    _mm_storeu_ps(v, _mm_and_ps(hit, vv));
-    return unsigned(_mm_movemask_ps(hit));
+    return _mm_and_ps(in_mask, _mm_cmpge_ps(tv, _mm_setzero_ps()));
   }
   /// fetch_quad_from() on the quad's records.
   unsigned fetch_quad(std::size_t tile, int a0, int b0, float* t, float* u, float* v) const noexcept {
@@ -214,10 +229,6 @@ public:
   }
 
 private:
-  static unsigned quad_misses(float* t, float* u, float* v) noexcept {
-    for (int k = 0; k < 4; ++k) t[k] = kMissT, u[k] = v[k] = 0.f;
-    return 0u;
-  }
   // fetch_quad_from() for a quad across blocks (a0 or b0 ends a block).
   unsigned fetch_quad_split(const std::uint8_t* const rec[4], int a0, int b0, float* t, float* u, float* v) const noexcept;
 
