@@ -37,6 +37,10 @@ public:
   /// Validates the payload's header (O(1)); throws hb::InvalidInput.
   BlockTable(const std::uint8_t* payload, std::size_t bytes, const BoxParams& params);
 
+  /// What tells this table from another (its index's address: a kept decode, DecodedQuads,
+  /// is this table's only while the payload lives, as the scene that owns both).
+  const void* identity() const noexcept { return index_; }
+
   /// Starts loading the record holding sample (a, b) of `tile`.
   void prefetch(std::size_t tile, int a, int b) const noexcept {
     const std::uint32_t* e = index_ + block_of(tile, a, b);

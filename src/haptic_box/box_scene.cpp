@@ -200,9 +200,21 @@ Contact BoxScene::query(const Segment& segment, const ForceLaw& law, SceneQueryS
     }
   }
   ++state.full;
+  // One block-coded box: the state keeps its last decoded quads (DecodedQuads), forgotten
+  // when the table is another's.
+  DecodedQuads* quads = nullptr;
+  if (boxes_.size() == 1 && boxes_[0].codec() == CodecId::block && boxes_[0].table_owner()) {
+    const std::shared_ptr<const void>& owner = boxes_[0].table_owner();
+    if (state.quads_owner.owner_before(owner) || owner.owner_before(state.quads_owner)) {
+      state.quads = DecodedQuads{};
+      state.quads_owner = owner;
+    }
+    quads = &state.quads;
+  }
   std::uint32_t box = SceneQueryState::kNone, triangle = kNoTriangle;
   Contact c;
-  if (!(grid_ && query_routed(segment, law, c, nullptr, &box, &triangle))) c = query_met(segment, law, nullptr, &box, &triangle);
+  if (!(grid_ && query_routed(segment, law, c, nullptr, &box, &triangle)))
+    c = query_met(segment, law, nullptr, &box, &triangle, quads);
   const bool known = c.contact && box < boxes_.size() && triangle != kNoTriangle;
   state.box = known ? box : SceneQueryState::kNone;
   state.triangle = known ? triangle : SceneQueryState::kNone;
@@ -429,7 +441,7 @@ bool BoxScene::settle_first_crossing(const Segment& segment, const ForceLaw& law
 }
 
 Contact BoxScene::query_met(const Segment& segment, const ForceLaw& law, std::size_t* asked, std::uint32_t* out_box,
-                            std::uint32_t* out_triangle) const noexcept {
+                            std::uint32_t* out_triangle, DecodedQuads* quads) const noexcept {
   Contact best;
   float best_along = 0.f;
   const std::size_t count = boxes_.size();
@@ -439,7 +451,7 @@ Contact BoxScene::query_met(const Segment& segment, const ForceLaw& law, std::si
   if (count == 1) {
     if (asked) ++*asked;
     bool refined = false;
-    boxes_[0].query_into(segment, law, best, best_along, Refine::all, &refined, out_triangle);
+    boxes_[0].query_into(segment, law, best, best_along, Refine::all, &refined, out_triangle, quads);
     if (reject && boxes_[0].refines() && best.contact && !refined) return Contact{};
     if (out_box) *out_box = 0;
     return best;

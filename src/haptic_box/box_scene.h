@@ -66,6 +66,10 @@ struct SceneQueryState {
   std::weak_ptr<const SurfaceCells> walked_cells;
   Vec3 walked_start{Vec3::Zero()}, walked_end{Vec3::Zero()};
   float free_to = 0.f;
+  /// A one-box scene's block-coded table: the last quads decoded (DecodedQuads) and the
+  /// table's owner they belong to (a weak reference, as walked_cells).
+  DecodedQuads quads;
+  std::weak_ptr<const void> quads_owner;
   std::uint64_t from_state = 0;  ///< queries answered from the state (see BoxScene::query).
   std::uint64_t full = 0;        ///< queries answered by the full query.
 };
@@ -259,7 +263,7 @@ private:
                     std::uint32_t* box = nullptr, std::uint32_t* triangle = nullptr) const noexcept;
   // The query without the grid: every box whose PBB the segment meets.
   Contact query_met(const Segment& segment, const ForceLaw& law, std::size_t* asked, std::uint32_t* box = nullptr,
-                    std::uint32_t* triangle = nullptr) const noexcept;
+                    std::uint32_t* triangle = nullptr, DecodedQuads* quads = nullptr) const noexcept;
   // A scene of `boxes` (this scene's, each changed alike) with this scene's source, piece ids,
   // grid, surface, route, Embree tree and settings.
   BoxScene with_boxes(std::vector<HapticBox> boxes) const;

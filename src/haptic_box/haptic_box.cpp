@@ -59,12 +59,12 @@ namespace hb {
 
 bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact& out,
                            float& distance_from_handle, Refine refine_hit, bool* refined,
-                           std::uint32_t* triangle) const noexcept {
+                           std::uint32_t* triangle, DecodedQuads* quads) const noexcept {
   if (!has_table()) return out = Contact{}, false;  // a frame answers nothing
   switch (samples_.codec()) {
   case CodecId::block:
-    return query_with(box_query::CodecFetch<BlockTable>{samples_.block()}, segment, law, out, distance_from_handle, refine_hit,
-                      refined, triangle);
+    return query_with(box_query::CodecFetch<BlockTable>{samples_.block(), quads}, segment, law, out, distance_from_handle,
+                      refine_hit, refined, triangle);
   case CodecId::haar:
     return query_with(box_query::CodecFetch<HaarTable>{samples_.haar()}, segment, law, out, distance_from_handle, refine_hit,
                       refined, triangle);
@@ -438,7 +438,7 @@ bool HapticBox::query_with(const Fetch& fetch, const Segment& segment, const For
   if (triangle) *triangle = kNoTriangle;
   Located<Fetch> q;
   if (!locate(fetch, segment, q)) return false;
-  for (typename Fetch::Corner& c : q.corners) fetch.resolve(c);
+  fetch.resolve_all(q.corners);
   return finish(fetch, q, law, out, distance_from_handle, refine, refined, triangle);
 }
 
@@ -457,7 +457,7 @@ void HapticBox::query_many_with(const Fetch& fetch, const Segment* segments, std
     for (std::size_t i = 0; i < size; ++i) located[i] = locate(fetch, segments[first + i], q[i]);
     for (std::size_t i = 0; i < size; ++i)
       if (located[i])
-        for (typename Fetch::Corner& c : q[i].corners) fetch.resolve(c);
+        fetch.resolve_all(q[i].corners);
     for (std::size_t i = 0; i < size; ++i) {
       Contact& c = out[first + i];
       c = Contact{};
@@ -488,6 +488,7 @@ struct NoFetch {
   struct Corner {};
   void begin(std::size_t, std::size_t, int, int, Corner&) const noexcept {}
   void resolve(Corner&) const noexcept {}
+  void resolve_all(Corner*) const noexcept {}
 };
 // Nor triangle ids (query_near needs the geometry of locate() only).
 struct GeometryOnly : NoFetch {};

@@ -5,6 +5,7 @@
 #include "geometry/surface_fit.h"
 #include "codec/sample_table.h"
 #include "haptic_box/box_layout.h"
+#include "haptic_box/decoded_quads.h"
 #include "contact/contact.h"
 #include "codec/sample.h"
 #include "haptic_box/surface_triangles.h"
@@ -131,9 +132,11 @@ public:
   /// (false: the blended samples alone, unconfirmed by refinement).
   /// `triangle`, when given, receives the surface slot of the triangle a refined answer came
   /// from (kNoTriangle otherwise).
+  /// `quads`, when given, keeps a block-coded table's decoded quads from one call to the next
+  /// (DecodedQuads; the same answers bit for bit, decoded once while the cells stay).
   bool query_into(const Segment& segment, const ForceLaw& law, Contact& out,
                   float& distance_from_handle, Refine refine = Refine::all, bool* refined = nullptr,
-                  std::uint32_t* triangle = nullptr) const noexcept;
+                  std::uint32_t* triangle = nullptr, DecodedQuads* quads = nullptr) const noexcept;
 
   /// The answer of a refining box from a known triangle (a probe's last contact): the
   /// segment's line from the box entry P1, as in query_into, against `triangle`, walking at
@@ -162,6 +165,9 @@ public:
   const Sample* table() const { return table_; }
   /// The table in whatever codec it is stored.
   const SampleTable& samples() const { return samples_; }
+  /// What keeps the table alive (shared by copies; null for a table owned elsewhere): a
+  /// probe's kept decode (DecodedQuads) is this table's while its owner is.
+  const std::shared_ptr<const void>& table_owner() const { return owner_; }
   CodecId codec() const { return samples_.codec(); }
   /// Compression statistics (zero for a raw table, except the byte counts).
   const CodecStats& codec_stats() const { return stats_; }

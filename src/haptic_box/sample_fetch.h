@@ -7,6 +7,7 @@
 #include "codec/sample_table.h"
 #include "geometry/octahedral.h"
 #include "haptic_box/box_layout.h"
+#include "haptic_box/decoded_quads.h"
 #include "prefetch.h"
 #include <algorithm>
 #include <cmath>
@@ -127,6 +128,7 @@ struct RawFetch {
     hb::prefetch(c.base + n);
   }
   void resolve(Corner&) const noexcept {}
+  void resolve_all(Corner*) const noexcept {}
   // Raw samples: each quad is two 16-byte loads, blended with SSE2 (weights reordered to the
   // memory order (0,0), (0,1), (1,0), (1,1)); per-sample lanes for all four corners, then
   // one transpose per quantity sums them.
@@ -155,6 +157,7 @@ template <> struct CodecFetch<HaarTable> {
     view.prefetch(c.tile, a0, b0);
   }
   void resolve(Corner&) const noexcept {}
+  void resolve_all(Corner*) const noexcept {}
   CornerBlend blend(const Corner& c, const float w[4]) const noexcept {
     float t[4], u[4], v[4];
     const unsigned hits = view.fetch_quad(c.tile, c.a0, c.b0, t, u, v);
@@ -168,6 +171,9 @@ template <> struct CodecFetch<HaarTable> {
 // dependent loads of the four corners overlap instead of running in series.
 template <> struct CodecFetch<BlockTable> {
   const BlockTable& view;
+  /// A probe's last decoded quads (nullptr: none kept): a query in the same cells of the same
+  /// table skips resolve() and the decode, and blends the kept lanes (the same bits).
+  DecodedQuads* cache = nullptr;
   struct Corner {
     std::size_t tile;
     int a0, b0;
@@ -189,18 +195,44 @@ template <> struct CodecFetch<BlockTable> {
       hb::prefetch(c.rec[k] + 64);
     }
   }
+  bool cached(const Corner* c) const noexcept {
+    return cache && cache->table == view.identity() && cache->a0 == c[0].a0 && cache->b0 == c[0].b0 &&
+           cache->tiles[0] == c[0].tile && cache->tiles[1] == c[1].tile && cache->tiles[2] == c[2].tile &&
+           cache->tiles[3] == c[3].tile;
+  }
+  void resolve_all(Corner* c) const noexcept {
+    if (cached(c)) return;
+    for (int k = 0; k < 4; ++k) resolve(c[k]);
+  }
   // Each quad in one quad_lanes() (each block's header read once), its samples weighted and
   // decoded side by side as the raw records are (weighted_lanes), the four corners summed by
   // one transpose: measured along strokes (bumpy sphere, m32 n16, one core), 184 ns a query
   // with a scalar blend per sample (blend_quad), 148 ns so (exact: 130).
-  __attribute__((always_inline)) CornerLanes lanes(const Corner& c, __m128 w) const noexcept {
-    __m128 t, u, v;
-    const __m128 hit = view.quad_lanes(c.rec, c.a0, c.b0, t, u, v);
+  static CornerLanes lanes(__m128 w, __m128 hit, __m128 t, __m128 u, __m128 v) noexcept {
     return weighted_lanes(_mm_and_ps(w, hit), _mm_and_ps(hit, t), _mm_and_ps(hit, u), _mm_and_ps(hit, v));
   }
   Corners4 blend4(const Corner* c, const float w[4]) const noexcept {
     const __m128 wv = _mm_loadu_ps(w);  // the quad's order is the weights' order
-    const CornerLanes a = lanes(c[0], wv), b = lanes(c[1], wv), e = lanes(c[2], wv), f = lanes(c[3], wv);
+    __m128 t[4], u[4], v[4], hit[4];
+    if (cached(c)) {
+      ++cache->reused;
+      for (int k = 0; k < 4; ++k) {
+        t[k] = _mm_load_ps(cache->t[k]), u[k] = _mm_load_ps(cache->u[k]);
+        v[k] = _mm_load_ps(cache->v[k]), hit[k] = _mm_load_ps(cache->hit[k]);
+      }
+    } else {
+      for (int k = 0; k < 4; ++k) hit[k] = view.quad_lanes(c[k].rec, c[k].a0, c[k].b0, t[k], u[k], v[k]);
+      if (cache) {
+        cache->table = view.identity(), cache->a0 = c[0].a0, cache->b0 = c[0].b0;
+        for (int k = 0; k < 4; ++k) {
+          cache->tiles[k] = c[k].tile;
+          _mm_store_ps(cache->t[k], t[k]), _mm_store_ps(cache->u[k], u[k]);
+          _mm_store_ps(cache->v[k], v[k]), _mm_store_ps(cache->hit[k], hit[k]);
+        }
+      }
+    }
+    const CornerLanes a = lanes(wv, hit[0], t[0], u[0], v[0]), b = lanes(wv, hit[1], t[1], u[1], v[1]);
+    const CornerLanes e = lanes(wv, hit[2], t[2], u[2], v[2]), f = lanes(wv, hit[3], t[3], u[3], v[3]);
     return {lane_sums(a.w, b.w, e.w, f.w), lane_sums(a.t, b.t, e.t, f.t), lane_sums(a.nx, b.nx, e.nx, f.nx),
             lane_sums(a.ny, b.ny, e.ny, f.ny), lane_sums(a.nz, b.nz, e.nz, f.nz)};
   }

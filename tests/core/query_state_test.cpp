@@ -2,6 +2,7 @@
 // most ticks from the last contact, with the answers of the stateless query.
 #include "evaluation/probe_sampling.h"
 #include "haptic_box/bake.h"
+#include "mesh/generators.h"
 #include "two_spheres.h"
 #include <gtest/gtest.h>
 #include <cmath>
@@ -62,6 +63,41 @@ TEST(QueryStateTest, TheCellsRouteStartsMostWalksWhereTheLastFullWalkWasFreeWith
   expect_same_answers_along_strokes(test::two_spheres(3.f), from_state, ticks, SceneRoute::cells);
   expect_same_answers_along_strokes(test::two_spheres(1.6f), from_state, ticks, SceneRoute::cells);
   EXPECT_GT(from_state, ticks / 2) << from_state << " of " << ticks;
+}
+
+TEST(QueryStateTest, ABlockCodedBoxDecodesAQuadOnceWhileAStrokeStaysInItsCellsWithTheSameBits) {
+  // One raw box, block-coded: along strokes the state keeps the last quads decoded; the
+  // answers are the stateless ones bit for bit, most ticks reuse the decode, and a state
+  // used in another scene (the same place, another table) forgets it.
+  const TriangleMesh sphere = make_ellipsoid(Vec3(1.f, 0.8f, 0.6f), 4);
+  BakeOptions o;
+  o.params = {16, 8};
+  CodecOptions codec;
+  codec.codec = CodecId::block;
+  codec.max_error = 4e-5f;
+  const BoxScene scene = bake_scene(sphere, {}, o, SourceInfo{}).compressed(codec);
+  ASSERT_EQ(scene.boxes().size(), 1u);
+  ASSERT_EQ(scene.boxes()[0].codec(), CodecId::block);
+  const std::vector<Segment> strokes = sample_strokes(sphere, 10, 200, 0.02f);
+  SceneQueryState state;
+  std::size_t contacts = 0;
+  for (const Segment& s : strokes) {
+    const Contact a = scene.query(s, kStateLaw, state), b = scene.query(s, kStateLaw);
+    ASSERT_EQ(a.contact, b.contact);
+    ASSERT_EQ(a.force, b.force);
+    ASSERT_EQ(a.point, b.point);
+    contacts += a.contact;
+  }
+  EXPECT_GT(contacts, strokes.size() / 2);
+  EXPECT_GT(state.quads.reused, strokes.size() / 2) << "of " << strokes.size();
+  // Another scene's table (coded coarser): its own answers, not the kept decode.
+  codec.max_error = 4e-3f;
+  const BoxScene other = bake_scene(sphere, {}, o, SourceInfo{}).compressed(codec);
+  const std::uint64_t reused = state.quads.reused;
+  const Contact a = other.query(strokes.back(), kStateLaw, state), b = other.query(strokes.back(), kStateLaw);
+  EXPECT_EQ(a.force, b.force);
+  EXPECT_EQ(state.quads.reused, 0u);
+  EXPECT_LE(state.quads.reused, reused);
 }
 
 TEST(QueryStateTest, AStateIsNotTakenForAnotherScenesOrAFarSegments) {
