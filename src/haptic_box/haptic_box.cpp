@@ -306,7 +306,9 @@ int HapticBox::surface_points(const Located<Fetch>& q, OrientedPoint out[16]) co
 // are well-conditioned) give their hits and normals, and a quadric height field fitted to
 // them (surface_fit.h: second-order exact, where a blend is first-order) is met by the line;
 // its crossing is the next y, the quadric's normal there the next n. A line that passes the
-// quadric moves to where it comes closest. Near tangency a tangent-plane (Newton) step
+// quadric moves to where it comes closest; one inside a quadric it does not enter (a hollow
+// curving around it) steps back a cell; a step beyond what the fits have shown outside and
+// inside bisects that bracket. Near tangency a tangent-plane (Newton) step
 // converges slowly and from one side (on a convex surface it stops short: measured before,
 // the crossing 0.1-0.6 mm early and the normal a degree steep); the quadric's crossing
 // settles in two to four fits. Settled when a step moves y by less than kSettledCells
@@ -321,7 +323,7 @@ bool HapticBox::settle_grazing(const Fetch& fetch, float p1x, float p1y, float p
   // crossing. The fit's reach: a Gaussian of 0.4 position cells around the line, on top of
   // the blend's own weights plus 0.1 (measured on grazing lines of the bumpy sphere, m32 n16
   // block-coded: 0.3 a little worse, 0.6 alike).
-  constexpr int kSteps = 6;
+  constexpr int kSteps = 8;
   constexpr float kReachCells = 3.f, kFarthestCells = 8.f, kSettledCells = 0.01f;
   constexpr float kFitSigmaCells = 0.4f, kFitWeightFloor = 0.1f;
   const BoxLayout::Local& L = layout_.local();
@@ -340,27 +342,45 @@ bool HapticBox::settle_grazing(const Fetch& fetch, float p1x, float p1y, float p
   const Vec3 p1(p1x, p1y, p1z), l(lx, ly, lz);
   float t = t0;
   Vec3 m(nx, ny, nz);
+  // What the fits said so far: the line is outside at t_out, inside at t_in (the fit's height
+  // at y along m: the surface below y, or above it). A step that would leave that bracket
+  // bisects it instead.
+  float t_out = -std::numeric_limits<float>::infinity(), t_in = std::numeric_limits<float>::infinity();
   for (int step = 0; step < kSteps; ++step) {
     const Vec3 y = p1 + t * l;
     LocalQuadric quadric;
     if (!fit(y, m, quadric)) return false;
+    const bool inside = quadric.c[0] > 0.0;
+    if (inside) t_in = std::min(t_in, t);
+    else t_out = std::max(t_out, t);
     float s = 0.f;
-    if (!quadric.entry(y, l, s)) {
-      // The line passes the fitted surface: go to where it comes closest and fit there. When
-      // that is here already, the line passes within the fit's error: nothing to settle on.
-      const LocalQuadric::Height h = quadric.height_along(y, l);
-      if (!(h.a > 0.0)) return false;
-      s = float(-h.b / (2.0 * h.a));
-      if (!(std::fabs(s) <= kFarthestCells * cell) || std::fabs(s) < kSettledCells * cell) return false;
-      t += s;
-      m = quadric.normal_at(y + s * l);
-      continue;
+    const bool enters = quadric.entry(y, l, s) && std::fabs(s) <= kFarthestCells * cell;
+    if (!enters) {
+      if (inside) {
+        // Inside a fit the line does not enter here (a hollow between bumps curving around
+        // it): the line came in behind; step back a cell.
+        s = -cell;
+      } else {
+        // The line passes the fitted surface: go to where it comes closest and fit there.
+        // When that is here already, it passes within the fit's error: nothing to settle on.
+        const LocalQuadric::Height h = quadric.height_along(y, l);
+        if (!(h.a > 0.0)) return false;
+        s = float(-h.b / (2.0 * h.a));
+        if (!(std::fabs(s) <= kFarthestCells * cell) || std::fabs(s) < kSettledCells * cell) return false;
+      }
     }
-    if (!(std::fabs(s) <= kFarthestCells * cell)) return false;
-    t += s;
-    m = quadric.normal_at(y + s * l);
-    if (!(m.dot(l) < 0.f)) return false;
-    if (std::fabs(s) < kSettledCells * cell) {
+    float next = t + s;
+    const bool bracketed = t_out > -std::numeric_limits<float>::infinity() && t_in < std::numeric_limits<float>::infinity();
+    if (bracketed && !(next > std::min(t_out, t_in) && next < std::max(t_out, t_in))) next = 0.5f * (t_out + t_in);
+    const Vec3 at = p1 + next * l;
+    m = quadric.normal_at(at);
+    if (!(m.dot(l) < 0.f)) {
+      if (enters) return false;
+      m = quadric.normal_at(y);
+    }
+    const bool settled = enters && std::fabs(next - t) < kSettledCells * cell;
+    t = next;
+    if (settled) {
       t0 = t, nx = m.x(), ny = m.y(), nz = m.z();
       return true;
     }

@@ -145,6 +145,46 @@ TEST(HapticBoxQueryTest, AGrazingLineIsAnsweredAsExactlyAsANormalOne) {
   EXPECT_LE(differ, probes / 100) << differ << " of " << probes;
 }
 
+TEST(HapticBoxQueryTest, AGrazingLineOverBumpsAndHollowsIsAnsweredAsExactlyAsANormalOne) {
+  // Within 15 degrees of the tangent plane over the bumpy sphere: lines that cross a bump's
+  // flank, skim a crest or run into a hollow.
+  BumpySphereOptions bumpy;
+  bumpy.subdivisions = 6;
+  const TriangleMesh sphere = make_bumpy_sphere(bumpy);
+  const HapticBox box = bake(sphere, 32, 16);
+  const ExactQuery exact(sphere);
+  int probes = 0, differ = 0, lost = 0;
+  for (const Segment& segment : test::grazing_segments(sphere, 600, 5, 75.f, 88.f, 0.4f, 0.01f)) {
+    const Contact e = exact.query(segment, kLaw);
+    if (!e.contact) continue;
+    ++probes;
+    const Contact x = box.query(segment, kLaw);
+    const float threshold = std::max(0.1f * e.force.norm(), 0.002f * kLaw.stiffness_n_per_m);
+    if (!x.contact) lost += e.force.norm() > threshold;
+    if (std::fabs(x.force.norm() - e.force.norm()) > threshold) ++differ;
+  }
+  ASSERT_GT(probes, 500);
+  EXPECT_LE(lost, probes / 200) << lost << " of " << probes;
+  EXPECT_LE(differ, probes / 100) << differ << " of " << probes;
+}
+
+TEST(HapticBoxQueryTest, ALineWhoseBlendLandsInAHollowIsSettledBackWhereItEnters) {
+  // Found along T2's slides (2026-12-07): 7 degrees from the tangent plane, the blend puts
+  // the crossing 2.8 mm (at an 80 mm workspace) early, in a hollow between bumps, where the
+  // quadric fitted there curves around the line; the settle steps back and brackets the
+  // crossing (before: the blend stood, a force from 0.1 mm off the surface).
+  const TriangleMesh sphere = make_bumpy_sphere();
+  const HapticBox box = bake(sphere, 32, 16);
+  const ExactQuery exact(sphere);
+  const Segment s{Vec3(-0.159360707f, 0.0796498805f, 0.993000627f), Vec3(-0.46482268f, 0.087078467f, 0.804503858f)};
+  const Contact e = exact.query(s, kLaw), x = box.query(s, kLaw);
+  ASSERT_TRUE(e.contact);
+  ASSERT_TRUE(x.contact);
+  EXPECT_NEAR(x.depth, e.depth, 0.02f * e.depth);
+  EXPECT_LT((x.point - e.point).norm(), 0.002f);
+  EXPECT_NEAR(x.force.norm(), e.force.norm(), 0.05f * e.force.norm());
+}
+
 TEST(HapticBoxQueryTest, CubeFaceGivesFlatDepthAndAxisNormal) {
   const TriangleMesh cube = make_cube(Vec3(1.f, 1.f, 1.f), 4);
   const HapticBox box = bake(cube, 8, 6);
