@@ -149,11 +149,11 @@ Contact BoxScene::query(const Segment& segment, const ForceLaw& law, SceneQueryS
     } else {
       ++state.full;
       cells_->first_crossing_along(segment.start, segment.end, 1.f, s, front, triangle, 0.f, &state.free_to);
-      if (!same_cells) state.walked_cells = cells_;
+      if (!same_cells) state.walked_cells = cells_, state.lattice = SurfaceTriangles::LatticeCache{};
       state.walked_start = segment.start;
       state.walked_end = segment.end;
     }
-    return crossing_contact(segment, length, law, triangle, front);
+    return crossing_contact(segment, length, law, triangle, front, &state.lattice);
   }
   if (grid_ && state.box < boxes_.size() && state.triangle != SceneQueryState::kNone && boxes_[state.box].refines() &&
       grid_->code_at(segment.start) == SceneGrid::kOutside) {
@@ -368,7 +368,7 @@ Contact BoxScene::first_crossing_contact(const Segment& segment, float length, c
 }
 
 Contact BoxScene::crossing_contact(const Segment& segment, float length, const ForceLaw& law, std::uint32_t best_id,
-                                   bool best_front) const noexcept {
+                                   bool best_front, SurfaceTriangles::LatticeCache* lattice) const noexcept {
   // No crossing, or the first one leaves the object (the handle is inside): no contact.
   if (best_id == kNoTriangle || !best_front) return Contact{};
   // Exact's contact on that triangle: the crossing along the unit direction, its shading.
@@ -377,7 +377,9 @@ Contact BoxScene::crossing_contact(const Segment& segment, float length, const F
   float t = 0.f;
   Vec3 normal;
   bool front = false;
-  if (!cells_->surface().intersect(best_id, o, d, 0.f, t, normal, front) || !front || !(t <= length)) return Contact{};
+  const bool crossed = lattice ? cells_->surface().intersect(best_id, o, d, 0.f, t, normal, front, *lattice)
+                               : cells_->surface().intersect(best_id, o, d, 0.f, t, normal, front);
+  if (!crossed || !front || !(t <= length)) return Contact{};
   return contact_along(segment.start, dir, length, t, normal, law, cells_->surface().face_normal(best_id));
 }
 

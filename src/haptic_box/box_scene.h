@@ -70,6 +70,9 @@ struct SceneQueryState {
   /// table's owner they belong to (a weak reference, as walked_cells).
   DecodedQuads quads;
   std::weak_ptr<const void> quads_owner;
+  /// The cells route over a surface with a normal map: the last map cell's three decoded
+  /// normals (SurfaceTriangles::LatticeCache; reset with walked_cells).
+  SurfaceTriangles::LatticeCache lattice;
   std::uint64_t from_state = 0;  ///< queries answered from the state (see BoxScene::query).
   std::uint64_t full = 0;        ///< queries answered by the full query.
 };
@@ -294,7 +297,7 @@ private:
   // The contact of the segment's first crossing `triangle` (kNoTriangle: none), found by the
   // surface cells' walk; `front`: it enters the object.
   Contact crossing_contact(const Segment& segment, float length, const ForceLaw& law, std::uint32_t triangle,
-                           bool front) const noexcept;
+                           bool front, SurfaceTriangles::LatticeCache* lattice = nullptr) const noexcept;
   bool settle_first_crossing(const Segment& segment, const ForceLaw& law, const Visited& visited, Contact& best,
                              float& best_along, std::uint32_t& best_box, std::uint32_t& best_triangle,
                              std::size_t* asked_count) const noexcept;

@@ -261,26 +261,39 @@ Vec3 SurfaceTriangles::shading_at(std::uint32_t id, float u, float v) const noex
   return map_ ? lattice_shading(id, u, v) : corner_shading(records_[id], u, v);
 }
 
-Vec3 SurfaceTriangles::lattice_shading(std::uint32_t id, float u, float v) const noexcept {
+Vec3 SurfaceTriangles::lattice_shading(std::uint32_t id, float u, float v, LatticeCache* cache) const noexcept {
   const int k = map_side_;
   const std::uint32_t* p = map_ + std::size_t(id) * lattice_points(k);
   int i, j;
   float fu, fv;
   lattice_cell(k, u, v, i, j, fu, fv);
   const auto at = [&](int a, int b) { return decode_octahedral32(p[lattice_index(k, a, b)]); };
-  if (fu + fv <= 1.f || i + j == k - 1)
-    return (1.f - fu - fv) * at(i, j) + fu * at(i + 1, j) + fv * at(i, j + 1);
+  const bool lower = fu + fv <= 1.f || i + j == k - 1;
+  if (cache) {
+    // The three corners in the blend's order, decoded once while the crossing stays here.
+    if (!(cache->map == map_ && cache->id == id && cache->i == i && cache->j == j && cache->upper == !lower)) {
+      cache->map = map_, cache->id = id, cache->i = i, cache->j = j, cache->upper = !lower;
+      if (lower)
+        cache->n[0] = at(i, j), cache->n[1] = at(i + 1, j), cache->n[2] = at(i, j + 1);
+      else
+        cache->n[0] = at(i + 1, j + 1), cache->n[1] = at(i + 1, j), cache->n[2] = at(i, j + 1);
+    }
+    const Vec3* n = cache->n;
+    if (lower) return (1.f - fu - fv) * n[0] + fu * n[1] + fv * n[2];
+    return (fu + fv - 1.f) * n[0] + (1.f - fv) * n[1] + (1.f - fu) * n[2];
+  }
+  if (lower) return (1.f - fu - fv) * at(i, j) + fu * at(i + 1, j) + fv * at(i, j + 1);
   return (fu + fv - 1.f) * at(i + 1, j + 1) + (1.f - fv) * at(i + 1, j) + (1.f - fu) * at(i, j + 1);
 }
 
 bool SurfaceTriangles::finish(const Record& r, const float d[3], float u, float v, float s, float s_min, float& s_out,
-                              Vec3& normal, bool& front) const noexcept {
+                              Vec3& normal, bool& front, LatticeCache* cache) const noexcept {
   if (!(s >= s_min)) return false;
   // Geometric normal e1 x e2 (outward for a consistently oriented mesh).
   const Vec3 g(r.e1[1] * r.e2[2] - r.e1[2] * r.e2[1], r.e1[2] * r.e2[0] - r.e1[0] * r.e2[2],
                r.e1[0] * r.e2[1] - r.e1[1] * r.e2[0]);
   // The corner normals inline: the map's lattice is the rarer case, out of line.
-  Vec3 shaded = map_ ? lattice_shading(std::uint32_t(&r - records_), u, v) : corner_shading(r, u, v);
+  Vec3 shaded = map_ ? lattice_shading(std::uint32_t(&r - records_), u, v, cache) : corner_shading(r, u, v);
   if (shaded.dot(g) < 0.f || shaded.squaredNorm() < 1e-12f) shaded = g;
   float len = shaded.norm();
   if (!(len > 0.f)) return false;
@@ -303,6 +316,16 @@ Vec3 SurfaceTriangles::face_normal(std::uint32_t id) const noexcept {
   const Vec3 g = Vec3(r.e1[0], r.e1[1], r.e1[2]).cross(Vec3(r.e2[0], r.e2[1], r.e2[2]));
   const float len = g.norm();
   return len > 0.f && len <= std::numeric_limits<float>::max() ? Vec3(g / len) : Vec3(Vec3::Zero());
+}
+
+bool SurfaceTriangles::intersect(std::uint32_t id, const float o[3], const float d[3], float s_min, float& s,
+                                 Vec3& normal, bool& front, LatticeCache& cache) const noexcept {
+  if (id >= count_) return false;
+  const Record& r = records_[id];
+  float u, v, hit;
+  if (!plane_hit(r, o, d, u, v, hit)) return false;
+  if (std::min(std::min(u, v), 1.f - u - v) < 0.f) return false;  // as intersect() above
+  return finish(r, d, u, v, hit, s_min, s, normal, front, &cache);
 }
 
 bool SurfaceTriangles::intersect(std::uint32_t id, const float o[3], const float d[3], float s_min, float& s,

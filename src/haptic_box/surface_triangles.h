@@ -106,6 +106,21 @@ public:
   bool intersect(std::uint32_t id, const float origin[3], const float dir[3], float s_min, float& s,
                  Vec3& normal, bool& front, float* outside = nullptr) const noexcept;
 
+  /// A probe's last normal-map cell: the three lattice normals decoded for triangle `id`'s
+  /// cell (i, j, upper) of this surface's map (`map` tells the surface). Along a stroke the
+  /// crossing stays in one cell for tens of ticks, and decoding the three is most of a
+  /// shading (BoxScene::query with a SceneQueryState keeps one).
+  struct LatticeCache {
+    const void* map = nullptr;
+    std::uint32_t id = 0xffffffffu;
+    int i = -1, j = -1;
+    bool upper = false;
+    Vec3 n[3];
+  };
+  /// intersect() with the map's decode kept in `cache` (the same bits).
+  bool intersect(std::uint32_t id, const float origin[3], const float dir[3], float s_min, float& s, Vec3& normal,
+                 bool& front, LatticeCache& cache) const noexcept;
+
   /// Unit geometric normal (e1 x e2, the winding's outward side) of triangle `id`; zero when
   /// out of range or degenerate. The same float operations as EmbreeScene's on the mesh, so
   /// the same bits for the same triangle.
@@ -167,7 +182,7 @@ private:
   // false for a line parallel to the plane.
   static bool plane_hit(const Record& r, const float o[3], const float d[3], float& u, float& v, float& s) noexcept;
   // shading_at() with a map (kept out of finish()'s inline path).
-  [[gnu::noinline]] Vec3 lattice_shading(std::uint32_t id, float u, float v) const noexcept;
+  [[gnu::noinline]] Vec3 lattice_shading(std::uint32_t id, float u, float v, LatticeCache* cache = nullptr) const noexcept;
   // The lattice cell (i, j) of side k holding barycentric (u, v), i + j <= k - 1 (a point on
   // the far edge belongs to the last cell's lower triangle, whose weights there are the
   // edge's), and (u, v) within it in steps (fu, fv).
@@ -210,7 +225,7 @@ private:
   }
   // `r` is one of records_ (the map is found by its slot).
   bool finish(const Record& r, const float d[3], float u, float v, float s, float s_min, float& s_out, Vec3& normal,
-              bool& front) const noexcept;
+              bool& front, LatticeCache* cache = nullptr) const noexcept;
 
   const Record* records_ = nullptr;
   std::size_t count_ = 0;

@@ -95,6 +95,39 @@ TEST(NormalMapTest, ACoarseSurfaceWithItsMapShadesAsTheMeshThatSubdividesIt) {
   EXPECT_GT(plain_max, 2.0);
 }
 
+TEST(NormalMapTest, AKeptLatticeCellShadesWithTheSameBitsAlongAStroke) {
+  // SurfaceTriangles::LatticeCache (a probe's query state keeps one): along a slow sweep the
+  // crossing stays in a map cell for many steps; shading through the cache gives intersect()'s
+  // bits, whether the cell is kept or another triangle, cell or surface comes in between.
+  const CoarseAndFine m = coarse_and_fine();
+  const int side = 4;
+  SurfaceTriangles mapped(m.coarse), other(m.coarse);
+  mapped.set_normal_map(side, fit_normal_map(m.fine, m.coarse, side, 0.01 * double(m.fine.bounds().diagonal())));
+  other.set_normal_map(side, fit_normal_map(m.fine, m.coarse, side, 0.02 * double(m.fine.bounds().diagonal())));
+  SurfaceTriangles::LatticeCache cache;
+  std::size_t shaded = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const float a = 0.0005f * float(k);
+    const Vec3 o(2.f * std::cos(a), 2.f * std::sin(a), 0.3f), d = -o.normalized();
+    const float of[3] = {o.x(), o.y(), o.z()}, df[3] = {d.x(), d.y(), d.z()};
+    const SurfaceTriangles& s = (k % 500 == 499) ? other : mapped;  // another surface now and then
+    for (std::uint32_t id = 0; id < s.size(); ++id) {
+      float t0 = 0.f, t1 = 0.f;
+      Vec3 n0, n1;
+      bool f0 = false, f1 = false;
+      const bool h0 = s.intersect(id, of, df, 0.f, t0, n0, f0);
+      const bool h1 = s.intersect(id, of, df, 0.f, t1, n1, f1, cache);
+      ASSERT_EQ(h0, h1);
+      if (!h0) continue;
+      ASSERT_EQ(t0, t1);
+      ASSERT_EQ(n0, n1) << k;
+      ASSERT_EQ(f0, f1);
+      ++shaded;
+    }
+  }
+  EXPECT_GT(shaded, 2000u);
+}
+
 TEST(NormalMapTest, AMapWithoutASideOrDataOrOfAnotherSizeIsRefused) {
   const CoarseAndFine m = coarse_and_fine();
   SurfaceTriangles surface(m.coarse);
