@@ -46,14 +46,14 @@ void add_eval_command(CLI::App& app) {
     // Probes dealt across the ranks of an MPI job; the figures are one process's.
     const hb::ComparisonStats s = hb::compare_queries(scene, exact, probes, ws.law(), diag, nullptr,
                                                       &hb::cli::communicator(), nullptr, judge);
-    nlohmann::json j = hb::eval_json(s, opts->box, opts->mesh, opts->probes.seed, hb::route_name(scene.answering_route()));
+    nlohmann::json j = hb::eval_json(s, opts->box, opts->mesh, opts->probes.seed, scene.answering_name());
     j["workspace"] = hb::workspace_json(ws, judge);
     if (opts->json) {
       hb::cli::print_json(j);
       return;
     }
     std::cout << "eval " << opts->box << " vs " << opts->mesh << " (" << s.samples << " probes, seed "
-              << opts->probes.seed << ", route " << hb::route_name(scene.answering_route()) << ")\n"
+              << opts->probes.seed << ", route " << scene.answering_name() << ")\n"
               << "  workspace           " << ws.describe() << "\n"
               << hb::perceptible_lines(s)
               << "  contact agreement   " << hb::agreement_percent(s.contact_agreement) << "  (false "

@@ -112,7 +112,7 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   d.bake_seconds = bake_seconds;
   d.codec = codec_name(scene.boxes().front().codec());
   d.refine = scene.refines();
-  d.route = route_name(scene.answering_route());
+  d.route = scene.answering_name();
   d.densities = density_range(scene);
   d.generated_at = utc_now_iso();
   d.machine = machine_description();

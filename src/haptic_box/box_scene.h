@@ -196,6 +196,12 @@ public:
   /// route would leave the boxes to answer and they are frames (without_tables()).
   void set_route(SceneRoute route);
   SceneRoute route() const noexcept { return route_; }
+  /// What answers, by name: "embree", "cells", "boxes" (boxes refining from their triangle
+  /// ids) or "raw" (the paper's haptic box: boxes answering from their samples alone).
+  const char* answering_name() const noexcept {
+    const SceneRoute r = answering_route();
+    return r == SceneRoute::boxes && !refines() ? "raw" : route_name(r);
+  }
   /// Takes `other`'s Embree tree (built by its set_route(SceneRoute::embree)) when both
   /// scenes answer from the same surface, the same object: this scene's Embree route then
   /// builds none. For a search composing several scenes over one surface (the budgeted bake

@@ -474,11 +474,7 @@ void BudgetSearch::choose_route(BoxScene& scene) {
     const PairedTiming t = paired_query_ns(scene, *exact_, timed_, law_);
     rep_.answer_ns = t.a_ns, rep_.exact_ns = t.b_ns;
   }
-  const SceneRoute answering = scene.answering_route();
-  rep_.answer = answering == SceneRoute::embree ? "embree"
-                : answering == SceneRoute::cells ? "cells"
-                : scene.refines()               ? "boxes"
-                                                : "raw";
+  rep_.answer = scene.answering_name();
   stage_done("route_timing", seconds_since(tstage));
 }
 

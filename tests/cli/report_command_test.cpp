@@ -110,6 +110,7 @@ TEST_F(ReportCommandTest, AReportFromAMeshIsOfTheDefaultBakeThroughTheCacheUnles
   const std::string route = s["eval"]["route"].get<std::string>();
   const std::string words = route == "embree" ? "exact Embree over the scene's surface"
                             : route == "cells" ? "surface-cell triangles"
+                            : route == "raw"   ? "the paper's raw haptic box"
                                                : "the boxes (their samples";
   EXPECT_NE(s["summary_text"].get<std::string>().find(words), std::string::npos) << route << ": " << s["summary_text"];
   EXPECT_NE(read("rep_default/report.html").find(words), std::string::npos) << route;
