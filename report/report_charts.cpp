@@ -51,7 +51,9 @@ LabelPlacer::LabelPlacer(double x0, double x1, double y0, double y1) : x0_(x0), 
 LabelPlacer::Placement LabelPlacer::place(double x, double y, std::size_t chars, bool must, bool big) {
   const double span = x1_ - x0_, line = 0.05 * (y1_ - y0_);
   const double width = kCharWidth * span * double(chars), gap = (big ? 0.035 : 0.012) * span;
-  const double dys[] = {0.2 * line, -0.9 * line, 1.2 * line, -1.6 * line};
+  // Beside the point first, then stacked higher: the good configurations crowd the bottom of
+  // the top panel (0% felt), where there is no room below.
+  const double dys[] = {0.2 * line, -0.9 * line, 1.2 * line, -1.6 * line, 2.2 * line, 3.2 * line};
   struct Try { bool left; double dy; };
   std::vector<Try> tries;
   for (double dy : dys)
@@ -135,7 +137,14 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
     if (rows.empty()) xmin = 1, xmax = 10;
     const double lx0 = std::floor(std::log10(xmin) - 0.05), lx1 = std::ceil(std::log10(xmax) + 0.05);
     const double budget_felt = 100.0 * ErrorBudget{}.perceptible;  // the default budget's
+    // The top panel shows up to ten times the budget: what a hand cannot tell apart from what
+    // it can, at a scale where the shares near the budget are seen apart. A share above sits on
+    // the top edge, its label saying its value ("off the scale").
+    const double cap = 10.0 * budget_felt;
+    const bool capped = ymax > cap;
+    ymax = std::min(ymax, cap);
     ymax = std::max(ymax, 10.0 * budget_felt) * 1.15;
+    const double top_edge = cap * 1.1;  // where an off-scale share is drawn
     // Room above 100% for the labels of the exact answers there.
     const double a0 = std::max(0.0, std::floor(amin / 10.0) * 10.0 - 5.0), a1 = 100.0 + 0.14 * (100.0 - a0);
     const double budget_agreement = 100.0 * ErrorBudget{}.agreement;  // the default budget's
@@ -159,8 +168,9 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
       else
         pls->lab("query time, ns (one core, log scale)", "contact agreement, %", "");
       const auto value = [&](const SweepRow& r) {
-        return top ? 100.0 * r.perceptible_share : 100.0 * r.contact_agreement;
+        return top ? std::min(100.0 * r.perceptible_share, top_edge) : 100.0 * r.contact_agreement;
       };
+      const auto off_scale = [&](const SweepRow& r) { return top && capped && 100.0 * r.perceptible_share > cap; };
       LabelPlacer labels(lx0, lx1, y0, y1);
       if (top) {
         // The default budget's perceptible share, its words at the right end over the line.
@@ -225,8 +235,13 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
         const int colour = raw ? kPurple : box ? (r.pareto ? kBlue : kGrey) : (vtk ? kOrange : kRed);
         pls->col0(colour);
         pls->ssym(0, box ? 1.2 : 1.6);
-        pls->poin(1, &x, &y, box ? 17 : 16);
-        const std::string text = row_label(r);
+        pls->poin(1, &x, &y, off_scale(r) ? 7 : box ? 17 : 16);  // an open triangle: off the scale above
+        std::string text = row_label(r);
+        if (off_scale(r)) {
+          char share[48];
+          std::snprintf(share, sizeof share, ": %.3g%%, off the scale", 100.0 * r.perceptible_share);
+          text += share;
+        }
         const LabelPlacer::Placement at = labels.place(x, y, text.size(), !box || r.pareto || !r.label.empty(), !box);
         if (at.shown) pls->ptex(at.x, at.y, 1.0, 0.0, at.left ? 1.0 : 0.0, text.c_str());
       }
