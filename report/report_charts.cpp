@@ -51,13 +51,14 @@ LabelPlacer::LabelPlacer(double x0, double x1, double y0, double y1) : x0_(x0), 
 LabelPlacer::Placement LabelPlacer::place(double x, double y, std::size_t chars, bool must, bool big) {
   const double span = x1_ - x0_, line = 0.05 * (y1_ - y0_);
   const double width = kCharWidth * span * double(chars), gap = (big ? 0.035 : 0.012) * span;
-  // Beside the point first, then stacked higher: the good configurations crowd the bottom of
-  // the top panel (0% felt), where there is no room below.
+  // Beside the point first; a label that must be drawn (a reference, the default bake, a raw
+  // sampling the bake tried) is then stacked higher: the good configurations crowd the bottom
+  // of the top panel (0% felt), where there is no room below. An optional one stays near.
   const double dys[] = {0.2 * line, -0.9 * line, 1.2 * line, -1.6 * line, 2.2 * line, 3.2 * line};
   struct Try { bool left; double dy; };
   std::vector<Try> tries;
-  for (double dy : dys)
-    for (bool left : {false, true}) tries.push_back({left, dy});
+  for (std::size_t k = 0; k < (must ? 6u : 4u); ++k)
+    for (bool left : {false, true}) tries.push_back({left, dys[k]});
   const auto rect = [&](const Try& t) {
     const double lo = t.left ? x - gap - width : x + gap, base = y + t.dy;
     return Rect{lo, lo + width, base - 0.1 * line, base + 0.8 * line};

@@ -47,6 +47,24 @@ TEST(ChartLabelsTest, ACrowdOfPointsGetsLabelsNearTheirPointsThatNeitherOverlapN
   EXPECT_GT(left_out, 0) << "this crowd cannot all be labelled";
 }
 
+TEST(ChartLabelsTest, LabelsThatMustBeDrawnStackAboveACrowdedBottomRow) {
+  // The default bake, a raw sampling and exact, all at 0% felt and close in time (the bottom of
+  // the top panel, no room below): each named label is drawn clear of the others and of the
+  // marks, stacked up to three lines above its point.
+  const double x0 = 2.0, x1 = 4.0, y0 = -0.05, y1 = 1.15, line = 0.05 * (y1 - y0);
+  const double xs[] = {2.34, 2.61, 2.78, 2.45};
+  hb::LabelPlacer placer(x0, x1, y0, y1);
+  for (double x : xs) placer.mark(x, 0.0, x == 2.78);
+  std::vector<hb::LabelPlacer::Rect> shown;
+  for (double x : xs) {
+    const hb::LabelPlacer::Placement p = placer.place(x, 0.0, 30, true, x == 2.78);  // "raw m32 n16 (tried by the bake)"
+    ASSERT_TRUE(p.shown);
+    EXPECT_LE(std::fabs(p.y), 3.2 * line + 1e-9);
+    for (const auto& r : shown) EXPECT_FALSE(overlap(p.box, r)) << "labels of " << x << " overlap";
+    shown.push_back(p.box);
+  }
+}
+
 TEST(ChartLabelsTest, AReferenceIsAlwaysLabelledAndClearOfItsOwnMark) {
   hb::LabelPlacer placer(2.0, 4.0, 0.0, 100.0);
   placer.mark(2.5, 0.0, true);
