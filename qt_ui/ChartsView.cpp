@@ -251,11 +251,15 @@ void ChartsView::drawSpeed(const std::vector<hb::SweepRow>& rows, const std::vec
            : r.method == "exact_embree" ? hb::kExactSeries
                                         : hb::kVtkSeries;
   };
+  // Up to ten times the budget is in view (as the report's chart): a share above sits on the
+  // top edge, its words saying its value; its tooltip keeps it.
+  const double cap = 10.0 * 100.0 * hb::ErrorBudget{}.perceptible;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const hb::SweepRow& r = rows[i];
     const double x = std::log10(std::max(r.query_ns, 1.0));
     // The headline: the share of probes a hand would tell apart (hapticbox sweep's felt_%).
-    const double y = 100.0 * r.perceptible_share;
+    const bool offScale = 100.0 * r.perceptible_share > cap;
+    const double y = offScale ? 1.1 * cap : 100.0 * r.perceptible_share;
     const bool rawTrial = r.tried_by_the_bake;
     Series& s = rawTrial ? raw : r.method == "haptic_box" ? box : r.method == "exact_embree" ? exact : vtk;
     s.x.push_back(x);
@@ -263,7 +267,8 @@ void ChartsView::drawSpeed(const std::vector<hb::SweepRow>& rows, const std::vec
     s.tips.push_back(i < notes.size() && !notes[i].empty() ? notes[i] : rowTooltip(r));
     if (rawTrial) rawRows.push_back(r);
     else if (r.method == "haptic_box") boxRows_.push_back(r);
-    const std::string w = pointWords(r);
+    std::string w = pointWords(r);
+    if (!w.empty() && offScale) w += ": " + hb::percent(r.perceptible_share) + ", off the scale";
     if (!w.empty()) {
       const hb::SeriesColour& c = seriesOf(r);
       words.push_back({x, y, w, (unsigned char)c.r, (unsigned char)c.g, (unsigned char)c.b});
@@ -317,9 +322,7 @@ void ChartsView::drawSpeed(const std::vector<hb::SweepRow>& rows, const std::vec
   }
   labels_->setLabels(words);
   // Room above the highest point for its words, and the budget's line in view (as the report's).
-  double ymax = 10.0 * 100.0 * hb::ErrorBudget{}.perceptible;
-  for (const Series* v : {&box, &raw, &exact, &vtk})
-    for (double y : v->y) ymax = std::max(ymax, y);
+  const double ymax = cap;
   vtkAxis* yAxis = speedChart_->GetAxis(vtkAxis::LEFT);
   yAxis->SetBehavior(vtkAxis::FIXED);
   yAxis->SetRange(-0.04 * ymax, 1.15 * ymax);

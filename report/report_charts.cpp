@@ -119,6 +119,14 @@ std::string row_label(const SweepRow& r) {
   return r.method.find("vtk") != std::string::npos ? "VTK locator" : "exact Embree";
 }
 
+// A point's words; a share above the panel's scale says its value.
+std::string point_label(const SweepRow& r, bool off_scale) {
+  if (!off_scale) return row_label(r);
+  char share[48];
+  std::snprintf(share, sizeof share, ": %.3g%%, off the scale", 100.0 * r.perceptible_share);
+  return row_label(r) + share;
+}
+
 } // namespace
 
 void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& png_path) {
@@ -138,9 +146,8 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
     if (rows.empty()) xmin = 1, xmax = 10;
     const double lx0 = std::floor(std::log10(xmin) - 0.05), lx1 = std::ceil(std::log10(xmax) + 0.05);
     const double budget_felt = 100.0 * ErrorBudget{}.perceptible;  // the default budget's
-    // The top panel shows up to ten times the budget: what a hand cannot tell apart from what
-    // it can, at a scale where the shares near the budget are seen apart. A share above sits on
-    // the top edge, its label saying its value ("off the scale").
+    // The top panel shows up to ten times the budget, where shares near it are seen apart; a
+    // share above sits on the top edge, its label saying its value (point_label).
     const double cap = 10.0 * budget_felt;
     const bool capped = ymax > cap;
     ymax = std::min(ymax, cap);
@@ -237,12 +244,7 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
         pls->col0(colour);
         pls->ssym(0, box ? 1.2 : 1.6);
         pls->poin(1, &x, &y, off_scale(r) ? 7 : box ? 17 : 16);  // an open triangle: off the scale above
-        std::string text = row_label(r);
-        if (off_scale(r)) {
-          char share[48];
-          std::snprintf(share, sizeof share, ": %.3g%%, off the scale", 100.0 * r.perceptible_share);
-          text += share;
-        }
+        const std::string text = point_label(r, off_scale(r));
         const LabelPlacer::Placement at = labels.place(x, y, text.size(), !box || r.pareto || !r.label.empty(), !box);
         if (at.shown) pls->ptex(at.x, at.y, 1.0, 0.0, at.left ? 1.0 : 0.0, text.c_str());
       }
