@@ -4,7 +4,7 @@
 //  2. Weighted least squares over 6 coefficients: per point one row for the height and two
 //     for the slopes (-n.e1 / n.axis, -n.e2 / n.axis), the slope rows at the same weight
 //     (a slope error over sigma counts as a height error of the same size).
-//  3. Solved in double (6 x 6 LDLT) and scaled back to the caller's units.
+//  3. Solved in double (6 x 6 Cholesky) and scaled back to the caller's units.
 //  4. entry(): the line in the frame, z(s) - Q(x(s), y(s)) = A s^2 + B s + C; the root
 //     nearest 0 where that decreases (the line going inside), in the cancellation-free form.
 #include "geometry/surface_fit.h"
@@ -62,7 +62,7 @@ bool fit_local_quadric(const OrientedPoint* points, int count, const Vec3& origi
     const double x = double(r.dot(e1)) * inv_sigma, y = double(r.dot(e2)) * inv_sigma;
     const double z = double(r.dot(axis)) * inv_sigma;
     const double gx = -double(p.normal.dot(e1)) / nz, gy = -double(p.normal.dot(e2)) / nz;
-    const double w = (double(p.weight) + double(weight_floor)) * std::exp(-0.5 * (x * x + y * y));
+    const double w = double((p.weight + weight_floor) * std::exp(-0.5f * float(x * x + y * y)));  // float exp: cheaper
     if (!(w > 0.0)) continue;
     Eigen::Matrix<double, 6, 1> f, fx, fy;
     f << 1.0, x, y, x * x, x * y, y * y;
@@ -73,9 +73,34 @@ bool fit_local_quadric(const OrientedPoint* points, int count, const Vec3& origi
     ++used;
   }
   if (used < 3) return false;
-  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(a);
-  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-12)) return false;
-  const Eigen::Matrix<double, 6, 1> c = ldlt.solve(b);
+  // Cholesky by hand (6 x 6, symmetric positive definite when the points span the quadric):
+  // Eigen's LDLT with its condition estimate cost more than the rest of a fit. A pivot below
+  // 1e-12 of the largest diagonal entry is a singular fit.
+  double l[6][6] = {};
+  const double scale = a.diagonal().maxCoeff();
+  if (!(scale > 0.0)) return false;
+  for (int j = 0; j < 6; ++j) {
+    double d = a(j, j);
+    for (int k = 0; k < j; ++k) d -= l[j][k] * l[j][k];
+    if (!(d > 1e-12 * scale)) return false;
+    l[j][j] = std::sqrt(d);
+    for (int i = j + 1; i < 6; ++i) {
+      double e = a(i, j);
+      for (int k = 0; k < j; ++k) e -= l[i][k] * l[j][k];
+      l[i][j] = e / l[j][j];
+    }
+  }
+  Eigen::Matrix<double, 6, 1> c;
+  for (int i = 0; i < 6; ++i) {  // L z = b
+    double e = b[i];
+    for (int k = 0; k < i; ++k) e -= l[i][k] * c[k];
+    c[i] = e / l[i][i];
+  }
+  for (int i = 5; i >= 0; --i) {  // L^T c = z
+    double e = c[i];
+    for (int k = i + 1; k < 6; ++k) e -= l[k][i] * c[k];
+    c[i] = e / l[i][i];
+  }
   if (!c.allFinite()) return false;
   const double s = double(sigma);
   out.origin = origin, out.e1 = e1, out.e2 = e2, out.axis = axis;

@@ -274,23 +274,27 @@ inline bool HapticBox::blend(const Fetch& fetch, const Located<Fetch>& q, float&
 }
 
 // Step 6a's surface points: the 16 samples of a located query (4 corners x 2 x 2 directions)
-// that hit, each with its hit point, unit normal and interpolation weight.
+// that hit, each with its hit point, unit normal and interpolation weight. Each corner's quad
+// is read in one go through the fetch policy (a block record's header once), and the four
+// directions are the same at every corner.
 template <class Fetch>
-int HapticBox::surface_points(const Located<Fetch>& q, OrientedPoint out[16]) const noexcept {
+int HapticBox::surface_points(const Fetch& fetch, Located<Fetch>& q, OrientedPoint out[16]) const noexcept {
   const int sub = int(q.sf / 3), sface = int(q.sf % 3);
+  Vec3 dirs[4];
+  for (int k = 0; k < 4; ++k)  // q.dir_w's order: (0,0), (1,0), (1,1), (0,1)
+    dirs[k] = layout_.sample_direction(q.face, sub, sface, q.a0 + (k == 1 || k == 2 ? 1 : 0), q.b0 + (k >= 2 ? 1 : 0));
   int count = 0;
   for (int c = 0; c < 4; ++c) {
     const int i = q.i0 + (c == 1 || c == 2 ? 1 : 0), j = q.j0 + (c >= 2 ? 1 : 0);
     const float pw = (c == 1 || c == 2 ? q.d1 : 1.f - q.d1) * (c >= 2 ? q.d2 : 1.f - q.d2);
     const Vec3 origin = layout_.position_point(q.face, i, j);
-    const std::size_t tile = BoxLayout::tile_index(q.p00 + layout_.corner_step(c), q.sf);
-    for (int k = 0; k < 4; ++k) {  // q.dir_w's order: (0,0), (1,0), (1,1), (0,1)
-      const int a = q.a0 + (k == 1 || k == 2 ? 1 : 0), b = q.b0 + (k >= 2 ? 1 : 0);
-      const DecodedSample s = samples_.decode(tile, a, b);
-      if (!(s.t >= 0.f)) continue;
-      const Vec3 n = oct_decode_unnormalized(s.u, s.v);
-      out[count++] = {origin + s.t * layout_.sample_direction(q.face, sub, sface, a, b), n / n.norm(),
-                      pw * q.dir_w[k]};
+    fetch.resolve(q.corners[c]);
+    float t[4], u[4], v[4];
+    const unsigned hits = fetch.quad(q.corners[c], t, u, v);
+    for (int k = 0; k < 4; ++k) {
+      if (!((hits >> k) & 1u) || !(t[k] >= 0.f)) continue;
+      const Vec3 n = oct_decode_unnormalized(u[k], v[k]);
+      out[count++] = {origin + t[k] * dirs[k], n / n.norm(), pw * q.dir_w[k]};
     }
   }
   return count;
@@ -335,7 +339,7 @@ bool HapticBox::settle_grazing(const Fetch& fetch, float p1x, float p1y, float p
     Located<Fetch> q;
     if (!locate(fetch, Segment{y + reach * m, y - reach * m}, q)) return false;
     OrientedPoint points[16];
-    const int count = surface_points(q, points);
+    const int count = surface_points(fetch, q, points);
     return fit_local_quadric(points, count, y, m, kFitSigmaCells * cell, kFitWeightFloor, quadric) &&
            std::fabs(quadric.c[0]) <= double(reach);
   };

@@ -191,7 +191,7 @@ private:
   bool blend(const Fetch& fetch, const Located<Fetch>& q, float& t0, float& nx, float& ny, float& nz,
              int& corners_hit, bool any_hit) const noexcept;
   template <class Fetch>
-  int surface_points(const Located<Fetch>& q, OrientedPoint out[16]) const noexcept;
+  int surface_points(const Fetch& fetch, Located<Fetch>& q, OrientedPoint out[16]) const noexcept;
   template <class Fetch>
   bool settle_grazing(const Fetch& fetch, float p1x, float p1y, float p1z, float lx, float ly, float lz, float& t0,
                       float& nx, float& ny, float& nz) const noexcept;

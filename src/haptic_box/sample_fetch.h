@@ -129,6 +129,20 @@ struct RawFetch {
   }
   void resolve(Corner&) const noexcept {}
   void resolve_all(Corner*) const noexcept {}
+  // A corner's quad, sample k in the directional weights' order (0,0), (1,0), (1,1), (0,1):
+  // t and octahedral u, v (a miss: t < 0). Returns the hit mask.
+  unsigned quad(const Corner& c, float t[4], float u[4], float v[4]) const noexcept {
+    const Sample* s[4] = {c.base, c.base + n, c.base + n + 1, c.base + 1};
+    unsigned hits = 0;
+    for (int k = 0; k < 4; ++k) {
+      t[k] = s[k]->t;
+      const std::uint32_t code = s[k]->normal;
+      u[k] = float(std::int16_t(code & 0xffffu)) * (1.f / 32767.f);
+      v[k] = float(std::int16_t(code >> 16)) * (1.f / 32767.f);
+      hits |= t[k] >= 0.f ? 1u << k : 0u;
+    }
+    return hits;
+  }
   // Raw samples: each quad is two 16-byte loads, blended with SSE2 (weights reordered to the
   // memory order (0,0), (0,1), (1,0), (1,1)); per-sample lanes for all four corners, then
   // one transpose per quantity sums them.
@@ -158,6 +172,9 @@ template <> struct CodecFetch<HaarTable> {
   }
   void resolve(Corner&) const noexcept {}
   void resolve_all(Corner*) const noexcept {}
+  unsigned quad(const Corner& c, float t[4], float u[4], float v[4]) const noexcept {
+    return view.fetch_quad(c.tile, c.a0, c.b0, t, u, v);
+  }
   CornerBlend blend(const Corner& c, const float w[4]) const noexcept {
     float t[4], u[4], v[4];
     const unsigned hits = view.fetch_quad(c.tile, c.a0, c.b0, t, u, v);
@@ -203,6 +220,10 @@ template <> struct CodecFetch<BlockTable> {
   void resolve_all(Corner* c) const noexcept {
     if (cached(c)) return;
     for (int k = 0; k < 4; ++k) resolve(c[k]);
+  }
+  // After resolve(c).
+  unsigned quad(const Corner& c, float t[4], float u[4], float v[4]) const noexcept {
+    return view.fetch_quad_from(c.rec, c.a0, c.b0, t, u, v);
   }
   // Each quad in one quad_lanes() (each block's header read once), its samples weighted and
   // decoded side by side as the raw records are (weighted_lanes), the four corners summed by
