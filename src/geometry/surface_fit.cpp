@@ -51,7 +51,11 @@ bool fit_local_quadric(const OrientedPoint* points, int count, const Vec3& origi
   if (!(sigma > 0.f) || count < 3) return false;
   const Vec3 e1 = axis.unitOrthogonal(), e2 = axis.cross(e1);
   const double inv_sigma = 1.0 / double(sigma);
-  Eigen::Matrix<double, 6, 6> a = Eigen::Matrix<double, 6, 6>::Zero();
+  // The normal equations' entries are weighted moments M(p, q) = sum w x^p y^q (p + q <= 4)
+  // of the rows f = (1, x, y, x^2, xy, y^2), fx = (0, 1, 0, 2x, y, 0), fy = (0, 0, 1, 0, x, 2y):
+  // fifteen sums a point instead of three 6 x 6 outer products (a fit was most of a grazing
+  // query's time).
+  double m[5][5] = {};  // m[p][q], p + q <= 4
   Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
   int used = 0;
   for (int i = 0; i < count; ++i) {
@@ -64,14 +68,34 @@ bool fit_local_quadric(const OrientedPoint* points, int count, const Vec3& origi
     const double gx = -double(p.normal.dot(e1)) / nz, gy = -double(p.normal.dot(e2)) / nz;
     const double w = double((p.weight + weight_floor) * std::exp(-0.5f * float(x * x + y * y)));  // float exp: cheaper
     if (!(w > 0.0)) continue;
-    Eigen::Matrix<double, 6, 1> f, fx, fy;
-    f << 1.0, x, y, x * x, x * y, y * y;
-    fx << 0.0, 1.0, 0.0, 2.0 * x, y, 0.0;
-    fy << 0.0, 0.0, 1.0, 0.0, x, 2.0 * y;
-    a.noalias() += w * (f * f.transpose() + fx * fx.transpose() + fy * fy.transpose());
-    b.noalias() += w * (z * f + gx * fx + gy * fy);
+    double xp = w;  // w x^p
+    for (int pp = 0; pp <= 4; ++pp) {
+      double t = xp;  // w x^p y^q
+      for (int q = 0; q + pp <= 4; ++q) {
+        m[pp][q] += t;
+        t *= y;
+      }
+      xp *= x;
+    }
+    b[0] += w * z;
+    b[1] += w * (z * x + gx);
+    b[2] += w * (z * y + gy);
+    b[3] += w * (z * x * x + 2.0 * x * gx);
+    b[4] += w * (z * x * y + y * gx + x * gy);
+    b[5] += w * (z * y * y + 2.0 * y * gy);
     ++used;
   }
+  // f's monomials (p, q), and fx's and fy's as coefficient times monomial.
+  static constexpr int fe[6][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
+  struct Term { int i; double c; int p, q; };
+  static constexpr Term gxt[3] = {{1, 1.0, 0, 0}, {3, 2.0, 1, 0}, {4, 1.0, 0, 1}};
+  static constexpr Term gyt[3] = {{2, 1.0, 0, 0}, {4, 1.0, 1, 0}, {5, 2.0, 0, 1}};
+  Eigen::Matrix<double, 6, 6> a;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) a(i, j) = m[fe[i][0] + fe[j][0]][fe[i][1] + fe[j][1]];
+  for (const Term* g : {gxt, gyt})
+    for (int u = 0; u < 3; ++u)
+      for (int v = 0; v < 3; ++v) a(g[u].i, g[v].i) += g[u].c * g[v].c * m[g[u].p + g[v].p][g[u].q + g[v].q];
   if (used < 3) return false;
   // Cholesky by hand (6 x 6, symmetric positive definite when the points span the quadric):
   // Eigen's LDLT with its condition estimate cost more than the rest of a fit. A pivot below
