@@ -251,15 +251,14 @@ void ChartsView::drawSpeed(const std::vector<hb::SweepRow>& rows, const std::vec
            : r.method == "exact_embree" ? hb::kExactSeries
                                         : hb::kVtkSeries;
   };
-  // Up to ten times the budget is in view (as the report's chart): a share above sits on the
-  // top edge, its words saying its value; its tooltip keeps it.
-  const double cap = 10.0 * 100.0 * hb::ErrorBudget{}.perceptible;
+  // The report's axis (hb::felt_axis_cap_percent): a share above sits on the top edge, its
+  // words saying its value; its tooltip keeps it.
+  const double cap = hb::felt_axis_cap_percent();
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const hb::SweepRow& r = rows[i];
     const double x = std::log10(std::max(r.query_ns, 1.0));
     // The headline: the share of probes a hand would tell apart (hapticbox sweep's felt_%).
-    const bool offScale = 100.0 * r.perceptible_share > cap;
-    const double y = offScale ? 1.1 * cap : 100.0 * r.perceptible_share;
+    const double y = std::min(100.0 * r.perceptible_share, hb::felt_axis_edge_percent());
     const bool rawTrial = r.tried_by_the_bake;
     Series& s = rawTrial ? raw : r.method == "haptic_box" ? box : r.method == "exact_embree" ? exact : vtk;
     s.x.push_back(x);
@@ -268,7 +267,7 @@ void ChartsView::drawSpeed(const std::vector<hb::SweepRow>& rows, const std::vec
     if (rawTrial) rawRows.push_back(r);
     else if (r.method == "haptic_box") boxRows_.push_back(r);
     std::string w = pointWords(r);
-    if (!w.empty() && offScale) w += ": " + hb::percent(r.perceptible_share) + ", off the scale";
+    if (!w.empty()) w += hb::off_scale_words(r.perceptible_share);
     if (!w.empty()) {
       const hb::SeriesColour& c = seriesOf(r);
       words.push_back({x, y, w, (unsigned char)c.r, (unsigned char)c.g, (unsigned char)c.b});
@@ -321,7 +320,7 @@ void ChartsView::drawSpeed(const std::vector<hb::SweepRow>& rows, const std::vec
     labels_->setLineLabel(0.0, "", 0, 0, 0);
   }
   labels_->setLabels(words);
-  // Room above the highest point for its words, and the budget's line in view (as the report's).
+  // Room above the top edge for its words, and the budget's line in view (as the report's).
   const double ymax = cap;
   vtkAxis* yAxis = speedChart_->GetAxis(vtkAxis::LEFT);
   yAxis->SetBehavior(vtkAxis::FIXED);

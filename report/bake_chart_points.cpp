@@ -97,4 +97,12 @@ std::vector<SweepRow> bake_chart_rows(const BoxScene& scene) {
   return rows;
 }
 
+double felt_axis_cap_percent() { return 10.0 * 100.0 * ErrorBudget{}.perceptible; }
+
+double felt_axis_edge_percent() { return 1.1 * felt_axis_cap_percent(); }
+
+std::string off_scale_words(double share) {
+  return 100.0 * share > felt_axis_cap_percent() ? ": " + percent(share) + ", off the scale" : std::string();
+}
+
 } // namespace hb

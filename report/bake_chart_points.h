@@ -33,4 +33,13 @@ std::vector<SweepRow> bake_chart_rows(const BoxScene& scene);
 /// The label bake_chart_points gives the bake itself ("default bake: 19 boxes").
 std::string bake_label(const BoxScene& scene);
 
+/// The speed charts' perceptible axis (the report's and the window's), in %: up to ten times
+/// the default budget's share, where shares near the budget are seen apart. A share beyond
+/// is drawn at felt_axis_edge_percent() (the top edge), its words saying its value.
+double felt_axis_cap_percent();
+double felt_axis_edge_percent();
+/// What a point's words add when its share (a fraction) is beyond the cap: ": 4.21 %, off the
+/// scale"; empty within it.
+std::string off_scale_words(double share);
+
 } // namespace hb

@@ -119,14 +119,6 @@ std::string row_label(const SweepRow& r) {
   return r.method.find("vtk") != std::string::npos ? "VTK locator" : "exact Embree";
 }
 
-// A point's words; a share above the panel's scale says its value.
-std::string point_label(const SweepRow& r, bool off_scale) {
-  if (!off_scale) return row_label(r);
-  char share[48];
-  std::snprintf(share, sizeof share, ": %.3g%%, off the scale", 100.0 * r.perceptible_share);
-  return row_label(r) + share;
-}
-
 } // namespace
 
 void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& png_path) {
@@ -135,24 +127,20 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
     // (top, the headline, with the default budget's line) and the contact agreement (bottom),
     // so a fast configuration that loses contacts is seen to.
     auto pls = open_png(png_path, 900, 860);
-    double xmin = 1e300, xmax = 0, ymax = 0, amin = 100;
+    double xmin = 1e300, xmax = 0, amin = 100;
     for (const SweepRow& r : rows) {
       const double x = std::max(r.query_ns, 1.0);
       xmin = std::min(xmin, x);
       xmax = std::max(xmax, x);
-      ymax = std::max(ymax, 100.0 * r.perceptible_share);
       if (r.contact_agreement >= 0.0) amin = std::min(amin, 100.0 * r.contact_agreement);  // < 0: not measured
     }
     if (rows.empty()) xmin = 1, xmax = 10;
     const double lx0 = std::floor(std::log10(xmin) - 0.05), lx1 = std::ceil(std::log10(xmax) + 0.05);
     const double budget_felt = 100.0 * ErrorBudget{}.perceptible;  // the default budget's
-    // The top panel shows up to ten times the budget, where shares near it are seen apart; a
-    // share above sits on the top edge, its label saying its value (point_label).
-    const double cap = 10.0 * budget_felt;
-    const bool capped = ymax > cap;
-    ymax = std::min(ymax, cap);
-    ymax = std::max(ymax, 10.0 * budget_felt) * 1.15;
-    const double top_edge = cap * 1.1;  // where an off-scale share is drawn
+    // The top panel shows up to felt_axis_cap_percent(); a share above sits on the top edge,
+    // its label saying its value (off_scale_words).
+    const double cap = felt_axis_cap_percent();
+    const double ymax = 1.15 * cap;
     // Room above 100% for the labels of the exact answers there.
     const double a0 = std::max(0.0, std::floor(amin / 10.0) * 10.0 - 5.0), a1 = 100.0 + 0.14 * (100.0 - a0);
     const double budget_agreement = 100.0 * ErrorBudget{}.agreement;  // the default budget's
@@ -176,9 +164,9 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
       else
         pls->lab("query time, ns (one core, log scale)", "contact agreement, %", "");
       const auto value = [&](const SweepRow& r) {
-        return top ? std::min(100.0 * r.perceptible_share, top_edge) : 100.0 * r.contact_agreement;
+        return top ? std::min(100.0 * r.perceptible_share, felt_axis_edge_percent()) : 100.0 * r.contact_agreement;
       };
-      const auto off_scale = [&](const SweepRow& r) { return top && capped && 100.0 * r.perceptible_share > cap; };
+      const auto off_scale = [&](const SweepRow& r) { return top && 100.0 * r.perceptible_share > cap; };
       LabelPlacer labels(lx0, lx1, y0, y1);
       if (top) {
         // The default budget's perceptible share, its words at the right end over the line.
@@ -244,7 +232,7 @@ void plot_speed_accuracy(const std::vector<SweepRow>& rows, const std::string& p
         pls->col0(colour);
         pls->ssym(0, box ? 1.2 : 1.6);
         pls->poin(1, &x, &y, off_scale(r) ? 7 : box ? 17 : 16);  // an open triangle: off the scale above
-        const std::string text = point_label(r, off_scale(r));
+        const std::string text = row_label(r) + (top ? off_scale_words(r.perceptible_share) : std::string());
         const LabelPlacer::Placement at = labels.place(x, y, text.size(), !box || r.pareto || !r.label.empty(), !box);
         if (at.shown) pls->ptex(at.x, at.y, 1.0, 0.0, at.left ? 1.0 : 0.0, text.c_str());
       }

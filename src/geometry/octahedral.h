@@ -30,17 +30,10 @@ inline std::uint32_t encode_octahedral32(const Vec3& n) noexcept {
   return std::uint32_t(q(u)) | (std::uint32_t(q(v)) << 16);
 }
 
-/// Decodes to a vector along the encoded direction whose length lies in [1/sqrt(3), 1] and
-/// varies smoothly with the direction: blend such vectors of nearby directions and
-/// normalise once (what interpolation does), instead of normalising each.
-inline Vec3 decode_octahedral32_unnormalized(std::uint32_t code) noexcept {
-  const float u = float(static_cast<std::int16_t>(code & 0xffffu)) * (1.f / 32767.f);
-  const float v = float(static_cast<std::int16_t>(code >> 16)) * (1.f / 32767.f);
-  Vec3 n(u, v, 1.f - std::fabs(u) - std::fabs(v));
-  const float t = std::max(-n.z(), 0.f);  // not fmax (a libm call); z is never NaN
-  n.x() += n.x() >= 0.f ? -t : t;
-  n.y() += n.y() >= 0.f ? -t : t;
-  return n;
+/// The octahedral coordinates u, v in [-1, 1] of a 32-bit code.
+inline void oct_coordinates(std::uint32_t code, float& u, float& v) noexcept {
+  u = float(static_cast<std::int16_t>(code & 0xffffu)) * (1.f / 32767.f);
+  v = float(static_cast<std::int16_t>(code >> 16)) * (1.f / 32767.f);
 }
 
 /// As decode_octahedral32_unnormalized, from octahedral coordinates u, v in [-1, 1].
@@ -50,6 +43,15 @@ inline Vec3 oct_decode_unnormalized(float u, float v) noexcept {
   n.x() += n.x() >= 0.f ? -t : t;
   n.y() += n.y() >= 0.f ? -t : t;
   return n;
+}
+
+/// Decodes to a vector along the encoded direction whose length lies in [1/sqrt(3), 1] and
+/// varies smoothly with the direction: blend such vectors of nearby directions and
+/// normalise once (what interpolation does), instead of normalising each.
+inline Vec3 decode_octahedral32_unnormalized(std::uint32_t code) noexcept {
+  float u, v;
+  oct_coordinates(code, u, v);
+  return oct_decode_unnormalized(u, v);
 }
 
 /// Decodes to a unit vector.

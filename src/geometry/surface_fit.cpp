@@ -5,18 +5,26 @@
 //     for the slopes (-n.e1 / n.axis, -n.e2 / n.axis), the slope rows at the same weight
 //     (a slope error over sigma counts as a height error of the same size).
 //  3. Solved in double (6 x 6 Cholesky) and scaled back to the caller's units.
-//  4. entry(): the line in the frame, z(s) - Q(x(s), y(s)) = A s^2 + B s + C; the root
-//     nearest 0 where that decreases (the line going inside), in the cancellation-free form.
+//  4. entry(): the line in the frame, z(s) - Q(x(s), y(s)) = A s^2 + B s + C; the root where
+//     that decreases (the line going inside), in the cancellation-free form.
 #include "geometry/surface_fit.h"
 #include <Eigen/Dense>
 #include <cmath>
 
 namespace hb {
 
+namespace {
+// The height field's gradient at (x, y) of the frame.
+void gradient(const double c[6], double x, double y, double& gx, double& gy) noexcept {
+  gx = c[1] + 2.0 * c[3] * x + c[4] * y;
+  gy = c[2] + c[4] * x + 2.0 * c[5] * y;
+}
+}  // namespace
+
 Vec3 LocalQuadric::normal_at(const Vec3& p) const noexcept {
   const Vec3 r = p - origin;
-  const double x = double(r.dot(e1)), y = double(r.dot(e2));
-  const double gx = c[1] + 2.0 * c[3] * x + c[4] * y, gy = c[2] + c[4] * x + 2.0 * c[5] * y;
+  double gx, gy;
+  gradient(c, double(r.dot(e1)), double(r.dot(e2)), gx, gy);
   const Vec3 n = axis - float(gx) * e1 - float(gy) * e2;
   return n / n.norm();
 }
@@ -26,7 +34,8 @@ LocalQuadric::Height LocalQuadric::height_along(const Vec3& p, const Vec3& l) co
   const double x0 = double(r.dot(e1)), y0 = double(r.dot(e2)), z0 = double(r.dot(axis));
   const double lx = double(l.dot(e1)), ly = double(l.dot(e2)), lz = double(l.dot(axis));
   const double q0 = c[0] + c[1] * x0 + c[2] * y0 + c[3] * x0 * x0 + c[4] * x0 * y0 + c[5] * y0 * y0;
-  const double gx = c[1] + 2.0 * c[3] * x0 + c[4] * y0, gy = c[2] + c[4] * x0 + 2.0 * c[5] * y0;
+  double gx, gy;
+  gradient(c, x0, y0, gx, gy);
   return {-(c[3] * lx * lx + c[4] * lx * ly + c[5] * ly * ly), lz - (gx * lx + gy * ly), z0 - q0};
 }
 

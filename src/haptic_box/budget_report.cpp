@@ -105,11 +105,12 @@ std::string BudgetReport::serialize() const {
   for (const PieceChoice& p : pieces)
     os << "piece=" << p.cell << " " << p.n << " " << (p.refine ? 1 : 0) << " " << p.probes << "\n";
   if (!answer.empty()) os << "answer=" << answer << "\n";
-  for (const RawTried& t : raw_tried)
+  for (const RawTried& t : raw_tried) {
     os << "raw_tried=" << t.m << " " << t.n << " " << t.bytes << " " << t.probes_felt << " " << t.ticks_felt << " "
-       << t.outcome << " " << t.box_ns << " " << t.exact_ns
-       << (t.box_stroke_ns > 0 ? " " + std::to_string(t.box_stroke_ns) + " " + std::to_string(t.exact_stroke_ns) : std::string())
-       << "\n";
+       << t.outcome << " " << t.box_ns << " " << t.exact_ns;
+    if (t.box_stroke_ns > 0) os << " " << t.box_stroke_ns << " " << t.exact_stroke_ns;
+    os << "\n";
+  }
   // Measured at bake time: the only lines two bakes of the same inputs differ in.
   if (answer_ns > 0) os << "answer_ns=" << answer_ns << "\nexact_ns=" << exact_ns << "\n";
   if (cells_ns > 0) os << "cells_ns=" << cells_ns << "\nembree_ns=" << embree_ns << "\n";

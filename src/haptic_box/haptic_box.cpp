@@ -321,7 +321,7 @@ int HapticBox::surface_points(const Fetch& fetch, Located<Fetch>& q, OrientedPoi
 template <class Fetch>
 bool HapticBox::settle_grazing(const Fetch& fetch, float p1x, float p1y, float p1z, float lx, float ly, float lz,
                                float& t0, float& nx, float& ny, float& nz) const noexcept {
-  // At most 6 fits; the surface is fitted from the samples of a segment 3 position cells
+  // At most 8 fits; the surface is fitted from the samples of a segment 3 position cells
   // either side of the line's point; settled when a step moves less than 0.01 cell along l
   // (0.003 measured no better: the fit's own error); a step farther than 8 cells is no
   // crossing. The fit's reach: a Gaussian of 0.4 position cells around the line, on top of

@@ -136,9 +136,7 @@ struct RawFetch {
     unsigned hits = 0;
     for (int k = 0; k < 4; ++k) {
       t[k] = s[k]->t;
-      const std::uint32_t code = s[k]->normal;
-      u[k] = float(std::int16_t(code & 0xffffu)) * (1.f / 32767.f);
-      v[k] = float(std::int16_t(code >> 16)) * (1.f / 32767.f);
+      oct_coordinates(s[k]->normal, u[k], v[k]);
       hits |= t[k] >= 0.f ? 1u << k : 0u;
     }
     return hits;

@@ -269,21 +269,21 @@ Vec3 SurfaceTriangles::lattice_shading(std::uint32_t id, float u, float v, Latti
   lattice_cell(k, u, v, i, j, fu, fv);
   const auto at = [&](int a, int b) { return decode_octahedral32(p[lattice_index(k, a, b)]); };
   const bool lower = fu + fv <= 1.f || i + j == k - 1;
-  if (cache) {
-    // The three corners in the blend's order, decoded once while the crossing stays here.
-    if (!(cache->map == map_ && cache->id == id && cache->i == i && cache->j == j && cache->upper == !lower)) {
-      cache->map = map_, cache->id = id, cache->i = i, cache->j = j, cache->upper = !lower;
-      if (lower)
-        cache->n[0] = at(i, j), cache->n[1] = at(i + 1, j), cache->n[2] = at(i, j + 1);
-      else
-        cache->n[0] = at(i + 1, j + 1), cache->n[1] = at(i + 1, j), cache->n[2] = at(i, j + 1);
-    }
-    const Vec3* n = cache->n;
-    if (lower) return (1.f - fu - fv) * n[0] + fu * n[1] + fv * n[2];
-    return (fu + fv - 1.f) * n[0] + (1.f - fv) * n[1] + (1.f - fu) * n[2];
+  // The cell's three corners in the blend's order, decoded here or kept from the last call in
+  // this cell (`cache`: the same bits).
+  Vec3 decoded[3];
+  const Vec3* n = decoded;
+  if (cache && cache->map == map_ && cache->id == id && cache->i == i && cache->j == j && cache->upper == !lower) {
+    n = cache->n;
+  } else {
+    if (lower)
+      decoded[0] = at(i, j), decoded[1] = at(i + 1, j), decoded[2] = at(i, j + 1);
+    else
+      decoded[0] = at(i + 1, j + 1), decoded[1] = at(i + 1, j), decoded[2] = at(i, j + 1);
+    if (cache) *cache = LatticeCache{map_, id, i, j, !lower, {decoded[0], decoded[1], decoded[2]}};
   }
-  if (lower) return (1.f - fu - fv) * at(i, j) + fu * at(i + 1, j) + fv * at(i, j + 1);
-  return (fu + fv - 1.f) * at(i + 1, j + 1) + (1.f - fv) * at(i + 1, j) + (1.f - fu) * at(i, j + 1);
+  if (lower) return (1.f - fu - fv) * n[0] + fu * n[1] + fv * n[2];
+  return (fu + fv - 1.f) * n[0] + (1.f - fv) * n[1] + (1.f - fu) * n[2];
 }
 
 bool SurfaceTriangles::finish(const Record& r, const float d[3], float u, float v, float s, float s_min, float& s_out,
@@ -320,16 +320,16 @@ Vec3 SurfaceTriangles::face_normal(std::uint32_t id) const noexcept {
 
 bool SurfaceTriangles::intersect(std::uint32_t id, const float o[3], const float d[3], float s_min, float& s,
                                  Vec3& normal, bool& front, LatticeCache& cache) const noexcept {
-  if (id >= count_) return false;
-  const Record& r = records_[id];
-  float u, v, hit;
-  if (!plane_hit(r, o, d, u, v, hit)) return false;
-  if (std::min(std::min(u, v), 1.f - u - v) < 0.f) return false;  // as intersect() above
-  return finish(r, d, u, v, hit, s_min, s, normal, front, &cache);
+  return intersect_with(id, o, d, s_min, s, normal, front, nullptr, &cache);
 }
 
 bool SurfaceTriangles::intersect(std::uint32_t id, const float o[3], const float d[3], float s_min, float& s,
                                  Vec3& normal, bool& front, float* outside) const noexcept {
+  return intersect_with(id, o, d, s_min, s, normal, front, outside, nullptr);
+}
+
+bool SurfaceTriangles::intersect_with(std::uint32_t id, const float o[3], const float d[3], float s_min, float& s,
+                                      Vec3& normal, bool& front, float* outside, LatticeCache* cache) const noexcept {
   if (outside) *outside = std::numeric_limits<float>::infinity();
   if (id >= count_) return false;
   const Record& r = records_[id];
@@ -341,7 +341,7 @@ bool SurfaceTriangles::intersect(std::uint32_t id, const float o[3], const float
     return false;
   }
   if (outside) *outside = 0.f;
-  return finish(r, d, u, v, hit, s_min, s, normal, front);
+  return finish(r, d, u, v, hit, s_min, s, normal, front, cache);
 }
 
 bool SurfaceTriangles::first_crossing(const std::uint32_t* ids, std::size_t count, const float o[3], const float d[3],

@@ -226,6 +226,9 @@ private:
   // `r` is one of records_ (the map is found by its slot).
   bool finish(const Record& r, const float d[3], float u, float v, float s, float s_min, float& s_out, Vec3& normal,
               bool& front, LatticeCache* cache = nullptr) const noexcept;
+  // Both intersect()s.
+  bool intersect_with(std::uint32_t id, const float origin[3], const float dir[3], float s_min, float& s, Vec3& normal,
+                      bool& front, float* outside, LatticeCache* cache) const noexcept;
 
   const Record* records_ = nullptr;
   std::size_t count_ = 0;
