@@ -9,6 +9,7 @@
 #include "contact/contact.h"
 #include "codec/sample.h"
 #include "haptic_box/surface_triangles.h"
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -112,6 +113,9 @@ public:
   /// A blended hit whose unit normal makes n . l above -kGrazingCosine (the line more than
   /// 53 degrees from the normal) is settled across the surface (step 6a of the .cpp overview).
   static constexpr float kGrazingCosine = 0.6f;
+  /// A grazing blend is settled only when its crossing is within kSettleReachCells / |n . l|
+  /// position cells of the segment (the blend's error along l grows as 1 / |n . l|).
+  static constexpr float kSettleReachCells = 2.f;
 
   /// Paper section 5, see the .cpp overview. Contact per hb::Contact. Works on raw and
   /// compressed tables alike (the codec is dispatched once per query).
@@ -192,6 +196,11 @@ private:
              int& corners_hit, bool any_hit) const noexcept;
   template <class Fetch>
   int surface_points(const Fetch& fetch, Located<Fetch>& q, OrientedPoint out[16]) const noexcept;
+  // The largest position cell's side, model units (the settle's unit of length).
+  float position_cell() const noexcept {
+    const BoxLayout::Local& L = layout_.local();
+    return 1.f / std::min(std::min(L.grid_scale[0], L.grid_scale[1]), L.grid_scale[2]);
+  }
   template <class Fetch>
   bool settle_grazing(const Fetch& fetch, float p1x, float p1y, float p1z, float lx, float ly, float lz, float& t0,
                       float& nx, float& ny, float& nz) const noexcept;
