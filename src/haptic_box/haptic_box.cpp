@@ -347,6 +347,25 @@ bool HapticBox::settle_grazing(const Fetch& fetch, float p1x, float p1y, float p
   const Vec3 p1(p1x, p1y, p1z), l(lx, ly, lz);
   float t = t0;
   Vec3 m(nx, ny, nz);
+  // A probe's last settled quadric (SettledQuadric), when the line meets it within a tenth
+  // of a cell of its centre (lateral to its axis) and the blend's normal agrees: its
+  // crossing, no fit. A stateless query has none.
+  constexpr float kMemoCells = 0.1f;
+  SettledQuadric* memo = fetch.settled();
+  if (memo && memo->valid && m.dot(memo->quadric.axis) > 0.95f) {
+    const LocalQuadric& mq = memo->quadric;
+    float s = 0.f;
+    if (mq.entry(p1 + t * l, l, s) && std::fabs(s) <= kFarthestCells * cell) {
+      const Vec3 at = p1 + (t + s) * l, r = at - mq.origin;
+      const Vec3 lateral = r - r.dot(mq.axis) * mq.axis;
+      const Vec3 n = mq.normal_at(at);
+      if (lateral.squaredNorm() < (kMemoCells * cell) * (kMemoCells * cell) && n.dot(l) < 0.f) {
+        ++memo->reused;
+        t0 = t + s, nx = n.x(), ny = n.y(), nz = n.z();
+        return true;
+      }
+    }
+  }
   // What the fits said so far: the line is outside at t_out, inside at t_in (the fit's height
   // at y along m: the surface below y, or above it). A step that would leave that bracket
   // bisects it instead.
@@ -387,6 +406,7 @@ bool HapticBox::settle_grazing(const Fetch& fetch, float p1x, float p1y, float p
     t = next;
     if (settled) {
       t0 = t, nx = m.x(), ny = m.y(), nz = m.z();
+      if (memo) memo->valid = true, memo->quadric = quadric;
       return true;
     }
   }

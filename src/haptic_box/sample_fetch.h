@@ -129,6 +129,8 @@ struct RawFetch {
   }
   void resolve(Corner&) const noexcept {}
   void resolve_all(Corner*) const noexcept {}
+  // No probe memory (DecodedQuads) on this path.
+  SettledQuadric* settled() const noexcept { return nullptr; }
   // A corner's quad, sample k in the directional weights' order (0,0), (1,0), (1,1), (0,1):
   // t and octahedral u, v (a miss: t < 0). Returns the hit mask.
   unsigned quad(const Corner& c, float t[4], float u[4], float v[4]) const noexcept {
@@ -170,6 +172,7 @@ template <> struct CodecFetch<HaarTable> {
   }
   void resolve(Corner&) const noexcept {}
   void resolve_all(Corner*) const noexcept {}
+  SettledQuadric* settled() const noexcept { return nullptr; }
   unsigned quad(const Corner& c, float t[4], float u[4], float v[4]) const noexcept {
     return view.fetch_quad(c.tile, c.a0, c.b0, t, u, v);
   }
@@ -209,6 +212,13 @@ template <> struct CodecFetch<BlockTable> {
       hb::prefetch(c.rec[k]);
       hb::prefetch(c.rec[k] + 64);
     }
+  }
+  /// The probe's last settled quadric when it is this table's (else a blank one the settle
+  /// fills), nullptr without a probe memory.
+  SettledQuadric* settled() const noexcept {
+    if (!cache) return nullptr;
+    if (cache->settled.table != view.identity()) cache->settled = SettledQuadric{view.identity(), false, {}, 0};
+    return &cache->settled;
   }
   bool cached(const Corner* c) const noexcept {
     return cache && cache->table == view.identity() && cache->a0 == c[0].a0 && cache->b0 == c[0].b0 &&
