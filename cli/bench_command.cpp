@@ -44,6 +44,9 @@ struct OrderTimes {
   double box_ns = 0, exact_ns = 0, box_many_ns = 0, exact_many_ns = 0, box_coherent_ns = 0, exact_coherent_ns = 0;
   double box_stroke_ns = 0, box_stroke_stateless_ns = 0, exact_stroke_ns = 0;
   double state_share = 0;  // strokes' ticks answered from the query state
+  // A raw block-coded box: strokes' ticks that blended the kept decoded quads, and that
+  // crossed the last settled quadric (DecodedQuads).
+  double quads_share = 0, quadric_share = 0;
 };
 
 // The box and exact in four orders, interleaved so machine noise hits both alike: random one
@@ -69,6 +72,11 @@ OrderTimes time_orders(const hb::BoxScene& scene, const hb::ExactQuery& exact, c
   t.state_share = probe.state().from_state + probe.state().full > 0
                       ? double(probe.state().from_state) / double(probe.state().from_state + probe.state().full)
                       : 0.0;
+  const double ticks = double(probe.state().from_state + probe.state().full);
+  if (ticks > 0) {
+    t.quads_share = double(probe.state().quads.reused) / ticks;
+    t.quadric_share = double(probe.state().quads.settled.reused) / ticks;
+  }
   t.box_stroke_stateless_ns = hb::median_query_ns(scene, strokes, law, rounds);
   t.exact_stroke_ns = hb::median_query_ns(exact, strokes, law, rounds);
   return t;
@@ -156,6 +164,8 @@ nlohmann::json bench_json(const BenchOpts& o, const hb::TriangleMesh& mesh, cons
           {"box_stroke_ns", t.box_stroke_ns},
           {"box_stroke_stateless_ns", t.box_stroke_stateless_ns},
           {"stroke_share_from_state", t.state_share},
+          {"stroke_share_quads_kept", t.quads_share},
+          {"stroke_share_quadric_kept", t.quadric_share},
           {"exact_stroke_ns", t.exact_stroke_ns},
           {"speedup_stroke", t.box_stroke_ns > 0 ? t.exact_stroke_ns / t.box_stroke_ns : 0.0},
           {"box_single_tail", tail_json(r.box_tail)},
@@ -223,7 +233,11 @@ void print_bench(const BenchOpts& o, const hb::TriangleMesh& mesh, const hb::Box
             << "  haptic box  " << t.box_stroke_ns << " ns/query, exact " << t.exact_stroke_ns << " ns/query: box is "
             << hb::speed_verdict(t.box_stroke_ns, t.exact_stroke_ns) << "\n"
             << std::setprecision(1) << "  with a query state per probe (" << 100.0 * t.state_share
-            << "% of ticks from the state); without it " << t.box_stroke_stateless_ns << " ns/query\n"
+            << "% of ticks from the state";
+  if (t.quads_share > 0)
+    std::cout << "; decoded quads kept on " << 100.0 * t.quads_share << "%, the last settled quadric crossed on "
+              << 100.0 * t.quadric_share << "%";
+  std::cout << "); without it " << t.box_stroke_stateless_ns << " ns/query\n"
             << std::setprecision(1) << "  boxes       " << scene.boxes().size() << ", met per query " << m.mean_met
             << " on average; box queries per probe " << std::setprecision(2) << m.mean_asked << " on average (max "
             << m.asked_max << ", " << std::setprecision(1) << 100.0 * m.share_one << "% of probes at most one), "
