@@ -116,6 +116,9 @@ public:
   /// A grazing blend is settled only when its crossing is within kSettleReachCells / |n . l|
   /// position cells of the segment (the blend's error along l grows as 1 / |n . l|).
   static constexpr float kSettleReachCells = 2.f;
+  /// A blended hit with n . l in [-kRefitCosine, -kGrazingCosine) is refitted on the line's
+  /// own samples (step 6b of the .cpp overview).
+  static constexpr float kRefitCosine = 0.8f;
 
   /// Paper section 5, see the .cpp overview. Contact per hb::Contact. Works on raw and
   /// compressed tables alike (the codec is dispatched once per query).
@@ -201,6 +204,9 @@ private:
     const BoxLayout::Local& L = layout_.local();
     return 1.f / std::min(std::min(L.grid_scale[0], L.grid_scale[1]), L.grid_scale[2]);
   }
+  template <class Fetch>
+  bool refit_on_own_samples(const Fetch& fetch, const Located<Fetch>& q, const Vec3& p1, const Vec3& l, float& t0,
+                            float& nx, float& ny, float& nz) const noexcept;
   template <class Fetch>
   bool settle_grazing(const Fetch& fetch, float p1x, float p1y, float p1z, float lx, float ly, float lz, float& t0,
                       float& nx, float& ny, float& nz) const noexcept;
