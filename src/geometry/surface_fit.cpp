@@ -221,6 +221,7 @@ bool fit_local_quadric(const OrientedPoint* points, int count, const Vec3& origi
     if (!std::isfinite(v)) return false;
   const double s = double(sigma);
   out.origin = origin, out.e1 = e1, out.e2 = e2, out.axis = axis;
+  out.used = used;
   // z / sigma = c0 + c1 x / sigma + ... + c3 (x / sigma)^2 ...: back to the caller's units.
   out.c[0] = c[0] * s, out.c[1] = c[1], out.c[2] = c[2];
   out.c[3] = c[3] / s, out.c[4] = c[4] / s, out.c[5] = c[5] / s;

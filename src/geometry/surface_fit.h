@@ -23,6 +23,8 @@ struct OrientedPoint {
 struct LocalQuadric {
   Vec3 origin{Vec3::Zero()}, e1{Vec3::UnitX()}, e2{Vec3::UnitY()}, axis{Vec3::UnitZ()};
   double c[6] = {0, 0, 0, 0, 0, 0};
+  /// The points the fit used (the others face away from the axis or weigh nothing).
+  int used = 0;
 
   /// The unit normal (facing +axis) at the quadric's point above or below p.
   Vec3 normal_at(const Vec3& p) const noexcept;

@@ -424,7 +424,8 @@ bool HapticBox::settle_grazing(const Fetch& fetch, float p1x, float p1y, float p
 // (under 0.75 N) on 1.1-1.5% of lines with |n . l| 0.6-1 (measured 2026-12-07). One quadric
 // fitted to the line's own 16 samples (no segment across: at such an angle they are
 // well-conditioned) and met by the line puts them within the fit's error. False (the blend
-// stands) without a fit or a crossing within a cell.
+// stands) without a fit, with a sample facing away (a crease) or without a crossing within a
+// cell.
 template <class Fetch>
 bool HapticBox::refit_on_own_samples(const Fetch& fetch, const Located<Fetch>& q, const Vec3& p1, const Vec3& l,
                                      float& t0, float& nx, float& ny, float& nz) const noexcept {
@@ -438,8 +439,11 @@ bool HapticBox::refit_on_own_samples(const Fetch& fetch, const Located<Fetch>& q
   const Vec3 y = p1 + t0 * l;
   LocalQuadric quadric;
   float s = 0.f;
+  // Every sample must face along the blend's normal: one that does not (left out of the fit)
+  // sees another face across a crease, where the fit would extend one wall past it (the
+  // stability suite's crisp 60 degree groove: ripple 0.02 -> 0.52 without this test).
   if (!fit_local_quadric(points, count, y, m, kFitSigmaCells * cell, kFitWeightFloor, quadric) ||
-      !quadric.entry(y, l, s) || !(std::fabs(s) < cell))
+      quadric.used != count || !quadric.entry(y, l, s) || !(std::fabs(s) < cell))
     return false;
   const Vec3 n = quadric.normal_at(y + s * l);
   if (!(n.dot(l) < 0.f)) return false;

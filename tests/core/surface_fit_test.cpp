@@ -94,6 +94,26 @@ TEST(SurfaceFitTest, ALinePassingAboveTheSurfaceDoesNotEnterIt) {
   EXPECT_FALSE(q.entry(Vec3(0.f, 0.f, -1.f), Vec3::UnitZ(), s));
 }
 
+TEST(SurfaceFitTest, PointsOfAnotherWallAcrossACreaseAreLeftOutAndCounted) {
+  // A 60 degree V: eight points on each wall. Seen along the right wall's normal the left
+  // wall faces away (n . axis = -0.5): its points are left out, and `used` says so (a box's
+  // refit refuses such a fit: step 6b).
+  const Vec3 right(-0.866025f, 0.f, 0.5f), left(0.866025f, 0.f, 0.5f);
+  const Vec3 up_right(0.5f, 0.f, 0.866025f), up_left(-0.5f, 0.f, 0.866025f);
+  OrientedPoint points[16];
+  for (int i = 0; i < 8; ++i) {
+    const float d = 0.05f + 0.1f * float(i % 4), y = i < 4 ? -0.1f : 0.1f;
+    points[i] = {d * up_right + Vec3(0.f, y, 0.f), right, 1.f};
+    points[8 + i] = {d * up_left + Vec3(0.f, y, 0.f), left, 1.f};
+  }
+  LocalQuadric q;
+  ASSERT_TRUE(fit_local_quadric(points, 16, 0.2f * up_right, right, 0.2f, 0.1f, q));
+  EXPECT_EQ(q.used, 8);
+  EXPECT_NEAR(q.c[0], 0.0, 1e-6);  // the right wall's plane through the origin
+  ASSERT_TRUE(fit_local_quadric(points, 8, 0.2f * up_right, right, 0.2f, 0.1f, q));
+  EXPECT_EQ(q.used, 8);
+}
+
 TEST(SurfaceFitTest, TooFewPointsOrABadScaleGiveNoFit) {
   OrientedPoint points[3] = {{Vec3(0, 0, 0), Vec3::UnitZ(), 1.f}, {Vec3(1, 0, 0), Vec3::UnitZ(), 1.f},
                              {Vec3(0, 1, 0), -Vec3::UnitZ(), 1.f}};  // the third faces away
