@@ -39,7 +39,7 @@ struct LaneBox {
   int m, n;
   const BoxLayout* layout;
   const Sample* table;
-  const HapticBox* box;  // answers the lanes the scalar query takes (step 6a, grazing)
+  const HapticBox* box;  // answers the lanes the scalar query takes (steps 6a and 6b)
 };
 
 } // namespace

@@ -391,11 +391,19 @@ TEST_F(RefinedBoxFileTest, CorruptTriangleIdsAreCaughtByVerifyAndNeverReadOutOfB
   for (const Segment& s : sample_probes(bumpy_mesh(), 50)) EXPECT_FALSE(lazy.query(s, kRefineLaw).contact);
   lazy.set_unconfirmed_blend(UnconfirmedBlend::keep);
   const HapticBox blended_box(box.obb(), box.params(), std::vector<Sample>(box.table(), box.table() + box.params().sample_count()));
+  // (A raw box settles or refits a blend more than 37 degrees off the normal, steps 6a and
+  // 6b; a refined box's fallback keeps the blend: those probes are left out.)
+  int compared = 0;
   for (const Segment& s : sample_probes(bumpy_mesh(), 300)) {
     const Contact a = lazy.query(s, kRefineLaw), b = blended_box.query(s, kRefineLaw);
+    const Vec3 l = (s.end - s.start).normalized();
+    if ((a.contact && -a.normal.dot(l) < HapticBox::kRefitCosine) || (b.contact && -b.normal.dot(l) < HapticBox::kRefitCosine))
+      continue;
+    ++compared;
     ASSERT_EQ(a.contact, b.contact);
     EXPECT_EQ(a.depth, b.depth);
   }
+  EXPECT_GT(compared, 150);
 }
 
 
