@@ -143,6 +143,16 @@ GrazingAgreement grazing_agreement(const TriangleMesh& mesh, const HapticBox& bo
   return g;
 }
 
+// grazing_agreement on the bumpy sphere (6 subdivisions) and its raw m32 n16 box, `count`
+// segments min_deg-max_deg from the normal, the tip `depth` below the surface.
+GrazingAgreement bumpy_sphere_agreement(int count, unsigned seed, float min_deg, float max_deg, float depth) {
+  BumpySphereOptions bumpy;
+  bumpy.subdivisions = 6;
+  const TriangleMesh sphere = make_bumpy_sphere(bumpy);
+  return grazing_agreement(sphere, bake(sphere, 32, 16),
+                           test::grazing_segments(sphere, count, seed, min_deg, max_deg, 0.4f, depth));
+}
+
 // A line 55-85 degrees from the surface normal: the blend of parallel rays is ill-conditioned
 // there (their hits lie a cell over the cosine apart), so the box settles the crossing across
 // the surface (step 6a). Against exact on the same mesh, force magnitudes agree as on lines
@@ -160,11 +170,7 @@ TEST(HapticBoxQueryTest, AGrazingLineIsAnsweredAsExactlyAsANormalOne) {
 TEST(HapticBoxQueryTest, AGrazingLineOverBumpsAndHollowsIsAnsweredAsExactlyAsANormalOne) {
   // Within 15 degrees of the tangent plane over the bumpy sphere: lines that cross a bump's
   // flank, skim a crest or run into a hollow.
-  BumpySphereOptions bumpy;
-  bumpy.subdivisions = 6;
-  const TriangleMesh sphere = make_bumpy_sphere(bumpy);
-  const GrazingAgreement g =
-      grazing_agreement(sphere, bake(sphere, 32, 16), test::grazing_segments(sphere, 600, 5, 75.f, 88.f, 0.4f, 0.01f));
+  const GrazingAgreement g = bumpy_sphere_agreement(600, 5, 75.f, 88.f, 0.01f);
   ASSERT_GT(g.probes, 500);
   EXPECT_LE(g.lost_felt, g.probes / 200) << g.lost_felt << " of " << g.probes;
   EXPECT_LE(g.differ, g.probes / 100) << g.differ << " of " << g.probes;
@@ -174,11 +180,7 @@ TEST(HapticBoxQueryTest, ALineFortyFiveDegreesOffTheNormalIsRefittedOnItsOwnSamp
   // 37-53 degrees from the normal over the bumpy sphere, a light touch: the blend is well
   // conditioned but first-order there, off by up to a tenth of a cell over a bump's flank;
   // the quadric fitted to the line's own samples (step 6b) answers as near the normal.
-  BumpySphereOptions bumpy;
-  bumpy.subdivisions = 6;
-  const TriangleMesh sphere = make_bumpy_sphere(bumpy);
-  const GrazingAgreement g =
-      grazing_agreement(sphere, bake(sphere, 32, 16), test::grazing_segments(sphere, 800, 9, 37.f, 53.f, 0.4f, 0.004f));
+  const GrazingAgreement g = bumpy_sphere_agreement(800, 9, 37.f, 53.f, 0.004f);
   ASSERT_GT(g.probes, 700);
   EXPECT_EQ(g.lost_felt, 0) << g.lost_felt << " of " << g.probes;
   EXPECT_LE(g.differ, g.probes / 200) << g.differ << " of " << g.probes;

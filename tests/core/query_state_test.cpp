@@ -12,6 +12,16 @@ namespace {
 
 const ForceLaw kStateLaw{};
 
+// One raw m16 n8 box of an ellipsoid (radii 1, 0.8, 0.6), block-coded within max_error.
+BoxScene block_coded_ellipsoid(const TriangleMesh& ellipsoid, float max_error) {
+  BakeOptions o;
+  o.params = {16, 8};
+  CodecOptions codec;
+  codec.codec = CodecId::block;
+  codec.max_error = max_error;
+  return bake_scene(ellipsoid, {}, o, SourceInfo{}).compressed(codec);
+}
+
 void expect_same_answers_along_strokes(const test::TwoSpheres& two, std::size_t& from_state, std::size_t& ticks,
                                        SceneRoute route = SceneRoute::boxes) {
   BakeOptions o;
@@ -70,12 +80,7 @@ TEST(QueryStateTest, ABlockCodedBoxDecodesAQuadOnceWhileAStrokeStaysInItsCellsWi
   // answers are the stateless ones bit for bit, most ticks reuse the decode, and a state
   // used in another scene (the same place, another table) forgets it.
   const TriangleMesh sphere = make_ellipsoid(Vec3(1.f, 0.8f, 0.6f), 4);
-  BakeOptions o;
-  o.params = {16, 8};
-  CodecOptions codec;
-  codec.codec = CodecId::block;
-  codec.max_error = 4e-5f;
-  const BoxScene scene = bake_scene(sphere, {}, o, SourceInfo{}).compressed(codec);
+  const BoxScene scene = block_coded_ellipsoid(sphere, 4e-5f);
   ASSERT_EQ(scene.boxes().size(), 1u);
   ASSERT_EQ(scene.boxes()[0].codec(), CodecId::block);
   const std::vector<Segment> strokes = sample_strokes(sphere, 10, 200, 0.02f);
@@ -102,8 +107,7 @@ TEST(QueryStateTest, ABlockCodedBoxDecodesAQuadOnceWhileAStrokeStaysInItsCellsWi
   EXPECT_LT(from_quadric, strokes.size() / 2) << from_quadric;
   EXPECT_GT(state.quads.reused, strokes.size() / 2) << "of " << strokes.size();
   // Another scene's table (coded coarser): its own answers, not the kept decode.
-  codec.max_error = 4e-3f;
-  const BoxScene other = bake_scene(sphere, {}, o, SourceInfo{}).compressed(codec);
+  const BoxScene other = block_coded_ellipsoid(sphere, 4e-3f);
   const Contact a = other.query(strokes.back(), kStateLaw, state), b = other.query(strokes.back(), kStateLaw);
   EXPECT_EQ(a.force, b.force);
   EXPECT_EQ(state.quads.reused, 0u);  // forgotten, then decoded afresh
@@ -115,12 +119,7 @@ TEST(QueryStateTest, AGrazingStrokeSettlesOnTheQuadricItsLastTickFittedWithinATe
   // quadric the last settle fitted instead of fitting again; their contacts stay within a
   // tenth of a position cell of the stateless ones, and another table does not take it.
   const TriangleMesh ellipsoid = make_ellipsoid(Vec3(1.f, 0.8f, 0.6f), 5);
-  BakeOptions o;
-  o.params = {16, 8};
-  CodecOptions codec;
-  codec.codec = CodecId::block;
-  codec.max_error = 4e-5f;
-  const BoxScene scene = bake_scene(ellipsoid, {}, o, SourceInfo{}).compressed(codec);
+  const BoxScene scene = block_coded_ellipsoid(ellipsoid, 4e-5f);
   ASSERT_EQ(scene.boxes().size(), 1u);
   const float cell = scene.boxes()[0].layout().obb().diagonal() / 16.f;
   SceneQueryState state;
@@ -140,8 +139,7 @@ TEST(QueryStateTest, AGrazingStrokeSettlesOnTheQuadricItsLastTickFittedWithinATe
   EXPECT_EQ(contacts, 200u);
   EXPECT_GT(state.quads.settled.reused, 100u);
   // Another scene's table: the kept quadric is forgotten, its own settle answers.
-  codec.max_error = 4e-3f;
-  const BoxScene other = bake_scene(ellipsoid, {}, o, SourceInfo{}).compressed(codec);
+  const BoxScene other = block_coded_ellipsoid(ellipsoid, 4e-3f);
   const Segment last{Vec3(2.f, 0.05f, 0.55f), Vec3(0.3f, 0.05f, 0.55f)};
   const Contact a = other.query(last, kStateLaw, state), b = other.query(last, kStateLaw);
   EXPECT_EQ(a.force, b.force);
