@@ -15,10 +15,11 @@ namespace hb {
 /// The quadric a probe's last grazing settle met (HapticBox::settle_grazing), of table
 /// `table`: the next tick's grazing line, a fraction of a cell on, meets it instead of fitting
 /// afresh while its crossing stays within a tenth of a position cell of the fit's centre,
-/// lateral to its axis. Measured on the servo loop's path over the bumpy sphere (2026-12-07):
-/// the settled ticks 680 -> 280 ns; the answers against exact's as before (mean 0.0106 N
-/// against 0.0105, none perceptible), and within 0.021 N (0.014 mm) of the stateless ones
-/// (a fifth of a cell: 0.041 N; a twentieth: 0.013 N and half the reuse). `reused` counts
+/// lateral to its axis, and within a cell of the blend's crossing. Measured on the servo
+/// loop's path over the bumpy sphere (2026-12-07): the settled ticks 680 -> 280 ns; the
+/// answers as far from exact's as the stateless ones (largest 0.046 N against 0.045, mean
+/// 0.0081 against 0.0080, none perceptible) and within 0.045 N of them (the ellipsoid 0.013 N;
+/// a twentieth of a cell changed neither, with a fifth of the reuse gone). `reused` counts
 /// the settles it served.
 struct SettledQuadric {
   const void* table = nullptr;

@@ -48,11 +48,13 @@ constexpr float kFitSigmaCells = 0.4f, kFitWeightFloor = 0.1f;
 // agrees: its crossing and normal, no fit. A stateless query has none.
 bool cross_kept_quadric(SettledQuadric* memo, const Vec3& p1, const Vec3& l, const Vec3& m, float cell, float t,
                         float& t0, float& nx, float& ny, float& nz) noexcept {
-  constexpr float kMemoCells = 0.1f, kFarthestCells = 8.f;
+  // Within a cell of the blend's crossing too: a kept sheet the line meets farther on is not
+  // taken for the nearer one the blend sees.
+  constexpr float kMemoCells = 0.1f, kFromBlendCells = 1.f;
   if (!memo || !memo->valid || !(m.dot(memo->quadric.axis) > 0.95f)) return false;
   const LocalQuadric& mq = memo->quadric;
   float s = 0.f;
-  if (!mq.entry(p1 + t * l, l, s) || !(std::fabs(s) <= kFarthestCells * cell)) return false;
+  if (!mq.entry(p1 + t * l, l, s) || !(std::fabs(s) <= kFromBlendCells * cell)) return false;
   const Vec3 at = p1 + (t + s) * l, r = at - mq.origin;
   const Vec3 lateral = r - r.dot(mq.axis) * mq.axis;
   const Vec3 n = mq.normal_at(at);
