@@ -46,8 +46,20 @@ void add_eval_command(CLI::App& app) {
     // Probes dealt across the ranks of an MPI job; the figures are one process's.
     const hb::ComparisonStats s = hb::compare_queries(scene, exact, probes, ws.law(), diag, nullptr,
                                                       &hb::cli::communicator(), nullptr, judge);
+    // The same count of light touches at any angle (light_touch_probe_options): its
+    // perceptible share alone, a second figure.
+    const auto light_probes =
+        hb::sample_probes(mesh, opts->samples, hb::light_touch_probe_options(opts->probes.seed));
+    const hb::ComparisonStats light = hb::compare_queries(scene, exact, light_probes, ws.law(), diag, nullptr,
+                                                          &hb::cli::communicator(), nullptr, judge);
     nlohmann::json j = hb::eval_json(s, opts->box, opts->mesh, opts->probes.seed, scene.answering_name());
     j["workspace"] = hb::workspace_json(ws, judge);
+    j["light_touch"] = {{"samples", light.samples},
+                        {"perceptible", light.perceptible},
+                        {"perceptible_share", light.perceptible_share},
+                        {"exact_contacts", light.exact_contacts},
+                        {"cone_degrees", 85},
+                        {"max_depth_fraction", 0.005}};
     if (opts->json) {
       hb::cli::print_json(j);
       return;
@@ -62,6 +74,8 @@ void add_eval_command(CLI::App& app) {
               << hb::percent(s.force_error_p95) << ", max " << hb::percent(s.force_error_max) << "\n"
               << "  direction error     median " << hb::sig(s.angle_error_median_deg) << " deg, p99 "
               << hb::sig(s.angle_error_p99_deg) << " deg\n"
-              << "  depth RMS / diag    " << hb::sig(s.depth_rms_over_diag) << "\n";
+              << "  depth RMS / diag    " << hb::sig(s.depth_rms_over_diag) << "\n"
+              << "  light touch, any angle (within 85 deg of the normal, tips up to 0.5 % of the diagonal deep): "
+              << hb::perceptible_headline(light) << "\n";
   });
 }

@@ -135,6 +135,8 @@ for m in models:
         force=f"{ev['force_error_median'] * 100:.2g}% / {ev['force_error_p95'] * 100:.2g}%",
         direction=f"{ev['angle_error_p99_deg']:.2g} deg",
         perceptible=(f"{pct(p['share'])} ({p.get('probes', '?')})" if isinstance(p, dict) and "share" in p else ""),
+        light=(f"{pct(ev['light_touch']['perceptible_share'])} ({ev['light_touch']['perceptible']})"
+               if isinstance(ev.get("light_touch"), dict) else ""),
         random=f"{be['box_ns']:,.0f} / {be['exact_ns']:,.0f} ns, {ratio(be['box_ns'], be['exact_ns'])}",
         batched=ratio(be["box_batched_ns"], be["exact_batched_ns"]),
         coherent=ratio(be["box_coherent_ns"], be["exact_coherent_ns"]),
@@ -157,6 +159,8 @@ full = [("model", "model"), ("triangles", "triangles"), ("boxes", "boxes"), ("fi
         ("force", "force error median / p95"), ("direction", "direction p99")]
 if perceptible:
     full.append(("perceptible", "perceptible (probes)"))
+if all(r["light"] for r in rows):
+    full.append(("light", "perceptible (light touch, any angle)"))
 full += [("random", "random"), ("batched", "batched"), ("coherent", "coherent"), ("strokes", "strokes"),
          ("tail", "per-probe p99.9, box / exact")]
 
@@ -179,7 +183,9 @@ raw box tried first, exact by the faster of Embree and the surface cells otherwi
 so the bake time is a real bake's (2 cores). Accuracy: `hapticbox eval BOX MESH --seed 2`, 20,000
 probes, against exact Embree on the same mesh; contact agreement with its false and missed
 contacts, the relative force error over the probes both answers touch, the direction error's 99th
-percentile{", and the share of probes whose difference a hand would feel (`perception.md`)" if perceptible else ""}. Speed: `hapticbox bench BOX MESH
+percentile{", and the share of probes whose difference a hand would feel (`perception.md`)" if perceptible else ""}; and as
+many light touches at any angle (within 85 degrees of the normal, tips up to 0.5% of the
+diagonal deep, under 0.6 N), the share a hand would feel. Speed: `hapticbox bench BOX MESH
 --seed 2`, one core, box and exact on the same probes in the same run, in four orders (`speed.md`):
 random (one query at a time), batched, coherent (sorted along a space-filling curve) and strokes
 (hand-like circles, probes 1 ms apart); the tail is each probe's median over 5 rounds, its 99.9th

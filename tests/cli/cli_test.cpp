@@ -184,6 +184,12 @@ TEST_F(CliTest, BakeInfoEvalBenchProduceDocumentedJson) {
     EXPECT_TRUE(e.contains(key)) << key;
   EXPECT_EQ(e["samples"], 2000);
   EXPECT_GT(e["contact_agreement"].get<double>(), 0.95);
+  // The second figure: as many light touches at any angle, their perceptible share.
+  ASSERT_TRUE(e.contains("light_touch"));
+  EXPECT_EQ(e["light_touch"]["samples"], 2000);
+  EXPECT_GT(e["light_touch"]["exact_contacts"].get<double>(), 1000.0);
+  EXPECT_GE(e["light_touch"]["perceptible_share"].get<double>(), 0.0);
+  EXPECT_LE(e["light_touch"]["perceptible_share"].get<double>(), 1.0);
 
   const Result bench = run("bench " + path("sphere.hbox") + " " + path("sphere.off") + " --samples 2000 --rounds 1 --json");
   ASSERT_EQ(bench.code, 0) << bench.err;
