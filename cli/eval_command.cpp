@@ -54,12 +54,7 @@ void add_eval_command(CLI::App& app) {
                                                           &hb::cli::communicator(), nullptr, judge);
     nlohmann::json j = hb::eval_json(s, opts->box, opts->mesh, opts->probes.seed, scene.answering_name());
     j["workspace"] = hb::workspace_json(ws, judge);
-    j["light_touch"] = {{"samples", light.samples},
-                        {"perceptible", light.perceptible},
-                        {"perceptible_share", light.perceptible_share},
-                        {"exact_contacts", light.exact_contacts},
-                        {"cone_degrees", 85},
-                        {"max_depth_fraction", 0.005}};
+    j["light_touch"] = hb::light_touch_json(light);
     if (opts->json) {
       hb::cli::print_json(j);
       return;

@@ -3,6 +3,7 @@
 // that both carry the same keys and values for the same input and seed.
 #include "contact/workspace.h"
 #include "evaluation/comparison.h"
+#include "evaluation/probe_sampling.h"
 #include <nlohmann/json.hpp>
 #include <cstdint>
 #include <string>
@@ -18,6 +19,17 @@ inline nlohmann::json workspace_json(const Workspace& w, const PerceptualJudge& 
           {"max_force_n", w.max_force_n},
           {"perceptual", thresholds_spec(judge.thresholds)},
           {"text", w.describe()}};
+}
+
+/// eval's second figure (light touches at any angle, hb::light_touch_probe_options).
+inline nlohmann::json light_touch_json(const ComparisonStats& light) {
+  const ProbeOptions o = light_touch_probe_options(0);
+  return {{"samples", light.samples},
+          {"perceptible", light.perceptible},
+          {"perceptible_share", light.perceptible_share},
+          {"exact_contacts", light.exact_contacts},
+          {"cone_degrees", o.cone_degrees},
+          {"max_depth_fraction", o.max_depth_fraction}};
 }
 
 inline nlohmann::json eval_json(const ComparisonStats& s, const std::string& box, const std::string& mesh,

@@ -125,6 +125,10 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   Communicator& comm = communicator_or_serial(options.communicator);
   d.ranks = comm.size();
   d.stats = compare_queries(scene, exact, probes, law, d.diagonal, &d.records, &comm, nullptr, options.judge);
+  // eval's second figure, the same count of light touches at any angle.
+  d.light_touch = compare_queries(scene, exact,
+                                  sample_probes(mesh, options.samples, light_touch_probe_options(options.probes.seed)),
+                                  law, d.diagonal, nullptr, &comm, nullptr, options.judge);
   d.worst = worst_probes(d.records, d.diagonal);
   report_progress(options.progress, 0.05);
 
@@ -258,6 +262,7 @@ std::string report_json(const ReportData& d) {
   j["eval"] = eval_json(s, d.box_path, d.mesh_path, o.probes.seed, d.route);
   j["eval"]["ranks"] = d.ranks;  // as `eval --json` states it
   j["eval"]["workspace"] = workspace_json(d.workspace, o.judge);
+  j["eval"]["light_touch"] = light_touch_json(d.light_touch);
   j["ranks"] = d.ranks;
   nlohmann::json timing = {{"box_ns", d.box_ns}};
   for (const SweepRow& r : d.rows)

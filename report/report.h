@@ -71,6 +71,7 @@ struct ReportData {
   std::size_t memory_bytes = 0;          ///< box tables, plus triangle ids and surface when refining.
   double bake_seconds = 0.0;             ///< 0 when loaded from a file.
   ComparisonStats stats;                 ///< the report's box against the exact reference.
+  ComparisonStats light_touch;           ///< as many light touches at any angle (light_touch_probe_options).
   std::vector<WorstProbe> worst;         ///< the worst probes of `records` (hb::worst_probes).
   std::vector<ProbeRecord> records;      ///< one per probe (samples.csv).
   std::vector<SweepRow> rows;            ///< references, sweep configurations and the box itself.
