@@ -69,11 +69,9 @@ OrderTimes time_orders(const hb::BoxScene& scene, const hb::ExactQuery& exact, c
   // without it (every tick the full query) for comparison.
   hb::SceneProbe probe(scene);
   t.box_stroke_ns = hb::median_query_ns(probe, strokes, law, rounds);
-  t.state_share = probe.state().from_state + probe.state().full > 0
-                      ? double(probe.state().from_state) / double(probe.state().from_state + probe.state().full)
-                      : 0.0;
   const double ticks = double(probe.state().from_state + probe.state().full);
   if (ticks > 0) {
+    t.state_share = double(probe.state().from_state) / ticks;
     t.quads_share = double(probe.state().quads.reused) / ticks;
     t.quadric_share = double(probe.state().quads.settled.reused) / ticks;
   }

@@ -46,12 +46,9 @@ void add_eval_command(CLI::App& app) {
     // Probes dealt across the ranks of an MPI job; the figures are one process's.
     const hb::ComparisonStats s = hb::compare_queries(scene, exact, probes, ws.law(), diag, nullptr,
                                                       &hb::cli::communicator(), nullptr, judge);
-    // The same count of light touches at any angle (light_touch_probe_options): its
-    // perceptible share alone, a second figure.
-    const auto light_probes =
-        hb::sample_probes(mesh, opts->samples, hb::light_touch_probe_options(opts->probes.seed));
-    const hb::ComparisonStats light = hb::compare_queries(scene, exact, light_probes, ws.law(), diag, nullptr,
-                                                          &hb::cli::communicator(), nullptr, judge);
+    // The same count of light touches at any angle: its perceptible share, a second figure.
+    const hb::ComparisonStats light = hb::compare_light_touches(scene, exact, mesh, opts->samples, opts->probes.seed,
+                                                                ws.law(), diag, &hb::cli::communicator(), judge);
     nlohmann::json j = hb::eval_json(s, opts->box, opts->mesh, opts->probes.seed, scene.answering_name());
     j["workspace"] = hb::workspace_json(ws, judge);
     j["light_touch"] = hb::light_touch_json(light);
@@ -70,7 +67,7 @@ void add_eval_command(CLI::App& app) {
               << "  direction error     median " << hb::sig(s.angle_error_median_deg) << " deg, p99 "
               << hb::sig(s.angle_error_p99_deg) << " deg\n"
               << "  depth RMS / diag    " << hb::sig(s.depth_rms_over_diag) << "\n"
-              << "  light touch, any angle (within 85 deg of the normal, tips up to 0.5 % of the diagonal deep): "
-              << hb::perceptible_headline(light) << "\n";
+              << "  light touch, any angle (" << hb::light_touch_words() << "): " << hb::perceptible_headline(light)
+              << "\n";
   });
 }

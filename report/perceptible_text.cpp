@@ -1,11 +1,18 @@
 #include "perceptible_text.h"
 #include "figure_text.h"
+#include "evaluation/probe_sampling.h"
 
 namespace hb {
 
 std::string perceptible_headline(const ComparisonStats& s) {
   return "perceptibly different: " + sig(double(s.perceptible), 6) + " of " + sig(double(s.samples), 6) + " probes (" +
          percent(s.perceptible_share) + ")";
+}
+
+std::string light_touch_words() {
+  const ProbeOptions o = light_touch_probe_options(0);
+  return "within " + sig(o.cone_degrees) + " deg of the normal, tips up to " + sig(o.max_depth_fraction * 100.0) +
+         " % of the diagonal deep";
 }
 
 std::string thresholds_text(const PerceptualThresholds& t) {

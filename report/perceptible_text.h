@@ -10,6 +10,10 @@ namespace hb {
 /// "perceptibly different: 3 of 20,000 probes (0.015 %)" (the headline, one phrase).
 std::string perceptible_headline(const ComparisonStats& s);
 
+/// What eval's light touches are (light_touch_probe_options): "within 85 deg of the normal,
+/// tips up to 0.5 % of the diagonal deep".
+std::string light_touch_words();
+
 /// The thresholds in words: "max(10 % |F|, 0.04 N), 25 deg at >= 0.2 N".
 std::string thresholds_text(const PerceptualThresholds& t);
 

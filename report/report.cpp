@@ -126,9 +126,8 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   d.ranks = comm.size();
   d.stats = compare_queries(scene, exact, probes, law, d.diagonal, &d.records, &comm, nullptr, options.judge);
   // eval's second figure, the same count of light touches at any angle.
-  d.light_touch = compare_queries(scene, exact,
-                                  sample_probes(mesh, options.samples, light_touch_probe_options(options.probes.seed)),
-                                  law, d.diagonal, nullptr, &comm, nullptr, options.judge);
+  d.light_touch = compare_light_touches(scene, exact, mesh, options.samples, options.probes.seed, law, d.diagonal,
+                                        &comm, options.judge);
   d.worst = worst_probes(d.records, d.diagonal);
   report_progress(options.progress, 0.05);
 

@@ -135,8 +135,8 @@ void write_verdicts(std::ostringstream& h, const ReportData& d, const SpeedAgain
     << percent(s.force_error_median) << ", p95 " << percent(s.force_error_p95) << ", contact agreement "
     << agreement_percent(s.contact_agreement) << "</td></tr>\n"
     << "<tr><th class=l>light touches at any angle</th><td class=l>" << html_escape(perceptible_headline(d.light_touch))
-    << " (within 85 degrees of the normal, tips up to 0.5% of the diagonal deep: what the probes above, near the "
-       "normal and pressed harder, do not show)</td></tr>\n"
+    << " (" << html_escape(light_touch_words()) << ": what the probes above, near the normal and pressed harder, do "
+       "not show)</td></tr>\n"
     << "<tr><th class=l>speed against exact Embree</th><td class=l><span class=" << (speed.faster ? "pass" : "slow")
     << ">the box is " << html_escape(speed.text) << "</span> (" << ns_text(d.box_ns) << " against " << ns_text(speed.exact_ns)
     << " a query; same probes, one at a time, one core)</td></tr></table>\n";

@@ -28,8 +28,7 @@ std::string report_summary_text(const ReportData& d, const std::string& dir) {
     << thresholds_text(s.thresholds) << ", or a contact on one side only above " << sig(s.thresholds.floor_n)
     << " N); force difference median " << sig(s.force_difference_median_n) << " N, p95 "
     << sig(s.force_difference_p95_n) << " N (exact's median force " << sig(s.exact_force_median_n) << " N)\n";
-  o << "light touches at any angle (within 85 deg of the normal, tips up to 0.5 % of the diagonal deep): "
-    << perceptible_headline(d.light_touch) << "\n";
+  o << "light touches at any angle (" << light_touch_words() << "): " << perceptible_headline(d.light_touch) << "\n";
   o << "secondary: contact agreement " << agreement_percent(s.contact_agreement) << " (" << s.false_contacts
     << " false, " << s.missed_contacts << " missed contacts); relative force error median "
     << percent(s.force_error_median) << ", p95 " << percent(s.force_error_p95) << " (the former budget: median <= "

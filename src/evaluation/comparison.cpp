@@ -1,4 +1,5 @@
 #include "evaluation/comparison.h"
+#include "evaluation/probe_sampling.h"
 #include "parallel/byte_buffer.h"
 #include "parallel/work_split.h"
 #include <tbb/blocked_range.h>
@@ -236,6 +237,13 @@ ComparisonStats compare_queries(const ContactQuery& approx, const ContactQuery& 
     else records->clear();
   }
   return unpack_stats(summary);
+}
+
+ComparisonStats compare_light_touches(const ContactQuery& approx, const ContactQuery& exact, const TriangleMesh& mesh,
+                                      std::size_t count, std::uint64_t seed, const ForceLaw& law, float diagonal,
+                                      Communicator* communicator, const PerceptualJudge& judge) {
+  return compare_queries(approx, exact, sample_probes(mesh, count, light_touch_probe_options(seed)), law, diagonal,
+                         nullptr, communicator, nullptr, judge);
 }
 
 } // namespace hb

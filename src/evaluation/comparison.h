@@ -2,7 +2,9 @@
 // Comparing an approximated answer with the exact one over a set of probes (paper 6.1.2).
 #include "contact/contact.h"
 #include "contact/perceptible.h"
+#include "mesh/triangle_mesh.h"
 #include "parallel/communicator.h"
+#include <cstdint>
 #include <vector>
 
 namespace hb {
@@ -71,6 +73,14 @@ ComparisonStats compare_queries(const ContactQuery& approx, const ContactQuery& 
                                 float diagonal, std::vector<ProbeRecord>* records = nullptr,
                                 Communicator* communicator = nullptr, std::vector<RankWork>* work = nullptr,
                                 const PerceptualJudge& judge = PerceptualJudge{});
+
+/// eval's second figure: compare_queries on `count` light touches at any angle
+/// (sample_probes with light_touch_probe_options(seed)), no records. `eval` and the report
+/// both ask it.
+ComparisonStats compare_light_touches(const ContactQuery& approx, const ContactQuery& exact, const TriangleMesh& mesh,
+                                      std::size_t count, std::uint64_t seed, const ForceLaw& law, float diagonal,
+                                      Communicator* communicator = nullptr,
+                                      const PerceptualJudge& judge = PerceptualJudge{});
 
 /// Statistics of given records (the same figures as compare_queries).
 ComparisonStats summarize(const std::vector<ProbeRecord>& records, float diagonal,

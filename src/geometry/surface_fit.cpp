@@ -161,13 +161,12 @@ bool fit_local_quadric(const OrientedPoint* points, int count, const Vec3& origi
   // of the rows f = (1, x, y, x^2, xy, y^2), fx = (0, 1, 0, 2x, y, 0), fy = (0, 0, 1, 0, x, 2y):
   // fifteen sums a point instead of three 6 x 6 outer products (a fit was most of a grazing
   // query's time).
-  Moments mo;  // M(p, q) in accumulate_moments' order
+  Moments mo;
   const int used = accumulate_moments(points, count, origin, e1, e2, axis, float(inv_sigma), weight_floor, mo);
-  const double m00 = mo.m[0], m01 = mo.m[1], m02 = mo.m[2], m03 = mo.m[3], m04 = mo.m[4], m10 = mo.m[5], m11 = mo.m[6],
-               m12 = mo.m[7], m13 = mo.m[8], m20 = mo.m[9], m21 = mo.m[10], m22 = mo.m[11], m30 = mo.m[12],
-               m31 = mo.m[13], m40 = mo.m[14];
   const double* b = mo.b;
-  const double m[5][5] = {{m00, m01, m02, m03, m04}, {m10, m11, m12, m13, 0}, {m20, m21, m22, 0, 0}, {m30, m31, 0, 0, 0}, {m40, 0, 0, 0, 0}};
+  double m[5][5] = {};  // M(p, q), p + q <= 4, from accumulate_moments' order
+  for (int pp = 0, at = 0; pp <= 4; ++pp)
+    for (int q = 0; q + pp <= 4; ++q, ++at) m[pp][q] = mo.m[at];
   // f's monomials (p, q), and fx's and fy's as coefficient times monomial.
   static constexpr int fe[6][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
   struct Term { int i; double c; int p, q; };

@@ -81,7 +81,6 @@ bool HapticBox::query_into(const Segment& segment, const ForceLaw& law, Contact&
 // geometry-only one of query_near, which reads no ids).
 template <class Fetch> struct prefetches_ids : std::true_type {};
 
-
 template <class Fetch>
 bool HapticBox::locate(const Fetch& fetch, const Segment& segment, Located<Fetch>& q) const noexcept {
   // All geometry up to the corner blend runs in box-local coordinates: one 3 x 3 transform
@@ -265,10 +264,6 @@ inline bool HapticBox::blend(const Fetch& fetch, const Located<Fetch>& q, float&
   return blended_hit;
 }
 
-// Step 6a's surface points: the 16 samples of a located query (4 corners x 2 x 2 directions)
-// that hit, each with its hit point, unit normal and interpolation weight. Each corner's quad
-// is read in one go through the fetch policy (a block record's header once), and the four
-// directions are the same at every corner.
 template <class Fetch>
 bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceLaw& law, Contact& out,
                        float& distance_from_handle, Refine refine_hit, bool* refined,
@@ -283,7 +278,8 @@ bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceL
   int corners_hit = 0;
   bool blended_hit = blend(fetch, q, t0, nx, ny, nz, corners_hit, false);
   const float p1x = sx + t_enter * lx, p1y = sy + t_enter * ly, p1z = sz + t_enter * lz;
-  // 6a. A grazing blend is settled along the surface's normal (settle_grazing()).
+  // 6a, 6b. A blend more than 37 degrees off the normal is met on a fitted quadric
+  // (settle_grazing(), refit_on_own_samples()).
   if (!surface_) {
     if (blended_hit) {
       // Only a crossing that could be the segment's: the blend's own error along l grows as

@@ -14,6 +14,10 @@
 
 namespace hb {
 
+// The surface points of steps 6a and 6b: the 16 samples of a located query (4 corners x 2 x 2
+// directions) that hit, each with its hit point, unit normal and interpolation weight. Each
+// corner's quad is read in one go through the fetch policy (a block record's header once), and
+// the four directions are the same at every corner.
 template <class Fetch>
 int HapticBox::surface_points(const Fetch& fetch, Located<Fetch>& q, OrientedPoint out[16]) const noexcept {
   const int sub = int(q.sf / 3), sface = int(q.sf % 3);
@@ -82,7 +86,8 @@ bool cross_kept_quadric(SettledQuadric* memo, const Vec3& p1, const Vec3& l, con
 // the crossing 0.1-0.6 mm early and the normal a degree steep); the quadric's crossing
 // settles in two to four fits. Settled when a step moves y by less than kSettledCells
 // position cells along l; otherwise (no fit, a far crossing, no convergence) the blend
-// stands (false). Same table, no memory; only grazing answers pay.
+// stands (false). Same table; a probe's query state keeps the quadric settled on
+// (cross_kept_quadric); only grazing answers pay.
 template <class Fetch>
 bool HapticBox::settle_grazing(const Fetch& fetch, float p1x, float p1y, float p1z, float lx, float ly, float lz,
                                float& t0, float& nx, float& ny, float& nz) const noexcept {
@@ -158,7 +163,7 @@ bool HapticBox::settle_grazing(const Fetch& fetch, float p1x, float p1y, float p
 }
 
 // Step 6b. Between kGrazingCosine and kRefitCosine the blend is well conditioned but
-// first-order: on the bumpy sphere's and the smooth ellipsoid's default boxes, lines 53-45
+// first-order: on the bumpy sphere's and the smooth ellipsoid's default boxes, lines 46-53
 // degrees from the normal (|n . l| 0.6-0.7) were 0.03-0.1 mm off along l, felt at a light touch
 // (under 0.75 N) on 1.1-1.5% of lines with |n . l| 0.6-1 (measured 2026-12-07). One quadric
 // fitted to the line's own 16 samples (no segment across: at such an angle they are
