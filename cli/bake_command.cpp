@@ -332,7 +332,10 @@ void print_bake_line(const BakeOpts& o, const hb::CachedBake& cached, const Bake
               << (scene.surface()->normal_map_bytes() > 0
                       ? " and its normal map " + hb::bytes_text(scene.surface()->normal_map_bytes())
                       : std::string())
-              << ", no triangle ids)";
+              << ", no triangle ids"
+              << (scene.stroke_mesh() ? "; strokes by exact Embree over the full mesh, " + hb::bytes_text(scene.embree_bytes())
+                                      : std::string())
+              << ")";
   std::cout << "\n";
 }
 

@@ -43,6 +43,9 @@ constexpr float kStrokeRadius = 0.02f;
 struct OrderTimes {
   double box_ns = 0, exact_ns = 0, box_many_ns = 0, exact_many_ns = 0, box_coherent_ns = 0, exact_coherent_ns = 0;
   double box_stroke_ns = 0, box_stroke_stateless_ns = 0, exact_stroke_ns = 0;
+  // A scene whose strokes Embree over the full mesh answers (BoxScene::stroke_route): the
+  // cells' walk along the same strokes with a query state, for comparison (0: no such route).
+  double box_stroke_cells_ns = 0;
   double state_share = 0;  // strokes' ticks answered from the query state
   // A raw block-coded box: strokes' ticks that blended the kept decoded quads, and that
   // crossed the last settled quadric (DecodedQuads).
@@ -77,6 +80,11 @@ OrderTimes time_orders(const hb::BoxScene& scene, const hb::ExactQuery& exact, c
   }
   t.box_stroke_stateless_ns = hb::median_query_ns(scene, strokes, law, rounds);
   t.exact_stroke_ns = hb::median_query_ns(exact, strokes, law, rounds);
+  if (scene.stroke_mesh() && scene.stroke_route() == hb::SceneRoute::embree) {
+    const hb::BoxScene cells = scene.without_stroke_mesh();
+    hb::SceneProbe walk(cells);
+    t.box_stroke_cells_ns = hb::median_query_ns(walk, strokes, law, rounds);
+  }
   return t;
 }
 
@@ -161,6 +169,8 @@ nlohmann::json bench_json(const BenchOpts& o, const hb::TriangleMesh& mesh, cons
           {"speedup_coherent", t.box_coherent_ns > 0 ? t.exact_coherent_ns / t.box_coherent_ns : 0.0},
           {"box_stroke_ns", t.box_stroke_ns},
           {"box_stroke_stateless_ns", t.box_stroke_stateless_ns},
+          {"stroke_route", hb::route_name(scene.stroke_route())},
+          {"box_stroke_cells_ns", t.box_stroke_cells_ns},
           {"stroke_share_from_state", t.state_share},
           {"stroke_share_quads_kept", t.quads_share},
           {"stroke_share_quadric_kept", t.quadric_share},
@@ -230,12 +240,19 @@ void print_bench(const BenchOpts& o, const hb::TriangleMesh& mesh, const hb::Box
             << " hand-like strokes: circles of 2% of the diagonal, 1000 probes 1 ms apart, as a 1 kHz loop):\n"
             << "  haptic box  " << t.box_stroke_ns << " ns/query, exact " << t.exact_stroke_ns << " ns/query: box is "
             << hb::speed_verdict(t.box_stroke_ns, t.exact_stroke_ns) << "\n"
-            << std::setprecision(1) << "  with a query state per probe (" << 100.0 * t.state_share
-            << "% of ticks from the state";
-  if (t.quads_share > 0)
-    std::cout << "; decoded quads kept on " << 100.0 * t.quads_share << "%, the last settled quadric crossed on "
-              << 100.0 * t.quadric_share << "%";
-  std::cout << "); without it " << t.box_stroke_stateless_ns << " ns/query\n"
+            << std::setprecision(1);
+  if (t.box_stroke_cells_ns > 0) {
+    std::cout << "  answered by exact Embree over the full mesh (the bake's stroke route: it measured Embree faster "
+                 "along strokes than the cells); the cells' walk with a query state "
+              << t.box_stroke_cells_ns << " ns/query";
+  } else {
+    std::cout << "  with a query state per probe (" << 100.0 * t.state_share << "% of ticks from the state";
+    if (t.quads_share > 0)
+      std::cout << "; decoded quads kept on " << 100.0 * t.quads_share << "%, the last settled quadric crossed on "
+                << 100.0 * t.quadric_share << "%";
+    std::cout << ")";
+  }
+  std::cout << "; without a state " << t.box_stroke_stateless_ns << " ns/query\n"
             << std::setprecision(1) << "  boxes       " << scene.boxes().size() << ", met per query " << m.mean_met
             << " on average; box queries per probe " << std::setprecision(2) << m.mean_asked << " on average (max "
             << m.asked_max << ", " << std::setprecision(1) << 100.0 * m.share_one << "% of probes at most one), "

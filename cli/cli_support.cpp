@@ -141,8 +141,8 @@ ModelBake bake_model(const TriangleMesh& mesh, const std::string& mesh_path, std
 
 void add_route_option(CLI::App& cmd, std::string& route) {
   cmd.add_option("--route", route,
-                 "Refined scenes: auto (default: the route the bake chose and stored), cells (the first crossing "
-                 "among the surface cells' triangles answers, no box asked), embree (exact Embree over the scene's "
+                 "Refined scenes: auto (default: the route the bake chose and stored, with its stroke route), cells "
+                 "(the first crossing among the surface cells' triangles answers, no box asked; strokes too), embree (exact Embree over the scene's "
                  "surface) or boxes (the grid's boxes answer from their triangle ids, the cells' triangles confirm)")
       ->check(CLI::IsMember({"auto", "boxes", "cells", "embree"}))
       ->capture_default_str();
@@ -150,6 +150,7 @@ void add_route_option(CLI::App& cmd, std::string& route) {
 
 void apply_route(BoxScene& scene, const std::string& route) {
   if (route == "auto") return;
+  scene = scene.without_stroke_mesh();  // a route named answers a probe's strokes too
   if (route == "boxes" && !scene.has_tables())
     throw UsageError("--route boxes: this scene's boxes are frames without tables (the bake answered it by exact "
                      "Embree and dropped what no other route reads); bake it with HB_MEASURE=keep-ids to compare the routes");

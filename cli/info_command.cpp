@@ -163,6 +163,11 @@ nlohmann::json box_info(const std::string& path, bool verify) {
           {"surface_bytes", scene.refinement_bytes() - id_bytes},
           {"normal_map_side", scene.surface() ? scene.surface()->normal_map_side() : 0},
           {"normal_map_bytes", scene.surface() ? scene.surface()->normal_map_bytes() : 0},
+          {"stroke_route", scene.stroke_mesh() && scene.stroke_route() == hb::SceneRoute::embree
+                               ? "exact Embree over the full mesh (" + hb::count_text(double(scene.stroke_mesh()->triangle_count())) +
+                                     " triangles, " + hb::bytes_text(scene.embree_bytes()) +
+                                     "): a probe's successive queries, where the bake measured it faster than the cells"
+                               : std::string(scene.answering_name())},
           {"scene_grid_bytes", scene.grid() ? scene.grid()->bytes() : 0},
           {"scene_grid_cells", scene.grid() ? scene.grid()->codes().size() : 0},
           {"verified", verify},

@@ -32,6 +32,20 @@ private:
 
 std::size_t align_up(std::size_t v) { return (v + kBoxFileAlign - 1) / kBoxFileAlign * kBoxFileAlign; }
 
+// The stroke mesh section (format version 9); empty without a mesh.
+std::vector<char> stroke_mesh_bytes(const TriangleMesh* mesh) {
+  Writer w;
+  if (!mesh) return {};
+  w.put(std::uint32_t(mesh->positions.size()));
+  w.put(std::uint32_t(mesh->triangles.size()));
+  for (const std::vector<Vec3>* points : {&mesh->positions, &mesh->normals})
+    for (const Vec3& p : *points)
+      for (int k = 0; k < 3; ++k) w.put(p[k]);
+  for (const Triangle& t : mesh->triangles)
+    for (int k = 0; k < 3; ++k) w.put(std::uint32_t(t[k]));
+  return std::move(w.bytes());
+}
+
 } // namespace
 
 void save_box_file(const BoxScene& scene, const std::string& path) {
@@ -63,12 +77,17 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
   const std::uint64_t budget_hash = budget_text.empty() ? 0 : XXH3_64bits(budget_text.data(), budget_text.size());
   const std::size_t map_bytes = surface ? surface->normal_map_bytes() : 0;
   const std::uint64_t map_hash = map_bytes ? XXH3_64bits(surface->normal_map(), map_bytes) : 0;
+  const std::vector<char> stroke_bytes = stroke_mesh_bytes(scene.stroke_mesh());
+  const std::uint64_t stroke_hash = stroke_bytes.empty() ? 0 : XXH3_64bits(stroke_bytes.data(), stroke_bytes.size());
+  const std::uint32_t version = !stroke_bytes.empty() ? kBoxFileVersion
+                                : scene.has_tables()  ? kBoxFileVersionWithTables
+                                                      : kBoxFileVersionWithFrames;
   // offsets: the tables, then the ids of each box, then the surface, then the grid (zeros
   // while sizing).
   auto write_header = [&](const std::vector<std::uint64_t>& offsets) {
     Writer w;
     w.put_bytes(kBoxFileMagic, sizeof(kBoxFileMagic));
-    w.put(scene.has_tables() ? kBoxFileVersionWithTables : kBoxFileVersion);
+    w.put(version);
     w.put(std::uint32_t(boxes.size()));
     w.put(src.mesh_hash);
     w.put(src.triangles);
@@ -115,6 +134,11 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
     w.put(std::uint64_t(offsets.empty() || map_bytes == 0 ? 0 : offsets[2 * boxes.size() + 4]));
     w.put(std::uint64_t(map_bytes));
     w.put(map_hash);
+    if (version >= 9) {
+      w.put(std::uint64_t(offsets.empty() ? 0 : offsets[2 * boxes.size() + 5]));
+      w.put(std::uint64_t(stroke_bytes.size()));
+      w.put(stroke_hash);
+    }
     const std::uint64_t header_hash = XXH3_64bits(w.bytes().data(), w.bytes().size());
     w.put(header_hash);
     return std::move(w.bytes());
@@ -129,6 +153,7 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
   blocks.emplace_back(grid_bytes.empty() ? nullptr : grid_bytes.data(), grid_bytes.size());
   blocks.emplace_back(budget_text.empty() ? nullptr : budget_text.data(), budget_text.size());
   blocks.emplace_back(map_bytes ? static_cast<const void*>(surface->normal_map()) : nullptr, map_bytes);
+  blocks.emplace_back(stroke_bytes.empty() ? nullptr : stroke_bytes.data(), stroke_bytes.size());
   std::vector<std::uint64_t> offsets;
   std::size_t pos = align_up(write_header({}).size());
   for (const auto& block : blocks) {

@@ -9,7 +9,8 @@
 //     only with LoadOptions::verify (they read every page; lazy opening is the default).
 //  4. The sections: the surface triangles and normal map, the piece ids (copied, checked),
 //     each box's table and triangle ids, the scene grid (always hashed, validated and
-//     copied), the budget report.
+//     copied), the budget report, the stroke mesh (always hashed and checked; Embree is
+//     built over it).
 #include "haptic_box/box_file.h"
 #include "haptic_box/box_file_format.h"
 #include "errors.h"
@@ -88,7 +89,7 @@ struct FileHeader {
   std::uint32_t version = 0, count = 0;
   SourceInfo src;
   std::vector<BoxEntry> entries;
-  Section surface, pieces, grid, budget, map;
+  Section surface, pieces, grid, budget, map, stroke;
   std::uint32_t map_side = 0;
   std::size_t end = 0;  // where the header's own hash starts
 };
@@ -169,6 +170,7 @@ FileHeader read_header(const char* data, std::size_t size, const std::string& pa
     h.map_side = r.get<std::uint32_t>();
     h.map = read_section(r);
   }
+  if (h.version >= 9) h.stroke = read_section(r);
   h.end = r.pos();
   const auto stored_hash = r.get<std::uint64_t>();
   if (XXH3_64bits(data, h.end) != stored_hash) throw InvalidInput(path + ": corrupt box file (header checksum mismatch)");
@@ -264,7 +266,7 @@ void check_header_values(const FileHeader& h, std::size_t size, const LoadOption
     section_end(Section{e.offset, e.bytes, e.hash});
     section_end(e.ids);
   }
-  for (const Section* s : {&h.surface, &h.pieces, &h.grid, &h.budget, &h.map}) section_end(*s);
+  for (const Section* s : {&h.surface, &h.pieces, &h.grid, &h.budget, &h.map, &h.stroke}) section_end(*s);
   // Bytes after the last section are no part of any box file this program writes.
   if (options.verify && size > end_of_data)
     throw InvalidInput(path + ": corrupt box file (" + std::to_string(size - end_of_data) + " bytes after the last section)");
@@ -381,6 +383,44 @@ BudgetReport read_budget_report(const FileHeader& h, const Mapped& m) {
   }
 }
 
+// The stroke route's full mesh (format version 9): always hashed and checked (sizes, finite
+// values, indices), then copied into a mesh of its own (Embree is built over it).
+std::optional<TriangleMesh> read_stroke_mesh(const FileHeader& h, const Mapped& m) {
+  const std::string& path = m.path;
+  const Section& s = h.stroke;
+  if (s.bytes == 0) return std::nullopt;
+  if (s.offset > m.size || s.bytes > m.size - s.offset || s.bytes < 8)
+    throw InvalidInput(path + ": truncated box file (the stroke mesh is cut short)");
+  const char* b = m.data + s.offset;
+  if (XXH3_64bits(b, s.bytes) != s.hash) throw InvalidInput(path + ": corrupt box file (stroke mesh checksum mismatch)");
+  std::uint32_t vertices = 0, triangles = 0;
+  std::memcpy(&vertices, b, 4);
+  std::memcpy(&triangles, b + 4, 4);
+  if (s.bytes != 8 + std::uint64_t(vertices) * 24 + std::uint64_t(triangles) * 12 || triangles == 0)
+    throw InvalidInput(path + ": corrupt box file (the stroke mesh's " + std::to_string(s.bytes) + " bytes do not hold " +
+                       std::to_string(vertices) + " vertices and " + std::to_string(triangles) + " triangles)");
+  TriangleMesh mesh;
+  mesh.positions.resize(vertices);
+  mesh.normals.resize(vertices);
+  mesh.triangles.resize(triangles);
+  const char* p = b + 8;
+  for (std::vector<Vec3>* points : {&mesh.positions, &mesh.normals})
+    for (Vec3& v : *points) {
+      std::memcpy(v.data(), p, 12);
+      p += 12;
+      if (!v.allFinite()) throw InvalidInput(path + ": corrupt box file (the stroke mesh holds a value that is not finite)");
+    }
+  for (std::uint32_t t = 0; t < triangles; ++t) {
+    std::memcpy(mesh.triangles[t].data(), p, 12);
+    p += 12;
+    for (std::uint32_t v : mesh.triangles[t])
+      if (v >= vertices)
+        throw InvalidInput(path + ": corrupt box file (stroke mesh triangle " + std::to_string(t) + " names vertex " +
+                           std::to_string(v) + " of " + std::to_string(vertices) + ")");
+  }
+  return mesh;
+}
+
 } // namespace
 
 BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
@@ -398,9 +438,11 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
   for (std::size_t b = 0; b < h.entries.size(); ++b) boxes.push_back(read_box(b, h.entries[b], h.version, m, surface, options));
   std::shared_ptr<const SceneGrid> grid = read_grid(h, m);
   BudgetReport budget = read_budget_report(h, m);
+  std::optional<TriangleMesh> stroke = read_stroke_mesh(h, m);
   try {
     BoxScene scene(std::move(boxes), h.src, std::move(pieces), std::move(grid), surface);
     scene.set_budget_report(std::move(budget));
+    if (stroke) scene.set_stroke_mesh(std::move(*stroke));
     if (!scene.has_tables() && scene.answering_route() == SceneRoute::boxes)
       throw InvalidInput("box frames without tables, and the scene names no Embree route (nor surface cells) to answer it");
     return scene;

@@ -152,6 +152,7 @@ public:
     s.budget_ = budget_;
     s.route_ = route_;
     s.embree_ = embree_;
+    s.stroke_ = stroke_;
     return s;
   }
   /// The same scene with no box holding triangle ids, the surface kept for the grid's
@@ -261,9 +262,33 @@ public:
   /// Bytes the scene's queries read: the tables, refinement_bytes(), the surface's normal map,
   /// the scene grid and the surface cells (what `sweep` and `report` call its memory).
   std::size_t memory_bytes() const;
-  /// Bytes of the Embree route's mesh (its own vertices, three a triangle; the tree beside
-  /// them is Embree's); 0 when the scene has no such route.
+  /// Bytes of the Embree routes' meshes (the scene route's vertices, three a triangle, and
+  /// the stroke route's full mesh; the trees beside them are Embree's); 0 without either.
   std::size_t embree_bytes() const noexcept;
+
+  /// The stroke route (issue 37: never slower than exact, along strokes too): a probe's
+  /// successive queries (query() with a SceneQueryState: the servo loop, the window, bench's
+  /// strokes) answered by exact Embree over the full mesh, where the bake measured that
+  /// faster along strokes than the surface cells on a simplified surface (the armadillo at
+  /// 832K triangles: the cells 2.2x faster than Embree in random order, 1.15x slower along
+  /// strokes, whose successive rays find Embree's tree in cache). Queries without a state
+  /// keep the cells. Builds Embree over `mesh` (which needs a vertex normal per vertex);
+  /// throws hb::InvalidInput when it has no triangles or normals. Only a scene the cells
+  /// answer takes it (the route of other scenes is unchanged; see stroke_route()).
+  void set_stroke_mesh(TriangleMesh mesh);
+  /// The stroke route's mesh, or nullptr.
+  const TriangleMesh* stroke_mesh() const noexcept;
+  /// What answers a query with a SceneQueryState: SceneRoute::embree over the full mesh
+  /// (stroke_mesh()) when the scene has one and the cells answer, answering_route() otherwise.
+  SceneRoute stroke_route() const noexcept {
+    return stroke_ && answering_route() == SceneRoute::cells ? SceneRoute::embree : answering_route();
+  }
+  /// The same scene without the stroke route (its probes walk the cells: before/after figures).
+  BoxScene without_stroke_mesh() const {
+    BoxScene s = *this;
+    s.stroke_.reset();
+    return s;
+  }
 
 private:
   // The query through the grid; false when the handle's cell leaves it to query_met().
@@ -295,6 +320,8 @@ private:
   // SceneRoute::embree: the surface as a mesh and Embree over it (box_scene_parts.h, box_scene_build.cpp).
   struct EmbreeRoute;
   std::shared_ptr<const EmbreeRoute> embree_;
+  // The stroke route: Embree over the full mesh (set_stroke_mesh).
+  std::shared_ptr<const EmbreeRoute> stroke_;
   // The routed query's cell-triangle steps (box_scene.cpp, step 7).
   struct Visited;
   // SceneRoute::cells: the contact of the segment's first crossing among the surface cells'

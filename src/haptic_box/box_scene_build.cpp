@@ -106,6 +106,18 @@ BoxScene::EmbreeRoute::EmbreeRoute(const SurfaceTriangles& surface) {
   exact = std::make_unique<ExactQuery>(mesh);
 }
 
+BoxScene::EmbreeRoute::EmbreeRoute(TriangleMesh full) : mesh(std::move(full)) {
+  if (mesh.triangles.empty()) throw InvalidInput("box scene: the stroke route's mesh has no triangles");
+  if (mesh.normals.size() != mesh.positions.size())
+    throw InvalidInput("box scene: the stroke route's mesh has " + std::to_string(mesh.normals.size()) +
+                       " vertex normals for " + std::to_string(mesh.positions.size()) + " vertices");
+  exact = std::make_unique<ExactQuery>(mesh);
+}
+
+void BoxScene::set_stroke_mesh(TriangleMesh mesh) { stroke_ = std::make_shared<const EmbreeRoute>(std::move(mesh)); }
+
+const TriangleMesh* BoxScene::stroke_mesh() const noexcept { return stroke_ ? &stroke_->mesh : nullptr; }
+
 void BoxScene::set_route(SceneRoute route) {
   if (route == SceneRoute::embree && !embree_) {
     if (!surface_) throw InvalidInput("box scene: the embree route needs the scene's surface (this scene has none)");
@@ -124,7 +136,10 @@ void BoxScene::set_route(SceneRoute route) {
 }
 
 std::size_t BoxScene::embree_bytes() const noexcept {
-  return embree_ ? embree_->mesh.positions.size() * 2 * sizeof(Vec3) + embree_->mesh.triangles.size() * 12 : 0;
+  std::size_t bytes = 0;
+  for (const EmbreeRoute* r : {embree_.get(), stroke_.get()})
+    if (r) bytes += r->mesh.positions.size() * 2 * sizeof(Vec3) + r->mesh.triangles.size() * 12;
+  return bytes;
 }
 
 bool BoxScene::has_triangle_ids() const noexcept {
@@ -145,6 +160,7 @@ BoxScene BoxScene::with_boxes(std::vector<HapticBox> boxes) const {
   s.use_cells_ = use_cells_;
   s.route_ = route_;
   s.embree_ = embree_;
+  s.stroke_ = stroke_;
   s.budget_ = budget_;
   return s;
 }

@@ -1,7 +1,7 @@
 #pragma once
 // The parts of BoxScene's query its files share (internal to haptic_box/): the surface cells a
 // routed walk crossed (step 7 of box_scene.cpp's overview), the Embree route over the scene's
-// surface (built in box_scene_build.cpp), and the two tests of the side of the surface the
+// surface or the full mesh (built in box_scene_build.cpp), and the two tests of the side of the surface the
 // handle is on (box_scene_handle.cpp).
 #include "exact/exact_query.h"
 #include "haptic_box/box_scene.h"
@@ -28,6 +28,8 @@ struct BoxScene::EmbreeRoute {
   TriangleMesh mesh;
   std::unique_ptr<ExactQuery> exact;
   explicit EmbreeRoute(const SurfaceTriangles& surface);
+  /// Over a mesh of its own (the stroke route: the full mesh, with its vertex normals).
+  explicit EmbreeRoute(TriangleMesh full);
 };
 
 namespace scene_handle {

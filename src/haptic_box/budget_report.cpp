@@ -105,6 +105,7 @@ std::string BudgetReport::serialize() const {
   for (const PieceChoice& p : pieces)
     os << "piece=" << p.cell << " " << p.n << " " << (p.refine ? 1 : 0) << " " << p.probes << "\n";
   if (!answer.empty()) os << "answer=" << answer << "\n";
+  if (!stroke_answer.empty()) os << "stroke_answer=" << stroke_answer << "\n";
   for (const RawTried& t : raw_tried) {
     os << "raw_tried=" << t.m << " " << t.n << " " << t.bytes << " " << t.probes_felt << " " << t.ticks_felt << " "
        << t.outcome << " " << t.box_ns << " " << t.exact_ns;
@@ -114,12 +115,13 @@ std::string BudgetReport::serialize() const {
   // Measured at bake time: the only lines two bakes of the same inputs differ in.
   if (answer_ns > 0) os << "answer_ns=" << answer_ns << "\nexact_ns=" << exact_ns << "\n";
   if (cells_ns > 0) os << "cells_ns=" << cells_ns << "\nembree_ns=" << embree_ns << "\n";
+  if (stroke_cells_ns > 0) os << "stroke_cells_ns=" << stroke_cells_ns << "\nstroke_embree_ns=" << stroke_embree_ns << "\n";
   return os.str();
 }
 
 BudgetReport BudgetReport::without_times() const {
   BudgetReport r = *this;
-  r.answer_ns = r.exact_ns = r.cells_ns = r.embree_ns = 0;
+  r.answer_ns = r.exact_ns = r.cells_ns = r.embree_ns = r.stroke_cells_ns = r.stroke_embree_ns = 0;
   for (RawTried& t : r.raw_tried) t.box_ns = t.exact_ns = t.box_stroke_ns = t.exact_stroke_ns = 0;
   return r;
 }
@@ -173,6 +175,8 @@ BudgetReport BudgetReport::parse(const std::string& text) {
     else if (key == "exact_ns") r.exact_ns = number(v, key, 0, 1e12);
     else if (key == "cells_ns") r.cells_ns = number(v, key, 0, 1e12);
     else if (key == "embree_ns") r.embree_ns = number(v, key, 0, 1e12);
+    else if (key == "stroke_cells_ns") r.stroke_cells_ns = number(v, key, 0, 1e12);
+    else if (key == "stroke_embree_ns") r.stroke_embree_ns = number(v, key, 0, 1e12);
     else if (key == "piece") {
       std::stringstream ps(v);
       std::string cell, n, refine, probes, extra;
@@ -189,6 +193,10 @@ BudgetReport BudgetReport::parse(const std::string& text) {
       if (v != "raw" && v != "cells" && v != "embree" && v != "boxes")
         throw InvalidInput("budget report: answer '" + v.substr(0, 40) + "' is not raw, cells, embree or boxes");
       r.answer = v;
+    } else if (key == "stroke_answer") {
+      if (v != "cells" && v != "embree")
+        throw InvalidInput("budget report: stroke_answer '" + v.substr(0, 40) + "' is not cells or embree");
+      r.stroke_answer = v;
     } else if (key == "raw_tried") {
       std::stringstream ps(v);
       std::string m, n, bytes, probes, ticks, outcome, box_ns, exact_ns, stroke_ns, exact_stroke_ns, extra;
@@ -246,6 +254,14 @@ std::string BudgetReport::summary() const {
     os << " (a query at bake time: the cells " << cells_ns << " ns, Embree " << embree_ns << " ns)";
   else if (answer_ns > 0 && exact_ns > 0)
     os << " (" << answer_ns << " ns a query against exact's " << exact_ns << " at bake time)";
+  if (stroke_answer == "embree")
+    os << "; along strokes by exact Embree over the full mesh (" << stroke_embree_ns << " ns a query against the cells' "
+       << stroke_cells_ns << " at bake time)";
+  else if (stroke_answer == "cells" && stroke_cells_ns > 0)
+    os << "; along strokes by the cells too (" << stroke_cells_ns << " ns a query against Embree's " << stroke_embree_ns
+       << " over the full mesh at bake time)";
+  else if (stroke_answer == "cells")
+    os << "; along strokes by the cells too (the full mesh too large to keep for Embree)";
   for (const RawTried& t : raw_tried) {
     os << "; raw m" << t.m << " n" << t.n << " " << t.outcome << ": " << t.probes_felt * 100.0 << "% of probes";
     if (t.ticks_felt >= 0) os << ", " << t.ticks_felt * 100.0 << "% of slide ticks";

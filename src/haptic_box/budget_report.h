@@ -93,6 +93,14 @@ struct BudgetReport {
   /// bake_chart_rows), so two bakes of the same inputs differ in these values only; 0 in older
   /// files.
   double answer_ns = 0, exact_ns = 0, cells_ns = 0, embree_ns = 0;
+  /// Along strokes (a probe's successive queries through its SceneQueryState, as the servo
+  /// loop asks), for a scene the cells answer (recipe/stroke_route.h): "embree" when exact
+  /// Embree over the full mesh was measured faster there and answers them (BoxScene::
+  /// set_stroke_mesh), "cells" when the cells were as fast or the mesh too large to keep,
+  /// empty when not timed (other routes, files before 2026-12-07); the two times, ns a query
+  /// at bake time, one core (0: not timed).
+  std::string stroke_answer;
+  double stroke_cells_ns = 0, stroke_embree_ns = 0;
   /// This report with every query time above set to 0: what the same inputs bake to byte for
   /// byte (the file form of two bakes differs in nothing else).
   BudgetReport without_times() const;

@@ -42,7 +42,8 @@ std::string default_box_cache_dir() {
 std::uint64_t recipe_key(const BakeRecipe& r) {
   std::ostringstream k;
   const BakeOptions& o = r.options;
-  k << "hbcache1 m " << o.params.m << " n " << o.params.n << " cell " << hexfloat(o.density.cell) << " min_m "
+  // hbcache2: budgeted bakes since 2026-12-07 may carry the stroke route (recipe/stroke_route.h).
+  k << "hbcache2 m " << o.params.m << " n " << o.params.n << " cell " << hexfloat(o.density.cell) << " min_m "
     << o.density.min_m << " max_m " << o.density.max_m << " padding " << hexfloat(o.obb.padding) << " obb_iter "
     << o.obb.refine_iterations << " refine " << o.refine;
   // The scene grid is baked into scenes of several boxes only, but the key need not know that.

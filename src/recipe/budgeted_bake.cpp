@@ -47,6 +47,9 @@
 //     ids (BoxScene::without_tables): Embree reads the surface alone.
 //  6. The scene is measured on fresh probes (BudgetRecipe::check_seed) and the figures are
 //     recorded in BudgetReport (the box file, `info`, `--json`, the report).
+//  7. A scene the cells answer is timed along strokes against Embree over the full mesh, which
+//     answers its strokes where faster (stroke_route.h; after the checks, which judge the
+//     cells: the strokes' answers are then exact's own).
 //  The steps 0-6 are BudgetSearch (budget_search.h), one method a step; the surface of step 0
 //  is budget_surface.h's, the probes and their verdicts budget_probes.h's.
 #include "errors.h"
@@ -56,6 +59,7 @@
 #include "recipe/budget_probes.h"
 #include "recipe/budget_search.h"
 #include "recipe/raw_box_trial.h"
+#include "recipe/stroke_route.h"
 #include "stopwatch.h"
 #include <algorithm>
 #include <chrono>
@@ -219,6 +223,15 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     rep.surface_rejected_why = why;
     rep.surfaces_missed = std::move(missed);
     rep.seconds += seconds;
+  }
+  // Step 7: along strokes, the cells or Embree over the full mesh (stroke_route.h).
+  if (recipe.budget.fastest_exact) {
+    const auto tstage = std::chrono::steady_clock::now();
+    choose_stroke_route(result.scene, mesh, make_workspace(float(diagonal)).law(), recipe.budget.check_seed, rep);
+    const double s = seconds_since(tstage);
+    rep.add_stage("stroke_timing", s);
+    rep.seconds += s;
+    if (recipe.budget.on_stage) recipe.budget.on_stage("stroke_timing", s);
   }
   // What the raw trial tried, and its time, first in the record.
   rep.raw_tried = raw_rep.raw_tried;

@@ -1,0 +1,30 @@
+// The stroke route's choice (stroke_route.h).
+#include "recipe/stroke_route.h"
+#include "evaluation/probe_sampling.h"
+#include "evaluation/query_timing.h"
+#include <utility>
+#include <vector>
+
+namespace hb {
+
+void choose_stroke_route(BoxScene& scene, const TriangleMesh& mesh, const ForceLaw& law, std::uint64_t seed,
+                         BudgetReport& report) {
+  if (scene.answering_route() != SceneRoute::cells) return;
+  report.stroke_answer = "cells";
+  if (mesh.triangle_count() > kStrokeMeshMaxTriangles || mesh.normals.size() != mesh.positions.size()) return;
+  BoxScene by_embree = scene;
+  by_embree.set_stroke_mesh(mesh);
+  ProbeOptions options;
+  options.seed = seed;
+  const std::vector<Segment> strokes = sample_strokes(mesh, 10, 500, 0.02f, options);
+  const SceneProbe cells(scene), embree(by_embree);
+  const PairedTiming t = paired_query_ns(cells, embree, strokes, law);
+  report.stroke_cells_ns = t.a_ns;
+  report.stroke_embree_ns = t.b_ns;
+  if (t.b_ns < kStrokeEmbreeShare * t.a_ns) {
+    report.stroke_answer = "embree";
+    scene = std::move(by_embree);
+  }
+}
+
+} // namespace hb

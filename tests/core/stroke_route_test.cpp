@@ -1,0 +1,180 @@
+// The stroke route (BoxScene::set_stroke_mesh, recipe/stroke_route.h): a probe's successive
+// queries answered by exact Embree over the full mesh while the queries without a state keep
+// the surface cells; kept through copies and box files; chosen by timing at bake time.
+#include "contact/workspace.h"
+#include "errors.h"
+#include "evaluation/probe_sampling.h"
+#include "exact/exact_query.h"
+#include "haptic_box/box_file.h"
+#include "recipe/stroke_route.h"
+#include "scratch_dir_test.h"
+#include "two_spheres.h"
+#include <gtest/gtest.h>
+#include <xxhash.h>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+namespace hb {
+namespace {
+
+bool same_bits(const Contact& a, const Contact& b) {
+  return a.contact == b.contact && a.depth == b.depth && a.force == b.force && a.point == b.point;
+}
+
+class StrokeRouteTest : public test::ScratchDirTest {
+protected:
+  StrokeRouteTest() : ScratchDirTest("hb_stroke_route_") {}
+  void SetUp() override {
+    ScratchDirTest::SetUp();
+    cells_ = test::refined_two_spheres(two_).without_triangle_ids();
+    law_ = make_workspace(two_.mesh.bounds().diagonal()).law();
+    strokes_ = sample_strokes(two_.mesh, 8, 100, 0.02f);
+  }
+  std::vector<char> read(const std::string& path) const {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+  }
+  std::string write_bytes(const std::string& name, const std::vector<char>& data) const {
+    return write(name, std::string(data.begin(), data.end()));
+  }
+
+  const test::TwoSpheres two_ = test::two_spheres(3.f);
+  BoxScene cells_;
+  ForceLaw law_;
+  std::vector<Segment> strokes_;
+};
+
+TEST_F(StrokeRouteTest, AProbesTicksAreExactEmbreeOverTheFullMeshAndQueriesWithoutAStateKeepTheCells) {
+  ASSERT_EQ(cells_.answering_route(), SceneRoute::cells);
+  BoxScene scene = cells_;
+  scene.set_stroke_mesh(two_.mesh);
+  EXPECT_EQ(scene.stroke_route(), SceneRoute::embree);
+  EXPECT_EQ(scene.answering_route(), SceneRoute::cells);
+  EXPECT_GT(scene.embree_bytes(), cells_.embree_bytes());
+  const ExactQuery exact(two_.mesh);
+  SceneQueryState state;
+  std::size_t contacts = 0, as_exact = 0, as_cells = 0;
+  for (const Segment& s : strokes_) {
+    const Contact ticked = scene.query(s, law_, state), e = exact.query(s, law_);
+    contacts += e.contact ? 1 : 0;
+    as_exact += same_bits(ticked, e) ? 1 : 0;
+    as_cells += same_bits(scene.query(s, law_), cells_.query(s, law_)) ? 1 : 0;
+  }
+  EXPECT_GT(contacts, strokes_.size() / 4);
+  EXPECT_EQ(as_exact, strokes_.size());
+  EXPECT_EQ(as_cells, strokes_.size());
+  // Copies keep it; without_stroke_mesh() and a named route drop it; other routes ignore it.
+  const BoxScene copy = scene.without_grid();
+  EXPECT_NE(copy.stroke_mesh(), nullptr);
+  EXPECT_EQ(scene.without_stroke_mesh().stroke_route(), SceneRoute::cells);
+  BoxScene embree = scene;
+  embree.set_route(SceneRoute::embree);
+  EXPECT_EQ(embree.stroke_route(), SceneRoute::embree);
+  BoxScene boxes = test::refined_two_spheres(two_);
+  boxes.set_route(SceneRoute::boxes);
+  boxes.set_stroke_mesh(two_.mesh);
+  EXPECT_EQ(boxes.stroke_route(), SceneRoute::boxes);
+}
+
+TEST_F(StrokeRouteTest, AMeshWithoutTrianglesOrNormalsIsRefusedNamingWhy) {
+  BoxScene scene = cells_;
+  TriangleMesh no_normals = two_.mesh;
+  no_normals.normals.clear();
+  try {
+    scene.set_stroke_mesh(no_normals);
+    FAIL() << "no error";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("vertex normals"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(scene.set_stroke_mesh(TriangleMesh{}), InvalidInput);
+  EXPECT_EQ(scene.stroke_mesh(), nullptr);
+}
+
+TEST_F(StrokeRouteTest, ABoxFileKeepsTheFullMeshAndAFileWithoutOneIsWrittenAsBefore) {
+  BoxScene scene = cells_;
+  scene.set_stroke_mesh(two_.mesh);
+  const std::string with = (dir_ / "with.hbox").string(), without = (dir_ / "without.hbox").string();
+  save_box_file(scene, with);
+  save_box_file(cells_, without);
+  std::uint32_t version = 0;
+  std::memcpy(&version, read(with).data() + 8, 4);
+  EXPECT_EQ(version, 9u);
+  std::memcpy(&version, read(without).data() + 8, 4);
+  EXPECT_EQ(version, 7u);
+  const BoxScene loaded = load_box_file(with, LoadOptions{true});
+  ASSERT_NE(loaded.stroke_mesh(), nullptr);
+  EXPECT_EQ(loaded.stroke_mesh()->triangle_count(), two_.mesh.triangle_count());
+  EXPECT_EQ(load_box_file(without).stroke_mesh(), nullptr);
+  SceneQueryState a, b;
+  std::size_t same = 0;
+  for (const Segment& s : strokes_) same += same_bits(loaded.query(s, law_, a), scene.query(s, law_, b)) ? 1 : 0;
+  EXPECT_EQ(same, strokes_.size());
+}
+
+TEST_F(StrokeRouteTest, AStrokeMeshNamingAVertexItDoesNotHoldIsRefusedAtLoad) {
+  BoxScene scene = cells_;
+  scene.set_stroke_mesh(two_.mesh);
+  const std::string path = (dir_ / "good.hbox").string();
+  save_box_file(scene, path);
+  std::vector<char> data = read(path);
+  // The stroke mesh is the file's last section; its (offset, bytes, hash) end the header,
+  // just before the header's own hash.
+  const std::uint64_t bytes = 8 + two_.mesh.positions.size() * 24 + two_.mesh.triangle_count() * 12;
+  const std::uint64_t offset = data.size() - bytes;
+  std::size_t field = 0;
+  for (std::size_t p = 0; p + 16 <= offset; ++p)
+    if (std::memcmp(&data[p], &offset, 8) == 0 && std::memcmp(&data[p + 8], &bytes, 8) == 0) field = p;
+  ASSERT_GT(field, 0u);
+  const std::uint32_t far = 1u << 30;
+  std::memcpy(&data[data.size() - 8], &far, 4);  // the last triangle's second index
+  const std::uint64_t section_hash = XXH3_64bits(&data[offset], bytes);
+  std::memcpy(&data[field + 16], &section_hash, 8);
+  const std::uint64_t header_hash = XXH3_64bits(data.data(), field + 24);
+  std::memcpy(&data[field + 24], &header_hash, 8);
+  const std::string bad = write_bytes("bad.hbox", data);
+  try {
+    load_box_file(bad);
+    FAIL() << "no error";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("stroke mesh triangle"), std::string::npos) << e.what();
+  }
+  // Unsigned, the same change is a checksum mismatch.
+  std::vector<char> unsigned_change = read(path);
+  unsigned_change[unsigned_change.size() - 8] = 0x7f;
+  try {
+    load_box_file(write_bytes("unsigned.hbox", unsigned_change));
+    FAIL() << "no error";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("stroke mesh checksum"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(StrokeRouteTest, TheBakeKeepsEmbreeForStrokesOnlyWhereItMeasuredItFaster) {
+  BoxScene scene = cells_;
+  BudgetReport report;
+  choose_stroke_route(scene, two_.mesh, law_, 7, report);
+  ASSERT_GT(report.stroke_cells_ns, 0.0);
+  ASSERT_GT(report.stroke_embree_ns, 0.0);
+  EXPECT_EQ(scene.stroke_mesh() != nullptr, report.stroke_answer == "embree");
+  if (report.stroke_answer == "embree") EXPECT_LT(report.stroke_embree_ns, kStrokeEmbreeShare * report.stroke_cells_ns);
+  else EXPECT_EQ(report.stroke_answer, "cells");
+  // The report carries the choice through its file form; a scene the cells do not answer is
+  // left as it is, untimed.
+  report.present = true;
+  const BudgetReport back = BudgetReport::parse(report.serialize());
+  EXPECT_EQ(back.stroke_answer, report.stroke_answer);
+  EXPECT_DOUBLE_EQ(back.stroke_cells_ns, report.stroke_cells_ns);
+  EXPECT_EQ(back.without_times().stroke_embree_ns, 0.0);
+  EXPECT_THROW(BudgetReport::parse("stroke_answer=boxes\n"), InvalidInput);
+  BoxScene embree = cells_;
+  embree.set_route(SceneRoute::embree);
+  BudgetReport untouched;
+  choose_stroke_route(embree, two_.mesh, law_, 7, untouched);
+  EXPECT_TRUE(untouched.stroke_answer.empty());
+  EXPECT_EQ(embree.stroke_mesh(), nullptr);
+}
+
+} // namespace
+} // namespace hb
