@@ -16,6 +16,7 @@ std::string outcome_words(const std::string& outcome) {
   if (outcome == "serves") return "serves, but a cheaper sampling was kept";
   if (outcome == "felt-probes") return "felt on probes, not kept";
   if (outcome == "felt-slides") return "felt along slides, not kept";
+  if (outcome == "felt-light") return "felt on light touches, not kept";
   if (outcome == "over-cap") return "over the memory cap, not kept";
   if (outcome == "slower-strokes") return "faster at random but slower than exact along strokes, not kept";
   return "slower than exact, not kept";
@@ -84,6 +85,7 @@ std::vector<BakeChartPoint> bake_chart_points(const BoxScene& scene) {
     p.about = row.label + ", the paper's raw haptic box over the whole model: " + duration_text(t.box_ns * 1e-9) + timed +
               " against exact's " + duration_text(t.exact_ns * 1e-9) + ", perceptibly different on " + percent(t.probes_felt) +
               " of " + count_text(double(r.tuning_probes)) + " tuning probes" +
+              (t.light_felt >= 0 ? ", " + percent(t.light_felt) + " of light touches at any angle" : std::string()) +
               (t.ticks_felt >= 0 ? " and " + percent(t.ticks_felt) + " of slide ticks" : std::string()) + "; " +
               bytes_text(std::uint64_t(t.bytes)) + "; " + outcome_words(t.outcome);
     out.push_back(p);

@@ -109,7 +109,8 @@ std::string BudgetReport::serialize() const {
   for (const RawTried& t : raw_tried) {
     os << "raw_tried=" << t.m << " " << t.n << " " << t.bytes << " " << t.probes_felt << " " << t.ticks_felt << " "
        << t.outcome << " " << t.box_ns << " " << t.exact_ns;
-    if (t.box_stroke_ns > 0) os << " " << t.box_stroke_ns << " " << t.exact_stroke_ns;
+    if (t.box_stroke_ns > 0 || t.light_felt >= 0) os << " " << t.box_stroke_ns << " " << t.exact_stroke_ns;
+    if (t.light_felt >= 0) os << " " << t.light_felt;
     os << "\n";
   }
   // Measured at bake time: the only lines two bakes of the same inputs differ in.
@@ -199,21 +200,22 @@ BudgetReport BudgetReport::parse(const std::string& text) {
       r.stroke_answer = v;
     } else if (key == "raw_tried") {
       std::stringstream ps(v);
-      std::string m, n, bytes, probes, ticks, outcome, box_ns, exact_ns, stroke_ns, exact_stroke_ns, extra;
+      std::string m, n, bytes, probes, ticks, outcome, box_ns, exact_ns, stroke_ns, exact_stroke_ns, light, extra;
       // Six fields before 2026-12-07; since, the query times too (random order, then along
-      // strokes when timed).
+      // strokes when timed), and since that evening the light touches' share.
       if (!(ps >> m >> n >> bytes >> probes >> ticks >> outcome) || ((ps >> box_ns) && !(ps >> exact_ns)) ||
-          ((ps >> stroke_ns) && !(ps >> exact_stroke_ns)) || (ps >> extra))
+          ((ps >> stroke_ns) && !(ps >> exact_stroke_ns)) || ((ps >> light) && (ps >> extra)))
         throw InvalidInput("budget report: raw_tried line '" + v.substr(0, 80) +
-                           "' is not 'm n bytes probes ticks outcome [box_ns exact_ns [stroke_ns exact_stroke_ns]]'");
+                           "' is not 'm n bytes probes ticks outcome [box_ns exact_ns [stroke_ns exact_stroke_ns "
+                           "[light]]]'");
       RawTried t;
       t.m = int(number(m, "budget report raw_tried m", 2, 4096));
       t.n = int(number(n, "budget report raw_tried n", 2, 4096));
       t.bytes = number(bytes, "budget report raw_tried bytes", 0, 1e15);
       t.probes_felt = number(probes, "budget report raw_tried probes", 0, 1);
       t.ticks_felt = number(ticks, "budget report raw_tried ticks", -1, 1);
-      if (outcome != "kept" && outcome != "serves" && outcome != "felt-probes" && outcome != "felt-slides" && outcome != "over-cap" &&
-          outcome != "slower" && outcome != "slower-strokes")
+      if (outcome != "kept" && outcome != "serves" && outcome != "felt-probes" && outcome != "felt-light" &&
+          outcome != "felt-slides" && outcome != "over-cap" && outcome != "slower" && outcome != "slower-strokes")
         throw InvalidInput("budget report: raw_tried outcome '" + outcome.substr(0, 40) + "' unknown");
       t.outcome = outcome;
       if (!box_ns.empty()) {
@@ -224,6 +226,7 @@ BudgetReport BudgetReport::parse(const std::string& text) {
         t.box_stroke_ns = number(stroke_ns, "budget report raw_tried stroke_ns", 0, 1e12);
         t.exact_stroke_ns = number(exact_stroke_ns, "budget report raw_tried exact_stroke_ns", 0, 1e12);
       }
+      if (!light.empty()) t.light_felt = number(light, "budget report raw_tried light", -1, 1);
       r.raw_tried.push_back(t);
       if (r.raw_tried.size() > 64) throw InvalidInput("budget report: too many raw_tried lines");
     } else
@@ -264,6 +267,7 @@ std::string BudgetReport::summary() const {
     os << "; along strokes by the cells too (the full mesh too large to keep for Embree)";
   for (const RawTried& t : raw_tried) {
     os << "; raw m" << t.m << " n" << t.n << " " << t.outcome << ": " << t.probes_felt * 100.0 << "% of probes";
+    if (t.light_felt >= 0) os << ", " << t.light_felt * 100.0 << "% of light touches";
     if (t.ticks_felt >= 0) os << ", " << t.ticks_felt * 100.0 << "% of slide ticks";
     os << " felt, " << t.bytes / 1e6 << " MB";
     if (t.box_ns > 0) os << ", " << t.box_ns << " ns a query against exact's " << t.exact_ns;

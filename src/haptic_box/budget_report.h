@@ -73,13 +73,16 @@ struct BudgetReport {
   std::string answer;
   /// The raw samplings tried (recipe/raw_box_trial.h): "m n bytes probes_felt ticks_felt
   /// outcome box_ns exact_ns" with outcome one of kept, serves (a finer one that a cheaper kept
-  /// one made unneeded), felt-probes, felt-slides, over-cap, slower, slower-strokes; box_ns and
+  /// one made unneeded), felt-probes, felt-light, felt-slides, over-cap, slower, slower-strokes; box_ns and
   /// exact_ns the raw box's query time and exact Embree's beside it at bake time (one core,
   /// random order, on the tuning probes; 0 in files written before 2026-12-07, whose lines have
   /// six fields), then along strokes when timed (box_stroke_ns, exact_stroke_ns).
   struct RawTried {
     int m = 0, n = 0;
     double bytes = 0, probes_felt = 0, ticks_felt = -1;
+    /// Share of the light touches at any angle felt (-1: not judged; in the file since
+    /// 2026-12-07 evening, an eleventh field, the stroke times then written even when 0).
+    double light_felt = -1;
     std::string outcome;
     double box_ns = 0, exact_ns = 0;
     /// Along strokes (SceneProbe against exact), for a sampling that reached that timing

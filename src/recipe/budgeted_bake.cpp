@@ -93,12 +93,14 @@ namespace {
 BudgetReport::RawTried raw_tried_record(const RawCandidate& c) {
   BudgetReport::RawTried t;
   t.m = c.m, t.n = c.n, t.bytes = c.bytes, t.probes_felt = c.probes_felt, t.ticks_felt = c.ticks_felt;
+  t.light_felt = c.light_felt;
   t.box_ns = c.box_ns, t.exact_ns = c.exact_ns;
   t.box_stroke_ns = c.box_stroke_ns, t.exact_stroke_ns = c.exact_stroke_ns;
   t.outcome = c.outcome == "kept" || c.outcome == "serves" ? c.outcome
               : c.outcome == "slower than exact on strokes" ? "slower-strokes"
               : c.outcome == "felt on probes"      ? "felt-probes"
               : c.outcome == "felt on slides"      ? "felt-slides"
+              : c.outcome == "felt on light touches" ? "felt-light"
               : c.outcome == "over the memory cap" ? "over-cap"
                                                    : "slower";
   return t;

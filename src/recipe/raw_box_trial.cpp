@@ -1,5 +1,6 @@
 #include "recipe/raw_box_trial.h"
 #include "recipe/bake_recipe.h"
+#include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
 #include "evaluation/query_timing.h"
 #include "evaluation/stability_suite.h"
@@ -48,6 +49,7 @@ std::string RawCandidate::describe() const {
   std::ostringstream os;
   os.precision(3);
   os << "m" << m << " n" << n << " " << outcome << ": " << probes_felt * 100.0 << "% of probes";
+  if (light_felt >= 0) os << ", " << light_felt * 100.0 << "% of light touches";
   if (ticks_felt >= 0) os << ", " << ticks_felt * 100.0 << "% of slide ticks";
   os << " felt, " << bytes / 1e6 << " MB";
   if (box_ns > 0) os << ", " << box_ns << " ns against exact's " << exact_ns;
@@ -118,6 +120,15 @@ RawTrial try_raw_boxes(const TriangleMesh& mesh, const ExactQuery& exact, const 
       return fails("felt on probes");
     }
     if (c.bytes > o.memory_cap_bytes) return fails("over the memory cap");
+    if (o.light_touches > 0) {
+      t = std::chrono::steady_clock::now();
+      const ComparisonStats light = compare_light_touches(scene, exact, mesh, o.light_touches, o.light_seed, law,
+                                                          mesh.bounds().diagonal(), nullptr,
+                                                          PerceptualJudge{o.thresholds, o.max_force_n});
+      c.light_felt = light.perceptible_share;
+      stage("raw_light_touches", seconds_since(t));
+      if (c.light_felt > o.allowed_share) return fails("felt on light touches");
+    }
     if (o.slides) {
       t = std::chrono::steady_clock::now();
       c.ticks_felt = slide_ticks_felt(scene, mesh, exact);

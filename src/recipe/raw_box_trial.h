@@ -38,6 +38,12 @@ struct RawTrialOptions {
   /// raw_codec_bound().
   float codec_bound = 0.f;
   bool slides = true;                   ///< also judge along T2's slides.
+  /// Also judge on this many light touches at any angle (eval's second figure:
+  /// compare_light_touches, within 85 degrees of the normal, tips up to 0.5% of the diagonal
+  /// deep; 0: not judged), of seed `light_seed`: the tuning probes come within 30 degrees of
+  /// the normal and miss a blend that is off along lines 37-53 degrees off it (docs/perception.md).
+  std::size_t light_touches = 20000;
+  std::uint64_t light_seed = 103;
   std::function<void(const std::string&, double)> on_stage;  ///< each step's seconds.
 };
 
@@ -64,6 +70,7 @@ struct RawCandidate {
   double bytes = 0;          ///< the scene's memory (coded tables).
   double probes_felt = 0;    ///< share of the tuning probes perceptibly different.
   double ticks_felt = -1;    ///< share of T2's slide ticks (-1: not judged).
+  double light_felt = -1;    ///< share of the light touches at any angle (-1: not judged).
   /// One query of the raw box and of exact Embree beside it, random order, one core, on the
   /// first 5,000 tuning probes; every sampling tried is timed (the speed chart places each):
   /// against exact's best tree when it passed the accuracy tests (its time decides whether it
@@ -73,7 +80,7 @@ struct RawCandidate {
   /// SceneProbe (its query state) against exact, for a sampling that passed everything else
   /// and was faster at random (0: not timed). Kept only when faster here too.
   double box_stroke_ns = 0, exact_stroke_ns = 0;
-  std::string outcome;       ///< "kept", "felt on probes", "felt on slides", "over the memory cap", "slower than exact", "slower than exact on strokes".
+  std::string outcome;       ///< "kept", "felt on probes", "felt on light touches", "felt on slides", "over the memory cap", "slower than exact", "slower than exact on strokes".
   /// "m16 n8 felt on probes: 4.5% of probes" style line.
   std::string describe() const;
 };

@@ -158,6 +158,22 @@ TEST(ErrorBudgetTest, ReportKeepsTheBakesQueryTimesAndReadsOlderFilesWithout) {
             std::string::npos)
       << both.summary();
   EXPECT_EQ(both.without_times().raw_tried[1].box_stroke_ns, 0.0);
+  // A sampling judged on light touches at any angle (an eleventh field, the stroke times
+  // written as 0 when not timed), and one felt there.
+  BudgetReport::RawTried v = t;
+  v.m = 24, v.n = 12, v.probes_felt = 0, v.light_felt = 0.0025, v.outcome = "felt-light";
+  BudgetReport light = r;
+  light.raw_tried = {v};
+  const BudgetReport light_back = BudgetReport::parse(light.serialize());
+  ASSERT_EQ(light_back.raw_tried.size(), 1u);
+  EXPECT_DOUBLE_EQ(light_back.raw_tried[0].light_felt, 0.0025);
+  EXPECT_EQ(light_back.raw_tried[0].box_stroke_ns, 0.0);
+  EXPECT_EQ(light_back.raw_tried[0].outcome, "felt-light");
+  EXPECT_NE(light_back.summary().find("raw m24 n12 felt-light: 0% of probes, 0.25% of light touches felt"),
+            std::string::npos)
+      << light_back.summary();
+  EXPECT_EQ(both.raw_tried[1].light_felt, -1.0);  // not judged
+  EXPECT_THROW(BudgetReport::parse("raw_tried=16 8 4500000 0.71 -1 felt-light 210 300 0 0 0.5 9\n"), InvalidInput);
   r.raw_tried.pop_back();
   // Written before 2026-12-07: six fields, no times.
   const BudgetReport old = BudgetReport::parse("met=1\nraw_tried=16 8 4500000 0.71 -1 felt-probes\n");

@@ -95,5 +95,24 @@ TEST(RawBoxTrialTest, EverySamplingTriedIsTimedAgainstExactWhateverItsOutcome) {
   }
 }
 
+// A sampling that passes the tuning probes (near the normal) and the memory cap is judged on
+// light touches at any angle too (eval's second figure), before its slides: a sampling felt
+// there is not kept.
+TEST(RawBoxTrialTest, ASamplingThatPassesTheProbesIsJudgedOnLightTouchesAtAnyAngle) {
+  const BumpyProbes b(5, 4000, 7);  // 20,480 triangles
+  RawTrialOptions o;
+  o.samplings = {{32, 16}};
+  o.slides = false;
+  o.light_touches = 4000;
+  o.codec_bound = raw_codec_bound(b.law, o.thresholds, double(b.mesh.bounds().diagonal()));
+  const RawTrial trial = try_raw_boxes(b.mesh, b.exact, b.probes, b.answers, b.law, BakeOptions{}, SourceInfo{}, o);
+  ASSERT_EQ(trial.tried.size(), 1u);
+  const RawCandidate& c = trial.tried.front();
+  ASSERT_LE(c.probes_felt, o.allowed_share) << c.describe();
+  ASSERT_GE(c.light_felt, 0.0) << c.describe();
+  EXPECT_NE(c.describe().find("% of light touches"), std::string::npos) << c.describe();
+  EXPECT_EQ(c.outcome == "felt on light touches", c.light_felt > o.allowed_share) << c.describe();
+}
+
 } // namespace
 } // namespace hb
