@@ -282,7 +282,7 @@ void run_servo(const ServoArgs& a) {
     j["stiffness_limited"] = r.stiffness_limited;
     j["workspace"] = hb::workspace_json(ws, a.workspace.judge());
     j["contact_law"] = hb::to_string(r.contact_law);
-    if (scene.box) j["route"] = hb::route_name(scene.box->answering_route());
+    if (scene.box) j["route"] = hb::route_name(scene.box->stroke_route());  // a probe with its query state
     if (r.contact_law == hb::ContactLaw::proxy) {
       j["proxy"] = proxy_json(r.proxy);
       if (exact) j["shadow_proxy"] = proxy_json(r.shadow_proxy);
@@ -305,7 +305,7 @@ void run_servo(const ServoArgs& a) {
     std::cout << j.dump(2) << "\n";
   } else {
     std::printf("servo: %s, scene %s%s%s, %.0f Hz nominal\n", device->spec().name.c_str(), a.box.c_str(),
-                scene.box ? ", route " : "", scene.box ? hb::route_name(scene.box->answering_route()) : "",
+                scene.box ? ", route " : "", scene.box ? hb::route_name(scene.box->stroke_route()) : "",
                 r.nominal_rate_hz);
     std::printf("  ticks %llu, measured rate %.2f Hz, overruns %llu (skipped %llu)\n",
                 static_cast<unsigned long long>(r.ticks), r.rate_hz,

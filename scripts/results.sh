@@ -113,6 +113,8 @@ def ratio(box, exact):  # "1.6x slower" / "2.1x faster" / "as fast" (within 5%)
 
 def answer_text(b):  # what answers the queries, and the raw box's fate
     a = b.get("answer", "cells")
+    if b.get("stroke_answer") == "embree":  # a probe's strokes by exact Embree over the full mesh
+        a += ", strokes embree"
     raw = b.get("raw_tried") or []
     if a == "raw" or not raw:
         return a
