@@ -119,6 +119,11 @@ std::size_t BoxScene::box_queries(const Segment& segment, const ForceLaw& law) c
   return asked;
 }
 
+Contact BoxScene::query_as_stroke(const Segment& segment, const ForceLaw& law) const noexcept {
+  if (stroke_ && answering_route() == SceneRoute::cells) return stroke_->exact->query(segment, law);
+  return query(segment, law);
+}
+
 Contact BoxScene::query(const Segment& segment, const ForceLaw& law, SceneQueryState& state) const noexcept {
   if (route_ == SceneRoute::embree && embree_) {
     ++state.full;

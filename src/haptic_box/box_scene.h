@@ -278,6 +278,10 @@ public:
   void set_stroke_mesh(TriangleMesh mesh);
   /// The stroke route's mesh, or nullptr.
   const TriangleMesh* stroke_mesh() const noexcept;
+  /// What a probe's query takes, without a state: exact Embree over the stroke mesh when
+  /// stroke_route() is it, query(segment, law) otherwise (a servo loop's cache priming,
+  /// SceneProbe::prime, warms what the next tick reads).
+  Contact query_as_stroke(const Segment& segment, const ForceLaw& law) const noexcept;
   /// What answers a query with a SceneQueryState: SceneRoute::embree over the full mesh
   /// (stroke_mesh()) when the scene has one and the cells answer, answering_route() otherwise.
   SceneRoute stroke_route() const noexcept {
@@ -344,9 +348,10 @@ public:
   Contact query(const Segment& segment, const ForceLaw& law) const noexcept override {
     return scene_.query(segment, law, state_);
   }
-  /// The stateless query: the state stays the last tick's.
+  /// The query the next tick takes, without the state (which stays the last tick's): the
+  /// stroke route's Embree when the scene has one, the stateless query otherwise.
   void prime(const Segment& segment, const ForceLaw& law) const noexcept override {
-    const Contact c = scene_.query(segment, law);
+    const Contact c = scene_.query_as_stroke(segment, law);
     asm volatile("" : : "r"(&c) : "memory");
   }
   const SceneQueryState& state() const { return state_; }

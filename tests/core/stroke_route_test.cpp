@@ -54,13 +54,18 @@ TEST_F(StrokeRouteTest, AProbesTicksAreExactEmbreeOverTheFullMeshAndQueriesWitho
   EXPECT_GT(scene.embree_bytes(), cells_.embree_bytes());
   const ExactQuery exact(two_.mesh);
   SceneQueryState state;
-  std::size_t contacts = 0, as_exact = 0, as_cells = 0;
+  std::size_t contacts = 0, as_exact = 0, as_cells = 0, primed_as_exact = 0, primed_as_cells = 0;
   for (const Segment& s : strokes_) {
     const Contact ticked = scene.query(s, law_, state), e = exact.query(s, law_);
     contacts += e.contact ? 1 : 0;
     as_exact += same_bits(ticked, e) ? 1 : 0;
     as_cells += same_bits(scene.query(s, law_), cells_.query(s, law_)) ? 1 : 0;
+    // A servo loop's cache priming (SceneProbe::prime) asks what the next tick reads.
+    primed_as_exact += same_bits(scene.query_as_stroke(s, law_), e) ? 1 : 0;
+    primed_as_cells += same_bits(cells_.query_as_stroke(s, law_), cells_.query(s, law_)) ? 1 : 0;
   }
+  EXPECT_EQ(primed_as_exact, strokes_.size());
+  EXPECT_EQ(primed_as_cells, strokes_.size());
   EXPECT_GT(contacts, strokes_.size() / 4);
   EXPECT_EQ(as_exact, strokes_.size());
   EXPECT_EQ(as_cells, strokes_.size());
