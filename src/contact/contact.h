@@ -106,7 +106,7 @@ inline Contact contact_along(const Vec3& start, const Vec3& l, float length, flo
                              const ForceLaw& law, const Vec3& face_normal = Vec3::Zero()) noexcept {
   Contact c;
   c.contact = true;
-  c.depth = length - t;
+  c.depth = std::max(0.f, length - t);  // Embree may return t a rounding past tfar = length
   c.point = start + t * l;
   c.normal = normal;
   c.face_normal = face_normal;

@@ -404,12 +404,20 @@ std::optional<TriangleMesh> read_stroke_mesh(const FileHeader& h, const Mapped& 
   mesh.normals.resize(vertices);
   mesh.triangles.resize(triangles);
   const char* p = b + 8;
-  for (std::vector<Vec3>* points : {&mesh.positions, &mesh.normals})
-    for (Vec3& v : *points) {
-      std::memcpy(v.data(), p, 12);
-      p += 12;
-      if (!v.allFinite()) throw InvalidInput(path + ": corrupt box file (the stroke mesh holds a value that is not finite)");
-    }
+  // Positions within 1e18 (an edge's cross product stays finite), unit normals (as written).
+  for (Vec3& v : mesh.positions) {
+    std::memcpy(v.data(), p, 12);
+    p += 12;
+    if (!v.allFinite() || v.cwiseAbs().maxCoeff() > 1e18f)
+      throw InvalidInput(path + ": corrupt box file (a stroke mesh vertex is not finite or beyond 1e18)");
+  }
+  for (Vec3& v : mesh.normals) {
+    std::memcpy(v.data(), p, 12);
+    p += 12;
+    const float length = v.norm();
+    if (!(length > 0.9f && length < 1.1f))
+      throw InvalidInput(path + ": corrupt box file (a stroke mesh vertex normal is not of unit length)");
+  }
   for (std::uint32_t t = 0; t < triangles; ++t) {
     std::memcpy(mesh.triangles[t].data(), p, 12);
     p += 12;

@@ -49,6 +49,8 @@ public:
   std::uint16_t code_at(const Vec3& p) const noexcept {
     const Vec3 f = (p - origin_) * inv_cell_;
     if (!(f.x() >= 0.f && f.y() >= 0.f && f.z() >= 0.f)) return kOutside;  // also NaN
+    // Compared as floats first: a point 1e30 away is no int.
+    if (!(f.x() < float(dims_[0]) && f.y() < float(dims_[1]) && f.z() < float(dims_[2]))) return kOutside;
     const int x = int(f.x()), y = int(f.y()), z = int(f.z());
     if (x >= dims_[0] || y >= dims_[1] || z >= dims_[2]) return kOutside;
     // A brick without surface has one state (its cells are one connected region): no load

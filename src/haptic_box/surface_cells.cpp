@@ -95,8 +95,10 @@ void SurfaceCells::list_triangles(std::uint32_t total) {
       bool outside = false;
       for (int k = 0; k < 3; ++k) {
         const float mn = std::min({a[k], b[k], c[k]}), mx = std::max({a[k], b[k], c[k]});
-        lo[k] = std::max(0, int(std::floor((mn - origin_[k]) * inv_cell_ - 1e-3f)));
-        hi[k] = std::min(dims_[k] - 1, int(std::floor((mx - origin_[k]) * inv_cell_ + 1e-3f)));
+        // Cut to the grid before the conversion (a damaged file's 1e31 is no int).
+        const auto cell_at = [&](float f) { return int(std::floor(std::clamp(f, -2.f, float(dims_[k]) + 1.f))); };
+        lo[k] = std::max(0, cell_at((mn - origin_[k]) * inv_cell_ - 1e-3f));
+        hi[k] = std::min(dims_[k] - 1, cell_at((mx - origin_[k]) * inv_cell_ + 1e-3f));
         outside |= lo[k] > hi[k];
       }
       if (outside) continue;
@@ -365,6 +367,7 @@ bool SurfaceCells::first_crossing_along(const Vec3& a, const Vec3& b, float s_ma
 std::uint16_t SurfaceCells::state_at(const Vec3& p) const noexcept {
   const Vec3 f = (p - origin_) * inv_cell_;
   if (!(f.x() >= 0.f && f.y() >= 0.f && f.z() >= 0.f)) return SceneGrid::kUnknown;
+  if (!(f.x() < float(dims_[0]) && f.y() < float(dims_[1]) && f.z() < float(dims_[2]))) return SceneGrid::kUnknown;
   const int x = int(f.x()), y = int(f.y()), z = int(f.z());
   const std::uint32_t ci = index(x, y, z);
   if (ci == kNone) return SceneGrid::kUnknown;

@@ -66,6 +66,7 @@ public:
   std::uint32_t index_at(const Vec3& p) const noexcept {
     const Vec3 f = (p - origin_) * inv_cell_;
     if (!(f.x() >= 0.f && f.y() >= 0.f && f.z() >= 0.f)) return kNone;
+    if (!(f.x() < float(dims_[0]) && f.y() < float(dims_[1]) && f.z() < float(dims_[2]))) return kNone;  // no int overflow
     return index(int(f.x()), int(f.y()), int(f.z()));
   }
   /// Whether p, in a surface cell, is inside the object: SceneGrid::kInside, kOutside, or

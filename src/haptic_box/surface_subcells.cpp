@@ -63,8 +63,10 @@ SurfaceSubcells::SurfaceSubcells(const Vec3& origin, float cell, const std::vect
         int lo[3], hi[3];
         for (int k3 = 0; k3 < 3; ++k3) {
           const float mn = std::min({a[k3], b[k3], cc[k3]}), mx = std::max({a[k3], b[k3], cc[k3]});
-          lo[k3] = std::max(0, int(std::floor((mn - low[k3]) / sub - 1e-3f)));
-          hi[k3] = std::min(side - 1, int(std::floor((mx - low[k3]) / sub + 1e-3f)));
+          // Cut to the cell before the conversion (a damaged file's 1e31 is no int).
+          const auto at = [&](float f) { return int(std::floor(std::clamp(f, -2.f, float(side) + 1.f))); };
+          lo[k3] = std::max(0, at((mn - low[k3]) / sub - 1e-3f));
+          hi[k3] = std::min(side - 1, at((mx - low[k3]) / sub + 1e-3f));
         }
         for (int z = lo[2]; z <= hi[2]; ++z)
           for (int y = lo[1]; y <= hi[1]; ++y)

@@ -7,7 +7,8 @@
 //     the checksums protect, as a file corrupted before it was signed would carry them
 //     (the piece ids' and scene grid's hashes, checked on every load, are always re-signed).
 //  2. A rejected file must give an hb::Error naming the file.
-//  3. An accepted file is queried, every box and the scene, with segments through each box
+//  3. An accepted file is queried, every box and the scene (also as one probe with its query
+//     state, which a stored stroke mesh answers), with segments through each box
 //     (along its axes and between pseudo-random points from the input), long, tiny, huge and
 //     NaN segments. Every contact must have a finite point and force, depth in [0, segment
 //     length] and a unit normal; query_many must give query()'s answers bit for bit on finite
@@ -101,6 +102,22 @@ void resign(std::string& f, bool tables) {
     if (!u64(ignored)) return;
     sections.push_back(budget);
   }
+  if (version >= 7) {
+    Hashed map{};
+    if (!skip(4) || !u64(map.offset) || !u64(map.bytes)) return;
+    map.hash_at = pos;
+    map.always = true;
+    if (!u64(ignored)) return;
+    sections.push_back(map);
+  }
+  if (version >= 9) {
+    Hashed stroke{};
+    if (!u64(stroke.offset) || !u64(stroke.bytes)) return;
+    stroke.hash_at = pos;
+    stroke.always = true;
+    if (!u64(ignored)) return;
+    sections.push_back(stroke);
+  }
   if (8 > f.size() - pos) return;
   for (const Hashed& s : sections)
     if ((tables || s.always) && s.offset <= f.size() && s.bytes <= f.size() - s.offset) {
@@ -176,6 +193,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const hb::ForceLaw law;
     const std::uint64_t seed = XXH3_64bits(data, size);
     std::size_t boxes = 0;
+    const hb::SceneProbe probe(scene);  // a probe's successive queries (the stroke route, when stored)
     for (const hb::HapticBox& box : scene.boxes()) {
       if (++boxes > 4) break;
       const std::vector<hb::Segment> segments = probes(box.obb(), seed);
@@ -188,6 +206,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const bool finite = segments[i].start.allFinite() && segments[i].end.allFinite();
         if (finite && !same(one, many[i])) hb::fuzz::fail("query_many differs from query on a finite segment");
         check_contact(scene.query(segments[i], law), segments[i], "scene query");
+        check_contact(probe.query(segments[i], law), segments[i], "scene query with a state");
       }
     }
   } catch (const hb::Error& e) {
