@@ -65,7 +65,11 @@ std::vector<BakeChartPoint> bake_chart_points(const BoxScene& scene) {
     p.about = row.label + ", answered by " + route_words(answer) + ": " + duration_text(r.answer_ns * 1e-9) + timed +
               ", perceptibly different on " + percent(r.perceptible) + " of " + count_text(double(r.probes)) +
               " fresh probes (the budget: at most " + percent(r.budget.perceptible) + ", " + (r.met ? "met" : "MISSED") +
-              "); " + bytes_text(scene.memory_bytes());
+              "); " + bytes_text(scene.memory_bytes()) +
+              (r.stroke_answer == "embree"
+                   ? "; along strokes exact Embree over the full mesh (" + duration_text(r.stroke_embree_ns * 1e-9) +
+                         " a query against the cells' " + duration_text(r.stroke_cells_ns * 1e-9) + " at bake time)"
+                   : std::string());
     out.push_back(p);
   }
   for (const BudgetReport::RawTried& t : r.raw_tried) {
