@@ -5,7 +5,8 @@
 //     field behind it untested, so the target re-signs the header (and, in verify mode, the
 //     table, id and surface hashes) where the layout parses: what is fuzzed is every value
 //     the checksums protect, as a file corrupted before it was signed would carry them
-//     (the piece ids' and scene grid's hashes, checked on every load, are always re-signed).
+//     (the hashes checked on every load, piece ids, scene grid, budget report, normal map and
+//     stroke mesh, are always re-signed).
 //  2. A rejected file must give an hb::Error naming the file.
 //  3. An accepted file is queried, every box and the scene (also as one probe with its query
 //     state, which a stored stroke mesh answers), with segments through each box
@@ -71,53 +72,22 @@ void resign(std::string& f, bool tables) {
       sections.push_back(ids);
     }
   }
-  if (version >= 3) {
-    Hashed surface{};
-    if (!u64(surface.offset) || !u64(surface.bytes)) return;
-    surface.hash_at = pos;
-    if (!u64(ignored)) return;
-    sections.push_back(surface);
-  }
-  if (version >= 4) {
-    Hashed pieces{};
-    if (!u64(pieces.offset) || !u64(pieces.bytes)) return;
-    pieces.hash_at = pos;
-    pieces.always = true;
-    if (!u64(ignored)) return;
-    sections.push_back(pieces);
-  }
-  if (version >= 5) {
-    Hashed grid{};
-    if (!u64(grid.offset) || !u64(grid.bytes)) return;
-    grid.hash_at = pos;
-    grid.always = true;
-    if (!u64(ignored)) return;
-    sections.push_back(grid);
-  }
-  if (version >= 6) {
-    Hashed budget{};
-    if (!u64(budget.offset) || !u64(budget.bytes)) return;
-    budget.hash_at = pos;
-    budget.always = true;
-    if (!u64(ignored)) return;
-    sections.push_back(budget);
-  }
-  if (version >= 7) {
-    Hashed map{};
-    if (!skip(4) || !u64(map.offset) || !u64(map.bytes)) return;
-    map.hash_at = pos;
-    map.always = true;
-    if (!u64(ignored)) return;
-    sections.push_back(map);
-  }
-  if (version >= 9) {
-    Hashed stroke{};
-    if (!u64(stroke.offset) || !u64(stroke.bytes)) return;
-    stroke.hash_at = pos;
-    stroke.always = true;
-    if (!u64(ignored)) return;
-    sections.push_back(stroke);
-  }
+  // A section's (offset, bytes, hash) triple; `always`: hashed on every load.
+  const auto section = [&](bool always) {
+    Hashed h{};
+    if (!u64(h.offset) || !u64(h.bytes)) return false;
+    h.hash_at = pos;
+    h.always = always;
+    if (!u64(ignored)) return false;
+    sections.push_back(h);
+    return true;
+  };
+  if (version >= 3 && !section(false)) return;                 // surface records
+  if (version >= 4 && !section(true)) return;                  // piece ids
+  if (version >= 5 && !section(true)) return;                  // scene grid
+  if (version >= 6 && !section(true)) return;                  // budget report
+  if (version >= 7 && (!skip(4) || !section(true))) return;    // normal map (after its side)
+  if (version >= 9 && !section(true)) return;                  // stroke mesh
   if (8 > f.size() - pos) return;
   for (const Hashed& s : sections)
     if ((tables || s.always) && s.offset <= f.size() && s.bytes <= f.size() - s.offset) {
