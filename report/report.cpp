@@ -113,6 +113,9 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   d.codec = codec_name(scene.boxes().front().codec());
   d.refine = scene.refines();
   d.route = scene.answering_name();
+  d.stroke_route = scene.stroke_mesh() && scene.stroke_route() == SceneRoute::embree ? "embree" : d.route;
+  d.stroke_cells_ns = scene.budget_report().stroke_cells_ns;
+  d.stroke_embree_ns = scene.budget_report().stroke_embree_ns;
   d.densities = density_range(scene);
   d.generated_at = utc_now_iso();
   d.machine = machine_description();
@@ -238,6 +241,8 @@ std::string report_json(const ReportData& d) {
               {"codec", d.codec},
               {"memory_bytes", d.memory_bytes},
               {"refine", d.refine},
+              {"route", d.route},
+              {"stroke_route", d.stroke_route},
               {"bake_seconds", d.bake_seconds > 0.0 ? nlohmann::json(d.bake_seconds) : nlohmann::json(nullptr)},
               {"loaded_from_file", !(d.bake_seconds > 0.0)}};
   j["parameters"] = {{"samples", o.samples},

@@ -56,6 +56,10 @@ std::string report_summary_text(const ReportData& d, const std::string& dir) {
       << " against " << duration_text(exact_ns * 1e-9) << " a query, one at a time, one core, same probes)";
   else
     o << "speed: not measured";
+  if (d.stroke_route == "embree" && d.stroke_route != d.route)
+    o << "\nalong strokes (the servo loop, the window): exact Embree over the full mesh answers a probe's successive "
+         "queries, measured faster there by the bake ("
+      << duration_text(d.stroke_embree_ns * 1e-9) << " against the cells' " << duration_text(d.stroke_cells_ns * 1e-9) << ")";
   return o.str();
 }
 

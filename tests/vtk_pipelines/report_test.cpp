@@ -126,3 +126,34 @@ TEST_F(ReportFixture, CompressionCurveIsEmbeddedWhenGiven) {
   EXPECT_EQ(j["compression_curve"].size(), 3u);
   EXPECT_EQ(j["error_field"]["points"], 0);
 }
+
+// A scene whose strokes exact Embree over the full mesh answers (the bake's stroke route):
+// the report says so beside the route its figures were measured on, in every output.
+TEST_F(ReportFixture, AStrokeRouteIsNamedBesideTheRouteTheFiguresWereMeasuredOn) {
+  hb::TriangleMesh halves = mesh;
+  std::vector<std::uint32_t> piece(halves.triangle_count(), 0);
+  for (std::size_t t = 0; t < piece.size(); ++t)
+    if (halves.positions[halves.triangles[t][0]].x() > 0.f) piece[t] = 1;
+  hb::BakeOptions bake;
+  bake.params = {8, 4};
+  bake.refine = true;
+  hb::BoxScene cells = hb::bake_scene(halves, piece, bake, {"ellipsoid", 0, halves.triangle_count(), halves.bounds().diagonal()})
+                           .without_triangle_ids();
+  ASSERT_EQ(cells.answering_route(), hb::SceneRoute::cells);
+  cells.set_stroke_mesh(halves);
+  const vtkHapticBoxReferenceQueries refs(halves);
+  hb::ReportOptions options;
+  options.samples = 300;
+  options.timing_rounds = 1;
+  options.error_field_probes_per_vertex = 0;
+  hb::ReportData data = hb::compute_report(halves, {}, cells, 0.0, refs.References(), options);
+  hb::write_report(data, dir);
+  const nlohmann::json j = nlohmann::json::parse(ReadText(std::filesystem::path(dir) / "summary.json"));
+  EXPECT_EQ(j["box"]["route"], "cells");
+  EXPECT_EQ(j["box"]["stroke_route"], "embree");
+  EXPECT_NE(ReadText(std::filesystem::path(dir) / "summary.txt").find("along strokes"), std::string::npos);
+  EXPECT_NE(ReadText(std::filesystem::path(dir) / "report.html").find("exact Embree over the full mesh"), std::string::npos);
+  // Without it, the stroke route is the route.
+  hb::ReportData plain = hb::compute_report(halves, {}, cells.without_stroke_mesh(), 0.0, refs.References(), options);
+  EXPECT_EQ(plain.stroke_route, "cells");
+}
