@@ -244,13 +244,19 @@ void BakePanel::updateState() {
   // A scene's boxes have their own densities: the range, not the first box's.
   const hb::DensityRange d = hb::density_range(s);
   const auto span = [](int lo, int hi) { return QString::fromStdString(hb::range_text(lo, hi)); };
-  info_->setText(tr("%1 box(es), m %2, n %3, %4, %5")
+  // The device's probe asks with its state: say when exact Embree over the full mesh answers it.
+  const QString strokes = s.stroke_mesh() && s.stroke_route() == hb::SceneRoute::embree
+                              ? tr(" + %1 of full mesh: the device's strokes by exact Embree (faster there)")
+                                    .arg(QString::fromStdString(hb::bytes_text(s.embree_bytes())))
+                              : QString();
+  info_->setText(tr("%1 box(es), m %2, n %3, %4%5, %6")
                      .arg(s.boxes().size())
                      .arg(span(d.m_min, d.m_max))
                      .arg(span(d.n_min, d.n_max))
                      .arg(refineBytes > 0 ? tables + tr(" + %1 for exact refinement")
                                                          .arg(QString::fromStdString(hb::bytes_text(refineBytes)))
                                           : tables)
+                     .arg(strokes)
                      .arg(session_->boxesFromCache() ? tr("from the cache")
                                                      : tr("baked in %1 in all").arg(QString::fromStdString(hb::duration_text(session_->bakeSeconds())))));
 }

@@ -146,7 +146,11 @@ void BudgetSearch::prepare_surface() {
 
 void BudgetSearch::decompose() {
   const auto td = std::chrono::steady_clock::now();
-  ids_ = resolve_piece_ids(*base_, recipe_.pieces, surface_mesh_.use_simplified ? nullptr : &exact_->scene());
+  // Ids a caller resolved (the window's decomposition filter) are the full mesh's: a
+  // simplified surface is cut anew.
+  PiecesRecipe pieces = recipe_.pieces;
+  if (surface_mesh_.use_simplified && pieces.resolved.size() != base_->triangle_count()) pieces.resolved.clear();
+  ids_ = resolve_piece_ids(*base_, pieces, surface_mesh_.use_simplified ? nullptr : &exact_->scene());
   if (recipe_.pieces.kind == PiecesRecipe::Kind::automatic) result_.decompose_seconds = seconds_since(td);
   stage_done("decompose", seconds_since(td));
 }

@@ -133,6 +133,30 @@ TEST(DecimationTest, BudgetedBakeRefinesAgainstTheSimplifiedSurfaceAndIsJudgedOn
   EXPECT_EQ(bake(fine, recipe).scene.budget_report().surface_triangles, 0u);
 }
 
+// The window decomposes the full mesh before its bake (the VTK decomposition filter hands the
+// ids on as PiecesRecipe::resolved); a large mesh's bake then works on a simplified surface,
+// which is cut anew: the full mesh's ids are not its triangles' (the window failed to bake the
+// 832K armadillo: "832000 decomposed piece ids for 52020 triangles").
+TEST(DecimationTest, PiecesResolvedOnTheFullMeshAreCutAnewOnASimplifiedSurface) {
+  const TriangleMesh fine = subdivide_midpoint(make_sphere(1.f, 3), 2);  // 20,480 triangles
+  BakeRecipe recipe = default_recipe();
+  ASSERT_EQ(recipe.pieces.kind, PiecesRecipe::Kind::automatic);
+  recipe.pieces.resolved.assign(fine.triangle_count(), 0);
+  for (std::size_t t = 0; t < fine.triangle_count(); ++t)
+    if (fine.positions[fine.triangles[t][0]].x() > 0.f) recipe.pieces.resolved[t] = 1;
+  recipe.budget.budget.raw = false;  // the pieces' path, not the raw box over the whole model
+  recipe.budget.probes = 2000;
+  recipe.budget.samplings = {{0.1f, 6}};
+  recipe.budget.simplify_above = 10000;
+  recipe.budget.simplify_shading_deg = 180;
+  recipe.budget.fastest_exact = false;
+  const BakeResult baked = bake(fine, recipe);
+  const BudgetReport& rep = baked.scene.budget_report();
+  EXPECT_GT(rep.surface_triangles, 0u) << rep.summary();
+  EXPECT_LT(rep.surface_triangles, fine.triangle_count());
+  EXPECT_FALSE(baked.scene.boxes().empty());
+}
+
 // A simplified surface that misses the budget is simplified again within a quarter of the
 // bound (twice at most) before the full mesh is baked, and the report names the surface it
 // dropped: a sphere simplified far too coarsely comes back within a tighter bound; a lathe
