@@ -9,6 +9,7 @@
 #include "cli_support.h"
 #include "commands.h"
 #include "errors.h"
+#include "evaluation/error_field.h"
 #include "haptic_box/box_file.h"
 #include "vtkHapticBoxErrorFieldFilter.h"
 #include "vtkHapticBoxUtilities.h"

@@ -17,6 +17,7 @@
 #include "device/virtual_device.h"
 #include "errors.h"
 #include "exact/exact_query.h"
+#include "figure_text.h"
 #include "haptic_box/box_file.h"
 #include "mesh/file_hash.h"
 #ifdef HB_WITH_VTK

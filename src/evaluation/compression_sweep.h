@@ -2,6 +2,7 @@
 // The compression curve (paper Figure 11): for each codec and error bound, the compression
 // ratio against the errors it causes, for `hapticbox compress-sweep`, reports and charts.
 #include "codec/codec.h"
+#include "evaluation/comparison.h"
 #include "haptic_box/box_scene.h"
 #include "progress.h"
 #include <vector>
