@@ -8,6 +8,7 @@
 #include "mesh/mesh_io.h"
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <vtkImageData.h>
 #include <zlib.h>
 #include <cstring>
 #include <filesystem>

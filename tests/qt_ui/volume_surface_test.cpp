@@ -14,6 +14,7 @@
 #include <QAction>
 #include <QCheckBox>
 #include <QDoubleSpinBox>
+#include <QMouseEvent>
 #include <QElapsedTimer>
 #include <QFileInfo>
 #include <QTimer>

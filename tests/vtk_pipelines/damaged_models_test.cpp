@@ -9,6 +9,7 @@
 #include "formats/iges_global.h"
 #include "polydata_files.h"
 #include <gtest/gtest.h>
+#include <vtkPolyData.h>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
