@@ -80,7 +80,7 @@ OrderTimes time_orders(const hb::BoxScene& scene, const hb::ExactQuery& exact, c
   }
   t.box_stroke_stateless_ns = hb::median_query_ns(scene, strokes, law, rounds);
   t.exact_stroke_ns = hb::median_query_ns(exact, strokes, law, rounds);
-  if (scene.stroke_mesh() && scene.stroke_route() == hb::SceneRoute::embree) {
+  if (scene.strokes_by_full_mesh()) {
     const hb::BoxScene cells = scene.without_stroke_mesh();
     hb::SceneProbe walk(cells);
     t.box_stroke_cells_ns = hb::median_query_ns(walk, strokes, law, rounds);

@@ -163,7 +163,7 @@ nlohmann::json box_info(const std::string& path, bool verify) {
           {"surface_bytes", scene.refinement_bytes() - id_bytes},
           {"normal_map_side", scene.surface() ? scene.surface()->normal_map_side() : 0},
           {"normal_map_bytes", scene.surface() ? scene.surface()->normal_map_bytes() : 0},
-          {"stroke_route", scene.stroke_mesh() && scene.stroke_route() == hb::SceneRoute::embree
+          {"stroke_route", scene.strokes_by_full_mesh()
                                ? "exact Embree over the full mesh (" + hb::count_text(double(scene.stroke_mesh()->triangle_count())) +
                                      " triangles, " + hb::bytes_text(scene.embree_bytes()) +
                                      "): a probe's successive queries, where the bake measured it faster than the cells"

@@ -245,7 +245,7 @@ void BakePanel::updateState() {
   const hb::DensityRange d = hb::density_range(s);
   const auto span = [](int lo, int hi) { return QString::fromStdString(hb::range_text(lo, hi)); };
   // The device's probe asks with its state: say when exact Embree over the full mesh answers it.
-  const QString strokes = s.stroke_mesh() && s.stroke_route() == hb::SceneRoute::embree
+  const QString strokes = s.strokes_by_full_mesh()
                               ? tr(" + %1 of full mesh: the device's strokes by exact Embree (faster there)")
                                     .arg(QString::fromStdString(hb::bytes_text(s.embree_bytes())))
                               : QString();

@@ -113,7 +113,7 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
   d.codec = codec_name(scene.boxes().front().codec());
   d.refine = scene.refines();
   d.route = scene.answering_name();
-  d.stroke_route = scene.stroke_mesh() && scene.stroke_route() == SceneRoute::embree ? "embree" : d.route;
+  d.stroke_route = scene.strokes_by_full_mesh() ? "embree" : d.route;
   d.stroke_cells_ns = scene.budget_report().stroke_cells_ns;
   d.stroke_embree_ns = scene.budget_report().stroke_embree_ns;
   d.densities = density_range(scene);

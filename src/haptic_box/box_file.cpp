@@ -36,13 +36,12 @@ std::size_t align_up(std::size_t v) { return (v + kBoxFileAlign - 1) / kBoxFileA
 std::vector<char> stroke_mesh_bytes(const TriangleMesh* mesh) {
   Writer w;
   if (!mesh) return {};
+  static_assert(sizeof(Vec3) == 12 && sizeof(Triangle) == 12, "packed xyz and index triples");
   w.put(std::uint32_t(mesh->positions.size()));
   w.put(std::uint32_t(mesh->triangles.size()));
-  for (const std::vector<Vec3>* points : {&mesh->positions, &mesh->normals})
-    for (const Vec3& p : *points)
-      for (int k = 0; k < 3; ++k) w.put(p[k]);
-  for (const Triangle& t : mesh->triangles)
-    for (int k = 0; k < 3; ++k) w.put(std::uint32_t(t[k]));
+  w.put_bytes(mesh->positions.data(), mesh->positions.size() * 12);
+  w.put_bytes(mesh->normals.data(), mesh->normals.size() * 12);
+  w.put_bytes(mesh->triangles.data(), mesh->triangles.size() * 12);
   return std::move(w.bytes());
 }
 

@@ -403,24 +403,21 @@ std::optional<TriangleMesh> read_stroke_mesh(const FileHeader& h, const Mapped& 
   mesh.positions.resize(vertices);
   mesh.normals.resize(vertices);
   mesh.triangles.resize(triangles);
+  static_assert(sizeof(Vec3) == 12 && sizeof(Triangle) == 12, "packed xyz and index triples");
   const char* p = b + 8;
+  std::memcpy(mesh.positions.data(), p, std::size_t(vertices) * 12);
+  std::memcpy(mesh.normals.data(), p + std::size_t(vertices) * 12, std::size_t(vertices) * 12);
+  std::memcpy(mesh.triangles.data(), p + std::size_t(vertices) * 24, std::size_t(triangles) * 12);
   // Positions within 1e18 (an edge's cross product stays finite), unit normals (as written).
-  for (Vec3& v : mesh.positions) {
-    std::memcpy(v.data(), p, 12);
-    p += 12;
+  for (const Vec3& v : mesh.positions)
     if (!v.allFinite() || v.cwiseAbs().maxCoeff() > 1e18f)
       throw InvalidInput(path + ": corrupt box file (a stroke mesh vertex is not finite or beyond 1e18)");
-  }
-  for (Vec3& v : mesh.normals) {
-    std::memcpy(v.data(), p, 12);
-    p += 12;
+  for (const Vec3& v : mesh.normals) {
     const float length = v.norm();
     if (!(length > 0.9f && length < 1.1f))
       throw InvalidInput(path + ": corrupt box file (a stroke mesh vertex normal is not of unit length)");
   }
   for (std::uint32_t t = 0; t < triangles; ++t) {
-    std::memcpy(mesh.triangles[t].data(), p, 12);
-    p += 12;
     for (std::uint32_t v : mesh.triangles[t])
       if (v >= vertices)
         throw InvalidInput(path + ": corrupt box file (stroke mesh triangle " + std::to_string(t) + " names vertex " +

@@ -120,7 +120,7 @@ std::size_t BoxScene::box_queries(const Segment& segment, const ForceLaw& law) c
 }
 
 Contact BoxScene::query_as_stroke(const Segment& segment, const ForceLaw& law) const noexcept {
-  if (stroke_ && answering_route() == SceneRoute::cells) return stroke_->exact->query(segment, law);
+  if (strokes_by_full_mesh()) return stroke_->exact->query(segment, law);
   return query(segment, law);
 }
 
@@ -129,7 +129,7 @@ Contact BoxScene::query(const Segment& segment, const ForceLaw& law, SceneQueryS
     ++state.full;
     return embree_->exact->query(segment, law);
   }
-  if (stroke_ && answering_route() == SceneRoute::cells) {
+  if (strokes_by_full_mesh()) {
     // The stroke route: Embree over the full mesh, measured faster along strokes at bake time.
     ++state.full;
     return stroke_->exact->query(segment, law);

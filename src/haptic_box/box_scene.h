@@ -282,11 +282,12 @@ public:
   /// stroke_route() is it, query(segment, law) otherwise (a servo loop's cache priming,
   /// SceneProbe::prime, warms what the next tick reads).
   Contact query_as_stroke(const Segment& segment, const ForceLaw& law) const noexcept;
-  /// What answers a query with a SceneQueryState: SceneRoute::embree over the full mesh
-  /// (stroke_mesh()) when the scene has one and the cells answer, answering_route() otherwise.
-  SceneRoute stroke_route() const noexcept {
-    return stroke_ && answering_route() == SceneRoute::cells ? SceneRoute::embree : answering_route();
-  }
+  /// Whether a query with a SceneQueryState is answered by Embree over the full mesh: the
+  /// scene has a stroke mesh and the cells answer it (any other route keeps its own).
+  bool strokes_by_full_mesh() const noexcept { return stroke_ && answering_route() == SceneRoute::cells; }
+  /// What answers a query with a SceneQueryState: SceneRoute::embree over the full mesh when
+  /// strokes_by_full_mesh(), answering_route() otherwise.
+  SceneRoute stroke_route() const noexcept { return strokes_by_full_mesh() ? SceneRoute::embree : answering_route(); }
   /// The same scene without the stroke route (its probes walk the cells: before/after figures).
   BoxScene without_stroke_mesh() const {
     BoxScene s = *this;

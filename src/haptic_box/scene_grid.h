@@ -52,7 +52,6 @@ public:
     // Compared as floats first: a point 1e30 away is no int.
     if (!(f.x() < float(dims_[0]) && f.y() < float(dims_[1]) && f.z() < float(dims_[2]))) return kOutside;
     const int x = int(f.x()), y = int(f.y()), z = int(f.z());
-    if (x >= dims_[0] || y >= dims_[1] || z >= dims_[2]) return kOutside;
     // A brick without surface has one state (its cells are one connected region): no load
     // of the cell words, whose bytes are mostly out of cache (bricks_ stays in L1/L2).
     const std::uint8_t brick = bricks_[brick_index(x, y, z)];
