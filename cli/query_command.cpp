@@ -1,11 +1,15 @@
 // hapticbox query BOX --segment sx sy sz ex ey ez | --segments IN.csv [--out OUT.csv] [--exact MESH]
+// hapticbox query BOX --tool SPEC --poses POSES.csv [--out OUT.csv] [--exact MESH]
 #include "cli_support.h"
 #include "commands.h"
 #include "errors.h"
 #include "evaluation/segments_csv.h"
+#include "evaluation/tool_poses_csv.h"
 #include "exact/exact_query.h"
 #include "haptic_box/box_file.h"
 #include "mesh/mesh_io.h"
+#include "tool/tool_spec.h"
+#include "tool/tool_verdict.h"
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -19,13 +23,43 @@ void write_contact(std::ostream& out, const hb::Contact& c) {
       << c.normal.z() << ',' << c.force.x() << ',' << c.force.y() << ',' << c.force.z();
 }
 
+void write_tool_answer(std::ostream& out, const hb::ToolAnswer& a) {
+  out << a.force.x() << ',' << a.force.y() << ',' << a.force.z() << ',' << a.torque.x() << ',' << a.torque.y() << ','
+      << a.torque.z() << ',' << a.contacts;
+}
+
+// Each pose on its own: the tool's contact force and torque there (no coupling).
+void answer_tool_poses(const hb::BoxScene& scene, const hb::ExactQuery* exact, const hb::Workspace& workspace,
+                       const hb::PerceptualJudge& judge, const hb::ToolShape& tool,
+                       const std::vector<hb::ToolPose>& poses, std::ostream& out) {
+  const hb::ForceLaw law = workspace.law();
+  hb::ToolProbe box_probe(tool, workspace.metres_per_unit), exact_probe(tool, workspace.metres_per_unit);
+  out << "fx,fy,fz,tx,ty,tz,contacts";
+  if (exact) out << ",exact_fx,exact_fy,exact_fz,exact_tx,exact_ty,exact_tz,exact_contacts,perceptible";
+  out << "\n";
+  for (const hb::ToolPose& pose : poses) {
+    const hb::ToolAnswer box = box_probe.answer(scene, pose, law);
+    write_tool_answer(out, box);
+    if (exact) {
+      const hb::ToolAnswer e = exact_probe.answer(*exact, pose, law);
+      out << ',';
+      write_tool_answer(out, e);
+      const hb::ToolDifference d = hb::perceive_tool(e, box, judge.thresholds, judge.max_force_n, tool.radius_m);
+      std::string by = hb::perceived_by_name(d.force.by);
+      if (d.torque_felt) by = by == "none" ? "torque" : by + "+torque";
+      out << ',' << by;
+    }
+    out << "\n";
+  }
+}
+
 } // namespace
 
 void add_query_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("query", "Answer probe segments with a box file (and the exact method)");
   struct Opts {
     hb::cli::ModelArgs model;
-    std::string box, segments_csv, out_csv, exact_mesh;
+    std::string box, segments_csv, out_csv, exact_mesh, tool, poses_csv;
     std::vector<std::string> segment;
     hb::cli::WorkspaceArgs workspace;
   };
@@ -37,10 +71,43 @@ void add_query_command(CLI::App& app) {
   auto* seg = cmd->add_option("--segment", opts->segment, "One segment: six numbers sx sy sz ex ey ez")->expected(1, 16);
   auto* segs = cmd->add_option("--segments", opts->segments_csv, "CSV with header sx,sy,sz,ex,ey,ez");
   seg->excludes(segs);
+  auto* tool = cmd->add_option("--tool", opts->tool,
+                               "A tool with volume: sphere,radius-mm=R,points=N | capsule,radius-mm=R,length-mm=L,points=N | "
+                               "mesh=FILE,points=N (sizes in device mm at the workspace); answers --poses");
+  cmd->add_option("--poses", opts->poses_csv,
+                  "With --tool: CSV with header x,y,z[,qw,qx,qy,qz] (tool centre, model units); writes fx,fy,fz,tx,ty,tz,"
+                  "contacts a pose (N, N m; each pose on its own, forces not clamped)");
+  tool->excludes(seg)->excludes(segs);
   cmd->add_option("--out", opts->out_csv, "Output CSV (default: stdout)");
   cmd->add_option("--exact", opts->exact_mesh, "Also answer exactly against this mesh");
   hb::cli::add_workspace_options(*cmd, opts->workspace);
   cmd->callback([opts] {
+    if (!opts->tool.empty() || !opts->poses_csv.empty()) {
+      if (opts->tool.empty()) throw hb::cli::UsageError("query: --poses needs --tool SPEC");
+      if (opts->poses_csv.empty()) throw hb::cli::UsageError("query: --tool needs --poses POSES.csv (header x,y,z[,qw,qx,qy,qz])");
+      if (opts->box.empty()) throw hb::cli::UsageError("query: BOX is required (the box file, first)");
+      const hb::ToolSpec spec = hb::parse_tool_spec(opts->tool);
+      const std::vector<hb::ToolPose> poses = hb::read_tool_poses_csv(opts->poses_csv);
+      const hb::ToolShape tool = hb::make_tool(spec, [](const std::string& path) { return hb::cli::load_mesh(path); });
+      const hb::BoxScene scene = hb::load_box_file(opts->box);
+      hb::TriangleMesh mesh;
+      std::unique_ptr<hb::ExactQuery> exact;
+      if (!opts->exact_mesh.empty()) {
+        mesh = hb::cli::load_mesh(opts->exact_mesh, opts->model);
+        exact = std::make_unique<hb::ExactQuery>(mesh);
+      }
+      const double diagonal = exact ? double(mesh.bounds().diagonal()) : hb::cli::model_diagonal(scene);
+      const hb::Workspace workspace = opts->workspace.workspace(diagonal);
+      std::ofstream file;
+      if (!opts->out_csv.empty()) {
+        file.open(opts->out_csv);
+        if (!file) throw hb::IoError(opts->out_csv + ": cannot open for writing");
+      }
+      std::ostream& out = opts->out_csv.empty() ? std::cout : file;
+      answer_tool_poses(scene, exact.get(), workspace, opts->workspace.judge(), tool, poses, out);
+      if (!out) throw hb::IoError((opts->out_csv.empty() ? std::string("stdout") : opts->out_csv) + ": write failed");
+      return;
+    }
     std::vector<hb::Segment> segments;
     if (!opts->segment.empty()) {
       // `query --segment 6 NUMBERS BOX`: the option takes what follows it; the seventh is BOX.

@@ -75,6 +75,14 @@ public:
                           Contact* out) const noexcept {
     for (std::size_t i = 0; i < count; ++i) out[i] = query(segments[i], law);
   }
+  /// The broad phase of a tool: whether any surface may lie within `radius` of `centre`
+  /// (model units). False only when none does, so that a tool out of reach skips its points'
+  /// queries (ToolProbe); this default: true.
+  virtual bool within_reach(const Vec3& centre, float radius) const noexcept {
+    (void)centre;
+    (void)radius;
+    return true;
+  }
   /// Reads what a query of `segment` reads and discards the answer, leaving any state of
   /// this object as it was: a servo loop primes its caches with the last tick's segment in
   /// the busy-wait before the next tick (ServoOptions::prime), so that tick's query, a few

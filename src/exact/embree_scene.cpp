@@ -131,17 +131,17 @@ EmbreeScene::EmbreeScene(const TriangleMesh& mesh, const std::vector<std::uint32
 
 EmbreeScene::~EmbreeScene() = default;
 
-RayHit EmbreeScene::intersect(const Vec3& origin, const Vec3& dir, float t_near,
-                              float t_far) const noexcept {
-  // Embree asserts (aborts the process) on a ray outside its valid range: such a ray, which
-  // no mesh within kMaxCoordinate can need, misses.
+namespace {
+
+// Embree asserts (aborts the process) on a ray outside its valid range: such a ray, which
+// no mesh within kMaxCoordinate can need, misses.
+bool valid_ray(const Vec3& origin, const Vec3& dir, float t_near, float t_far) noexcept {
   constexpr float kLarge = 1e18f;
-  if (!(origin.cwiseAbs().maxCoeff() <= kLarge && dir.cwiseAbs().maxCoeff() <= kLarge && t_near >= 0.f &&
-        t_near <= t_far && !std::isnan(t_far)))
-    return RayHit{};
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  RTCRayHit rh;
+  return origin.cwiseAbs().maxCoeff() <= kLarge && dir.cwiseAbs().maxCoeff() <= kLarge && t_near >= 0.f &&
+         t_near <= t_far && !std::isnan(t_far);
+}
+
+void set_ray(RTCRayHit& rh, const Vec3& origin, const Vec3& dir, float t_near, float t_far) noexcept {
   rh.ray.org_x = origin.x();
   rh.ray.org_y = origin.y();
   rh.ray.org_z = origin.z();
@@ -155,18 +155,21 @@ RayHit EmbreeScene::intersect(const Vec3& origin, const Vec3& dir, float t_near,
   rh.ray.time = 0.f;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(impl_->scene, &context, &rh);
+}
 
+// The hit of `rh` (a ray along unit `dir`) with its shaded and geometric normals.
+RayHit to_ray_hit(const RTCRayHit& rh, const Vec3& dir, const TriangleMesh& mesh,
+                  const std::vector<std::uint32_t>& prim_to_triangle) noexcept {
   RayHit out;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return out;
   out.hit = true;
   out.t = rh.ray.tfar;
-  out.triangle = impl_->prim_to_triangle.empty() ? rh.hit.primID : impl_->prim_to_triangle[rh.hit.primID];
-  const Triangle& tri = mesh_.triangles[out.triangle];
-  const Vec3& a = mesh_.positions[tri[0]];
-  const Vec3 geometric = (mesh_.positions[tri[1]] - a).cross(mesh_.positions[tri[2]] - a);
+  out.triangle = prim_to_triangle.empty() ? rh.hit.primID : prim_to_triangle[rh.hit.primID];
+  const Triangle& tri = mesh.triangles[out.triangle];
+  const Vec3& a = mesh.positions[tri[0]];
+  const Vec3 geometric = (mesh.positions[tri[1]] - a).cross(mesh.positions[tri[2]] - a);
   const float u = rh.hit.u, v = rh.hit.v;
-  Vec3 shaded = (1.f - u - v) * mesh_.normals[tri[0]] + u * mesh_.normals[tri[1]] + v * mesh_.normals[tri[2]];
+  Vec3 shaded = (1.f - u - v) * mesh.normals[tri[0]] + u * mesh.normals[tri[1]] + v * mesh.normals[tri[2]];
   if (shaded.dot(geometric) < 0.f || shaded.squaredNorm() < 1e-12f) shaded = geometric;
   const float len = shaded.norm();
   out.normal = len > 0.f ? Vec3(shaded / len) : Vec3(-dir);
@@ -174,6 +177,97 @@ RayHit EmbreeScene::intersect(const Vec3& origin, const Vec3& dir, float t_near,
   const float glen = geometric.norm();
   if (glen > 0.f && glen <= std::numeric_limits<float>::max()) out.face_normal = geometric / glen;
   return out;
+}
+
+// The point of triangle abc nearest p (Ericson, Real-Time Collision Detection 5.1.5).
+Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) noexcept {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const float d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.f && d2 <= 0.f) return a;
+  const Vec3 bp = p - b;
+  const float d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.f && d4 <= d3) return b;
+  const float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.f && d1 >= 0.f && d3 <= 0.f) return a + ab * (d1 / (d1 - d3));
+  const Vec3 cp = p - c;
+  const float d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.f && d5 <= d6) return c;
+  const float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.f && d2 >= 0.f && d6 <= 0.f) return a + ac * (d2 / (d2 - d6));
+  const float va = d3 * d6 - d5 * d4;
+  if (va <= 0.f && (d4 - d3) >= 0.f && (d5 - d6) >= 0.f) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const float denom = 1.f / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+struct ReachQuery {
+  const TriangleMesh* mesh;
+  const std::vector<std::uint32_t>* prim_to_triangle;
+  Vec3 centre;
+  bool found = false;
+};
+
+} // namespace
+
+RayHit EmbreeScene::intersect(const Vec3& origin, const Vec3& dir, float t_near,
+                              float t_far) const noexcept {
+  if (!valid_ray(origin, dir, t_near, t_far)) return RayHit{};
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  set_ray(rh, origin, dir, t_near, t_far);
+  rtcIntersect1(impl_->scene, &context, &rh);
+  return to_ray_hit(rh, dir, mesh_, impl_->prim_to_triangle);
+}
+
+void EmbreeScene::intersect_many(const Vec3* origins, const Vec3* dirs, const float* t_far, std::size_t count,
+                                 RayHit* out) const noexcept {
+  constexpr std::size_t kChunk = 64;
+  RTCRayHit rays[kChunk];
+  std::uint32_t index[kChunk];
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  for (std::size_t first = 0; first < count; first += kChunk) {
+    const std::size_t last = std::min(count, first + kChunk);
+    std::size_t m = 0;
+    for (std::size_t i = first; i < last; ++i) {
+      out[i] = RayHit{};
+      if (!valid_ray(origins[i], dirs[i], 0.f, t_far[i])) continue;
+      set_ray(rays[m], origins[i], dirs[i], 0.f, t_far[i]);
+      index[m++] = std::uint32_t(i);
+    }
+    if (m == 0) continue;
+    rtcIntersect1M(impl_->scene, &context, rays, unsigned(m), sizeof(RTCRayHit));
+    for (std::size_t j = 0; j < m; ++j) out[index[j]] = to_ray_hit(rays[j], dirs[index[j]], mesh_, impl_->prim_to_triangle);
+  }
+}
+
+bool EmbreeScene::any_within(const Vec3& centre, float radius) const noexcept {
+  if (!(centre.cwiseAbs().maxCoeff() <= 1e18f) || !(radius >= 0.f) || !(radius <= 1e18f)) return true;
+  RTCPointQuery query;
+  query.x = centre.x();
+  query.y = centre.y();
+  query.z = centre.z();
+  query.time = 0.f;
+  query.radius = radius;
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  ReachQuery reach{&mesh_, &impl_->prim_to_triangle, centre};
+  rtcPointQuery(impl_->scene, &query, &context,
+                [](RTCPointQueryFunctionArguments* args) -> bool {
+                  auto* r = static_cast<ReachQuery*>(args->userPtr);
+                  const std::uint32_t k = r->prim_to_triangle->empty() ? args->primID : (*r->prim_to_triangle)[args->primID];
+                  const Triangle& tri = r->mesh->triangles[k];
+                  const Vec3 q = closest_on_triangle(r->centre, r->mesh->positions[tri[0]], r->mesh->positions[tri[1]],
+                                                     r->mesh->positions[tri[2]]);
+                  if ((q - r->centre).norm() > args->query->radius) return false;
+                  r->found = true;
+                  args->query->radius = 0.f;  // nothing is nearer than 0: the traversal ends
+                  return true;
+                },
+                &reach);
+  return reach.found;
 }
 
 } // namespace hb

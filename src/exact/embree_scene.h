@@ -40,6 +40,14 @@ public:
 
   /// First hit along origin + t * dir (unit dir) for t in [t_near, t_far].
   RayHit intersect(const Vec3& origin, const Vec3& dir, float t_near, float t_far) const noexcept;
+  /// The first hits of `count` rays origins[i] + t dirs[i] (unit), t in [0, t_far[i]], as
+  /// intersect() one by one, traced as one coherent stream (rtcIntersect1M): a tool's rays,
+  /// which share a centre.
+  void intersect_many(const Vec3* origins, const Vec3* dirs, const float* t_far, std::size_t count,
+                      RayHit* out) const noexcept;
+  /// Whether a triangle lies within `radius` of `centre` (a point query; true for a query
+  /// out of Embree's range, which it cannot answer).
+  bool any_within(const Vec3& centre, float radius) const noexcept;
 
   const TriangleMesh& mesh() const { return mesh_; }
 

@@ -17,6 +17,14 @@ public:
   /// 40,000 times, takes the quick build; `bench` and `eval` the best).
   ExactQuery(const TriangleMesh& mesh, BvhBuild build) : scene_(mesh, {}, build) {}
   Contact query(const Segment& segment, const ForceLaw& law) const noexcept override;
+  /// The same answers as query() one by one, the rays traced as one stream
+  /// (EmbreeScene::intersect_many).
+  void query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
+                  Contact* out) const noexcept override;
+  /// Whether a triangle lies within `radius` of `centre` (an Embree point query).
+  bool within_reach(const Vec3& centre, float radius) const noexcept override {
+    return scene_.any_within(centre, radius);
+  }
   /// The mesh the scene was built over (it must outlive this query).
   const TriangleMesh& mesh() const { return scene_.mesh(); }
   /// Its Embree scene of the whole mesh (the budgeted bake's decomposition casts its lines

@@ -137,6 +137,10 @@ public:
   void query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
                   Contact* out) const noexcept override;
 
+  /// The tool's broad phase (ContactQuery::within_reach): the grid's clearance when the scene
+  /// has one, else whether a box's axis-aligned bounds come within `radius` of `centre`.
+  bool within_reach(const Vec3& centre, float radius) const noexcept override;
+
   /// How many boxes' PBBs the segment meets.
   std::size_t boxes_met(const Segment& segment) const noexcept;
   /// How many box queries query() runs for this segment (HapticBox::query_into calls,

@@ -3,6 +3,7 @@
 // a mesh: scene_grid_build.cpp.
 #include "haptic_box/scene_grid.h"
 #include "errors.h"
+#include <algorithm>
 #include <cstring>
 #include <string>
 
@@ -110,6 +111,21 @@ void SceneGrid::compute_clearance() {
   chessboard_distance(bclear, bx, by, bz, 63);
   bricks_.resize(brick_count);
   for (std::size_t b = 0; b < brick_count; ++b) bricks_[b] = std::uint8_t(state[b] | (bclear[b] << 2));
+}
+
+float SceneGrid::surface_distance_bound(const Vec3& p) const noexcept {
+  if (codes_.empty() || !p.allFinite()) return 0.f;
+  const Vec3 lo = origin_, hi = origin_ + cell_ * Vec3(float(dims_[0]), float(dims_[1]), float(dims_[2]));
+  const Vec3 outside = (lo - p).cwiseMax(p - hi).cwiseMax(Vec3::Zero());
+  const Vec3 q = p.cwiseMax(lo).cwiseMin(hi);  // p's nearest point of the grid
+  int c[3];
+  for (int k = 0; k < 3; ++k) c[k] = std::min(dims_[k] - 1, std::max(0, int((q[k] - origin_[k]) * inv_cell_)));
+  const std::uint8_t brick = bricks_[brick_index(c[0], c[1], c[2])];
+  // A surface cell `cells` away (chessboard) leaves at least cells - 1 whole cells between.
+  int cells;
+  if ((brick & kBrickSurface) != kBrickSurface) cells = 4 * int(brick >> 2) - 3;
+  else cells = int((cells_[cell_index(c[0], c[1], c[2])] >> 16) & 0xffu);
+  return outside.norm() + float(std::max(0, cells - 1)) * cell_;
 }
 
 std::vector<std::uint8_t> SceneGrid::clearance() const {

@@ -80,6 +80,11 @@ public:
   template <class Visit>
   void walk_surface(const Vec3& a, const Vec3& b, Visit&& visit) const noexcept;
 
+  /// A lower bound of the distance from p to the surface (model units): 0 in or next to a
+  /// surface cell, otherwise what the clearance of p's cell (or brick) guarantees; beyond the
+  /// grid, which covers the mesh, at least the distance to the grid. A tool's broad phase.
+  float surface_distance_bound(const Vec3& p) const noexcept;
+
   /// Per cell (x fastest, as codes()), the chessboard distance in cells to the nearest
   /// surface cell (0 for one), capped at 255; computed from the codes when the grid is made.
   std::vector<std::uint8_t> clearance() const;

@@ -1,0 +1,105 @@
+// Poses CSV: a header of named columns, then a number a column a row; errors name the line.
+#include "evaluation/tool_poses_csv.h"
+#include "errors.h"
+#include "evaluation/segments_csv.h"
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace hb {
+namespace {
+
+std::vector<std::string_view> split_cells(std::string_view line) {
+  std::vector<std::string_view> cells;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = line.find(',', start);
+    std::string_view cell = line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+    while (!cell.empty() && (cell.front() == ' ' || cell.front() == '\t')) cell.remove_prefix(1);
+    while (!cell.empty() && (cell.back() == ' ' || cell.back() == '\t')) cell.remove_suffix(1);
+    cells.push_back(cell);
+    if (comma == std::string_view::npos) return cells;
+    start = comma + 1;
+  }
+}
+
+std::string printable(std::string_view s) {
+  std::string out;
+  for (char c : s.substr(0, 40)) out += (c >= 32 && c < 127) ? c : '?';
+  if (s.size() > 40) out += "... (" + std::to_string(s.size()) + " bytes)";
+  return out;
+}
+
+} // namespace
+
+std::vector<ToolPose> parse_tool_poses_csv(std::string_view text, const std::string& name) {
+  if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  static const char* const kNames[7] = {"x", "y", "z", "qw", "qx", "qy", "qz"};
+  int column[7] = {-1, -1, -1, -1, -1, -1, -1};
+  std::size_t columns = 0, line_no = 0, pos = 0;
+  bool header_seen = false;
+  std::vector<ToolPose> out;
+  const auto where = [&] { return name + ":" + std::to_string(line_no) + ": "; };
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(pos, end - pos);
+    pos = end + 1;
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (line.find_first_not_of(" \t") == std::string_view::npos) continue;
+    const std::vector<std::string_view> cells = split_cells(line);
+    if (!header_seen) {
+      header_seen = true;
+      columns = cells.size();
+      for (std::size_t c = 0; c < cells.size(); ++c) {
+        int k = 0;
+        while (k < 7 && cells[c] != kNames[k]) ++k;
+        if (k == 7)
+          throw InvalidInput(where() + "unknown column '" + printable(cells[c]) + "' (columns: x,y,z and optionally qw,qx,qy,qz)");
+        if (column[k] >= 0) throw InvalidInput(where() + "column '" + kNames[k] + "' appears twice");
+        column[k] = int(c);
+      }
+      for (int k = 0; k < 3; ++k)
+        if (column[k] < 0) throw InvalidInput(where() + "the header has no column '" + kNames[k] + "' (x,y,z are required)");
+      const int q = (column[3] >= 0) + (column[4] >= 0) + (column[5] >= 0) + (column[6] >= 0);
+      if (q != 0 && q != 4) throw InvalidInput(where() + "an orientation needs all four columns qw,qx,qy,qz");
+      continue;
+    }
+    if (cells.size() != columns)
+      throw InvalidInput(where() + "expected " + std::to_string(columns) + " values, got " + std::to_string(cells.size()));
+    float v[7] = {0, 0, 0, 1, 0, 0, 0};
+    for (int k = 0; k < 7; ++k) {
+      if (column[k] < 0) continue;
+      const std::string_view cell = cells[std::size_t(column[k])];
+      if (!parse_finite_float(cell, v[k]))
+        throw InvalidInput(where() + kNames[k] + " is not a finite number: '" + printable(cell) + "'");
+      if (k < 3 && std::fabs(v[k]) > kMaxSegmentCoordinate)
+        throw InvalidInput(where() + kNames[k] + " is beyond the supported range (|x| <= 4e15)");
+    }
+    Eigen::Quaternionf q(v[3], v[4], v[5], v[6]);
+    const float length = q.norm();
+    if (!(length > 1e-6f) || !std::isfinite(length))
+      throw InvalidInput(where() + "the orientation qw,qx,qy,qz has no length (give a unit quaternion)");
+    ToolPose pose;
+    pose.position = Vec3(v[0], v[1], v[2]);
+    pose.orientation = Eigen::Quaternionf(q.coeffs() / length);
+    out.push_back(pose);
+  }
+  if (!header_seen) throw InvalidInput(name + ": empty poses file (expected a header with x,y,z)");
+  return out;
+}
+
+std::vector<ToolPose> read_tool_poses_csv(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a folder, not a poses file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path + ": cannot open poses file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw IoError(path + ": read error in poses file");
+  return parse_tool_poses_csv(text.str(), path);
+}
+
+} // namespace hb
