@@ -7,6 +7,7 @@
 #include "perceptible_text.h"
 #include "figure_text.h"
 #include "commands.h"
+#include "tool_options.h"
 #include "evaluation/probe_sampling.h"
 #include "evaluation/query_timing.h"
 #include "exact/exact_query.h"
@@ -32,6 +33,7 @@ struct BenchOpts {
   bool no_grid = false;
   std::string walk = "all";
   std::string route = "auto";
+  hb::cli::ToolArgs tool;
 };
 
 // Strokes: what a 1 kHz loop sees of a hand gliding over the model (consecutive probes
@@ -291,6 +293,24 @@ void run_bench(BenchOpts& o) {
   const hb::Workspace ws = o.workspace.workspace(mesh.bounds().diagonal());
   const hb::PerceptualJudge judge = o.workspace.judge();
   o.law = ws.law();
+  if (o.tool.given()) {
+    // A tool with volume: its ticks along slides, timed and judged (the point probes are not run).
+    const hb::cli::ToolRun run = hb::cli::run_tool(o.tool, scene, exact, mesh, ws, judge, true, o.rounds);
+    if (o.json) {
+      nlohmann::json j = hb::cli::tool_json(run);
+      j["box"] = o.box;
+      j["mesh"] = o.mesh;
+      j["triangles"] = mesh.triangle_count();
+      j["route"] = hb::route_name(scene.answering_route());
+      j["workspace"] = hb::workspace_json(ws, judge);
+      hb::cli::print_json(j);
+    } else {
+      std::cout << "bench " << o.box << " (" << mesh.triangle_count() << " triangles, route "
+                << hb::route_name(scene.answering_route()) << ", one core)\n  workspace   " << ws.describe() << "\n";
+      hb::cli::print_tool_run(run, std::cout);
+    }
+    return;
+  }
   const auto strokes = hb::sample_strokes(mesh, std::max<std::size_t>(1, o.samples / kStrokeSteps), kStrokeSteps,
                                           kStrokeRadius, o.probes);
   BenchResult r;
@@ -339,5 +359,6 @@ void add_bench_command(CLI::App& app) {
   cmd->add_flag("--json", opts->json, "Print JSON");
   hb::cli::add_route_option(*cmd, opts->route);
   hb::cli::add_workspace_options(*cmd, opts->workspace);
+  hb::cli::add_tool_options(*cmd, opts->tool);
   cmd->callback([opts] { run_bench(*opts); });
 }

@@ -1,6 +1,7 @@
 // hapticbox eval BOX MESH [--samples N] [--seed S] [--json] [workspace options]
 #include "cli_support.h"
 #include "commands.h"
+#include "tool_options.h"
 #include "eval_json.h"
 #include "figure_text.h"
 #include "perceptible_text.h"
@@ -10,6 +11,7 @@
 #include "haptic_box/box_file.h"
 #include "mesh/mesh_io.h"
 #include <iomanip>
+#include <optional>
 #include <iostream>
 
 void add_eval_command(CLI::App& app) {
@@ -23,6 +25,7 @@ void add_eval_command(CLI::App& app) {
     bool json = false;
     bool force = false;
     std::string route = "auto";
+    hb::cli::ToolArgs tool;
   };
   auto opts = std::make_shared<Opts>();
   hb::cli::add_model_options(*cmd, opts->model);
@@ -33,6 +36,7 @@ void add_eval_command(CLI::App& app) {
   cmd->add_flag("--json", opts->json, "Print JSON");
   cmd->add_flag("--force", opts->force, "Evaluate even when the box was baked from a different mesh (its hash differs)");
   hb::cli::add_route_option(*cmd, opts->route);
+  hb::cli::add_tool_options(*cmd, opts->tool);
   cmd->callback([opts] {
     hb::BoxScene scene = hb::load_box_file(opts->box);
     hb::cli::apply_route(scene, opts->route);
@@ -52,6 +56,12 @@ void add_eval_command(CLI::App& app) {
     nlohmann::json j = hb::eval_json(s, opts->box, opts->mesh, opts->probes.seed, scene.answering_name());
     j["workspace"] = hb::workspace_json(ws, judge);
     j["light_touch"] = hb::light_touch_json(light);
+    // A tool with volume: its net force and torque along slides, tick by tick.
+    std::optional<hb::cli::ToolRun> tool;
+    if (opts->tool.given()) {
+      tool = hb::cli::run_tool(opts->tool, scene, exact, mesh, ws, judge, false, 1);
+      j["tool"] = hb::cli::tool_json(*tool);
+    }
     if (opts->json) {
       hb::cli::print_json(j);
       return;
@@ -69,5 +79,6 @@ void add_eval_command(CLI::App& app) {
               << "  depth RMS / diag    " << hb::sig(s.depth_rms_over_diag) << "\n"
               << "  light touch, any angle (" << hb::light_touch_words() << "): " << hb::perceptible_headline(light)
               << "\n";
+    if (tool) hb::cli::print_tool_run(*tool, std::cout);
   });
 }

@@ -10,6 +10,7 @@
 #include "cli_support.h"
 #include "perceptible_text.h"
 #include "commands.h"
+#include "tool_options.h"
 #include "device/device_choice.h"
 #include "device/plane_scene.h"
 #include "device/servo_log.h"
@@ -52,6 +53,7 @@ struct ServoArgs {
   std::string csv;
   std::string law = "penalty";   // the contact law: penalty | proxy (hb::contact_law)
   std::string route = "auto";   // the box scene's route (hb::SceneRoute)
+  std::string tool;              // a tool with volume (empty: the point probe)
 };
 
 struct Scene {
@@ -226,6 +228,7 @@ void run_servo(const ServoArgs& a) {
   o.shadow_is_reference = a.render != "exact";  // the JND is taken of exact's force
   o.contact_law = hb::contact_law(a.law);  // checked by the option already
   if (opened.rate_hz > 0) o.rate_hz = opened.rate_hz;  // a replay: same dt, same safety ramps, same forces
+  if (!a.tool.empty()) o.tool = std::make_shared<const hb::ToolShape>(hb::cli::load_tool(a.tool));
 
   std::unique_ptr<hb::LogRecorder> recorder;
   // --trajectory without --record records into a temporary log beside the .vtp.
@@ -282,7 +285,13 @@ void run_servo(const ServoArgs& a) {
     j["stiffness_n_per_m"] = r.stiffness_n_per_m;
     j["stiffness_limited"] = r.stiffness_limited;
     j["workspace"] = hb::workspace_json(ws, a.workspace.judge());
-    j["contact_law"] = hb::to_string(r.contact_law);
+    j["contact_law"] = o.tool ? "tool coupling" : hb::to_string(r.contact_law);
+    if (o.tool) {
+      j["tool"] = o.tool->spec;
+      j["tool_points"] = o.tool->size();
+      j["tool_max_torque_nm"] = r.tool_max_torque_nm;
+      j["tool_max_substeps"] = r.tool_max_substeps;
+    }
     if (scene.box) j["route"] = hb::route_name(scene.box->stroke_route());  // a probe with its query state
     if (r.contact_law == hb::ContactLaw::proxy) {
       j["proxy"] = proxy_json(r.proxy);
@@ -322,7 +331,11 @@ void run_servo(const ServoArgs& a) {
     std::printf("  workspace: %s\n", ws.describe().c_str());
     std::printf("  stiffness %.1f N/m%s\n", r.stiffness_n_per_m,
                 r.stiffness_limited ? " (limited to the device's maximum)" : "");
-    if (r.contact_law == hb::ContactLaw::proxy) {
+    if (o.tool) {
+      std::printf("  tool: %s; its virtual coupling renders the force (largest torque on the simulated tool %.3g N m, "
+                  "not rendered by a 3-DOF device; up to %d sub-steps a tick)\n",
+                  hb::describe_tool(*o.tool).c_str(), r.tool_max_torque_nm, r.tool_max_substeps);
+    } else if (r.contact_law == hb::ContactLaw::proxy) {
       std::printf("  contact law: proxy (god-object kept by the loop%s)\n", exact ? ", one for each answer" : "");
       const bool box_drives = a.render != "exact";
       print_proxy(!exact ? "proxy" : box_drives ? "box proxy" : "exact proxy", r.proxy);
@@ -387,6 +400,9 @@ void add_servo_command(CLI::App& app) {
       ->capture_default_str();
   hb::cli::add_route_option(*cmd, a->route);
   auto* record = cmd->get_option("--record");
+  cmd->add_option("--tool", a->tool,
+                  "A tool with volume at the device (sphere,radius-mm=R,points=N | capsule,radius-mm=R,length-mm=L,"
+                  "points=N | mesh=FILE,points=N): its centre follows the device, a virtual coupling renders it");
   cmd->add_option("--csv", a->csv, "Also write the recorded log as CSV (one row a tick; box_* and exact_* "
                                    "columns with --exact)")
       ->needs(record);

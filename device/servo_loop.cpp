@@ -157,6 +157,12 @@ void ServoLoop::start() {
     proxy_.emplace(scene_, options_.proxy);
     if (shadow_) shadow_proxy_.emplace(*shadow_, options_.proxy);
   }
+  coupling_.reset();
+  shadow_coupling_.reset();
+  if (options_.tool) {
+    coupling_.emplace(scene_, *options_.tool, options_.law.metres_per_unit, options_.coupling);
+    if (shadow_) shadow_coupling_.emplace(*shadow_, *options_.tool, options_.law.metres_per_unit, options_.coupling);
+  }
   safety_ = SafetyFilter(spec, options_.safety, 1.0 / options_.rate_hz);
   guard_ = EnergyGuard(options_.energy_guard, 1.0 / options_.rate_hz);
   for (auto* h : {&period_hist_, &period_error_hist_, &compute_hist_, &query_hist_, &shadow_query_hist_,
@@ -204,11 +210,31 @@ void ServoLoop::request_realtime() noexcept {
   }
 }
 
+Contact ServoLoop::couple(ToolCoupling& coupling, const Segment& seg, const ForceLaw& law) noexcept {
+  ToolPose device;
+  device.position = seg.end;
+  const ToolCouplingStep& s = coupling.step(device, law);
+  Contact c;
+  c.contact = s.touching;
+  c.force = s.force;
+  const float f = s.force.norm();
+  c.normal = f > 0.f ? Vec3(s.force / f) : Vec3(Vec3::Zero());
+  c.point = s.tool.position;
+  c.depth = (s.tool.position - seg.end).norm();
+  if (&coupling == &*coupling_) {
+    report_.tool_max_torque_nm = std::max(report_.tool_max_torque_nm, double(s.torque.norm()));
+    report_.tool_max_substeps = std::max(report_.tool_max_substeps, s.substeps);
+  }
+  return c;
+}
+
 std::int64_t ServoLoop::compare_shadow(const Segment& seg, const ForceLaw& law, const Contact& contact,
                                        Contact& other) noexcept {
   ShadowReport& sh = report_.shadow;
   const std::int64_t s0 = now_ns();
-  other = shadow_proxy_ ? shadow_proxy_->step(seg, law) : shadow_->query(seg, law);
+  other = shadow_coupling_ ? couple(*shadow_coupling_, seg, law)
+          : shadow_proxy_ ? shadow_proxy_->step(seg, law)
+                          : shadow_->query(seg, law);
   const std::int64_t shadow_ns = now_ns() - s0;
   shadow_query_hist_.add(shadow_ns);
   if (contact.contact && other.contact) ++sh.both_contact;
@@ -415,7 +441,7 @@ void ServoLoop::run() noexcept {
     before_last = last_segment;
     last_segment = seg;
     ++queried;
-    const Contact contact = proxy_ ? proxy_->step(seg, law) : scene_.query(seg, law);
+    const Contact contact = coupling_ ? couple(*coupling_, seg, law) : proxy_ ? proxy_->step(seg, law) : scene_.query(seg, law);
     const std::int64_t q1 = now_ns();
     SafetyInput in;
     in.desired_force_n = guard_.apply(contact.force, state.position_m);

@@ -10,6 +10,8 @@
 #include "contact/contact.h"
 #include "contact/god_object.h"
 #include "contact/perceptible.h"
+#include "tool/tool_coupling.h"
+#include <memory>
 #include <atomic>
 #include <optional>
 #include <string>
@@ -75,6 +77,11 @@ struct ServoOptions {
   PerceptualThresholds perceptual;
   bool shadow_is_reference = true;
   GodObjectOptions proxy;           ///< with ContactLaw::proxy (clearance > 0, max_queries >= 1).
+  /// A tool with volume (`servo --tool`): the mapped device position is the tool's centre and
+  /// the force is its virtual coupling's (ToolCoupling; a second one over the shadow), in place
+  /// of the probe segment and the contact law. nullptr: the point probe.
+  std::shared_ptr<const ToolShape> tool;
+  ToolCouplingOptions coupling;
 };
 
 /// Latest servo state, published every tick (trivially copyable for the seqlock).
@@ -155,6 +162,10 @@ struct ServoReport {
   ContactLaw contact_law = ContactLaw::penalty;  ///< the law the run used.
   /// With ContactLaw::proxy: what the driving answer's proxy and the shadow's did (zero else).
   GodObjectStats proxy, shadow_proxy;
+  /// With a tool: the largest torque its contact put on the simulated tool (shown and logged,
+  /// not rendered by a 3-DOF device), N m, and the most sub-steps a tick took.
+  double tool_max_torque_nm = 0;
+  int tool_max_substeps = 0;
 };
 
 /// Runs the servo loop on its own thread. The device and the scene must outlive the loop.
@@ -216,6 +227,10 @@ private:
   // ContactLaw::proxy: the driving answer's proxy and the shadow's, made afresh by start()
   // (in place: the tick allocates nothing).
   std::optional<GodObject> proxy_, shadow_proxy_;
+  std::optional<ToolCoupling> coupling_, shadow_coupling_;
+  // The tick's answer through the tool's coupling, as a contact (force, its direction, the
+  // simulated tool's centre as the point).
+  Contact couple(ToolCoupling& coupling, const Segment& seg, const ForceLaw& law) noexcept;
   SafetyFilter safety_;
   EnergyGuard guard_;
   TimingHistogram period_hist_, period_error_hist_, compute_hist_, query_hist_;

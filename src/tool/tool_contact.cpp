@@ -58,6 +58,8 @@ ToolProbe::ToolProbe(const ToolShape& shape, double metres_per_unit)
   normal_.reserve(points_.size());
   lambda_.reserve(points_.size());
   order_.reserve(points_.size());
+  lift_.assign(points_.size(), 0.f);
+  sag_ = float(shape.sag_m / metres_per_unit);
 }
 
 void ToolProbe::segments(const ToolPose& pose, Segment* out) const noexcept {
@@ -77,12 +79,27 @@ ToolAnswer ToolProbe::answer(const ContactQuery& query, const ToolPose& pose, co
   }
   segments(pose, segments_.data());
   query.query_many(segments_.data(), segments_.size(), law, contacts_.data());
-  return resolve_tool_contacts(contacts_.data(), contacts_.size(), pose.position, law, depth_, normal_, lambda_, order_);
+  const float* lift = nullptr;
+  if (sag_ > 0.f) {
+    // The tool's true surface beyond each touching point, along the contact's -n (tool frame).
+    const Eigen::Quaternionf to_tool = pose.orientation.normalized().conjugate();
+    const float to_model = float(1.0 / metres_per_unit_);
+    for (std::size_t i = 0; i < contacts_.size(); ++i) {
+      const Contact& c = contacts_[i];
+      if (!c.contact || !(c.force.squaredNorm() > 0.f)) continue;
+      const Vec3 u = to_tool * Vec3(-c.force.normalized());
+      const float gap = float(tool_support(shape_, u)) * to_model - u.dot(points_[i]);
+      lift_[i] = std::min(sag_, std::max(0.f, gap));
+    }
+    lift = lift_.data();
+  }
+  return resolve_tool_contacts(contacts_.data(), contacts_.size(), pose.position, law, lift, depth_, normal_, lambda_,
+                               order_);
 }
 
 ToolAnswer resolve_tool_contacts(const Contact* contacts, std::size_t count, const Vec3& centre, const ForceLaw& law,
-                                 std::vector<float>& depth, std::vector<Vec3>& normal, std::vector<float>& lambda,
-                                 std::vector<std::uint32_t>& order) {
+                                 const float* lift, std::vector<float>& depth, std::vector<Vec3>& normal,
+                                 std::vector<float>& lambda, std::vector<std::uint32_t>& order) {
   ToolAnswer out;
   const double k_m = double(law.stiffness_n_per_m) * double(law.metres_per_unit);  // N per model unit
   depth.clear();
@@ -95,7 +112,7 @@ ToolAnswer resolve_tool_contacts(const Contact* contacts, std::size_t count, con
     ++out.contacts;
     const float f = c.force.norm();
     if (!(f > 0.f) || !std::isfinite(f)) continue;
-    const float p = float(double(f) / k_m);
+    const float p = float(double(f) / k_m) + (lift ? lift[i] : 0.f);
     const Vec3 n = c.force / f;
     order.push_back(std::uint32_t(depth.size()));
     depth.push_back(p);

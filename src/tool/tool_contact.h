@@ -4,7 +4,9 @@
 // net force and torque (docs/tools.md):
 //  - the force is the stiffness times the smallest translation t that takes every touching
 //    point out of its surface, n_i . t >= p_i (p_i the point's depth along its normal n_i, as
-//    the force law measures it). A sphere pressed d into a plane feels k d (its deepest point's
+//    the force law measures it, plus how far the tool's true surface reaches past the point
+//    along -n_i, at most the shell's sag: on a plane every touching point then gives the
+//    tool's own depth). A sphere pressed d into a plane feels k d (its deepest point's
 //    depth) whatever the point count, not k times the points touching; a tool pinched between
 //    opposite walls (no such t) takes the least-squares t over its touching points, so a
 //    centred sphere in a channel feels no lateral force;
@@ -73,13 +75,19 @@ private:
   std::vector<float> depth_, lambda_;
   std::vector<Vec3> normal_;
   std::vector<std::uint32_t> order_;
+  std::vector<float> lift_;
+  float sag_ = 0.f;  // model units
 };
 
 /// Resolves point contacts (contacts[i] the answer to the segment of the tool's point i) into
-/// the tool's net force and torque about `centre` (model units), as above; `depth`, `normal`,
-/// `lambda`, `order` are scratch (resized). noexcept apart from the scratch's growth.
+/// the tool's net force and torque about `centre` (model units), as above. `lift`, when not
+/// null, adds lift[i] (model units) to point i's depth: how far the tool's true surface reaches
+/// beyond the point towards the surface (ToolProbe: at most the shell's sag, so that the
+/// deepest point stands for the tool's deepest surface, whatever the point count).
+/// `depth`, `normal`, `lambda`, `order` are scratch (resized). noexcept apart from the
+/// scratch's growth.
 ToolAnswer resolve_tool_contacts(const Contact* contacts, std::size_t count, const Vec3& centre, const ForceLaw& law,
-                                 std::vector<float>& depth, std::vector<Vec3>& normal, std::vector<float>& lambda,
-                                 std::vector<std::uint32_t>& order);
+                                 const float* lift, std::vector<float>& depth, std::vector<Vec3>& normal,
+                                 std::vector<float>& lambda, std::vector<std::uint32_t>& order);
 
 } // namespace hb

@@ -55,7 +55,35 @@ double bounding_radius(const std::vector<Vec3>& points) {
   return r;
 }
 
+// The sag (ToolShape::sag_m): the largest shortfall of the points' projection against the
+// true support, over directions spread evenly (fewer for large shells), a quarter added for
+// the directions between them.
+double shell_sag(const ToolShape& t) {
+  const std::size_t directions = std::max<std::size_t>(64, std::min<std::size_t>(2000, 20000000 / std::max<std::size_t>(1, t.size())));
+  double sag = 0.0;
+  for (std::size_t k = 0; k < directions; ++k) {
+    const Vec3 u = fibonacci_direction(k, directions, false);
+    // A direction between the lattice's own: turn it by a fixed irrational angle.
+    const Vec3 v = Eigen::AngleAxisf(0.7f, Vec3(0.3f, 0.5f, 0.8f).normalized()) * u;
+    float best = -1e30f;
+    for (const Vec3& p : t.points) best = std::max(best, v.dot(p));
+    sag = std::max(sag, tool_support(t, v) - double(best));
+  }
+  return 1.25 * sag;
+}
+
 } // namespace
+
+double tool_support(const ToolShape& tool, const Vec3& u) {
+  switch (tool.kind) {
+  case ToolKind::sphere: return tool.size_m;
+  case ToolKind::capsule: return tool.size_m + (tool.radius_m - tool.size_m) * std::fabs(double(u.z()));
+  default: break;
+  }
+  double best = -1e30;
+  for (const Vec3& p : tool.points) best = std::max(best, double(u.dot(p)));
+  return best;
+}
 
 ToolShape make_point_tool(double stylus_m) {
   check_size(stylus_m, "point tool", "stylus");
@@ -85,6 +113,7 @@ ToolShape make_sphere_tool(double radius_m, std::size_t points) {
   t.radius_m = radius_m;
   t.size_m = radius_m;
   t.spec = "sphere,radius-mm=" + spec_format(radius_m * 1e3) + ",points=" + std::to_string(points);
+  t.sag_m = shell_sag(t);
   return t;
 }
 
@@ -130,6 +159,7 @@ ToolShape make_capsule_tool(double radius_m, double length_m, std::size_t points
   t.size_m = radius_m;
   t.spec = "capsule,radius-mm=" + spec_format(radius_m * 1e3) + ",length-mm=" + spec_format(length_m * 1e3) +
            ",points=" + std::to_string(points);
+  t.sag_m = shell_sag(t);
   return t;
 }
 

@@ -28,6 +28,10 @@ struct ToolShape {
   double radius_m = 0.0;      ///< bounding radius about the origin, m.
   double size_m = 0.0;        ///< the tool's own radius (sphere, capsule) or margin (mesh), m.
   std::string spec;           ///< the spec it was made from (ToolSpec::text()).
+  /// How far the shell's points fall short of the tool's surface at worst, along any direction
+  /// (the support of the true shape minus the points' largest projection), m: the sampling's
+  /// sag. 0 for a point tool and a mesh tool (whose shell is its own support).
+  double sag_m = 0.0;
 
   std::size_t size() const noexcept { return points.size(); }
 };
@@ -55,6 +59,11 @@ ToolShape make_capsule_tool(double radius_m, double length_m, std::size_t points
 /// has no area, or the sizes are out of range.
 ToolShape make_mesh_tool(const TriangleMesh& mesh_mm, std::size_t points, double margin_m = 0.0,
                          bool centre_on_bounds = true);
+
+/// The support of the tool's true shape along unit `u` (tool frame): max over the surface of
+/// u . x, m. Sphere and capsule analytic; for a point or mesh tool, the points' largest
+/// projection.
+double tool_support(const ToolShape& tool, const Vec3& u);
 
 /// One line: "sphere, radius 2 mm, 1000 points".
 std::string describe_tool(const ToolShape& tool);

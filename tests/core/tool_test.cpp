@@ -4,6 +4,7 @@
 #include "exact/exact_query.h"
 #include "mesh/generators.h"
 #include "tool/tool_contact.h"
+#include "tool/tool_coupling.h"
 #include "tool/tool_spec.h"
 #include <gtest/gtest.h>
 #include <cmath>
@@ -224,4 +225,56 @@ TEST(ExactQueryTest, ABatchOfRaysAnswersAsEachRayAlone) {
     contacts += one.contact;
   }
   EXPECT_GT(contacts, 50u);
+}
+
+TEST(ToolCouplingTest, ASpherePushedThroughAThinPlateAtHalfAMetreASecondNeverPopsThrough) {
+  // A 1 mm plate; the device goes from 5 mm above it to 10 mm below at 0.5 m/s (0.5 mm a tick).
+  TriangleMesh plate = make_cube(Vec3(50.f, 50.f, 0.5f), 8);
+  plate.compute_vertex_normals();
+  const ExactQuery exact(plate);
+  ToolCoupling coupling(exact, make_sphere_tool(0.002, 1000), kMetresPerUnit);
+  ToolPose device;
+  float last_force = 0.f;
+  for (int tick = 0; tick <= 34; ++tick) {
+    device.position = Vec3(0.f, 0.f, 7.5f - 0.5f * float(tick));
+    const ToolCouplingStep& s = coupling.step(device, law());
+    // The simulated tool stays on the plate's top side, never more than a sub-step in.
+    EXPECT_GE(s.tool.position.z(), 0.5f + 2.f - 1.01f) << tick;
+    const float depth = std::max(0.f, 2.5f - device.position.z());
+    EXPECT_NEAR(s.force.z(), kStiffness * depth * 1e-3f, 0.02f * kStiffness * depth * 1e-3f + 1e-3f) << tick;
+    EXPECT_GE(s.force.z(), last_force - 1e-4f) << tick;  // pushing harder never lets go
+    last_force = s.force.z();
+  }
+  EXPECT_GT(last_force, 14.f);  // 10 mm past the plate's underside: the spring says so
+}
+
+TEST(ToolCouplingTest, Resting10SecondsOnASurfaceHoldsOneSteadyForce) {
+  const TriangleMesh slab = plane_slab();
+  const ExactQuery exact(slab);
+  ToolCoupling coupling(exact, make_sphere_tool(0.002, 1000), kMetresPerUnit);
+  ToolPose device;
+  device.position = Vec3(1.f, 2.f, 1.5f);  // 0.5 mm in
+  float lo = 1e9f, hi = -1e9f;
+  for (int tick = 0; tick < 10000; ++tick) {
+    const ToolCouplingStep& s = coupling.step(device, law());
+    if (tick < 5) continue;
+    lo = std::min(lo, s.force.z());
+    hi = std::max(hi, s.force.z());
+    EXPECT_LT(std::hypot(s.force.x(), s.force.y()), 1e-4f);
+  }
+  EXPECT_NEAR(lo, 0.75f, 0.015f);
+  EXPECT_LT(hi - lo, 1e-4f);  // no buzz, no drift
+}
+
+TEST(ToolCouplingTest, AToolAwayFromTheSurfaceFeelsNoForce) {
+  const TriangleMesh slab = plane_slab();
+  const ExactQuery exact(slab);
+  ToolCoupling coupling(exact, make_capsule_tool(0.001, 0.01, 1000), kMetresPerUnit);
+  ToolPose device;
+  for (int tick = 0; tick < 100; ++tick) {
+    device.position = Vec3(0.1f * float(tick), 0.f, 8.f);
+    const ToolCouplingStep& s = coupling.step(device, law());
+    EXPECT_EQ(s.force, Vec3::Zero());
+    EXPECT_FALSE(s.touching);
+  }
 }
