@@ -23,6 +23,7 @@ PACKAGES=(
   clang libclang-rt-dev  # sanitizer build and libFuzzer targets (scripts/build_sanitized.sh)
   libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev libocct-foundation-dev
   libassimp-dev zlib1g-dev
+  libopenvdb-dev libboost-iostreams-dev  # peers/: the distance field peer (FindOpenVDB asks for Boost iostreams, which libopenvdb-dev does not bring)
   python3-nibabel python3-pydicom
   universal-ctags  # scripts/long_functions.sh (./test.sh: no function over 150 lines, no file over 600)
 )
