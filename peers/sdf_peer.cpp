@@ -32,10 +32,26 @@ namespace {
 
 using Accessor = openvdb::FloatGrid::ConstUnsafeAccessor;
 
-/// Bytes of a narrow band of half width `band` voxels per unit of area at voxel 1, measured
-/// on spheres and the armadillo (leaf nodes of 2 KB over roughly 1 + 2 band / 8 layers of
-/// 8-voxel leaves). Only the first guess of the search depends on it.
-double bytes_per_area(int band) { return 2200.0 / 64.0 * (1.0 + 2.0 * band / 8.0) * 1.25; }
+/// The band's half widths in voxels, outside and inside the surface.
+struct Band {
+  int outside = 3;
+  int inside = 3;
+};
+
+/// The band at `voxel`: inside, wide enough that a tip `inside_depth` deep still has two
+/// voxels of field beyond it (its gradient reads one; one more keeps it off the band's edge).
+Band band_at(const SdfPeerOptions& o, double voxel) {
+  const double needed = std::ceil(o.inside_depth / voxel) + 2;
+  return Band{o.band_voxels, int(std::min(1e6, std::max(double(o.band_voxels), needed)))};
+}
+
+/// Bytes of a band per unit of area at `voxel`, measured on spheres and the armadillo (leaf
+/// nodes of 2 KB over roughly 1 + (outside + inside) / 8 layers of 8-voxel leaves). Only the
+/// first guess of the search depends on it.
+double bytes_per_area(const SdfPeerOptions& o, double voxel) {
+  const Band b = band_at(o, voxel);
+  return 2200.0 / 64.0 * (1.0 + (b.outside + b.inside) / 8.0) * 1.25 / (voxel * voxel);
+}
 
 /// Largest grid the options may ask for (an explicit voxel far too small for the mesh).
 constexpr double kMaxEstimatedBytes = 64.0 * 1024 * 1024 * 1024;
@@ -47,6 +63,14 @@ struct MeshArrays {
   std::vector<openvdb::Vec3I> triangles;
   double area = 0;
   double diagonal = 0;
+  Vec3 lowest{Vec3::Zero()};  // the bounds' minimum corner
+};
+
+/// A grid and where its index space lies: index = (world - origin) / voxel.
+struct Built {
+  openvdb::FloatGrid::Ptr grid;
+  double voxel = 0;
+  Vec3 origin{Vec3::Zero()};
 };
 
 MeshArrays mesh_arrays(const TriangleMesh& mesh) {
@@ -72,7 +96,9 @@ MeshArrays mesh_arrays(const TriangleMesh& mesh) {
     a.triangles.emplace_back(t[0], t[1], t[2]);
   }
   a.area = mesh.area();
-  a.diagonal = mesh.bounds().diagonal();
+  const Bounds bounds = mesh.bounds();
+  a.diagonal = bounds.diagonal();
+  a.lowest = bounds.min;
   return a;
 }
 
@@ -83,10 +109,12 @@ void check_options(const SdfPeerOptions& o, const MeshArrays& mesh) {
     throw InvalidInput("SdfPeer: neither a voxel nor memory_bytes given: one of them sizes the field");
   if (o.band_voxels < 1 || o.band_voxels > 64)
     throw InvalidInput("SdfPeer: band_voxels " + std::to_string(o.band_voxels) + " outside [1, 64]");
+  if (!std::isfinite(o.inside_depth) || o.inside_depth < 0)
+    throw InvalidInput("SdfPeer: inside_depth " + std::to_string(o.inside_depth) + " is negative or not finite");
   if (!(mesh.area > 0) || !(mesh.diagonal > 0))
     throw InvalidInput("SdfPeer: the mesh has no area (all its triangles degenerate)");
   if (o.voxel > 0) {
-    const double estimate = bytes_per_area(o.band_voxels) * mesh.area / (o.voxel * o.voxel);
+    const double estimate = bytes_per_area(o, o.voxel) * mesh.area;
     if (estimate > kMaxEstimatedBytes || mesh.diagonal / o.voxel > kMaxIndex)
       throw InvalidInput("SdfPeer: voxel " + std::to_string(o.voxel) + " is too small for a mesh of area " +
                          std::to_string(mesh.area) + ": the grid would take about " +
@@ -94,10 +122,22 @@ void check_options(const SdfPeerOptions& o, const MeshArrays& mesh) {
   }
 }
 
-openvdb::FloatGrid::Ptr build_grid(const MeshArrays& mesh, double voxel, int band) {
+/// The level set at `voxel`. Its index space starts just below the mesh's bounds: a tree's
+/// top internal nodes (4096 voxels a side, some 270 KB each whatever they hold) would
+/// otherwise split a mesh around the world's origin eight ways, a floor of 2 MB.
+Built build_grid(const MeshArrays& mesh, double voxel, const Band& band) {
+  Built b;
+  b.voxel = voxel;
+  b.origin = mesh.lowest - Vec3::Constant(float((band.outside + 2) * voxel));
   const openvdb::math::Transform::Ptr xform = openvdb::math::Transform::createLinearTransform(voxel);
+  xform->postTranslate(openvdb::Vec3d(b.origin.x(), b.origin.y(), b.origin.z()));
   try {
-    return openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xform, mesh.points, mesh.triangles, float(band));
+    b.grid = band.inside == band.outside
+                 ? openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xform, mesh.points, mesh.triangles,
+                                                                      float(band.outside))
+                 : openvdb::tools::meshToSignedDistanceField<openvdb::FloatGrid>(
+                       *xform, mesh.points, mesh.triangles, {}, float(band.outside), float(band.inside));
+    return b;
   } catch (const std::exception& e) {
     throw LibraryError(std::string("SdfPeer: OpenVDB's meshToLevelSet failed at voxel ") + std::to_string(voxel) +
                        ": " + e.what());
@@ -107,22 +147,28 @@ openvdb::FloatGrid::Ptr build_grid(const MeshArrays& mesh, double voxel, int ban
 double log_error(std::size_t bytes, std::size_t target) { return std::abs(std::log(double(bytes) / double(target))); }
 
 /// The voxel search of step 2: the grid closest to `target` bytes in at most three builds.
-openvdb::FloatGrid::Ptr build_at_memory(const MeshArrays& mesh, std::size_t target, int band, double& voxel,
-                                        int& builds) {
+Built build_at_memory(const MeshArrays& mesh, const SdfPeerOptions& o, int& builds) {
   constexpr double kTolerance = 0.1;
+  const std::size_t target = o.memory_bytes;
   const double largest = mesh.diagonal / 8;  // coarser than this the field is no longer the shape
-  const double smallest = std::max(mesh.diagonal / kMaxIndex, std::sqrt(bytes_per_area(band) * mesh.area / kMaxEstimatedBytes));
+  // The estimate's voxel for `bytes`: the fixed point of v = sqrt(c(v) A / bytes) (c grows
+  // as v shrinks when inside_depth widens the band), from above.
+  auto estimate = [&](double bytes) {
+    double v = largest;
+    for (int i = 0; i < 30; ++i) v = std::min(largest, std::sqrt(bytes_per_area(o, v) * v * v * mesh.area / bytes));
+    return v;
+  };
+  const double smallest = std::max(double(mesh.diagonal) / kMaxIndex, estimate(kMaxEstimatedBytes));
   auto clamp_voxel = [&](double v) { return std::min(largest, std::max(smallest, v)); };
-  double v = clamp_voxel(std::sqrt(bytes_per_area(band) * mesh.area / double(target)));
-  openvdb::FloatGrid::Ptr best;
-  double best_voxel = v, previous_voxel = 0, previous_bytes = 0;
+  double v = clamp_voxel(estimate(double(target)));
+  Built best;
+  double previous_voxel = 0, previous_bytes = 0;
   std::size_t best_bytes = 0;
   for (builds = 1; builds <= 3; ++builds) {
-    openvdb::FloatGrid::Ptr grid = build_grid(mesh, v, band);
-    const std::size_t bytes = grid->memUsage();
-    if (!best || log_error(bytes, target) < log_error(best_bytes, target)) {
-      best = std::move(grid);
-      best_voxel = v;
+    Built built = build_grid(mesh, v, band_at(o, v));
+    const std::size_t bytes = built.grid->memUsage();
+    if (!best.grid || log_error(bytes, target) < log_error(best_bytes, target)) {
+      best = std::move(built);
       best_bytes = bytes;
     }
     if (std::abs(double(bytes) / double(target) - 1) <= kTolerance || builds == 3) break;
@@ -137,7 +183,6 @@ openvdb::FloatGrid::Ptr build_at_memory(const MeshArrays& mesh, std::size_t targ
     v = next;
   }
   builds = std::min(builds, 3);
-  voxel = best_voxel;
   return best;
 }
 
@@ -149,18 +194,52 @@ struct Cell {
   float v[2][2][2];  // [x][y][z] offsets from origin
 };
 
-/// False when `q` (index space) is not finite or beyond the grid's coordinates.
-bool cell_at(const Accessor& acc, const Vec3& q, Cell& c) noexcept {
+/// The cell of `q` (index space) and its weights; false when `q` is not finite or beyond the
+/// grid's coordinates.
+bool locate(const Vec3& q, Cell& c) noexcept {
   if (!q.allFinite() || q.cwiseAbs().maxCoeff() > kMaxIndex) return false;
   const float x0 = std::floor(q.x()), y0 = std::floor(q.y()), z0 = std::floor(q.z());
   c.origin = openvdb::Coord(int(x0), int(y0), int(z0));
   c.fx = q.x() - x0;
   c.fy = q.y() - y0;
   c.fz = q.z() - z0;
+  return true;
+}
+
+/// Reads the voxels within one voxel of a cell (the 4 x 4 x 4 around it) straight from their
+/// leaf nodes, each leaf (at most 3 a side) found once through the accessor, or the tile
+/// that stands where there is no leaf (beyond the band). Read one by one through the accessor,
+/// a cell across a leaf's face makes it climb the tree at every other voxel.
+class StencilReader {
+public:
+  StencilReader(const Accessor& acc, const openvdb::Coord& origin) noexcept
+      : acc_(acc), base_(origin.x() & ~7, origin.y() & ~7, origin.z() & ~7) {}
+  float operator()(const openvdb::Coord& c) noexcept {
+    // Offsets from the cell's leaf are in [-1, 10]: leaf -1, 0 or +1 along each axis.
+    const int k = ((c.x() - base_.x() + 8) >> 3) * 9 + ((c.y() - base_.y() + 8) >> 3) * 3 + ((c.z() - base_.z() + 8) >> 3);
+    if (!(probed_ & (1u << k))) {
+      leaves_[k] = acc_.probeConstLeaf(c);
+      // No leaf: a tile of an upper node covers the leaf's whole place with one value.
+      if (!leaves_[k]) tiles_[k] = acc_.getValue(c);
+      probed_ |= 1u << k;
+    }
+    return leaves_[k] ? leaves_[k]->getValue(c) : tiles_[k];
+  }
+
+private:
+  using Leaf = openvdb::FloatGrid::TreeType::LeafNodeType;
+  const Accessor& acc_;
+  openvdb::Coord base_;
+  const Leaf* leaves_[27];
+  float tiles_[27];
+  std::uint32_t probed_ = 0;  // bit k: leaves_[k] looked up
+};
+
+/// Reads the cell's corners.
+void read_corners(StencilReader& read, Cell& c) noexcept {
   for (int a = 0; a < 2; ++a)
     for (int b = 0; b < 2; ++b)
-      for (int d = 0; d < 2; ++d) c.v[a][b][d] = acc.getValue(c.origin.offsetBy(a, b, d));
-  return true;
+      for (int d = 0; d < 2; ++d) c.v[a][b][d] = read(c.origin.offsetBy(a, b, d));
 }
 
 /// Trilinear interpolation of corner values u[x][y][z] with the cell's weights.
@@ -176,16 +255,16 @@ float trilinear(const Cell& c, const float (&u)[2][2][2]) noexcept {
 
 /// The gradient at the cell's point (index units): each corner's central difference, the
 /// neighbours one voxel outside the cell read on demand, interpolated trilinearly.
-Vec3 gradient(const Accessor& acc, const Cell& c) noexcept {
+Vec3 gradient(StencilReader& read, const Cell& c) noexcept {
   float gx[2][2][2], gy[2][2][2], gz[2][2][2];
   for (int a = 0; a < 2; ++a)
     for (int b = 0; b < 2; ++b)
       for (int d = 0; d < 2; ++d) {
         // Along each axis, the corner's neighbour inside the cell is known; the other lies
         // one voxel outside it (offset -1 for the low corner, +2 for the high one).
-        const float outside_x = acc.getValue(c.origin.offsetBy(a == 0 ? -1 : 2, b, d));
-        const float outside_y = acc.getValue(c.origin.offsetBy(a, b == 0 ? -1 : 2, d));
-        const float outside_z = acc.getValue(c.origin.offsetBy(a, b, d == 0 ? -1 : 2));
+        const float outside_x = read(c.origin.offsetBy(a == 0 ? -1 : 2, b, d));
+        const float outside_y = read(c.origin.offsetBy(a, b == 0 ? -1 : 2, d));
+        const float outside_z = read(c.origin.offsetBy(a, b, d == 0 ? -1 : 2));
         gx[a][b][d] = a == 0 ? c.v[1][b][d] - outside_x : outside_x - c.v[0][b][d];
         gy[a][b][d] = b == 0 ? c.v[a][1][d] - outside_y : outside_y - c.v[a][0][d];
         gz[a][b][d] = d == 0 ? c.v[a][b][1] - outside_z : outside_z - c.v[a][b][0];
@@ -193,53 +272,27 @@ Vec3 gradient(const Accessor& acc, const Cell& c) noexcept {
   return Vec3(trilinear(c, gx), trilinear(c, gy), trilinear(c, gz)) * 0.5f;
 }
 
-} // namespace
-
-SdfPeer::SdfPeer(const TriangleMesh& mesh, const SdfPeerOptions& options) : band_voxels_(options.band_voxels) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const MeshArrays arrays = mesh_arrays(mesh);
-  check_options(options, arrays);
-  openvdb::initialize();  // idempotent and thread-safe; registers the grid types
-  grid_ = std::make_unique<Grid>();
-  if (options.voxel > 0) {
-    voxel_ = options.voxel;
-    grid_->grid = build_grid(arrays, voxel_, band_voxels_);
-    builds_ = 1;
-  } else {
-    grid_->grid = build_at_memory(arrays, options.memory_bytes, band_voxels_, voxel_, builds_);
-  }
-  inverse_voxel_ = float(1.0 / voxel_);
-  grid_->background = grid_->grid->background();
-  memory_bytes_ = grid_->grid->memUsage();
-  build_seconds_ = seconds_since(t0);
-}
-
-SdfPeer::~SdfPeer() = default;
-
-float SdfPeer::distance(const Vec3& p) const noexcept {
-  const Accessor acc = grid_->grid->getConstUnsafeAccessor();
-  Cell c;
-  return cell_at(acc, p * inverse_voxel_, c) ? trilinear(c, c.v) : grid_->background;
-}
-
-bool SdfPeer::within_reach(const Vec3& centre, float radius) const noexcept {
-  return !(distance(centre) > radius + float(voxel_));
-}
-
-Contact SdfPeer::query(const Segment& segment, const ForceLaw& law) const noexcept {
+/// The contact of step 3 (sdf_peer.h): the field read through `acc`, index = (world -
+/// origin) * inverse_voxel.
+Contact answer(const Accessor& acc, const Vec3& origin, float inverse_voxel, const Segment& segment,
+               const ForceLaw& law) noexcept {
   Contact contact;
   const Vec3 delta = segment.end - segment.start;
   const float length = delta.norm();
   if (!(length > 0.f) || !std::isfinite(length)) return contact;
-  const Accessor acc = grid_->grid->getConstUnsafeAccessor();
   Cell tip;
-  if (!cell_at(acc, segment.end * inverse_voxel_, tip)) return contact;
+  if (!locate((segment.end - origin) * inverse_voxel, tip)) return contact;
+  StencilReader read_tip(acc, tip.origin);
+  read_corners(read_tip, tip);
   const float p = -trilinear(tip, tip.v);
   if (!(p > 0.f)) return contact;  // the tip outside (or on) the surface
   Cell handle;
-  if (cell_at(acc, segment.start * inverse_voxel_, handle) && trilinear(handle, handle.v) < 0.f)
-    return contact;  // the handle inside: not a contact by the product's definition
-  const Vec3 g = gradient(acc, tip);
+  if (locate((segment.start - origin) * inverse_voxel, handle)) {
+    StencilReader read_handle(acc, handle.origin);
+    read_corners(read_handle, handle);
+    if (trilinear(handle, handle.v) < 0.f) return contact;  // the handle inside: no contact by definition
+  }
+  const Vec3 g = gradient(read_tip, tip);
   const float g_norm = g.norm();
   if (!(g_norm > 1e-6f) || !std::isfinite(g_norm)) return contact;  // deeper than the band: flat
   const Vec3 n = g / g_norm;
@@ -253,6 +306,55 @@ Contact SdfPeer::query(const Segment& segment, const ForceLaw& law) const noexce
   else
     apply_force_law(contact, law);
   return contact;
+}
+
+} // namespace
+
+SdfPeer::SdfPeer(const TriangleMesh& mesh, const SdfPeerOptions& options) : band_voxels_(options.band_voxels) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const MeshArrays arrays = mesh_arrays(mesh);
+  check_options(options, arrays);
+  openvdb::initialize();  // idempotent and thread-safe; registers the grid types
+  builds_ = 1;
+  Built built = options.voxel > 0 ? build_grid(arrays, options.voxel, band_at(options, options.voxel))
+                                  : build_at_memory(arrays, options, builds_);
+  grid_ = std::make_unique<Grid>();
+  grid_->grid = std::move(built.grid);
+  voxel_ = built.voxel;
+  inside_voxels_ = band_at(options, voxel_).inside;
+  origin_ = built.origin;
+  inverse_voxel_ = float(1.0 / voxel_);
+  grid_->background = grid_->grid->background();
+  memory_bytes_ = grid_->grid->memUsage();
+  build_seconds_ = seconds_since(t0);
+}
+
+SdfPeer::~SdfPeer() = default;
+
+float SdfPeer::distance(const Vec3& p) const noexcept {
+  const Accessor acc = grid_->grid->getConstUnsafeAccessor();
+  Cell c;
+  if (!locate((p - origin_) * inverse_voxel_, c)) return grid_->background;
+  StencilReader read(acc, c.origin);
+  read_corners(read, c);
+  return trilinear(c, c.v);
+}
+
+bool SdfPeer::within_reach(const Vec3& centre, float radius) const noexcept {
+  if (!centre.allFinite()) return true;  // cannot tell
+  return !(distance(centre) > radius + float(voxel_));
+}
+
+Contact SdfPeer::query(const Segment& segment, const ForceLaw& law) const noexcept {
+  const Accessor acc = grid_->grid->getConstUnsafeAccessor();
+  return answer(acc, origin_, inverse_voxel_, segment, law);
+}
+
+void SdfPeer::query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
+                         Contact* out) const noexcept {
+  // One accessor for the batch: a tool's neighbouring points find their leaf cached.
+  const Accessor acc = grid_->grid->getConstUnsafeAccessor();
+  for (std::size_t i = 0; i < count; ++i) out[i] = answer(acc, origin_, inverse_voxel_, segments[i], law);
 }
 
 std::string SdfPeer::describe() const {

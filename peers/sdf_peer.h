@@ -22,10 +22,15 @@ struct SdfPeerOptions {
   /// voxel corrected (at most two more builds) until the grid is within 10% of the target
   /// (or the closest of the builds is kept).
   std::size_t memory_bytes = 0;
-  /// Half width of the narrow band, in voxels, in [1, 64]: the field is exact to the
-  /// surface's distance within band_voxels * voxel on either side and clamped beyond (a tool
-  /// point deeper than that feels the clamped depth). Memory grows with it.
+  /// Half width of the narrow band, in voxels, in [1, 64]: the field is the surface's distance
+  /// within band_voxels * voxel outside (and inside, unless inside_depth asks for more) and
+  /// clamped beyond. Memory grows with it.
   int band_voxels = 3;
+  /// Deepest penetration the field must render, model units, >= 0: the band inside the surface
+  /// is widened to inside_depth / voxel + 2 voxels when that is more than band_voxels. A tool
+  /// point deeper than the band inside finds the field flat there: no normal, no contact.
+  /// The normal is reliable to about a voxel short of the band's inner edge.
+  double inside_depth = 0;
 };
 
 /// The signed distance field peer: answers a probe segment (handle S -> tip E) by the field
@@ -50,8 +55,8 @@ class SdfPeer final : public ContactQuery {
 public:
   /// Builds the field of `mesh` (model units; not kept). Throws hb::InvalidInput naming the
   /// value when the mesh has no triangles, a non-finite vertex, or the options are out of
-  /// range (negative or non-finite voxel, neither voxel nor memory_bytes given, band_voxels
-  /// outside [1, 64], a voxel that would need more than 2^30 voxels along an axis);
+  /// range (negative or non-finite voxel or inside_depth, neither voxel nor memory_bytes given,
+  /// band_voxels outside [1, 64], a voxel so small the grid would take over 64 GiB);
   /// hb::LibraryError when OpenVDB fails.
   SdfPeer(const TriangleMesh& mesh, const SdfPeerOptions& options);
   ~SdfPeer() override;
@@ -59,20 +64,26 @@ public:
   SdfPeer& operator=(const SdfPeer&) = delete;
 
   Contact query(const Segment& segment, const ForceLaw& law) const noexcept override;
+  /// The same answers as query() one by one, read through one accessor (a tool's points,
+  /// close together, find the grid's nodes cached).
+  void query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
+                  Contact* out) const noexcept override;
   /// False when the field at `centre` exceeds radius + voxel (no surface within `radius`,
   /// with a voxel's margin for the interpolation). Beyond the band the field is clamped to
   /// band_voxels * voxel, so a radius of that or more always answers true (the field cannot
   /// tell), as does a centre inside the object.
   bool within_reach(const Vec3& centre, float radius) const noexcept override;
 
-  /// The field's trilinear value at `p`, model units: negative inside, clamped to
-  /// +-band_voxels * voxel beyond the band.
+  /// The field's trilinear value at `p`, model units: negative inside, clamped beyond the band
+  /// to band_voxels * voxel outside and -inside_voxels * voxel inside.
   float distance(const Vec3& p) const noexcept;
   /// The grid's memory (OpenVDB's memUsage), bytes.
   std::size_t memory_bytes() const noexcept { return memory_bytes_; }
   /// The voxel edge, model units.
   double voxel() const noexcept { return voxel_; }
   int band_voxels() const noexcept { return band_voxels_; }
+  /// The band's half width inside the surface, voxels (>= band_voxels).
+  int inside_voxels() const noexcept { return inside_voxels_; }
   /// Builds of the grid it took to meet the memory target (1 when the voxel was given).
   int builds() const noexcept { return builds_; }
   /// Wall-clock seconds the constructor took (every build of the search included).
@@ -84,8 +95,10 @@ private:
   struct Grid;  // the OpenVDB grid, known to sdf_peer.cpp only
   std::unique_ptr<Grid> grid_;
   double voxel_ = 0;
+  Vec3 origin_{Vec3::Zero()};  // world position of the grid's index (0, 0, 0), model units
   float inverse_voxel_ = 0;
   int band_voxels_ = 3;
+  int inside_voxels_ = 3;
   std::size_t memory_bytes_ = 0;
   int builds_ = 0;
   double build_seconds_ = 0;

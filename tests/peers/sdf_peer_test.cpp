@@ -56,7 +56,8 @@ void expect_agreement(const ContactQuery& peer, const ContactQuery& exact, const
   const float peer_normal_depth = a.force.norm() / (kStiffness * kMetresPerUnit);
   EXPECT_NEAR(peer_normal_depth, exact_normal_depth, kVoxel) << "probe " << i;
   EXPECT_NEAR(a.depth * -l.dot(a.normal), peer_normal_depth, 1e-4f) << "probe " << i;
-  EXPECT_GT(a.normal.dot(e.normal), std::cos(0.1f)) << "probe " << i;
+  EXPECT_GT(a.normal.dot(e.normal), std::cos(0.1f)) << "probe " << i << " at depth " << exact_normal_depth
+                                                    << " tilted " << std::acos(-l.dot(e.normal)) << " rad";
   EXPECT_LT((a.force - e.force).norm(), kStiffness * kMetresPerUnit * kVoxel) << "probe " << i;
   EXPECT_NEAR(a.normal.norm(), 1.f, 1e-5f);
   EXPECT_LT((a.point - (s.end + peer_normal_depth * a.normal)).norm(), 1e-4f) << "probe " << i;
@@ -69,7 +70,7 @@ TEST(SdfPeerTest, OnASphereDepthNormalAndForceAgreeWithExact) {
   const SdfPeer peer(sphere, at_voxel(kVoxel));
   const ExactQuery exact(sphere);
   std::mt19937 rng(3);
-  std::uniform_real_distribution<float> u(-1.f, 1.f), depth(0.01f, 0.25f);
+  std::uniform_real_distribution<float> u(-1.f, 1.f), depth(0.01f, 0.15f);
   for (int i = 0; i < 300; ++i) {
     const Vec3 n = Vec3(u(rng), u(rng), u(rng)).normalized();
     expect_agreement(peer, exact, probe_into(10.f * n, n, depth(rng), rng), i);
@@ -81,7 +82,7 @@ TEST(SdfPeerTest, OnACubeFaceDepthNormalAndForceAgreeWithExact) {
   const SdfPeer peer(cube, at_voxel(kVoxel));
   const ExactQuery exact(cube);
   std::mt19937 rng(4);
-  std::uniform_real_distribution<float> u(-8.f, 8.f), depth(0.01f, 0.25f);
+  std::uniform_real_distribution<float> u(-7.f, 7.f), depth(0.01f, 0.15f);
   const Vec3 faces[] = {Vec3::UnitX(), -Vec3::UnitX(), Vec3::UnitY(), -Vec3::UnitY(), Vec3::UnitZ(), -Vec3::UnitZ()};
   for (int i = 0; i < 300; ++i) {
     const Vec3& n = faces[i % 6];
@@ -123,6 +124,21 @@ TEST(SdfPeerTest, ATipDeeperThanTheBandFeelsTheClampedDepth) {
   EXPECT_FALSE(peer.query(Segment{Vec3(0.f, 0.f, 13.f), Vec3(0.f, 0.f, 10.f - 3.f * band)}, law()).contact);
 }
 
+TEST(SdfPeerTest, AnInsideDepthWidensTheBandInsideToRenderIt) {
+  const TriangleMesh cube = make_cube(Vec3(10.f, 10.f, 10.f), 8);
+  SdfPeerOptions o = at_voxel(kVoxel);
+  o.inside_depth = 1.0;
+  const SdfPeer peer(cube, o);
+  EXPECT_EQ(peer.inside_voxels(), 12);
+  EXPECT_NEAR(peer.distance(Vec3(0.f, 0.f, 30.f)), peer.band_voxels() * kVoxel, 1e-5f);
+  EXPECT_NEAR(peer.distance(Vec3(0.f, 0.f, 0.f)), -12 * kVoxel, 1e-5f);
+  const Contact c = peer.query(Segment{Vec3(0.3f, 0.f, 13.f), Vec3(0.f, 0.f, 9.f)}, law());
+  ASSERT_TRUE(c.contact);
+  EXPECT_NEAR(c.force.z(), kStiffness * kMetresPerUnit * 1.f, 1e-3f);
+  EXPECT_LT(std::hypot(c.force.x(), c.force.y()), 1e-4f);
+  EXPECT_GT(peer.memory_bytes(), SdfPeer(cube, at_voxel(kVoxel)).memory_bytes());
+}
+
 TEST(SdfPeerTest, WithinReachIsFalseOnlyWhereNoSurfaceIsWithinTheRadius) {
   const TriangleMesh sphere = make_sphere(10.f, 5);
   SdfPeerOptions o = at_voxel(kVoxel);
@@ -138,7 +154,7 @@ TEST(SdfPeerTest, WithinReachIsFalseOnlyWhereNoSurfaceIsWithinTheRadius) {
 
 TEST(SdfPeerTest, TheGridMeetsItsMemoryTarget) {
   const TriangleMesh sphere = make_sphere(10.f, 5);
-  for (const std::size_t target : {std::size_t(300) << 10, std::size_t(3) << 20}) {
+  for (const std::size_t target : {std::size_t(1) << 20, std::size_t(4) << 20}) {
     SdfPeerOptions o;
     o.memory_bytes = target;
     const SdfPeer peer(sphere, o);
@@ -151,6 +167,12 @@ TEST(SdfPeerTest, TheGridMeetsItsMemoryTarget) {
   o.memory_bytes = std::size_t(1) << 20;
   const SdfPeer peer(cube, o);
   EXPECT_NEAR(double(peer.memory_bytes()) / double(o.memory_bytes), 1.0, 0.25) << peer.describe();
+  // A band widened inside costs voxels: the search finds a coarser voxel at the same memory.
+  o.inside_depth = 0.5;
+  const SdfPeer deep(cube, o);
+  EXPECT_NEAR(double(deep.memory_bytes()) / double(o.memory_bytes), 1.0, 0.25) << deep.describe();
+  EXPECT_GT(deep.voxel(), peer.voxel());
+  EXPECT_GE(deep.inside_voxels() * deep.voxel(), 0.5 + 2 * deep.voxel() - 1e-9);
 }
 
 TEST(SdfPeerTest, ASphereToolOnAPlaneFeelsWhatItFeelsOnExact) {
@@ -212,6 +234,9 @@ TEST(SdfPeerTest, AMeshWithNoTrianglesOrBadOptionsIsInvalidInput) {
   SdfPeerOptions band = at_voxel(0.1);
   band.band_voxels = 0;
   EXPECT_NE(message(cube, band).find("band_voxels 0"), std::string::npos);
+  SdfPeerOptions inside = at_voxel(0.1);
+  inside.inside_depth = NAN;
+  EXPECT_NE(message(cube, inside).find("inside_depth nan"), std::string::npos);
   EXPECT_NE(message(cube, at_voxel(1e-9)).find("too small"), std::string::npos);
   TriangleMesh nan_vertex = cube;
   nan_vertex.positions[2].y() = NAN;
