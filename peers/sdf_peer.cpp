@@ -5,11 +5,12 @@
 //     is small against the shape: estimate v from A with a measured c, build, measure
 //     memUsage, correct v by the measured exponent (-2 first, then the secant through the
 //     last two builds), at most three builds, keep the closest.
-//  3. A query reads the grid through a per-call accessor (not registered with the tree: the
-//     grid is never written after the build): the trilinear field at the tip, then at the
-//     handle, then the gradient at the tip from 32 voxels around it (the voxels' central
-//     differences, interpolated trilinearly with the value's own weights, so the normal is
-//     continuous across voxels).
+//  3. A query reads the grid through an accessor of its own (one per batch for query_many;
+//     not registered with the tree: the grid is never written after the build), each leaf
+//     node around a point found once and read directly: the trilinear field at the tip, at
+//     the handle only when the tip is inside, then the gradient at the tip from 32 voxels
+//     around it (the voxels' central differences, interpolated trilinearly with the value's
+//     own weights, so the normal is continuous across voxels).
 #include "peers/sdf_peer.h"
 #include "errors.h"
 #include "stopwatch.h"

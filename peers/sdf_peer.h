@@ -54,10 +54,10 @@ struct SdfPeerOptions {
 class SdfPeer final : public ContactQuery {
 public:
   /// Builds the field of `mesh` (model units; not kept). Throws hb::InvalidInput naming the
-  /// value when the mesh has no triangles, a non-finite vertex, or the options are out of
-  /// range (negative or non-finite voxel or inside_depth, neither voxel nor memory_bytes given,
-  /// band_voxels outside [1, 64], a voxel so small the grid would take over 64 GiB);
-  /// hb::LibraryError when OpenVDB fails.
+  /// value when the mesh has no triangles, no area, a non-finite vertex or an index out of
+  /// range, or an option is out of range (negative or non-finite voxel or inside_depth,
+  /// neither voxel nor memory_bytes given, band_voxels outside [1, 64], a voxel so small the
+  /// grid would take over 64 GiB); hb::LibraryError when OpenVDB fails.
   SdfPeer(const TriangleMesh& mesh, const SdfPeerOptions& options);
   ~SdfPeer() override;
   SdfPeer(const SdfPeer&) = delete;
@@ -71,7 +71,7 @@ public:
   /// False when the field at `centre` exceeds radius + voxel (no surface within `radius`,
   /// with a voxel's margin for the interpolation). Beyond the band the field is clamped to
   /// band_voxels * voxel, so a radius of that or more always answers true (the field cannot
-  /// tell), as does a centre inside the object.
+  /// tell), as do a centre inside the object and a non-finite one.
   bool within_reach(const Vec3& centre, float radius) const noexcept override;
 
   /// The field's trilinear value at `p`, model units: negative inside, clamped beyond the band
