@@ -220,7 +220,8 @@ public:
       : acc_(acc), base_(origin.x() & ~7, origin.y() & ~7, origin.z() & ~7) {}
   float operator()(const openvdb::Coord& c) noexcept {
     // Offsets from the cell's leaf are in [-1, 10]: leaf -1, 0 or +1 along each axis.
-    const int k = ((c.x() - base_.x() + 8) >> 3) * 9 + ((c.y() - base_.y() + 8) >> 3) * 3 + ((c.z() - base_.z() + 8) >> 3);
+    const int k = ((c.x() - base_.x() + 8) >> 3) * 9 + ((c.y() - base_.y() + 8) >> 3) * 3 +
+                  ((c.z() - base_.z() + 8) >> 3);
     if (!(probed_ & (1u << k))) {
       leaves_[k] = acc_.probeConstLeaf(c);
       // No leaf: a tile of an upper node covers the leaf's whole place with one value.
@@ -363,9 +364,10 @@ void SdfPeer::query_many(const Segment* segments, std::size_t count, const Force
 
 std::string SdfPeer::describe() const {
   std::ostringstream s;
-  s << "sdf peer: OpenVDB level set, voxel " << voxel_ << " model units, band " << band_voxels_ << " voxels outside, " << inside_voxels_ << " inside, "
-    << double(memory_bytes_) / (1024.0 * 1024.0) << " MiB, " << grid_->grid->activeVoxelCount() << " active voxels, "
-    << builds_ << (builds_ == 1 ? " build, " : " builds, ") << build_seconds_ << " s";
+  s << "sdf peer: OpenVDB level set, voxel " << voxel_ << " model units, band " << band_voxels_ << " voxels outside, "
+    << inside_voxels_ << " inside, " << double(memory_bytes_) / (1024.0 * 1024.0) << " MiB, "
+    << grid_->grid->activeVoxelCount() << " active voxels, " << builds_ << (builds_ == 1 ? " build, " : " builds, ")
+    << build_seconds_ << " s";
   return s.str();
 }
 
