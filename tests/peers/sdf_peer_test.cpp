@@ -176,8 +176,9 @@ TEST(SdfPeerTest, TheGridMeetsItsMemoryTarget) {
 }
 
 TEST(SdfPeerTest, ASphereToolOnAPlaneFeelsWhatItFeelsOnExact) {
-  TriangleMesh slab = make_cube(Vec3(50.f, 50.f, 10.f), 8);
-  for (Vec3& p : slab.positions) p.z() -= 10.f;
+  // A slab whose top face is the plane z = 0, wide enough for a 2 mm sphere.
+  TriangleMesh slab = make_cube(Vec3(6.f, 6.f, 3.f), 4);
+  for (Vec3& p : slab.positions) p.z() -= 3.f;
   slab.compute_vertex_normals();
   const SdfPeer peer(slab, at_voxel(kVoxel));
   const ExactQuery exact(slab);
