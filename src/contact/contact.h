@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace hb {
 
@@ -62,6 +63,16 @@ struct Contact {
   Vec3 face_normal{Vec3::Zero()};
 };
 
+/// Memory a caller lends to ContactQuery::query_star between calls (a tool keeps one), so that
+/// the query allocates nothing once it has grown to the tool's size.
+struct StarScratch {
+  std::vector<Segment> segments;
+  std::vector<Contact> contacts;
+  std::vector<std::uint32_t> ids, order, buckets, counts, triangles;
+  std::vector<float> directions;
+  std::vector<std::uint64_t> pairs;
+};
+
 /// Anything that answers a probe segment: the exact reference, one haptic box, a scene of
 /// boxes. Implementations are noexcept, allocation-free and safe from many threads.
 class ContactQuery {
@@ -74,6 +85,16 @@ public:
   virtual void query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
                           Contact* out) const noexcept {
     for (std::size_t i = 0; i < count; ++i) out[i] = query(segments[i], law);
+  }
+  /// Segments that share the handle `start`, to tips[0, count) (a tool's points around its
+  /// centre), answered as query() answers each into out[0, count). An answerer may skip the
+  /// segments it can tell cross no surface (BoxScene: by the grid's surface cells around the
+  /// handle). This default: query_many() on the segments.
+  virtual void query_star(const Vec3& start, const Vec3* tips, std::size_t count, const ForceLaw& law, Contact* out,
+                          StarScratch& scratch) const noexcept {
+    scratch.segments.resize(count);
+    for (std::size_t i = 0; i < count; ++i) scratch.segments[i] = Segment{start, tips[i]};
+    query_many(scratch.segments.data(), count, law, out);
   }
   /// The broad phase of a tool: whether any surface may lie within `radius` of `centre`
   /// (model units). False only when none does, so that a tool out of reach skips its points'

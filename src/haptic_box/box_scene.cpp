@@ -536,23 +536,6 @@ Contact BoxScene::query_met(const Segment& segment, const ForceLaw& law, std::si
   return best;
 }
 
-bool BoxScene::within_reach(const Vec3& centre, float radius) const noexcept {
-  if (!centre.allFinite()) return true;
-  // A cell's slack: a stroke route's full mesh may stray from the simplified surface the
-  // grid was built on by less than that.
-  if (grid_ && !grid_->empty()) return grid_->surface_distance_bound(centre) <= radius + grid_->cell();
-  for (std::size_t b = 0; b < boxes_.size(); ++b) {
-    float d2 = 0.f;
-    for (int k = 0; k < 3; ++k) {
-      const float below = bounds_[k][b] - centre[k], above = centre[k] - bounds_[k + 3][b];
-      const float gap = std::max({below, above, 0.f});
-      d2 += gap * gap;
-    }
-    if (d2 <= radius * radius) return true;
-  }
-  return false;
-}
-
 void BoxScene::query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
                           Contact* out) const noexcept {
   if (route_ == SceneRoute::embree && embree_) {

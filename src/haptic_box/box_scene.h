@@ -140,6 +140,11 @@ public:
   /// The tool's broad phase (ContactQuery::within_reach): the grid's clearance when the scene
   /// has one, else whether a box's axis-aligned bounds come within `radius` of `centre`.
   bool within_reach(const Vec3& centre, float radius) const noexcept override;
+  /// A tool's segments from one handle (ContactQuery::query_star): on the cells route, only
+  /// the segments whose direction meets a surface cell within their reach are walked; the
+  /// same answers as query() (box_scene_star.cpp).
+  void query_star(const Vec3& start, const Vec3* tips, std::size_t count, const ForceLaw& law, Contact* out,
+                  StarScratch& scratch) const noexcept override;
 
   /// How many boxes' PBBs the segment meets.
   std::size_t boxes_met(const Segment& segment) const noexcept;

@@ -59,6 +59,15 @@ ToolProbe::ToolProbe(const ToolShape& shape, double metres_per_unit)
   lambda_.reserve(points_.size());
   order_.reserve(points_.size());
   lift_.assign(points_.size(), 0.f);
+  star_ = !handles_.empty() && std::all_of(handles_.begin(), handles_.end(), [](const Vec3& h) { return h == Vec3::Zero(); });
+  tips_.resize(points_.size());
+  if (star_) {
+    star_scratch_.segments.reserve(points_.size());
+    star_scratch_.contacts.reserve(points_.size());
+    star_scratch_.order.reserve(points_.size());
+    star_scratch_.counts.reserve(points_.size() + 1);
+    star_scratch_.directions.reserve(3 * points_.size());
+  }
   sag_ = float(shape.sag_m / metres_per_unit);
 }
 
@@ -78,7 +87,12 @@ ToolAnswer ToolProbe::answer(const ContactQuery& query, const ToolPose& pose, co
     return none;
   }
   segments(pose, segments_.data());
-  query.query_many(segments_.data(), segments_.size(), law, contacts_.data());
+  if (star_) {
+    for (std::size_t i = 0; i < segments_.size(); ++i) tips_[i] = segments_[i].end;
+    query.query_star(pose.position, tips_.data(), tips_.size(), law, contacts_.data(), star_scratch_);
+  } else {
+    query.query_many(segments_.data(), segments_.size(), law, contacts_.data());
+  }
   const float* lift = nullptr;
   if (sag_ > 0.f) {
     // The tool's true surface beyond each touching point, along the contact's -n (tool frame).

@@ -77,6 +77,11 @@ private:
   std::vector<std::uint32_t> order_;
   std::vector<float> lift_;
   float sag_ = 0.f;  // model units
+  // Every handle at the centre (a sphere): the points are asked as segments from one handle
+  // (ContactQuery::query_star), which a scene answers with a broad phase of its own.
+  bool star_ = false;
+  std::vector<Vec3> tips_;
+  StarScratch star_scratch_;
 };
 
 /// Resolves point contacts (contacts[i] the answer to the segment of the tool's point i) into

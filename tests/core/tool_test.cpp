@@ -3,6 +3,7 @@
 #include "errors.h"
 #include "exact/exact_query.h"
 #include "mesh/generators.h"
+#include "two_spheres.h"
 #include "tool/tool_contact.h"
 #include "tool/tool_coupling.h"
 #include "tool/tool_spec.h"
@@ -277,4 +278,32 @@ TEST(ToolCouplingTest, AToolAwayFromTheSurfaceFeelsNoForce) {
     EXPECT_EQ(s.force, Vec3::Zero());
     EXPECT_FALSE(s.touching);
   }
+}
+
+TEST(ToolContactTest, TheScenesStarQueryAnswersEverySegmentAsQueryDoes) {
+  // The two spheres (radius 1) on the cells route; a sphere tool of radius 0.3 placed all over
+  // their surfaces, from clear of them to a third of its radius in, and in the gap between.
+  const test::TwoSpheres two = test::two_spheres(2.2f);
+  const BoxScene scene = test::refined_two_spheres(two).without_triangle_ids();
+  ASSERT_EQ(scene.answering_route(), SceneRoute::cells);
+  const ToolShape tool = make_sphere_tool(0.3, 500);  // 1 unit a metre: radius 0.3 units
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-1.f, 1.f);
+  std::vector<Vec3> tips(tool.size());
+  std::vector<Contact> star(tool.size());
+  StarScratch scratch;
+  std::size_t contacts = 0;
+  for (int k = 0; k < 400; ++k) {
+    const Vec3 dir = Vec3(u(rng), u(rng), u(rng)).normalized();
+    const Vec3 centre = (k % 2 ? Vec3(2.2f, 0.f, 0.f) : Vec3::Zero()) + dir * (1.2f + 0.15f * u(rng));
+    for (std::size_t i = 0; i < tool.size(); ++i) tips[i] = centre + tool.points[i];
+    scene.query_star(centre, tips.data(), tips.size(), law(), star.data(), scratch);
+    for (std::size_t i = 0; i < tool.size(); ++i) {
+      const Contact one = scene.query(Segment{centre, tips[i]}, law());
+      ASSERT_EQ(one.contact, star[i].contact) << k << " " << i;
+      EXPECT_LT((one.force - star[i].force).norm(), 1e-6f) << k << " " << i;
+      contacts += one.contact;
+    }
+  }
+  EXPECT_GT(contacts, 1000u);
 }
