@@ -13,6 +13,7 @@
 #include "exact/exact_query.h"
 #include "haptic_box/box_file.h"
 #include <algorithm>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -295,7 +296,11 @@ void run_bench(BenchOpts& o) {
   o.law = ws.law();
   if (o.tool.given()) {
     // A tool with volume: its ticks along slides, timed and judged (the point probes are not run).
-    const hb::cli::ToolRun run = hb::cli::run_tool(o.tool, scene, exact, mesh, ws, judge, true, o.rounds);
+    // The distance-field peer at the box file's memory.
+    std::error_code ec;
+    const auto file_bytes = std::filesystem::file_size(o.box, ec);
+    const hb::cli::ToolRun run = hb::cli::run_tool(o.tool, scene, exact, mesh, ws, judge, true, o.rounds,
+                                                   ec ? std::size_t(scene.memory_bytes()) : std::size_t(file_bytes));
     if (o.json) {
       nlohmann::json j = hb::cli::tool_json(run);
       j["box"] = o.box;

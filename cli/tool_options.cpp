@@ -4,6 +4,8 @@
 #include "exact/exact_query.h"
 #include "haptic_box/box_scene.h"
 #include "tool/tool_spec.h"
+#include "peers/sdf_peer.h"
+#include <chrono>
 #include <iomanip>
 #include <ostream>
 
@@ -40,7 +42,8 @@ ToolShape load_tool(const std::string& spec) {
 }
 
 ToolRun run_tool(const ToolArgs& args, const BoxScene& scene, const ExactQuery& exact, const TriangleMesh& mesh,
-                 const Workspace& workspace, const PerceptualJudge& judge, bool time, int rounds) {
+                 const Workspace& workspace, const PerceptualJudge& judge, bool time, int rounds,
+                 std::size_t peer_memory_bytes) {
   ToolRun run;
   run.tool = load_tool(args.spec);
   run.slides = tool_slides(mesh, exact, run.tool, workspace, args.slide_options());
@@ -51,6 +54,19 @@ ToolRun run_tool(const ToolArgs& args, const BoxScene& scene, const ExactQuery& 
     run.box_time = time_tool_ticks(scene, run.tool, run.slides, workspace, rounds);
     run.exact_stream_time = time_tool_ticks(exact, run.tool, run.slides, workspace, rounds);
     run.exact_single_time = time_tool_ticks(single, run.tool, run.slides, workspace, rounds);
+  }
+  if (peer_memory_bytes > 0) {
+    SdfPeerOptions o;
+    o.memory_bytes = peer_memory_bytes;
+    o.inside_depth = 1e-3 / workspace.metres_per_unit;
+    const auto t0 = std::chrono::steady_clock::now();
+    const SdfPeer sdf(mesh, o);
+    run.sdf_build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    run.peer = true;
+    run.sdf_memory_bytes = double(sdf.memory_bytes());
+    run.sdf_voxel_mm = sdf.voxel() * workspace.metres_per_unit * 1e3;
+    run.sdf = compare_tool_ticks(sdf, exact, run.tool, run.slides, workspace, judge.thresholds);
+    if (time) run.sdf_time = time_tool_ticks(sdf, run.tool, run.slides, workspace, rounds);
   }
   return run;
 }
@@ -79,6 +95,18 @@ nlohmann::json tool_json(const ToolRun& run) {
     j["exact_stream_tool_tick_p99_us"] = run.exact_stream_time.p99_us;
     j["exact_single_tool_tick_p99_us"] = run.exact_single_time.p99_us;
   }
+  if (run.peer) {
+    j["sdf_perceptible_tick_share"] = run.sdf.perceptible_share();
+    j["sdf_max_force_error_n"] = run.sdf.max_force_error_n;
+    j["sdf_jumps"] = run.sdf.box_jumps;
+    j["sdf_memory_bytes"] = run.sdf_memory_bytes;
+    j["sdf_voxel_mm"] = run.sdf_voxel_mm;
+    j["sdf_build_s"] = run.sdf_build_s;
+    if (run.timed) {
+      j["sdf_tool_tick_p50_us"] = run.sdf_time.p50_us;
+      j["sdf_tool_tick_p99_us"] = run.sdf_time.p99_us;
+    }
+  }
   return j;
 }
 
@@ -100,6 +128,17 @@ void print_tool_run(const ToolRun& run, std::ostream& out) {
         << (&e == &run.exact_stream_time ? run.exact_single_time.p99_us : run.exact_stream_time.p99_us) << " us)\n"
         << "  verdict     at p99 the box is " << speed_verdict(run.box_time.p99_us, e.p99_us) << "; at p50 "
         << speed_verdict(run.box_time.p50_us, e.p50_us) << "\n";
+  }
+  if (run.peer) {
+    out << std::setprecision(3) << "  peer        a signed distance field (OpenVDB, voxel " << run.sdf_voxel_mm << " mm at the device, "
+        << bytes_text(std::uint64_t(run.sdf_memory_bytes)) << ", built in " << run.sdf_build_s << " s): "
+        << percent(run.sdf.perceptible_share()) << " of contact ticks perceptibly different from exact, force error max "
+        << run.sdf.max_force_error_n << " N, jumps " << run.sdf.box_jumps;
+    if (run.timed)
+      out << std::setprecision(1) << "; tick p50 " << run.sdf_time.p50_us << " us, p99 " << run.sdf_time.p99_us
+          << " us (the box's p99 over the field's: " << std::setprecision(2)
+          << (run.sdf_time.p99_us > 0 ? run.box_time.p99_us / run.sdf_time.p99_us : 0.0) << ")";
+    out << "\n";
   }
 }
 

@@ -41,6 +41,11 @@ struct ToolRun {
   ToolTickStats box;                 ///< the scene against exact.
   ToolTickTiming box_time, exact_stream_time, exact_single_time;
   bool timed = false;
+  /// The distance-field peer (peers/sdf_peer.h) at the box file's memory, when asked for.
+  bool peer = false;
+  ToolTickStats sdf;
+  ToolTickTiming sdf_time;
+  double sdf_memory_bytes = 0, sdf_voxel_mm = 0, sdf_build_s = 0;
   const ToolTickTiming& exact_time() const {
     return exact_single_time.p99_us < exact_stream_time.p99_us ? exact_single_time : exact_stream_time;
   }
@@ -48,9 +53,12 @@ struct ToolRun {
 };
 
 /// Slides on `mesh`, both answers on every tick; with `time`, every tick timed on one core
-/// (the box, exact's ray stream and its single rays, `rounds` times each).
+/// (the box, exact's ray stream and its single rays, `rounds` times each). With
+/// `peer_memory_bytes` > 0, the distance-field peer built at that memory (its field 1 mm deep
+/// inside at the device) is judged and, with `time`, timed on the same ticks.
 ToolRun run_tool(const ToolArgs& args, const BoxScene& scene, const ExactQuery& exact, const TriangleMesh& mesh,
-                 const Workspace& workspace, const PerceptualJudge& judge, bool time, int rounds);
+                 const Workspace& workspace, const PerceptualJudge& judge, bool time, int rounds,
+                 std::size_t peer_memory_bytes = 0);
 
 /// The JSON of a tool run (the keys `bench --tool --json` documents).
 nlohmann::json tool_json(const ToolRun& run);
