@@ -5,6 +5,9 @@
 #include "commands.h"
 #include "device/safety_tick_filter.h"
 #include "evaluation/stability_suite.h"
+#include "evaluation/tool_stability.h"
+#include "exact/exact_query.h"
+#include "tool_options.h"
 #include "haptic_box/box_file.h"
 #include "mesh/mesh_io.h"
 #include "stability_json.h"
@@ -55,13 +58,54 @@ hb::StabilityReport hb::cli::default_stability(const hb::BoxScene& scene, const 
   return hb::run_stability_suite(scene, mesh, so);
 }
 
+// The tool suite (evaluation/tool_stability.h): the table, then the verdict last.
+void run_tool_suite(const hb::BoxScene& scene, const hb::TriangleMesh& mesh, const std::string& box_path,
+                    const std::string& mesh_path, const std::string& spec, std::uint64_t seed, bool json, bool strict) {
+  const hb::ToolShape tool = hb::cli::load_tool(spec);
+  const hb::ExactQuery exact(mesh);
+  const hb::Workspace ws = hb::make_workspace(mesh.bounds().diagonal());
+  hb::ToolStabilityOptions so;
+  so.seed = seed;
+  const auto results = hb::run_tool_stability(scene, exact, mesh, tool, ws, hb::PerceptualThresholds{}, so);
+  std::size_t passed = 0, box_only = 0;
+  for (std::size_t i = 0; i + 1 < results.size(); i += 2) {
+    passed += results[i].pass + results[i + 1].pass;
+    box_only += !results[i].pass && results[i + 1].pass;
+  }
+  if (json) {
+    nlohmann::json j = {{"box", box_path}, {"mesh", mesh_path}, {"tool", tool.spec}, {"tool_points", tool.size()},
+                        {"workspace", ws.describe()}, {"passed", passed}, {"failed", results.size() - passed},
+                        {"box_failed_where_exact_passed", box_only}};
+    for (const auto& r : results)
+      j["tests"].push_back({{"test", r.test}, {"method", r.method}, {"pass", r.pass}, {"criterion", r.criterion},
+                            {"ticks", r.ticks}, {"pop_throughs", r.pop_throughs}, {"ghost_ticks", r.ghost_ticks},
+                            {"jumps", r.jumps}, {"max_force_n", r.max_force_n}, {r.figure_name, r.figure}});
+    hb::cli::print_json(j);
+  } else {
+    std::printf("stability %s vs %s, tool %s, %s\n", box_path.c_str(), mesh_path.c_str(),
+                hb::describe_tool(tool).c_str(), ws.describe().c_str());
+    std::printf("  %-14s %-6s %7s %5s %6s %6s %9s  %-28s %10s  %s\n", "test", "method", "ticks", "pops", "ghosts",
+                "jumps", "max F (N)", "figure", "value", "verdict");
+    for (const auto& r : results)
+      std::printf("  %-14s %-6s %7zu %5zu %6zu %6zu %9.3f  %-28s %10s  %s\n", r.test.c_str(), r.method.c_str(),
+                  r.ticks, r.pop_throughs, r.ghost_ticks, r.jumps, r.max_force_n, r.figure_name.c_str(),
+                  figure(r.figure).c_str(), r.pass ? "pass" : "FAIL");
+    std::printf("criteria:\n");
+    for (std::size_t i = 0; i < results.size(); i += 2)
+      std::printf("  %-14s %s\n", results[i].test.c_str(), results[i].criterion.c_str());
+    std::printf("verdict: %zu of %zu pass; %zu failed by the box where exact passed\n", passed, results.size(),
+                box_only);
+  }
+  if (strict && box_only > 0) throw std::runtime_error("stability: a tool test failed because of the box (--strict)");
+}
+
 void add_stability_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("stability",
                                  "Trajectory stability suite: box and exact side by side (calibration gate, T1-T8)");
   struct Opts {
     std::string box, mesh, device = "falcon", tests, safety = "hold", depth = "normal", unconfirmed = "reject",
                 walk = "all",
-                law = "penalty", route = "auto";
+                law = "penalty", route = "auto", tool;
     std::size_t sites = 12;
     std::uint64_t seed = 1;
     bool json = false, no_generated = false, energy_guard = false, strict = false;
@@ -88,6 +132,9 @@ void add_stability_command(CLI::App& app) {
   cmd->add_flag("--no-generated", o->no_generated, "Skip the generated walls, plates and grooves");
   cmd->add_flag("--strict", o->strict, "Exit 1 when a test fails because of the box (not the law)");
   cmd->add_flag("--json", o->json, "Print JSON");
+  cmd->add_option("--tool", o->tool,
+                  "Run the tool suite instead: a tool with volume (sphere,radius-mm=R,points=N | capsule,... | "
+                  "mesh=FILE,points=N) through its virtual coupling, box and exact side by side");
   cmd->callback([o] {
     // Measurement-only (HB_MEASURE): safety=hold|zero|none (the servo's fault response in T6/T8:
     // hold and ramp, the old zero-and-ramp, no safety filter), depth-law=normal|along (the
@@ -105,6 +152,7 @@ void add_stability_command(CLI::App& app) {
     scene.set_unconfirmed_blend(o->unconfirmed == "keep" ? hb::UnconfirmedBlend::keep : hb::UnconfirmedBlend::reject);
     scene.set_walk_all_candidates(o->walk == "all");
     hb::cli::apply_route(scene, o->route);  // the generated walls, plates and grooves take the same route
+    if (!o->tool.empty()) return run_tool_suite(scene, mesh, o->box, o->mesh, o->tool, o->seed, o->json, o->strict);
     hb::StabilityOptions so;
     so.device = hb::device_profile(o->device);
     so.sites = o->sites;

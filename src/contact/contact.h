@@ -71,6 +71,8 @@ struct StarScratch {
   std::vector<std::uint32_t> ids, order, buckets, counts, triangles;
   std::vector<float> directions;
   std::vector<std::uint64_t> pairs;
+  std::vector<std::uint32_t> stamps;  ///< per triangle, the call that last listed it
+  std::uint32_t call = 0;
 };
 
 /// Anything that answers a probe segment: the exact reference, one haptic box, a scene of

@@ -4,16 +4,17 @@
 //  1. A handle in an inside cell: no segment is a contact.
 //  2. The triangles listed in the surface cells within the segments' reach of the handle: a
 //     segment crosses a triangle only at a point of such a cell, which lists it.
-//  3. The tips' directions from the handle in buckets of a grid over the unit cube.
-//  4. Each triangle is seen from the handle within a cap of directions (about its vertices'
-//     mean direction, holding the three: the spherical triangle lies in it); it pairs with the
-//     tips whose direction is in that cap (the buckets the cap's chord ball meets).
+//  3. The tips' directions from the handle in the cells of a cube map.
+//  4. Each triangle, seen from the handle, is the spherical triangle of its vertices'
+//     directions; it pairs with the tips inside its three edge planes, looked for in the cube
+//     map's cells under the box of its projected vertices (a central projection keeps great
+//     circles straight, so on one face that box holds it), or among all tips when it spans
+//     faces.
 //  5. Each tip with triangles: the nearest crossing among them (SurfaceTriangles::
 //     first_crossing, the walk's own test), shaded as the walk's (crossing_contact). Every
 //     triangle the segment crosses is among them, so the crossing is the walk's (a tie between
 //     two triangles at one point may name the other). A tip with none crosses nothing.
-// A handle beside a triangle (a cap wider than 84 degrees) or too many cells in reach take
-// query_many() for every segment.
+// A handle on a vertex or too many cells in reach take query_many() for every segment.
 #include "haptic_box/box_scene.h"
 #include <algorithm>
 #include <cmath>
@@ -22,7 +23,28 @@ namespace hb {
 namespace {
 
 constexpr std::size_t kMaxCellsInReach = 1 << 15;
-constexpr float kWidestCap = 0.1f;  // cos of the widest cap taken (84 degrees)
+constexpr int kFace = 16;  // cube-map cells along a face's edge
+
+// The cube-map face of unit u (0..5: +x -x +y -y +z -z) and its coordinates on it, in [-1, 1]
+// (u's other two components over its largest, a central projection onto the face).
+int cube_face(const Vec3& u, float& a, float& b) noexcept {
+  const float x = std::fabs(u.x()), y = std::fabs(u.y()), z = std::fabs(u.z());
+  if (x >= y && x >= z) {
+    a = u.y() / x;
+    b = u.z() / x;
+    return u.x() >= 0.f ? 0 : 1;
+  }
+  if (y >= z) {
+    a = u.x() / y;
+    b = u.z() / y;
+    return u.y() >= 0.f ? 2 : 3;
+  }
+  a = u.x() / z;
+  b = u.y() / z;
+  return u.z() >= 0.f ? 4 : 5;
+}
+
+int face_cell(float a) noexcept { return std::min(kFace - 1, std::max(0, int((a + 1.f) * (0.5f * kFace)))); }
 
 } // namespace
 
@@ -69,6 +91,15 @@ void BoxScene::query_star(const Vec3& start, const Vec3* tips, std::size_t count
   if (cells > kMaxCellsInReach) return all();
   std::vector<std::uint32_t>& ids = scratch.ids;
   ids.clear();
+  // Each triangle once (a triangle is listed in every cell it meets): stamped with this call.
+  const SurfaceTriangles& surface = cells_->surface();
+  std::vector<std::uint32_t>& stamps = scratch.stamps;
+  if (stamps.size() != surface.size()) stamps.assign(surface.size(), 0);
+  if (++scratch.call == 0) {
+    std::fill(stamps.begin(), stamps.end(), 0);
+    scratch.call = 1;
+  }
+  const std::uint32_t call = scratch.call;
   for (int z = lo[2]; z <= hi[2]; ++z)
     for (int y = lo[1]; y <= hi[1]; ++y)
       for (int x = lo[0]; x <= hi[0]; ++x) {
@@ -77,77 +108,107 @@ void BoxScene::query_star(const Vec3& start, const Vec3* tips, std::size_t count
         const Vec3 box_lo = origin + cell * Vec3(float(x), float(y), float(z));
         const Vec3 gap = (box_lo - start).cwiseMax(start - box_lo - Vec3::Constant(cell)).cwiseMax(Vec3::Zero());
         if (gap.norm() > reach) continue;
-        ids.insert(ids.end(), cells_->begin(index), cells_->end(index));
+        for (const std::uint32_t* t = cells_->begin(index); t != cells_->end(index); ++t)
+          if (*t < stamps.size() && stamps[*t] != call) {
+            stamps[*t] = call;
+            ids.push_back(*t);
+          }
       }
   if (ids.empty()) return;
-  std::sort(ids.begin(), ids.end());
-  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-  // 3. The tips' directions in buckets of a 8 x 8 x 8 grid over the unit cube.
-  constexpr int G = 8;
-  const auto bucket_of = [](float v) { return std::min(G - 1, std::max(0, int((v + 1.f) * (0.5f * G)))); };
+  // 3. The tips' directions in the cells of a cube map (S x S a face).
   std::vector<float>& directions = scratch.directions;
   directions.resize(3 * count);
   std::vector<std::uint32_t>& buckets = scratch.buckets;
-  buckets.assign(G * G * G + 1, 0);
+  buckets.assign(6 * kFace * kFace + 1, 0);
   std::vector<std::uint32_t>& order = scratch.order;
   order.resize(count);
+  std::vector<std::uint32_t>& cell_of_tip = scratch.triangles;  // reused below for the pairs
+  cell_of_tip.resize(count);
   for (std::size_t i = 0; i < count; ++i) {
     const Vec3 d = tips[i] - start;
     const float n = d.norm();
-    const Vec3 u = n > 0.f ? Vec3(d / n) : Vec3(Vec3::Zero());
+    const Vec3 u = n > 0.f ? Vec3(d / n) : Vec3(0.f, 0.f, 1.f);
     for (int k = 0; k < 3; ++k) directions[3 * i + std::size_t(k)] = u[k];
-    ++buckets[std::size_t((bucket_of(u.z()) * G + bucket_of(u.y())) * G + bucket_of(u.x())) + 1];
+    float fa, fb;
+    const int face = cube_face(u, fa, fb);
+    cell_of_tip[i] = std::uint32_t((face * kFace + face_cell(fb)) * kFace + face_cell(fa));
+    ++buckets[cell_of_tip[i] + 1];
   }
   for (std::size_t b = 1; b < buckets.size(); ++b) buckets[b] += buckets[b - 1];
-  // Counting sort: each tip into its bucket (`counts`: how many placed so far).
-  std::vector<std::uint32_t>& placed = scratch.counts;
-  placed.assign(G * G * G, 0);
-  for (std::size_t i = 0; i < count; ++i) {
-    const float* u = &directions[3 * i];
-    const std::size_t b = std::size_t((bucket_of(u[2]) * G + bucket_of(u[1])) * G + bucket_of(u[0]));
-    order[buckets[b] + placed[b]++] = std::uint32_t(i);
-  }
-  // 4. Each triangle, seen from the handle within a cap of directions (the cap about its
-  //    vertices' mean direction holding the three), pairs with the tips in that cap.
-  const SurfaceTriangles& surface = cells_->surface();
+  std::vector<std::uint32_t>& placed = scratch.counts;  // counting sort: how many placed a cell
+  placed.assign(6 * kFace * kFace, 0);
+  for (std::size_t i = 0; i < count; ++i) order[buckets[cell_of_tip[i]] + placed[cell_of_tip[i]]++] = std::uint32_t(i);
+  // 4. Each triangle pairs with the tips whose direction it covers: seen from the handle it is
+  //    the spherical triangle of its vertices' directions (inside its three edge planes). On one
+  //    face of the cube map (a central projection, which keeps great circles straight) it lies
+  //    in the box of its projected vertices; across faces, every tip is tested.
   const SurfaceTriangles::Record* records = surface.records();
   std::vector<std::uint64_t>& pairs = scratch.pairs;
   pairs.clear();
+  const float* dir = directions.data();
   for (std::uint32_t id : ids) {
-    if (id >= surface.size()) continue;
     const SurfaceTriangles::Record& r = records[id];
     const Vec3 a(r.a[0], r.a[1], r.a[2]);
     const Vec3 v[3] = {a - start, a + Vec3(r.e1[0], r.e1[1], r.e1[2]) - start, a + Vec3(r.e2[0], r.e2[1], r.e2[2]) - start};
-    Vec3 sum = Vec3::Zero();
     Vec3 u[3];
     for (int k = 0; k < 3; ++k) {
       const float n = v[k].norm();
-      if (!(n > 1e-6f * reach)) return all();  // the handle on a vertex: no cap
+      if (!(n > 1e-6f * reach)) return all();  // the handle on a vertex
       u[k] = v[k] / n;
-      sum += u[k];
     }
-    const float sum_norm = sum.norm();
-    if (!(sum_norm > 0.f)) return all();
-    const Vec3 axis = sum / sum_norm;
-    const float cos_half = std::min({axis.dot(u[0]), axis.dot(u[1]), axis.dot(u[2])}) - 1e-5f;
-    if (!(cos_half > kWidestCap)) return all();  // the handle beside the triangle: a wide cap
-    const float chord = std::sqrt(std::max(0.f, 2.f - 2.f * cos_half));
-    int b0[3], b1[3];
-    for (int k = 0; k < 3; ++k) {
-      b0[k] = bucket_of(axis[k] - chord);
-      b1[k] = bucket_of(axis[k] + chord);
-    }
-    for (int bz = b0[2]; bz <= b1[2]; ++bz)
-      for (int by = b0[1]; by <= b1[1]; ++by)
-        for (int bx = b0[0]; bx <= b1[0]; ++bx) {
-          const std::size_t b = std::size_t((bz * G + by) * G + bx);
-          for (std::uint32_t k = buckets[b]; k < buckets[b + 1]; ++k) {
-            const std::uint32_t i = order[k];
-            const float* d = &directions[3 * std::size_t(i)];
-            if (d[0] * axis.x() + d[1] * axis.y() + d[2] * axis.z() >= cos_half)
-              pairs.push_back((std::uint64_t(i) << 32) | id);
-          }
+    // The edge planes, oriented inward; a triangle seen edge-on (or the handle in its plane)
+    // bounds nothing by them.
+    Vec3 e[3] = {u[0].cross(u[1]), u[1].cross(u[2]), u[2].cross(u[0])};
+    const float side = e[0].dot(u[2]);
+    const bool flat = !(std::fabs(side) > 1e-7f);
+    if (side < 0.f)
+      for (Vec3& p : e) p = -p;
+    const auto covers = [&](std::uint32_t i) {
+      const float* d = dir + 3 * std::size_t(i);
+      if (flat) return true;
+      for (const Vec3& p : e)
+        if (p.x() * d[0] + p.y() * d[1] + p.z() * d[2] < -1e-6f) return false;
+      return true;
+    };
+    // On each face whose plane all three vertices are in front of, the box of their
+    // projections (cut to the face) holds the part of the triangle in that face's cone. A face
+    // some vertex is behind holds none of it unless the triangle spans more than 35 degrees (the
+    // cone is within 55 of its axis): then every tip is tested.
+    const float spread = std::min({u[0].dot(u[1]), u[1].dot(u[2]), u[2].dot(u[0])});
+    bool wide = false;
+    for (int face = 0; face < 6 && !wide; ++face) {
+      const int axis = face / 2;
+      const float sign = face % 2 ? -1.f : 1.f;
+      const int ia = axis == 0 ? 1 : 0, ib = axis == 2 ? 1 : 2;
+      float lo_a = 1e30f, hi_a = -1e30f, lo_b = 1e30f, hi_b = -1e30f;
+      int in_front = 0;
+      for (const Vec3& w : u) {
+        const float main = sign * w[axis];
+        if (!(main > 1e-3f)) continue;
+        ++in_front;
+        lo_a = std::min(lo_a, w[ia] / main);
+        hi_a = std::max(hi_a, w[ia] / main);
+        lo_b = std::min(lo_b, w[ib] / main);
+        hi_b = std::max(hi_b, w[ib] / main);
+      }
+      if (in_front < 3) {
+        wide = in_front > 0 && spread < 0.819f;  // cos 35 degrees
+        continue;
+      }
+      if (lo_a > 1.f || hi_a < -1.f || lo_b > 1.f || hi_b < -1.f) continue;
+      const int a0 = face_cell(lo_a - 1e-4f), a1 = face_cell(hi_a + 1e-4f);
+      const int b0 = face_cell(lo_b - 1e-4f), b1 = face_cell(hi_b + 1e-4f);
+      for (int cb = b0; cb <= b1; ++cb)
+        for (int ca = a0; ca <= a1; ++ca) {
+          const std::size_t c = std::size_t((face * kFace + cb) * kFace + ca);
+          for (std::uint32_t j = buckets[c]; j < buckets[c + 1]; ++j)
+            if (covers(order[j])) pairs.push_back((std::uint64_t(order[j]) << 32) | id);
         }
+    }
+    if (wide) {  // every tip (the pairs of the faces above may repeat: first_crossing takes either)
+      for (std::uint32_t i = 0; i < std::uint32_t(count); ++i)
+        if (covers(i)) pairs.push_back((std::uint64_t(i) << 32) | id);
+    }
   }
   // 5. Each paired tip: the nearest crossing among its triangles, as the cells' walk takes it
   //    (its triangles grouped by a counting sort on the tip).

@@ -139,6 +139,7 @@ ToolAnswer resolve_tool_contacts(const Contact* contacts, std::size_t count, con
   std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return depth[a] > depth[b]; });
   lambda.assign(n, 0.f);
   const float deepest = depth[order[0]];
+  out.deepest = deepest;
   Vec3 t = Vec3::Zero();
   float worst = 0.f;
   for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {

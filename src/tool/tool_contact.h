@@ -34,6 +34,7 @@ struct ToolAnswer {
   /// The translation that resolves the contacts, model units (force = k t metres).
   Vec3 translation{Vec3::Zero()};
   bool pinched = false;         ///< no translation frees every point (least squares taken).
+  float deepest = 0.f;          ///< the deepest touching point's depth along its normal, model units.
   bool reached = true;          ///< false: the broad phase found no surface within the tool's reach.
 };
 

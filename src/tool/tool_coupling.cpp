@@ -28,6 +28,7 @@ void ToolCoupling::reset(const ToolPose& pose) noexcept {
   started_ = true;
   last_ = ToolCouplingStep{};
   last_.tool = pose;
+  pinch_depth_ = probe_.answer(query_, pose, ForceLaw{}).deepest;
 }
 
 const ToolCouplingStep& ToolCoupling::step(const ToolPose& device, const ForceLaw& law) noexcept {
@@ -51,9 +52,16 @@ const ToolCouplingStep& ToolCoupling::step(const ToolPose& device, const ForceLa
     contact = probe_.answer(query_, tool_, law);
     ++n;
     if (contact.contacts == 0) continue;
-    if (contact.pinched) {  // no move frees it: the tool stays where it last was free
-      tool_.position -= move;
-      break;
+    if (contact.pinched) {
+      // No move frees it (a tool squeezed between walls): it may slide along the squeeze, not
+      // sink deeper into it.
+      if (contact.deepest > pinch_depth_ * 1.01f + 1e-3f * max_step_) {
+        tool_.position -= move;
+        break;
+      }
+      pinch_depth_ = contact.deepest;
+    } else {
+      pinch_depth_ = 0.f;
     }
     tool_.position += contact.translation;
     const float push = contact.translation.norm();

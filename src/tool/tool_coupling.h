@@ -53,6 +53,7 @@ private:
   bool started_ = false;
   ToolPose tool_;
   ToolCouplingStep last_;
+  float pinch_depth_ = 0.f;  // the squeeze the tool was last left in (model units)
 };
 
 } // namespace hb
