@@ -7,6 +7,7 @@
 #include "evaluation/stability_suite.h"
 #include "evaluation/tool_stability.h"
 #include "exact/exact_query.h"
+#include "recipe/bake_recipe.h"
 #include "tool_options.h"
 #include "haptic_box/box_file.h"
 #include "mesh/mesh_io.h"
@@ -66,6 +67,7 @@ void run_tool_suite(const hb::BoxScene& scene, const hb::TriangleMesh& mesh, con
   const hb::Workspace ws = hb::make_workspace(mesh.bounds().diagonal());
   hb::ToolStabilityOptions so;
   so.seed = seed;
+  so.bake_object = [](const hb::TriangleMesh& m) { return hb::bake(m, hb::default_recipe()).scene; };
   const auto results = hb::run_tool_stability(scene, exact, mesh, tool, ws, hb::PerceptualThresholds{}, so);
   std::size_t passed = 0, box_only = 0;
   for (std::size_t i = 0; i + 1 < results.size(); i += 2) {

@@ -1,12 +1,12 @@
 // The tool stability suite.
 //  1. Each test is a path of device poses (1 ms apart); the tool's coupling follows it over the
 //     box and, separately, over exact (ToolCoupling: sub-steps resolved out of the surface).
-//  2. Per tick: the coupling force; exact's own contact of the tool at the device pose (the
-//     penalty a tool there would feel) and whether any surface is within its reach.
+//  2. Per tick: the coupling force and the simulated tool; exact's own contact of the tool at
+//     the device pose (the penalty a tool there would feel).
 //  3. Counts: a pop-through is a tick where the device presses (exact's penalty above 0.5 N)
 //     but the coupling renders under a quarter of it (the simulated tool went in with the
 //     device); a ghost tick renders above the force floor with no surface within the tool's
-//     reach of the device; a jump is a tick whose force differs perceptibly from the last.
+//     reach of the simulated tool (nothing holds it off); a jump is a tick whose force differs perceptibly from the last.
 //  4. Criteria per test (ToolStabilityResult::criterion); the box is held to exact's figures
 //     where geometry itself makes them (jumps along slides, the energy of a press).
 #include "evaluation/tool_stability.h"
@@ -43,31 +43,23 @@ Driven drive(const ContactQuery& query, const ToolShape& tool, const Workspace& 
   return d;
 }
 
-// Exact's view of each device pose: the penalty force there and whether a surface is in reach.
-struct Reference {
-  std::vector<float> penalty_n;
-  std::vector<bool> near;
-};
-
-Reference reference(const ContactQuery& exact, const ToolShape& tool, const Workspace& ws, const Path& path) {
+// Exact's view of each device pose: the penalty force a tool there would feel.
+std::vector<float> reference(const ContactQuery& exact, const ToolShape& tool, const Workspace& ws, const Path& path) {
   ToolProbe probe(tool, ws.metres_per_unit);
-  Reference r;
-  for (const ToolPose& p : path.poses) {
-    const ToolAnswer a = probe.answer(exact, p, ws.law());
-    r.penalty_n.push_back(a.force.norm());
-    r.near.push_back(a.reached && exact.within_reach(p.position, probe.reach()));
-  }
-  return r;
+  std::vector<float> penalty_n;
+  for (const ToolPose& p : path.poses) penalty_n.push_back(probe.answer(exact, p, ws.law()).force.norm());
+  return penalty_n;
 }
 
-void count(ToolStabilityResult& out, const Driven& d, const Reference& ref, const PerceptualThresholds& t,
-           double max_force_n) {
+void count(ToolStabilityResult& out, const Driven& d, const std::vector<float>& penalty_n, const ContactQuery& exact,
+           float reach, const PerceptualThresholds& t, double max_force_n) {
   for (std::size_t k = 0; k < d.force.size(); ++k) {
     const float f = d.force[k].norm();
     ++out.ticks;
     out.max_force_n = std::max(out.max_force_n, double(f));
-    if (ref.penalty_n[k] > 0.5f && f < 0.25f * ref.penalty_n[k]) ++out.pop_throughs;
-    if (f > t.floor_n && !ref.near[k]) ++out.ghost_ticks;
+    if (penalty_n[k] > 0.5f && f < 0.25f * penalty_n[k]) ++out.pop_throughs;
+    // A ghost: the simulated tool held off with no surface within its reach.
+    if (f > t.floor_n && !exact.within_reach(d.tool[k], 1.1f * reach)) ++out.ghost_ticks;
     if (k > 0) {
       Contact a, b;
       a.contact = d.force[k - 1].squaredNorm() > 0.f;
@@ -86,13 +78,17 @@ ToolPose at(const Vec3& p, const Eigen::Quaternionf& q = Eigen::Quaternionf::Ide
   return pose;
 }
 
-// A round channel of radius r (mm) through material: a torus turned inside out, its tube's
-// centre line the circle of radius 60 mm in the plane z = 0.
+// A round channel of radius r (mm) through material: a slab 140 x 140 x 20 mm with a torus
+// turned inside out within it (a closed cavity), the tube's centre line the circle of radius
+// 60 mm in the plane z = 0.
 TriangleMesh channel(float r) {
-  TriangleMesh tube = make_torus(60.f, r, 512, 48);
-  for (Triangle& t : tube.triangles) std::swap(t[1], t[2]);
-  tube.compute_vertex_normals();
-  return tube;
+  TriangleMesh solid = make_cube(Vec3(70.f, 70.f, 10.f), 8);
+  const TriangleMesh tube = make_torus(60.f, r, 512, 48);
+  const auto offset = std::uint32_t(solid.positions.size());
+  solid.positions.insert(solid.positions.end(), tube.positions.begin(), tube.positions.end());
+  for (const Triangle& t : tube.triangles) solid.triangles.push_back({t[0] + offset, t[2] + offset, t[1] + offset});
+  solid.compute_vertex_normals();
+  return solid;
 }
 
 // The path along the channel's centre line (30 mm/s), the tool's z axis along it, moved
@@ -108,7 +104,8 @@ Path along_channel(std::size_t ticks, float offset) {
   return p;
 }
 
-BoxScene refined(const TriangleMesh& mesh) {
+BoxScene refined(const TriangleMesh& mesh, const ToolStabilityOptions& options) {
+  if (options.bake_object) return options.bake_object(mesh);
   BakeOptions o;
   o.params = {12, 6};
   o.refine = true;
@@ -127,11 +124,12 @@ void both(std::vector<ToolStabilityResult>& out, const std::string& test, const 
     r[m].method = m == 0 ? "box" : "exact";
     r[m].criterion = criterion;
   }
+  const float reach = ToolProbe(tool, ws.metres_per_unit).reach();
   for (const Path& path : paths) {
-    const Reference ref = reference(exact, tool, ws, path);
+    const std::vector<float> penalty_n = reference(exact, tool, ws, path);
     for (int m = 0; m < 2; ++m) {
       driven[m].push_back(drive(m == 0 ? box : exact, tool, ws, path));
-      count(r[m], driven[m].back(), ref, t, ws.max_force_n);
+      count(r[m], driven[m].back(), penalty_n, exact, reach, t, ws.max_force_n);
     }
   }
   judge(r[0], r[1], driven[0], driven[1]);
@@ -250,7 +248,7 @@ std::vector<ToolStabilityResult> run_tool_stability(const ContactQuery& box, con
     TriangleMesh plate = make_cube(Vec3(30.f, 30.f, 0.5f), 16);
     plate.compute_vertex_normals();
     const ExactQuery plate_exact(plate);
-    const BoxScene plate_box = refined(plate);
+    const BoxScene plate_box = refined(plate, options);
     Path p;
     const float top = 0.5f + float(tool_support(tool, Vec3(0.f, 0.f, -1.f)) * 1e3);
     for (int k = 0; k <= 40; ++k) p.poses.push_back(at(Vec3(0.3f, -0.2f, top + 5.f - 0.5f * float(k))));
@@ -272,7 +270,7 @@ std::vector<ToolStabilityResult> run_tool_stability(const ContactQuery& box, con
     const float r_mm = std::max(0.2f, size_mm);
     const TriangleMesh tight = channel(r_mm - 0.05f);
     const ExactQuery tight_exact(tight);
-    const BoxScene tight_box = refined(tight);
+    const BoxScene tight_box = refined(tight, options);
     both(out, "channel", "centred in a channel 0.05 mm narrower than the tool, moving along it: lateral force under F0",
          tight_box, tight_exact, tool, mm_ws, t, {along_channel(500, 0.f)},
          [&](ToolStabilityResult& b, ToolStabilityResult& e, auto& db, auto& de) {
@@ -290,7 +288,7 @@ std::vector<ToolStabilityResult> run_tool_stability(const ContactQuery& box, con
     const float hole = float(tool_support(tool, Vec3(1.f, 0.f, 0.f)) * 1e3) + 0.5f;
     const TriangleMesh bore = channel(hole);
     const ExactQuery bore_exact(bore);
-    const BoxScene bore_box = refined(bore);
+    const BoxScene bore_box = refined(bore, options);
     both(out, "peg-in-hole", "moving along a hole with 0.5 mm clearance: no force centred; 0.6 mm off centre, k x 0.1 mm",
          bore_box, bore_exact, tool, mm_ws, t, {along_channel(300, 0.f), along_channel(300, 0.6f)},
          [&](ToolStabilityResult& b, ToolStabilityResult& e, auto& db, auto& de) {

@@ -8,6 +8,7 @@
 #include "contact/perceptible.h"
 #include "contact/workspace.h"
 #include "tool/tool_coupling.h"
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -30,11 +31,16 @@ struct ToolStabilityResult {
   std::string figure_name;
 };
 
+class BoxScene;
+
 struct ToolStabilityOptions {
   std::size_t slides = 10, slide_ticks = 300;
   std::size_t pushes = 10;
   double rest_seconds = 10.0;
   std::uint64_t seed = 7;
+  /// How the generated objects are baked for the box's side (a front end passes the default
+  /// bake); empty: one refined box (m 12, n 6), which cannot see a closed cavity.
+  std::function<BoxScene(const TriangleMesh&)> bake_object;
 };
 
 /// Runs the suite with `tool` over `box` and `exact` (both answering `mesh`'s model at
