@@ -53,6 +53,36 @@ void answer_tool_poses(const hb::BoxScene& scene, const hb::ExactQuery* exact, c
   }
 }
 
+// The box file's scene, and exact Embree on MESH when given, at the workspace of the box file's
+// mesh diagonal (the same as the mesh's when both are given: the scale of `eval`, `servo` and
+// the window for this model).
+struct Answerers {
+  hb::BoxScene scene;
+  hb::TriangleMesh mesh;
+  std::unique_ptr<hb::ExactQuery> exact;
+  hb::Workspace workspace;
+};
+
+std::unique_ptr<Answerers> load_answerers(const std::string& box, const std::string& exact_mesh,
+                                          const hb::cli::ModelArgs& model, const hb::cli::WorkspaceArgs& workspace) {
+  auto a = std::make_unique<Answerers>();
+  a->scene = hb::load_box_file(box);
+  if (!exact_mesh.empty()) {
+    a->mesh = hb::cli::load_mesh(exact_mesh, model);
+    a->exact = std::make_unique<hb::ExactQuery>(a->mesh);
+  }
+  a->workspace = workspace.workspace(a->exact ? double(a->mesh.bounds().diagonal()) : hb::cli::model_diagonal(a->scene));
+  return a;
+}
+
+// OUT (a file) or stdout.
+std::ostream& output(const std::string& path, std::ofstream& file) {
+  if (path.empty()) return std::cout;
+  file.open(path);
+  if (!file) throw hb::IoError(path + ": cannot open for writing");
+  return file;
+}
+
 } // namespace
 
 void add_query_command(CLI::App& app) {
@@ -89,22 +119,10 @@ void add_query_command(CLI::App& app) {
       const hb::ToolSpec spec = hb::parse_tool_spec(opts->tool);
       const std::vector<hb::ToolPose> poses = hb::read_tool_poses_csv(opts->poses_csv);
       const hb::ToolShape tool = hb::make_tool(spec, [](const std::string& path) { return hb::cli::load_mesh(path); });
-      const hb::BoxScene scene = hb::load_box_file(opts->box);
-      hb::TriangleMesh mesh;
-      std::unique_ptr<hb::ExactQuery> exact;
-      if (!opts->exact_mesh.empty()) {
-        mesh = hb::cli::load_mesh(opts->exact_mesh, opts->model);
-        exact = std::make_unique<hb::ExactQuery>(mesh);
-      }
-      const double diagonal = exact ? double(mesh.bounds().diagonal()) : hb::cli::model_diagonal(scene);
-      const hb::Workspace workspace = opts->workspace.workspace(diagonal);
+      const auto a = load_answerers(opts->box, opts->exact_mesh, opts->model, opts->workspace);
       std::ofstream file;
-      if (!opts->out_csv.empty()) {
-        file.open(opts->out_csv);
-        if (!file) throw hb::IoError(opts->out_csv + ": cannot open for writing");
-      }
-      std::ostream& out = opts->out_csv.empty() ? std::cout : file;
-      answer_tool_poses(scene, exact.get(), workspace, opts->workspace.judge(), tool, poses, out);
+      std::ostream& out = output(opts->out_csv, file);
+      answer_tool_poses(a->scene, a->exact.get(), a->workspace, opts->workspace.judge(), tool, poses, out);
       if (!out) throw hb::IoError((opts->out_csv.empty() ? std::string("stdout") : opts->out_csv) + ": write failed");
       return;
     }
@@ -134,24 +152,13 @@ void add_query_command(CLI::App& app) {
       throw hb::cli::UsageError("query: give --segment sx sy sz ex ey ez or --segments IN.csv");
     }
     if (opts->box.empty()) throw hb::cli::UsageError("query: BOX is required (the box file, first)");
-    const hb::BoxScene scene = hb::load_box_file(opts->box);
-    hb::TriangleMesh mesh;
-    std::unique_ptr<hb::ExactQuery> exact;
-    if (!opts->exact_mesh.empty()) {
-      mesh = hb::cli::load_mesh(opts->exact_mesh, opts->model);
-      exact = std::make_unique<hb::ExactQuery>(mesh);
-    }
-    // The box file's mesh diagonal (the same as the mesh's when both are given: the scale of
-    // `eval`, `servo` and the window for this model).
-    const double diagonal = exact ? double(mesh.bounds().diagonal()) : hb::cli::model_diagonal(scene);
-    const hb::ForceLaw law = opts->workspace.workspace(diagonal).law();
+    const auto a = load_answerers(opts->box, opts->exact_mesh, opts->model, opts->workspace);
+    const hb::BoxScene& scene = a->scene;
+    const hb::ExactQuery* exact = a->exact.get();
+    const hb::ForceLaw law = a->workspace.law();
     const hb::PerceptualJudge judge = opts->workspace.judge();
     std::ofstream file;
-    if (!opts->out_csv.empty()) {
-      file.open(opts->out_csv);
-      if (!file) throw hb::IoError(opts->out_csv + ": cannot open for writing");
-    }
-    std::ostream& out = opts->out_csv.empty() ? std::cout : file;
+    std::ostream& out = output(opts->out_csv, file);
     out << "contact,depth,nx,ny,nz,fx,fy,fz";
     if (exact) out << ",exact_contact,exact_depth,exact_nx,exact_ny,exact_nz,exact_fx,exact_fy,exact_fz,perceptible";
     out << "\n";

@@ -186,6 +186,19 @@ nlohmann::json shadow_json(const ServoArgs& a, const hb::ServoReport& r) {
           {"perceptible_share", sh.contact_ticks ? double(sh.perceptible) / double(sh.contact_ticks) : 0.0}};
 }
 
+void add_tool_json(nlohmann::json& j, const hb::ToolShape& tool, const hb::ServoReport& r) {
+  j["tool"] = tool.spec;
+  j["tool_points"] = tool.size();
+  j["tool_max_torque_nm"] = r.tool_max_torque_nm;
+  j["tool_max_substeps"] = r.tool_max_substeps;
+}
+
+void print_tool(const hb::ToolShape& tool, const hb::ServoReport& r) {
+  std::printf("  tool: %s; its virtual coupling renders the force (largest torque on the simulated tool %.3g N m, "
+              "not rendered by a 3-DOF device; up to %d sub-steps a tick)\n",
+              hb::describe_tool(tool).c_str(), r.tool_max_torque_nm, r.tool_max_substeps);
+}
+
 nlohmann::json proxy_json(const hb::GodObjectStats& p) {
   return {{"contact_ticks", p.contact_ticks}, {"queries", p.queries},   {"seeds", p.seeds},
           {"reseeds", p.reseeds},             {"fallbacks", p.fallbacks}, {"max_planes", p.max_planes}};
@@ -200,6 +213,32 @@ void print_proxy(const char* what, const hb::GodObjectStats& p) {
               static_cast<unsigned long long>(p.fallbacks), static_cast<unsigned long long>(p.max_planes));
 }
 
+// One scale for every command: the model's diagonal (its mesh's, as the box file records it)
+// at the workspace's size, the workspace's stiffness.
+hb::Workspace scene_workspace(const ServoArgs& a, const Scene& scene) {
+  const double diagonal = scene.box ? hb::cli::model_diagonal(*scene.box) : double((scene.max - scene.min).norm());
+  return a.workspace.workspace(diagonal);
+}
+
+// The loop's options from the command line, centred as fit_workspace centres the model.
+hb::ServoOptions servo_options(const ServoArgs& a, const Scene& scene, const hb::Workspace& ws,
+                               const hb::DeviceSpec& spec, double replay_rate_hz) {
+  hb::ServoOptions o;
+  o.rate_hz = a.rate_hz;
+  o.request_realtime = !a.no_realtime;
+  o.spin_s = a.spin_us * 1e-6;
+  o.prime = !a.no_prime;
+  o.mapping = hb::fit_workspace(scene.min, scene.max, spec);
+  o.mapping.model_units_per_metre = float(1.0 / ws.metres_per_unit);
+  o.law = ws.law();
+  o.perceptual = a.workspace.judge().thresholds;
+  o.shadow_is_reference = a.render != "exact";  // the JND is taken of exact's force
+  o.contact_law = hb::contact_law(a.law);  // checked by the option already
+  if (replay_rate_hz > 0) o.rate_hz = replay_rate_hz;  // a replay: same dt, same safety ramps, same forces
+  if (!a.tool.empty()) o.tool = std::make_shared<const hb::ToolShape>(hb::cli::load_tool(a.tool));
+  return o;
+}
+
 void run_servo(const ServoArgs& a) {
   if (a.render == "exact" && a.exact.empty()) throw hb::cli::UsageError("--render exact needs --exact MESH");
   Scene scene = load_scene(a.box, a.route);
@@ -212,23 +251,8 @@ void run_servo(const ServoArgs& a) {
   }
   hb::OpenedDevice opened = open_chosen_device(a, 1.0 / a.rate_hz);
   hb::HapticDevice* device = opened.device.get();
-  hb::ServoOptions o;
-  o.rate_hz = a.rate_hz;
-  o.request_realtime = !a.no_realtime;
-  o.spin_s = a.spin_us * 1e-6;
-  o.prime = !a.no_prime;
-  // One scale for every command: the model's diagonal (its mesh's, as the box file records it)
-  // at the workspace's size, the workspace's stiffness; centred as fit_workspace centres it.
-  const double diagonal = scene.box ? hb::cli::model_diagonal(*scene.box) : double((scene.max - scene.min).norm());
-  const hb::Workspace ws = a.workspace.workspace(diagonal);
-  o.mapping = hb::fit_workspace(scene.min, scene.max, device->spec());
-  o.mapping.model_units_per_metre = float(1.0 / ws.metres_per_unit);
-  o.law = ws.law();
-  o.perceptual = a.workspace.judge().thresholds;
-  o.shadow_is_reference = a.render != "exact";  // the JND is taken of exact's force
-  o.contact_law = hb::contact_law(a.law);  // checked by the option already
-  if (opened.rate_hz > 0) o.rate_hz = opened.rate_hz;  // a replay: same dt, same safety ramps, same forces
-  if (!a.tool.empty()) o.tool = std::make_shared<const hb::ToolShape>(hb::cli::load_tool(a.tool));
+  const hb::Workspace ws = scene_workspace(a, scene);
+  const hb::ServoOptions o = servo_options(a, scene, ws, device->spec(), opened.rate_hz);
 
   std::unique_ptr<hb::LogRecorder> recorder;
   // --trajectory without --record records into a temporary log beside the .vtp.
@@ -286,12 +310,7 @@ void run_servo(const ServoArgs& a) {
     j["stiffness_limited"] = r.stiffness_limited;
     j["workspace"] = hb::workspace_json(ws, a.workspace.judge());
     j["contact_law"] = o.tool ? "tool coupling" : hb::to_string(r.contact_law);
-    if (o.tool) {
-      j["tool"] = o.tool->spec;
-      j["tool_points"] = o.tool->size();
-      j["tool_max_torque_nm"] = r.tool_max_torque_nm;
-      j["tool_max_substeps"] = r.tool_max_substeps;
-    }
+    if (o.tool) add_tool_json(j, *o.tool, r);
     if (scene.box) j["route"] = hb::route_name(scene.box->stroke_route());  // a probe with its query state
     if (r.contact_law == hb::ContactLaw::proxy) {
       j["proxy"] = proxy_json(r.proxy);
@@ -332,9 +351,7 @@ void run_servo(const ServoArgs& a) {
     std::printf("  stiffness %.1f N/m%s\n", r.stiffness_n_per_m,
                 r.stiffness_limited ? " (limited to the device's maximum)" : "");
     if (o.tool) {
-      std::printf("  tool: %s; its virtual coupling renders the force (largest torque on the simulated tool %.3g N m, "
-                  "not rendered by a 3-DOF device; up to %d sub-steps a tick)\n",
-                  hb::describe_tool(*o.tool).c_str(), r.tool_max_torque_nm, r.tool_max_substeps);
+      print_tool(*o.tool, r);
     } else if (r.contact_law == hb::ContactLaw::proxy) {
       std::printf("  contact law: proxy (god-object kept by the loop%s)\n", exact ? ", one for each answer" : "");
       const bool box_drives = a.render != "exact";

@@ -84,15 +84,19 @@ std::vector<Segment> parse_segments_csv(std::string_view text, const std::string
   return out;
 }
 
-std::vector<Segment> read_segments_csv(const std::string& path) {
+std::string read_text_file(const std::string& path, const std::string& what) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a folder, not a segments file");
+  if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a folder, not a " + what + " file");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path + ": cannot open segments file");
+  if (!in) throw IoError(path + ": cannot open " + what + " file");
   std::ostringstream text;
   text << in.rdbuf();
-  if (in.bad()) throw IoError(path + ": read error in segments file");
-  return parse_segments_csv(text.str(), path);
+  if (in.bad()) throw IoError(path + ": read error in " + what + " file");
+  return text.str();
+}
+
+std::vector<Segment> read_segments_csv(const std::string& path) {
+  return parse_segments_csv(read_text_file(path, "segments"), path);
 }
 
 } // namespace hb

@@ -25,6 +25,10 @@ constexpr float kMaxSegmentCoordinate = 4e15f;
 /// Throws hb::InvalidInput naming `name`, the line and the cause.
 std::vector<Segment> parse_segments_csv(std::string_view text, const std::string& name);
 
+/// The whole text of `path`, a `what` file (e.g. "segments"). Throws hb::IoError when it is
+/// missing, a folder or unreadable.
+std::string read_text_file(const std::string& path, const std::string& what);
+
 /// Reads a segments CSV (see parse_segments_csv). Throws hb::IoError when `path` is missing,
 /// a folder or unreadable, hb::InvalidInput for its content.
 std::vector<Segment> read_segments_csv(const std::string& path);

@@ -3,9 +3,6 @@
 #include "errors.h"
 #include "evaluation/segments_csv.h"
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 
 namespace hb {
 namespace {
@@ -92,14 +89,7 @@ std::vector<ToolPose> parse_tool_poses_csv(std::string_view text, const std::str
 }
 
 std::vector<ToolPose> read_tool_poses_csv(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a folder, not a poses file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path + ": cannot open poses file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw IoError(path + ": read error in poses file");
-  return parse_tool_poses_csv(text.str(), path);
+  return parse_tool_poses_csv(read_text_file(path, "poses"), path);
 }
 
 } // namespace hb

@@ -137,6 +137,78 @@ void both(std::vector<ToolStabilityResult>& out, const std::string& test, const 
   out.push_back(r[1]);
 }
 
+// The generated objects, at true size (1 unit = 1 mm): a thin plate, a channel, a hole.
+void object_tests(std::vector<ToolStabilityResult>& out, const ToolShape& tool, const Workspace& ws,
+                  const PerceptualThresholds& t, const ToolStabilityOptions& options) {
+  const double k_n_per_m = ws.stiffness_n_per_m;
+  Workspace mm_ws = ws;
+  mm_ws.metres_per_unit = 1e-3;
+  mm_ws.model_diagonal = 100.0;
+  const float size_mm = float(tool.size_m * 1e3);
+  {
+    TriangleMesh plate = make_cube(Vec3(30.f, 30.f, 0.5f), 16);
+    plate.compute_vertex_normals();
+    const ExactQuery plate_exact(plate);
+    const BoxScene plate_box = refined(plate, options);
+    Path p;
+    const float top = 0.5f + float(tool_support(tool, Vec3(0.f, 0.f, -1.f)) * 1e3);
+    for (int k = 0; k <= 40; ++k) p.poses.push_back(at(Vec3(0.3f, -0.2f, top + 5.f - 0.5f * float(k))));
+    both(out, "thin-plate", "a 1 mm plate pushed through at 0.5 m/s: the tool stays on top, the force ends at k x depth",
+         plate_box, plate_exact, tool, mm_ws, t, {p}, [&](ToolStabilityResult& b, ToolStabilityResult& e, auto& db, auto& de) {
+           for (int m = 0; m < 2; ++m) {
+             ToolStabilityResult& r = m == 0 ? b : e;
+             const Driven& d = (m == 0 ? db : de)[0];
+             float lowest = 1e30f;
+             for (const Vec3& x : d.tool) lowest = std::min(lowest, x.z());
+             const double depth_m = 15.e-3;
+             r.figure_name = "final force / k depth";
+             r.figure = double(d.force.back().z()) / (k_n_per_m * depth_m);
+             r.pass = lowest >= top - 0.6f * size_mm && r.figure >= 0.9 && r.ghost_ticks == 0;
+           }
+         });
+  }
+  if (tool.kind == ToolKind::sphere || tool.kind == ToolKind::point) {
+    const float r_mm = std::max(0.2f, size_mm);
+    const TriangleMesh tight = channel(r_mm - 0.05f);
+    const ExactQuery tight_exact(tight);
+    const BoxScene tight_box = refined(tight, options);
+    both(out, "channel", "centred in a channel 0.05 mm narrower than the tool, moving along it: lateral force under F0",
+         tight_box, tight_exact, tool, mm_ws, t, {along_channel(500, 0.f)},
+         [&](ToolStabilityResult& b, ToolStabilityResult& e, auto& db, auto& de) {
+           for (int m = 0; m < 2; ++m) {
+             ToolStabilityResult& r = m == 0 ? b : e;
+             double lateral = 0;
+             for (const Vec3& f : (m == 0 ? db : de)[0].force) lateral = std::max(lateral, double(f.norm()));
+             r.figure_name = "largest force (N)";
+             r.figure = lateral;
+             r.pass = lateral <= t.floor_n && r.ghost_ticks == 0;
+           }
+         });
+  }
+  {
+    const float hole = float(tool_support(tool, Vec3(1.f, 0.f, 0.f)) * 1e3) + 0.5f;
+    const TriangleMesh bore = channel(hole);
+    const ExactQuery bore_exact(bore);
+    const BoxScene bore_box = refined(bore, options);
+    both(out, "peg-in-hole", "moving along a hole with 0.5 mm clearance: no force centred; 0.6 mm off centre, k x 0.1 mm",
+         bore_box, bore_exact, tool, mm_ws, t, {along_channel(300, 0.f), along_channel(300, 0.6f)},
+         [&](ToolStabilityResult& b, ToolStabilityResult& e, auto& db, auto& de) {
+           for (int m = 0; m < 2; ++m) {
+             ToolStabilityResult& r = m == 0 ? b : e;
+             const auto& d = m == 0 ? db : de;
+             double centred = 0, off = 0;
+             for (const Vec3& f : d[0].force) centred = std::max(centred, double(f.norm()));
+             for (std::size_t k = 10; k < d[1].force.size(); ++k) off += double(d[1].force[k].norm());
+             off /= double(d[1].force.size() - 10);
+             const double expected = k_n_per_m * 0.1e-3;
+             r.figure_name = "off-centre force / k x 0.1 mm";
+             r.figure = off / expected;
+             r.pass = centred <= t.floor_n && std::fabs(r.figure - 1.0) <= 0.25;
+           }
+         });
+  }
+}
+
 } // namespace
 
 std::vector<ToolStabilityResult> run_tool_stability(const ContactQuery& box, const ContactQuery& exact,
@@ -239,73 +311,7 @@ std::vector<ToolStabilityResult> run_tool_stability(const ContactQuery& box, con
          e.pass = e.figure <= 1.15 && e.pop_throughs == 0;
          b.pass = b.figure <= e.figure + 0.02 && b.pop_throughs == 0;
        });
-  // Objects of their own, at true size (1 unit = 1 mm).
-  Workspace mm_ws = ws;
-  mm_ws.metres_per_unit = 1e-3;
-  mm_ws.model_diagonal = 100.0;
-  const float size_mm = float(tool.size_m * 1e3);
-  {
-    TriangleMesh plate = make_cube(Vec3(30.f, 30.f, 0.5f), 16);
-    plate.compute_vertex_normals();
-    const ExactQuery plate_exact(plate);
-    const BoxScene plate_box = refined(plate, options);
-    Path p;
-    const float top = 0.5f + float(tool_support(tool, Vec3(0.f, 0.f, -1.f)) * 1e3);
-    for (int k = 0; k <= 40; ++k) p.poses.push_back(at(Vec3(0.3f, -0.2f, top + 5.f - 0.5f * float(k))));
-    both(out, "thin-plate", "a 1 mm plate pushed through at 0.5 m/s: the tool stays on top, the force ends at k x depth",
-         plate_box, plate_exact, tool, mm_ws, t, {p}, [&](ToolStabilityResult& b, ToolStabilityResult& e, auto& db, auto& de) {
-           for (int m = 0; m < 2; ++m) {
-             ToolStabilityResult& r = m == 0 ? b : e;
-             const Driven& d = (m == 0 ? db : de)[0];
-             float lowest = 1e30f;
-             for (const Vec3& x : d.tool) lowest = std::min(lowest, x.z());
-             const double depth_m = 15.e-3;
-             r.figure_name = "final force / k depth";
-             r.figure = double(d.force.back().z()) / (k_n_per_m * depth_m);
-             r.pass = lowest >= top - 0.6f * size_mm && r.figure >= 0.9 && r.ghost_ticks == 0;
-           }
-         });
-  }
-  if (tool.kind == ToolKind::sphere || tool.kind == ToolKind::point) {
-    const float r_mm = std::max(0.2f, size_mm);
-    const TriangleMesh tight = channel(r_mm - 0.05f);
-    const ExactQuery tight_exact(tight);
-    const BoxScene tight_box = refined(tight, options);
-    both(out, "channel", "centred in a channel 0.05 mm narrower than the tool, moving along it: lateral force under F0",
-         tight_box, tight_exact, tool, mm_ws, t, {along_channel(500, 0.f)},
-         [&](ToolStabilityResult& b, ToolStabilityResult& e, auto& db, auto& de) {
-           for (int m = 0; m < 2; ++m) {
-             ToolStabilityResult& r = m == 0 ? b : e;
-             double lateral = 0;
-             for (const Vec3& f : (m == 0 ? db : de)[0].force) lateral = std::max(lateral, double(f.norm()));
-             r.figure_name = "largest force (N)";
-             r.figure = lateral;
-             r.pass = lateral <= t.floor_n && r.ghost_ticks == 0;
-           }
-         });
-  }
-  {
-    const float hole = float(tool_support(tool, Vec3(1.f, 0.f, 0.f)) * 1e3) + 0.5f;
-    const TriangleMesh bore = channel(hole);
-    const ExactQuery bore_exact(bore);
-    const BoxScene bore_box = refined(bore, options);
-    both(out, "peg-in-hole", "moving along a hole with 0.5 mm clearance: no force centred; 0.6 mm off centre, k x 0.1 mm",
-         bore_box, bore_exact, tool, mm_ws, t, {along_channel(300, 0.f), along_channel(300, 0.6f)},
-         [&](ToolStabilityResult& b, ToolStabilityResult& e, auto& db, auto& de) {
-           for (int m = 0; m < 2; ++m) {
-             ToolStabilityResult& r = m == 0 ? b : e;
-             const auto& d = m == 0 ? db : de;
-             double centred = 0, off = 0;
-             for (const Vec3& f : d[0].force) centred = std::max(centred, double(f.norm()));
-             for (std::size_t k = 10; k < d[1].force.size(); ++k) off += double(d[1].force[k].norm());
-             off /= double(d[1].force.size() - 10);
-             const double expected = k_n_per_m * 0.1e-3;
-             r.figure_name = "off-centre force / k x 0.1 mm";
-             r.figure = off / expected;
-             r.pass = centred <= t.floor_n && std::fabs(r.figure - 1.0) <= 0.25;
-           }
-         });
-  }
+  object_tests(out, tool, ws, t, options);
   return out;
 }
 

@@ -10,6 +10,7 @@
 //     perceptibly from the same method's previous tick.
 #include "evaluation/tool_ticks.h"
 #include "errors.h"
+#include "mesh/surface_sampler.h"
 #include "mesh/triangle_mesh.h"
 #include "tool/tool_verdict.h"
 #include <tbb/parallel_for.h>
@@ -50,15 +51,7 @@ std::vector<std::vector<ToolPose>> tool_slides(const TriangleMesh& mesh, const C
   if (!(options.speed_m_per_s > 0.0 && options.speed_m_per_s <= 1.0) || !(options.depth_m > 0.0 && options.depth_m <= 0.01))
     throw InvalidInput("tool slides: speed must be in (0, 1] m/s and depth in (0, 10] mm");
   if (mesh.triangle_count() == 0) throw InvalidInput("tool slides: the mesh has no triangles");
-  std::vector<double> cumulative;
-  double total = 0.0;
-  for (const Triangle& t : mesh.triangles) {
-    const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
-    const double area = 0.5 * double((b - a).cross(c - a).norm());
-    total += std::isfinite(area) ? area : 0.0;
-    cumulative.push_back(total);
-  }
-  if (!(total > 0.0)) throw InvalidInput("tool slides: the mesh has no surface area");
+  const SurfaceSampler sampler(mesh, "tool slides");
   const double mpu = workspace.metres_per_unit;
   const float step = float(options.speed_m_per_s * kTick / mpu), depth = float(options.depth_m / mpu);
   const ForceLaw law = workspace.law();
@@ -67,15 +60,9 @@ std::vector<std::vector<ToolPose>> tool_slides(const TriangleMesh& mesh, const C
   ToolProbe probe(tool, mpu);
   std::vector<std::vector<ToolPose>> slides;
   for (std::size_t s = 0; s < options.slides; ++s) {
-    const std::size_t k = std::min(cumulative.size() - 1, std::size_t(std::lower_bound(cumulative.begin(), cumulative.end(),
-                                                                                     uniform(rng) * total) - cumulative.begin()));
-    const Triangle& tri = mesh.triangles[k];
-    const Vec3 &a = mesh.positions[tri[0]], &b = mesh.positions[tri[1]], &c = mesh.positions[tri[2]];
-    double u = uniform(rng), v = uniform(rng);
-    if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
-    const Vec3 p = a + float(u) * (b - a) + float(v) * (c - a);
-    Vec3 n = (b - a).cross(c - a);
-    n = n.norm() > 0.f ? Vec3(n.normalized()) : Vec3::UnitZ();
+    Vec3 p, n;
+    const double r = uniform(rng), u = uniform(rng), v = uniform(rng);
+    sampler.sample(r, u, v, p, n);
     const Eigen::Quaternionf start = random_orientation(rng);
     const Vec3 axis = any_tangent(Vec3::UnitZ(), rng);
     Vec3 direction = any_tangent(n, rng);

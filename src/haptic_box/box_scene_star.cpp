@@ -46,53 +46,30 @@ int cube_face(const Vec3& u, float& a, float& b) noexcept {
 
 int face_cell(float a) noexcept { return std::min(kFace - 1, std::max(0, int((a + 1.f) * (0.5f * kFace)))); }
 
-} // namespace
 
-bool BoxScene::within_reach(const Vec3& centre, float radius) const noexcept {
-  if (!centre.allFinite()) return true;
-  // A cell's slack: a stroke route's full mesh may stray from the simplified surface the
-  // grid was built on by less than that.
-  if (grid_ && !grid_->empty()) return grid_->surface_distance_bound(centre) <= radius + grid_->cell();
-  for (std::size_t b = 0; b < boxes_.size(); ++b) {
-    float d2 = 0.f;
-    for (int k = 0; k < 3; ++k) {
-      const float below = bounds_[k][b] - centre[k], above = centre[k] - bounds_[k + 3][b];
-      const float gap = std::max({below, above, 0.f});
-      d2 += gap * gap;
-    }
-    if (d2 <= radius * radius) return true;
-  }
-  return false;
-}
-
-void BoxScene::query_star(const Vec3& start, const Vec3* tips, std::size_t count, const ForceLaw& law, Contact* out,
-                          StarScratch& scratch) const noexcept {
-  const auto all = [&] { ContactQuery::query_star(start, tips, count, law, out, scratch); };
-  if (!(grid_ && !grid_->empty() && cells_ && answering_route() == SceneRoute::cells && start.allFinite())) return all();
-  std::fill(out, out + count, Contact{});
-  // 1.
-  if (grid_->code_at(start) == SceneGrid::kInside) return;
-  float reach = 0.f;
-  for (std::size_t i = 0; i < count; ++i) reach = std::max(reach, (tips[i] - start).norm());
-  if (!std::isfinite(reach)) return all();
-  // 2. The triangles of the surface cells in reach (a cell box within reach of the handle).
-  const float cell = grid_->cell();
-  const Vec3& origin = grid_->origin();
-  const auto& dims = grid_->dims();
+// 2. The triangles of the surface cells within `reach` of `start` (a cell box in reach) into
+// scratch.ids, each once.
+enum class Gathered { none, some, too_many };
+Gathered gather_triangles(const SceneGrid& grid, const SurfaceCells& cells_in, const Vec3& start, float reach,
+                          StarScratch& scratch) {
+  const SurfaceCells& cells = cells_in;
+  const float cell = grid.cell();
+  const Vec3& origin = grid.origin();
+  const auto& dims = grid.dims();
   int lo[3], hi[3];
-  std::size_t cells = 1;
+  std::size_t cell_count = 1;
   for (int k = 0; k < 3; ++k) {
     const float a = std::floor((start[k] - reach - origin[k]) / cell), b = std::floor((start[k] + reach - origin[k]) / cell);
     lo[k] = int(std::max(0.f, std::min(a, float(dims[k]))));
     hi[k] = int(std::max(-1.f, std::min(b, float(dims[k] - 1))));
-    if (hi[k] < lo[k]) return;  // no cell of the grid (which covers the surface) in reach
-    cells *= std::size_t(hi[k] - lo[k] + 1);
+    if (hi[k] < lo[k]) return Gathered::none;  // no cell of the grid (which covers the surface) in reach
+    cell_count *= std::size_t(hi[k] - lo[k] + 1);
   }
-  if (cells > kMaxCellsInReach) return all();
+  if (cell_count > kMaxCellsInReach) return Gathered::too_many;
   std::vector<std::uint32_t>& ids = scratch.ids;
   ids.clear();
   // Each triangle once (a triangle is listed in every cell it meets): stamped with this call.
-  const SurfaceTriangles& surface = cells_->surface();
+  const SurfaceTriangles& surface = cells.surface();
   std::vector<std::uint32_t>& stamps = scratch.stamps;
   if (stamps.size() != surface.size()) stamps.assign(surface.size(), 0);
   if (++scratch.call == 0) {
@@ -103,19 +80,23 @@ void BoxScene::query_star(const Vec3& start, const Vec3* tips, std::size_t count
   for (int z = lo[2]; z <= hi[2]; ++z)
     for (int y = lo[1]; y <= hi[1]; ++y)
       for (int x = lo[0]; x <= hi[0]; ++x) {
-        const std::uint32_t index = cells_->index(x, y, z);
+        const std::uint32_t index = cells.index(x, y, z);
         if (index == SurfaceCells::kNone) continue;
         const Vec3 box_lo = origin + cell * Vec3(float(x), float(y), float(z));
         const Vec3 gap = (box_lo - start).cwiseMax(start - box_lo - Vec3::Constant(cell)).cwiseMax(Vec3::Zero());
         if (gap.norm() > reach) continue;
-        for (const std::uint32_t* t = cells_->begin(index); t != cells_->end(index); ++t)
+        for (const std::uint32_t* t = cells.begin(index); t != cells.end(index); ++t)
           if (*t < stamps.size() && stamps[*t] != call) {
             stamps[*t] = call;
             ids.push_back(*t);
           }
       }
-  if (ids.empty()) return;
-  // 3. The tips' directions in the cells of a cube map (S x S a face).
+  return ids.empty() ? Gathered::none : Gathered::some;
+}
+
+// 3. The tips' directions from `start` (scratch.directions) in the cells of a cube map: the
+// tips of cube-map cell c are scratch.order[buckets[c], buckets[c + 1]).
+void bucket_tips(const Vec3& start, const Vec3* tips, std::size_t count, StarScratch& scratch) {
   std::vector<float>& directions = scratch.directions;
   directions.resize(3 * count);
   std::vector<std::uint32_t>& buckets = scratch.buckets;
@@ -138,14 +119,23 @@ void BoxScene::query_star(const Vec3& start, const Vec3* tips, std::size_t count
   std::vector<std::uint32_t>& placed = scratch.counts;  // counting sort: how many placed a cell
   placed.assign(6 * kFace * kFace, 0);
   for (std::size_t i = 0; i < count; ++i) order[buckets[cell_of_tip[i]] + placed[cell_of_tip[i]]++] = std::uint32_t(i);
-  // 4. Each triangle pairs with the tips whose direction it covers: seen from the handle it is
-  //    the spherical triangle of its vertices' directions (inside its three edge planes). On one
-  //    face of the cube map (a central projection, which keeps great circles straight) it lies
-  //    in the box of its projected vertices; across faces, every tip is tested.
+}
+
+// 4. Each triangle of scratch.ids pairs with the tips whose direction it covers (scratch.pairs:
+// tip << 32 | triangle): seen from the handle it is the spherical triangle of its vertices'
+// directions (inside its three edge planes). On one face of the cube map (a central projection,
+// which keeps great circles straight) it lies in the box of its projected vertices; a triangle
+// wider than 35 degrees across faces is tested against every tip. False: the handle is on a
+// vertex (no directions).
+bool pair_triangles(const SurfaceTriangles& surface, const Vec3& start, float reach, std::size_t count,
+                    StarScratch& scratch) {
+  const std::vector<std::uint32_t>& ids = scratch.ids;
+  const std::vector<std::uint32_t>& buckets = scratch.buckets;
+  const std::vector<std::uint32_t>& order = scratch.order;
   const SurfaceTriangles::Record* records = surface.records();
   std::vector<std::uint64_t>& pairs = scratch.pairs;
   pairs.clear();
-  const float* dir = directions.data();
+  const float* dir = scratch.directions.data();
   for (std::uint32_t id : ids) {
     const SurfaceTriangles::Record& r = records[id];
     const Vec3 a(r.a[0], r.a[1], r.a[2]);
@@ -153,7 +143,7 @@ void BoxScene::query_star(const Vec3& start, const Vec3* tips, std::size_t count
     Vec3 u[3];
     for (int k = 0; k < 3; ++k) {
       const float n = v[k].norm();
-      if (!(n > 1e-6f * reach)) return all();  // the handle on a vertex
+      if (!(n > 1e-6f * reach)) return false;  // the handle on a vertex
       u[k] = v[k] / n;
     }
     // The edge planes, oriented inward; a triangle seen edge-on (or the handle in its plane)
@@ -210,6 +200,47 @@ void BoxScene::query_star(const Vec3& start, const Vec3* tips, std::size_t count
         if (covers(i)) pairs.push_back((std::uint64_t(i) << 32) | id);
     }
   }
+  return true;
+}
+
+} // namespace
+
+bool BoxScene::within_reach(const Vec3& centre, float radius) const noexcept {
+  if (!centre.allFinite()) return true;
+  // A cell's slack: a stroke route's full mesh may stray from the simplified surface the
+  // grid was built on by less than that.
+  if (grid_ && !grid_->empty()) return grid_->surface_distance_bound(centre) <= radius + grid_->cell();
+  for (std::size_t b = 0; b < boxes_.size(); ++b) {
+    float d2 = 0.f;
+    for (int k = 0; k < 3; ++k) {
+      const float below = bounds_[k][b] - centre[k], above = centre[k] - bounds_[k + 3][b];
+      const float gap = std::max({below, above, 0.f});
+      d2 += gap * gap;
+    }
+    if (d2 <= radius * radius) return true;
+  }
+  return false;
+}
+
+void BoxScene::query_star(const Vec3& start, const Vec3* tips, std::size_t count, const ForceLaw& law, Contact* out,
+                          StarScratch& scratch) const noexcept {
+  const auto all = [&] { ContactQuery::query_star(start, tips, count, law, out, scratch); };
+  if (!(grid_ && !grid_->empty() && cells_ && answering_route() == SceneRoute::cells && start.allFinite())) return all();
+  std::fill(out, out + count, Contact{});
+  // 1.
+  if (grid_->code_at(start) == SceneGrid::kInside) return;
+  float reach = 0.f;
+  for (std::size_t i = 0; i < count; ++i) reach = std::max(reach, (tips[i] - start).norm());
+  if (!std::isfinite(reach)) return all();
+  switch (gather_triangles(*grid_, *cells_, start, reach, scratch)) {
+  case Gathered::none: return;
+  case Gathered::too_many: return all();
+  case Gathered::some: break;
+  }
+  bucket_tips(start, tips, count, scratch);
+  if (!pair_triangles(cells_->surface(), start, reach, count, scratch)) return all();
+  const SurfaceTriangles& surface = cells_->surface();
+  std::vector<std::uint64_t>& pairs = scratch.pairs;
   // 5. Each paired tip: the nearest crossing among its triangles, as the cells' walk takes it
   //    (its triangles grouped by a counting sort on the tip).
   std::vector<std::uint32_t>& first = scratch.counts;

@@ -14,6 +14,7 @@
 #include "errors.h"
 #include "exact/embree_scene.h"
 #include "math/constants.h"
+#include "mesh/surface_sampler.h"
 #include "mesh/triangle_mesh.h"
 #include "spec_parse.h"
 #include <algorithm>
@@ -166,17 +167,7 @@ ToolShape make_capsule_tool(double radius_m, double length_m, std::size_t points
 ToolShape make_mesh_tool(const TriangleMesh& mesh_mm, std::size_t points, double margin_m, bool centre_on_bounds) {
   check_points(points, "mesh tool");
   if (margin_m < 0.0 || !std::isfinite(margin_m)) throw InvalidInput("mesh tool: margin must be >= 0 mm");
-  // Triangle areas, cumulative, for area-weighted candidates.
-  std::vector<double> cumulative;
-  cumulative.reserve(mesh_mm.triangle_count());
-  double total = 0.0;
-  for (const Triangle& tri : mesh_mm.triangles) {
-    const Vec3 &a = mesh_mm.positions[tri[0]], &b = mesh_mm.positions[tri[1]], &c = mesh_mm.positions[tri[2]];
-    const double area = 0.5 * double((b - a).cross(c - a).norm());
-    total += std::isfinite(area) ? area : 0.0;
-    cumulative.push_back(total);
-  }
-  if (!(total > 0.0)) throw InvalidInput("mesh tool: the mesh has no surface area");
+  const SurfaceSampler sampler(mesh_mm, "mesh tool");
   const Bounds bounds = mesh_mm.bounds();
   const Vec3 centre = centre_on_bounds ? Vec3(0.5f * (bounds.min + bounds.max)) : Vec3::Zero();
   const Vec3 extent = bounds.max - bounds.min;
@@ -188,15 +179,8 @@ ToolShape make_mesh_tool(const TriangleMesh& mesh_mm, std::size_t points, double
   const std::size_t candidates = std::min<std::size_t>(8 * points, 4 * kMaxPoints);
   std::vector<Vec3> cand_p(candidates), cand_n(candidates);
   for (std::size_t i = 0; i < candidates; ++i) {
-    const double r = uniform(rng) * total;
-    const std::size_t k = std::size_t(std::lower_bound(cumulative.begin(), cumulative.end(), r) - cumulative.begin());
-    const Triangle& tri = mesh_mm.triangles[std::min(k, cumulative.size() - 1)];
-    const Vec3 &a = mesh_mm.positions[tri[0]], &b = mesh_mm.positions[tri[1]], &c = mesh_mm.positions[tri[2]];
-    double u = uniform(rng), v = uniform(rng);
-    if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
-    cand_p[i] = a + float(u) * (b - a) + float(v) * (c - a);
-    const Vec3 g = (b - a).cross(c - a);
-    cand_n[i] = g.norm() > 0.f ? Vec3(g.normalized()) : Vec3(0.f, 0.f, 1.f);
+    const double r = uniform(rng), u = uniform(rng), v = uniform(rng);
+    sampler.sample(r, u, v, cand_p[i], cand_n[i]);
   }
   // 2. One candidate a cell: bisect the cell size until about `points` cells are occupied.
   const auto thin = [&](double cell, std::vector<std::size_t>& kept) {
