@@ -69,7 +69,12 @@ for name in names:
           f"{us(j['sdf_tool_tick_p99_us'])} us, {100*j['sdf_perceptible_tick_share']:.3g}% felt |")
 PY
 )
-stamp="$(date -u -r "$out/tool_${models[0]}.json" '+%Y-%m-%d %H:%M UTC'), commit $(git rev-parse --short HEAD)"
+if [ "$table_only" = 1 ]; then
+  stamp=$(cat "$out/tool_stamp.txt")
+else
+  stamp="$(date -u '+%Y-%m-%d %H:%M UTC'), commit $(git rev-parse --short HEAD), load $(cut -d' ' -f1-3 /proc/loadavg) at the end"
+  echo "$stamp" >"$out/tool_stamp.txt"
+fi
 {
   echo "Tool \`$tool\` along 20 slides (0.5 mm deep, 30 mm/s, 5,000 ticks) on each model's default bake, one core, one run ($stamp):"
   echo
