@@ -8,6 +8,8 @@
 #include "scene_file_checks.h"
 #include "errors.h"
 #include "formats/gltf_check.h"
+#include "formats/quoted_text.h"
+#include "mesh/mapped_file.h"
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -18,6 +20,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -217,14 +220,16 @@ void check_collada(const std::string& path) {
   }
 }
 
-// glTF and GLB before Assimp opens them (gltf_check.h).
+// glTF and GLB before Assimp opens them (gltf_check.h); external buffer files are mapped, not
+// copied.
 void check_gltf(const std::string& path, bool binary) {
   std::ifstream in(path, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::uint64_t bin = 0;
+  std::string_view bin;
   const std::string text = binary ? check_glb(path, bytes, bin) : bytes;
   const std::filesystem::path dir = std::filesystem::path(path).parent_path();
-  check_gltf_json(path, text, bin, [&](const std::string& uri) -> std::uint64_t {
+  std::vector<std::unique_ptr<hb::detail::MappedFile>> files;
+  check_gltf_json(path, text, bin, [&](const std::string& uri) -> std::string_view {
     std::string file;  // percent-decoded
     for (std::size_t i = 0; i < uri.size(); ++i) {
       if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit((unsigned char)uri[i + 1]) && std::isxdigit((unsigned char)uri[i + 2])) {
@@ -236,8 +241,11 @@ void check_gltf(const std::string& path, bool binary) {
     }
     const std::filesystem::path p = dir / file;
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(p, ec)) throw InvalidInput(path + ": the glTF buffer file " + p.string() + " is missing");
-    return std::filesystem::file_size(p, ec);
+    if (!std::filesystem::is_regular_file(p, ec))
+      throw InvalidInput(path + ": the glTF buffer file " + quoted_text(p.string(), 300) + " is missing");
+    if (std::filesystem::file_size(p, ec) == 0) return {};
+    files.push_back(std::make_unique<hb::detail::MappedFile>(p.string()));
+    return files.back()->text();
   });
 }
 
