@@ -12,9 +12,10 @@
 //  3. the parent waits for the mark, the pipe's closing or the timeout, kills the child at the
 //     timeout, reaps it (after the mark, in the background: the teardown of its address space
 //     costs tens of milliseconds), and turns what happened into the result or an error naming
-//     the file.
+//     the file (escaped and cut to a readable length: formats/quoted_text.h).
 #include "isolated_reader.h"
 #include "errors.h"
+#include "formats/quoted_text.h"
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
@@ -146,9 +147,11 @@ private:
   std::size_t size_ = 0;
 };
 
+// The reader's error, as a person can read it: a library's text (or ours quoting the file) may
+// hold raw bytes or run to kilobytes.
 [[noreturn]] void rethrow(char status, const std::string& text) {
-  if (status == kIoError) throw IoError(text);
-  throw InvalidInput(text);
+  if (status == kIoError) throw IoError(readable_message(text));
+  throw InvalidInput(readable_message(text));
 }
 
 bool write_all(int fd, const char* data, std::size_t n) {

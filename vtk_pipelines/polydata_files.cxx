@@ -17,6 +17,7 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkStringArray.h>
+#include <vtkType.h>
 #include <vtkUnsignedIntArray.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
@@ -224,6 +225,9 @@ std::vector<std::uint32_t> read_piece_vtp(const std::string& path, std::size_t t
     vtkPolyData* pd = reader->GetOutput();
     vtkDataArray* ids = pd ? pd->GetCellData()->GetArray("PieceId") : nullptr;
     if (!ids || ids->GetNumberOfComponents() != 1) throw InvalidInput(path + ": no cell array PieceId");
+    // A Bit array holds 0 and 1 only: the ids read back as two pieces, whatever was written.
+    if (ids->GetDataType() == VTK_BIT)
+      throw InvalidInput(path + ": the cell array PieceId is declared type=\"Bit\" (values 0 and 1 only), not a whole-number type");
     // Cells are verts, lines, polys, strips in that order; the triangles are the polygons.
     const vtkIdType first = pd->GetNumberOfVerts() + pd->GetNumberOfLines();
     const vtkIdType polys = pd->GetNumberOfPolys();

@@ -146,6 +146,12 @@ TEST_F(HostileModelsTest, NiftiHeaderFieldsAreChecked) {
   expect_refused(write("offset0.nii", with_float(108, 0.f)), "vox_offset");
   expect_refused(write("pixdim.nii", with_float(80, std::numeric_limits<float>::quiet_NaN())), "pixdim[1]");
   expect_refused(write("dims.nii", with_short(42, -5)), "dim[1]");
+  // An infinite value scaling made every voxel one value: any label gave the same surface.
+  expect_refused(write("slope.nii", with_float(112, std::numeric_limits<float>::infinity())), "NIfTI scl_slope (the value scaling) is inf");
+  std::string inter = with_float(112, 2.f);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(inter.data() + 116, &nan, 4);
+  expect_refused(write("inter.nii", inter), "NIfTI scl_inter (the value offset) is nan");
 }
 
 TEST_F(HostileModelsTest, DicomSizesAndEmptyTagsAreCheckedBeforeTheParser) {
