@@ -209,6 +209,25 @@ void check_vtp_appended_data(const std::string& path) {
   }
 }
 
+namespace {
+
+// The PieceId array's declared type, before VTK reads it: a Bit array holds 0 and 1 only, so
+// the ids would read back as two pieces whatever was written.
+void check_piece_id_type(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(1 << 20, '\0');
+  in.read(head.data(), std::streamsize(head.size()));
+  head.resize(std::size_t(in.gcount()));
+  head = head.substr(0, head.find("<AppendedData"));
+  for (std::size_t at = head.find("<DataArray"); at != std::string::npos; at = head.find("<DataArray", at + 1)) {
+    const std::string tag = head.substr(at, head.find('>', at) - at);
+    if (xml_attribute(tag, "Name") == "PieceId" && xml_attribute(tag, "type") == "Bit")
+      throw InvalidInput(path + ": the cell array PieceId is declared type=\"Bit\" (values 0 and 1 only), not a whole-number type");
+  }
+}
+
+} // namespace
+
 std::vector<std::uint32_t> read_piece_vtp(const std::string& path, std::size_t triangle_count) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw IoError(path + ": cannot open the piece file");
@@ -219,6 +238,7 @@ std::vector<std::uint32_t> read_piece_vtp(const std::string& path, std::size_t t
     reader->SetFileName(path.c_str());
     if (!reader->CanReadFile(path.c_str())) throw InvalidInput(path + ": not a VTK XML PolyData file");
     check_vtp_appended_data(path);
+    check_piece_id_type(path);
     reader->Update();
     if (reader->GetErrorCode() != 0)
       throw InvalidInput(path + ": the VTK XML reader failed (" + std::string(vtkErrorCode::GetStringFromErrorCode(reader->GetErrorCode())) + ")");

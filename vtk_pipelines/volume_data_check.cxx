@@ -74,7 +74,7 @@ std::uint64_t decoded_bytes(const std::string& name, const std::string& file, st
     if (rc != Z_OK && rc != Z_STREAM_END && rc != Z_BUF_ERROR) {
       const std::string why = z.msg ? z.msg : "error " + std::to_string(rc);
       inflateEnd(&z);
-      throw InvalidInput(name + ": the compressed voxel data in " + file + " is damaged (zlib: " + why + ")");
+      throw InvalidInput(name + ": the compressed voxel data in " + quoted_text(file, 300) + " is damaged (zlib: " + why + ")");
     }
     total += output.size() - z.avail_out;
   }

@@ -1,0 +1,195 @@
+// Scene and piece files that were read as another model with no word: each written valid here
+// (a sphere through Assimp's exporter, a 3MF of a tetrahedron, a piece .vtp), given one fault,
+// and refused through load_model (the path the CLI and the window take) with a message naming
+// the file and the field; node graphs that crashed Assimp are refused before it runs.
+#include "errors.h"
+#include "mesh/generators.h"
+#include "model_loader.h"
+#include "polydata_files.h"
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#ifdef HB_HAVE_ASSIMP
+#include "scene_reader.h"
+#include "stored_zip.h"
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+
+class HostileScenesTest : public ::testing::Test {
+protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("hb_hostile_scenes_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static std::string path(const std::string& name) { return (dir_ / name).string(); }
+  static std::string slurp(const std::string& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  }
+  static std::string write(const std::string& name, const std::string& bytes) {
+    std::ofstream(path(name), std::ios::binary) << bytes;
+    return path(name);
+  }
+  static std::string replaced(std::string text, const std::string& from, const std::string& to) {
+    const std::size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+    return text;
+  }
+  // load_model must throw hb::InvalidInput starting with `file` + ": ", holding `cause`.
+  static void expect_refused(const std::string& file, const std::string& cause) {
+    try {
+      hb::vtk::load_model(file);
+      ADD_FAILURE() << file << ": loaded";
+    } catch (const hb::InvalidInput& e) {
+      const std::string m = e.what();
+      EXPECT_EQ(m.rfind(file + ": ", 0), 0u) << m;
+      EXPECT_NE(m.find(cause), std::string::npos) << "expected '" << cause << "' in: " << m;
+    }
+  }
+  static fs::path dir_;
+};
+fs::path HostileScenesTest::dir_;
+
+#ifdef HB_HAVE_ASSIMP
+// A GLB split into its JSON and BIN chunks, and put back together.
+struct Glb {
+  nlohmann::json json;
+  std::string bin;
+  explicit Glb(const std::string& bytes) {
+    std::uint32_t n = 0;
+    std::memcpy(&n, bytes.data() + 12, 4);
+    json = nlohmann::json::parse(bytes.substr(20, n));
+    std::uint32_t m = 0;
+    std::memcpy(&m, bytes.data() + 20 + n, 4);
+    bin = bytes.substr(28 + n, m);
+  }
+  std::string bytes() const {
+    std::string text = json.dump();
+    while (text.size() % 4) text += ' ';
+    auto le = [](std::uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+    return "glTF" + le(2) + le(std::uint32_t(28 + text.size() + bin.size())) + le(std::uint32_t(text.size())) + "JSON" + text +
+           le(std::uint32_t(bin.size())) + std::string("BIN\0", 4) + bin;
+  }
+  nlohmann::json& accessor(const char* role) {
+    const nlohmann::json& prim = json["meshes"][0]["primitives"][0];
+    const std::size_t a = std::string(role) == "indices" ? prim["indices"].get<std::size_t>() : prim["attributes"][role].get<std::size_t>();
+    return json["accessors"][a];
+  }
+};
+
+TEST_F(HostileScenesTest, GlbIndexPastTheVerticesIsRefusedNamingTheAccessorAndElement) {
+  hb::vtk::write_scene(hb::make_sphere(10.f, 2), path("s.glb"));
+  Glb glb(slurp(path("s.glb")));
+  EXPECT_NO_THROW(hb::vtk::load_model(write("same.glb", glb.bytes())));
+  const nlohmann::json indices = glb.accessor("indices");
+  const std::size_t vertices = glb.accessor("POSITION")["count"].get<std::size_t>();
+  const nlohmann::json& view = glb.json["bufferViews"][indices["bufferView"].get<std::size_t>()];
+  const std::size_t at = view.value("byteOffset", std::size_t(0)) + indices.value("byteOffset", std::size_t(0)) + 3 * 4;
+  ASSERT_EQ(indices["componentType"], 5125) << "Assimp wrote other indices";
+  const std::uint32_t beyond = std::uint32_t(vertices + 5);
+  std::memcpy(glb.bin.data() + at, &beyond, 4);  // element 3: the second triangle's first corner
+  expect_refused(write("index.glb", glb.bytes()), "element 3 is " + std::to_string(beyond) + ", beyond the " +
+                                                      std::to_string(vertices) + " vertices of POSITION");
+}
+
+TEST_F(HostileScenesTest, GlbPositionOfAnotherTypeOrAtAnotherStrideIsRefused) {
+  hb::vtk::write_scene(hb::make_sphere(10.f, 2), path("s.glb"));
+  const std::string good = slurp(path("s.glb"));
+  Glb type(good);
+  type.accessor("POSITION")["componentType"] = 5125;  // a cube came back 7.7e-38 thick
+  expect_refused(write("type.glb", type.bytes()), "is VEC3 of UNSIGNED_INT, not VEC3 of FLOAT");
+  Glb vec(good);
+  vec.accessor("POSITION")["type"] = "VEC2";
+  expect_refused(write("vec2.glb", vec.bytes()), "is VEC2 of FLOAT, not VEC3 of FLOAT");
+  Glb stride(good);
+  stride.accessor("POSITION")["count"] = stride.accessor("POSITION")["count"].get<int>() / 2;
+  const std::size_t view = stride.accessor("POSITION")["bufferView"].get<std::size_t>();
+  stride.json["bufferViews"][view]["byteStride"] = 24;  // every other vertex, read as all of them
+  expect_refused(write("stride.glb", stride.bytes()), "vertices of POSITION");
+  Glb offset(good);
+  offset.accessor("POSITION")["byteOffset"] = 2;
+  expect_refused(write("offset.glb", offset.bytes()), "is not a multiple of its 4-byte component");
+}
+
+using hb::test::three_mf;
+
+std::string tetra_3mf(const std::string& vertex1, const std::string& triangle1 = "v1=\"0\" v2=\"1\" v3=\"3\"") {
+  return three_mf("<?xml version=\"1.0\"?><model unit=\"millimeter\" xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\">"
+                  "<resources><object id=\"1\" type=\"model\"><mesh><vertices><vertex x=\"0\" y=\"0\" z=\"0\"/><vertex " +
+                  vertex1 + "/><vertex x=\"0\" y=\"10\" z=\"0\"/><vertex x=\"0\" y=\"0\" z=\"10\"/></vertices><triangles>"
+                  "<triangle v1=\"0\" v2=\"2\" v3=\"1\"/><triangle " + triangle1 + "/><triangle v1=\"1\" v2=\"2\" v3=\"3\"/>"
+                  "<triangle v1=\"0\" v2=\"3\" v3=\"2\"/></triangles></mesh></object></resources><build><item objectid=\"1\"/></build></model>");
+}
+
+TEST_F(HostileScenesTest, ThreeMfCoordinatesAndCornersAreParsedStrictly) {
+  EXPECT_NO_THROW(hb::vtk::load_model(write("good.3mf", tetra_3mf("x=\"1e1\" y=\"0.0\" z=\"-0\""))));
+  // "0x10" was read as 16, text and a missing coordinate as 0.
+  expect_refused(write("hex.3mf", tetra_3mf("x=\"0x10\" y=\"0\" z=\"0\"")), "3MF object 1 vertex 1: x=\"0x10\" is not a finite decimal number");
+  expect_refused(write("text.3mf", tetra_3mf("x=\"ten\" y=\"0\" z=\"0\"")), "vertex 1: x=\"ten\" is not");
+  expect_refused(write("missing.3mf", tetra_3mf("x=\"10\" z=\"0\"")), "3MF object 1 vertex 1 has no y attribute");
+  expect_refused(write("inf.3mf", tetra_3mf("x=\"1e999\" y=\"0\" z=\"0\"")), "vertex 1: x=\"1e999\" is not");
+  expect_refused(write("corner.3mf", tetra_3mf("x=\"10\" y=\"0\" z=\"0\"", "v1=\"0\" v2=\"1\" v3=\"4\"")),
+                 "3MF object 1 triangle 1: v3=\"4\" is beyond the 4 vertices of its mesh");
+  expect_refused(write("cornerhex.3mf", tetra_3mf("x=\"10\" y=\"0\" z=\"0\"", "v1=\"0\" v2=\"0x1\" v3=\"3\"")),
+                 "triangle 1: v2=\"0x1\" is not a whole number");
+}
+
+TEST_F(HostileScenesTest, ColladaAccessorWithAChangedStrideOrOffsetIsRefused) {
+  hb::vtk::write_scene(hb::make_sphere(10.f, 2), path("s.dae"));
+  const std::string good = slurp(path("s.dae"));
+  EXPECT_NO_THROW(hb::vtk::load_model(path("s.dae")));
+  const std::size_t accessor = good.find("<accessor");
+  ASSERT_NE(accessor, std::string::npos);
+  const std::size_t stride = good.find("stride=\"3\"", accessor);
+  ASSERT_NE(stride, std::string::npos);
+  std::string two = good;
+  two.replace(stride, 10, "stride=\"2\"");
+  expect_refused(write("stride.dae", two), "leaving values unread");
+  std::string shifted = good;
+  shifted.insert(accessor + 9, " offset=\"3\"");
+  expect_refused(write("offset.dae", shifted), "from offset 3 of an array");
+}
+
+TEST_F(HostileScenesTest, ColladaNodeInstancingItselfOrNestedTooDeepIsRefusedBeforeAssimp) {
+  hb::vtk::write_scene(hb::make_sphere(10.f, 2), path("s.dae"));
+  const std::string good = slurp(path("s.dae"));
+  const std::size_t node = good.find("<node ");
+  ASSERT_NE(node, std::string::npos);
+  const std::size_t id = good.find("id=\"", node);
+  const std::string name = good.substr(id + 4, good.find('"', id + 4) - id - 4);
+  std::string self = good;
+  self.insert(good.find('>', node) + 1, "<instance_node url=\"#" + name + "\"/>");
+  expect_refused(write("self.dae", self), "Collada node " + name + " contains itself");
+  std::string deep;
+  for (int i = 0; i < 300; ++i) deep += "<node id=\"d" + std::to_string(i) + "\">";
+  for (int i = 0; i < 300; ++i) deep += "</node>";
+  std::string nested = good;
+  nested.insert(good.find('>', node) + 1, deep);
+  expect_refused(write("deep.dae", nested), "Collada nodes are nested more than 256 deep");
+}
+#endif
+
+TEST_F(HostileScenesTest, VtpPieceIdOfTypeBitIsRefused) {
+  const hb::TriangleMesh sphere = hb::make_sphere(20.f, 2);
+  std::vector<std::uint32_t> ids(sphere.triangle_count());
+  for (std::size_t t = 0; t < ids.size(); ++t) ids[t] = std::uint32_t(t % 6);
+  hb::vtk::write_polydata_xml(hb::vtk::piece_polydata(sphere, ids), path("pieces.vtp"));
+  const std::string bit = write("bit.vtp", replaced(slurp(path("pieces.vtp")), "type=\"Int32\" Name=\"PieceId\"", "type=\"Bit\" Name=\"PieceId\""));
+  try {
+    hb::vtk::read_piece_vtp(bit, ids.size());
+    ADD_FAILURE() << "read as pieces";
+  } catch (const hb::InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find(bit + ": the cell array PieceId is declared type=\"Bit\""), std::string::npos) << e.what();
+  }
+}
+
+} // namespace
