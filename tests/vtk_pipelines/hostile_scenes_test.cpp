@@ -153,7 +153,13 @@ TEST_F(HostileScenesTest, ColladaAccessorWithAChangedStrideOrOffsetIsRefused) {
   ASSERT_NE(stride, std::string::npos);
   std::string two = good;
   two.replace(stride, 10, "stride=\"2\"");
-  expect_refused(write("stride.dae", two), "leaving values unread");
+  expect_refused(write("stride.dae", two), "names 3 params but has a stride of 2");
+  // A count one short: the last vertex's values left unread.
+  const std::size_t count = good.find("count=\"", accessor) + 7;
+  const std::size_t count_end = good.find('"', count);
+  std::string fewer = good;
+  fewer.replace(count, count_end - count, std::to_string(std::stoul(good.substr(count, count_end - count)) - 1));
+  expect_refused(write("count.dae", fewer), "leaving values unread");
   std::string shifted = good;
   shifted.insert(accessor + 9, " offset=\"3\"");
   expect_refused(write("offset.dae", shifted), "from offset 3 of an array");
