@@ -182,6 +182,26 @@ TEST_F(HostileScenesTest, ColladaNodeInstancingItselfOrNestedTooDeepIsRefusedBef
   nested.insert(good.find('>', node) + 1, deep);
   expect_refused(write("deep.dae", nested), "Collada nodes are nested more than 256 deep");
 }
+
+TEST_F(HostileScenesTest, BinaryFbxWithAnUnknownTypeCodeIsNamedInPrintableText) {
+  // One node record whose property has type code 0x0B: Assimp's message ended with that byte.
+  auto u32 = [](std::uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+  const std::string name = "Objects";
+  const std::string property = std::string(1, '\x0B') + u32(7);
+  const std::string head = std::string("Kaydara FBX Binary  \0\x1A\0", 23) + u32(7400);
+  const std::uint32_t end = std::uint32_t(head.size() + 13 + name.size() + property.size());
+  const std::string node = u32(end) + u32(1) + u32(std::uint32_t(property.size())) + char(name.size()) + name + property;
+  const std::string file = write("code.fbx", head + node + std::string(13, '\0') + std::string(160, '\0'));
+  try {
+    hb::vtk::load_model(file);
+    ADD_FAILURE() << "loaded";
+  } catch (const hb::Error& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.rfind(file + ": ", 0), 0u) << m;
+    for (char c : m) EXPECT_TRUE(c == '\n' || (c >= 0x20 && c < 0x7F)) << "raw byte " << int((unsigned char)c) << " in: " << m;
+    EXPECT_GT(m.size(), file.size() + 20) << m;
+  }
+}
 #endif
 
 TEST_F(HostileScenesTest, VtpPieceIdOfTypeBitIsRefused) {
