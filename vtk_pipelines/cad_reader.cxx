@@ -7,7 +7,9 @@
 //     miss their faces by more than 5% of its size is refused before the mesher.
 //  2. The chordal deviation follows the force budget: d = force_tolerance / stiffness, clamped
 //     to [1e-4, 1e-2] x the bounding-box diagonal (CadOptions), unless given in mm.
-//  3. BRepMesh_IncrementalMesh tessellates every face; each face's triangles are collected with
+//  3. BRepMesh_IncrementalMesh tessellates every face, finer in rounds until the measured
+//     deviation is within the one asked for (at most 5 rounds, kRefineSeconds, and no round
+//     once a finer mesh stops helping: a warning says why); each face's triangles are collected with
 //     the face's orientation, and nodes at the same position (the shared edges, which BRepMesh
 //     discretises once for both faces) are merged, so a closed solid gives a closed mesh.
 #include "cad_reader.h"
@@ -58,6 +60,7 @@
 #include <gp_Ax2.hxx>
 #include <gp_Pnt2d.hxx>
 #include <algorithm>
+#include <chrono>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -68,6 +71,9 @@
 #include <unordered_map>
 
 namespace hb::vtk {
+
+// The time the mesher may spend refining toward the chordal deviation asked for, s.
+constexpr double kRefineSeconds = 5.0;
 
 namespace {
 
@@ -318,15 +324,27 @@ CadModel read_cad(const std::string& path, const CadOptions& options) {
     f["chordal_deviation_mm"] = deviation;
     // BRepMesh's deflection is a target, not a bound: measure, and mesh finer until the
     // measured deviation is within the one asked for.
-    double deflection_asked = deviation, measured = 0.0;
-    bool stalled = false;
+    double deflection_asked = deviation, measured = 0.0, previous_deflection = deviation, round_s = 0.0;
+    bool stalled = false, over_time = false;
+    const auto start = std::chrono::steady_clock::now();
     for (int round = 0; round < 5; ++round) {
+      // A round costs about the triangles it makes, which grow as the deflection shrinks: no
+      // round that would take the whole beyond kRefineSeconds (a damaged surface, far from
+      // its edges, kept refining for a minute).
+      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (round > 0 && elapsed + round_s * previous_deflection / deflection_asked > kRefineSeconds) {
+        over_time = true;
+        break;
+      }
+      const auto round_start = std::chrono::steady_clock::now();
       if (round > 0) BRepTools::Clean(shape);
       BRepMesh_IncrementalMesh mesher(shape, deflection_asked, Standard_False, options.angular_deviation_deg * M_PI / 180.0,
                                       Standard_True);
       if (!mesher.IsDone()) throw InvalidInput(path + ": OpenCASCADE could not tessellate the shape");
       const double before = measured;
       measured = measure_deviation(faces);
+      round_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - round_start).count();
+      previous_deflection = deflection_asked;
       if (measured <= deviation) break;
       // A gap that a finer mesh does not close is not the chords' but the edges' (off their
       // surface by up to their tolerance): refining on multiplies the triangles (a plane
@@ -343,8 +361,10 @@ CadModel read_cad(const std::string& path, const CadOptions& options) {
     if (measured > deviation)
       model.warnings.push_back(path + ": measured chordal deviation " + std::to_string(measured) + " mm exceeds the " +
                                std::to_string(deviation) + " mm asked for " +
-                               (stalled ? std::string("(a finer mesh did not bring it closer: edges off their surface)")
-                                        : std::string("after 5 rounds")));
+                               (stalled     ? std::string("(a finer mesh did not bring it closer: edges off their surface)")
+                                : over_time ? "(a finer mesh would take more than " + std::to_string(int(kRefineSeconds)) +
+                                                  " s: the surfaces are far from their edges, a damaged file?)"
+                                            : std::string("after 5 rounds")));
 
     std::unordered_map<PointKey, std::uint32_t, PointHash> index;
     double deflection = 0.0;

@@ -9,8 +9,8 @@
 //     their layout (IGES 5.3, chapter 4): counts against the values present, numbers where
 //     numbers belong, pointers to entries of a fitting type, list indices within their list.
 //     B-spline curves and surfaces (126, 128): every value a number, degrees from 1 to the
-//     control points less one, as many values as the counts need, knots that never decrease
-//     and positive weights.
+//     control points less one, as many values as the counts need, knots that never decrease,
+//     positive weights and a parameter range within the knots' span.
 #include "formats/iges_check.h"
 #include "errors.h"
 #include "formats/iges_global.h"
@@ -96,6 +96,8 @@ void split_sections(IgesFile& f, const std::string& bytes) {
     }
     if (line.size() < 80)
       refuse(f, "line " + std::to_string(line_no) + " has " + std::to_string(line.size()) + " columns, not 80");
+    if (line.find_first_not_of(' ', 80) != std::string::npos)
+      refuse(f, "line " + std::to_string(line_no) + " has text past column 80 (" + std::to_string(line.size()) + " columns): lines run together");
     // IGES is text: a control byte (a NUL inside a number ended it there for OpenCASCADE,
     // which read a different curve without a word).
     for (std::size_t k = 0; k < line.size(); ++k)
@@ -319,6 +321,20 @@ void check_bspline(const EntityCheck& c) {
       if (value(i) < value(i - 1)) c.fail("knot " + std::to_string(i - at + 1) + " (value " + std::to_string(i + 1) + ") is below the one before it");
   for (std::size_t i = weights_at; i < weights_at + weights; ++i)
     if (!(value(i) > 0)) c.fail("weight " + std::to_string(i - weights_at + 1) + " (value " + std::to_string(i + 1) + ") is not positive");
+  // The parameter range within the knots' span, T(0) to T(N) (OpenCASCADE crashed on a curve
+  // whose range ran past its knots).
+  const std::size_t range_at = weights_at + 4 * weights;
+  for (std::size_t axis = 0; axis < knots.size(); ++axis) {
+    const auto [at, n] = knots[axis];
+    const long m = axis ? vm : um;
+    const double lo = value(at + std::size_t(m)), hi = value(at + n - 1 - std::size_t(m));
+    const double a = value(range_at + 2 * axis), b = value(range_at + 2 * axis + 1);
+    const double slack = 1e-6 * std::max({1.0, std::fabs(lo), std::fabs(hi)});
+    if (!(a >= lo - slack && b <= hi + slack && a < b))
+      c.fail("its parameter range" + std::string(axes[axis]) + " " + std::to_string(a) + " to " + std::to_string(b) + " (values " +
+             std::to_string(range_at + 2 * axis + 1) + "-" + std::to_string(range_at + 2 * axis + 2) + ") is not within its knots' span " +
+             std::to_string(lo) + " to " + std::to_string(hi));
+  }
 }
 
 void check_entity(const IgesFile& f, const IgesEntry& e) {

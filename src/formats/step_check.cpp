@@ -62,6 +62,10 @@ void check_step_references(const std::string& name, const std::string& bytes) {
         ++at;
         continue;
       }
+      // OpenCASCADE keeps instance numbers in an int: #2147483648 crashed its reader.
+      if (id > 2147483647u)
+        throw InvalidInput(name + ": STEP instance number #" + quoted_text(bytes.substr(at + 1, k - at - 1), 30) +
+                           (statement_start ? "" : " (in instance #" + std::to_string(current) + ")") + " is beyond 2147483647");
       if (statement_start) {
         std::size_t e = k;
         while (e < n && std::isspace((unsigned char)bytes[e])) ++e;

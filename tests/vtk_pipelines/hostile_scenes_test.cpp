@@ -218,4 +218,36 @@ TEST_F(HostileScenesTest, VtpPieceIdOfTypeBitIsRefused) {
   }
 }
 
+// A tetrahedron's pieces as a text .vtp, one array a line.
+std::string text_vtp(const std::string& connectivity, const std::string& offsets, const std::string& points = "0 0 0 10 0 0 0 10 0 0 0 10") {
+  return "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+         "<PolyData>\n<Piece NumberOfPoints=\"4\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"4\">\n"
+         "<Points>\n<DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"ascii\">" + points + "</DataArray>\n</Points>\n"
+         "<CellData>\n<DataArray type=\"Int32\" Name=\"PieceId\" format=\"ascii\">0 0 1 1</DataArray>\n</CellData>\n"
+         "<Polys>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">" + connectivity + "</DataArray>\n"
+         "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">" + offsets + "</DataArray>\n</Polys>\n"
+         "</Piece>\n</PolyData>\n</VTKFile>\n";
+}
+
+TEST_F(HostileScenesTest, TextVtpWhoseCellsOrCountsDisagreeIsRefusedBeforeVtk) {
+  const std::string good = write("text.vtp", text_vtp("0 2 1 0 1 3 1 2 3 0 3 2", "3 6 9 12"));
+  EXPECT_EQ(hb::vtk::read_piece_vtp(good, 4), (std::vector<std::uint32_t>{0, 0, 1, 1}));
+  auto refused = [&](const std::string& name, const std::string& bytes, const std::string& cause) {
+    const std::string file = write(name, bytes);
+    try {
+      hb::vtk::read_piece_vtp(file, 4);
+      ADD_FAILURE() << name << ": read";
+    } catch (const hb::InvalidInput& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(file + ": ", 0), 0u) << e.what();
+      EXPECT_NE(std::string(e.what()).find(cause), std::string::npos) << e.what();
+    }
+  };
+  refused("point.vtp", text_vtp("0 2 1 0 1 9 1 2 3 0 3 2", "3 6 9 12"), "the Polys connectivity names point 9 (value 5) of the piece's 4");
+  refused("fewer.vtp", text_vtp("0 2 1 0 1 3 1 2 3 0 3 2", "3 6 9"), "the Polys offsets hold 3 values for the piece's 4 cells");
+  refused("down.vtp", text_vtp("0 2 1 0 1 3 1 2 3 0 3 2", "3 9 6 12"), "the Polys offsets decrease at cell 2");
+  refused("end.vtp", text_vtp("0 2 1 0 1 3 1 2 3 0 3 2", "3 6 9 14"), "offsets end at 14 but the connectivity holds 12 values");
+  refused("nan.vtp", text_vtp("0 2 1 0 1 3 1 2 3 0 3 2", "3 6 9 12", "0 0 0 10 0 0 0 1x 0 0 0 10"), "holds '1x', not a number");
+  refused("short.vtp", text_vtp("0 2 1 0 1 3 1 2 3 0 3 2", "3 6 9 12", "0 0 0 10 0 0 0 10 0 0 0"), "the counts disagree with the arrays");
+}
+
 } // namespace
