@@ -127,6 +127,16 @@ TEST_F(DamagedModelsTest, StepParenthesesNestedTooDeepOrUnbalancedAreRefusedBefo
                  "STEP instance #21 closes a parenthesis it never opened", coarse());
 }
 
+TEST_F(DamagedModelsTest, StepInstanceNumberBeyondAnIntIsRefusedBeforeOpenCascade) {
+  hb::vtk::write_reference_solid_step(path("solid.step"), 10.0, 30.0);
+  const std::string good = slurp(path("solid.step"));
+  const std::size_t at = good.find("\n#140 = ");
+  ASSERT_NE(at, std::string::npos);
+  std::string big = good;
+  big.replace(at + 1, 4, "#2147483648");  // OpenCASCADE's reader crashed
+  expect_refused(write("big.step", big), "STEP instance number #2147483648 is beyond 2147483647", coarse());
+}
+
 TEST_F(DamagedModelsTest, IgesDamagedDirectoryOrParameterDataIsRefusedBeforeOpenCascade) {
   // The campaign's IGES crashes (segmentation faults in OpenCASCADE's translator, a quarter of
   // the damaged IGES files): a directory line lost, a parameter line's entry number damaged,
@@ -217,6 +227,20 @@ TEST_F(DamagedModelsTest, IgesBSplineOfTooHighADegreeIsRefusedBeforeOpenCascade)
   expect_refused(write("degree0.igs", replaced(good, "\n128,6,4,2,2,", "\n128,6,4,2,0,")), "its degree in v (value 4) is 0", coarse());
   // More control points than the values hold.
   expect_refused(write("points.igs", replaced(good, "\n128,6,4,2,2,", "\n128,9,4,2,2,")), "need", coarse());
+}
+
+TEST_F(DamagedModelsTest, IgesCurveRangeOutsideItsKnotsOrLinesRunTogetherAreRefusedBeforeOpenCascade) {
+  // Both crashed OpenCASCADE (or kept it busy past the reader's limit) in a fresh campaign.
+  hb::vtk::write_reference_solid_iges(path("solid.igs"), 10.0, 30.0);
+  const std::string good = slurp(path("solid.igs"));
+  expect_refused(write("knots.igs", replaced(good, "126,1,1,1,0,1,0,0.,0.,6.283185307,", "126,1,1,1,0,1,0,0.,0.,1.283185307,")),
+                 "(type 126): its parameter range 0.000000 to 6.283185 (values 19-20) is not within its knots' span 0.000000 to 1.283185",
+                 coarse());
+  const std::size_t p = good.find("P0000057\n");
+  ASSERT_NE(p, std::string::npos);
+  std::string joined = good;
+  joined.insert(p + 8, "5.,40.,17.320508076,25.,");
+  expect_refused(write("joined.igs", joined), "has text past column 80", coarse());
 }
 
 TEST_F(DamagedModelsTest, IgesDamagedGlobalSectionIsRefusedNeverASilentUnitSwitch) {
