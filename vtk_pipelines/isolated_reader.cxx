@@ -79,7 +79,11 @@ char run_mapped(const std::string& path, const std::string& reader, const Reader
                   "the file is damaged, or needs more memory (HB_READER_MEMORY_MB)");
     return kNoMemory;
   } catch (const std::length_error& e) {
-    out = failure(path, reader, std::string("it asked for an impossible size: ") + e.what());
+    // The library's text ("vector::_M_default_append") names its own code, not the file's.
+    const std::string what = e.what();
+    out = what.rfind(path, 0) == 0 ? what
+                                   : failure(path, reader, "it was asked to make an array longer than any memory holds: a count or size in the file is "
+                                                           "damaged");
     return kInvalid;
   } catch (const std::exception& e) {
     const std::string what = e.what();

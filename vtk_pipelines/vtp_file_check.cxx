@@ -103,7 +103,7 @@ private:
       const std::size_t end = header_.find('>', at);
       if (end == std::string::npos) break;
       const std::string tag = header_.substr(at, end - at);
-      const std::string name = tag.substr(1, tag.find_first_of(" />\n\t") - 1);
+      const std::string name = tag.substr(1, tag.find_first_of(" />\n\t", 2) - 1);  // "/Points" for a closing tag
       if (name == "Piece") {
         points_ = count(tag, "NumberOfPoints");
         for (const char* kind : {"Verts", "Lines", "Strips", "Polys"}) cells_of_[kind] = count(tag, std::string("NumberOfPolys").replace(8, 5, kind));
@@ -219,7 +219,8 @@ private:
       char* stop = nullptr;
       const double v = std::strtod(p, &stop);
       if (stop == p || stop > end || (stop < end && !std::isspace((unsigned char)*stop)))
-        fail("the ascii array " + array + " holds '" + quoted_text(std::string(p, std::min<std::size_t>(std::size_t(end - p), 20))) + "', not a number");
+        fail("the ascii array " + array + " holds '" + quoted_text(std::string(p, std::size_t(std::find_if(p, end, [](char c) { return std::isspace((unsigned char)c); }) - p))) +
+             "', not a number");
       if (keep) keep->push_back(v == double(std::int64_t(v)) ? std::int64_t(v) : -1);
       p = stop;
       ++n;

@@ -104,6 +104,14 @@ TEST_F(HostileModelsTest, NrrdHeaderFaultsAreNamedBeforeTheReaderRuns) {
   // Garbage bytes in the header looped.
   expect_refused(write("garbage.nrrd", replaced(nrrd_header_, "kinds:", std::string("ki\x01\x02nds:", 9)) + nrrd_data_),
                  "is not text");
+  // A data file LIST in a file that holds its voxels: the voxels were read as file names, and
+  // 64 KB of them printed as one; now the first line of bytes is named, cut and escaped.
+  const std::string header = replaced(nrrd_header_, "encoding: raw\n", "encoding: raw\ndata file: LIST\n");
+  const std::string list = write("list.nrrd", header.substr(0, header.size() - 1) + nrrd_data_);
+  expect_refused(list, "after \"data file: LIST\", is not a file name");
+  const Result r = run("info " + list);
+  EXPECT_LT(r.err.size(), 2000u) << r.err.size();
+  for (char c : r.err) EXPECT_TRUE(c == '\n' || (c >= 0x20 && c < 0x7F)) << "raw byte " << int((unsigned char)c);
 }
 
 TEST_F(HostileModelsTest, ShortOrMisencodedVolumeDataIsAnErrorNeverZeros) {
