@@ -82,8 +82,7 @@ char run_mapped(const std::string& path, const std::string& reader, const Reader
     // The library's text ("vector::_M_default_append") names its own code, not the file's.
     const std::string what = e.what();
     out = what.rfind(path, 0) == 0 ? what
-                                   : failure(path, reader, "it was asked to make an array longer than any memory holds: a count or size in the file is "
-                                                           "damaged");
+                                   : failure(path, reader, "a count or size in the file asked it for an array longer than any memory holds");
     return kInvalid;
   } catch (const std::exception& e) {
     const std::string what = e.what();

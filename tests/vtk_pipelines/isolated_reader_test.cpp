@@ -74,8 +74,8 @@ TEST(IsolatedReaderTest, ExceptionsKeepTheirTypeAndMessage) {
   // A library's bare exception gets the file, the reader and a cause in the file's terms (not
   // the library's function name).
   EXPECT_EQ(error_of([]() -> std::string { throw std::length_error("vector::_M_default_append"); }),
-            "/data/x.nrrd: the NRRD reader failed on this file (it was asked to make an array longer than any memory holds: a count or "
-            "size in the file is damaged); the file is damaged or not supported");
+            "/data/x.nrrd: the NRRD reader failed on this file (a count or size in the file asked it for an array longer than any memory "
+            "holds); the file is damaged or not supported");
 }
 
 TEST(IsolatedReaderTest, ErrorsAreEscapedAndCutToAReadableLength) {
