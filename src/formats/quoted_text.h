@@ -24,13 +24,13 @@ inline std::string escaped(const std::string& text, std::size_t max, bool messag
   static const char hex[] = "0123456789ABCDEF";
   std::string out;
   std::size_t i = 0;
-  while (i < text.size() && i < max) {
+  while (i < text.size() && out.size() < max) {  // `max` bounds what is written (an escaped byte takes 4)
     const unsigned char c = static_cast<unsigned char>(text[i]);
     const std::size_t utf8 = message && c >= 0x80 ? utf8_sequence(text, i) : 0;
     if ((c >= 0x20 && c < 0x7F) || (message && c == '\n')) {
       out += char(c);
       ++i;
-    } else if (utf8 > 0 && i + utf8 <= max) {
+    } else if (utf8 > 0) {
       out.append(text, i, utf8);  // a name in another script stays readable
       i += utf8;
     } else {
@@ -44,13 +44,13 @@ inline std::string escaped(const std::string& text, std::size_t max, bool messag
 
 } // namespace detail
 
-/// Text from a file quoted in a message: printable ASCII as is, every other byte as \xNN, at
-/// most `max` bytes of it; a longer text is cut, "... (N bytes in all)" saying how long it was.
+/// Text from a file quoted in a message: printable ASCII as is, every other byte as \xNN, about
+/// `max` characters of it; a longer text is cut, "... (N bytes in all)" saying how long it was.
 inline std::string quoted_text(const std::string& text, std::size_t max = 20) { return detail::escaped(text, max, false); }
 
 /// A whole message whose parts a library or a file may have chosen (a reader's error text):
-/// valid UTF-8 and line breaks kept, other control and invalid bytes as \xNN, at most `max`
-/// bytes, cut with its length given.
+/// valid UTF-8 and line breaks kept, other control and invalid bytes as \xNN, about `max`
+/// characters, cut with its length given.
 inline std::string readable_message(const std::string& text, std::size_t max = 2000) { return detail::escaped(text, max, true); }
 
 } // namespace hb
