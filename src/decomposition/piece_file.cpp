@@ -170,9 +170,13 @@ std::vector<std::uint32_t> read_faces(const std::string& path, std::ifstream& in
       }
       for (std::size_t c = 0; c < std::size_t(n); ++c) {
         const double v = reader.read(p.type);
-        if (int(k) == corners_property && (!(v >= 0.0) || v >= double(vertices) || v != double(std::uint64_t(v))))
-          throw InvalidInput(path + ": face " + std::to_string(i) + " corner " + std::to_string(c) + " is " + std::to_string(v) +
+        if (int(k) == corners_property && (!(v >= 0.0) || v >= double(vertices) || v != double(std::uint64_t(v)))) {
+          std::ostringstream value;
+          value.precision(10);
+          value << v;
+          throw InvalidInput(path + ": face " + std::to_string(i) + " corner " + std::to_string(c) + " is " + value.str() +
                              ", not a vertex of the " + std::to_string(vertices) + " the file declares");
+        }
       }
     }
     if (!(id >= 0.0 && id < 4294967295.0) || id != double(std::uint32_t(id)))
