@@ -1,7 +1,8 @@
 // A Collada file before Assimp opens it (Assimp trusts what it declares: a wrong count crashed
 // it, a changed stride shifted the positions without a word, a node instancing itself recursed
 // until the stack overflowed):
-//  1. every float_array holds the count of finite numbers it declares;
+//  1. every float_array holds the count of finite numbers it declares; every <vertices> has a
+//     POSITION input;
 //  2. every accessor reads its array whole: offset + count x stride values, a stride that
 //     holds its params (a stride or offset changed by one reads every vertex from the wrong
 //     place);
@@ -39,6 +40,7 @@ public:
 
   void run() {
     check_arrays();
+    check_vertices();
     check_accessors();
     check_polygons();
     check_index_lists();
@@ -89,6 +91,20 @@ private:
       if (n != count) fail("Collada float_array " + id + " declares " + std::to_string(count) + " values and holds " + std::to_string(n));
       arrays_[attribute(tag, "id")] = count;
       largest_ = std::max(largest_, count);
+    }
+  }
+
+  // Every <vertices> has a POSITION input (without it Assimp sized its positions from garbage:
+  // "vector::_M_fill_insert").
+  void check_vertices() const {
+    for (std::size_t at = xml_.find("<vertices"); at != std::string::npos; at = xml_.find("<vertices", at + 1)) {
+      const std::size_t close = xml_.find("</vertices>", at);
+      if (close == std::string::npos) fail("a Collada <vertices> is not closed");
+      const std::string body = xml_.substr(at, close - at);
+      bool position = false;
+      for (std::size_t i = body.find("<input"); i != std::string::npos && !position; i = body.find("<input", i + 1))
+        position = attribute(body.substr(i, body.find('>', i) - i), "semantic") == "POSITION";
+      if (!position) fail("Collada <vertices id=\"" + quoted_text(attribute(tag_at(at), "id"), 60) + "\"> has no POSITION input");
     }
   }
 

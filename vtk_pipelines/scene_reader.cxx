@@ -47,6 +47,9 @@ std::string assimp_reason(const std::string& text) {
   std::string t = text;
   while (!t.empty() && (t.back() == '\n' || t.back() == ' ')) t.pop_back();
   if (t.empty()) return "it gave no reason (the file is damaged or a kind it does not read)";
+  // A standard container's length error names the library's code, not the file's.
+  if (t.rfind("vector::", 0) == 0 || t.find("_M_") != std::string::npos)
+    return "a count or size in the file asked it for an array longer than any memory holds";
   const std::size_t colon = t.rfind(": ");
   if (colon != std::string::npos && colon + 3 == t.size() && !std::isprint(static_cast<unsigned char>(t.back()))) {
     static const char hex[] = "0123456789ABCDEF";

@@ -163,6 +163,12 @@ TEST_F(HostileScenesTest, ColladaAccessorWithAChangedStrideOrOffsetIsRefused) {
   std::string shifted = good;
   shifted.insert(accessor + 9, " offset=\"3\"");
   expect_refused(write("offset.dae", shifted), "from offset 3 of an array");
+  // The POSITION input of <vertices> deleted: Assimp said only "vector::_M_fill_insert".
+  const std::size_t input = good.find("<input semantic=\"POSITION\"", good.find("<vertices"));
+  ASSERT_NE(input, std::string::npos);
+  std::string unplaced = good;
+  unplaced.erase(input, good.find('>', input) + 1 - input);
+  expect_refused(write("noposition.dae", unplaced), "> has no POSITION input");
 }
 
 TEST_F(HostileScenesTest, ColladaNodeInstancingItselfOrNestedTooDeepIsRefusedBeforeAssimp) {
