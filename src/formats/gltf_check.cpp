@@ -179,6 +179,11 @@ private:
         }
       }
       if (have.size() < n) fail(w + " declares " + std::to_string(n) + " bytes, its data holds " + std::to_string(have.size()));
+      // More than the declared length and the padding to 4 bytes: bytes inserted, or a length
+      // changed (the views then read shifted data).
+      if (have.size() > n + 3)
+        fail(w + " declares " + std::to_string(n) + " bytes, its data holds " + std::to_string(have.size()) +
+             " (more than its length and padding: data inserted or a length changed)");
       buffers_.push_back(have.substr(0, std::size_t(n)));
     }
   }

@@ -138,4 +138,24 @@ TEST(GltfCheckTest, GlbBinChunkIsTheDataOfBufferZero) {
   }
 }
 
+TEST(GltfCheckTest, ExternalBufferLongerOrShorterThanDeclaredIsRefused) {
+  std::string json = Tetra().json();
+  const std::size_t uri = json.find("data:");
+  json.replace(uri, json.find('"', uri) - uri, "t.bin");
+  auto check = [&](std::size_t bytes) -> std::string {
+    const std::string file(bytes, '\0');
+    try {
+      hb::check_gltf_json("t.gltf", json, {}, [&](const std::string&) -> std::string_view { return file; });
+    } catch (const hb::InvalidInput& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  // 88 bytes declared (48 of positions, 24 of indices, 16 more): zeros put every vertex at 0,
+  // outside the declared bounds, so only the length checks are looked at here.
+  EXPECT_EQ(check(90).find("declares"), std::string::npos) << check(90);  // 2 bytes of padding: read on
+  EXPECT_NE(check(100).find("(more than its length and padding: data inserted or a length changed)"), std::string::npos) << check(100);
+  EXPECT_NE(check(80).find("buffers[0] declares 88 bytes, its data holds 80"), std::string::npos) << check(80);
+}
+
 } // namespace
