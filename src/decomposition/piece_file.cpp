@@ -8,6 +8,7 @@
 //  3. Writing: text, or an ASCII PLY with the mesh, `int piece` and a colour per piece.
 #include "decomposition/piece_file.h"
 #include "errors.h"
+#include "formats/quoted_text.h"
 #include <algorithm>
 #include <cctype>
 #include <cstring>
@@ -29,7 +30,7 @@ std::vector<std::uint32_t> read_text(const std::string& path, std::ifstream& in)
     const std::string token = line.substr(first, last - first + 1);
     if (token.empty() || token.find_first_not_of("0123456789") != std::string::npos || token.size() > 9)
       throw InvalidInput(path + ":" + std::to_string(number) + ": expected a non-negative piece id, got '" +
-                         token + "'");
+                         quoted_text(token, 40) + "'");
     ids.push_back(std::uint32_t(std::stoul(token)));
   }
   if (in.bad()) throw IoError(path + ": read error");
@@ -47,7 +48,7 @@ PlyType ply_type(const std::string& path, const std::string& name) {
   if (name == "uint" || name == "uint32") return PlyType::UInt32;
   if (name == "float" || name == "float32") return PlyType::Float32;
   if (name == "double" || name == "float64") return PlyType::Float64;
-  throw InvalidInput(path + ": unknown PLY property type '" + name + "'");
+  throw InvalidInput(path + ": unknown PLY property type '" + quoted_text(name, 40) + "'");
 }
 
 int type_size(PlyType t) {
@@ -202,7 +203,7 @@ std::vector<std::uint32_t> read_ply(const std::string& path, std::ifstream& in) 
       std::string f;
       ls >> f;
       format = f == "ascii" ? 0 : f == "binary_little_endian" ? 1 : f == "binary_big_endian" ? 2 : -1;
-      if (format < 0) throw InvalidInput(path + ": unknown PLY format '" + f + "'");
+      if (format < 0) throw InvalidInput(path + ": unknown PLY format '" + quoted_text(f, 40) + "'");
     } else if (word == "element") {
       PlyElement e;
       std::string count_text, rest;
@@ -210,7 +211,7 @@ std::vector<std::uint32_t> read_ply(const std::string& path, std::ifstream& in) 
       const bool digits = !count_text.empty() && count_text.size() <= 18 &&
                           std::all_of(count_text.begin(), count_text.end(), [](unsigned char c) { return std::isdigit(c) != 0; });
       if (e.name.empty() || !digits || (ls >> rest))
-        throw InvalidInput(path + ": bad element line '" + line + "' (expected 'element NAME COUNT', COUNT a whole number)");
+        throw InvalidInput(path + ": bad element line '" + quoted_text(line, 60) + "' (expected 'element NAME COUNT', COUNT a whole number)");
       e.count = std::size_t(std::stoull(count_text));
       elements.push_back(e);
     } else if (word == "property") {
