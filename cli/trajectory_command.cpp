@@ -6,6 +6,7 @@
 #include "commands.h"
 #include "device/servo_log.h"
 #include "errors.h"
+#include "formats/quoted_text.h"
 #include "figure_text.h"
 #include "haptic_box/box_file.h"
 #include "polydata_files.h"
@@ -17,6 +18,28 @@
 #include <limits>
 
 namespace hb::cli {
+
+void check_trajectory_records(const ServoLog& log, const std::string& source) {
+  // The force a record holds was written to the device after the safety layer, so it is within
+  // the device's peak force; 1% and 1 mN of slack for rounding.
+  const double most = double(log.spec.max_force_n) * 1.01 + 1e-3;
+  for (std::size_t i = 0; i < log.records.size(); ++i) {
+    const LogRecord& r = log.records[i];
+    const char* field = !std::isfinite(r.time_s) ? "time" : nullptr;
+    for (int a = 0; a < 3 && !field; ++a) {
+      if (!std::isfinite(r.position_m[a])) field = "position";
+      else if (!std::isfinite(r.force_n[a])) field = "force";
+    }
+    if (!field && !std::isfinite(r.depth)) field = "depth";
+    if (field)
+      throw InvalidInput(source + ": record " + std::to_string(i) + " has a non-finite " + field + ": the log is damaged (nothing written)");
+    const double f = std::hypot(double(r.force_n[0]), double(r.force_n[1]), double(r.force_n[2]));
+    if (f > most)
+      throw InvalidInput(source + ": record " + std::to_string(i) + " has a force of " + sig(f) + " N, beyond the " +
+                         sig(log.spec.max_force_n) + " N its device (" + quoted_text(log.spec.name, 60) +
+                         ") can render after its safety limits: the log is damaged (nothing written)");
+  }
+}
 
 std::size_t write_trajectory_vtp(const ServoLog& log, const WorkspaceMapping& mapping, const std::string& source,
                                  const std::string& path) {
@@ -63,19 +86,7 @@ void add_trajectory_command(CLI::App& app) {
     if (hb::cli::lower_extension(opts->out) != ".vtp")
       throw hb::cli::UsageError("-o " + opts->out + ": the trajectory is written as VTK XML PolyData; name it .vtp");
     const hb::ServoLog log = hb::read_servo_log(opts->log);
-    // A damaged record would put NaN points and forces in the .vtp: refuse it, naming it.
-    for (std::size_t i = 0; i < log.records.size(); ++i) {
-      const hb::LogRecord& r = log.records[i];
-      const char* field = !std::isfinite(r.time_s) ? "time" : nullptr;
-      for (int a = 0; a < 3 && !field; ++a) {
-        if (!std::isfinite(r.position_m[a])) field = "position";
-        else if (!std::isfinite(r.force_n[a])) field = "force";
-      }
-      if (!field && !std::isfinite(r.depth)) field = "depth";
-      if (field)
-        throw hb::InvalidInput(opts->log + ": record " + std::to_string(i) + " has a non-finite " + field +
-                               ": the log is damaged (nothing written)");
-    }
+    hb::cli::check_trajectory_records(log, opts->log);
     hb::Vec3 lo = hb::Vec3::Constant(-40.f), hi = hb::Vec3::Constant(40.f);  // `plane`, as servo
     double diagonal = double((hi - lo).norm());
     if (opts->box != "plane") {

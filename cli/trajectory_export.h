@@ -7,6 +7,11 @@
 
 namespace hb::cli {
 
+/// Refuses a log no device could have recorded: a time, position, force or depth that is not
+/// finite, or a force beyond the device's peak force (the records hold the force after the
+/// safety layer). Throws hb::InvalidInput naming `source`, the record and the field.
+void check_trajectory_records(const ServoLog& log, const std::string& source);
+
 /// Writes `log` as a polyline .vtp at `path` (point arrays Time s, Force N, ForceMagnitude N,
 /// Depth, Contact, QueryTime ns, SafetyFlags; field data: rate, mapping, version). Tips are in
 /// model units: mapping.model_origin + position * model_units_per_metre. Throws hb::IoError.

@@ -22,11 +22,10 @@
 
 namespace {
 constexpr int kMaxRecent = 8;
-bool isSessionFile(const QString& path) { return path.endsWith(QLatin1String(".hbsession"), Qt::CaseInsensitive); }
 }  // namespace
 
 bool MainWindow::openFile(const QString& path, bool interactive, const hb::vtk::ModelOptions& options) {
-  if (isSessionFile(path)) {
+  if (isSessionPath(path)) {
     return openSessionFile(path, interactive);
   }
   bakeOnOpenFailed_ = false;

@@ -1,5 +1,6 @@
 #include "SessionFile.h"
 #include "errors.h"
+#include "formats/quoted_text.h"
 #include <QDir>
 #include <QFile>
 #include <QFileInfo>
@@ -10,7 +11,20 @@
 
 namespace {
 std::string local(const QString& s) { return QFile::encodeName(s).toStdString(); }
+
+// A file that reads as a session whatever its name: JSON whose start names the session format.
+bool holdsSession(const QString& path) {
+  std::ifstream in(local(path), std::ios::binary);
+  if (!in) return false;
+  std::string head(4096, '\0');
+  in.read(head.data(), std::streamsize(head.size()));
+  head.resize(std::size_t(in.gcount()));
+  const std::size_t first = head.find_first_not_of(" \t\r\n");
+  return first != std::string::npos && head[first] == '{' && head.find("\"hapticbox-session\"") != std::string::npos;
+}
 }  // namespace
+
+bool isSessionPath(const QString& path) { return path.endsWith(QLatin1String(".hbsession"), Qt::CaseInsensitive); }
 
 void saveSessionFile(const SessionState& s, const QString& path) {
   nlohmann::json j;
@@ -64,6 +78,14 @@ SessionState loadSessionFile(const QString& path) {
       throw hb::InvalidInput(local(path) + ": not a HapticBox session file");
     const QDir base = QFileInfo(path).absoluteDir();
     s.meshPath = QDir::cleanPath(base.absoluteFilePath(QString::fromStdString(j.at("mesh").get<std::string>())));
+    // A session names a model. One that names a session (itself, another, a cycle of them)
+    // would have the window open sessions without end: refused here, before anything opens.
+    const bool self = QFileInfo(s.meshPath).canonicalFilePath() == QFileInfo(path).canonicalFilePath();
+    if (self || isSessionPath(s.meshPath) || holdsSession(s.meshPath))
+      throw hb::InvalidInput(local(path) + ": \"mesh\" names " +
+                             (self ? std::string("this session file itself")
+                                   : "the session file " + hb::quoted_text(local(s.meshPath), 200)) +
+                             ", not a model (a session opens a model; it cannot open a session)");
     const auto& b = j.at("bake");
     // Session files from before the default recipe name an explicit sampling.
     s.bake.advanced = b.value("recipe", std::string("advanced")) != "default";

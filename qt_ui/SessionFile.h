@@ -33,8 +33,13 @@ struct SessionState {
   hb::vtk::VolumeSurfaceOptions surface;
 };
 
+/// True for a path the window opens as a session (the .hbsession extension, any case).
+bool isSessionPath(const QString& path);
+
 /// Writes `state` as JSON. Throws hb::IoError.
 void saveSessionFile(const SessionState& state, const QString& path);
 /// Reads a session file; relative paths are resolved against the file's folder.
-/// Throws hb::IoError (unreadable) or hb::InvalidInput (not a session file).
+/// Throws hb::IoError (unreadable) or hb::InvalidInput (not a session file, or a "mesh" that is
+/// a session file itself: this one, another, or one in a cycle; a session names a model, so
+/// opening one never opens another).
 SessionState loadSessionFile(const QString& path);

@@ -2,20 +2,24 @@
 """Fresh mutations of the project's own model files through `hapticbox`, counted by outcome.
 
 Each run takes a seed file (the generated CT phantom, the real DICOM series, the reference STEP
-solid, the elephant's glTF/GLB/3MF/Collada/FBX exports, piece files written by `decompose`),
+solid, the elephant's glTF/GLB/3MF/Collada/FBX exports, piece files written by `decompose`, a
+servo log recorded from the virtual device),
 damages it once (bit flips, interesting integers, truncation, cut or repeated chunks, and for
 text formats a number, line or token of the header replaced), and runs `hapticbox info FILE`
-(piece files: `bake SPHERE --pieces FILE`) under a wall-clock timeout. Outcomes:
+(piece files: `bake SPHERE --pieces FILE`; servo logs: `trajectory LOG plane -o OUT.vtp`) under
+a wall-clock timeout. Outcomes:
   crash     the command died by a signal (exit status > 128 or negative)
   hang      the outer timeout (--timeout, default 40 s) expired
   blowup    peak resident memory of the command and its reader above --blowup-mb (2048)
   empty     a rejection whose message does not name the file with a non-empty cause
+  unreadable a rejection whose message holds raw bytes (control or invalid UTF-8) or runs past
+            2,000 bytes
   rejected  exit code 1 or 2 with a message naming the file and a cause
   accepted  exit code 0 (a harmless mutation, or a silent acceptance: read the samples)
 For counts in the thousands use build/tests/vtk_pipelines/hb_mutate_campaign (the same damage
 through load_model in one process, forked per case, about 30-150 ms of processor a run instead
 of a whole command); this script checks the command end to end (exit codes, stderr).
-Usage: scripts/mutate_models.py [--runs N] [--families volumes,cad,scenes,pieces] [--jobs 2]
+Usage: scripts/mutate_models.py [--runs N] [--families volumes,cad,scenes,pieces,logs] [--jobs 2]
        [--seed S] [--keep DIR]   (run from the source tree with the build in build/)
 """
 import argparse, gzip, json, os, random, resource, shutil, signal, subprocess, sys, tempfile, time
@@ -123,6 +127,10 @@ def prepare_seeds(work):
         subprocess.run([HB, "decompose", sphere, "--max-pieces", "4", "--lines", "1000", "--leaves", "8", "-o", out],
                        check=True, capture_output=True)
         seeds.append(("pieces", "file", out, ext != ".vtp"))
+    # A servo log of the virtual device on the plane, exported by `trajectory`.
+    log = os.path.join(work, "run.hbslog")
+    subprocess.run([HB, "servo", "plane", "--device", "virtual", "--seconds", "0.2", "--record", log], check=True, capture_output=True)
+    seeds.append(("logs", "file", log, False))
     return seeds, sphere
 
 
@@ -151,6 +159,8 @@ def run_one(args):
         open(target, "wb").write(mutated)
     if family == "pieces":
         cmd = [HB, "bake", sphere, "--pieces", target, "-o", os.path.join(case, "x.hbox"), "-m", "2", "-n", "2", "--cache", "none"]
+    elif family == "logs":
+        cmd = [HB, "trajectory", target, "plane", "-o", os.path.join(case, "t.vtp")]
     else:
         cmd = [HB, "info", target]
     env = dict(os.environ, HB_READER_TIMEOUT_S=str(max(1, timeout // 2)), XDG_CACHE_HOME=os.path.join(case, "cache"))
@@ -184,6 +194,11 @@ def run_one(args):
             named = (target + ": ") in cause or any(cause.startswith(os.path.join(case, x)) for x in os.listdir(case)) or case in cause
             after = cause.split(": ", 1)[1].strip() if ": " in cause else ""
             outcome = "rejected" if named and after else "empty"
+            # The error itself (VTK's own log lines, coloured, are not the command's message).
+            message = err[err.find("hapticbox: error: "):] if "hapticbox: error: " in err else ""
+            raw = any((ord(c) < 0x20 and c not in "\n\t") or c == "\ufffd" for c in message)
+            if outcome == "rejected" and (raw or len(message.rstrip("\n")) > 2000):
+                outcome = "unreadable"
     result = {"family": family, "seed": name, "index": index, "outcome": outcome, "rc": rc,
               "seconds": round(time.time() - start, 2), "peak_mb": round(peak_mb), "message": err.strip().splitlines()[-1][:300] if err.strip() else ""}
     if keep and outcome not in ("rejected",):
@@ -196,7 +211,7 @@ def run_one(args):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--runs", type=int, default=100, help="mutations per family")
-    ap.add_argument("--families", default="volumes,cad,scenes,pieces")
+    ap.add_argument("--families", default="volumes,cad,scenes,pieces,logs")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--seed", type=int, default=int(time.time()))
     ap.add_argument("--timeout", type=int, default=40)
@@ -224,13 +239,13 @@ def main():
         for r in pool.map(run_one, jobs):
             results.append(r)
     shutil.rmtree(work, ignore_errors=True)
-    outcomes = ["crash", "hang", "blowup", "empty", "rejected", "accepted"]
+    outcomes = ["crash", "hang", "blowup", "empty", "unreadable", "rejected", "accepted"]
     print("mutate_models: seed %d, %d runs a family" % (a.seed, a.runs))
     print("%-8s %s" % ("family", " ".join("%9s" % o for o in outcomes)))
     for fam in families:
         rs = [r for r in results if r["family"] == fam]
         print("%-8s %s" % (fam, " ".join("%9d" % sum(1 for r in rs if r["outcome"] == o) for o in outcomes)))
-    bad = [r for r in results if r["outcome"] in ("crash", "hang", "blowup", "empty")]
+    bad = [r for r in results if r["outcome"] in ("crash", "hang", "blowup", "empty", "unreadable")]
     for r in bad[:40]:
         print("  %s %s #%d rc %s: %s" % (r["outcome"], r["seed"], r["index"], r["rc"], r["message"]))
     if a.json:

@@ -7,7 +7,9 @@
 //     miss their faces by more than 5% of its size is refused before the mesher.
 //  2. The chordal deviation follows the force budget: d = force_tolerance / stiffness, clamped
 //     to [1e-4, 1e-2] x the bounding-box diagonal (CadOptions), unless given in mm.
-//  3. BRepMesh_IncrementalMesh tessellates every face; each face's triangles are collected with
+//  3. BRepMesh_IncrementalMesh tessellates every face, finer in rounds until the measured
+//     deviation is within the one asked for (at most 5 rounds, kRefineSeconds, and no round
+//     once a finer mesh stops helping: a warning says why); each face's triangles are collected with
 //     the face's orientation, and nodes at the same position (the shared edges, which BRepMesh
 //     discretises once for both faces) are merged, so a closed solid gives a closed mesh.
 #include "cad_reader.h"
@@ -58,6 +60,7 @@
 #include <gp_Ax2.hxx>
 #include <gp_Pnt2d.hxx>
 #include <algorithm>
+#include <chrono>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -68,6 +71,9 @@
 #include <unordered_map>
 
 namespace hb::vtk {
+
+// The time the mesher may spend refining toward the chordal deviation asked for, s.
+constexpr double kRefineSeconds = 5.0;
 
 namespace {
 
@@ -255,7 +261,57 @@ void refuse_stray_edges(const std::string& path, const TopoDS_Shape& shape, doub
                        "would not end");
 }
 
+// How BRepMesh met the chordal deviation asked for: the deflection asked last, the deviation
+// measured, and when it is above the one asked for, why the refinement stopped short.
+struct Refinement {
+  double deflection = 0.0, measured = 0.0;
+  std::string short_because;
+};
+
+// BRepMesh's deflection is a target, not a bound: mesh, measure, and mesh finer until the
+// measured deviation is within `deviation` (at most 5 rounds, each at most 10x finer, none
+// once a round stopped helping or would take the whole past kRefineSeconds).
+Refinement mesh_to_deviation(const TopoDS_Shape& shape, const TopTools_IndexedMapOfShape& faces, double deviation, double angular_rad,
+                             const std::string& path) {
+  Refinement r;
+  double deflection_asked = deviation, previous_deflection = deviation, round_s = 0.0;
+  const auto start = std::chrono::steady_clock::now();
+  r.short_because = "after 5 rounds";
+  for (int round = 0; round < 5; ++round) {
+    // A round costs about the triangles it makes, which grow as the deflection shrinks: no
+    // round that would take the whole beyond kRefineSeconds (a damaged surface, far from its
+    // edges, kept refining for a minute).
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (round > 0 && elapsed + round_s * previous_deflection / deflection_asked > kRefineSeconds) {
+      r.short_because = "(a finer mesh would take more than " + std::to_string(int(kRefineSeconds)) +
+                        " s: the surfaces are far from their edges, a damaged file?)";
+      break;
+    }
+    const auto round_start = std::chrono::steady_clock::now();
+    if (round > 0) BRepTools::Clean(shape);
+    BRepMesh_IncrementalMesh mesher(shape, deflection_asked, Standard_False, angular_rad, Standard_True);
+    if (!mesher.IsDone()) throw InvalidInput(path + ": OpenCASCADE could not tessellate the shape");
+    const double before = r.measured;
+    r.measured = measure_deviation(faces);
+    r.deflection = deflection_asked;
+    round_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - round_start).count();
+    previous_deflection = deflection_asked;
+    if (r.measured <= deviation) break;
+    // A gap that a finer mesh does not close is not the chords' but the edges' (off their
+    // surface by up to their tolerance): refining on multiplies the triangles (a plane moved
+    // 1 mm off its edges in a STEP file cost 3 GB and more than 120 s).
+    if (round > 0 && r.measured > 0.95 * before) {
+      r.short_because = "(a finer mesh did not bring it closer: edges off their surface)";
+      break;
+    }
+    // At most 10x finer a round: a gap far above the deflection is the edges' too.
+    deflection_asked *= std::max(0.1, 0.9 * deviation / r.measured);
+  }
+  return r;
+}
+
 } // namespace
+
 
 CadModel read_cad(const std::string& path, const CadOptions& options) {
   if (!fs::exists(path)) throw IoError(path + ": no such file");
@@ -316,35 +372,12 @@ CadModel read_cad(const std::string& path, const CadOptions& options) {
       throw InvalidInput(path + ": chordal deviation " + std::to_string(deviation) + " mm is below 1e-5 x the diagonal (" +
                          std::to_string(diagonal) + " mm): far more triangles than a haptic model needs");
     f["chordal_deviation_mm"] = deviation;
-    // BRepMesh's deflection is a target, not a bound: measure, and mesh finer until the
-    // measured deviation is within the one asked for.
-    double deflection_asked = deviation, measured = 0.0;
-    bool stalled = false;
-    for (int round = 0; round < 5; ++round) {
-      if (round > 0) BRepTools::Clean(shape);
-      BRepMesh_IncrementalMesh mesher(shape, deflection_asked, Standard_False, options.angular_deviation_deg * M_PI / 180.0,
-                                      Standard_True);
-      if (!mesher.IsDone()) throw InvalidInput(path + ": OpenCASCADE could not tessellate the shape");
-      const double before = measured;
-      measured = measure_deviation(faces);
-      if (measured <= deviation) break;
-      // A gap that a finer mesh does not close is not the chords' but the edges' (off their
-      // surface by up to their tolerance): refining on multiplies the triangles (a plane
-      // moved 1 mm off its edges in a STEP file cost 3 GB and more than 120 s).
-      if (round > 0 && measured > 0.95 * before) {
-        stalled = true;
-        break;
-      }
-      // At most 10x finer a round: a gap far above the deflection is the edges' too.
-      deflection_asked *= std::max(0.1, 0.9 * deviation / measured);
-    }
-    f["mesher_deflection_mm"] = deflection_asked;
-    f["measured_deviation_mm"] = measured;
-    if (measured > deviation)
-      model.warnings.push_back(path + ": measured chordal deviation " + std::to_string(measured) + " mm exceeds the " +
-                               std::to_string(deviation) + " mm asked for " +
-                               (stalled ? std::string("(a finer mesh did not bring it closer: edges off their surface)")
-                                        : std::string("after 5 rounds")));
+    const Refinement r = mesh_to_deviation(shape, faces, deviation, options.angular_deviation_deg * M_PI / 180.0, path);
+    f["mesher_deflection_mm"] = r.deflection;
+    f["measured_deviation_mm"] = r.measured;
+    if (r.measured > deviation)
+      model.warnings.push_back(path + ": measured chordal deviation " + std::to_string(r.measured) + " mm exceeds the " +
+                               std::to_string(deviation) + " mm asked for " + r.short_because);
 
     std::unordered_map<PointKey, std::uint32_t, PointHash> index;
     double deflection = 0.0;

@@ -12,9 +12,10 @@
 //  3. the parent waits for the mark, the pipe's closing or the timeout, kills the child at the
 //     timeout, reaps it (after the mark, in the background: the teardown of its address space
 //     costs tens of milliseconds), and turns what happened into the result or an error naming
-//     the file.
+//     the file (escaped and cut to a readable length: formats/quoted_text.h).
 #include "isolated_reader.h"
 #include "errors.h"
+#include "formats/quoted_text.h"
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
@@ -78,7 +79,10 @@ char run_mapped(const std::string& path, const std::string& reader, const Reader
                   "the file is damaged, or needs more memory (HB_READER_MEMORY_MB)");
     return kNoMemory;
   } catch (const std::length_error& e) {
-    out = failure(path, reader, std::string("it asked for an impossible size: ") + e.what());
+    // The library's text ("vector::_M_default_append") names its own code, not the file's.
+    const std::string what = e.what();
+    out = what.rfind(path, 0) == 0 ? what
+                                   : failure(path, reader, "a count or size in the file asked it for an array longer than any memory holds");
     return kInvalid;
   } catch (const std::exception& e) {
     const std::string what = e.what();
@@ -146,9 +150,11 @@ private:
   std::size_t size_ = 0;
 };
 
+// The reader's error, as a person can read it: a library's text (or ours quoting the file) may
+// hold raw bytes or run to kilobytes.
 [[noreturn]] void rethrow(char status, const std::string& text) {
-  if (status == kIoError) throw IoError(text);
-  throw InvalidInput(text);
+  if (status == kIoError) throw IoError(readable_message(text));
+  throw InvalidInput(readable_message(text));
 }
 
 bool write_all(int fd, const char* data, std::size_t n) {

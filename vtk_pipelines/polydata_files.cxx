@@ -17,6 +17,7 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkStringArray.h>
+#include <vtkType.h>
 #include <vtkUnsignedIntArray.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
@@ -74,139 +75,22 @@ std::string xml_attribute(const std::string& tag, const std::string& name) {
   return end == std::string::npos ? std::string() : tag.substr(at + key.size(), end - at - key.size());
 }
 
-std::uint64_t xml_count(const std::string& path, const std::string& tag, const std::string& name) {
-  const std::string v = xml_attribute(tag, name);
-  if (v.empty()) return 0;
-  if (v.size() > 15 || v.find_first_not_of("0123456789") != std::string::npos)
-    throw InvalidInput(path + ": " + name + "=\"" + v.substr(0, 20) + "\" is not a count");
-  return std::stoull(v);
-}
-
-unsigned vtk_type_size(const std::string& t) {
-  if (t == "Int8" || t == "UInt8" || t == "Char") return 1;
-  if (t == "Int16" || t == "UInt16") return 2;
-  if (t == "Int32" || t == "UInt32" || t == "Float32") return 4;
-  if (t == "Int64" || t == "UInt64" || t == "Float64") return 8;
-  return 0;  // String and others: not checked against a count
+// The PieceId array's declared type, before VTK reads it: a Bit array holds 0 and 1 only, so
+// the ids would read back as two pieces whatever was written.
+void check_piece_id_type(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(1 << 20, '\0');
+  in.read(head.data(), std::streamsize(head.size()));
+  head.resize(std::size_t(in.gcount()));
+  head = head.substr(0, head.find("<AppendedData"));
+  for (std::size_t at = head.find("<DataArray"); at != std::string::npos; at = head.find("<DataArray", at + 1)) {
+    const std::string tag = head.substr(at, head.find('>', at) - at);
+    if (xml_attribute(tag, "Name") == "PieceId" && xml_attribute(tag, "type") == "Bit")
+      throw InvalidInput(path + ": the cell array PieceId is declared type=\"Bit\" (values 0 and 1 only), not a whole-number type");
+  }
 }
 
 } // namespace
-
-void check_vtp_appended_data(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path + ": cannot open the file");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::size_t appended = bytes.find("<AppendedData");
-  if (appended == std::string::npos) return;
-  const std::size_t appended_end = bytes.find('>', appended);
-  if (appended_end == std::string::npos) throw InvalidInput(path + ": the AppendedData element is not closed");
-  if (xml_attribute(bytes.substr(appended, appended_end - appended), "encoding") != "raw") return;  // base64: left to VTK
-  const std::size_t underscore = bytes.find('_', appended);
-  if (underscore == std::string::npos) throw InvalidInput(path + ": the AppendedData section has no '_' before its data");
-  if (bytes.find_first_not_of(" \t\r\n", appended_end + 1) != underscore)
-    throw InvalidInput(path + ": something other than white space between the AppendedData tag and its '_' (a damaged or repeated tag)");
-  const std::size_t data = underscore + 1;
-  const std::string header = bytes.substr(0, appended);
-  const std::size_t vtkfile = header.find("<VTKFile");
-  if (vtkfile == std::string::npos) throw InvalidInput(path + ": not a VTK XML file (no VTKFile element)");
-  const std::string root = header.substr(vtkfile, header.find('>', vtkfile) - vtkfile);
-  if (xml_attribute(root, "byte_order") == "BigEndian") return;  // left to VTK (never written here)
-  const std::string header_type = xml_attribute(root, "header_type");
-  const unsigned h = header_type == "UInt64" ? 8 : 4;
-  if (!header_type.empty() && header_type != "UInt32" && header_type != "UInt64")
-    throw InvalidInput(path + ": header_type \"" + header_type + "\" is not UInt32 or UInt64");
-  const bool compressed = !xml_attribute(root, "compressor").empty();
-  auto word = [&](std::uint64_t at) -> std::uint64_t {
-    if (at + h > bytes.size()) throw InvalidInput(path + ": an array header at byte " + std::to_string(at) + " runs past the end of the file");
-    std::uint64_t v = 0;
-    std::memcpy(&v, bytes.data() + at, h);  // little endian, as this machine
-    return v;
-  };
-  std::uint64_t points = 0, cells = 0;
-  std::string section;
-  // Each section's arrays once by name; Points holds one, each cell section connectivity and
-  // offsets (a repeated array line crashed VTK's reader).
-  std::map<std::string, std::set<std::string>> arrays_of;
-  auto check_section = [&](const std::string& name) {
-    if (name.empty()) return;
-    const std::set<std::string>& a = arrays_of[name];
-    if (name == "Points" && a.size() != 1)
-      throw InvalidInput(path + ": the Points section holds " + std::to_string(a.size()) + " arrays, not 1");
-    if ((name == "Polys" || name == "Verts" || name == "Lines" || name == "Strips") &&
-        (a.size() != 2 || !a.count("connectivity") || !a.count("offsets")))
-      throw InvalidInput(path + ": the " + name + " section does not hold exactly a connectivity and an offsets array");
-  };
-  for (std::size_t at = header.find('<'); at != std::string::npos; at = header.find('<', at + 1)) {
-    const std::size_t end = header.find('>', at);
-    if (end == std::string::npos) break;
-    const std::string tag = header.substr(at, end - at);
-    const std::string name = tag.substr(1, tag.find_first_of(" />\n\t") - 1);
-    if (name == "Piece") {
-      points = xml_count(path, tag, "NumberOfPoints");
-      cells = xml_count(path, tag, "NumberOfVerts") + xml_count(path, tag, "NumberOfLines") + xml_count(path, tag, "NumberOfStrips") +
-              xml_count(path, tag, "NumberOfPolys");
-    } else if (name == "PointData" || name == "CellData" || name == "Points" || name == "Polys" || name == "Verts" ||
-               name == "Lines" || name == "Strips" || name == "FieldData") {
-      if (arrays_of.count(name) && name != "FieldData") throw InvalidInput(path + ": the " + name + " section appears twice");
-      arrays_of[name];
-      section = name;
-    } else if (name == "/Points" || name == "/Polys" || name == "/Verts" || name == "/Lines" || name == "/Strips") {
-      check_section(name.substr(1));
-    }
-    if (name != "DataArray" && name != "Array") continue;
-    if (section != "FieldData" && !arrays_of[section].insert(xml_attribute(tag, "Name")).second)
-      throw InvalidInput(path + ": array " + xml_attribute(tag, "Name") + " appears twice in the " + section + " section");
-    if (xml_attribute(tag, "format") != "appended") continue;
-    const std::string array = xml_attribute(tag, "Name");
-    const std::uint64_t offset = xml_count(path, tag, "offset");
-    const std::uint64_t at_data = data + offset;
-    if (at_data >= bytes.size())
-      throw InvalidInput(path + ": array " + array + " starts at offset " + std::to_string(offset) + ", past the end of the file");
-    std::uint64_t raw = 0;  // the array's bytes once decoded
-    if (compressed) {
-      const std::uint64_t blocks = word(at_data), block = word(at_data + h), last = word(at_data + 2 * h);
-      if (blocks > (bytes.size() - at_data) / h)
-        throw InvalidInput(path + ": array " + array + " claims " + std::to_string(blocks) + " compressed blocks, more than the file holds");
-      std::uint64_t packed = 0;
-      for (std::uint64_t b = 0; b < blocks; ++b) packed += word(at_data + (3 + b) * h);
-      if (at_data + (3 + blocks) * h + packed > bytes.size())
-        throw InvalidInput(path + ": array " + array + " claims " + std::to_string(packed) + " compressed bytes, past the end of the file");
-      if (blocks > 0 && (block == 0 || last > block)) throw InvalidInput(path + ": array " + array + " has a damaged block header");
-      raw = blocks == 0 ? 0 : (blocks - 1) * block + (last ? last : block);
-      if (raw > 1100 * packed + 1024)
-        throw InvalidInput(path + ": array " + array + " claims " + std::to_string(raw) + " bytes from " + std::to_string(packed) +
-                           " compressed: beyond deflate's reach (a damaged header)");
-      // Every block inflates to exactly its size: VTK's reader went on after a zlib error
-      // with whatever it had (a connectivity of garbage crashed it).
-      std::uint64_t from = at_data + (3 + blocks) * h;
-      std::vector<unsigned char> out(std::size_t(std::min<std::uint64_t>(block, raw)) + 1);
-      for (std::uint64_t b = 0; b < blocks; ++b) {
-        const std::uint64_t size = b + 1 == blocks && last ? last : block, in = word(at_data + (3 + b) * h);
-        uLongf got = uLongf(out.size());
-        const int r = uncompress(out.data(), &got, reinterpret_cast<const Bytef*>(bytes.data() + from), uLong(in));
-        if (r != Z_OK || got != size)
-          throw InvalidInput(path + ": array " + array + ": compressed block " + std::to_string(b) + " of " + std::to_string(blocks) +
-                             (r != Z_OK ? " does not inflate (damaged data)" : " inflates to " + std::to_string(got) + " bytes, not " + std::to_string(size)));
-        from += in;
-      }
-    } else {
-      raw = word(at_data);
-      if (at_data + h + raw > bytes.size())
-        throw InvalidInput(path + ": array " + array + " claims " + std::to_string(raw) + " bytes, past the end of the file");
-    }
-    const unsigned size = vtk_type_size(xml_attribute(tag, "type"));
-    const std::string components_text = xml_attribute(tag, "NumberOfComponents");
-    const std::uint64_t components = components_text.empty() ? 1 : xml_count(path, tag, "NumberOfComponents");
-    std::uint64_t tuples = 0;
-    if (section == "Points" || section == "PointData") tuples = points;
-    else if (section == "CellData") tuples = cells;
-    else continue;  // connectivity and offsets: their lengths follow from the data
-    if (size > 0 && raw != tuples * components * size)
-      throw InvalidInput(path + ": array " + array + " holds " + std::to_string(raw) + " bytes, the piece's " + std::to_string(tuples) +
-                         (section == "CellData" ? " cells" : " points") + " need " + std::to_string(tuples * components * size) +
-                         ": the counts disagree with the arrays");
-  }
-}
 
 std::vector<std::uint32_t> read_piece_vtp(const std::string& path, std::size_t triangle_count) {
   std::error_code ec;
@@ -218,12 +102,16 @@ std::vector<std::uint32_t> read_piece_vtp(const std::string& path, std::size_t t
     reader->SetFileName(path.c_str());
     if (!reader->CanReadFile(path.c_str())) throw InvalidInput(path + ": not a VTK XML PolyData file");
     check_vtp_appended_data(path);
+    check_piece_id_type(path);
     reader->Update();
     if (reader->GetErrorCode() != 0)
       throw InvalidInput(path + ": the VTK XML reader failed (" + std::string(vtkErrorCode::GetStringFromErrorCode(reader->GetErrorCode())) + ")");
     vtkPolyData* pd = reader->GetOutput();
     vtkDataArray* ids = pd ? pd->GetCellData()->GetArray("PieceId") : nullptr;
     if (!ids || ids->GetNumberOfComponents() != 1) throw InvalidInput(path + ": no cell array PieceId");
+    // A Bit array holds 0 and 1 only: the ids read back as two pieces, whatever was written.
+    if (ids->GetDataType() == VTK_BIT)
+      throw InvalidInput(path + ": the cell array PieceId is declared type=\"Bit\" (values 0 and 1 only), not a whole-number type");
     // Cells are verts, lines, polys, strips in that order; the triangles are the polygons.
     const vtkIdType first = pd->GetNumberOfVerts() + pd->GetNumberOfLines();
     const vtkIdType polys = pd->GetNumberOfPolys();

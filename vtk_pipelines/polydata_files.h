@@ -36,11 +36,13 @@ vtkSmartPointer<vtkPolyData> piece_polydata(const TriangleMesh& mesh, const std:
 /// Throws hb::IoError (unreadable) or hb::InvalidInput (no PieceId, wrong count, negative id).
 std::vector<std::uint32_t> read_piece_vtp(const std::string& path, std::size_t triangle_count);
 
-/// A VTK XML PolyData file's appended data held to its header before VTK's reader allocates
-/// anything: every array's offset and byte count (or compressed blocks) within the file, a
-/// decompressed size within deflate's reach, and the point and cell arrays as long as the
-/// piece's NumberOfPoints and cell counts make them. Files with inline arrays or base64
-/// appended data are left to VTK (in its child process). Throws hb::InvalidInput naming the file and the array.
+/// A VTK XML PolyData file held to its header before VTK's reader allocates anything
+/// (vtp_file_check.cxx): each section and array once, every appended array's offset and byte
+/// count (or compressed blocks) within the file and within deflate's reach, inline ascii arrays
+/// of numbers only, the point and cell arrays as long as the piece's NumberOfPoints and cell
+/// counts make them, and the cells: one offset a cell, never decreasing, ending at the
+/// connectivity's length, connectivity naming points of the piece. Base64 data is left to VTK
+/// (in its child process). Throws hb::InvalidInput naming the file and the array.
 void check_vtp_appended_data(const std::string& path);
 
 /// The scene's box outlines (12 lines a box) with cell arrays "PieceId" (box index), "M", "N".

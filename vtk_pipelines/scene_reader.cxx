@@ -10,6 +10,7 @@
 #include "scene_file_checks.h"
 #include "string_util.h"
 #include "errors.h"
+#include "formats/quoted_text.h"
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/DefaultLogger.hpp>
@@ -18,6 +19,7 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -39,6 +41,24 @@ std::string format_of(const std::string& ext) {
 
 std::string extension(const std::string& path) { return lower(fs::path(path).extension().string()); }
 
+// Assimp's reason, as a person can read it: its binary FBX tokenizer ends a message with the
+// offending type code as a raw byte (often unprintable), and some failures give no text at all.
+std::string assimp_reason(const std::string& text) {
+  std::string t = text;
+  while (!t.empty() && (t.back() == '\n' || t.back() == ' ')) t.pop_back();
+  if (t.empty()) return "it gave no reason (the file is damaged or a kind it does not read)";
+  // A standard container's length error names the library's code, not the file's.
+  if (t.rfind("vector::", 0) == 0 || t.find("_M_") != std::string::npos)
+    return "a count or size in the file asked it for an array longer than any memory holds";
+  const std::size_t colon = t.rfind(": ");
+  if (colon != std::string::npos && colon + 3 == t.size() && !std::isprint(static_cast<unsigned char>(t.back()))) {
+    static const char hex[] = "0123456789ABCDEF";
+    const unsigned char c = static_cast<unsigned char>(t.back());
+    t = t.substr(0, colon) + ": byte 0x" + hex[c >> 4] + hex[c & 15] + " (not a code the format defines: the file is damaged)";
+  }
+  return quoted_text(t, 1000);
+}
+
 } // namespace
 
 SceneModel read_scene(const std::string& path) {
@@ -57,7 +77,7 @@ SceneModel read_scene(const std::string& path) {
   const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                                                      aiProcess_PreTransformVertices | aiProcess_SortByPType |
                                                      aiProcess_ValidateDataStructure);
-  if (!scene) throw InvalidInput(path + ": Assimp: " + std::string(importer.GetErrorString()));
+  if (!scene) throw InvalidInput(path + ": Assimp: " + assimp_reason(importer.GetErrorString()));
   std::size_t meshes = 0;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* mesh = scene->mMeshes[m];

@@ -5,9 +5,13 @@
 //  2. the root relationship names the 3D model part, which must be in the zip;
 //  3. every transform of the model holds 12 numbers (Assimp reads a shorter one into an
 //     uninitialised matrix) and no component contains itself (Assimp recurses without end);
-//  4. the unit: the model's unit attribute, read from the zip (Assimp does not expose it).
+//  4. every vertex has its x, y and z, each a decimal number as the 3MF schema writes them
+//     (Assimp read "0x10" as 16 and text or a missing coordinate as 0), every triangle's v1,
+//     v2, v3 a whole number naming a vertex of its mesh;
+//  5. the unit: the model's unit attribute, read from the zip (Assimp does not expose it).
 #include "scene_file_checks.h"
 #include "errors.h"
+#include "formats/quoted_text.h"
 #include "string_util.h"
 #include <zlib.h>
 #include <algorithm>
@@ -15,6 +19,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -238,6 +243,116 @@ void check_three_mf_components(const std::string& path, const std::string& xml) 
   }
 }
 
+// The attributes of the XML tag in [begin, end) (after its name), in order. Throws for a tag
+// that is not name="value" pairs or repeats a name.
+std::vector<std::pair<std::string, std::string>> tag_attributes(const std::string& path, const std::string& xml, std::size_t begin,
+                                                                std::size_t end, const std::string& what) {
+  std::vector<std::pair<std::string, std::string>> out;
+  std::size_t p = begin;
+  for (;;) {
+    while (p < end && std::isspace((unsigned char)xml[p])) ++p;
+    if (p >= end || xml[p] == '/') return out;
+    const std::size_t name = p;
+    while (p < end && xml[p] != '=' && !std::isspace((unsigned char)xml[p])) ++p;
+    const std::string key = xml.substr(name, p - name);
+    while (p < end && std::isspace((unsigned char)xml[p])) ++p;
+    if (p >= end || xml[p] != '=') throw InvalidInput(path + ": 3MF " + what + ": attribute " + quoted_text(key, 40) + " has no value");
+    ++p;
+    while (p < end && std::isspace((unsigned char)xml[p])) ++p;
+    if (p >= end || (xml[p] != '"' && xml[p] != '\'')) throw InvalidInput(path + ": 3MF " + what + ": attribute " + quoted_text(key, 40) + " is not quoted");
+    const std::size_t close = xml.find(xml[p], p + 1);
+    if (close == std::string::npos || close >= end) throw InvalidInput(path + ": 3MF " + what + ": attribute " + quoted_text(key, 40) + " is not closed");
+    for (const auto& kv : out)
+      if (kv.first == key) throw InvalidInput(path + ": 3MF " + what + " has the attribute " + quoted_text(key, 40) + " twice");
+    out.emplace_back(key, xml.substr(p + 1, close - p - 1));
+    p = close + 1;
+  }
+}
+
+// A decimal number as the 3MF schema's ST_Number: [+-]digits[.digits][e[+-]digits], finite.
+bool strict_number(const std::string& t) {
+  std::size_t i = 0;
+  if (i < t.size() && (t[i] == '+' || t[i] == '-')) ++i;
+  std::size_t digits = 0;
+  while (i < t.size() && std::isdigit((unsigned char)t[i])) ++i, ++digits;
+  if (i < t.size() && t[i] == '.') {
+    ++i;
+    while (i < t.size() && std::isdigit((unsigned char)t[i])) ++i, ++digits;
+  }
+  if (digits == 0) return false;
+  if (i < t.size() && (t[i] == 'e' || t[i] == 'E')) {
+    ++i;
+    if (i < t.size() && (t[i] == '+' || t[i] == '-')) ++i;
+    std::size_t exponent = 0;
+    while (i < t.size() && std::isdigit((unsigned char)t[i])) ++i, ++exponent;
+    if (exponent == 0) return false;
+  }
+  return i == t.size() && std::isfinite(std::strtod(t.c_str(), nullptr));
+}
+
+// Every <vertex> of every mesh has x, y and z as strict numbers; every <triangle> has v1, v2
+// and v3 as whole numbers below its mesh's vertex count.
+void check_three_mf_vertices(const std::string& path, const std::string& xml) {
+  std::string object = "?";
+  std::uint64_t vertices = 0, triangles = 0;
+  auto is_tag = [&](std::size_t p, const char* name) {
+    const std::size_t n = std::strlen(name);
+    return xml.compare(p + 1, n, name) == 0 && p + 1 + n < xml.size() &&
+           (std::isspace((unsigned char)xml[p + 1 + n]) || xml[p + 1 + n] == '/' || xml[p + 1 + n] == '>');
+  };
+  // The end of the tag at p: its '>' outside quoted values.
+  auto tag_end = [&](std::size_t p) {
+    char quote = 0;
+    for (std::size_t i = p + 1; i < xml.size(); ++i) {
+      if (quote) {
+        if (xml[i] == quote) quote = 0;
+      } else if (xml[i] == '"' || xml[i] == '\'') {
+        quote = xml[i];
+      } else if (xml[i] == '>') {
+        return i;
+      }
+    }
+    return std::string::npos;
+  };
+  for (std::size_t p = xml.find('<'); p != std::string::npos; p = xml.find('<', p + 1)) {
+    const char* tag = is_tag(p, "object") ? "object" : is_tag(p, "mesh") ? "mesh" : is_tag(p, "vertex") ? "vertex"
+                    : is_tag(p, "triangle") ? "triangle" : nullptr;
+    if (!tag) continue;
+    const std::size_t end = tag_end(p);
+    if (end == std::string::npos) throw InvalidInput(path + ": a 3MF <" + tag + "> tag is not closed");
+    if (is_tag(p, "object")) {
+      for (const auto& [k, v] : tag_attributes(path, xml, p + 7, end, "object"))
+        if (k == "id") object = quoted_text(v, 40);
+    } else if (is_tag(p, "mesh")) {
+      vertices = triangles = 0;
+    } else if (is_tag(p, "vertex")) {
+      const std::string what = "object " + object + " vertex " + std::to_string(vertices);
+      const auto attributes = tag_attributes(path, xml, p + 7, end, what);
+      for (const char* axis : {"x", "y", "z"}) {
+        const auto it = std::find_if(attributes.begin(), attributes.end(), [&](const auto& kv) { return kv.first == axis; });
+        if (it == attributes.end()) throw InvalidInput(path + ": 3MF " + what + " has no " + axis + " attribute");
+        if (!strict_number(it->second))
+          throw InvalidInput(path + ": 3MF " + what + ": " + axis + "=\"" + quoted_text(it->second, 40) + "\" is not a finite decimal number");
+      }
+      ++vertices;
+    } else if (is_tag(p, "triangle")) {
+      const std::string what = "object " + object + " triangle " + std::to_string(triangles);
+      const auto attributes = tag_attributes(path, xml, p + 9, end, what);
+      for (const char* corner : {"v1", "v2", "v3"}) {
+        const auto it = std::find_if(attributes.begin(), attributes.end(), [&](const auto& kv) { return kv.first == corner; });
+        if (it == attributes.end()) throw InvalidInput(path + ": 3MF " + what + " has no " + corner + " attribute");
+        const std::string& v = it->second;
+        if (v.empty() || v.size() > 12 || v.find_first_not_of("0123456789") != std::string::npos)
+          throw InvalidInput(path + ": 3MF " + what + ": " + corner + "=\"" + quoted_text(v, 40) + "\" is not a whole number");
+        if (std::stoull(v) >= vertices)
+          throw InvalidInput(path + ": 3MF " + what + ": " + corner + "=\"" + v + "\" is beyond the " + std::to_string(vertices) +
+                             " vertices of its mesh");
+      }
+      ++triangles;
+    }
+  }
+}
+
 } // namespace
 
 void check_3mf(const std::string& path) {
@@ -245,6 +360,7 @@ void check_3mf(const std::string& path) {
   const std::string& xml = three_mf_model(path, parts);
   check_three_mf_transforms(path, xml);
   check_three_mf_components(path, xml);
+  check_three_mf_vertices(path, xml);
 }
 
 // The unit of a 3MF model (its <model unit="..."> attribute; millimetre when absent).

@@ -5,6 +5,7 @@
 //  3. a shortfall names the header's layout and what the data holds.
 #include "volume_data_check.h"
 #include "errors.h"
+#include "formats/quoted_text.h"
 #include "string_util.h"
 #include <algorithm>
 #include <cstdint>
@@ -36,9 +37,9 @@ std::string describe(const VolumeLayout& l) {
 std::uint64_t decoded_bytes(const std::string& name, const std::string& file, std::uint64_t offset, const std::string& encoding,
                             std::uint64_t want, unsigned bytes_per_element) {
   std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) throw InvalidInput(name + ": the data file " + file + " is missing or not a regular file");
+  if (!fs::is_regular_file(file, ec)) throw InvalidInput(name + ": the data file " + quoted_text(file, 300) + " is missing or not a regular file");
   const std::uint64_t size = fs::file_size(file, ec);
-  if (ec) throw IoError(name + ": cannot read the data file " + file);
+  if (ec) throw IoError(name + ": cannot read the data file " + quoted_text(file, 300));
   if (encoding == "raw") return size > offset ? size - offset : 0;
   std::ifstream in(file, std::ios::binary);
   in.seekg(std::streamoff(std::min(offset, size)));
@@ -48,7 +49,7 @@ std::uint64_t decoded_bytes(const std::string& name, const std::string& file, st
       char* end = nullptr;
       std::strtod(w.c_str(), &end);
       if (end == w.c_str() || *end)
-        throw InvalidInput(name + ": the text-encoded data holds " + (w.size() > 20 ? w.substr(0, 20) + "..." : w) +
+        throw InvalidInput(name + ": the text-encoded data holds " + quoted_text(w) +
                            ", not a number (binary data with a text encoding?)");
       ++values;
     }
@@ -73,7 +74,7 @@ std::uint64_t decoded_bytes(const std::string& name, const std::string& file, st
     if (rc != Z_OK && rc != Z_STREAM_END && rc != Z_BUF_ERROR) {
       const std::string why = z.msg ? z.msg : "error " + std::to_string(rc);
       inflateEnd(&z);
-      throw InvalidInput(name + ": the compressed voxel data in " + file + " is damaged (zlib: " + why + ")");
+      throw InvalidInput(name + ": the compressed voxel data in " + quoted_text(file, 300) + " is damaged (zlib: " + why + ")");
     }
     total += output.size() - z.avail_out;
   }

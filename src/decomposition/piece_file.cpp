@@ -1,11 +1,14 @@
 // Piece files.
 //  1. Plain text: one id per line; '#' comments and blank lines skipped; strict integers.
-//  2. PLY: parse the header (format, elements, properties), skip elements before `face`,
-//     read each face's corner list and the piece property (ASCII or binary, either byte
-//     order), and expand a k-gon to k - 2 triangle ids.
+//  2. PLY: parse the header (format, elements, properties), skip the other elements, read
+//     each face's corner list (at least 3 corners, each a declared vertex) and the piece
+//     property (ASCII or binary, either byte order), and expand a k-gon to k - 2 triangle
+//     ids; the elements must account for every byte of the file (a shifted byte otherwise
+//     reads as other pieces).
 //  3. Writing: text, or an ASCII PLY with the mesh, `int piece` and a colour per piece.
 #include "decomposition/piece_file.h"
 #include "errors.h"
+#include "formats/quoted_text.h"
 #include <algorithm>
 #include <cctype>
 #include <cstring>
@@ -27,7 +30,7 @@ std::vector<std::uint32_t> read_text(const std::string& path, std::ifstream& in)
     const std::string token = line.substr(first, last - first + 1);
     if (token.empty() || token.find_first_not_of("0123456789") != std::string::npos || token.size() > 9)
       throw InvalidInput(path + ":" + std::to_string(number) + ": expected a non-negative piece id, got '" +
-                         token + "'");
+                         quoted_text(token, 40) + "'");
     ids.push_back(std::uint32_t(std::stoul(token)));
   }
   if (in.bad()) throw IoError(path + ": read error");
@@ -45,7 +48,7 @@ PlyType ply_type(const std::string& path, const std::string& name) {
   if (name == "uint" || name == "uint32") return PlyType::UInt32;
   if (name == "float" || name == "float32") return PlyType::Float32;
   if (name == "double" || name == "float64") return PlyType::Float64;
-  throw InvalidInput(path + ": unknown PLY property type '" + name + "'");
+  throw InvalidInput(path + ": unknown PLY property type '" + quoted_text(name, 40) + "'");
 }
 
 int type_size(PlyType t) {
@@ -101,6 +104,89 @@ private:
   int format_;  // 0 ascii, 1 little endian, 2 big endian
 };
 
+// Reads past the element's `count` rows (binary rows of fixed size: one seek).
+void skip_element(const std::string& path, std::ifstream& in, PlyReader& reader, const PlyElement& e, int format) {
+  const bool fixed = format != 0 && std::none_of(e.properties.begin(), e.properties.end(), [](const PlyProperty& p) { return p.list; });
+  if (fixed) {
+    std::uint64_t row = 0;
+    for (const PlyProperty& p : e.properties) row += std::uint64_t(type_size(p.type));
+    const std::streampos here = in.tellg();
+    in.seekg(0, std::ios::end);
+    const std::streamoff left = in.tellg() - here;
+    in.seekg(here);
+    if (here < 0 || left < 0 || (row > 0 && e.count > std::uint64_t(left) / row))
+      throw InvalidInput(path + ": the " + e.name + " element claims " + std::to_string(e.count) + " rows of " + std::to_string(row) +
+                         " bytes but only " + std::to_string(std::max<std::streamoff>(left, 0)) + " bytes follow");
+    in.seekg(std::streamoff(row * e.count), std::ios::cur);
+    return;
+  }
+  for (std::size_t i = 0; i < e.count; ++i)
+    for (const PlyProperty& p : e.properties) {
+      const double n = p.list ? reader.read(p.count_type) : 1;
+      if (!(n >= 0.0 && n < 1e6)) throw InvalidInput(path + ": " + e.name + " " + std::to_string(i) + ": bad list size");
+      for (std::size_t k = 0; k < std::size_t(n); ++k) reader.read(p.type);
+    }
+}
+
+// The face element: a piece id per face, k - 2 triangle ids for a k-gon. Every face has at
+// least 3 corners, each a vertex below `vertices` (when the file has a vertex element).
+std::vector<std::uint32_t> read_faces(const std::string& path, std::ifstream& in, PlyReader& reader, const PlyElement& e, int format,
+                                      std::size_t vertices) {
+  int piece_property = -1, corners_property = -1;
+  for (const char* name : {"piece", "label", "segment", "part", "region"}) {
+    for (std::size_t k = 0; k < e.properties.size() && piece_property < 0; ++k)
+      if (!e.properties[k].list && e.properties[k].name == name) piece_property = int(k);
+    if (piece_property >= 0) break;
+  }
+  for (std::size_t k = 0; k < e.properties.size(); ++k)
+    if (e.properties[k].list && corners_property < 0) corners_property = int(k);
+  if (piece_property < 0)
+    throw InvalidInput(path + ": the face element has no piece property (piece, label, segment, part, region)");
+  // Every face takes at least one byte (two in ASCII): a count beyond what is left of the
+  // file is a damaged header, refused before anything is allocated for it.
+  const std::streampos here = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::streamoff left = in.tellg() - here;
+  in.seekg(here);
+  if (here < 0 || left < 0 || e.count > std::size_t(left) / (format == 0 ? 2 : 1))
+    throw InvalidInput(path + ": the face element claims " + std::to_string(e.count) + " faces but only " +
+                       std::to_string(std::max<std::streamoff>(left, 0)) + " bytes follow: truncated or a damaged header");
+  std::vector<std::uint32_t> ids;
+  ids.reserve(e.count);
+  for (std::size_t i = 0; i < e.count; ++i) {
+    std::size_t corners = 3;
+    double id = 0.0;
+    for (std::size_t k = 0; k < e.properties.size(); ++k) {
+      const PlyProperty& p = e.properties[k];
+      if (!p.list) {
+        const double v = reader.read(p.type);
+        if (int(k) == piece_property) id = v;
+        continue;
+      }
+      const double n = reader.read(p.count_type);
+      if (!(n >= 0.0 && n < 1e6)) throw InvalidInput(path + ": face " + std::to_string(i) + ": bad list size");
+      if (int(k) == corners_property) {
+        corners = std::size_t(n);
+        if (corners < 3) throw InvalidInput(path + ": face " + std::to_string(i) + " has " + std::to_string(corners) + " corners, not a polygon");
+      }
+      for (std::size_t c = 0; c < std::size_t(n); ++c) {
+        const double v = reader.read(p.type);
+        if (int(k) == corners_property && (!(v >= 0.0) || v >= double(vertices) || v != double(std::uint64_t(v)))) {
+          std::ostringstream value;
+          value.precision(10);
+          value << v;
+          throw InvalidInput(path + ": face " + std::to_string(i) + " corner " + std::to_string(c) + " is " + value.str() +
+                             ", not a vertex of the " + std::to_string(vertices) + " the file declares");
+        }
+      }
+    }
+    if (!(id >= 0.0 && id < 4294967295.0) || id != double(std::uint32_t(id)))
+      throw InvalidInput(path + ": face " + std::to_string(i) + ": piece id must be a non-negative integer");
+    for (std::size_t c = 2; c < std::max<std::size_t>(corners, 3); ++c) ids.push_back(std::uint32_t(id));
+  }
+  return ids;
+}
+
 std::vector<std::uint32_t> read_ply(const std::string& path, std::ifstream& in) {
   std::string line;
   std::getline(in, line);
@@ -117,7 +203,7 @@ std::vector<std::uint32_t> read_ply(const std::string& path, std::ifstream& in) 
       std::string f;
       ls >> f;
       format = f == "ascii" ? 0 : f == "binary_little_endian" ? 1 : f == "binary_big_endian" ? 2 : -1;
-      if (format < 0) throw InvalidInput(path + ": unknown PLY format '" + f + "'");
+      if (format < 0) throw InvalidInput(path + ": unknown PLY format '" + quoted_text(f, 40) + "'");
     } else if (word == "element") {
       PlyElement e;
       std::string count_text, rest;
@@ -125,7 +211,7 @@ std::vector<std::uint32_t> read_ply(const std::string& path, std::ifstream& in) 
       const bool digits = !count_text.empty() && count_text.size() <= 18 &&
                           std::all_of(count_text.begin(), count_text.end(), [](unsigned char c) { return std::isdigit(c) != 0; });
       if (e.name.empty() || !digits || (ls >> rest))
-        throw InvalidInput(path + ": bad element line '" + line + "' (expected 'element NAME COUNT', COUNT a whole number)");
+        throw InvalidInput(path + ": bad element line '" + quoted_text(line, 60) + "' (expected 'element NAME COUNT', COUNT a whole number)");
       e.count = std::size_t(std::stoull(count_text));
       elements.push_back(e);
     } else if (word == "property") {
@@ -151,58 +237,30 @@ std::vector<std::uint32_t> read_ply(const std::string& path, std::ifstream& in) 
   }
   if (!ended || format < 0) throw InvalidInput(path + ": PLY header without format or end_header");
   PlyReader reader(path, in, format);
+  std::vector<std::uint32_t> ids;
+  bool have_faces = false;
+  std::size_t vertices = 0;
+  bool have_vertices = false;
   for (const PlyElement& e : elements) {
-    if (e.name != "face") {
-      for (std::size_t i = 0; i < e.count; ++i)
-        for (const PlyProperty& p : e.properties) {
-          const std::size_t n = p.list ? std::size_t(reader.read(p.count_type)) : 1;
-          for (std::size_t k = 0; k < n; ++k) reader.read(p.type);
-        }
+    if (e.name == "vertex") vertices = e.count, have_vertices = true;
+    if (e.name != "face" || have_faces) {
+      skip_element(path, in, reader, e, format);
       continue;
     }
-    int piece_property = -1, corners_property = -1;
-    for (const char* name : {"piece", "label", "segment", "part", "region"}) {
-      for (std::size_t k = 0; k < e.properties.size() && piece_property < 0; ++k)
-        if (!e.properties[k].list && e.properties[k].name == name) piece_property = int(k);
-      if (piece_property >= 0) break;
-    }
-    for (std::size_t k = 0; k < e.properties.size(); ++k)
-      if (e.properties[k].list && corners_property < 0) corners_property = int(k);
-    if (piece_property < 0)
-      throw InvalidInput(path + ": the face element has no piece property (piece, label, segment, part, region)");
-    // Every face takes at least one byte (two in ASCII): a count beyond what is left of the
-    // file is a damaged header, refused before anything is allocated for it.
-    const std::streampos here = in.tellg();
-    in.seekg(0, std::ios::end);
-    const std::streamoff left = in.tellg() - here;
-    in.seekg(here);
-    if (here < 0 || left < 0 || e.count > std::size_t(left) / (format == 0 ? 2 : 1))
-      throw InvalidInput(path + ": the face element claims " + std::to_string(e.count) + " faces but only " +
-                         std::to_string(std::max<std::streamoff>(left, 0)) + " bytes follow: truncated or a damaged header");
-    std::vector<std::uint32_t> ids;
-    ids.reserve(e.count);
-    for (std::size_t i = 0; i < e.count; ++i) {
-      std::size_t corners = 3;
-      double id = 0.0;
-      for (std::size_t k = 0; k < e.properties.size(); ++k) {
-        const PlyProperty& p = e.properties[k];
-        if (p.list) {
-          const double n = reader.read(p.count_type);
-          if (!(n >= 0.0 && n < 1e6)) throw InvalidInput(path + ": face " + std::to_string(i) + ": bad list size");
-          if (int(k) == corners_property) corners = std::size_t(n);
-          for (std::size_t c = 0; c < std::size_t(n); ++c) reader.read(p.type);
-        } else {
-          const double v = reader.read(p.type);
-          if (int(k) == piece_property) id = v;
-        }
-      }
-      if (!(id >= 0.0 && id < 4294967295.0) || id != double(std::uint32_t(id)))
-        throw InvalidInput(path + ": face " + std::to_string(i) + ": piece id must be a non-negative integer");
-      for (std::size_t c = 2; c < std::max<std::size_t>(corners, 3); ++c) ids.push_back(std::uint32_t(id));
-    }
-    return ids;
+    ids = read_faces(path, in, reader, e, format, have_vertices ? vertices : std::size_t(-1));
+    have_faces = true;
   }
-  throw InvalidInput(path + ": PLY file has no face element");
+  if (!have_faces) throw InvalidInput(path + ": PLY file has no face element");
+  // Every byte accounted for: bytes left over (or missing, above) mean the header's counts
+  // and the data disagree, and what was read is not what was written.
+  if (format == 0) in >> std::ws;
+  const std::streampos here = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::streamoff left = in.tellg() - here;
+  if (here >= 0 && left > 0)
+    throw InvalidInput(path + ": " + std::to_string(left) + (format == 0 ? " bytes of text follow" : " bytes follow") +
+                       " the last PLY element: the header's counts and sizes do not add up to the file (a damaged header or shifted data)");
+  return ids;
 }
 
 bool has_extension(const std::string& path, const std::string& ext) {

@@ -8,10 +8,9 @@
 //  3. The parameter data of the entities solids and trimmed surfaces are made of, held to
 //     their layout (IGES 5.3, chapter 4): counts against the values present, numbers where
 //     numbers belong, pointers to entries of a fitting type, list indices within their list.
-//     B-spline curves and surfaces (126, 128): every value a number, and when their counts fit
-//     their values, knots that never decrease and positive weights; counts that do not fit
-//     are left to OpenCASCADE, which refuses the spline and drops its face (the CAD reader
-//     counts a lost face).
+//     B-spline curves and surfaces (126, 128): every value a number, degrees from 1 to the
+//     control points less one, as many values as the counts need, knots that never decrease,
+//     positive weights and a parameter range within the knots' span.
 #include "formats/iges_check.h"
 #include "errors.h"
 #include "formats/iges_global.h"
@@ -97,6 +96,8 @@ void split_sections(IgesFile& f, const std::string& bytes) {
     }
     if (line.size() < 80)
       refuse(f, "line " + std::to_string(line_no) + " has " + std::to_string(line.size()) + " columns, not 80");
+    if (line.find_first_not_of(' ', 80) != std::string::npos)
+      refuse(f, "line " + std::to_string(line_no) + " has text past column 80 (" + std::to_string(line.size()) + " columns): lines run together");
     // IGES is text: a control byte (a NUL inside a number ended it there for OpenCASCADE,
     // which read a different curve without a word).
     for (std::size_t k = 0; k < line.size(); ++k)
@@ -285,21 +286,30 @@ private:
 const std::initializer_list<long> kCurves = {100, 102, 104, 106, 110, 112, 126, 130};
 const std::initializer_list<long> kSurfaces = {108, 114, 118, 120, 122, 128, 140, 143, 144, 190, 192, 194, 196, 198};
 
-// A B-spline (126 curve, 128 surface) whose counts fit its values: knots that never decrease
-// and positive weights (a weight changed to 0 collapsed the sphere's face to a sliver, read
-// without a word). Counts that do not fit are OpenCASCADE's to refuse (it drops the face).
-void check_bspline_weights(const EntityCheck& c) {
+// A B-spline (126 curve, 128 surface): its degrees at least 1 and at most its control points
+// less one (OpenCASCADE crashed on a surface of too high a degree), its values as many as its
+// counts need, knots that never decrease and positive weights (a weight changed to 0 collapsed
+// the sphere's face to a sliver, read without a word).
+void check_bspline(const EntityCheck& c) {
   const std::vector<std::string>& p = c.entry().params;
   const bool surface = c.entry().type == 128;
-  std::vector<long> k(surface ? 4 : 2);
-  for (std::size_t i = 0; i < k.size(); ++i)
-    if (!parse_integer(p.size() > i ? p[i] : "", k[i]) || k[i] < 0 || std::size_t(k[i]) > p.size()) return;
-  const long uk = k[0], vk = surface ? k[1] : 0, um = surface ? k[2] : k[1], vm = surface ? k[3] : 0;
-  if (um < 1 || uk < um || (surface && (vm < 1 || vk < vm))) return;
+  // Upper indices K (control points K + 1) and degrees M: values 1-2 of a curve, 1-4 of a surface.
+  const long uk = c.count(0), vk = surface ? c.count(1) : 0;
+  const long um = c.integer(surface ? 2 : 1), vm = surface ? c.integer(3) : 1;
+  const char* axes[2] = {surface ? " in u" : "", " in v"};
+  for (int axis = 0; axis < (surface ? 2 : 1); ++axis) {
+    const long k = axis ? vk : uk, m = axis ? vm : um;
+    const std::size_t value = surface ? std::size_t(3 + axis) : 2;
+    if (m < 1 || m > k)
+      c.fail("its degree" + std::string(axes[axis]) + " (value " + std::to_string(value) + ") is " + std::to_string(m) + " but its " +
+             std::to_string(k + 1) + " control points" + axes[axis] + " allow a degree from 1 to " + std::to_string(k));
+  }
   std::vector<std::pair<std::size_t, std::size_t>> knots = {{surface ? 9 : 6, std::size_t(uk + um + 2)}};
   if (surface) knots.push_back({knots[0].first + knots[0].second, std::size_t(vk + vm + 2)});
   const std::size_t weights_at = knots.back().first + knots.back().second, weights = std::size_t(uk + 1) * std::size_t(vk + 1);
-  if (weights_at + 4 * weights > p.size()) return;
+  const std::size_t needed = weights_at + 4 * weights + (surface ? 4 : 2);  // weights, points, the parameter range
+  if (needed > p.size())
+    c.fail("its counts and degrees need " + std::to_string(needed) + " values, its parameter data holds " + std::to_string(p.size()));
   auto value = [&](std::size_t i) {
     std::string t = blank_trimmed(p[i]);
     for (char& ch : t)
@@ -311,6 +321,20 @@ void check_bspline_weights(const EntityCheck& c) {
       if (value(i) < value(i - 1)) c.fail("knot " + std::to_string(i - at + 1) + " (value " + std::to_string(i + 1) + ") is below the one before it");
   for (std::size_t i = weights_at; i < weights_at + weights; ++i)
     if (!(value(i) > 0)) c.fail("weight " + std::to_string(i - weights_at + 1) + " (value " + std::to_string(i + 1) + ") is not positive");
+  // The parameter range within the knots' span, T(0) to T(N) (OpenCASCADE crashed on a curve
+  // whose range ran past its knots).
+  const std::size_t range_at = weights_at + 4 * weights;
+  for (std::size_t axis = 0; axis < knots.size(); ++axis) {
+    const auto [at, n] = knots[axis];
+    const long m = axis ? vm : um;
+    const double lo = value(at + std::size_t(m)), hi = value(at + n - 1 - std::size_t(m));
+    const double a = value(range_at + 2 * axis), b = value(range_at + 2 * axis + 1);
+    const double slack = 1e-6 * std::max({1.0, std::fabs(lo), std::fabs(hi)});
+    if (!(a >= lo - slack && b <= hi + slack && a < b))
+      c.fail("its parameter range" + std::string(axes[axis]) + " " + std::to_string(a) + " to " + std::to_string(b) + " (values " +
+             std::to_string(range_at + 2 * axis + 1) + "-" + std::to_string(range_at + 2 * axis + 2) + ") is not within its knots' span " +
+             std::to_string(lo) + " to " + std::to_string(hi));
+  }
 }
 
 void check_entity(const IgesFile& f, const IgesEntry& e) {
@@ -319,7 +343,7 @@ void check_entity(const IgesFile& f, const IgesEntry& e) {
     case 126:
     case 128:
       c.reals(0, e.params.size());
-      check_bspline_weights(c);
+      check_bspline(c);
       break;
     case 100: c.reals(0, 7); break;
     case 110: c.reals(0, 6); break;

@@ -1,5 +1,6 @@
 // STEP references: one pass over the DATA section, skipping strings ('...', '' inside) and
 // comments (/* */); "#N =" at the start of a statement defines N, any other "#N" refers to it;
+// parentheses balance within each statement, nested a bounded depth;
 // a number where a token starts must be whole (digits, a fraction, an exponent, a delimiter)
 // and below 1e100.
 #include "formats/step_check.h"
@@ -25,6 +26,7 @@ void check_step_references(const std::string& name, const std::string& bytes) {
   std::vector<std::pair<std::uint64_t, std::uint64_t>> references;  // (from, to)
   bool statement_start = true;
   std::uint64_t current = 0;
+  long depth = 0;
   const std::size_t n = bytes.size();
   while (at < n) {
     const char c = bytes[at];
@@ -60,6 +62,10 @@ void check_step_references(const std::string& name, const std::string& bytes) {
         ++at;
         continue;
       }
+      // OpenCASCADE keeps instance numbers in an int: #2147483648 crashed its reader.
+      if (id > 2147483647u)
+        throw InvalidInput(name + ": STEP instance number #" + quoted_text(bytes.substr(at + 1, k - at - 1), 30) +
+                           (statement_start ? "" : " (in instance #" + std::to_string(current) + ")") + " is beyond 2147483647");
       if (statement_start) {
         std::size_t e = k;
         while (e < n && std::isspace((unsigned char)bytes[e])) ++e;
@@ -76,7 +82,22 @@ void check_step_references(const std::string& name, const std::string& bytes) {
       at = k;
       continue;
     }
+    if (c == '(' || c == ')') {
+      // Parentheses balance within a statement and nest at most kMaxStepNesting deep
+      // (OpenCASCADE's parser recursed once a level: 100,000 of them overflowed its stack).
+      depth += c == '(' ? 1 : -1;
+      if (depth < 0) throw InvalidInput(name + ": STEP instance #" + std::to_string(current) + " closes a parenthesis it never opened");
+      if (depth > kMaxStepNesting)
+        throw InvalidInput(name + ": STEP instance #" + std::to_string(current) + " nests parentheses more than " +
+                           std::to_string(kMaxStepNesting) + " deep");
+      statement_start = false;
+      ++at;
+      continue;
+    }
     if (c == ';') {
+      if (depth != 0)
+        throw InvalidInput(name + ": STEP instance #" + std::to_string(current) + " ends with " + std::to_string(depth) +
+                           " parentheses left open");
       statement_start = true;
       ++at;
       continue;

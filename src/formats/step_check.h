@@ -7,8 +7,12 @@
 
 namespace hb {
 
+/// Deepest parenthesis nesting accepted in a STEP statement (real files nest a few levels).
+constexpr long kMaxStepNesting = 100;
+
 /// Throws hb::InvalidInput naming `name`, the referring instance and the missing one (or the
-/// instance defined twice, an unterminated string or comment, no DATA section).
+/// instance defined twice, an unterminated string or comment, parentheses unbalanced or nested
+/// deeper than kMaxStepNesting, no DATA section).
 void check_step_references(const std::string& name, const std::string& bytes);
 
 } // namespace hb

@@ -4,6 +4,7 @@
 // voxels are so that the caller can hold the data to the header.
 #include "formats/volume_headers.h"
 #include "errors.h"
+#include "formats/quoted_text.h"
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -52,11 +53,7 @@ bool parse_integer(const std::string& w, long long& out) {
   return true;
 }
 
-std::string quoted(const std::string& s) {
-  std::string out = "'";
-  for (char c : s.substr(0, 80)) out += std::isprint((unsigned char)c) ? c : '?';
-  return out + (s.size() > 80 ? "...'" : "'");
-}
+std::string quoted(const std::string& s) { return "'" + quoted_text(s, 80) + "'"; }
 
 // Sizes: each a whole number from 1 to 2^31, the product at most 2^40 (a terabyte of voxels
 // is beyond any reader; the caller's own voxel limit is lower).
@@ -214,20 +211,31 @@ VolumeLayout check_nifti_header(const std::string& name, const std::string& h) {
   }
   std::int64_t dim[8];
   int datatype, bitpix;
-  double pixdim[8], vox_offset;
+  double pixdim[8], vox_offset, scl_slope, scl_inter;
   if (version == 1) {
     for (int i = 0; i < 8; ++i) dim[i] = read_at<std::int16_t>(h, std::size_t(40 + 2 * i), swap);
     datatype = read_at<std::int16_t>(h, 70, swap);
     bitpix = read_at<std::int16_t>(h, 72, swap);
     for (int i = 0; i < 8; ++i) pixdim[i] = read_at<float>(h, std::size_t(76 + 4 * i), swap);
     vox_offset = read_at<float>(h, 108, swap);
+    scl_slope = read_at<float>(h, 112, swap);
+    scl_inter = read_at<float>(h, 116, swap);
   } else {
     datatype = read_at<std::int16_t>(h, 12, swap);
     bitpix = read_at<std::int16_t>(h, 14, swap);
     for (int i = 0; i < 8; ++i) dim[i] = read_at<std::int64_t>(h, std::size_t(16 + 8 * i), swap);
     for (int i = 0; i < 8; ++i) pixdim[i] = read_at<double>(h, std::size_t(104 + 8 * i), swap);
     vox_offset = double(read_at<std::int64_t>(h, 168, swap));
+    scl_slope = read_at<double>(h, 176, swap);
+    scl_inter = read_at<double>(h, 184, swap);
   }
+  // The value scaling (stored x scl_slope + scl_inter; slope 0: none). A slope that is not
+  // finite made every voxel the same value: any iso-value or label gave the same surface.
+  if (!std::isfinite(scl_slope))
+    throw InvalidInput(name + ": NIfTI scl_slope (the value scaling) is " + std::to_string(scl_slope) +
+                       ": it must be a finite number (0 for no scaling)");
+  if (scl_slope != 0 && !std::isfinite(scl_inter))
+    throw InvalidInput(name + ": NIfTI scl_inter (the value offset) is " + std::to_string(scl_inter) + ": it must be a finite number");
   if (dim[0] < 1 || dim[0] > 7)
     throw InvalidInput(name + ": NIfTI dim[0] (the number of axes) is " + std::to_string(dim[0]) + ", not 1 to 7");
   VolumeLayout layout;
@@ -429,10 +437,19 @@ VolumeLayout check_nrrd_header(const std::string& name, const std::string& text)
     if (keys.count(key)) throw InvalidInput(name + ": the NRRD header gives field " + quoted(key) + " twice");
     keys[key] = trim(line.substr(colon + 2));
     if (key == "data file" && lower(words(keys[key]).empty() ? "" : words(keys[key])[0]) == "list") {
-      // The files follow, one a line, to the end of the header file.
+      // The files follow, one a line, to the end of the header file: each a name, not bytes
+      // (a single-file NRRD whose header names a LIST has its voxels read as names).
       std::istringstream rest(text.substr(at));
-      for (std::string x; list_files.size() < kMaxDataFiles && std::getline(rest, x);)
+      int line_number = number;
+      for (std::string x; list_files.size() < kMaxDataFiles && std::getline(rest, x);) {
+        ++line_number;
+        if (!x.empty() && x.back() == '\r') x.pop_back();
+        const bool text_line = std::none_of(x.begin(), x.end(), [](char c) { return (unsigned char)c < 0x20 && c != '\t'; });
+        if (!text_line || x.size() > 4096)
+          throw InvalidInput(name + ": line " + std::to_string(line_number) + ", after \"data file: LIST\", is not a file name: " + quoted(x) +
+                             " (a LIST names one data file a line to the end of a detached header; this file holds other bytes there)");
         if (!trim(x).empty()) list_files.push_back(trim(x));
+      }
       at = text.size();
       break;
     }

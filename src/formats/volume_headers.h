@@ -37,7 +37,8 @@ struct VolumeLayout {
 /// A NIfTI-1 (348-byte) or NIfTI-2 (540-byte) header, either byte order: sizeof_hdr, magic
 /// ("n+1"/"n+2" single file, "ni1"/"ni2" header and image pair), dim (1 to 7 axes, each >= 1),
 /// datatype (a scalar type, bitpix matching), pixdim of the three spatial axes (finite, > 0),
-/// vox_offset (>= 352 or 544 in a single file, whole). `header` holds at least the header's
+/// vox_offset (>= 352 or 544 in a single file, whole), scl_slope and scl_inter finite (the
+/// offset only where the slope is not 0). `header` holds at least the header's
 /// bytes (after decompression). Throws hb::InvalidInput naming `name` and the field.
 VolumeLayout check_nifti_header(const std::string& name, const std::string& header);
 

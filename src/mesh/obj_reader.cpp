@@ -13,6 +13,7 @@
 #include "mesh/text_tokens.h"
 
 #include "errors.h"
+#include "formats/quoted_text.h"
 
 #include <cmath>
 #include <limits>
@@ -52,7 +53,7 @@ PolygonSoup read_obj(const std::string& path, MeshReadReport& report) {
           throw fail("vertex " + std::to_string(soup.positions.size()) + ": expected 3 numeric coordinates");
         if (!std::isfinite(v) || std::fabs(v) > double(std::numeric_limits<float>::max()))
           throw fail("vertex " + std::to_string(soup.positions.size()) + " has a non-finite (NaN or Inf) coordinate '" +
-                     std::string(tok.substr(0, 40)) + "'");
+                     quoted_text(std::string(tok), 40) + "'");
         x = float(v);
       }
       soup.positions.emplace_back(c[0], c[1], c[2]);  // w or a colour after them: ignored
@@ -63,7 +64,7 @@ PolygonSoup read_obj(const std::string& path, MeshReadReport& report) {
         const std::string_view index = tok.substr(0, tok.find('/'));
         long long i = 0;
         if (!parse_number(index, i) || i == 0)
-          throw fail("face " + std::to_string(face) + ": corner '" + std::string(tok.substr(0, 40)) +
+          throw fail("face " + std::to_string(face) + ": corner '" + quoted_text(std::string(tok), 40) +
                      "' is not a vertex index (1-based, or negative from the end)");
         const long long count = static_cast<long long>(soup.positions.size());
         soup.indices.push_back(i > 0 ? i - 1 : (i < -count ? -1 : count + i));  // out of range: refused later

@@ -24,6 +24,7 @@
 #include "mesh/text_tokens.h"
 
 #include "errors.h"
+#include "formats/quoted_text.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -105,21 +106,21 @@ std::vector<long long> read_off_counts(const std::string& path, LineReader& line
   if (keyword) {
     const std::string prefix = key.substr(0, key.size() - 3);
     if (prefix.find('4') != std::string::npos || prefix.find('n') != std::string::npos)
-      throw off_error(path, lines.line_number(), "OFF variant '" + key + "' (not 3D) is not supported");
+      throw off_error(path, lines.line_number(), "OFF variant '" + quoted_text(key, 40) + "' (not 3D) is not supported");
     for (char c : prefix)
       if (c != 'S' && c != 'T' && c != 'C' && c != 'N')
-        throw off_error(path, lines.line_number(), "unrecognised OFF header '" + key + "'");
+        throw off_error(path, lines.line_number(), "unrecognised OFF header '" + quoted_text(key, 40) + "'");
   } else {
     // Some writers omit the keyword; then the first line must be the counts.
     long long v;
     if (!parse_number(tok, v))
-      throw off_error(path, lines.line_number(), "not an OFF file (header '" + key.substr(0, 40) + "')");
+      throw off_error(path, lines.line_number(), "not an OFF file (header '" + quoted_text(key, 40) + "')");
     counts.push_back(v);
   }
   while (head.next(tok)) {
     long long v;
     if (tok == "BINARY") throw off_error(path, lines.line_number(), "binary OFF is not supported");
-    if (!parse_number(tok, v)) throw off_error(path, lines.line_number(), "bad count '" + std::string(tok) + "'");
+    if (!parse_number(tok, v)) throw off_error(path, lines.line_number(), "bad count '" + quoted_text(std::string(tok), 40) + "'");
     counts.push_back(v);
   }
   if (counts.empty()) {  // counts on their own line
@@ -127,7 +128,7 @@ std::vector<long long> read_off_counts(const std::string& path, LineReader& line
     Tokens t(line);
     while (t.next(tok)) {
       long long v;
-      if (!parse_number(tok, v)) throw off_error(path, lines.line_number(), "bad count '" + std::string(tok) + "'");
+      if (!parse_number(tok, v)) throw off_error(path, lines.line_number(), "bad count '" + quoted_text(std::string(tok), 40) + "'");
       counts.push_back(v);
     }
   }

@@ -21,6 +21,7 @@
 #include "mesh/text_tokens.h"
 
 #include "errors.h"
+#include "formats/quoted_text.h"
 
 #include <cmath>
 #include <cstring>
@@ -173,8 +174,8 @@ std::size_t parse_header(const std::string& path, const std::string& text, Encod
       if (kind == "ascii") encoding = Encoding::ascii;
       else if (kind == "binary_little_endian") encoding = Encoding::little;
       else if (kind == "binary_big_endian") encoding = Encoding::big;
-      else throw fail(line_no, "unknown PLY format '" + std::string(kind.substr(0, 40)) + "'");
-      if (version != "1.0") throw fail(line_no, "PLY version '" + std::string(version.substr(0, 40)) + "' (expected 1.0)");
+      else throw fail(line_no, "unknown PLY format '" + quoted_text(std::string(kind), 40) + "'");
+      if (version != "1.0") throw fail(line_no, "PLY version '" + quoted_text(std::string(version), 40) + "' (expected 1.0)");
       format_seen = true;
       continue;
     }
@@ -183,8 +184,8 @@ std::size_t parse_header(const std::string& path, const std::string& text, Encod
       std::string_view name, count;
       if (!t.next(name) || !t.next(count)) throw fail(line_no, "expected 'element NAME COUNT'");
       if (count.empty() || count[0] == '+' || count[0] == '-' || !parse_number(count, e.count))
-        throw fail(line_no, "element '" + std::string(name.substr(0, 40)) + "': count '" +
-                                std::string(count.substr(0, 40)) + "' is not an unsigned integer below 2^64");
+        throw fail(line_no, "element '" + quoted_text(std::string(name), 40) + "': count '" +
+                                quoted_text(std::string(count), 40) + "' is not an unsigned integer below 2^64");
       if (!printable_name(name)) throw fail(line_no, "element name with a byte that is not printable ASCII");
       e.name = std::string(name);
       e.line = line_no;
@@ -201,18 +202,18 @@ std::size_t parse_header(const std::string& path, const std::string& text, Encod
         if (!t.next(count_type) || !t.next(type) || !t.next(name))
           throw fail(line_no, "expected 'property list COUNT_TYPE ITEM_TYPE NAME'");
         if (!type_of(count_type, p.count_type) || !is_integer(p.count_type))
-          throw fail(line_no, "list count type '" + std::string(count_type.substr(0, 40)) + "' is not an integer type");
+          throw fail(line_no, "list count type '" + quoted_text(std::string(count_type), 40) + "' is not an integer type");
         p.list = true;
       } else if (!t.next(name)) {
         throw fail(line_no, "expected 'property TYPE NAME'");
       }
-      if (!type_of(type, p.type)) throw fail(line_no, "unknown property type '" + std::string(type.substr(0, 40)) + "'");
+      if (!type_of(type, p.type)) throw fail(line_no, "unknown property type '" + quoted_text(std::string(type), 40) + "'");
       if (!printable_name(name)) throw fail(line_no, "property name with a byte that is not printable ASCII");
       p.name = std::string(name);
       elements.back().properties.push_back(std::move(p));
       continue;
     }
-    throw fail(line_no, "unknown PLY header keyword '" + std::string(tok.substr(0, 40)) + "'");
+    throw fail(line_no, "unknown PLY header keyword '" + quoted_text(std::string(tok), 40) + "'");
   }
   if (!ended) throw InvalidInput(path + ": PLY header has no 'end_header' line (truncated or not a PLY file)");
   if (!format_seen) throw InvalidInput(path + ": PLY header has no 'format' line");
@@ -329,7 +330,7 @@ void read_ascii_body(const std::string& path, std::string_view body, std::size_t
         std::int64_t n = 0;
         if (!as_integer(v, n) || n < 0 || std::uint64_t(n) > line.size())
           throw InvalidInput(where() + ": " + e.name + " " + std::to_string(i) + ": list count '" +
-                             std::string(tok.substr(0, 40)) + "' is negative, not an integer or longer than the line");
+                             quoted_text(std::string(tok), 40) + "' is negative, not an integer or longer than the line");
         const bool indices = is_face && int(k) == L.indices;
         for (std::int64_t c = 0; c < n; ++c) {
           if (!t.next(tok) || !parse_number(tok, v))
@@ -339,7 +340,7 @@ void read_ascii_body(const std::string& path, std::string_view body, std::size_t
           std::int64_t idx = 0;
           if (!as_integer(v, idx))
             throw InvalidInput(where() + ": face " + std::to_string(i) + ": vertex index '" +
-                               std::string(tok.substr(0, 40)) + "' is not an integer");
+                               quoted_text(std::string(tok), 40) + "' is not an integer");
           soup.indices.push_back(idx);
         }
         if (indices) end_face(soup, std::size_t(n));

@@ -18,6 +18,7 @@
 #include "mesh/text_tokens.h"
 
 #include "errors.h"
+#include "formats/quoted_text.h"
 
 #include <cmath>
 #include <cstring>
@@ -136,14 +137,14 @@ PolygonSoup read_ascii(const std::string& path, const std::string& text, MeshRea
   };
   const auto expect = [&](const char* keyword) {
     if (!iequals(word(keyword), keyword))
-      throw fail("expected '" + std::string(keyword) + "', found '" + std::string(w.substr(0, 40)) + "'");
+      throw fail("expected '" + std::string(keyword) + "', found '" + quoted_text(std::string(w), 40) + "'");
   };
   const auto number = [&](const char* what) {
     word(what);
     double v = 0.0;
-    if (!parse_number(w, v)) throw fail(std::string(what) + ": not a number: '" + std::string(w.substr(0, 40)) + "'");
+    if (!parse_number(w, v)) throw fail(std::string(what) + ": not a number: '" + quoted_text(std::string(w), 40) + "'");
     if (!std::isfinite(v) || std::fabs(v) > double(std::numeric_limits<float>::max()))
-      throw fail(std::string(what) + ": '" + std::string(w.substr(0, 40)) + "' is not a finite float");
+      throw fail(std::string(what) + ": '" + quoted_text(std::string(w), 40) + "' is not a finite float");
     return float(v);
   };
 
@@ -151,7 +152,7 @@ PolygonSoup read_ascii(const std::string& path, const std::string& text, MeshRea
   VertexWelder weld(soup, 1024);
   std::size_t solids = 0;
   while (words.next(w)) {
-    if (!iequals(w, "solid")) throw fail("expected 'solid', found '" + std::string(w.substr(0, 40)) + "'");
+    if (!iequals(w, "solid")) throw fail("expected 'solid', found '" + quoted_text(std::string(w), 40) + "'");
     words.rest_of_line();  // the name, if any
     ++solids;
     for (;;) {
@@ -160,7 +161,7 @@ PolygonSoup read_ascii(const std::string& path, const std::string& text, MeshRea
         words.rest_of_line();
         break;
       }
-      if (!iequals(w, "facet")) throw fail("expected 'facet' or 'endsolid', found '" + std::string(w.substr(0, 40)) + "'");
+      if (!iequals(w, "facet")) throw fail("expected 'facet' or 'endsolid', found '" + quoted_text(std::string(w), 40) + "'");
       expect("normal");
       for (int k = 0; k < 3; ++k) number("facet normal");  // ignored: recomputed from the corners
       expect("outer");
@@ -169,7 +170,7 @@ PolygonSoup read_ascii(const std::string& path, const std::string& text, MeshRea
       for (;;) {
         word("'vertex' or 'endloop'");
         if (iequals(w, "endloop")) break;
-        if (!iequals(w, "vertex")) throw fail("expected 'vertex' or 'endloop', found '" + std::string(w.substr(0, 40)) + "'");
+        if (!iequals(w, "vertex")) throw fail("expected 'vertex' or 'endloop', found '" + quoted_text(std::string(w), 40) + "'");
         const float x = number("vertex x"), y = number("vertex y"), z = number("vertex z");
         soup.indices.push_back(weld.add(x, y, z));
         ++corners;

@@ -15,6 +15,7 @@
 #include <fstream>
 #include <iterator>
 #ifdef HB_HAVE_ASSIMP
+#include "../vtk_pipelines/stored_zip.h"
 #include "scene_reader.h"
 #endif
 #ifdef HB_HAVE_OCCT
@@ -103,6 +104,14 @@ TEST_F(HostileModelsTest, NrrdHeaderFaultsAreNamedBeforeTheReaderRuns) {
   // Garbage bytes in the header looped.
   expect_refused(write("garbage.nrrd", replaced(nrrd_header_, "kinds:", std::string("ki\x01\x02nds:", 9)) + nrrd_data_),
                  "is not text");
+  // A data file LIST in a file that holds its voxels: the voxels were read as file names, and
+  // 64 KB of them printed as one; now the first line of bytes is named, cut and escaped.
+  const std::string header = replaced(nrrd_header_, "encoding: raw\n", "encoding: raw\ndata file: LIST\n");
+  const std::string list = write("list.nrrd", header.substr(0, header.size() - 1) + nrrd_data_);
+  expect_refused(list, "after \"data file: LIST\", is not a file name");
+  const Result r = run("info " + list);
+  EXPECT_LT(r.err.size(), 2000u) << r.err.size();
+  for (char c : r.err) EXPECT_TRUE(c == '\n' || (c >= 0x20 && c < 0x7F)) << "raw byte " << int((unsigned char)c);
 }
 
 TEST_F(HostileModelsTest, ShortOrMisencodedVolumeDataIsAnErrorNeverZeros) {
@@ -146,6 +155,12 @@ TEST_F(HostileModelsTest, NiftiHeaderFieldsAreChecked) {
   expect_refused(write("offset0.nii", with_float(108, 0.f)), "vox_offset");
   expect_refused(write("pixdim.nii", with_float(80, std::numeric_limits<float>::quiet_NaN())), "pixdim[1]");
   expect_refused(write("dims.nii", with_short(42, -5)), "dim[1]");
+  // An infinite value scaling made every voxel one value: any label gave the same surface.
+  expect_refused(write("slope.nii", with_float(112, std::numeric_limits<float>::infinity())), "NIfTI scl_slope (the value scaling) is inf");
+  std::string inter = with_float(112, 2.f);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(inter.data() + 116, &nan, 4);
+  expect_refused(write("inter.nii", inter), "NIfTI scl_inter (the value offset) is nan");
 }
 
 TEST_F(HostileModelsTest, DicomSizesAndEmptyTagsAreCheckedBeforeTheParser) {
@@ -245,7 +260,7 @@ TEST_F(HostileModelsTest, VtpCountsAndBlockHeadersAreHeldToTheFile) {
   expect_refused(write("blocks.vtp", blocks), "compressed blocks, more than the file holds");
 }
 
-TEST_F(HostileModelsTest, TrajectoryRefusesALogWithNonFiniteRecords) {
+TEST_F(HostileModelsTest, TrajectoryRefusesALogWithNonFiniteOrUnrenderableRecords) {
   const std::string log = path("run.hbslog");
   Result r = run("servo plane --device virtual --seconds 0.05 --record " + log);
   ASSERT_EQ(r.code, 0) << r.err;
@@ -259,44 +274,20 @@ TEST_F(HostileModelsTest, TrajectoryRefusesALogWithNonFiniteRecords) {
   EXPECT_NE(r.err.find(path("nan.hbslog") + ": record "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("non-finite position"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(path("t.vtp")));
+  // A finite force no device renders (1e30 N) was written as ForceMagnitude = inf.
+  bytes = slurp(log);
+  const float huge = 1e30f;
+  std::memcpy(bytes.data() + bytes.size() - 64 + 20, &huge, 4);  // the last record's force x
+  write("huge.hbslog", bytes);
+  r = run("trajectory " + path("huge.hbslog") + " plane -o " + path("t.vtp"));
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find(path("huge.hbslog") + ": record "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("has a force of 1e+30 N, beyond the 8 N its device"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("t.vtp")));
 }
 
 #ifdef HB_HAVE_ASSIMP
-// A zip archive of stored (uncompressed) entries, as a 3MF file is.
-std::string stored_zip(const std::vector<std::pair<std::string, std::string>>& entries) {
-  std::string out, central;
-  auto u16 = [](std::string& s, unsigned v) { s += char(v & 255), s += char(v >> 8 & 255); };
-  auto u32 = [](std::string& s, std::uint32_t v) { for (int i = 0; i < 4; ++i) s += char(v >> (8 * i) & 255); };
-  for (const auto& [name, data] : entries) {
-    const std::uint32_t crc = std::uint32_t(crc32(0, reinterpret_cast<const Bytef*>(data.data()), uInt(data.size())));
-    const std::uint32_t offset = std::uint32_t(out.size());
-    u32(out, 0x04034b50); u16(out, 20); u16(out, 0); u16(out, 0); u16(out, 0); u16(out, 0);
-    u32(out, crc); u32(out, std::uint32_t(data.size())); u32(out, std::uint32_t(data.size()));
-    u16(out, unsigned(name.size())); u16(out, 0);
-    out += name + data;
-    u32(central, 0x02014b50); u16(central, 20); u16(central, 20); u16(central, 0); u16(central, 0); u16(central, 0); u16(central, 0);
-    u32(central, crc); u32(central, std::uint32_t(data.size())); u32(central, std::uint32_t(data.size()));
-    u16(central, unsigned(name.size())); u16(central, 0); u16(central, 0); u16(central, 0); u16(central, 0);
-    u32(central, 0); u32(central, offset);
-    central += name;
-  }
-  const std::uint32_t at = std::uint32_t(out.size());
-  out += central;
-  u32(out, 0x06054b50); u16(out, 0); u16(out, 0); u16(out, unsigned(entries.size())); u16(out, unsigned(entries.size()));
-  u32(out, std::uint32_t(central.size())); u32(out, at); u16(out, 0);
-  return out;
-}
-
-std::string three_mf(const std::string& model) {
-  return stored_zip({{"[Content_Types].xml",
-                      "<?xml version=\"1.0\"?><Types xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\">"
-                      "<Default Extension=\"model\" ContentType=\"application/vnd.ms-package.3dmanufacturing-3dmodel+xml\"/></Types>"},
-                     {"_rels/.rels",
-                      "<?xml version=\"1.0\"?><Relationships xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\">"
-                      "<Relationship Target=\"/3D/3dmodel.model\" Id=\"rel0\" "
-                      "Type=\"http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel\"/></Relationships>"},
-                     {"3D/3dmodel.model", model}});
-}
+using hb::test::three_mf;
 
 const char* const kTetra =
     "<mesh><vertices><vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"10\" y=\"0\" z=\"0\"/><vertex x=\"0\" y=\"10\" z=\"0\"/>"

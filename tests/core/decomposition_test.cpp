@@ -12,6 +12,7 @@
 #include "mesh/generators.h"
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -312,6 +313,47 @@ TEST(PieceFileTest, BinaryPlyWithQuadFaces) {
   EXPECT_EQ(read_piece_file(path, 3), (std::vector<std::uint32_t>{7, 7, 2}));
   EXPECT_THROW(read_piece_file(path, 4), InvalidInput);
   std::remove(path.c_str());
+}
+
+TEST(PieceFileTest, BinaryPlyWhoseCountsAndBytesDisagreeIsRefused) {
+  // A cube's 12 triangles in 6 pieces, binary; then bytes shifted, added or a count changed.
+  const TriangleMesh cube = make_cube(Vec3(1.f, 1.f, 1.f), 1);
+  std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(cube.vertex_count()) +
+                       "\nproperty float x\nproperty float y\nproperty float z\nelement face " + std::to_string(cube.triangle_count()) +
+                       "\nproperty list uchar int vertex_indices\nproperty int piece\nend_header\n";
+  std::string body;
+  for (const Vec3& p : cube.positions) body.append(reinterpret_cast<const char*>(p.data()), 12);
+  const std::size_t faces = body.size();
+  for (std::size_t t = 0; t < cube.triangle_count(); ++t) {
+    body += char(3);
+    body.append(reinterpret_cast<const char*>(cube.triangles[t].data()), 12);
+    const std::int32_t id = std::int32_t(t / 2);
+    body.append(reinterpret_cast<const char*>(&id), 4);
+  }
+  auto refusal = [&](const std::string& name, const std::string& bytes) -> std::string {
+    const std::string path = temp_path(name);
+    std::ofstream(path, std::ios::binary) << bytes;
+    try {
+      const std::vector<std::uint32_t> ids = read_piece_file(path, cube.triangle_count());
+      return "read " + std::to_string(*std::max_element(ids.begin(), ids.end()) + 1) + " pieces";
+    } catch (const InvalidInput& e) {
+      return e.what();
+    }
+  };
+  EXPECT_EQ(refusal("good.ply", header + body), "read 6 pieces");
+  // A byte shifted inside the faces (one dropped, one added at the end: the same size).
+  std::string shifted = body;
+  shifted.erase(faces + 17 * 5 + 3, 1);
+  shifted += '\0';
+  EXPECT_NE(refusal("shifted.ply", header + shifted).find("shifted.ply: face 5 "), std::string::npos) << refusal("shifted.ply", header + shifted);
+  // Bytes past the last element.
+  EXPECT_NE(refusal("extra.ply", header + body + "0000").find("extra.ply: 4 bytes follow the last PLY element"), std::string::npos)
+      << refusal("extra.ply", header + body + "0000");
+  // One vertex fewer declared: its bytes are read as faces.
+  std::string fewer = header;
+  const std::string declared = "vertex " + std::to_string(cube.vertex_count());
+  fewer.replace(fewer.find(declared), declared.size(), "vertex " + std::to_string(cube.vertex_count() - 1));
+  EXPECT_NE(refusal("fewer.ply", fewer + body).find("fewer.ply: face 0 "), std::string::npos) << refusal("fewer.ply", fewer + body);
 }
 
 TEST(PieceFileTest, RejectsGarbageWrongCountAndMissingFile) {

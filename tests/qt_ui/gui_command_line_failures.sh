@@ -23,6 +23,14 @@ case $case_name in
   SessionWithoutItsModel)
     printf '{"format":"hapticbox-session","version":1,"mesh":"gone.off","bake":{"recipe":"default"}}' > "$d/lost.hbsession"
     file=$d/lost.hbsession; want='lost.hbsession'; cause='gone.off' ;;
+  SessionNamingItself)
+    # The window opened the session from the session until its stack overflowed (exit 139).
+    printf '{"format":"hapticbox-session","version":1,"mesh":"self.hbsession","bake":{"recipe":"default"}}' > "$d/self.hbsession"
+    file=$d/self.hbsession; want='self.hbsession'; cause='names this session file itself' ;;
+  SessionCycle)
+    printf '{"format":"hapticbox-session","version":1,"mesh":"b.hbsession","bake":{"recipe":"default"}}' > "$d/a.hbsession"
+    printf '{"format":"hapticbox-session","version":1,"mesh":"a.hbsession","bake":{"recipe":"default"}}' > "$d/b.hbsession"
+    file=$d/a.hbsession; want='a.hbsession'; cause='names the session file .*b.hbsession' ;;
   BakeThatFails)
     printf '{"format":"hapticbox-session","version":1,"mesh":"tet.off","bake":{"recipe":"advanced","m":8,"n":4,"pieces":"file","pieces_file":"gone_pieces.txt","baked":true}}' > "$d/bake.hbsession"
     file=$d/bake.hbsession; want='Bake of .*tet.off failed'; cause='gone_pieces.txt' ;;

@@ -68,6 +68,41 @@ TEST(SessionFileTest, GarbageIsInvalidInput) {
   EXPECT_THROW(loadSessionFile(dir.filePath("missing.hbsession")), hb::IoError);
 }
 
+TEST(SessionFileTest, SessionNamingItselfOrAnotherSessionIsRefused) {
+  QTemporaryDir dir;
+  auto write = [&](const QString& name, const std::string& mesh) {
+    QFile f(dir.filePath(name));
+    EXPECT_TRUE(f.open(QIODevice::WriteOnly));
+    f.write((R"({"format":"hapticbox-session","version":1,"mesh":")" + mesh + R"(","bake":{"recipe":"default"}})").c_str());
+    return dir.filePath(name);
+  };
+  auto refusal = [](const QString& path) -> std::string {
+    try {
+      loadSessionFile(path);
+    } catch (const hb::InvalidInput& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  // Itself, by its own name and by a path that comes back to it.
+  const QString self = write("self.hbsession", "self.hbsession");
+  std::string why = refusal(self);
+  EXPECT_NE(why.find("self.hbsession: \"mesh\" names this session file itself"), std::string::npos) << why;
+  EXPECT_NE(refusal(write("dots.hbsession", "./sub/../dots.hbsession")).find("itself"), std::string::npos);
+  // A cycle of two: each refused at its first step, so no open can follow the cycle.
+  const QString a = write("a.hbsession", "b.hbsession");
+  write("b.hbsession", "a.hbsession");
+  why = refusal(a);
+  EXPECT_NE(why.find("names the session file"), std::string::npos) << why;
+  EXPECT_NE(why.find("b.hbsession"), std::string::npos) << why;
+  // A session under another name is still a session; a missing .hbsession too (by its name).
+  write("session.json", "model.off");
+  EXPECT_NE(refusal(write("c.hbsession", "session.json")).find("session.json"), std::string::npos);
+  EXPECT_NE(refusal(write("d.hbsession", "gone.HBSESSION")).find("gone.HBSESSION"), std::string::npos);
+  // A model is still a model.
+  EXPECT_EQ(refusal(write("e.hbsession", "model.off")), "accepted");
+}
+
 TEST(BackgroundJobTest, CancelStopsTheWorkAndReportsCancelled) {
   BackgroundJob job;
   bool finished = false, cancelled = false;

@@ -114,6 +114,29 @@ TEST_F(DamagedModelsTest, StepParameterOfTheWrongKindOrASyntaxErrorIsRefusedNami
                  "STEP instance #79 holds -2.449293598295E65535, beyond any model's range (1e100)", coarse());
 }
 
+TEST_F(DamagedModelsTest, StepParenthesesNestedTooDeepOrUnbalancedAreRefusedBeforeOpenCascade) {
+  hb::vtk::write_reference_solid_step(path("solid.step"), 10.0, 30.0);
+  const std::string good = slurp(path("solid.step"));
+  const std::string point = "#21 = DIRECTION('',(0.,0.,1.));";
+  // 100,000 nested parentheses: OpenCASCADE's parser recursed until its stack overflowed.
+  const std::string deep = "#21 = DIRECTION(''," + std::string(100000, '(') + "0.,0.,1." + std::string(100000, ')') + ");";
+  expect_refused(write("deep.step", replaced(good, point, deep)), "STEP instance #21 nests parentheses more than 100 deep", coarse());
+  expect_refused(write("open.step", replaced(good, point, "#21 = DIRECTION('',(0.,0.,1.);")), "STEP instance #21 ends with 1 parentheses left open",
+                 coarse());
+  expect_refused(write("close.step", replaced(good, point, "#21 = DIRECTION('',(0.,0.,1.)));")),
+                 "STEP instance #21 closes a parenthesis it never opened", coarse());
+}
+
+TEST_F(DamagedModelsTest, StepInstanceNumberBeyondAnIntIsRefusedBeforeOpenCascade) {
+  hb::vtk::write_reference_solid_step(path("solid.step"), 10.0, 30.0);
+  const std::string good = slurp(path("solid.step"));
+  const std::size_t at = good.find("\n#140 = ");
+  ASSERT_NE(at, std::string::npos);
+  std::string big = good;
+  big.replace(at + 1, 4, "#2147483648");  // OpenCASCADE's reader crashed
+  expect_refused(write("big.step", big), "STEP instance number #2147483648 is beyond 2147483647", coarse());
+}
+
 TEST_F(DamagedModelsTest, IgesDamagedDirectoryOrParameterDataIsRefusedBeforeOpenCascade) {
   // The campaign's IGES crashes (segmentation faults in OpenCASCADE's translator, a quarter of
   // the damaged IGES files): a directory line lost, a parameter line's entry number damaged,
@@ -191,18 +214,33 @@ TEST_F(DamagedModelsTest, IgesReferenceSolidLoadsInMillimetres) {
   EXPECT_NEAR(m.mesh.bounds().max.z(), 30.0, 0.1);
 }
 
-TEST_F(DamagedModelsTest, IgesBSplineOfTooHighADegreeIsALostFaceRefusedUnlessAccepted) {
+TEST_F(DamagedModelsTest, IgesBSplineOfTooHighADegreeIsRefusedBeforeOpenCascade) {
   hb::vtk::write_reference_solid_iges(path("solid.igs"), 10.0, 30.0);
-  // The sphere's B-spline surface (entity 128): K1 = 6 (7 control points in u), degree M1 2 -> 9.
-  const std::string bad = write("degree.igs", replaced(slurp(path("solid.igs")), "\n128,6,4,2,2,", "\n128,6,4,9,2,"));
-  expect_refused(bad, "1 of 4 faces lost (1 failed to translate", coarse());
-  expect_refused(bad, "--cad accept-lost-faces", coarse());
+  // The sphere's B-spline surface (entity 128): K1 = 6 (7 control points in u), degree M1 2 -> 9
+  // (OpenCASCADE crashed on some such surfaces, dropped the face on others).
+  const std::string good = slurp(path("solid.igs"));
+  const std::string bad = write("degree.igs", replaced(good, "\n128,6,4,2,2,", "\n128,6,4,9,2,"));
+  expect_refused(bad, "(type 128): its degree in u (value 3) is 9 but its 7 control points in u allow a degree from 1 to 6", coarse());
   hb::vtk::ModelOptions accept = coarse();
-  accept.cad.accept_lost_faces = true;
-  const hb::vtk::LoadedModel kept = hb::vtk::load_model(bad, accept);
-  EXPECT_EQ(kept.facts["faces_lost"], 1);
-  ASSERT_FALSE(kept.report.warnings.empty());
-  EXPECT_NE(kept.report.warnings.back().find("faces lost"), std::string::npos) << kept.report.warnings.back();
+  accept.cad.accept_lost_faces = true;  // not a lost face: a damaged file
+  expect_refused(bad, "its degree in u", accept);
+  expect_refused(write("degree0.igs", replaced(good, "\n128,6,4,2,2,", "\n128,6,4,2,0,")), "its degree in v (value 4) is 0", coarse());
+  // More control points than the values hold.
+  expect_refused(write("points.igs", replaced(good, "\n128,6,4,2,2,", "\n128,9,4,2,2,")), "need", coarse());
+}
+
+TEST_F(DamagedModelsTest, IgesCurveRangeOutsideItsKnotsOrLinesRunTogetherAreRefusedBeforeOpenCascade) {
+  // Both crashed OpenCASCADE (or kept it busy past the reader's limit) in a fresh campaign.
+  hb::vtk::write_reference_solid_iges(path("solid.igs"), 10.0, 30.0);
+  const std::string good = slurp(path("solid.igs"));
+  expect_refused(write("knots.igs", replaced(good, "126,1,1,1,0,1,0,0.,0.,6.283185307,", "126,1,1,1,0,1,0,0.,0.,1.283185307,")),
+                 "(type 126): its parameter range 0.000000 to 6.283185 (values 19-20) is not within its knots' span 0.000000 to 1.283185",
+                 coarse());
+  const std::size_t p = good.find("P0000057\n");
+  ASSERT_NE(p, std::string::npos);
+  std::string joined = good;
+  joined.insert(p + 8, "5.,40.,17.320508076,25.,");
+  expect_refused(write("joined.igs", joined), "has text past column 80", coarse());
 }
 
 TEST_F(DamagedModelsTest, IgesDamagedGlobalSectionIsRefusedNeverASilentUnitSwitch) {

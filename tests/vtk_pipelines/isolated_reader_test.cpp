@@ -71,10 +71,22 @@ TEST(IsolatedReaderTest, RunawayAllocationMeetsTheMemoryLimit) {
 TEST(IsolatedReaderTest, ExceptionsKeepTheirTypeAndMessage) {
   EXPECT_THROW(hb::vtk::run_isolated("f", "NRRD", limits(), []() -> std::string { throw hb::IoError("f: gone"); }), hb::IoError);
   EXPECT_EQ(error_of([]() -> std::string { throw hb::InvalidInput("/data/x.nrrd: sizes missing"); }), "/data/x.nrrd: sizes missing");
-  // A library's bare exception gets the file and the reader.
-  EXPECT_EQ(error_of([]() -> std::string { throw std::length_error("vector::reserve"); }),
-            "/data/x.nrrd: the NRRD reader failed on this file (it asked for an impossible size: vector::reserve); the file is damaged "
-            "or not supported");
+  // A library's bare exception gets the file, the reader and a cause in the file's terms (not
+  // the library's function name).
+  EXPECT_EQ(error_of([]() -> std::string { throw std::length_error("vector::_M_default_append"); }),
+            "/data/x.nrrd: the NRRD reader failed on this file (a count or size in the file asked it for an array longer than any memory "
+            "holds); the file is damaged or not supported");
+}
+
+TEST(IsolatedReaderTest, ErrorsAreEscapedAndCutToAReadableLength) {
+  // A reader's error quoting 64 KB of raw bytes (a NRRD data file LIST read from the voxels).
+  const std::string e = error_of([]() -> std::string {
+    throw hb::InvalidInput("/data/x.nrrd: the data file " + std::string(65536, '\x01') + " is missing");
+  });
+  EXPECT_LE(e.size(), 2100u);
+  EXPECT_EQ(e.rfind("/data/x.nrrd: the data file \\x01\\x01", 0), 0u) << e.substr(0, 100);
+  EXPECT_NE(e.find("(" + std::to_string(28 + 65536 + 11) + " bytes in all)"), std::string::npos) << e.substr(e.size() - 100);
+  for (char c : e) EXPECT_TRUE(c >= 0x20 && c < 0x7F) << int((unsigned char)c);
 }
 
 TEST(IsolatedReaderTest, WithoutIsolationTheSameMessagesComeFromThisProcess) {
