@@ -15,9 +15,9 @@ cd "$(dirname "$0")"
 bash scripts/build.sh
 bash datasets/fetch.sh build/datasets/hb_generate_datasets
 
-# Layering: the core never includes VTK, Qt or libusb.
-if grep -rEn '#\s*include\s*[<"](vtk|Q[A-Z]|qt|libusb)' src; then
-  echo "test.sh: src/ (the core) includes a VTK, Qt or libusb header" >&2
+# Layering: the core never includes VTK, Qt, libusb or OpenVDB (the peers have their own layer).
+if grep -rEn '#\s*include\s*[<"](vtk|Q[A-Z]|qt|libusb|openvdb)' src; then
+  echo "test.sh: src/ (the core) includes a VTK, Qt, libusb or OpenVDB header" >&2
   exit 1
 fi
 # Rooms: no folder-level include cycle in src/, and device/ includes no evaluation/ header.
