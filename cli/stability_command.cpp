@@ -111,8 +111,10 @@ void add_stability_command(CLI::App& app) {
     std::size_t sites = 12;
     std::uint64_t seed = 1;
     bool json = false, no_generated = false, energy_guard = false, strict = false;
+    hb::cli::ModelArgs model;
   };
   auto o = std::make_shared<Opts>();
+  hb::cli::add_model_options(*cmd, o->model);
   cmd->add_option("BOX", o->box, "Box file (.hbox)")->required();
   cmd->add_option("MESH", o->mesh, "The mesh the box was baked from")->required();
   cmd->add_option("--device", o->device, "Device profile: falcon (8 N, 3000 N/m) or touch (3.3 N, 400 N/m)")
@@ -147,9 +149,9 @@ void add_stability_command(CLI::App& app) {
     o->unconfirmed = hb::cli::measurement_choice("unconfirmed", "reject", {"reject", "keep"});
     o->walk = hb::cli::measurement_choice("refine-walk", "all", {"all", "nearest"});
     hb::BoxScene scene = hb::load_box_file(o->box);
-    const hb::TriangleMesh mesh = hb::cli::load_mesh(o->mesh);
+    const hb::TriangleMesh mesh = hb::cli::load_mesh(o->mesh, o->model);
     hb::Communicator& comm = hb::cli::communicator();
-    if (comm.is_root() && scene.source().mesh_hash != 0 && scene.source().mesh_hash != hb::hash_model(o->mesh))
+    if (comm.is_root() && scene.source().mesh_hash != 0 && scene.source().mesh_hash != hb::cli::hash_model(o->mesh, o->model))
       std::cerr << "hapticbox: warning: " << o->box << " was baked from a different file than " << o->mesh << "\n";
     scene.set_unconfirmed_blend(o->unconfirmed == "keep" ? hb::UnconfirmedBlend::keep : hb::UnconfirmedBlend::reject);
     scene.set_walk_all_candidates(o->walk == "all");
