@@ -36,19 +36,12 @@ bool parse_finite_float(std::string_view tok, float& value) {
 }
 
 std::vector<Segment> parse_segments_csv(std::string_view text, const std::string& name) {
-  if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 BOM
   std::vector<Segment> out;
-  std::size_t line_no = 0, pos = 0;
   bool header_seen = false;
-  const auto where = [&] { return name + ":" + std::to_string(line_no) + ": "; };
-  while (pos < text.size()) {
-    std::size_t end = text.find('\n', pos);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(pos, end - pos);
-    pos = end + 1;
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    if (line.find_first_not_of(" \t") == std::string_view::npos) continue;
+  CsvLines lines(text);
+  std::string_view line;
+  const auto where = [&] { return name + ":" + std::to_string(lines.number()) + ": "; };
+  while (lines.next(line)) {
     if (!header_seen) {
       header_seen = true;
       std::string compact;

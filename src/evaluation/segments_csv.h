@@ -19,6 +19,32 @@ bool parse_finite_float(std::string_view token, float& value);
 /// finite for every force law the command line accepts.
 constexpr float kMaxSegmentCoordinate = 4e15f;
 
+/// The non-blank lines of CSV text in order, a UTF-8 byte order mark dropped and CRLF line ends
+/// accepted: next() gives each line, number() its 1-based number in the text.
+class CsvLines {
+public:
+  explicit CsvLines(std::string_view text) : text_(text) {
+    if (text_.size() >= 3 && text_.substr(0, 3) == "\xEF\xBB\xBF") text_.remove_prefix(3);
+  }
+  bool next(std::string_view& line) {
+    while (pos_ < text_.size()) {
+      std::size_t end = text_.find('\n', pos_);
+      if (end == std::string_view::npos) end = text_.size();
+      line = text_.substr(pos_, end - pos_);
+      pos_ = end + 1;
+      ++number_;
+      if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+      if (line.find_first_not_of(" \t") != std::string_view::npos) return true;
+    }
+    return false;
+  }
+  std::size_t number() const { return number_; }
+
+private:
+  std::string_view text_;
+  std::size_t pos_ = 0, number_ = 0;
+};
+
 /// Parses CSV text with the header sx,sy,sz,ex,ey,ez (spaces allowed around cells; a UTF-8
 /// byte order mark, CRLF line ends and blank lines accepted) and six finite numbers a row,
 /// each within kMaxSegmentCoordinate.

@@ -31,21 +31,15 @@ std::string printable(std::string_view s) {
 } // namespace
 
 std::vector<ToolPose> parse_tool_poses_csv(std::string_view text, const std::string& name) {
-  if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
   static const char* const kNames[7] = {"x", "y", "z", "qw", "qx", "qy", "qz"};
   int column[7] = {-1, -1, -1, -1, -1, -1, -1};
-  std::size_t columns = 0, line_no = 0, pos = 0;
+  std::size_t columns = 0;
   bool header_seen = false;
   std::vector<ToolPose> out;
-  const auto where = [&] { return name + ":" + std::to_string(line_no) + ": "; };
-  while (pos < text.size()) {
-    std::size_t end = text.find('\n', pos);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(pos, end - pos);
-    pos = end + 1;
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    if (line.find_first_not_of(" \t") == std::string_view::npos) continue;
+  CsvLines lines(text);
+  std::string_view line;
+  const auto where = [&] { return name + ":" + std::to_string(lines.number()) + ": "; };
+  while (lines.next(line)) {
     const std::vector<std::string_view> cells = split_cells(line);
     if (!header_seen) {
       header_seen = true;

@@ -7,6 +7,7 @@
 #include "tool/tool_contact.h"
 #include "tool/tool_coupling.h"
 #include "tool/tool_spec.h"
+#include "evaluation/tool_poses_csv.h"
 #include <gtest/gtest.h>
 #include <cmath>
 #include <random>
@@ -306,4 +307,27 @@ TEST(ToolContactTest, TheScenesStarQueryAnswersEverySegmentAsQueryDoes) {
     }
   }
   EXPECT_GT(contacts, 1000u);
+}
+
+TEST(ToolPosesCsvTest, ReadsPositionsAndOrientationsAndNamesTheLineOfABadValue) {
+  const auto poses = parse_tool_poses_csv("\xEF\xBB\xBFqw, x,y,z,qx,qy,qz\r\n2,1,2,3,0,0,0\n\n0,4,5,6,0,0,3\n", "p.csv");
+  ASSERT_EQ(poses.size(), 2u);
+  EXPECT_EQ(poses[0].position, Vec3(1.f, 2.f, 3.f));
+  EXPECT_NEAR(poses[0].orientation.w(), 1.f, 1e-6f);      // normalised
+  EXPECT_NEAR(poses[1].orientation.z(), 1.f, 1e-6f);
+  EXPECT_EQ(parse_tool_poses_csv("x,y,z\n1,2,3\n", "p.csv")[0].orientation.w(), 1.f);  // no orientation: identity
+  const auto message = [](const std::string& text) {
+    try {
+      parse_tool_poses_csv(text, "p.csv");
+    } catch (const InvalidInput& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message("x,y,z\n1,2\n").find("p.csv:2: expected 3 values"), std::string::npos);
+  EXPECT_NE(message("x,y,z\n1,0x10,3\n").find("p.csv:2: y is not a finite number"), std::string::npos);
+  EXPECT_NE(message("x,y,z,qw\n1,2,3,1\n").find("all four columns"), std::string::npos);
+  EXPECT_NE(message("x,y,z,qw,qx,qy,qz\n1,2,3,0,0,0,0\n").find("no length"), std::string::npos);
+  EXPECT_NE(message("x,y,w\n").find("unknown column 'w'"), std::string::npos);
+  EXPECT_NE(message("").find("empty poses file"), std::string::npos);
 }
