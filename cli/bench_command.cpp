@@ -234,7 +234,7 @@ void print_bench(const BenchOpts& o, const hb::TriangleMesh& mesh, const hb::Box
                                         "walks a surface larger than the last-level cache"))
             << "):\n"
             << "  haptic box  " << t.box_many_ns << " ns/query, exact " << t.exact_many_ns
-            << " ns/query (single rays: Embree packets were slower here): box is "
+            << " ns/query (exact traces the batch as one stream of rays): box is "
             << hb::speed_verdict(t.box_many_ns, t.exact_many_ns) << "\n"
             << std::setprecision(1) << "coherent order (probes sorted along a space-filling curve, as a trajectory):\n"
             << "  haptic box  " << t.box_coherent_ns << " ns/query, exact " << t.exact_coherent_ns << " ns/query: box is "

@@ -67,7 +67,6 @@ struct Contact {
 /// the query allocates nothing once it has grown to the tool's size.
 struct StarScratch {
   std::vector<Segment> segments;
-  std::vector<Contact> contacts;
   std::vector<std::uint32_t> ids, order, buckets, counts, triangles;
   std::vector<float> directions;
   std::vector<std::uint64_t> pairs;

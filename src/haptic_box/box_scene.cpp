@@ -539,8 +539,8 @@ Contact BoxScene::query_met(const Segment& segment, const ForceLaw& law, std::si
 void BoxScene::query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
                           Contact* out) const noexcept {
   if (route_ == SceneRoute::embree && embree_) {
-    for (std::size_t i = 0; i < count; ++i) out[i] = embree_->exact->query(segments[i], law);
-    return;
+    // Exact's own batch (its rays as one stream): the same answers as query(), bit for bit.
+    return embree_->exact->query_many(segments, count, law, out);
   }
   if (boxes_.size() == 1) return boxes_[0].query_many(segments, count, law, out);
   const bool side_by_side = side_by_side_ == SideBySide::always ||

@@ -63,7 +63,6 @@ ToolProbe::ToolProbe(const ToolShape& shape, double metres_per_unit)
   tips_.resize(points_.size());
   if (star_) {
     star_scratch_.segments.reserve(points_.size());
-    star_scratch_.contacts.reserve(points_.size());
     star_scratch_.order.reserve(points_.size());
     star_scratch_.counts.reserve(points_.size() + 1);
     star_scratch_.directions.reserve(3 * points_.size());
