@@ -37,8 +37,8 @@ const Setup& setup() {
     const char* box_path = std::getenv("HB_BENCH_BOX");
     if (box_path) {
       const hb::BoxScene scene = hb::load_box_file(box_path);
-      s.raw = std::make_unique<hb::HapticBox>(scene.boxes().front());
-      s.mesh = hb::read_mesh(scene.source().mesh_path);
+      s.raw = std::make_unique<hb::HapticBox>(scene.parts().boxes.front());
+      s.mesh = hb::read_mesh(scene.parts().source.mesh_path);
     } else {
       hb::BumpySphereOptions o;
       o.subdivisions = 5;

@@ -55,7 +55,7 @@ void exact_query(benchmark::State& state) {
 }
 void grid_routing(benchmark::State& state) {
   std::size_t i = 0;
-  const hb::SceneGrid& grid = *g->scene.grid();
+  const hb::SceneGrid& grid = *g->scene.parts().grid;
   for (auto _ : state) {
     benchmark::DoNotOptimize(routed_box(grid, g->probes[i]));
     if (++i == g->probes.size()) i = 0;
@@ -65,7 +65,7 @@ void grid_routing(benchmark::State& state) {
 // handle and the triangles of the surface cells (and sub-cells) it passes.
 void cells_walk(benchmark::State& state) {
   std::size_t i = 0;
-  const hb::SurfaceCells& sc = *g->scene.surface_cells();
+  const hb::SurfaceCells& sc = *g->scene.cells();
   for (auto _ : state) {
     float s = 0.f;
     bool front = false;
@@ -75,10 +75,9 @@ void cells_walk(benchmark::State& state) {
     if (++i == g->probes.size()) i = 0;
   }
 }
-// The scene's batched query (query_many, 1000 probes a call, as `bench`'s batched order), the
-// walks side by side or one at a time; the time is per probe.
-void scene_many(benchmark::State& state, hb::BoxScene::SideBySide mode) {
-  g->scene.set_side_by_side(mode);
+// The scene's batched query (query_many, 1000 probes a call, as `bench`'s batched order); the
+// time is per probe.
+void scene_many(benchmark::State& state) {
   constexpr std::size_t kBatch = 1000;
   std::vector<hb::Contact> out(kBatch);
   std::size_t i = 0;
@@ -89,7 +88,6 @@ void scene_many(benchmark::State& state, hb::BoxScene::SideBySide mode) {
     i = i + n == g->probes.size() ? 0 : i + n;
   }
   state.SetItemsProcessed(state.iterations() * std::int64_t(kBatch));
-  g->scene.set_side_by_side(hb::BoxScene::SideBySide::automatic);
 }
 // The scene and exact on the first 64 probes only: caches warm, as on a stroke.
 void warm_query(benchmark::State& state, bool exact) {
@@ -105,7 +103,7 @@ void box_query(benchmark::State& state, hb::Refine refine) {
     while (g->first_box[i] == UINT32_MAX) i = (i + 1) % g->probes.size();
     hb::Contact c;
     float along = 0.f;
-    benchmark::DoNotOptimize(g->scene.boxes()[g->first_box[i]].query_into(g->probes[i], g->law, c, along, refine));
+    benchmark::DoNotOptimize(g->scene.parts().boxes[g->first_box[i]].query_into(g->probes[i], g->law, c, along, refine));
     if (++i == g->probes.size()) i = 0;
   }
 }
@@ -129,28 +127,28 @@ int main(int argc, char** argv) {
   std::shuffle(f.probes.begin(), f.probes.end(), std::mt19937(7));
   std::size_t routed = 0;
   for (const hb::Segment& s : f.probes) {
-    f.first_box.push_back(f.scene.grid() ? routed_box(*f.scene.grid(), s) : 0u);
+    f.first_box.push_back(f.scene.parts().grid ? routed_box(*f.scene.parts().grid, s) : 0u);
     routed += f.first_box.back() != UINT32_MAX;
   }
   std::printf("%zu of %zu probes routed by the grid to a first box\n", routed, f.probes.size());
-  if (f.scene.grid()) {
+  if (f.scene.parts().grid) {
     // Where the costly probes (4 or more box queries) start: the handle's cell, and whether
     // the segment crosses surface cells at all.
     std::size_t costly = 0, by_code[4] = {0, 0, 0, 0}, no_surface = 0;
     for (const hb::Segment& s : f.probes) {
       if (f.scene.box_queries(s, f.law) < 4) continue;
       ++costly;
-      const std::uint16_t code = f.scene.grid()->code_at(s.start);
+      const std::uint16_t code = f.scene.parts().grid->code_at(s.start);
       ++by_code[std::min<std::uint16_t>(code, hb::SceneGrid::kFirstSurface)];
       bool crossed = false;
-      f.scene.grid()->walk_surface(s.start, s.end, [&](std::uint16_t, float) { return !(crossed = true); });
+      f.scene.parts().grid->walk_surface(s.start, s.end, [&](std::uint16_t, float) { return !(crossed = true); });
       no_surface += crossed ? 0 : 1;
     }
     std::printf("%zu probes with 4+ box queries; handle cell outside %zu, inside %zu, unknown %zu, surface %zu; "
                 "crossing no surface cell %zu\n",
                 costly, by_code[0], by_code[1], by_code[2], by_code[3], no_surface);
   }
-  if (f.scene.grid()) {
+  if (f.scene.parts().grid) {
     // The tail of single queries without the machine's noise: each probe's median time over
     // 5 rounds of the whole set in random order (so each query finds the caches as a random
     // query does), and where the slowest 1% and 0.1% go: handle cell and box queries.
@@ -178,7 +176,7 @@ int main(int argc, char** argv) {
       std::size_t by_code[4] = {0, 0, 0, 0}, by_asked[6] = {0, 0, 0, 0, 0, 0}, contacts = 0;
       for (std::size_t k = first; k < med.size(); ++k) {
         const hb::Segment& s = f.probes[med[k].second];
-        ++by_code[std::min<std::uint16_t>(f.scene.grid()->code_at(s.start), hb::SceneGrid::kFirstSurface)];
+        ++by_code[std::min<std::uint16_t>(f.scene.parts().grid->code_at(s.start), hb::SceneGrid::kFirstSurface)];
         ++by_asked[std::min<std::size_t>(f.scene.box_queries(s, f.law), 5)];
         contacts += f.scene.query(s, f.law).contact ? 1 : 0;
       }
@@ -190,12 +188,11 @@ int main(int argc, char** argv) {
   }
   benchmark::RegisterBenchmark("exact", exact_query);
   benchmark::RegisterBenchmark("scene", scene_query);
-  benchmark::RegisterBenchmark("scene_many_side_by_side", scene_many, hb::BoxScene::SideBySide::always);
-  benchmark::RegisterBenchmark("scene_many_one_at_a_time", scene_many, hb::BoxScene::SideBySide::never);
+  benchmark::RegisterBenchmark("scene_many", scene_many);
   benchmark::RegisterBenchmark("exact_warm", warm_query, true);
   benchmark::RegisterBenchmark("scene_warm", warm_query, false);
-  if (f.scene.grid()) benchmark::RegisterBenchmark("grid_routing", grid_routing);
-  if (f.scene.grid() && f.scene.surface_cells()) benchmark::RegisterBenchmark("cells_walk", cells_walk);
+  if (f.scene.parts().grid) benchmark::RegisterBenchmark("grid_routing", grid_routing);
+  if (f.scene.parts().grid && f.scene.cells()) benchmark::RegisterBenchmark("cells_walk", cells_walk);
   benchmark::RegisterBenchmark("first_box_blend_only", box_query, hb::Refine::off);
   benchmark::RegisterBenchmark("first_box_refined", box_query, hb::Refine::all);
   benchmark::RunSpecifiedBenchmarks();

@@ -258,7 +258,7 @@ BakeSummary summarise_bake(const hb::BoxScene& scene, const std::string& out) {
   BakeSummary s;
   s.codec = hb::scene_codec_stats(scene);
   s.bytes = std::filesystem::file_size(out);
-  for (const hb::HapticBox& box : scene.boxes()) {
+  for (const hb::HapticBox& box : scene.parts().boxes) {
     s.box_m.push_back(box.params().m);
     s.box_n.push_back(box.params().n);
     s.refined_boxes += box.refines() ? 1 : 0;
@@ -275,10 +275,10 @@ nlohmann::json bake_json(const BakeOpts& o, const hb::TriangleMesh& mesh, const 
   nlohmann::json j = {{"mesh", o.mesh},
                       {"output", o.out},
                       {"triangles", mesh.triangle_count()},
-                      {"boxes", scene.boxes().size()},
+                      {"boxes", scene.parts().boxes.size()},
                       {"m", o.recipe.options.params.m},
                       {"box_m", s.box_m},
-                      {"n", scene.budget_report().present ? s.box_n.back() : o.recipe.options.params.n},
+                      {"n", scene.parts().budget.present ? s.box_n.back() : o.recipe.options.params.n},
                       {"box_n", s.box_n},
                       {"refined_boxes", s.refined_boxes},
                       {"from_cache", cached.from_cache},
@@ -289,7 +289,7 @@ nlohmann::json bake_json(const BakeOpts& o, const hb::TriangleMesh& mesh, const 
                       {"hit_fraction", stats.rays ? double(stats.hits) / double(stats.rays) : 0.0},
                       {"bytes", s.bytes},
                       {"refine", scene.refines()},
-                      {"tables", scene.has_tables()},  // false: box frames (answered by exact Embree)
+                      {"tables", has_tables(scene.parts())},  // false: box frames (answered by exact Embree)
                       {"triangle_id_bytes", s.id_bytes},
                       {"codec", o.codec},
                       {"table_bytes", cs.table_bytes},
@@ -304,7 +304,7 @@ nlohmann::json bake_json(const BakeOpts& o, const hb::TriangleMesh& mesh, const 
     hb::cli::check_ratio_target(o.recipe.codec.ratio, cs.compression_ratio(), cs.max_error_bound, cs.t_error_mean,
                                 o.strict, j);
   add_rank_work(stats, j);
-  j["budget"] = hb::cli::budget_json(scene.budget_report());
+  j["budget"] = hb::cli::budget_json(scene.parts().budget);
   return j;
 }
 
@@ -314,26 +314,26 @@ void print_bake_line(const BakeOpts& o, const hb::CachedBake& cached, const Bake
   const hb::BakeStats& stats = cached.result.stats;
   const std::string densities = hb::density_range_text(hb::density_range(scene));
   if (cached.from_cache)
-    std::cout << "baked " << o.out << " from cache (" << cached.path << "): " << scene.boxes().size()
+    std::cout << "baked " << o.out << " from cache (" << cached.path << "): " << scene.parts().boxes.size()
               << " box(es), " << densities << ", " << hb::bytes_text(s.bytes);
   else
-    std::cout << "baked " << o.out << ": " << scene.boxes().size() << " box(es), " << densities << ", "
+    std::cout << "baked " << o.out << ": " << scene.parts().boxes.size() << " box(es), " << densities << ", "
               << hb::count_text(double(stats.rays)) << " rays in "
               << hb::duration_text(stats.seconds) << " (" << hb::count_text(stats.rays_per_second) << " rays/s), "
               << hb::bytes_text(s.bytes);
-  if (!scene.has_tables())
-    std::cout << " (exact Embree over the surface " << hb::bytes_text(scene.surface()->bytes())
+  if (!has_tables(scene.parts()))
+    std::cout << " (exact Embree over the surface " << hb::bytes_text(scene.parts().surface->bytes())
               << ": box frames, no tables, no triangle ids)";
   else if (s.refined_boxes > 0)
-    std::cout << " (" << (s.refined_boxes == scene.boxes().size() ? std::string("all") : std::to_string(s.refined_boxes))
+    std::cout << " (" << (s.refined_boxes == scene.parts().boxes.size() ? std::string("all") : std::to_string(s.refined_boxes))
               << " box(es) with triangle ids and surface for exact refinement)";
   else if (scene.refines())
-    std::cout << " (exact through the surface cells: surface " << hb::bytes_text(scene.surface()->bytes())
-              << (scene.surface()->normal_map_bytes() > 0
-                      ? " and its normal map " + hb::bytes_text(scene.surface()->normal_map_bytes())
+    std::cout << " (exact through the surface cells: surface " << hb::bytes_text(scene.parts().surface->bytes())
+              << (scene.parts().surface->normal_map_bytes() > 0
+                      ? " and its normal map " + hb::bytes_text(scene.parts().surface->normal_map_bytes())
                       : std::string())
               << ", no triangle ids"
-              << (scene.stroke_mesh() ? "; strokes by exact Embree over the full mesh, " + hb::bytes_text(scene.embree_bytes())
+              << (stroke_mesh(scene) ? "; strokes by exact Embree over the full mesh, " + hb::bytes_text(scene.bytes().embree)
                                       : std::string())
               << ")";
   std::cout << "\n";
@@ -341,7 +341,7 @@ void print_bake_line(const BakeOpts& o, const hb::CachedBake& cached, const Bake
 
 void print_bake(const BakeOpts& o, const hb::CachedBake& cached, const BakeSummary& s, const nlohmann::json& j) {
   print_bake_line(o, cached, s);
-  const hb::BudgetReport& budget = cached.result.scene.budget_report();
+  const hb::BudgetReport& budget = cached.result.scene.parts().budget;
   if (budget.present) {
     std::cout << "budget " << budget.summary() << "; " << budget.candidates_tried << " sampling bake(s)";
     if (budget.seconds > 0) std::cout << ", " << hb::duration_text(budget.seconds) << " in all";

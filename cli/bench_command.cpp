@@ -31,8 +31,6 @@ struct BenchOpts {
   hb::ForceLaw law;  // the workspace's, set in the callback
   bool json = false;
   bool no_huge_pages = false;
-  bool no_grid = false;
-  std::string walk = "all";
   std::string route = "auto";
   hb::cli::ToolArgs tool;
 };
@@ -83,8 +81,10 @@ OrderTimes time_orders(const hb::BoxScene& scene, const hb::ExactQuery& exact, c
   }
   t.box_stroke_stateless_ns = hb::median_query_ns(scene, strokes, law, rounds);
   t.exact_stroke_ns = hb::median_query_ns(exact, strokes, law, rounds);
-  if (scene.strokes_by_full_mesh()) {
-    const hb::BoxScene cells = scene.without_stroke_mesh();
+  if (strokes_by_full_mesh(scene)) {
+    hb::SceneParts parts = scene.parts();
+    parts.stroke.reset();
+    const hb::BoxScene cells(std::move(parts));
     hb::SceneProbe walk(cells);
     t.box_stroke_cells_ns = hb::median_query_ns(walk, strokes, law, rounds);
   }
@@ -112,7 +112,7 @@ BoxesMet count_boxes_met(const hb::BoxScene& scene, const std::vector<hb::Segmen
     b.asked_max = std::max(b.asked_max, asked);
     asked_one += asked <= 1 ? 1 : 0;
     ++b.asked_hist[std::min<std::size_t>(asked, 4)];
-    const std::size_t met = scene.boxes_met(s);
+    const std::size_t met = boxes_met(scene, s);
     met_sum += double(met);
     by_met[std::min<std::size_t>(met, 3)].push_back(s);
   }
@@ -182,10 +182,10 @@ nlohmann::json bench_json(const BenchOpts& o, const hb::TriangleMesh& mesh, cons
           {"box_single_tail", tail_json(r.box_tail)},
           {"exact_single_tail", tail_json(r.exact_tail)},
           {"verdict", r.verdicts},
-          {"boxes", scene.boxes().size()},
+          {"boxes", scene.parts().boxes.size()},
           {"mean_boxes_met", m.mean_met},
-          {"scene_grid", scene.grid() != nullptr},
-          {"route", hb::route_name(scene.answering_route())},
+          {"scene_grid", scene.parts().grid != nullptr},
+          {"route", hb::route_name(scene.route())},
           {"mean_box_queries", m.mean_asked},
           {"max_box_queries", m.asked_max},
           {"share_at_most_one_box_query", m.share_one},
@@ -205,7 +205,7 @@ void print_bench(const BenchOpts& o, const hb::TriangleMesh& mesh, const hb::Box
   const hb::QueryLatency& box_tail = r.box_tail;
   const hb::QueryLatency& exact_tail = r.exact_tail;
   std::cout << std::fixed << std::setprecision(1) << "bench " << o.box << " (" << mesh.triangle_count()
-            << " triangles, " << probes << " probes, one core, random order, route " << hb::route_name(scene.answering_route()) << ")\n"
+            << " triangles, " << probes << " probes, one core, random order, route " << hb::route_name(scene.route()) << ")\n"
             << "  haptic box  " << t.box_ns << " ns/query (" << 1e9 / t.box_ns / 1e6 << " M queries/s)\n"
             << "  exact       " << t.exact_ns << " ns/query\n"
             << "  box is      " << hb::speed_verdict(t.box_ns, t.exact_ns) << " (same probes, one at a time)\n"
@@ -256,10 +256,10 @@ void print_bench(const BenchOpts& o, const hb::TriangleMesh& mesh, const hb::Box
     std::cout << ")";
   }
   std::cout << "; without a state " << t.box_stroke_stateless_ns << " ns/query\n"
-            << std::setprecision(1) << "  boxes       " << scene.boxes().size() << ", met per query " << m.mean_met
+            << std::setprecision(1) << "  boxes       " << scene.parts().boxes.size() << ", met per query " << m.mean_met
             << " on average; box queries per probe " << std::setprecision(2) << m.mean_asked << " on average (max "
             << m.asked_max << ", " << std::setprecision(1) << 100.0 * m.share_one << "% of probes at most one), "
-            << (scene.grid() ? "routed by the scene grid" : "no scene grid") << "\n"
+            << (scene.parts().grid ? "routed by the scene grid" : "no scene grid") << "\n"
             << "    probes by box queries: 0: " << m.asked_hist[0] << ", 1: " << m.asked_hist[1] << ", 2: " << m.asked_hist[2]
             << ", 3: " << m.asked_hist[3] << ", 4+: " << m.asked_hist[4] << "\n";
   for (const auto& k : m.by_met)
@@ -277,16 +277,11 @@ void print_bench(const BenchOpts& o, const hb::TriangleMesh& mesh, const hb::Box
 
 void run_bench(BenchOpts& o) {
   // Measurement-only (HB_MEASURE): no-huge-pages (query the file mapping, not a copy of the
-  // tables in huge pages), no-grid (every box the segment meets), refine-walk=nearest (the
-  // first refined scenes' walks).
+  // tables in huge pages).
   o.no_huge_pages = hb::cli::measurement("no-huge-pages").has_value();
-  o.no_grid = hb::cli::measurement("no-grid").has_value();
-  o.walk = hb::cli::measurement_choice("refine-walk", "all", {"all", "nearest"});
   hb::LoadOptions load;
   load.huge_pages = !o.no_huge_pages;
-  const hb::BoxScene loaded = hb::load_box_file(o.box, load);
-  hb::BoxScene scene = o.no_grid ? loaded.without_grid() : loaded;
-  scene.set_walk_all_candidates(o.walk == "all");
+  hb::BoxScene scene = hb::load_box_file(o.box, load);
   hb::cli::apply_route(scene, o.route);
   const hb::TriangleMesh mesh = hb::cli::load_mesh(o.mesh, o.model);
   const hb::ExactQuery exact(mesh);
@@ -300,18 +295,18 @@ void run_bench(BenchOpts& o) {
     std::error_code ec;
     const auto file_bytes = std::filesystem::file_size(o.box, ec);
     const hb::cli::ToolRun run = hb::cli::run_tool(o.tool, scene, exact, mesh, ws, judge, true, o.rounds,
-                                                   ec ? std::size_t(scene.memory_bytes()) : std::size_t(file_bytes));
+                                                   ec ? std::size_t(scene.bytes().memory) : std::size_t(file_bytes));
     if (o.json) {
       nlohmann::json j = hb::cli::tool_json(run);
       j["box"] = o.box;
       j["mesh"] = o.mesh;
       j["triangles"] = mesh.triangle_count();
-      j["route"] = hb::route_name(scene.answering_route());
+      j["route"] = hb::route_name(scene.route());
       j["workspace"] = hb::workspace_json(ws, judge);
       hb::cli::print_json(j);
     } else {
       std::cout << "bench " << o.box << " (" << mesh.triangle_count() << " triangles, route "
-                << hb::route_name(scene.answering_route()) << ", one core)\n  workspace   " << ws.describe() << "\n";
+                << hb::route_name(scene.route()) << ", one core)\n  workspace   " << ws.describe() << "\n";
       hb::cli::print_tool_run(run, std::cout);
     }
     return;
@@ -332,12 +327,12 @@ void run_bench(BenchOpts& o) {
   r.met = count_boxes_met(scene, probes, o.law, o.rounds);
   r.isa_name = hb::lane_isa_name(hb::lane_isa());
   // query_many runs queries side by side in SIMD lanes for one raw, unrefined box only ...
-  const auto& boxes = scene.boxes();
+  const auto& boxes = scene.parts().boxes;
   r.lanes = boxes.size() == 1 && boxes[0].has_table() && boxes[0].codec() == hb::CodecId::none && !boxes[0].refines() &&
-            scene.answering_route() != hb::SceneRoute::embree;
+            scene.route() != hb::SceneRoute::embree;
   // ... and, on the cells route, runs several queries' walks side by side on a surface
   // larger than the last-level cache.
-  r.walks = scene.grid() && scene.answering_route() == hb::SceneRoute::cells && scene.surface_cells()->walks_side_by_side();
+  r.walks = scene.parts().grid && scene.route() == hb::SceneRoute::cells && scene.cells()->walks_side_by_side();
   const OrderTimes& t = r.t;
   // The verdict of each order (hb::speed_verdict: the text's words too).
   r.verdicts = {{"random", hb::speed_verdict(t.box_ns, t.exact_ns)},

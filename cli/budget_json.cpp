@@ -36,7 +36,7 @@ nlohmann::json budget_json(const BudgetReport& r) {
                                                                 {"normal_p99_deg", r.surface_normal_p99_deg},
                                                                 {"normal_map_side", r.surface_map_side}}}};
   // What answers, and why: the raw samplings tried, in the perceptual currency.
-  j["answer"] = r.answer.empty() ? "cells" : r.answer;
+  j["answer"] = answerer_name(r.answer == Answerer::none ? Answerer::cells : r.answer);
   nlohmann::json raw = nlohmann::json::array();
   for (const BudgetReport::RawTried& t : r.raw_tried)
     raw.push_back({{"m", t.m}, {"n", t.n}, {"bytes", t.bytes}, {"probes_felt", t.probes_felt},
@@ -50,9 +50,9 @@ nlohmann::json budget_json(const BudgetReport& r) {
   // Query times at bake time (in the file since 2026-12-07).
   if (r.answer_ns > 0) j["answer_ns"] = r.answer_ns, j["exact_ns"] = r.exact_ns;
   if (r.cells_ns > 0) j["cells_ns"] = r.cells_ns, j["embree_ns"] = r.embree_ns;
-  // Along strokes (recipe/stroke_route.h; since 2026-12-07): what answers a probe's successive
-  // queries, and the two times when timed.
-  if (!r.stroke_answer.empty()) j["stroke_answer"] = r.stroke_answer;
+  // Along strokes (recipe/stroke_route.h): what answers a probe's successive queries, and the
+  // two times when timed.
+  if (r.stroke_answer != Answerer::none) j["stroke_answer"] = answerer_name(r.stroke_answer);
   if (r.stroke_cells_ns > 0) j["stroke_cells_ns"] = r.stroke_cells_ns, j["stroke_embree_ns"] = r.stroke_embree_ns;
   // Wall times are this run's (bake --json) or an older file's; a file written now holds none.
   if (r.seconds > 0) j["seconds"] = r.seconds;

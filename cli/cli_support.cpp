@@ -29,9 +29,9 @@ void set_command_line(int argc, char** argv) {
 
 void check_same_mesh(const BoxScene& scene, const std::string& box_path, const std::string& mesh_path,
                      std::uint64_t mesh_hash, bool force) {
-  if (scene.source().mesh_hash == 0 || scene.source().mesh_hash == mesh_hash) return;
+  if (scene.parts().source.mesh_hash == 0 || scene.parts().source.mesh_hash == mesh_hash) return;
   const std::string what = box_path + " was baked from a different mesh than " + mesh_path + " (recorded source " +
-                           (scene.source().mesh_path.empty() ? std::string("unknown") : scene.source().mesh_path) +
+                           (scene.parts().source.mesh_path.empty() ? std::string("unknown") : scene.parts().source.mesh_path) +
                            ", hashes differ)";
   if (!force) throw InvalidInput(what + ": the comparison would measure nothing; give the mesh it was baked from, or --force");
   if (communicator().is_root()) std::cerr << "hapticbox: warning: " << what << "; going on (--force)\n";
@@ -85,10 +85,10 @@ void add_cache_option(CLI::App& cmd, std::string& dir) {
 
 Bounds scene_bounds(const BoxScene& scene) {
   Bounds b;
-  if (scene.boxes().empty()) return b;
+  if (scene.parts().boxes.empty()) return b;
   b.min = Vec3::Constant(std::numeric_limits<float>::max());
   b.max = -b.min;
-  for (const auto& box : scene.boxes()) {
+  for (const auto& box : scene.parts().boxes) {
     const Obb& o = box.obb();
     for (int c = 0; c < 8; ++c) {
       const Vec3 corner = o.to_world(Vec3((c & 1) ? o.half.x() : -o.half.x(), (c & 2) ? o.half.y() : -o.half.y(),
@@ -101,8 +101,8 @@ Bounds scene_bounds(const BoxScene& scene) {
 }
 
 double model_diagonal(const BoxScene& scene) {
-  if (scene.source().diagonal > 0.f) return scene.source().diagonal;
-  return scene.boxes().empty() ? 0.0 : double(scene_bounds(scene).diagonal());
+  if (scene.parts().source.diagonal > 0.f) return scene.parts().source.diagonal;
+  return scene.parts().boxes.empty() ? 0.0 : double(scene_bounds(scene).diagonal());
 }
 
 SamplingGiven sampling_given(const CLI::App& cmd) {
@@ -148,22 +148,24 @@ void add_route_option(CLI::App& cmd, std::string& route) {
       ->capture_default_str();
 }
 
-void apply_route(BoxScene& scene, const std::string& route) {
-  if (route == "auto") return;
-  scene = scene.without_stroke_mesh();  // a route named answers a probe's strokes too
-  if (route == "boxes" && !scene.has_tables())
+void apply_route(BoxScene& scene, const std::string& name) {
+  const std::optional<SceneRoute> route = parse_route(name);
+  if (!route) return;  // auto: the route the bake chose
+  SceneParts parts = scene.parts();
+  parts.stroke.reset();  // a route named answers a probe's strokes too
+  parts.route = *route;
+  if (*route == SceneRoute::boxes && !has_tables(parts))
     throw UsageError("--route boxes: this scene's boxes are frames without tables (the bake answered it by exact "
                      "Embree and dropped what no other route reads); bake it with HB_MEASURE=keep-ids to compare the routes");
-  if (route == "boxes" && scene.refines() && !scene.has_triangle_ids())
+  if (*route == SceneRoute::boxes && scene.refines() && !has_triangle_ids(parts))
     throw UsageError("--route boxes: this scene holds no triangle ids (the default bake drops them: the cells route "
                      "does not read them); bake it with HB_MEASURE=keep-ids to compare the routes");
   try {
-    scene.set_route(route == "embree" ? SceneRoute::embree : route == "cells" ? SceneRoute::cells : SceneRoute::boxes);
+    scene = BoxScene(std::move(parts));
   } catch (const InvalidInput& e) {
-    throw UsageError("--route " + route + ": " + e.what());
+    throw UsageError("--route " + name + ": " + e.what());
   }
-  if (route == "embree") return;
-  if (route == "cells" && scene.answering_route() != SceneRoute::cells && scene.refines())
+  if (*route == SceneRoute::cells && scene.route() != SceneRoute::cells && scene.refines())
     std::fprintf(stderr, "warning: --route cells: this scene has no surface cells (no grid, or no shared refined "
                          "surface); the boxes answer\n");
 }

@@ -28,21 +28,21 @@ void add_compress_command(CLI::App& app) {
     hb::cli::check_output_file(opts->out);
     const hb::BoxScene scene = hb::load_box_file(opts->box);
     opts->codec_options.codec = hb::parse_codec(opts->codec);
-    if (!scene.has_tables())
+    if (!has_tables(scene.parts()))
       throw hb::cli::UsageError(opts->box + ": its boxes are frames without tables (the bake answered the scene by "
                                 "exact Embree): nothing to compress");
-    for (const hb::HapticBox& box : scene.boxes())
+    for (const hb::HapticBox& box : scene.parts().boxes)
       if (box.codec() != hb::CodecId::none)
         throw hb::cli::UsageError(opts->box + ": already compressed (codec " + hb::codec_name(box.codec()) + ")");
-    const hb::BoxScene out = scene.compressed(opts->codec_options);
+    const hb::BoxScene out(hb::compressed(scene, opts->codec_options));
     hb::save_box_file(out, opts->out);
     std::uint64_t raw = 0, bytes = 0;
     double t_max = 0, t_mean = 0, bound = 0;
-    for (const hb::HapticBox& box : out.boxes()) {
+    for (const hb::HapticBox& box : out.parts().boxes) {
       raw += box.raw_table_bytes();
       bytes += box.table_bytes();
       t_max = std::max<double>(t_max, box.codec_stats().t_error_max);
-      t_mean += box.codec_stats().t_error_mean / double(out.boxes().size());
+      t_mean += box.codec_stats().t_error_mean / double(out.parts().boxes.size());
       bound = std::max<double>(bound, box.codec_stats().max_error_bound);
     }
     nlohmann::json j = {{"input", opts->box}, {"output", opts->out}, {"codec", opts->codec},

@@ -73,10 +73,10 @@ void add_compress_sweep_command(CLI::App& app) {
   cmd->add_flag("--json", opts->json, "Print JSON to stdout");
   cmd->callback([opts] {
     const hb::BoxScene scene = hb::load_box_file(opts->box);
-    if (!scene.has_tables())
+    if (!has_tables(scene.parts()))
       throw hb::cli::UsageError(opts->box + ": its boxes are frames without tables (the bake answered the scene by "
                                 "exact Embree): no table to compress");
-    for (const hb::HapticBox& box : scene.boxes())
+    for (const hb::HapticBox& box : scene.parts().boxes)
       if (box.codec() != hb::CodecId::none)
         throw hb::cli::UsageError(opts->box + ": compress-sweep needs uncompressed tables (bake with --codec none)");
     hb::CompressionSweepOptions o;
@@ -88,7 +88,7 @@ void add_compress_sweep_command(CLI::App& app) {
     o.law = ws.law();
     o.judge = opts->workspace.judge();
     std::string mesh_path = opts->mesh;
-    if (mesh_path.empty() && std::filesystem::exists(scene.source().mesh_path)) mesh_path = scene.source().mesh_path;
+    if (mesh_path.empty() && std::filesystem::exists(scene.parts().source.mesh_path)) mesh_path = scene.parts().source.mesh_path;
     hb::TriangleMesh mesh;
     std::unique_ptr<hb::ExactQuery> exact;
     if (!mesh_path.empty() && opts->samples > 0) {

@@ -53,7 +53,7 @@ void add_eval_command(CLI::App& app) {
     // The same count of light touches at any angle: its perceptible share, a second figure.
     const hb::ComparisonStats light = hb::compare_light_touches(scene, exact, mesh, opts->samples, opts->probes.seed,
                                                                 ws.law(), diag, &hb::cli::communicator(), judge);
-    nlohmann::json j = hb::eval_json(s, opts->box, opts->mesh, opts->probes.seed, scene.answering_name());
+    nlohmann::json j = hb::eval_json(s, opts->box, opts->mesh, opts->probes.seed, answerer_name(answerer(scene)));
     j["workspace"] = hb::workspace_json(ws, judge);
     j["light_touch"] = hb::light_touch_json(light);
     // A tool with volume: its net force and torque along slides, tick by tick.
@@ -67,7 +67,7 @@ void add_eval_command(CLI::App& app) {
       return;
     }
     std::cout << "eval " << opts->box << " vs " << opts->mesh << " (" << s.samples << " probes, seed "
-              << opts->probes.seed << ", route " << scene.answering_name() << ")\n"
+              << opts->probes.seed << ", route " << answerer_name(answerer(scene)) << ")\n"
               << "  workspace           " << ws.describe() << "\n"
               << hb::perceptible_lines(s)
               << "  contact agreement   " << hb::agreement_percent(s.contact_agreement) << "  (false "

@@ -143,6 +143,6 @@ void add_field_command(CLI::App& app) {
     std::cout << "  perceptible: " << felt << " of " << f->size() << " points have a probe a hand would tell apart ("
               << hb::percent(f->size() ? double(felt) / double(f->size()) : 0.0) << "; threshold "
               << hb::thresholds_text(judge.thresholds) << ")\n  workspace: " << ws.describe() << "\n";
-    std::cout << "boxes " << outlines_path << ": " << scene.boxes().size() << " box outline(s)\n";
+    std::cout << "boxes " << outlines_path << ": " << scene.parts().boxes.size() << " box outline(s)\n";
   });
 }

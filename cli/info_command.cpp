@@ -103,7 +103,7 @@ nlohmann::json box_info(const std::string& path, bool verify) {
   nlohmann::json boxes = nlohmann::json::array();
   std::uint64_t id_bytes = 0;
   std::size_t refined = 0;
-  for (const hb::HapticBox& box : scene.boxes()) {
+  for (const hb::HapticBox& box : scene.parts().boxes) {
     id_bytes += box.triangle_id_bytes();
     refined += box.refines() ? 1 : 0;
     const hb::Obb& o = box.obb();
@@ -127,16 +127,16 @@ nlohmann::json box_info(const std::string& path, bool verify) {
                      {"center", {o.center.x(), o.center.y(), o.center.z()}},
                      {"half_extents", {o.half.x(), o.half.y(), o.half.z()}}});
   }
-  const auto& first = scene.boxes().front();
+  const auto& first = scene.parts().boxes.front();
   const hb::DensityRange densities = hb::density_range(scene);
   const hb::SceneCodecStats codec = hb::scene_codec_stats(scene);
-  const double table_bytes = double(scene.table_bytes());
+  const double table_bytes = double(scene.bytes().tables);
   const char* frames = "yes (exact Embree over the surface; box frames, no tables, no triangle ids)";
   return {{"kind", "box"},
           {"file", path},
           {"bytes", std::filesystem::file_size(path)},
-          {"table_bytes", scene.table_bytes()},
-          {"boxes", scene.boxes().size()},
+          {"table_bytes", scene.bytes().tables},
+          {"boxes", scene.parts().boxes.size()},
           {"m", first.params().m},  // the first box's; a scene's boxes differ: m_min..m_max
           {"n", first.params().n},
           {"m_min", densities.m_min},
@@ -151,36 +151,36 @@ nlohmann::json box_info(const std::string& path, bool verify) {
           {"t_error_max", codec.t_error_max},
           {"normal_error_mean_deg", codec.normal_error_mean_deg},
           {"normal_error_max_deg", codec.normal_error_max_deg},
-          {"tables", scene.has_tables() ? "yes"
+          {"tables", has_tables(scene.parts()) ? "yes"
                      : "none: box frames only (exact Embree over the surface answers; the bake dropped the tables and "
                        "ids that route never reads)"},
-          {"refine", !scene.has_tables()               ? frames
-                     : refined == scene.boxes().size() ? "yes"
+          {"refine", !has_tables(scene.parts())               ? frames
+                     : refined == scene.parts().boxes.size() ? "yes"
                      : refined > 0                  ? "some boxes"
                      : scene.refines()              ? "yes (the surface cells; no triangle ids)"
                                                     : "no"},
           {"triangle_id_bytes", id_bytes},
-          {"surface_bytes", scene.refinement_bytes() - id_bytes},
-          {"normal_map_side", scene.surface() ? scene.surface()->normal_map_side() : 0},
-          {"normal_map_bytes", scene.surface() ? scene.surface()->normal_map_bytes() : 0},
-          {"stroke_route", scene.strokes_by_full_mesh()
-                               ? "exact Embree over the full mesh (" + hb::count_text(double(scene.stroke_mesh()->triangle_count())) +
-                                     " triangles, " + hb::bytes_text(scene.embree_bytes()) +
+          {"surface_bytes", scene.bytes().refinement - id_bytes},
+          {"normal_map_side", scene.parts().surface ? scene.parts().surface->normal_map_side() : 0},
+          {"normal_map_bytes", scene.parts().surface ? scene.parts().surface->normal_map_bytes() : 0},
+          {"stroke_route", strokes_by_full_mesh(scene)
+                               ? "exact Embree over the full mesh (" + hb::count_text(double(stroke_mesh(scene)->triangle_count())) +
+                                     " triangles, " + hb::bytes_text(scene.bytes().embree) +
                                      "): a probe's successive queries, where the bake measured it faster than the cells"
-                               : std::string(scene.answering_name())},
-          {"scene_grid_bytes", scene.grid() ? scene.grid()->bytes() : 0},
-          {"scene_grid_cells", scene.grid() ? scene.grid()->codes().size() : 0},
+                               : std::string(answerer_name(answerer(scene)))},
+          {"scene_grid_bytes", scene.parts().grid ? scene.parts().grid->bytes() : 0},
+          {"scene_grid_cells", scene.parts().grid ? scene.parts().grid->codes().size() : 0},
           {"verified", verify},
-          {"source_mesh", scene.source().mesh_path},
-          {"source_mesh_hash", hb::hash_text(scene.source().mesh_hash)},  // hex, as the report
-          {"source_triangles", scene.source().triangles},
-          {"source_diagonal", scene.source().diagonal},
-          {"budget", scene.budget_report().summary()},
+          {"source_mesh", scene.parts().source.mesh_path},
+          {"source_mesh_hash", hb::hash_text(scene.parts().source.mesh_hash)},  // hex, as the report
+          {"source_triangles", scene.parts().source.triangles},
+          {"source_diagonal", scene.parts().source.diagonal},
+          {"budget", scene.parts().budget.summary()},
           {"workspace", hb::cli::model_diagonal(scene) > 0
                             ? hb::make_workspace(hb::cli::model_diagonal(scene)).describe() +
                                   " (the default every command judges at; --workspace-mm, --real-size to change)"
                             : std::string("none (no boxes)")},
-          {"budget_report", hb::cli::budget_json(scene.budget_report())},
+          {"budget_report", hb::cli::budget_json(scene.parts().budget)},
           {"box_list", boxes}};
 }
 

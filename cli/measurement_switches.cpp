@@ -59,14 +59,13 @@ std::string measurement_choice(const std::string& name, const std::string& fallb
 }
 
 const std::vector<std::string>& measurement_names() {
-  // bake: the searches and shading checks kept for before/after figures; bench: the routes
-  // and the heap without the grid, the walk or huge pages; servo: the loop without priming or
-  // with another busy-wait; stability: the other depth law, safety response and ghost rule;
+  // bake: the searches and shading checks kept for before/after figures and the triangle ids
+  // kept for --route boxes; bench: tables without huge pages; servo: the loop without priming
+  // or with another busy-wait; stability: the other depth law and safety response;
   // decompose-times: each phase of an automatic decomposition on stderr.
-  static const std::vector<std::string> names = {
-      "full-search", "keep-ids",  "simplify-shading", "simplify-shading-check", "no-grid",     "refine-walk",
-      "no-huge-pages", "no-prime", "spin-us",         "depth-law",              "safety",      "unconfirmed",
-      "decompose-times"};
+  static const std::vector<std::string> names = {"full-search", "keep-ids",  "simplify-shading", "simplify-shading-check",
+                                                 "no-huge-pages", "no-prime", "spin-us",  "depth-law",
+                                                 "safety",        "decompose-times"};
   return names;
 }
 

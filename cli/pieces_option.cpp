@@ -81,7 +81,7 @@ void apply_pieces_spec(const std::string& spec, BakeRecipe& recipe, const std::v
 
 void print_decomposition(const BakeRecipe& recipe, const BakeResult& result) {
   if (recipe.pieces.kind != PiecesRecipe::Kind::automatic) return;
-  std::cerr << "decomposed into " << result.scene.boxes().size() << " pieces in "
+  std::cerr << "decomposed into " << result.scene.parts().boxes.size() << " pieces in "
             << duration_text(result.decompose_seconds) << "\n";
 }
 

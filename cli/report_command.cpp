@@ -74,7 +74,7 @@ ReportInput load_or_bake(const ReportOpts& o, const hb::SamplingGiven& sampling)
   if (first_is_box) {
     in.box_path = o.inputs[0];
     in.scene = hb::load_box_file(in.box_path);
-    in.mesh_path = o.inputs.size() > 1 ? o.inputs[1] : in.scene.source().mesh_path;
+    in.mesh_path = o.inputs.size() > 1 ? o.inputs[1] : in.scene.parts().source.mesh_path;
     if (in.mesh_path.empty()) throw hb::cli::UsageError(in.box_path + ": records no mesh; give MESH after BOX");
   } else {
     if (o.inputs.size() > 1) throw hb::cli::UsageError("give MESH alone, or BOX then MESH");

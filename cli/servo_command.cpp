@@ -70,11 +70,11 @@ Scene load_scene(const std::string& box, const std::string& route) {
     return s;
   }
   auto scene = std::make_unique<hb::BoxScene>(hb::load_box_file(box));
-  if (scene->boxes().empty()) throw hb::InvalidInput(box + ": the box file holds no boxes");
+  if (scene->parts().boxes.empty()) throw hb::InvalidInput(box + ": the box file holds no boxes");
   const hb::Bounds bounds = hb::cli::scene_bounds(*scene);
   s.min = bounds.min;
   s.max = bounds.max;
-  s.mesh_hash = scene->source().mesh_hash;
+  s.mesh_hash = scene->parts().source.mesh_hash;
   hb::cli::apply_route(*scene, route);
   // The servo thread is one probe: its query state starts each tick from the last tick's
   // contact (BoxScene::query with a SceneQueryState; the stateless answers, tested).

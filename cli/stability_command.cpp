@@ -105,8 +105,7 @@ void add_stability_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("stability",
                                  "Trajectory stability suite: box and exact side by side (calibration gate, T1-T8)");
   struct Opts {
-    std::string box, mesh, device = "falcon", tests, safety = "hold", depth = "normal", unconfirmed = "reject",
-                walk = "all",
+    std::string box, mesh, device = "falcon", tests, safety = "hold", depth = "normal",
                 law = "penalty", route = "auto", tool;
     std::size_t sites = 12;
     std::uint64_t seed = 1;
@@ -141,20 +140,15 @@ void add_stability_command(CLI::App& app) {
                   "mesh=FILE,points=N) through its virtual coupling, box and exact side by side");
   cmd->callback([o] {
     // Measurement-only (HB_MEASURE): safety=hold|zero|none (the servo's fault response in T6/T8:
-    // hold and ramp, the old zero-and-ramp, no safety filter), depth-law=normal|along (the
-    // paper's eq. 2), unconfirmed=reject|keep and refine-walk=all|nearest (the first refined
-    // scenes).
+    // hold and ramp, zero and ramp, no safety filter) and depth-law=normal|along (the paper's
+    // eq. 2).
     o->safety = hb::cli::measurement_choice("safety", "hold", {"hold", "zero", "none"});
     o->depth = hb::cli::measurement_choice("depth-law", "normal", {"normal", "along"});
-    o->unconfirmed = hb::cli::measurement_choice("unconfirmed", "reject", {"reject", "keep"});
-    o->walk = hb::cli::measurement_choice("refine-walk", "all", {"all", "nearest"});
     hb::BoxScene scene = hb::load_box_file(o->box);
     const hb::TriangleMesh mesh = hb::cli::load_mesh(o->mesh, o->model);
     hb::Communicator& comm = hb::cli::communicator();
-    if (comm.is_root() && scene.source().mesh_hash != 0 && scene.source().mesh_hash != hb::cli::hash_model(o->mesh, o->model))
+    if (comm.is_root() && scene.parts().source.mesh_hash != 0 && scene.parts().source.mesh_hash != hb::cli::hash_model(o->mesh, o->model))
       std::cerr << "hapticbox: warning: " << o->box << " was baked from a different file than " << o->mesh << "\n";
-    scene.set_unconfirmed_blend(o->unconfirmed == "keep" ? hb::UnconfirmedBlend::keep : hb::UnconfirmedBlend::reject);
-    scene.set_walk_all_candidates(o->walk == "all");
     hb::cli::apply_route(scene, o->route);  // the generated walls, plates and grooves take the same route
     if (!o->tool.empty()) return run_tool_suite(scene, mesh, o->box, o->mesh, o->tool, o->seed, o->json, o->strict);
     hb::StabilityOptions so;
@@ -191,16 +185,13 @@ void add_stability_command(CLI::App& app) {
       nlohmann::json j = hb::stability_json(rep);
       j["box"] = o->box;
       j["mesh"] = o->mesh;
-      j["unconfirmed"] = o->unconfirmed;
-      j["refine_walk"] = o->walk;
-      j["route"] = hb::route_name(scene.answering_route());
+      j["route"] = hb::route_name(scene.route());
       j["contact_law"] = rep.contact_law;
       hb::cli::print_json(j);
     } else if (comm.is_root()) {
-      std::printf("stability %s vs %s: device %s, contact law %s, depth law %s, unconfirmed blends %s, refinement "
-                  "walks %s, route %s, T6/T8 filter: %s\n",
+      std::printf("stability %s vs %s: device %s, contact law %s, depth law %s, route %s, T6/T8 filter: %s\n",
                   o->box.c_str(), o->mesh.c_str(), rep.device.c_str(), rep.contact_law.c_str(), rep.depth_law.c_str(),
-                  o->unconfirmed.c_str(), o->walk.c_str(), hb::route_name(scene.answering_route()), rep.filter.c_str());
+                  hb::route_name(scene.route()), rep.filter.c_str());
       std::printf("calibration gate: %s\n", rep.calibration_pass ? "pass" : "FAIL (the harness is wrong)");
       print_table(rep.calibration);
       std::printf("tests: %zu pass, %zu fail (%zu of them exact fails too: the law, not the box), %.1f s\n",

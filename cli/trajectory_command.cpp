@@ -91,7 +91,7 @@ void add_trajectory_command(CLI::App& app) {
     double diagonal = double((hi - lo).norm());
     if (opts->box != "plane") {
       const hb::BoxScene scene = hb::load_box_file(opts->box);
-      if (scene.boxes().empty()) throw hb::InvalidInput(opts->box + ": the box file holds no boxes");
+      if (scene.parts().boxes.empty()) throw hb::InvalidInput(opts->box + ": the box file holds no boxes");
       const hb::Bounds b = hb::cli::scene_bounds(scene);
       lo = b.min, hi = b.max;
       diagonal = hb::cli::model_diagonal(scene);

@@ -237,20 +237,20 @@ void BakePanel::updateState() {
   }
   if (!busy) progress_->setValue(1000);
   const hb::BoxScene& s = *session_->boxes();
-  const std::size_t refineBytes = s.refinement_bytes();
+  const std::size_t refineBytes = s.bytes().refinement;
   // A scene answered by exact Embree keeps its boxes as frames (no tables): say so, not "0 B".
-  const QString tables = s.has_tables() ? tr("%1 of tables").arg(QString::fromStdString(hb::bytes_text(s.table_bytes())))
+  const QString tables = has_tables(s.parts()) ? tr("%1 of tables").arg(QString::fromStdString(hb::bytes_text(s.bytes().tables)))
                                         : tr("box frames (no tables: exact Embree answers)");
   // A scene's boxes have their own densities: the range, not the first box's.
   const hb::DensityRange d = hb::density_range(s);
   const auto span = [](int lo, int hi) { return QString::fromStdString(hb::range_text(lo, hi)); };
   // The device's probe asks with its state: say when exact Embree over the full mesh answers it.
-  const QString strokes = s.strokes_by_full_mesh()
+  const QString strokes = strokes_by_full_mesh(s)
                               ? tr(" + %1 of full mesh: the device's strokes by exact Embree (faster there)")
-                                    .arg(QString::fromStdString(hb::bytes_text(s.embree_bytes())))
+                                    .arg(QString::fromStdString(hb::bytes_text(s.bytes().embree)))
                               : QString();
   info_->setText(tr("%1 box(es), m %2, n %3, %4%5, %6")
-                     .arg(s.boxes().size())
+                     .arg(s.parts().boxes.size())
                      .arg(span(d.m_min, d.m_max))
                      .arg(span(d.n_min, d.n_max))
                      .arg(refineBytes > 0 ? tables + tr(" + %1 for exact refinement")

@@ -107,7 +107,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), session_(new Hapt
     if (!charts_->showsSweep() && session_->boxes()) {
       const std::vector<hb::BakeChartPoint> points = hb::bake_chart_points(*session_->boxes());
       if (!points.empty()) charts_->showBake(points, session_->compressionCurve());
-      else if (session_->boxes()->budget_report().present) charts_->showUntimedBake();  // an older file
+      else if (session_->boxes()->parts().budget.present) charts_->showUntimedBake();  // an older file
     }
     updateActions();
   });
@@ -326,7 +326,7 @@ void MainWindow::goToWorstVertex(std::size_t vertex) {
   o.length_fraction = float(f->GetLengthFraction());
   o.max_depth_fraction = float(f->GetMaxDepthFraction());
   o.seed = f->GetSeed();
-  const float diagonal = session_->hasBoxes() && session_->boxes()->source().diagonal > 0.f ? session_->boxes()->source().diagonal
+  const float diagonal = session_->hasBoxes() && session_->boxes()->parts().source.diagonal > 0.f ? session_->boxes()->parts().source.diagonal
                                                                                            : session_->diagonal();
   const hb::SurfacePoint point = hb::surface_points_at_vertices(session_->mesh())[vertex];
   const std::vector<hb::Segment> probes = hb::error_field_probes(point, vertex, diagonal, o);

@@ -190,7 +190,7 @@ void SessionModel::installBoxes(std::shared_ptr<const hb::BoxScene> boxes, doubl
   for (ErrorMetric m : kErrorMetrics)
     pd->RemoveArray(errorArrayName(m));
   if (pieceIds && pieceIds->GetNumberOfTuples() == surface_->GetNumberOfCells()) setPieceArray(pieceIds);
-  else updatePieceArray(boxes_->piece_of_triangle());
+  else updatePieceArray(boxes_->parts().piece_of_triangle);
   if (outlines) {
     outlines_ = vtkSmartPointer<vtkPolyData>::New();
     outlines_->ShallowCopy(outlines);
@@ -208,9 +208,9 @@ bool SessionModel::openBoxFile(const QString& path, QString* error) {
   }
   try {
     auto scene = std::make_shared<hb::BoxScene>(hb::load_box_file(QFile::encodeName(path).toStdString()));
-    if (scene->source().mesh_hash != 0 && scene->source().mesh_hash != meshHash_)
+    if (scene->parts().source.mesh_hash != 0 && scene->parts().source.mesh_hash != meshHash_)
       throw hb::InvalidInput(QFile::encodeName(path).toStdString() + ": baked from another mesh (" +
-                             scene->source().mesh_path + ")");
+                             scene->parts().source.mesh_path + ")");
     installBoxes(std::move(scene), 0.0, true);
     boxPath_ = QFileInfo(path).absoluteFilePath();
     return true;

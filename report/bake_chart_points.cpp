@@ -25,15 +25,15 @@ std::string outcome_words(const std::string& outcome) {
 } // namespace
 
 std::string bake_label(const BoxScene& scene) {
-  const std::size_t boxes = scene.boxes().size();
-  const BudgetReport& r = scene.budget_report();
+  const std::size_t boxes = scene.parts().boxes.size();
+  const BudgetReport& r = scene.parts().budget;
   const std::string budget = budget_spec(r.budget) == budget_spec(ErrorBudget{}) ? "default bake" : "bake to " + budget_spec(r.budget);
   return budget + ": " + std::to_string(boxes) + (boxes == 1 ? " box" : " boxes");
 }
 
 std::vector<BakeChartPoint> bake_chart_points(const BoxScene& scene) {
   std::vector<BakeChartPoint> out;
-  const BudgetReport& r = scene.budget_report();
+  const BudgetReport& r = scene.parts().budget;
   if (!r.present) return out;
   const std::string timed = " a query at bake time (one core, random order)";
   if (r.exact_ns > 0) {
@@ -51,22 +51,22 @@ std::vector<BakeChartPoint> bake_chart_points(const BoxScene& scene) {
     row.method = "haptic_box";
     row.label = bake_label(scene);
     // As the sweep's row of the default bake names it.
-    row.refine = scene.surface() != nullptr;
-    row.codec = scene.boxes().empty() ? "none" : codec_name(scene.boxes().front().codec());
+    row.refine = scene.parts().surface != nullptr;
+    row.codec = scene.parts().boxes.empty() ? "none" : codec_name(scene.parts().boxes.front().codec());
     row.query_ns = r.answer_ns;
-    row.memory_bytes = scene.memory_bytes();
+    row.memory_bytes = scene.bytes().memory;
     row.force_error_median = r.force_median;
     row.force_error_p95 = r.force_p95;
     row.contact_agreement = r.agreement;
     row.angle_error_p99_deg = r.direction_p99_deg;
     row.perceptible_share = r.perceptible;
     row.within_budget = r.met;
-    const std::string answer = r.answer.empty() ? "cells" : r.answer;  // files before 2026-12-06: the cells
-    p.about = row.label + ", answered by " + route_words(answer) + ": " + duration_text(r.answer_ns * 1e-9) + timed +
+    const Answerer answer = r.answer == Answerer::none ? Answerer::cells : r.answer;  // not recorded: the cells
+    p.about = row.label + ", answered by " + answerer_words(answer) + ": " + duration_text(r.answer_ns * 1e-9) + timed +
               ", perceptibly different on " + percent(r.perceptible) + " of " + count_text(double(r.probes)) +
               " fresh probes (the budget: at most " + percent(r.budget.perceptible) + ", " + (r.met ? "met" : "MISSED") +
-              "); " + bytes_text(scene.memory_bytes()) +
-              (r.stroke_answer == "embree"
+              "); " + bytes_text(scene.bytes().memory) +
+              (r.stroke_answer == Answerer::embree
                    ? "; along strokes exact Embree over the full mesh (" + duration_text(r.stroke_embree_ns * 1e-9) +
                          " a query against the cells' " + duration_text(r.stroke_cells_ns * 1e-9) + " at bake time)"
                    : std::string());

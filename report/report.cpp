@@ -99,23 +99,23 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
                           const BoxScene& scene, double bake_seconds,
                           const std::vector<SweepReference>& references, const ReportOptions& options) {
   if (references.empty() || !references.front().query) throw InvalidInput("report: needs the exact reference");
-  if (scene.boxes().empty()) throw InvalidInput("report: the box scene is empty");
+  if (scene.parts().boxes.empty()) throw InvalidInput("report: the box scene is empty");
   const auto t0 = std::chrono::steady_clock::now();
   ReportData d;
   d.options = options;
   d.vertices = mesh.vertex_count();
   d.triangles = mesh.triangle_count();
-  d.pieces = scene.boxes().size();
+  d.pieces = scene.parts().boxes.size();
   d.diagonal = mesh.bounds().diagonal();
-  d.params = scene.boxes().front().params();
-  d.memory_bytes = scene.memory_bytes();  // as the sweep's rows count it
+  d.params = scene.parts().boxes.front().params();
+  d.memory_bytes = scene.bytes().memory;  // as the sweep's rows count it
   d.bake_seconds = bake_seconds;
-  d.codec = codec_name(scene.boxes().front().codec());
+  d.codec = codec_name(scene.parts().boxes.front().codec());
   d.refine = scene.refines();
-  d.route = scene.answering_name();
-  d.stroke_route = scene.strokes_by_full_mesh() ? "embree" : d.route;
-  d.stroke_cells_ns = scene.budget_report().stroke_cells_ns;
-  d.stroke_embree_ns = scene.budget_report().stroke_embree_ns;
+  d.route = answerer(scene);
+  d.stroke_route = strokes_by_full_mesh(scene) ? Answerer::embree : d.route;
+  d.stroke_cells_ns = scene.parts().budget.stroke_cells_ns;
+  d.stroke_embree_ns = scene.parts().budget.stroke_embree_ns;
   d.densities = density_range(scene);
   d.generated_at = utc_now_iso();
   d.machine = machine_description();
@@ -149,14 +149,14 @@ ReportData compute_report(const TriangleMesh& mesh, const std::vector<std::uint3
     so.recipe.pieces.given = pieces;
   }
   so.communicator = &comm;
-  d.rows = run_sweep(mesh, scene.source(), references, so);
+  d.rows = run_sweep(mesh, scene.parts().source, references, so);
   // Timing and the compression curve are rank 0's: only its ReportData is written.
   if (comm.is_root()) d.box_ns = median_query_ns(scene, probes, law, options.timing_rounds);
   SweepRow own;
   own.method = "haptic_box";
   own.m = d.params.m;
   own.n = d.params.n;
-  if (scene.budget_report().present) {
+  if (scene.parts().budget.present) {
     // A bake to a budget (the default bake from a mesh) says so, as the sweep's row of it.
     own.label = bake_label(scene);
   } else if (d.pieces > 1) {
@@ -241,8 +241,8 @@ std::string report_json(const ReportData& d) {
               {"codec", d.codec},
               {"memory_bytes", d.memory_bytes},
               {"refine", d.refine},
-              {"route", d.route},
-              {"stroke_route", d.stroke_route},
+              {"route", answerer_name(d.route)},
+              {"stroke_route", answerer_name(d.stroke_route)},
               {"bake_seconds", d.bake_seconds > 0.0 ? nlohmann::json(d.bake_seconds) : nlohmann::json(nullptr)},
               {"loaded_from_file", !(d.bake_seconds > 0.0)}};
   j["parameters"] = {{"samples", o.samples},
@@ -263,7 +263,7 @@ std::string report_json(const ReportData& d) {
   for (const SweepConfig& c : o.sweep_configs)
     j["parameters"]["sweep_configs"].push_back({{"m", c.m}, {"n", c.n}, {"codec", c.codec}, {"refine", c.refine}});
   // The keys of `hapticbox eval --json`, with the same values for the same input and seed.
-  j["eval"] = eval_json(s, d.box_path, d.mesh_path, o.probes.seed, d.route);
+  j["eval"] = eval_json(s, d.box_path, d.mesh_path, o.probes.seed, answerer_name(d.route));
   j["eval"]["ranks"] = d.ranks;  // as `eval --json` states it
   j["eval"]["workspace"] = workspace_json(d.workspace, o.judge);
   j["eval"]["light_touch"] = light_touch_json(d.light_touch);

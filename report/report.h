@@ -67,11 +67,11 @@ struct ReportData {
   DensityRange densities;                ///< m and n over the scene's boxes.
   std::string codec = "none";
   bool refine = false;                   ///< the boxes refine exactly (bake --refine).
-  std::string route = "boxes";           ///< the scene's route (hb::SceneRoute) the figures were measured on.
-  /// What answers a probe's successive queries (the servo loop, the window): "embree" when the
-  /// bake kept Embree over the full mesh for them (BoxScene::stroke_route), else `route`; and
-  /// the two times the bake measured along strokes (ns; 0: not timed).
-  std::string stroke_route = "boxes";
+  hb::Answerer route = hb::Answerer::boxes;  ///< what answered the queries the figures were measured on.
+  /// What answers a probe's successive queries (the servo loop, the window): Answerer::embree
+  /// when the bake kept Embree over the full mesh for them (BoxScene::stroke_route), else
+  /// `route`; and the two times the bake measured along strokes (ns; 0: not timed).
+  hb::Answerer stroke_route = hb::Answerer::boxes;
   double stroke_cells_ns = 0.0, stroke_embree_ns = 0.0;
   std::size_t memory_bytes = 0;          ///< box tables, plus triangle ids and surface when refining.
   double bake_seconds = 0.0;             ///< 0 when loaded from a file.

@@ -157,7 +157,7 @@ void write_summary(std::ostringstream& h, const ReportData& d) {
   tr("pieces (boxes)", std::to_string(d.pieces));
   tr(d.pieces > 1 ? "densities (over the boxes)" : "densities", densities_text(d));
   tr("codec", html_escape(d.codec) + (d.refine ? ", exact refinement" : ""));
-  tr("route", html_escape(d.route + ": " + route_words(d.route) +
+  tr("route", html_escape(std::string(answerer_words(d.route)) +
                           (d.stroke_route != d.route ? "; along strokes (a probe's successive queries): exact Embree over "
                                                        "the full mesh, measured faster there at bake time"
                                                      : std::string())));
@@ -184,7 +184,7 @@ void write_accuracy(std::ostringstream& h, const ReportData& d, const SpeedAgain
     << percent(tol.contact_agreement) << "</td>" << verdict(d.pass_agreement) << "</tr>\n"
     << "<tr><td class=l>speed: box against exact Embree</td><td>" << ns_text(d.box_ns) << " / " << ns_text(speed.exact_ns)
     << "</td><td>none stated</td><td class=" << (speed.faster ? "pass" : "slow") << ">" << html_escape(speed.text) << "</td></tr>\n"
-    << (d.stroke_route == "embree" && d.stroke_route != d.route
+    << (d.stroke_route == Answerer::embree && d.stroke_route != d.route
             ? "<tr><td class=l>along strokes: the bake's route against the cells</td><td>" + ns_text(d.stroke_embree_ns) + " / " +
                   ns_text(d.stroke_cells_ns) +
                   "</td><td colspan=2 class=l>a probe's successive queries (the servo loop, the window) are answered by "

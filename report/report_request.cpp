@@ -12,13 +12,13 @@ namespace hb {
 std::vector<SweepConfig> report_sweep_configs(const BoxScene& scene, const ReportSweep& sweep, std::string* note) {
   if (note) note->clear();
   std::vector<SweepConfig> out;
-  if (!sweep.enabled || scene.boxes().empty()) return out;
-  const BoxParams own = scene.boxes().front().params();
+  if (!sweep.enabled || scene.parts().boxes.empty()) return out;
+  const BoxParams own = scene.parts().boxes.front().params();
   const bool given = !sweep.m.empty() || !sweep.n.empty();
   if (!given) {
-    if (scene.boxes().size() > 1) {
+    if (scene.parts().boxes.size() > 1) {
       if (note)
-        *note = std::to_string(scene.boxes().size()) +
+        *note = std::to_string(scene.parts().boxes.size()) +
                 " boxes: the default sweep (one box per configuration) is skipped";
       return out;
     }
@@ -42,7 +42,7 @@ ReportData compute_report(const ReportRequest& request) {
   if (!request.scene) throw InvalidInput("report: no box scene");
   ReportOptions options = request.options;
   options.sweep_configs = report_sweep_configs(*request.scene, request.sweep);
-  ReportData d = compute_report(*request.mesh, request.scene->piece_of_triangle(), *request.scene,
+  ReportData d = compute_report(*request.mesh, request.scene->parts().piece_of_triangle, *request.scene,
                                 request.bake_seconds, request.references, options);
   d.product_version = request.product_version;
   d.command_line = request.command_line;

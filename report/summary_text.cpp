@@ -19,7 +19,7 @@ std::string report_summary_text(const ReportData& d, const std::string& dir) {
   o << "measured: the haptic box (" << (d.box_path.empty() ? std::string("baked for the report") : d.box_path) << ": "
     << d.pieces << (d.pieces == 1 ? " box, " : " boxes, ") << densities_text(d) << ", codec " << d.codec
     << (d.refine ? ", exact refinement" : "")
-    << (d.route == "boxes" ? "" : ", answered by " + route_words(d.route)) << ") against the exact answer (Embree on the "
+    << (d.route == Answerer::boxes ? "" : std::string(", answered by ") + answerer_words(d.route)) << ") against the exact answer (Embree on the "
     << count_text(double(d.triangles)) << "-triangle mesh " << mesh << "), on the same " << count_text(double(s.samples))
     << " random probes (seed " << d.options.probes.seed << ")\n";
   o << "workspace: " << d.workspace.describe() << "\n";
@@ -56,20 +56,11 @@ std::string report_summary_text(const ReportData& d, const std::string& dir) {
       << " against " << duration_text(exact_ns * 1e-9) << " a query, one at a time, one core, same probes)";
   else
     o << "speed: not measured";
-  if (d.stroke_route == "embree" && d.stroke_route != d.route)
+  if (d.stroke_route == Answerer::embree && d.stroke_route != d.route)
     o << "\nalong strokes (the servo loop, the window): exact Embree over the full mesh answers a probe's successive "
          "queries, measured faster there by the bake ("
       << duration_text(d.stroke_embree_ns * 1e-9) << " against the cells' " << duration_text(d.stroke_cells_ns * 1e-9) << ")";
   return o.str();
-}
-
-std::string route_words(const std::string& route) {
-  if (route == "raw") return "the paper's raw haptic box (no triangle test)";
-  if (route == "cells") return "the first crossing among the grid's surface-cell triangles (exact)";
-  if (route == "embree")
-    return "exact Embree over the scene's surface (measured faster than the surface cells at bake time; the boxes are "
-           "frames only)";
-  return "the boxes (their samples, refined where they store triangle ids)";
 }
 
 } // namespace hb

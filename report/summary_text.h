@@ -13,9 +13,5 @@ std::string report_summary_text(const ReportData& data, const std::string& dir);
 /// "m 8..37, n 8" (or "m 32, n 16" for one density): hb::range_text over the boxes.
 std::string densities_text(const ReportData& data);
 
-/// What answers a scene of route `route` (hb::route_name: "boxes", "cells", "embree"; or a
-/// budget report's answer, which adds "raw"), in words: "exact Embree over the scene's surface
-/// (...; the boxes are frames only)" and the like.
-std::string route_words(const std::string& route);
 
 } // namespace hb

@@ -143,11 +143,11 @@ vtkSmartPointer<vtkPolyData> box_outline_polydata(const BoxScene& scene) {
   piece->SetName("PieceId");
   m->SetName("M");
   n->SetName("N");
-  for (std::size_t b = 0; b < scene.boxes().size(); ++b)
+  for (std::size_t b = 0; b < scene.parts().boxes.size(); ++b)
     for (int e = 0; e < 12; ++e) {
       piece->InsertNextValue(int(b));
-      m->InsertNextValue(scene.boxes()[b].params().m);
-      n->InsertNextValue(scene.boxes()[b].params().n);
+      m->InsertNextValue(scene.parts().boxes[b].params().m);
+      n->InsertNextValue(scene.parts().boxes[b].params().n);
     }
   pd->GetCellData()->AddArray(piece);
   pd->GetCellData()->AddArray(m);

@@ -197,8 +197,8 @@ int vtkHapticBoxBakeFilter::RequestData(vtkInformation*, vtkInformationVector** 
     vtkNew<vtkIntArray> ptBox, ptFace;
     ptBox->SetName("BoxId");
     ptFace->SetName("Face");
-    for (std::size_t b = 0; b < scene->boxes().size(); ++b) {
-      const hb::HapticBox& box = scene->boxes()[b];
+    for (std::size_t b = 0; b < scene->parts().boxes.size(); ++b) {
+      const hb::HapticBox& box = scene->parts().boxes[b];
       const int m = box.params().m;
       for (int face = 0; face < 6; ++face)
         for (int i = 0; i < m; ++i)
@@ -214,7 +214,7 @@ int vtkHapticBoxBakeFilter::RequestData(vtkInformation*, vtkInformationVector** 
     seconds->SetName("BakeSeconds");
     seconds->InsertNextValue(stats.seconds);
     bytes->SetName("TableBytes");
-    bytes->InsertNextValue(double(scene->table_bytes()));
+    bytes->InsertNextValue(double(scene->bytes().tables));
     fromCache->SetName("FromCache");
     fromCache->InsertNextValue(baked.from_cache ? 1.0 : 0.0);
     outlines->GetFieldData()->AddArray(seconds);
@@ -230,7 +230,7 @@ int vtkHapticBoxBakeFilter::RequestData(vtkInformation*, vtkInformationVector** 
     vtkNew<vtkIntArray> pieceIds;
     pieceIds->SetName("PieceId");
     pieceIds->SetNumberOfValues(vtkIdType(mesh.triangle_count()));
-    const std::vector<std::uint32_t>& of = scene->piece_of_triangle();
+    const std::vector<std::uint32_t>& of = scene->parts().piece_of_triangle;
     for (std::size_t t = 0; t < mesh.triangle_count(); ++t)
       pieceIds->SetValue(vtkIdType(t), t < of.size() ? int(of[t]) : 0);
     // (the output's own attributes: the input's arrays stay as they were)

@@ -59,7 +59,7 @@ int vtkHapticBoxErrorFieldFilter::RequestData(vtkInformation*, vtkInformationVec
     vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
     vtkHapticBoxSet* boxes = vtkHapticBoxSet::GetData(inputVector[1], 0);
     vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-    if (!boxes || !boxes->GetScene() || boxes->GetScene()->boxes().empty())
+    if (!boxes || !boxes->GetScene() || boxes->GetScene()->parts().boxes.empty())
       throw hb::InvalidInput("no boxes on input port 1");
     this->UpdateProgress(0.0);
 
@@ -80,7 +80,7 @@ int vtkHapticBoxErrorFieldFilter::RequestData(vtkInformation*, vtkInformationVec
     this->BuiltExact = built != nullptr;
     const hb::ExactQuery& exact = built ? *built : *this->Exact;
     const float diagonal =
-        boxes->GetScene()->source().diagonal > 0.f ? boxes->GetScene()->source().diagonal : mesh.bounds().diagonal();
+        boxes->GetScene()->parts().source.diagonal > 0.f ? boxes->GetScene()->parts().source.diagonal : mesh.bounds().diagonal();
 
     std::vector<hb::SurfacePoint> points = this->SampleMode == EVEN
         ? hb::sample_surface_evenly(mesh, std::size_t(this->NumberOfSamples), this->Seed)
@@ -144,7 +144,7 @@ int vtkHapticBoxErrorFieldFilter::RequestData(vtkInformation*, vtkInformationVec
     // The first array ParaView colours by: defined everywhere, anchored at what a hand feels.
     pd->SetActiveScalars("PerceptibleRatio");
     // Which box each triangle belongs to, when the scene is cut into pieces.
-    const std::vector<std::uint32_t>& pieces = boxes->GetScene()->piece_of_triangle();
+    const std::vector<std::uint32_t>& pieces = boxes->GetScene()->parts().piece_of_triangle;
     if (this->SampleMode == VERTICES && !pieces.empty() && pieces.size() == mesh.triangle_count()) {
       vtkNew<vtkIntArray> ids;
       ids->SetName("PieceId");
@@ -161,13 +161,13 @@ int vtkHapticBoxErrorFieldFilter::RequestData(vtkInformation*, vtkInformationVec
     const hb::BoxScene& scene = *boxes->GetScene();
     const hb::DensityRange densities = hb::density_range(scene);
     hb::vtk::Provenance p;
-    p.strings = {{"Codec", hb::codec_name(scene.boxes().front().codec())},
+    p.strings = {{"Codec", hb::codec_name(scene.parts().boxes.front().codec())},
                  {"Refined", scene.refines() ? "yes" : "no"},
-                 {"SourceMesh", scene.source().mesh_path},
+                 {"SourceMesh", scene.parts().source.mesh_path},
                  {"SampleMode", this->SampleMode == EVEN ? "even" : "vertices"},
                  {"NoData", "NaN in RelativeForceError and DirectionError: no probe at the point had a contact in both "
                             "answers (no data, not zero error; see ContactDisagreement and AbsoluteForceError)"}};
-    p.numbers = {{"Boxes", double(scene.boxes().size())},
+    p.numbers = {{"Boxes", double(scene.parts().boxes.size())},
                  {"MMin", double(densities.m_min)},
                  {"MMax", double(densities.m_max)},
                  {"NMin", double(densities.n_min)},

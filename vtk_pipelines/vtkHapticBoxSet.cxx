@@ -14,7 +14,7 @@ void vtkHapticBoxSet::SetScene(std::shared_ptr<const hb::BoxScene> scene) {
 }
 
 vtkIdType vtkHapticBoxSet::GetNumberOfBoxes() const {
-  return this->Scene ? vtkIdType(this->Scene->boxes().size()) : 0;
+  return this->Scene ? vtkIdType(this->Scene->parts().boxes.size()) : 0;
 }
 
 void vtkHapticBoxSet::Initialize() {
@@ -34,7 +34,7 @@ void vtkHapticBoxSet::DeepCopy(vtkDataObject* src) {
 }
 
 unsigned long vtkHapticBoxSet::GetActualMemorySize() {
-  const std::size_t bytes = this->Scene ? this->Scene->table_bytes() : 0;
+  const std::size_t bytes = this->Scene ? this->Scene->bytes().tables : 0;
   return this->Superclass::GetActualMemorySize() + static_cast<unsigned long>(bytes / 1024);
 }
 
@@ -49,5 +49,5 @@ vtkHapticBoxSet* vtkHapticBoxSet::GetData(vtkInformationVector* v, int i) {
 void vtkHapticBoxSet::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Boxes: " << this->GetNumberOfBoxes() << "\n";
-  if (this->Scene) os << indent << "TableBytes: " << this->Scene->table_bytes() << "\n";
+  if (this->Scene) os << indent << "TableBytes: " << this->Scene->bytes().tables << "\n";
 }

@@ -73,8 +73,8 @@ vtkSmartPointer<vtkPolyData> vtkHapticBoxUtilities::BoxOutlines(const hb::BoxSce
   lineBox->SetName("BoxId");
   static const int edges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
                                    {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
-  for (std::size_t b = 0; b < scene.boxes().size(); ++b) {
-    const hb::Obb& o = scene.boxes()[b].obb();
+  for (std::size_t b = 0; b < scene.parts().boxes.size(); ++b) {
+    const hb::Obb& o = scene.parts().boxes[b].obb();
     const vtkIdType base = corners->GetNumberOfPoints();
     for (int k = 0; k < 8; ++k) {
       const hb::Vec3 w = o.to_world(hb::Vec3((k & 1) ? o.half.x() : -o.half.x(), (k & 2) ? o.half.y() : -o.half.y(),

@@ -111,9 +111,10 @@ public:
   /// micrometres away, finds its cells and triangles in cache instead of evicted by a
   /// millisecond's sleep. This default asks query(), for queries without state.
   virtual void prime(const Segment& segment, const ForceLaw& law) const noexcept {
-    const Contact c = query(segment, law);
-    asm volatile("" : : "r"(&c) : "memory");  // keep the query
+    keep_result(query(segment, law));
   }
+  /// Keeps the compiler from dropping a query whose answer is discarded (prime's reads).
+  static void keep_result(const Contact& c) noexcept { asm volatile("" : : "r"(&c) : "memory"); }
 };
 
 /// Fills `c.force` from `c.depth` and `c.normal`, the depth along the segment (eq. 2 as

@@ -13,7 +13,7 @@ namespace {
 void add_query_errors(CompressionSweepPoint& p, const BoxScene& scene, const BoxScene& raw,
                       const CompressionSweepOptions& o) {
   if (o.probes.empty()) return;
-  const float diag = raw.source().diagonal > 0.f ? raw.source().diagonal : 1.f;
+  const float diag = raw.parts().source.diagonal > 0.f ? raw.parts().source.diagonal : 1.f;
   const ComparisonStats vs_raw = compare_queries(scene, raw, o.probes, o.law, diag, nullptr, nullptr, nullptr, o.judge);
   p.contact_agreement_vs_raw = vs_raw.contact_agreement;
   p.force_error_vs_raw_median = vs_raw.force_error_median;
@@ -30,9 +30,9 @@ void add_query_errors(CompressionSweepPoint& p, const BoxScene& scene, const Box
 } // namespace
 
 std::vector<CompressionSweepPoint> compression_sweep(const BoxScene& raw, const CompressionSweepOptions& o) {
-  if (!raw.has_tables())
+  if (!has_tables(raw.parts()))
     throw InvalidInput("compression sweep: the scene's boxes are frames without tables (answered by exact Embree)");
-  for (const HapticBox& box : raw.boxes())
+  for (const HapticBox& box : raw.parts().boxes)
     if (box.codec() != CodecId::none)
       throw InvalidInput(std::string("compression sweep: needs uncompressed tables, the scene holds a '") +
                          codec_name(box.codec()) + "' table");
@@ -42,7 +42,7 @@ std::vector<CompressionSweepPoint> compression_sweep(const BoxScene& raw, const 
     if (o.progress && !o.progress(double(points.size()) / double(total))) throw Cancelled("compression sweep cancelled");
   };
   CompressionSweepPoint base;
-  for (const HapticBox& box : raw.boxes()) base.bytes += box.table_bytes();
+  for (const HapticBox& box : raw.parts().boxes) base.bytes += box.table_bytes();
   add_query_errors(base, raw, raw, o);
   points.push_back(base);
   report();
@@ -58,7 +58,7 @@ std::vector<CompressionSweepPoint> compression_sweep(const BoxScene& raw, const 
       p.codec = codec;
       p.max_error = bound;
       std::uint64_t raw_bytes = 0, hits_weight = 0;
-      for (const HapticBox& box : raw.boxes()) {
+      for (const HapticBox& box : raw.parts().boxes) {
         boxes.push_back(box.compressed(co));
         const CodecStats& s = boxes.back().codec_stats();
         raw_bytes += s.raw_bytes;
@@ -73,7 +73,7 @@ std::vector<CompressionSweepPoint> compression_sweep(const BoxScene& raw, const 
       p.t_error_mean /= double(hits_weight);
       p.normal_error_mean_deg /= double(hits_weight);
       p.ratio = double(raw_bytes) / double(p.bytes);
-      const BoxScene scene(std::move(boxes), raw.source());
+      const BoxScene scene(SceneParts{std::move(boxes), raw.parts().source});
       add_query_errors(p, scene, raw, o);
       points.push_back(p);
       report();

@@ -118,12 +118,13 @@ public:
     auto g = std::make_unique<Generated>();
     g->name = std::move(name);
     g->mesh = std::move(m);
-    g->box = std::make_unique<BoxScene>(bake_scene(g->mesh, {}, bake_, SourceInfo{}));
-    g->box->set_unconfirmed_blend(box_.unconfirmed_blend());
+    SceneParts parts = bake_scene(g->mesh, {}, bake_, SourceInfo{}).parts();
     // The model's route where the generated scene can take it (an embree route needs a
     // surface; a generated scene without one keeps its own).
-    if (box_.route() != SceneRoute::embree || g->box->surface()) g->box->set_route(box_.route());
-    g->box->set_walk_all_candidates(box_.boxes().empty() || box_.boxes()[0].walk_all_candidates());
+    if (box_.route() != SceneRoute::embree || parts.surface) parts.route = box_.route();
+    const bool walk_all = box_.parts().boxes.empty() || box_.parts().boxes[0].walk_all_candidates();
+    for (HapticBox& b : parts.boxes) b.set_walk_all_candidates(walk_all);
+    g->box = std::make_unique<BoxScene>(std::move(parts));
     g->exact = std::make_unique<ExactQuery>(g->mesh);
     return g;
   }

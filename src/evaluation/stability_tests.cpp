@@ -255,7 +255,7 @@ void Suite::t2(const Scene& s) {
           std::size_t met = 0;
           if (s.box_scene) {
             const Vec3 tip = s.map.to_model(tips[k]);
-            met = s.box_scene->boxes_met(
+            met = boxes_met(*s.box_scene, 
                 Segment{tip - (dir * (o_.stylus_m / s.map.metres_per_unit)).cast<float>(), tip});
           }
           const bool at_seam = k > 0 && met != prev_met;
@@ -317,7 +317,7 @@ void Suite::t2(const Scene& s) {
              0.0, StabilityRule::at_most, 0.001));
   add(metric("T2", s.name, "share of contact ticks with |F_box|/|F_exact| outside [0.93, 1.07]", "",
              both ? ratio_out / double(both) : 0.0, 0.0, StabilityRule::at_most, 0.01));
-  if (s.box_scene && s.box_scene->boxes().size() > 1)
+  if (s.box_scene && s.box_scene->parts().boxes.size() > 1)
     add(metric("T2", s.name, "same, at ticks where the boxes met change (seams)", "",
                seam ? seam_out / double(seam) : 0.0, 0.0, StabilityRule::at_most, 0.01));
 }

@@ -109,7 +109,7 @@ BoxScene refined(const TriangleMesh& mesh, const ToolStabilityOptions& options) 
   BakeOptions o;
   o.params = {12, 6};
   o.refine = true;
-  return bake_scene(mesh, {}, o, SourceInfo{}).without_triangle_ids();
+  return BoxScene(without_triangle_ids(bake_scene(mesh, {}, o, SourceInfo{})));
 }
 
 // Runs `path` over both answerers of a scene; `judge` fills pass and the figure per method.

@@ -386,8 +386,8 @@ BoxScene bake_scene_from_lists(const TriangleMesh& mesh, const std::vector<std::
     stats->table_bytes = 0;
     for (const HapticBox& box : boxes) stats->table_bytes += box.raw_table_bytes() + box.triangle_id_bytes();
   }
-  if (boxes.empty()) return BoxScene({}, source);  // a rank that does not receive the scene
-  return BoxScene(std::move(boxes), source, {}, std::move(grid));
+  if (boxes.empty()) return BoxScene(SceneParts({}, source));  // a rank that does not receive the scene
+  return BoxScene(SceneParts(std::move(boxes), source, {}, std::move(grid)));
 }
 
 } // namespace hb

@@ -48,12 +48,12 @@ std::vector<char> stroke_mesh_bytes(const TriangleMesh* mesh) {
 } // namespace
 
 void save_box_file(const BoxScene& scene, const std::string& path) {
-  const auto& boxes = scene.boxes();
-  const SourceInfo& src = scene.source();
+  const auto& boxes = scene.parts().boxes;
+  const SourceInfo& src = scene.parts().source;
   // Header size is known once written with placeholder offsets; compute offsets after.
   // The surface shared by the refined boxes, or the scene's own without triangle ids (a
   // scene has one, or none).
-  const SurfaceTriangles* surface = scene.surface().get();
+  const SurfaceTriangles* surface = scene.parts().surface.get();
   for (const HapticBox& box : boxes)
     if (box.refines()) {
       if (surface && surface != box.surface().get())
@@ -64,22 +64,22 @@ void save_box_file(const BoxScene& scene, const std::string& path) {
   // Piece ids are written when they match the recorded triangle count (always after hb::bake).
   static const std::vector<std::uint32_t> no_pieces;
   const std::vector<std::uint32_t>& pieces =
-      scene.piece_of_triangle().size() == src.triangles ? scene.piece_of_triangle() : no_pieces;
+      scene.parts().piece_of_triangle.size() == src.triangles ? scene.parts().piece_of_triangle : no_pieces;
   const std::size_t piece_bytes = pieces.size() * sizeof(std::uint32_t);
   const std::uint64_t piece_hash = pieces.empty() ? 0 : XXH3_64bits(pieces.data(), piece_bytes);
   std::vector<std::uint64_t> id_hashes;
   for (const HapticBox& box : boxes)
     id_hashes.push_back(box.refines() ? XXH3_64bits(box.triangle_ids().data, box.triangle_id_bytes()) : 0);
-  const std::vector<std::uint8_t> grid_bytes = scene.grid() ? scene.grid()->serialize() : std::vector<std::uint8_t>{};
+  const std::vector<std::uint8_t> grid_bytes = scene.parts().grid ? scene.parts().grid->serialize() : std::vector<std::uint8_t>{};
   const std::uint64_t grid_hash = grid_bytes.empty() ? 0 : XXH3_64bits(grid_bytes.data(), grid_bytes.size());
-  const std::string budget_text = scene.budget_report().present ? scene.budget_report().serialize() : std::string();
+  const std::string budget_text = scene.parts().budget.present ? scene.parts().budget.serialize() : std::string();
   const std::uint64_t budget_hash = budget_text.empty() ? 0 : XXH3_64bits(budget_text.data(), budget_text.size());
   const std::size_t map_bytes = surface ? surface->normal_map_bytes() : 0;
   const std::uint64_t map_hash = map_bytes ? XXH3_64bits(surface->normal_map(), map_bytes) : 0;
-  const std::vector<char> stroke_bytes = stroke_mesh_bytes(scene.stroke_mesh());
+  const std::vector<char> stroke_bytes = stroke_mesh_bytes(stroke_mesh(scene));
   const std::uint64_t stroke_hash = stroke_bytes.empty() ? 0 : XXH3_64bits(stroke_bytes.data(), stroke_bytes.size());
   const std::uint32_t version = !stroke_bytes.empty() ? kBoxFileVersion
-                                : scene.has_tables()  ? kBoxFileVersionWithTables
+                                : has_tables(scene.parts())  ? kBoxFileVersionWithTables
                                                       : kBoxFileVersionWithFrames;
   // offsets: the tables, then the ids of each box, then the surface, then the grid (zeros
   // while sizing).

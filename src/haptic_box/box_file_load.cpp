@@ -445,12 +445,14 @@ BoxScene load_box_file(const std::string& path, const LoadOptions& options) {
   BudgetReport budget = read_budget_report(h, m);
   std::optional<TriangleMesh> stroke = read_stroke_mesh(h, m);
   try {
-    BoxScene scene(std::move(boxes), h.src, std::move(pieces), std::move(grid), surface);
-    scene.set_budget_report(std::move(budget));
-    if (stroke) scene.set_stroke_mesh(std::move(*stroke));
-    if (!scene.has_tables() && scene.answering_route() == SceneRoute::boxes)
+    SceneParts parts{std::move(boxes), h.src, std::move(pieces), std::move(grid), surface};
+    // The bake measured Embree faster on this scene: it answers (a surface without a normal map).
+    if (budget.answer == Answerer::embree && surface && surface->normal_map_side() == 0) parts.route = SceneRoute::embree;
+    parts.budget = std::move(budget);
+    if (stroke) parts.stroke = make_stroke_route(std::move(*stroke));
+    if (!has_tables(parts) && parts.route != SceneRoute::embree && !(parts.grid && parts.surface))
       throw InvalidInput("box frames without tables, and the scene names no Embree route (nor surface cells) to answer it");
-    return scene;
+    return BoxScene(std::move(parts));
   } catch (const InvalidInput& err) {
     throw InvalidInput(path + ": corrupt box file (" + err.what() + ")");
   }

@@ -1,4 +1,5 @@
-// Box scene query.
+// Box scene query. SceneRoute::embree asks Embree; SceneRoute::cells walks the surface cells
+// from the handle (first_crossing_contact); SceneRoute::boxes takes the steps below.
 //  1. Cull: the segment against the axis-aligned bounds of every PBB (flat loop).
 //  2. Each surviving box runs its query (which starts with its exact PBB slab test).
 //  3. The valid contact nearest the handle wins (contact definition: the first outside
@@ -30,15 +31,13 @@
 //     the grid named find no contact although the segment crossed surface, the other boxes
 //     the segment meets are asked the same way (the handle is outside: no inside test)
 //     before steps 1-4 decide.
-//  6. Unconfirmed blends (UnconfirmedBlend::reject, the default; here and in the routed path of step 5): when the winner's full
+//  6. Unconfirmed blends (here and in the routed path of step 5): when the winner's full
 //     refinement finds no triangle confirming its blended contact, the next blended contact
 //     along the segment is refined in turn, and the first confirmed one wins; none confirmed
-//     is no contact. Without it (UnconfirmedBlend::keep) a blend nearer the handle than the
-//     true surface, which refinement cannot confirm, won and pushed up to 1.2 mm from any
-//     triangle (issue 11: +10.9 N jumps on the armadillo; docs/stability.md).
+//     is no contact: a blend nearer the handle than the true surface, which refinement cannot
+//     confirm, would push up to a millimetre from any triangle (docs/stability.md).
 //  7. The triangles below the grid's surface cells (SurfaceCells, surface_cells.h; built from
-//     the grid and the boxes' shared surface when the scene is made; default on, with
-//     `reject`; set_cell_triangles(false) is the routing before, 2026-12-02). (a) A handle in
+//     the grid and the boxes' shared surface when the scene is made). (a) A handle in
 //     a surface cell is inside or outside by its cell's triangles (the crossing nearest it
 //     on the segment to its cell's centre, whose state is known): inside is no contact with
 //     no box query, outside is routed as from an outside cell; only an undecided centre
@@ -49,8 +48,7 @@
 //     front face nearer (a second sheet a box named by the cell does not see: an ear a few
 //     microns in front of the head) or a contact the boxes lost: that triangle's contact
 //     from a refining box the segment meets (HapticBox::query_near, no walk), else steps 1-4.
-//     Measured on the elephant (2026-12-02): T2 ticks answered from another surface 0.29% ->
-//     0.014%, lost contacts 0.25% -> 0, `eval --seed 2` agreement 99.56% -> 99.925%.
+//     This settles the second sheets and lost contacts the boxes alone miss.
 #include "haptic_box/box_scene_parts.h"
 #include "errors.h"
 #include "exact/exact_query.h"
@@ -90,13 +88,13 @@ std::size_t BoxScene::cull(const Segment& segment, std::size_t first, std::size_
   return met;
 }
 
-std::size_t BoxScene::boxes_met(const Segment& segment) const noexcept {
+std::size_t boxes_met(const BoxScene& scene, const Segment& segment) noexcept {
   const Vec3 delta = segment.end - segment.start;
   const float length = delta.norm();
   if (!(length > 0.f)) return 0;
   const Vec3 l = delta / length;
   std::size_t met = 0;
-  for (const HapticBox& box : boxes_) {
+  for (const HapticBox& box : scene.parts().boxes) {
     LineBoxHit hit;
     if (intersect_line_obb(box.obb(), segment.start, l, hit) && hit.t_enter <= length && hit.t_exit >= 0.f) ++met;
   }
@@ -104,70 +102,85 @@ std::size_t BoxScene::boxes_met(const Segment& segment) const noexcept {
 }
 
 Contact BoxScene::query(const Segment& segment, const ForceLaw& law) const noexcept {
-  if (route_ == SceneRoute::embree && embree_) return embree_->exact->query(segment, law);
+  switch (route_) {
+  case SceneRoute::embree: return parts_.embree->exact->query(segment, law);
+  case SceneRoute::cells: {
+    // An inside handle has no contact; a segment without a length takes the boxes' path.
+    if (parts_.grid->code_at(segment.start) == SceneGrid::kInside) return Contact{};
+    const float length = (segment.end - segment.start).norm();
+    if (length > 0.f && std::isfinite(length)) return first_crossing_contact(segment, length, law);
+    return query_met(segment, law, nullptr);
+  }
+  case SceneRoute::boxes: break;
+  }
   Contact routed;
-  if (grid_ && query_routed(segment, law, routed, nullptr)) return routed;
+  if (parts_.grid && query_routed(segment, law, routed, nullptr)) return routed;
   return query_met(segment, law, nullptr);
 }
 
 std::size_t BoxScene::box_queries(const Segment& segment, const ForceLaw& law) const noexcept {
+  if (route_ != SceneRoute::boxes) return 0;
   std::size_t asked = 0;
   Contact c;
-  if (route_ == SceneRoute::embree && embree_) return 0;
-  if (grid_ && query_routed(segment, law, c, &asked)) return asked;
+  if (parts_.grid && query_routed(segment, law, c, &asked)) return asked;
   query_met(segment, law, &asked);  // after the boxes the grid asked, if any
   return asked;
 }
 
-Contact BoxScene::query_as_stroke(const Segment& segment, const ForceLaw& law) const noexcept {
-  if (strokes_by_full_mesh()) return stroke_->exact->query(segment, law);
-  return query(segment, law);
+void BoxScene::prime(const Segment& segment, const ForceLaw& law) const noexcept {
+  const Contact c = stroke_route_ == SceneRoute::embree && route_ == SceneRoute::cells
+                        ? parts_.stroke->exact->query(segment, law)
+                        : query(segment, law);
+  keep_result(c);
 }
 
 Contact BoxScene::query(const Segment& segment, const ForceLaw& law, SceneQueryState& state) const noexcept {
-  if (route_ == SceneRoute::embree && embree_) {
+  if (stroke_route_ == SceneRoute::embree) {
+    // Embree over the surface, or the stroke route over the full mesh.
     ++state.full;
-    return embree_->exact->query(segment, law);
+    return (route_ == SceneRoute::embree ? parts_.embree : parts_.stroke)->exact->query(segment, law);
   }
-  if (strokes_by_full_mesh()) {
-    // The stroke route: Embree over the full mesh, measured faster along strokes at bake time.
+  return route_ == SceneRoute::cells ? query_cells_stroke(segment, law, state)
+                                     : query_boxes_stroke(segment, law, state);
+}
+
+Contact BoxScene::query_cells_stroke(const Segment& segment, const ForceLaw& law,
+                                     SceneQueryState& state) const noexcept {
+  // As query()'s cells route: an inside handle has no contact; a segment without a length
+  // takes the full query.
+  const float length = (segment.end - segment.start).norm();
+  const bool inside = parts_.grid->code_at(segment.start) == SceneGrid::kInside;
+  if (inside || !(length > 0.f) || !std::isfinite(length)) {
     ++state.full;
-    return stroke_->exact->query(segment, law);
+    return inside ? Contact{} : query(segment, law);
   }
-  if (grid_ && cells_ && answering_route() == SceneRoute::cells) {
-    // As query_routed's cells route: an inside handle has no contact; a segment without a
-    // length takes the full query.
-    const float length = (segment.end - segment.start).norm();
-    const bool inside = grid_->code_at(segment.start) == SceneGrid::kInside;
-    if (inside || !(length > 0.f) || !std::isfinite(length)) {
-      ++state.full;
-      return inside ? Contact{} : query(segment, law);
-    }
-    const float reach = kFreeReach * grid_->cell();
-    // The same owner as cells_, which is alive: the same cells (a control block outlives its
-    // weak references, so a later scene's cells cannot share it).
-    const bool same_cells = !state.walked_cells.owner_before(cells_) && !cells_.owner_before(state.walked_cells);
-    const bool near = same_cells &&
-                      (segment.start - state.walked_start).squaredNorm() < reach * reach &&
-                      (segment.end - state.walked_end).squaredNorm() < reach * reach;
-    float s = 0.f;
-    bool front = false;
-    std::uint32_t triangle = kNoTriangle;
-    if (near) {
-      ++state.from_state;
-      cells_->first_crossing_along(segment.start, segment.end, 1.f, s, front, triangle, state.free_to);
-    } else {
-      ++state.full;
-      cells_->first_crossing_along(segment.start, segment.end, 1.f, s, front, triangle, 0.f, &state.free_to);
-      if (!same_cells) state.walked_cells = cells_, state.lattice = SurfaceTriangles::LatticeCache{};
-      state.walked_start = segment.start;
-      state.walked_end = segment.end;
-    }
-    return crossing_contact(segment, length, law, triangle, front, &state.lattice);
+  const float reach = kFreeReach * parts_.grid->cell();
+  // The same owner as cells_, which is alive: the same cells (a control block outlives its
+  // weak references, so a later scene's cells cannot share it).
+  const bool same_cells = !state.walked_cells.owner_before(cells_) && !cells_.owner_before(state.walked_cells);
+  const bool near = same_cells && (segment.start - state.walked_start).squaredNorm() < reach * reach &&
+                    (segment.end - state.walked_end).squaredNorm() < reach * reach;
+  float s = 0.f;
+  bool front = false;
+  std::uint32_t triangle = kNoTriangle;
+  if (near) {
+    ++state.from_state;
+    cells_->first_crossing_along(segment.start, segment.end, 1.f, s, front, triangle, state.free_to);
+  } else {
+    ++state.full;
+    cells_->first_crossing_along(segment.start, segment.end, 1.f, s, front, triangle, 0.f, &state.free_to);
+    if (!same_cells) state.walked_cells = cells_, state.lattice = SurfaceTriangles::LatticeCache{};
+    state.walked_start = segment.start;
+    state.walked_end = segment.end;
   }
-  if (grid_ && state.box < boxes_.size() && state.triangle != SceneQueryState::kNone && boxes_[state.box].refines() &&
-      grid_->code_at(segment.start) == SceneGrid::kOutside) {
-    const HapticBox& box = boxes_[state.box];
+  return crossing_contact(segment, length, law, triangle, front, &state.lattice);
+}
+
+Contact BoxScene::query_boxes_stroke(const Segment& segment, const ForceLaw& law,
+                                     SceneQueryState& state) const noexcept {
+  if (parts_.grid && state.box < parts_.boxes.size() && state.triangle != SceneQueryState::kNone && parts_.boxes[state.box].refines() &&
+      parts_.grid->code_at(segment.start) == SceneGrid::kOutside) {
+    const HapticBox& box = parts_.boxes[state.box];
     Contact c;
     float along = 0.f;
     std::uint32_t crossed = kNoTriangle;
@@ -176,19 +189,19 @@ Contact BoxScene::query(const Segment& segment, const ForceLaw& law, SceneQueryS
       // contact: it would ask this box alone.
       const float length = (segment.end - segment.start).norm();
       bool alone = true;
-      grid_->walk_surface(segment.start, segment.end, [&](std::uint16_t code, float s) {
+      parts_.grid->walk_surface(segment.start, segment.end, [&](std::uint16_t code, float s) {
         if (s * length > along) return false;
-        for (const std::uint32_t* b = grid_->boxes_begin(code); b != grid_->boxes_end(code); ++b)
+        for (const std::uint32_t* b = parts_.grid->boxes_begin(code); b != parts_.grid->boxes_end(code); ++b)
           if (*b != state.box) alone = false;
         return alone;
       });
-      if (alone && use_cells_ && cells_ && unconfirmed_ == UnconfirmedBlend::reject) {
+      if (alone && cells_) {
         // As the full query (step 7): no triangle of the cells before the contact is crossed
         // nearer.
         std::uint32_t cells[Visited::kMax];
         int n = 0;
         bool overflow = false;
-        grid_->walk_surface(segment.start, segment.end, [&](std::uint16_t, float s, const int* i) {
+        parts_.grid->walk_surface(segment.start, segment.end, [&](std::uint16_t, float s, const int* i) {
           if (s * length > along) return false;
           if (n == Visited::kMax) return !(overflow = true);
           cells[n++] = cells_->index(i[0], i[1], i[2]);
@@ -213,8 +226,8 @@ Contact BoxScene::query(const Segment& segment, const ForceLaw& law, SceneQueryS
   // One block-coded box: the state keeps its last decoded quads (DecodedQuads), forgotten
   // when the table is another's.
   DecodedQuads* quads = nullptr;
-  if (boxes_.size() == 1 && boxes_[0].codec() == CodecId::block && boxes_[0].table_owner()) {
-    const std::shared_ptr<const void>& owner = boxes_[0].table_owner();
+  if (parts_.boxes.size() == 1 && parts_.boxes[0].codec() == CodecId::block && parts_.boxes[0].table_owner()) {
+    const std::shared_ptr<const void>& owner = parts_.boxes[0].table_owner();
     if (state.quads_owner.owner_before(owner) || owner.owner_before(state.quads_owner)) {
       state.quads = DecodedQuads{};
       state.quads_owner = owner;
@@ -223,9 +236,9 @@ Contact BoxScene::query(const Segment& segment, const ForceLaw& law, SceneQueryS
   }
   std::uint32_t box = SceneQueryState::kNone, triangle = kNoTriangle;
   Contact c;
-  if (!(grid_ && query_routed(segment, law, c, nullptr, &box, &triangle)))
+  if (!(parts_.grid && query_routed(segment, law, c, nullptr, &box, &triangle)))
     c = query_met(segment, law, nullptr, &box, &triangle, quads);
-  const bool known = c.contact && box < boxes_.size() && triangle != kNoTriangle;
+  const bool known = c.contact && box < parts_.boxes.size() && triangle != kNoTriangle;
   state.box = known ? box : SceneQueryState::kNone;
   state.triangle = known ? triangle : SceneQueryState::kNone;
   return c;
@@ -233,23 +246,13 @@ Contact BoxScene::query(const Segment& segment, const ForceLaw& law, SceneQueryS
 
 bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact& out,
                             std::size_t* asked_count, std::uint32_t* out_box, std::uint32_t* out_triangle) const noexcept {
-  const SceneGrid& grid = *grid_;
+  const SceneGrid& grid = *parts_.grid;
   const std::uint16_t handle = grid.code_at(segment.start);
   if (handle == SceneGrid::kInside) {
     out = Contact{};
     return true;
   }
-  // The cells route needs no state of the handle: the first crossing's facing is exact's rule
-  // (a back face: the handle is inside, no contact), whatever cell the handle is in.
-  if (answering_route() == SceneRoute::cells) {
-    const float length = (segment.end - segment.start).norm();
-    if (!(length > 0.f) || !std::isfinite(length)) return false;
-    out = first_crossing_contact(segment, length, law);
-    if (out_box) *out_box = SceneQueryState::kNone;
-    if (out_triangle) *out_triangle = kNoTriangle;
-    return true;
-  }
-  const bool cells = use_cells_ && cells_ && unconfirmed_ == UnconfirmedBlend::reject;
+  const bool cells = cells_ != nullptr;
   // A handle in a surface cell: its cell's triangles say whether it is inside (no contact)
   // or outside (routed); without them, or when they cannot tell, it is routed when shown
   // outside (its cell's boxes then see the surface around it); otherwise the path without
@@ -262,8 +265,8 @@ bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact
       return true;
     }
     if (state != SceneGrid::kOutside &&
-        (handle < SceneGrid::kFirstSurface || unconfirmed_ != UnconfirmedBlend::reject ||
-         !handle_outside_behind(grid, boxes_, segment, law, asked_count)))
+        (handle < SceneGrid::kFirstSurface ||
+         !handle_outside_behind(grid, parts_.boxes, segment, law, asked_count)))
       return false;
   }
   const float length = (segment.end - segment.start).norm();
@@ -299,14 +302,14 @@ bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact
       float along = 0.f;
       bool refined = false;
       std::uint32_t triangle = kNoTriangle;
-      const HapticBox& box = boxes_[*b];
-      if (unconfirmed_ == UnconfirmedBlend::reject && box.refines()) {
+      const HapticBox& box = parts_.boxes[*b];
+      if (box.refines()) {
         // Unconfirmed blends of refining boxes never answer here (step 6), so the blend is
         // not needed: the triangle ids alone answer (step 7).
         if (!box.query_refined(segment, law, c, along, &triangle)) continue;
       } else {
         if (!box.query_into(segment, law, c, along, Refine::all, &refined, &triangle)) continue;
-        if (unconfirmed_ == UnconfirmedBlend::reject && box.refines() && !refined) continue;
+        if (box.refines() && !refined) continue;
       }
       if (!best.contact || along < best_along) {
         best = c;
@@ -335,12 +338,12 @@ bool BoxScene::query_routed(const Segment& segment, const ForceLaw& law, Contact
     // outside, so the other boxes the segment meets may answer without an inside test.
     constexpr std::size_t kChunk = 64;
     std::uint32_t met[kChunk];
-    for (std::size_t first = 0; first < boxes_.size(); first += kChunk) {
-      const std::size_t count = cull(segment, first, std::min(boxes_.size(), first + kChunk), met);
+    for (std::size_t first = 0; first < parts_.boxes.size(); first += kChunk) {
+      const std::size_t count = cull(segment, first, std::min(parts_.boxes.size(), first + kChunk), met);
       for (std::size_t i = 0; i < count; ++i) {
         if (std::find(asked, asked + n_asked, met[i]) != asked + n_asked) continue;
         if (asked_count) ++*asked_count;
-        const HapticBox& box = boxes_[met[i]];
+        const HapticBox& box = parts_.boxes[met[i]];
         float along = 0.f;
         std::uint32_t triangle = kNoTriangle;
         bool hit = false;
@@ -417,12 +420,12 @@ bool BoxScene::settle_first_crossing(const Segment& segment, const ForceLaw& law
   // A front face nearer than the boxes' contact (another sheet the box asked does not see),
   // or the boxes lost it: the contact of that triangle, from a refining box the segment meets.
   const auto try_box = [&](std::uint32_t b) {
-    if (b >= boxes_.size() || !boxes_[b].refines()) return false;
+    if (b >= parts_.boxes.size() || !parts_.boxes[b].refines()) return false;
     if (asked_count) ++*asked_count;
     Contact c;
     float along = 0.f;
     std::uint32_t crossed = kNoTriangle;
-    if (!boxes_[b].query_near(segment, law, first, 0, c, along, &crossed)) return false;
+    if (!parts_.boxes[b].query_near(segment, law, first, 0, c, along, &crossed)) return false;
     best = c;
     best_along = along;
     best_box = b;
@@ -435,7 +438,7 @@ bool BoxScene::settle_first_crossing(const Segment& segment, const ForceLaw& law
   if (best.contact) tried[n_tried++] = best_box;
   for (int k = 0; k < visited.count; ++k) {
     if (visited.s[k] > s) break;  // the crossing's cell begins before it
-    for (const std::uint32_t* b = grid_->boxes_begin(visited.code[k]); b != grid_->boxes_end(visited.code[k]); ++b) {
+    for (const std::uint32_t* b = parts_.grid->boxes_begin(visited.code[k]); b != parts_.grid->boxes_end(visited.code[k]); ++b) {
       if (std::find(tried, tried + n_tried, *b) != tried + n_tried) continue;
       if (n_tried < Visited::kMax) tried[n_tried++] = *b;
       if (try_box(*b)) return true;
@@ -444,8 +447,8 @@ bool BoxScene::settle_first_crossing(const Segment& segment, const ForceLaw& law
   // Then any other box the segment meets (the triangle's own piece is not named there).
   constexpr std::size_t kChunk = 64;
   std::uint32_t met[kChunk];
-  for (std::size_t first_box = 0; first_box < boxes_.size(); first_box += kChunk) {
-    const std::size_t count = cull(segment, first_box, std::min(boxes_.size(), first_box + kChunk), met);
+  for (std::size_t first_box = 0; first_box < parts_.boxes.size(); first_box += kChunk) {
+    const std::size_t count = cull(segment, first_box, std::min(parts_.boxes.size(), first_box + kChunk), met);
     for (std::size_t i = 0; i < count; ++i)
       if (std::find(tried, tried + n_tried, met[i]) == tried + n_tried && try_box(met[i])) return true;
   }
@@ -456,15 +459,14 @@ Contact BoxScene::query_met(const Segment& segment, const ForceLaw& law, std::si
                             std::uint32_t* out_triangle, DecodedQuads* quads) const noexcept {
   Contact best;
   float best_along = 0.f;
-  const std::size_t count = boxes_.size();
-  const bool reject = unconfirmed_ == UnconfirmedBlend::reject;
+  const std::size_t count = parts_.boxes.size();
   // One box: its own exact slab test replaces the bounds cull (which only ever rejects
   // segments that miss the PBB), and no other piece can hide the handle.
   if (count == 1) {
     if (asked) ++*asked;
     bool refined = false;
-    boxes_[0].query_into(segment, law, best, best_along, Refine::all, &refined, out_triangle, quads);
-    if (reject && boxes_[0].refines() && best.contact && !refined) return Contact{};
+    parts_.boxes[0].query_into(segment, law, best, best_along, Refine::all, &refined, out_triangle, quads);
+    if (parts_.boxes[0].refines() && best.contact && !refined) return Contact{};
     if (out_box) *out_box = 0;
     return best;
   }
@@ -483,7 +485,7 @@ Contact BoxScene::query_met(const Segment& segment, const ForceLaw& law, std::si
       float along = 0.f;
       // Blended answers (refined only where they are no contact) pick the box; the winner
       // alone is refined fully below.
-      if (!boxes_[candidates[i]].query_into(segment, law, c, along, Refine::misses)) continue;
+      if (!parts_.boxes[candidates[i]].query_into(segment, law, c, along, Refine::misses)) continue;
       if (hits == kHits && along >= hit_along[kHits - 1]) continue;
       std::size_t k = hits < kHits ? hits++ : kHits - 1;
       for (; k > 0 && hit_along[k - 1] > along; --k) {
@@ -497,23 +499,20 @@ Contact BoxScene::query_met(const Segment& segment, const ForceLaw& law, std::si
   }
   if (hits == 0) return best;
   best_along = hit_along[0];
-  if (boxes_[hit_box[0]].refines()) {
+  if (parts_.boxes[hit_box[0]].refines()) {
     // The winner's samples are in cache now: its refined answer costs the refinement only.
-    // With `reject`, a winner whose refinement does not confirm a contact yields to the next
-    // blended contact along the segment that refinement confirms (a blend nearer the handle
-    // than the true surface is a ghost), and when none confirms, there is no contact.
+    // A winner whose refinement does not confirm a contact yields to the next blended
+    // contact along the segment that refinement confirms (a blend nearer the handle than the
+    // true surface is a ghost), and when none confirms, there is no contact.
     bool found = false;
-    for (std::size_t h = 0; h < (reject ? hits : 1) && !found; ++h) {
-      const HapticBox& box = boxes_[hit_box[h]];
+    for (std::size_t h = 0; h < hits && !found; ++h) {
+      const HapticBox& box = parts_.boxes[hit_box[h]];
       float along = 0.f;
       bool refined = false;
       std::uint32_t triangle = kNoTriangle;
       if (asked) ++*asked;
       const bool hit = box.query_into(segment, law, c, along, Refine::all, &refined, &triangle);
-      if (!reject) {
-        if (hit) best = c, best_along = along;
-        found = true;
-      } else if (hit && (refined || !box.refines())) {
+      if (hit && (refined || !box.refines())) {
         best = c;
         best_along = along;
         found = true;
@@ -531,24 +530,27 @@ Contact BoxScene::query_met(const Segment& segment, const ForceLaw& law, std::si
   for (std::size_t first = 0; first < count; first += kChunk) {
     const std::size_t met = cull(segment, first, std::min(count, first + kChunk), candidates);
     for (std::size_t i = 0; i < met; ++i)
-      if (handle_inside(boxes_[candidates[i]], segment, law, best_along, asked)) return Contact{};
+      if (handle_inside(parts_.boxes[candidates[i]], segment, law, best_along, asked)) return Contact{};
   }
   return best;
 }
 
 void BoxScene::query_many(const Segment* segments, std::size_t count, const ForceLaw& law,
                           Contact* out) const noexcept {
-  if (route_ == SceneRoute::embree && embree_) {
-    // Exact's own batch (its rays as one stream): the same answers as query(), bit for bit.
-    return embree_->exact->query_many(segments, count, law, out);
+  switch (route_) {
+  case SceneRoute::embree: return parts_.embree->exact->query_many(segments, count, law, out);  // one stream of rays
+  case SceneRoute::cells:
+    if (cells_->walks_side_by_side()) return query_many_cells(segments, count, law, out);
+    break;
+  case SceneRoute::boxes:
+    if (parts_.boxes.size() == 1) return parts_.boxes[0].query_many(segments, count, law, out);
+    break;
   }
-  if (boxes_.size() == 1) return boxes_[0].query_many(segments, count, law, out);
-  const bool side_by_side = side_by_side_ == SideBySide::always ||
-                            (side_by_side_ == SideBySide::automatic && cells_ && cells_->walks_side_by_side());
-  if (!grid_ || answering_route() != SceneRoute::cells || !side_by_side) {
-    for (std::size_t i = 0; i < count; ++i) out[i] = query(segments[i], law);
-    return;
-  }
+  for (std::size_t i = 0; i < count; ++i) out[i] = query(segments[i], law);
+}
+
+void BoxScene::query_many_cells(const Segment* segments, std::size_t count, const ForceLaw& law,
+                                Contact* out) const noexcept {
   // The cells route (query_routed's first lines), its walks run side by side a chunk at a
   // time (SurfaceCells::first_crossings_along): the same answers as query().
   constexpr std::size_t kChunk = 64;
@@ -561,7 +563,7 @@ void BoxScene::query_many(const Segment* segments, std::size_t count, const Forc
     std::size_t walks = 0;
     for (std::size_t i = first; i < last; ++i) {
       const Segment& segment = segments[i];
-      if (grid_->code_at(segment.start) == SceneGrid::kInside) {
+      if (parts_.grid->code_at(segment.start) == SceneGrid::kInside) {
         out[i] = Contact{};
         continue;
       }

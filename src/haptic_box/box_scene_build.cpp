@@ -35,29 +35,36 @@ std::shared_ptr<const SurfaceCells> surface_cells_of(const std::shared_ptr<const
 }
 } // namespace
 
-BoxScene::BoxScene(std::vector<HapticBox> boxes, SourceInfo source, std::vector<std::uint32_t> piece_of_triangle,
-                   std::shared_ptr<const SceneGrid> grid, std::shared_ptr<const SurfaceTriangles> surface)
-    : boxes_(std::move(boxes)), source_(std::move(source)), grid_(std::move(grid)), surface_(std::move(surface)) {
-  set_piece_of_triangle(std::move(piece_of_triangle));
-  if (grid_ && grid_->empty()) grid_.reset();
-  if (grid_ && grid_->list_count() > 0 && grid_->max_box() >= boxes_.size())
-    throw InvalidInput("box scene: the scene grid names box " + std::to_string(grid_->max_box()) + ", the scene has " +
-                       std::to_string(boxes_.size()));
+namespace {
+void check_piece_ids(const std::vector<std::uint32_t>& piece_of_triangle, std::size_t boxes) {
+  for (std::uint32_t id : piece_of_triangle)
+    if (id >= boxes)
+      throw InvalidInput("box scene: piece id " + std::to_string(id) + " but " + std::to_string(boxes) + " boxes");
+}
+} // namespace
+
+BoxScene::BoxScene(SceneParts parts) : parts_(std::move(parts)) {
+  SceneParts& p = parts_;
+  check_piece_ids(p.piece_of_triangle, p.boxes.size());
+  if (p.grid && p.grid->empty()) p.grid.reset();
+  if (p.grid && p.grid->list_count() > 0 && p.grid->max_box() >= p.boxes.size())
+    throw InvalidInput("box scene: the scene grid names box " + std::to_string(p.grid->max_box()) + ", the scene has " +
+                       std::to_string(p.boxes.size()));
   // The surface the refining boxes share (or the one given), and the triangles below the
   // grid's surface cells from it.
   bool shared = true;
-  const bool given = surface_ != nullptr;
-  for (const HapticBox& box : boxes_)
+  const bool given = p.surface != nullptr;
+  for (const HapticBox& box : p.boxes)
     if (box.refines()) {
-      if (given && surface_ != box.surface())
+      if (given && p.surface != box.surface())
         throw InvalidInput("box scene: a box refines against another surface than the scene's");
-      if (surface_ && surface_ != box.surface()) shared = false;
-      surface_ = box.surface();
+      if (p.surface && p.surface != box.surface()) shared = false;
+      p.surface = box.surface();
     }
-  if (!shared) surface_.reset();
-  if (grid_ && surface_) cells_ = surface_cells_of(grid_, surface_);
-  for (auto& b : bounds_) b.reserve(boxes_.size());
-  for (const HapticBox& box : boxes_) {
+  if (!shared) p.surface.reset();
+  if (p.grid && p.surface) cells_ = surface_cells_of(p.grid, p.surface);
+  for (auto& b : bounds_) b.reserve(p.boxes.size());
+  for (const HapticBox& box : p.boxes) {
     const Obb& o = box.obb();
     // Half extents of the OBB along world axes: |R| * half.
     const Vec3 extent = o.axes.cwiseAbs() * o.half;
@@ -66,9 +73,26 @@ BoxScene::BoxScene(std::vector<HapticBox> boxes, SourceInfo source, std::vector<
       bounds_[3 + a].push_back(o.center[a] + extent[a]);
     }
   }
+  // The route, once: Embree over the surface when asked (its tree built unless the parts
+  // carry it), the cells when there are surface cells, the boxes otherwise.
+  if (p.route == SceneRoute::embree) {
+    if (!p.surface) throw InvalidInput("box scene: the embree route needs the scene's surface (this scene has none)");
+    if (p.surface->normal_map_side() > 0)
+      throw InvalidInput("box scene: the embree route needs the full surface; this one is simplified (a normal map shades it)");
+    if (!p.embree || p.embree->over != p.surface) p.embree = std::make_shared<const SceneEmbree>(p.surface);
+    route_ = SceneRoute::embree;
+  } else {
+    route_ = p.route == SceneRoute::cells && cells_ ? SceneRoute::cells : SceneRoute::boxes;
+  }
+  if (route_ == SceneRoute::boxes && !has_tables(p))
+    throw InvalidInput(std::string("box scene: the ") + route_name(p.route) +
+                       " route leaves the boxes to answer, and they are frames without tables (the bake answered "
+                       "this scene by exact Embree)");
+  stroke_route_ = p.stroke && route_ == SceneRoute::cells ? SceneRoute::embree : route_;
 }
 
-BoxScene::EmbreeRoute::EmbreeRoute(const SurfaceTriangles& surface) {
+SceneEmbree::SceneEmbree(std::shared_ptr<const SurfaceTriangles> surface_ptr) : over(std::move(surface_ptr)) {
+  const SurfaceTriangles& surface = *over;
   const std::size_t n = surface.size();
   mesh.positions.reserve(n);
   mesh.normals.reserve(n);
@@ -106,7 +130,7 @@ BoxScene::EmbreeRoute::EmbreeRoute(const SurfaceTriangles& surface) {
   exact = std::make_unique<ExactQuery>(mesh);
 }
 
-BoxScene::EmbreeRoute::EmbreeRoute(TriangleMesh full) : mesh(std::move(full)) {
+SceneEmbree::SceneEmbree(TriangleMesh full) : mesh(std::move(full)) {
   if (mesh.triangles.empty()) throw InvalidInput("box scene: the stroke route's mesh has no triangles");
   if (mesh.normals.size() != mesh.positions.size())
     throw InvalidInput("box scene: the stroke route's mesh has " + std::to_string(mesh.normals.size()) +
@@ -114,117 +138,78 @@ BoxScene::EmbreeRoute::EmbreeRoute(TriangleMesh full) : mesh(std::move(full)) {
   exact = std::make_unique<ExactQuery>(mesh);
 }
 
-void BoxScene::set_stroke_mesh(TriangleMesh mesh) { stroke_ = std::make_shared<const EmbreeRoute>(std::move(mesh)); }
+SceneEmbree::~SceneEmbree() = default;
 
-const TriangleMesh* BoxScene::stroke_mesh() const noexcept { return stroke_ ? &stroke_->mesh : nullptr; }
-
-void BoxScene::set_route(SceneRoute route) {
-  if (route == SceneRoute::embree && !embree_) {
-    if (!surface_) throw InvalidInput("box scene: the embree route needs the scene's surface (this scene has none)");
-    if (surface_->normal_map_side() > 0)
-      throw InvalidInput("box scene: the embree route needs the full surface; this one is simplified (a normal map shades it)");
-    embree_ = std::make_shared<const EmbreeRoute>(*surface_);
-  }
-  const SceneRoute before = route_;
-  route_ = route;
-  if (answering_route() == SceneRoute::boxes && !has_tables()) {
-    route_ = before;
-    throw InvalidInput(std::string("box scene: the ") + route_name(route) +
-                       " route leaves the boxes to answer, and they are frames without tables (the bake answered "
-                       "this scene by exact Embree)");
-  }
+std::shared_ptr<const SceneEmbree> make_stroke_route(TriangleMesh mesh) {
+  return std::make_shared<const SceneEmbree>(std::move(mesh));
 }
 
-std::size_t BoxScene::embree_bytes() const noexcept {
-  std::size_t bytes = 0;
-  for (const EmbreeRoute* r : {embree_.get(), stroke_.get()})
-    if (r) bytes += r->mesh.positions.size() * 2 * sizeof(Vec3) + r->mesh.triangles.size() * 12;
-  return bytes;
-}
-
-bool BoxScene::has_triangle_ids() const noexcept {
-  for (const HapticBox& b : boxes_)
+bool has_triangle_ids(const SceneParts& parts) noexcept {
+  for (const HapticBox& b : parts.boxes)
     if (b.refines()) return true;
   return false;
 }
 
-bool BoxScene::has_tables() const noexcept {
-  for (const HapticBox& b : boxes_)
+bool has_tables(const SceneParts& parts) noexcept {
+  for (const HapticBox& b : parts.boxes)
     if (!b.has_table()) return false;
   return true;
 }
 
-BoxScene BoxScene::with_boxes(std::vector<HapticBox> boxes) const {
-  BoxScene s(std::move(boxes), source_, piece_of_triangle_, grid_, surface_);
-  s.unconfirmed_ = unconfirmed_;
-  s.use_cells_ = use_cells_;
-  s.route_ = route_;
-  s.embree_ = embree_;
-  s.stroke_ = stroke_;
-  s.budget_ = budget_;
-  return s;
-}
-
-BoxScene BoxScene::without_tables() const {
-  std::vector<HapticBox> frames;
-  frames.reserve(boxes_.size());
-  for (const HapticBox& b : boxes_) frames.push_back(b.frame());
-  BoxScene s = with_boxes(std::move(frames));
-  s.set_route(SceneRoute::embree);
-  return s;
-}
-
-bool BoxScene::refines() const noexcept { return cells_ != nullptr || has_triangle_ids(); }
-
-BoxScene BoxScene::without_triangle_ids() const {
-  if (!cells_) return *this;
-  std::vector<HapticBox> boxes;
-  boxes.reserve(boxes_.size());
-  for (const HapticBox& b : boxes_) boxes.push_back(b.without_refinement());
-  return with_boxes(std::move(boxes));
-}
-
-void BoxScene::set_piece_of_triangle(std::vector<std::uint32_t> piece_of_triangle) {
-  for (std::uint32_t id : piece_of_triangle)
-    if (id >= boxes_.size())
-      throw InvalidInput("box scene: piece id " + std::to_string(id) + " but " + std::to_string(boxes_.size()) +
-                         " boxes");
-  piece_of_triangle_ = std::move(piece_of_triangle);
-}
-
-std::size_t BoxScene::table_bytes() const {
-  std::size_t sum = 0;
-  for (const HapticBox& box : boxes_) sum += box.table_bytes();
-  return sum;
-}
-
-std::size_t BoxScene::memory_bytes() const {
-  return table_bytes() + refinement_bytes() + (surface_ ? surface_->normal_map_bytes() : 0) +
-         (grid_ ? grid_->bytes() : 0) + (cells_ ? cells_->bytes() : 0) + embree_bytes();
-}
-
-std::size_t BoxScene::refinement_bytes() const {
-  std::size_t sum = surface_ ? surface_->bytes() : 0;
-  const SurfaceTriangles* counted = surface_.get();
-  for (const HapticBox& box : boxes_) {
-    sum += box.triangle_id_bytes();
-    if (!surface_ && box.refines() && box.surface().get() != counted) {  // boxes on different surfaces
+SceneBytes BoxScene::bytes() const noexcept {
+  const SceneParts& p = parts_;
+  SceneBytes b;
+  for (const HapticBox& box : p.boxes) b.tables += box.table_bytes();
+  b.refinement = p.surface ? p.surface->bytes() : 0;
+  const SurfaceTriangles* counted = p.surface.get();
+  for (const HapticBox& box : p.boxes) {
+    b.refinement += box.triangle_id_bytes();
+    if (!p.surface && box.refines() && box.surface().get() != counted) {  // boxes on different surfaces
       counted = box.surface().get();
-      sum += counted->bytes();
+      b.refinement += counted->bytes();
     }
   }
-  return sum;
+  for (const SceneEmbree* r : {route_ == SceneRoute::embree ? p.embree.get() : nullptr, p.stroke.get()})
+    if (r) b.embree += r->mesh.positions.size() * 2 * sizeof(Vec3) + r->mesh.triangles.size() * 12;
+  b.memory = b.tables + b.refinement + (p.surface ? p.surface->normal_map_bytes() : 0) + (p.grid ? p.grid->bytes() : 0) +
+             (cells_ ? cells_->bytes() : 0) + b.embree;
+  return b;
 }
 
-BoxScene BoxScene::compressed(const CodecOptions& options) const {
-  std::vector<HapticBox> boxes;
-  boxes.reserve(boxes_.size());
-  for (const HapticBox& box : boxes_) boxes.push_back(box.compressed(options));
-  BoxScene s(std::move(boxes), source_, piece_of_triangle_, grid_, surface_);
-  s.budget_ = budget_;
-  s.route_ = route_;
-  s.embree_ = embree_;
-  return s;
+Answerer answerer(const BoxScene& scene) noexcept {
+  return answerer_of(scene.route(), scene.refines());
+}
+
+SceneParts without_tables(const BoxScene& scene) {
+  SceneParts p = scene.parts();
+  for (HapticBox& b : p.boxes) b = b.frame();
+  p.route = SceneRoute::embree;
+  return p;
+}
+
+SceneParts without_triangle_ids(const BoxScene& scene) {
+  SceneParts p = scene.parts();
+  if (!scene.cells()) return p;
+  for (HapticBox& b : p.boxes) b = b.without_refinement();
+  return p;
+}
+
+SceneParts compressed(const BoxScene& scene, const CodecOptions& options) {
+  SceneParts p = scene.parts();
+  for (HapticBox& b : p.boxes) b = b.compressed(options);
+  return p;
+}
+
+BoxScene with_budget(const BoxScene& scene, BudgetReport budget) {
+  SceneParts p = scene.parts();
+  p.budget = std::move(budget);
+  return BoxScene(std::move(p));
+}
+
+BoxScene with_route(const BoxScene& scene, SceneRoute route) {
+  SceneParts p = scene.parts();
+  p.route = route;
+  return BoxScene(std::move(p));
 }
 
 } // namespace hb

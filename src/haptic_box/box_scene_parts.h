@@ -1,8 +1,7 @@
 #pragma once
 // The parts of BoxScene's query its files share (internal to haptic_box/): the surface cells a
-// routed walk crossed (step 7 of box_scene.cpp's overview), the Embree route over the scene's
-// surface or the full mesh (built in box_scene_build.cpp), and the two tests of the side of the surface the
-// handle is on (box_scene_handle.cpp).
+// routed walk crossed (step 7 of box_scene.cpp's overview) and the two tests of the side of
+// the surface the handle is on (box_scene_handle.cpp).
 #include "exact/exact_query.h"
 #include "haptic_box/box_scene.h"
 #include "mesh/triangle_mesh.h"
@@ -18,18 +17,6 @@ struct BoxScene::Visited {
   float s[kMax];
   int count = 0;
   bool overflow = false;
-};
-
-// The surface's triangles as a mesh of their own (the records' corners and normals: the
-// surface cells' answers' geometry and shading) and Embree over it. Corners with the same
-// position and normal bits are one vertex (most are: the tree's leaves then share them,
-// which random-order queries feel in the cache).
-struct BoxScene::EmbreeRoute {
-  TriangleMesh mesh;
-  std::unique_ptr<ExactQuery> exact;
-  explicit EmbreeRoute(const SurfaceTriangles& surface);
-  /// Over a mesh of its own (the stroke route: the full mesh, with its vertex normals).
-  explicit EmbreeRoute(TriangleMesh full);
 };
 
 namespace scene_handle {

@@ -209,8 +209,8 @@ bool BoxScene::within_reach(const Vec3& centre, float radius) const noexcept {
   if (!centre.allFinite()) return true;
   // A cell's slack: a stroke route's full mesh may stray from the simplified surface the
   // grid was built on by less than that.
-  if (grid_ && !grid_->empty()) return grid_->surface_distance_bound(centre) <= radius + grid_->cell();
-  for (std::size_t b = 0; b < boxes_.size(); ++b) {
+  if (parts_.grid && !parts_.grid->empty()) return parts_.grid->surface_distance_bound(centre) <= radius + parts_.grid->cell();
+  for (std::size_t b = 0; b < parts_.boxes.size(); ++b) {
     float d2 = 0.f;
     for (int k = 0; k < 3; ++k) {
       const float below = bounds_[k][b] - centre[k], above = centre[k] - bounds_[k + 3][b];
@@ -225,14 +225,14 @@ bool BoxScene::within_reach(const Vec3& centre, float radius) const noexcept {
 void BoxScene::query_star(const Vec3& start, const Vec3* tips, std::size_t count, const ForceLaw& law, Contact* out,
                           StarScratch& scratch) const noexcept {
   const auto all = [&] { ContactQuery::query_star(start, tips, count, law, out, scratch); };
-  if (!(grid_ && !grid_->empty() && cells_ && answering_route() == SceneRoute::cells && start.allFinite())) return all();
+  if (!(parts_.grid && !parts_.grid->empty() && cells_ && route_ == SceneRoute::cells && start.allFinite())) return all();
   std::fill(out, out + count, Contact{});
   // 1.
-  if (grid_->code_at(start) == SceneGrid::kInside) return;
+  if (parts_.grid->code_at(start) == SceneGrid::kInside) return;
   float reach = 0.f;
   for (std::size_t i = 0; i < count; ++i) reach = std::max(reach, (tips[i] - start).norm());
   if (!std::isfinite(reach)) return all();
-  switch (gather_triangles(*grid_, *cells_, start, reach, scratch)) {
+  switch (gather_triangles(*parts_.grid, *cells_, start, reach, scratch)) {
   case Gathered::none: return;
   case Gathered::too_many: return all();
   case Gathered::some: break;

@@ -104,8 +104,8 @@ std::string BudgetReport::serialize() const {
   }
   for (const PieceChoice& p : pieces)
     os << "piece=" << p.cell << " " << p.n << " " << (p.refine ? 1 : 0) << " " << p.probes << "\n";
-  if (!answer.empty()) os << "answer=" << answer << "\n";
-  if (!stroke_answer.empty()) os << "stroke_answer=" << stroke_answer << "\n";
+  if (answer != Answerer::none) os << "answer=" << answerer_name(answer) << "\n";
+  if (stroke_answer != Answerer::none) os << "stroke_answer=" << answerer_name(stroke_answer) << "\n";
   for (const RawTried& t : raw_tried) {
     os << "raw_tried=" << t.m << " " << t.n << " " << t.bytes << " " << t.probes_felt << " " << t.ticks_felt << " "
        << t.outcome << " " << t.box_ns << " " << t.exact_ns;
@@ -191,13 +191,15 @@ BudgetReport BudgetReport::parse(const std::string& text) {
       r.pieces.push_back(p);
       if (r.pieces.size() > (1u << 20)) throw InvalidInput("budget report: too many pieces");
     } else if (key == "answer") {
-      if (v != "raw" && v != "cells" && v != "embree" && v != "boxes")
+      const std::optional<Answerer> a = parse_answerer(v);
+      if (!a || *a == Answerer::none)
         throw InvalidInput("budget report: answer '" + v.substr(0, 40) + "' is not raw, cells, embree or boxes");
-      r.answer = v;
+      r.answer = *a;
     } else if (key == "stroke_answer") {
-      if (v != "cells" && v != "embree")
+      const std::optional<Answerer> a = parse_answerer(v);
+      if (!a || (*a != Answerer::cells && *a != Answerer::embree))
         throw InvalidInput("budget report: stroke_answer '" + v.substr(0, 40) + "' is not cells or embree");
-      r.stroke_answer = v;
+      r.stroke_answer = *a;
     } else if (key == "raw_tried") {
       std::stringstream ps(v);
       std::string m, n, bytes, probes, ticks, outcome, box_ns, exact_ns, stroke_ns, exact_stroke_ns, light, extra;
@@ -250,20 +252,18 @@ std::string BudgetReport::summary() const {
                                 : "; shading fitted, normals within " + fmt(surface_normal_median_deg) +
                                       " deg median, " + fmt(surface_normal_p99_deg) + " p99")
        << ")";
-  if (answer == "raw") os << "; answered by the raw haptic box (no triangle test)";
-  else if (answer == "embree") os << "; answered by exact Embree (faster than the surface cells here)";
-  else if (answer == "cells") os << "; answered exactly by the surface cells";
+  if (answer != Answerer::none) os << "; answered by " << answerer_words(answer);
   if (cells_ns > 0 && embree_ns > 0)
     os << " (a query at bake time: the cells " << cells_ns << " ns, Embree " << embree_ns << " ns)";
   else if (answer_ns > 0 && exact_ns > 0)
     os << " (" << answer_ns << " ns a query against exact's " << exact_ns << " at bake time)";
-  if (stroke_answer == "embree")
+  if (stroke_answer == Answerer::embree)
     os << "; along strokes by exact Embree over the full mesh (" << stroke_embree_ns << " ns a query against the cells' "
        << stroke_cells_ns << " at bake time)";
-  else if (stroke_answer == "cells" && stroke_cells_ns > 0)
+  else if (stroke_answer == Answerer::cells && stroke_cells_ns > 0)
     os << "; along strokes by the cells too (" << stroke_cells_ns << " ns a query against Embree's " << stroke_embree_ns
        << " over the full mesh at bake time)";
-  else if (stroke_answer == "cells")
+  else if (stroke_answer == Answerer::cells)
     os << "; along strokes by the cells too (the full mesh too large to keep for Embree)";
   for (const RawTried& t : raw_tried) {
     os << "; raw m" << t.m << " n" << t.n << " " << t.outcome << ": " << t.probes_felt * 100.0 << "% of probes";

@@ -1,4 +1,5 @@
 #pragma once
+#include "haptic_box/scene_route.h"
 // The error budget a budgeted bake meets (issue 17: "model no more than a scene needs"), and
 // the record of what a bake achieved against it, stored in the box file (version 6). The
 // budget search that fills it is in recipe/ (recipe/bake_recipe.h, recipe/error_budget.h).
@@ -65,12 +66,9 @@ struct BudgetReport {
   double seconds = 0;               ///< the whole budgeted bake.
   std::uint32_t candidates_tried = 0;
   std::vector<PieceChoice> pieces;  ///< one per box, in box order.
-  /// What answers the scene's queries: "raw" (the paper's haptic box, no triangle test),
-  /// "boxes" (boxes refining from their triangle ids), "cells" (exact, the surface cells'
-  /// triangles) or "embree" (exact Embree over the scene's
-  /// surface, where it was measured faster than the cells at bake time). Empty in files
-  /// written before 2026-12-06 (the cells).
-  std::string answer;
+  /// What answers the scene's queries (Answerer::embree where Embree was measured faster than
+  /// the cells at bake time); Answerer::none when not recorded (the cells answer).
+  Answerer answer = Answerer::none;
   /// The raw samplings tried (recipe/raw_box_trial.h): "m n bytes probes_felt ticks_felt
   /// outcome box_ns exact_ns" with outcome one of kept, serves (a finer one that a cheaper kept
   /// one made unneeded), felt-probes, felt-light, felt-slides, over-cap, slower, slower-strokes; box_ns and
@@ -97,12 +95,12 @@ struct BudgetReport {
   /// files.
   double answer_ns = 0, exact_ns = 0, cells_ns = 0, embree_ns = 0;
   /// Along strokes (a probe's successive queries through its SceneQueryState, as the servo
-  /// loop asks), for a scene the cells answer (recipe/stroke_route.h): "embree" when exact
-  /// Embree over the full mesh was measured faster there and answers them (BoxScene::
-  /// set_stroke_mesh), "cells" when the cells were as fast or the mesh too large to keep,
-  /// empty when not timed (other routes, files before 2026-12-07); the two times, ns a query
-  /// at bake time, one core (0: not timed).
-  std::string stroke_answer;
+  /// loop asks), for a scene the cells answer (recipe/stroke_route.h): Answerer::embree when
+  /// exact Embree over the full mesh was measured faster there and answers them (the scene's
+  /// stroke route, SceneParts::stroke), Answerer::cells when the cells were as fast or the
+  /// mesh too large to keep, Answerer::none when not timed; the two times, ns a query at bake
+  /// time, one core (0: not timed).
+  Answerer stroke_answer = Answerer::none;
   double stroke_cells_ns = 0, stroke_embree_ns = 0;
   /// This report with every query time above set to 0: what the same inputs bake to byte for
   /// byte (the file form of two bakes differs in nothing else).

@@ -7,11 +7,11 @@ namespace hb {
 
 DensityRange density_range(const BoxScene& scene) {
   DensityRange r;
-  if (scene.boxes().empty()) return r;
-  const BoxParams& first = scene.boxes().front().params();
+  if (scene.parts().boxes.empty()) return r;
+  const BoxParams& first = scene.parts().boxes.front().params();
   r.m_min = r.m_max = first.m;
   r.n_min = r.n_max = first.n;
-  for (const HapticBox& box : scene.boxes()) {
+  for (const HapticBox& box : scene.parts().boxes) {
     r.m_min = std::min(r.m_min, box.params().m), r.m_max = std::max(r.m_max, box.params().m);
     r.n_min = std::min(r.n_min, box.params().n), r.n_max = std::max(r.n_max, box.params().n);
   }

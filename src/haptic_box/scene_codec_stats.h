@@ -24,8 +24,8 @@ struct SceneCodecStats {
 inline SceneCodecStats scene_codec_stats(const BoxScene& scene) {
   SceneCodecStats s;
   double samples = 0.0;
-  for (std::size_t b = 0; b < scene.boxes().size(); ++b) {
-    const HapticBox& box = scene.boxes()[b];
+  for (std::size_t b = 0; b < scene.parts().boxes.size(); ++b) {
+    const HapticBox& box = scene.parts().boxes[b];
     const CodecStats& cs = box.codec_stats();
     const std::string name = codec_name(box.codec());
     s.codec = b == 0 || s.codec == name ? name : "mixed";

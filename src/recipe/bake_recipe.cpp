@@ -113,13 +113,16 @@ BakeResult bake(const TriangleMesh& mesh, const BakeRecipe& recipe, const Source
   result.scene = bake_scene_from_lists(mesh, lists, recipe.options, src, &result.stats);
   // With several ranks (BakeOptions::communicator) only the ranks that receive the tables
   // have boxes; the others have nothing to record or compress.
-  const bool has_boxes = !result.scene.boxes().empty();
-  if (lists.size() > 1 && has_boxes) result.scene.set_piece_of_triangle(std::move(ids));
-  if (recipe.codec.codec != CodecId::none && has_boxes) {
+  const bool has_boxes = !result.scene.parts().boxes.empty();
+  if (!has_boxes) return result;
+  SceneParts parts = result.scene.parts();
+  if (lists.size() > 1) parts.piece_of_triangle = std::move(ids);
+  if (recipe.codec.codec != CodecId::none) {
     const auto tc = std::chrono::steady_clock::now();
-    result.scene = result.scene.compressed(recipe.codec);
+    for (HapticBox& box : parts.boxes) box = box.compressed(recipe.codec);
     result.compress_seconds = seconds_since(tc);
   }
+  result.scene = BoxScene(std::move(parts));
   return result;
 }
 

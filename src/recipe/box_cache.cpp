@@ -102,7 +102,7 @@ std::optional<BoxScene> BoxCache::load(std::uint64_t mesh_hash, const BakeRecipe
   if (!fs::exists(path, ec)) return std::nullopt;
   try {
     BoxScene scene = load_box_file(path);
-    if (scene.source().mesh_hash == mesh_hash && !scene.boxes().empty()) return scene;
+    if (scene.parts().source.mesh_hash == mesh_hash && !scene.parts().boxes.empty()) return scene;
     return std::nullopt;
   } catch (const Error&) {
     fs::remove(path, ec);  // corrupt or truncated: rebaked and replaced
@@ -114,7 +114,7 @@ void BoxCache::store(const BoxScene& scene, const BakeRecipe& recipe) const {
   std::error_code ec;
   fs::create_directories(dir_, ec);
   if (ec) throw IoError(dir_ + ": cannot create the box cache directory (" + ec.message() + ")");
-  save_box_file(scene, path_for(scene.source().mesh_hash, recipe));
+  save_box_file(scene, path_for(scene.parts().source.mesh_hash, recipe));
 }
 
 BoxCacheUsage BoxCache::usage() const {

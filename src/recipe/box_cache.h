@@ -36,7 +36,7 @@ public:
   /// The cached scene, or nothing when there is none, it records another mesh hash, or it is
   /// unreadable (a corrupt entry is then removed so the next store replaces it).
   std::optional<BoxScene> load(std::uint64_t mesh_hash, const BakeRecipe& recipe) const;
-  /// Stores `scene` (baked from the mesh of scene.source().mesh_hash with `recipe`).
+  /// Stores `scene` (baked from the mesh of scene.parts().source.mesh_hash with `recipe`).
   /// Throws hb::IoError (directory or file not writable, disk full).
   void store(const BoxScene& scene, const BakeRecipe& recipe) const;
 

@@ -109,7 +109,7 @@ BakeResult BudgetSearch::run() {
   report_progress(0.9);
   // The cells route reads the surface and the grid, never the boxes' triangle ids: a scene
   // it answers keeps no ids (the same answers; the fresh check below is this scene's).
-  if (!br_.keep_triangle_ids && scene.answering_route() == SceneRoute::cells) scene = scene.without_triangle_ids();
+  if (!br_.keep_triangle_ids && scene.route() == SceneRoute::cells) scene = BoxScene(without_triangle_ids(scene));
   choose_route(scene);
   check_fresh(scene, tuned);
   return finish(std::move(scene));
@@ -204,13 +204,13 @@ void BudgetSearch::bake_pieces(std::size_t c, const std::vector<std::size_t>& wh
   stage_done("tables", seconds_since(tb));
   if (recipe_.codec.codec != CodecId::none) {
     tb = std::chrono::steady_clock::now();
-    part = part.compressed(recipe_.codec);
+    part = BoxScene(compressed(part, recipe_.codec));
     stage_done("compress", seconds_since(tb));
   }
   rays_ += stats.rays;
   hits_ += stats.hits;
   ray_seconds_ += stats.seconds;
-  for (std::size_t k = 0; k < pending_ids.size(); ++k) baked_[c].emplace(pending_ids[k], part.boxes()[k]);
+  for (std::size_t k = 0; k < pending_ids.size(); ++k) baked_[c].emplace(pending_ids[k], part.parts().boxes[k]);
 }
 
 // Scene grids by the sampling each piece's lists come from: a grid depends on the lists
@@ -240,7 +240,7 @@ BoxScene BudgetSearch::compose() {
   }
   std::shared_ptr<const SceneGrid> grid;
   if (recipe_.options.scene_grid && pieces_ > 1) grid = grid_for(sampling_of_piece);
-  return BoxScene(std::move(boxes), src_, pieces_ > 1 ? scene_ids_ : std::vector<std::uint32_t>{}, grid);
+  return BoxScene(SceneParts{std::move(boxes), src_, pieces_ > 1 ? scene_ids_ : std::vector<std::uint32_t>{}, grid});
 }
 
 // A variant's failures in the scene (every piece at that variant), probe by probe, charged
@@ -257,7 +257,7 @@ SceneRoute BudgetSearch::score(std::size_t v, BoxScene* keep) {
   });
   const ErrorBudget& budget = br_.budget;
   for (std::size_t p = 0; p < pieces_; ++p) {
-    const HapticBox& box = uniform.boxes()[p];
+    const HapticBox& box = uniform.parts().boxes[p];
     Counts& n = counts_[p][v];
     n = Counts{};
     n.bytes = double(box.table_bytes() + box.triangle_id_bytes());
@@ -278,7 +278,7 @@ SceneRoute BudgetSearch::score(std::size_t v, BoxScene* keep) {
       n.over_dir += angle_error_degrees(e, a) > budget.direction_p99_deg ? 1 : 0;
     }
   }
-  const SceneRoute route = uniform.answering_route();
+  const SceneRoute route = uniform.route();
   if (keep) *keep = std::move(uniform);
   return route;
 }
@@ -358,8 +358,7 @@ bool BudgetSearch::exact_first(BoxScene& refined_coarse, bool exact_scene) {
   if (surface_mesh_.use_simplified) {
     early_ = paired_query_ns(refined_coarse, *exact_, timed_, law_);
   } else {
-    embree_tree_ = refined_coarse;
-    embree_tree_.set_route(SceneRoute::embree);  // its tree serves step 5b (the same surface)
+    embree_tree_ = with_route(refined_coarse, SceneRoute::embree);  // its tree serves step 5b (the same surface)
     early_ = paired_query_ns(refined_coarse, embree_tree_, timed_, law_);
   }
   stage_done("exact_first", seconds_since(tstage));
@@ -386,8 +385,7 @@ BakeResult BudgetSearch::drop_surface(BoxScene refined_coarse) {
   result_.surface_miss = why.str();
   result_.surface_slower_than_exact = true;
   rep_.seconds = seconds_since(t0_);
-  refined_coarse.set_budget_report(rep_);
-  result_.scene = std::move(refined_coarse);
+  result_.scene = with_budget(refined_coarse, rep_);
   return std::move(result_);
 }
 
@@ -445,7 +443,7 @@ std::vector<bool> BudgetSearch::ghost_pieces(const BoxScene& scene, const std::v
       if (choice_[p] % 2 != 0) continue;
       Contact c;
       float along = 0.f;
-      if (scene.boxes()[p].query_into(records[i].segment, law_, c, along) && c.depth == a.depth && c.point == a.point)
+      if (scene.parts().boxes[p].query_into(records[i].segment, law_, c, along) && c.depth == a.depth && c.point == a.point)
         ghost[p] = true;
     }
   }
@@ -460,11 +458,13 @@ std::vector<bool> BudgetSearch::ghost_pieces(const BoxScene& scene, const std::v
 // full mesh.
 void BudgetSearch::choose_route(BoxScene& scene) {
   const auto tstage = std::chrono::steady_clock::now();
-  const bool exact_route = scene.answering_route() == SceneRoute::cells || scene.has_triangle_ids();
-  if (br_.fastest_exact && exact_route && scene.surface() && scene.surface()->normal_map_side() == 0) {
-    BoxScene by_embree = scene;
-    by_embree.take_embree_tree(embree_tree_);  // step 2b's tree: no second build over the same surface
-    by_embree.set_route(SceneRoute::embree);
+  const bool exact_route = scene.route() == SceneRoute::cells || has_triangle_ids(scene.parts());
+  const std::shared_ptr<const SurfaceTriangles>& surface = scene.parts().surface;
+  if (br_.fastest_exact && exact_route && surface && surface->normal_map_side() == 0) {
+    SceneParts parts = scene.parts();
+    parts.embree = embree_tree_.parts().embree;  // step 2b's tree: no second build over the same surface
+    parts.route = SceneRoute::embree;
+    const BoxScene by_embree(std::move(parts));
     // The scene timed at step 2b is this one: its timing stands.
     const PairedTiming t = early_ ? *early_ : paired_query_ns(scene, by_embree, timed_, law_);
     rep_.cells_ns = t.a_ns, rep_.embree_ns = t.b_ns;
@@ -473,12 +473,12 @@ void BudgetSearch::choose_route(BoxScene& scene) {
     // Embree reads the surface alone: the boxes keep their frames (the window draws them,
     // `info` lists them), not their tables and ids (most of the file), unless asked to
     // (BudgetRecipe::keep_triangle_ids: `--route boxes` to compare).
-    if (t.a_ns > t.b_ns) scene = br_.keep_triangle_ids ? std::move(by_embree) : by_embree.without_tables();
+    if (t.a_ns > t.b_ns) scene = br_.keep_triangle_ids ? by_embree : BoxScene(without_tables(by_embree));
   } else {
     const PairedTiming t = paired_query_ns(scene, *exact_, timed_, law_);
     rep_.answer_ns = t.a_ns, rep_.exact_ns = t.b_ns;
   }
-  rep_.answer = scene.answering_name();
+  rep_.answer = answerer(scene);
   stage_done("route_timing", seconds_since(tstage));
 }
 
@@ -534,14 +534,13 @@ void BudgetSearch::check_trajectories(const BoxScene& scene) {
 
 BakeResult BudgetSearch::finish(BoxScene scene) {
   rep_.seconds = seconds_since(t0_);
-  scene.set_budget_report(rep_);
-  result_.scene = std::move(scene);
+  result_.scene = with_budget(scene, rep_);
   result_.stats.seconds = ray_seconds_;
   result_.stats.rays = rays_;
   result_.stats.hits = hits_;
   result_.stats.rays_per_second = ray_seconds_ > 0 ? double(rays_) / ray_seconds_ : 0.0;
   result_.stats.ranks = {{0, rays_, ray_seconds_, 0}};
-  for (const HapticBox& box : result_.scene.boxes())
+  for (const HapticBox& box : result_.scene.parts().boxes)
     result_.stats.table_bytes += box.raw_table_bytes() + box.triangle_id_bytes();
   report_progress(1.0);
   return std::move(result_);

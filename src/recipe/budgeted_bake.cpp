@@ -155,15 +155,14 @@ std::optional<BakeResult> bake_raw(const TriangleMesh& mesh, const BakeRecipe& r
   const RawCandidate& kept =
       *std::find_if(trial.tried.begin(), trial.tried.end(), [](const RawCandidate& c) { return c.outcome == "kept"; });
   r.pieces.push_back({0.f, kept.n, false, std::uint32_t(tuning.probes.size())});
-  r.answer = "raw";
+  r.answer = Answerer::raw_box;
   r.answer_ns = kept.box_ns;
   r.exact_ns = kept.exact_ns;
   r.seconds = seconds_since(t0);
   BakeResult result;
-  result.scene = std::move(*trial.scene);
-  result.scene.set_budget_report(std::move(r));
+  result.scene = with_budget(*trial.scene, std::move(r));
   result.stats = trial.stats;
-  for (const HapticBox& box : result.scene.boxes()) result.stats.table_bytes += box.raw_table_bytes();
+  for (const HapticBox& box : result.scene.parts().boxes) result.stats.table_bytes += box.raw_table_bytes();
   return result;
 }
 } // namespace
@@ -195,7 +194,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   BakeRecipe tighter = recipe;
   const double diagonal = double(mesh.bounds().diagonal());
   for (int retry = 0;; ++retry) {
-    const BudgetReport& tried = result.scene.budget_report();
+    const BudgetReport& tried = result.scene.parts().budget;
     if (tried.surface_triangles == 0 || result.surface_miss.empty()) break;
     seconds += tried.seconds;
     for (const auto& [name, secs] : tried.stage_seconds) stages.add_stage(name, secs);
@@ -219,7 +218,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
     tighter.budget.simplify_deviation = 0.25 * tried.surface_bound / diagonal;
     result = BudgetSearch(mesh, tighter, source, ref).run();
   }
-  BudgetReport rep = result.scene.budget_report();
+  BudgetReport rep = result.scene.parts().budget;
   if (rejected > 0) {
     rep.surface_rejected = rejected;
     rep.surface_rejected_why = why;
@@ -240,7 +239,7 @@ BakeResult bake_to_budget(const TriangleMesh& mesh, const BakeRecipe& recipe, co
   for (const auto& [name, secs] : raw_rep.stage_seconds) rep.seconds += secs;
   for (const auto& [name, secs] : rep.stage_seconds) stages.add_stage(name, secs);
   rep.stage_seconds = std::move(stages.stage_seconds);
-  result.scene.set_budget_report(std::move(rep));
+  result.scene = with_budget(result.scene, std::move(rep));
   return result;
 }
 

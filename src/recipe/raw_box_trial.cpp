@@ -88,13 +88,13 @@ RawTrial try_raw_boxes(const TriangleMesh& mesh, const ExactQuery& exact, const 
     bo.whole_mesh_bvh = &exact.scene();  // the exact reference's BVH of the full mesh
     BakeStats stats;
     BoxScene scene = bake_scene(mesh, {}, bo, source, &stats);
-    if (o.codec_bound > 0.f && !scene.boxes().empty()) {
+    if (o.codec_bound > 0.f && !scene.parts().boxes.empty()) {
       CodecOptions codec;
       codec.codec = CodecId::block;
       codec.max_error = o.codec_bound;
-      scene = scene.compressed(codec);
+      scene = BoxScene(compressed(scene, codec));
     }
-    c.bytes = double(scene.memory_bytes());
+    c.bytes = double(scene.bytes().memory);
     stage("raw_tables", seconds_since(t));
     t = std::chrono::steady_clock::now();
     std::atomic<std::size_t> felt{0};

@@ -9,11 +9,12 @@ namespace hb {
 
 void choose_stroke_route(BoxScene& scene, const TriangleMesh& mesh, const ForceLaw& law, std::uint64_t seed,
                          BudgetReport& report) {
-  if (scene.answering_route() != SceneRoute::cells) return;
-  report.stroke_answer = "cells";
+  if (scene.route() != SceneRoute::cells) return;
+  report.stroke_answer = Answerer::cells;
   if (mesh.triangle_count() > kStrokeMeshMaxTriangles || mesh.normals.size() != mesh.positions.size()) return;
-  BoxScene by_embree = scene;
-  by_embree.set_stroke_mesh(mesh);
+  SceneParts parts = scene.parts();
+  parts.stroke = make_stroke_route(mesh);
+  BoxScene by_embree(std::move(parts));
   ProbeOptions options;
   options.seed = seed;
   const std::vector<Segment> strokes = sample_strokes(mesh, 10, 500, 0.02f, options);
@@ -22,7 +23,7 @@ void choose_stroke_route(BoxScene& scene, const TriangleMesh& mesh, const ForceL
   report.stroke_cells_ns = t.a_ns;
   report.stroke_embree_ns = t.b_ns;
   if (t.b_ns < kStrokeEmbreeShare * t.a_ns) {
-    report.stroke_answer = "embree";
+    report.stroke_answer = Answerer::embree;
     scene = std::move(by_embree);
   }
 }

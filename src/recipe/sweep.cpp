@@ -25,7 +25,7 @@ namespace {
 BoxScene compress_scene(const BoxScene& raw, const std::string& codec) {
   CodecOptions options;
   options.codec = parse_codec(codec);
-  return raw.compressed(options);
+  return BoxScene(compressed(raw, options));
 }
 
 } // namespace
@@ -133,7 +133,7 @@ public:
     if (!baked.warning.empty()) throw IoError(baked.path + ": " + baked.warning);
     row.from_cache = baked.from_cache;
     if (config.codec != "none") scene = compress_scene(scene, config.codec);
-    row.memory_bytes = scene.memory_bytes();
+    row.memory_bytes = scene.bytes().memory;
     step(1.0);
     measure(row, scene);
     step(1.0);
@@ -149,13 +149,13 @@ public:
     const BoxScene& scene = baked.result.scene;
     SweepRow row;
     row.method = "haptic_box";
-    const std::size_t boxes = scene.boxes().size();
+    const std::size_t boxes = scene.parts().boxes.size();
     row.label = "default bake: " + std::to_string(boxes) + (boxes == 1 ? " box" : " boxes");
-    row.refine = scene.surface() != nullptr;  // answered exactly on a surface (cells or ids)
-    row.codec = scene.boxes().empty() ? "none" : codec_name(scene.boxes().front().codec());
+    row.refine = scene.parts().surface != nullptr;  // answered exactly on a surface (cells or ids)
+    row.codec = scene.parts().boxes.empty() ? "none" : codec_name(scene.parts().boxes.front().codec());
     row.from_cache = baked.from_cache;
     row.bake_seconds = baked.from_cache ? 0.0 : std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    row.memory_bytes = scene.memory_bytes();
+    row.memory_bytes = scene.bytes().memory;
     step(1.0);
     measure(row, scene);
     step(1.0);

@@ -108,10 +108,10 @@ TEST_F(ReportCommandTest, AReportFromAMeshIsOfTheDefaultBakeThroughTheCacheUnles
   EXPECT_GT(s["box"]["bake_seconds"].get<double>(), 0.0);
   // What answers it, in words, whichever route the bake's clock chose (the summary and the page).
   const std::string route = s["eval"]["route"].get<std::string>();
-  const std::string words = route == "embree" ? "exact Embree over the scene's surface"
-                            : route == "cells" ? "surface-cell triangles"
+  const std::string words = route == "embree" ? "exact ray casting (Embree) over the surface"
+                            : route == "cells" ? "the surface cells' triangles"
                             : route == "raw"   ? "the paper's raw haptic box"
-                                               : "the boxes (their samples";
+                                               : "haptic boxes refined";
   EXPECT_NE(s["summary_text"].get<std::string>().find(words), std::string::npos) << route << ": " << s["summary_text"];
   EXPECT_NE(read("rep_default/report.html").find(words), std::string::npos) << route;
   ASSERT_EQ(run("bake " + path("torus.off") + " -o " + path("default.hbox") + " --cache " + cache).code, 0);

@@ -18,10 +18,10 @@ namespace {
 std::string recipe_temp_path(const std::string& name) { return testing::TempDir() + "hb_recipe_" + name; }
 
 bool same_tables(const BoxScene& a, const BoxScene& b) {
-  if (a.boxes().size() != b.boxes().size()) return false;
-  for (std::size_t k = 0; k < a.boxes().size(); ++k) {
-    const HapticBox& x = a.boxes()[k];
-    const HapticBox& y = b.boxes()[k];
+  if (a.parts().boxes.size() != b.parts().boxes.size()) return false;
+  for (std::size_t k = 0; k < a.parts().boxes.size(); ++k) {
+    const HapticBox& x = a.parts().boxes[k];
+    const HapticBox& y = b.parts().boxes[k];
     if (x.table_bytes() != y.table_bytes() || x.codec() != y.codec() ||
         std::memcmp(x.samples().data(), y.samples().data(), x.table_bytes()) != 0)
       return false;
@@ -39,14 +39,14 @@ TEST(BakeRecipeTest, BakeIsTheSeamedPiecesBakedAndCompressed) {
   recipe.pieces.given = ids;
   recipe.codec.codec = CodecId::block;
   const BakeResult baked = bake(sphere, recipe);
-  ASSERT_EQ(baked.scene.boxes().size(), 2u);
-  EXPECT_EQ(baked.scene.boxes()[0].codec(), CodecId::block);
-  EXPECT_EQ(baked.scene.piece_of_triangle(), ids);
+  ASSERT_EQ(baked.scene.parts().boxes.size(), 2u);
+  EXPECT_EQ(baked.scene.parts().boxes[0].codec(), CodecId::block);
+  EXPECT_EQ(baked.scene.parts().piece_of_triangle, ids);
   EXPECT_GT(baked.stats.rays, 0u);
   // By hand: seams in the cells of the boxes the bake fits (the recipe's padding), then the codec.
   const auto lists = seamed_piece_lists(sphere, ids, recipe.seams, recipe.options);
   EXPECT_GT(lists[0].size() + lists[1].size(), sphere.triangle_count());
-  const BoxScene by_hand = bake_scene_from_lists(sphere, lists, recipe.options, {}).compressed(recipe.codec);
+  const BoxScene by_hand(compressed(bake_scene_from_lists(sphere, lists, recipe.options, {}), recipe.codec));
   EXPECT_TRUE(same_tables(baked.scene, by_hand));
 }
 
@@ -65,12 +65,12 @@ TEST(BakeRecipeTest, ResolvedAutomaticPiecesAreTheDecompositionsOwn) {
   recipe.pieces.kind = PiecesRecipe::Kind::automatic;
   recipe.pieces.automatic.lines = 20000;
   const BakeResult decomposing = bake(two, recipe);
-  ASSERT_GE(decomposing.scene.boxes().size(), 2u);
+  ASSERT_GE(decomposing.scene.parts().boxes.size(), 2u);
   BakeRecipe given = recipe;
   given.pieces.resolved = decompose_auto(two, recipe.pieces.automatic).piece_of_triangle;
   EXPECT_EQ(recipe_key(given), recipe_key(recipe));
   const BakeResult resolved = bake(two, given);
-  EXPECT_EQ(resolved.scene.piece_of_triangle(), decomposing.scene.piece_of_triangle());
+  EXPECT_EQ(resolved.scene.parts().piece_of_triangle, decomposing.scene.parts().piece_of_triangle);
   EXPECT_TRUE(same_tables(resolved.scene, decomposing.scene));
   given.pieces.resolved.pop_back();
   EXPECT_THROW(bake(two, given), InvalidInput);
@@ -105,16 +105,16 @@ TEST(BakeRecipeTest, BoxFileKeepsThePieceIds) {
   recipe.pieces.kind = PiecesRecipe::Kind::given;
   recipe.pieces.given = split_by_planes(sphere, {{Vec3::Zero(), Vec3::UnitY()}});
   const BakeResult baked = bake(sphere, recipe, {"sphere", 42, 0, 0.f});
-  EXPECT_EQ(baked.scene.source().triangles, sphere.triangle_count());
+  EXPECT_EQ(baked.scene.parts().source.triangles, sphere.triangle_count());
   const std::string path = recipe_temp_path("pieces.hbox");
   save_box_file(baked.scene, path);
   const BoxScene loaded = load_box_file(path, {true, false});
-  EXPECT_EQ(loaded.piece_of_triangle(), recipe.pieces.given);
+  EXPECT_EQ(loaded.parts().piece_of_triangle, recipe.pieces.given);
   EXPECT_TRUE(same_tables(loaded, baked.scene));
   // One piece: no ids stored.
   recipe.pieces = {};
   save_box_file(bake(sphere, recipe).scene, path);
-  EXPECT_TRUE(load_box_file(path).piece_of_triangle().empty());
+  EXPECT_TRUE(load_box_file(path).parts().piece_of_triangle.empty());
   std::filesystem::remove(path);
 }
 
@@ -123,7 +123,9 @@ TEST(BakeRecipeTest, SceneRejectsPieceIdsNamingMissingBoxes) {
   BakeRecipe recipe;
   recipe.options.params = {3, 2};
   BoxScene scene = bake(sphere, recipe).scene;
-  EXPECT_THROW(scene.set_piece_of_triangle(std::vector<std::uint32_t>(sphere.triangle_count(), 1u)), InvalidInput);
+  SceneParts bad = scene.parts();
+  bad.piece_of_triangle.assign(sphere.triangle_count(), 1u);
+  EXPECT_THROW(BoxScene{bad}, InvalidInput);
 }
 
 TEST(RecipeChoiceTest, AnySamplingOptionBakesExactlyThatSamplingElseTheDefault) {

@@ -135,7 +135,7 @@ TEST(BoxCacheTest, StoresLoadsSizesAndClears) {
   const CachedBake again = bake_cached(sphere, recipe, source, &cache);
   EXPECT_TRUE(again.from_cache);
   EXPECT_EQ(again.result.stats.rays, 0u);
-  EXPECT_EQ(again.result.scene.table_bytes(), first.result.scene.table_bytes());
+  EXPECT_EQ(again.result.scene.bytes().tables, first.result.scene.bytes().tables);
   // Another mesh hash or padding: another entry.
   EXPECT_FALSE(cache.load(0xabd, recipe).has_value());
   recipe.options.obb.padding = 0.05f;

@@ -77,9 +77,9 @@ protected:
 
 TEST_F(BoxFileTest, RoundTripGivesIdenticalAnswers) {
   const BoxScene loaded = load_box_file(path_);
-  ASSERT_EQ(loaded.boxes().size(), 1u);
-  EXPECT_EQ(loaded.source().mesh_hash, 1234u);
-  EXPECT_EQ(loaded.source().mesh_path, "sphere.off");
+  ASSERT_EQ(loaded.parts().boxes.size(), 1u);
+  EXPECT_EQ(loaded.parts().source.mesh_hash, 1234u);
+  EXPECT_EQ(loaded.parts().source.mesh_path, "sphere.off");
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(-2.f, 2.f);
   for (int i = 0; i < 200; ++i) {
@@ -96,8 +96,8 @@ TEST_F(BoxFileTest, HugePageCopyGivesIdenticalAnswers) {
   options.huge_pages = true;
   const BoxScene mapped = load_box_file(path_);
   BoxScene copied = load_box_file(path_, options);
-  ASSERT_EQ(copied.boxes().size(), 1u);
-  EXPECT_NE(copied.boxes()[0].table(), mapped.boxes()[0].table());
+  ASSERT_EQ(copied.parts().boxes.size(), 1u);
+  EXPECT_NE(copied.parts().boxes[0].table(), mapped.parts().boxes[0].table());
   const BoxScene kept = copied;  // the copy stays alive with any scene sharing it
   copied = BoxScene();
   std::mt19937 rng(5);

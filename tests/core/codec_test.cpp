@@ -462,14 +462,14 @@ protected:
 
 TEST_F(CodecFileTest, RoundTripGivesIdenticalAnswersAndStats) {
   for (CodecId codec : {CodecId::block, CodecId::haar}) {
-    const BoxScene scene({boxes().torus.compressed(options(codec, 5e-4f)), boxes().bumpy}, {"x.off", 1u, 10u, 3.f});
+    const BoxScene scene(SceneParts({boxes().torus.compressed(options(codec, 5e-4f)), boxes().bumpy}, {"x.off", 1u, 10u, 3.f}));
     const BoxScene loaded = load_box_file(save(scene, std::string("rt_") + codec_name(codec) + ".hbox"), LoadOptions{true});
-    ASSERT_EQ(loaded.boxes().size(), 2u);
-    EXPECT_EQ(loaded.boxes()[0].codec(), codec);
-    EXPECT_EQ(loaded.boxes()[1].codec(), CodecId::none);
-    EXPECT_EQ(loaded.boxes()[0].table_bytes(), scene.boxes()[0].table_bytes());
-    EXPECT_EQ(loaded.boxes()[0].codec_stats().t_error_max, scene.boxes()[0].codec_stats().t_error_max);
-    EXPECT_EQ(loaded.boxes()[0].codec_stats().max_error_bound, 5e-4f);
+    ASSERT_EQ(loaded.parts().boxes.size(), 2u);
+    EXPECT_EQ(loaded.parts().boxes[0].codec(), codec);
+    EXPECT_EQ(loaded.parts().boxes[1].codec(), CodecId::none);
+    EXPECT_EQ(loaded.parts().boxes[0].table_bytes(), scene.parts().boxes[0].table_bytes());
+    EXPECT_EQ(loaded.parts().boxes[0].codec_stats().t_error_max, scene.parts().boxes[0].codec_stats().t_error_max);
+    EXPECT_EQ(loaded.parts().boxes[0].codec_stats().max_error_bound, 5e-4f);
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> u(-2.f, 2.f);
     for (int i = 0; i < 500; ++i) {
@@ -483,7 +483,7 @@ TEST_F(CodecFileTest, RoundTripGivesIdenticalAnswersAndStats) {
 }
 
 TEST_F(CodecFileTest, CorruptCompressedPayloadIsRejected) {
-  const BoxScene scene({boxes().torus.compressed(options(CodecId::block, 1e-3f))}, {"x.off", 1u, 10u, 3.f});
+  const BoxScene scene(SceneParts({boxes().torus.compressed(options(CodecId::block, 1e-3f))}, {"x.off", 1u, 10u, 3.f}));
   const std::string path = save(scene, "good.hbox");
   auto data = read(path);
   // A flipped byte deep inside the payload: found by the checksum when verifying.
@@ -498,7 +498,7 @@ TEST_F(CodecFileTest, CorruptCompressedPayloadIsRejected) {
     EXPECT_NE(std::string(e.what()).find("checksum"), std::string::npos) << e.what();
   }
   // The payload's own header is checked even on a lazy open.
-  const std::size_t payload_at = (data.size() - scene.boxes()[0].table_bytes()) / 64 * 64;
+  const std::size_t payload_at = (data.size() - scene.parts().boxes[0].table_bytes()) / 64 * 64;
   ASSERT_EQ(std::memcmp(data.data() + payload_at, "HBTC", 4), 0);
   bad = data;
   bad[payload_at + 8] ^= 0x01;  // m

@@ -104,16 +104,16 @@ TEST(DecimationTest, BudgetedBakeRefinesAgainstTheSimplifiedSurfaceAndIsJudgedOn
   recipe.budget.simplify_shading_deg = 180;  // the subdivided sphere's shading is faceted
   recipe.budget.fastest_exact = false;       // the simplified surface's scene, not Embree's
   const BakeResult baked = bake(fine, recipe);
-  const BudgetReport& rep = baked.scene.budget_report();
+  const BudgetReport& rep = baked.scene.parts().budget;
   ASSERT_TRUE(rep.present);
   EXPECT_EQ(rep.full_triangles, fine.triangle_count());
   EXPECT_GT(rep.surface_triangles, 0u);
   EXPECT_LT(rep.surface_triangles, fine.triangle_count());
   EXPECT_DOUBLE_EQ(rep.surface_bound, simplification_bound(recipe.budget.budget) * double(fine.bounds().diagonal()));
   EXPECT_GT(rep.surface_deviation_max, 0.0);
-  ASSERT_EQ(baked.scene.boxes().size(), 1u);
-  EXPECT_TRUE(baked.scene.boxes()[0].refines());
-  EXPECT_EQ(baked.scene.source().triangles, fine.triangle_count());
+  ASSERT_EQ(baked.scene.parts().boxes.size(), 1u);
+  EXPECT_TRUE(baked.scene.parts().boxes[0].refines());
+  EXPECT_EQ(baked.scene.parts().source.triangles, fine.triangle_count());
   EXPECT_NE(rep.summary().find("refined against"), std::string::npos) << rep.summary();
   // What eval would say on the full mesh with the check's seed.
   ProbeOptions po;
@@ -130,7 +130,7 @@ TEST(DecimationTest, BudgetedBakeRefinesAgainstTheSimplifiedSurfaceAndIsJudgedOn
   EXPECT_NEAR(back.surface_deviation_max, rep.surface_deviation_max, 1e-8 * rep.surface_deviation_max);
   // Below the threshold the full mesh is the surface.
   recipe.budget.simplify_above = fine.triangle_count();
-  EXPECT_EQ(bake(fine, recipe).scene.budget_report().surface_triangles, 0u);
+  EXPECT_EQ(bake(fine, recipe).scene.parts().budget.surface_triangles, 0u);
 }
 
 // The window decomposes the full mesh before its bake (the VTK decomposition filter hands the
@@ -151,10 +151,10 @@ TEST(DecimationTest, PiecesResolvedOnTheFullMeshAreCutAnewOnASimplifiedSurface) 
   recipe.budget.simplify_shading_deg = 180;
   recipe.budget.fastest_exact = false;
   const BakeResult baked = bake(fine, recipe);
-  const BudgetReport& rep = baked.scene.budget_report();
+  const BudgetReport& rep = baked.scene.parts().budget;
   EXPECT_GT(rep.surface_triangles, 0u) << rep.summary();
   EXPECT_LT(rep.surface_triangles, fine.triangle_count());
-  EXPECT_FALSE(baked.scene.boxes().empty());
+  EXPECT_FALSE(baked.scene.parts().boxes.empty());
 }
 
 // A simplified surface that misses the budget is simplified again within a quarter of the
@@ -174,7 +174,7 @@ TEST(DecimationTest, ASimplifiedSurfaceThatMissesTheBudgetIsSimplifiedAgainWithi
     recipe.budget.simplify_deviation = 4e-4;  // far looser than the automatic bound
     std::vector<std::string> notes;  // said as each surface is dropped
     recipe.budget.on_note = [&](const std::string& note) { notes.push_back(note); };
-    const BudgetReport rep = bake(fine, recipe).scene.budget_report();
+    const BudgetReport rep = bake(fine, recipe).scene.parts().budget;
     recipe.budget.on_note = nullptr;
     EXPECT_TRUE(rep.met) << rep.summary();
     EXPECT_GT(rep.surface_rejected, 0u) << rep.summary();
@@ -208,7 +208,7 @@ TEST(DecimationTest, ASimplifiedSurfaceThatMissesTheBudgetIsSimplifiedAgainWithi
     DecimationOptions first;
     first.max_deviation = recipe.budget.simplify_deviation * double(piece.bounds().diagonal());
     const std::size_t first_try = decimate(piece, first).mesh.triangle_count();
-    const BudgetReport rep = bake(piece, recipe).scene.budget_report();
+    const BudgetReport rep = bake(piece, recipe).scene.parts().budget;
     EXPECT_TRUE(rep.met) << rep.summary();
     EXPECT_EQ(rep.surface_triangles, 0u) << rep.summary();
     EXPECT_GT(rep.surface_rejected, first_try) << "the last surface dropped is a tighter one";
@@ -271,7 +271,7 @@ TEST(DecimationTest, AHugeMeshIsDecimatedOnceHoweverOftenTheBoundIsTightened) {
   recipe.budget.samplings = {{0.1f, 6}};
   recipe.budget.fastest_exact = false;
   recipe.budget.simplify_once_above = 5000;
-  const BudgetReport rep = bake(fine, recipe).scene.budget_report();
+  const BudgetReport rep = bake(fine, recipe).scene.parts().budget;
   EXPECT_TRUE(rep.met) << rep.summary();
   bool redecimated = false;
   for (const auto& [name, seconds] : rep.stage_seconds) redecimated = redecimated || name == "redecimate";
@@ -289,7 +289,7 @@ TEST(DecimationTest, ASimplifiedSurfaceSlowerThanEmbreeIsDroppedForTheFullMeshAt
   recipe.budget.probes = 3000;
   recipe.budget.samplings = {{0.1f, 6}};
   recipe.budget.simplify_above = 5000;
-  const BudgetReport rep = bake(fine, recipe).scene.budget_report();
+  const BudgetReport rep = bake(fine, recipe).scene.parts().budget;
   EXPECT_TRUE(rep.met) << rep.summary();
   const std::string slower = "the simplified surface's exact scene (";
   if (rep.surface_rejected_why.rfind(slower, 0) == 0) {
@@ -298,7 +298,7 @@ TEST(DecimationTest, ASimplifiedSurfaceSlowerThanEmbreeIsDroppedForTheFullMeshAt
     first.max_deviation = simplification_bound(recipe.budget.budget) * double(fine.bounds().diagonal());
     EXPECT_EQ(rep.surface_rejected, decimate(fine, first).mesh.triangle_count()) << "no tighter surface tried";
     EXPECT_NE(rep.summary().find("baked on the full mesh"), std::string::npos) << rep.summary();
-    EXPECT_TRUE(rep.answer == "embree" || rep.answer == "boxes") << rep.answer;
+    EXPECT_TRUE(rep.answer == Answerer::embree || rep.answer == Answerer::boxes) << answerer_name(rep.answer);
     EXPECT_LE(rep.answer_ns, rep.exact_ns * 1.0000001) << rep.summary();
   } else {
     // Its scene was the faster: kept, or dropped for what it missed (T2, the fresh probes).

@@ -221,7 +221,7 @@ TEST(SeamOverlapTest, SeamCrossingKeepsContact) {
   const TriangleMesh sphere = make_sphere(r, 5);
   const auto ids = split_by_planes(sphere, {{Vec3::Zero(), Vec3::UnitZ()}});
   const BoxScene scene = bake_lists(sphere, seamed(sphere, ids, 1, 1.5f, 16), 16, 8);
-  ASSERT_EQ(scene.boxes().size(), 2u);
+  ASSERT_EQ(scene.parts().boxes.size(), 2u);
   const ExactQuery exact(sphere);
   int checked = 0;
   for (int k = 0; k < 72; ++k) {
@@ -257,14 +257,14 @@ TEST(BoxSceneTest, NearestValidContactWinsAndBoxesMetCount) {
   for (std::size_t t = two.triangle_count() / 2; t < two.triangle_count(); ++t) ids[t] = 1;
   const BoxScene scene = bake_lists(two, seamed(two, ids, 0, 0.f), 12, 8);
   const Segment through{Vec3(-2.f, 0.01f, 0.f), Vec3(1.2f, 0.01f, 0.f)};
-  EXPECT_EQ(scene.boxes_met(through), 2u);
+  EXPECT_EQ(boxes_met(scene, through), 2u);
   const Contact c = scene.query(through, kDecompositionLaw);
   ASSERT_TRUE(c.contact);
   EXPECT_NEAR(c.point.x(), -1.5f, 0.01f);
   const Segment one{Vec3(2.f, 0.01f, 0.f), Vec3(1.3f, 0.01f, 0.f)};
-  EXPECT_EQ(scene.boxes_met(one), 1u);
+  EXPECT_EQ(boxes_met(scene, one), 1u);
   EXPECT_TRUE(scene.query(one, kDecompositionLaw).contact);
-  EXPECT_EQ(scene.boxes_met({Vec3(0.f, 3.f, 0.f), Vec3(0.f, 4.f, 0.f)}), 0u);
+  EXPECT_EQ(boxes_met(scene, {Vec3(0.f, 3.f, 0.f), Vec3(0.f, 4.f, 0.f)}), 0u);
   // A handle inside the first sphere: the first surface from it is an inside one, so the
   // second sphere's surface ahead is no contact (as for the exact answer).
   const Segment inside{Vec3(-1.1f, 0.01f, 0.f), Vec3(0.8f, 0.01f, 0.f)};

@@ -21,12 +21,11 @@ namespace {
 // The two spheres' cells scene (no triangle ids) routed to Embree, its report naming that
 // route, as the budgeted bake leaves it before dropping the tables.
 BoxScene embree_scene(const test::TwoSpheres& two) {
-  BoxScene scene = test::refined_two_spheres(two).without_triangle_ids();
-  BudgetReport rep;
-  rep.present = true;
-  rep.answer = "embree";
-  scene.set_budget_report(rep);
-  return scene;
+  SceneParts parts = without_triangle_ids(test::refined_two_spheres(two));
+  parts.budget.present = true;
+  parts.budget.answer = Answerer::embree;
+  parts.route = SceneRoute::embree;
+  return BoxScene(std::move(parts));
 }
 
 std::string scratch(const char* name) { return "/tmp/hb_frames_" + std::to_string(::getpid()) + "_" + name + ".hbox"; }
@@ -43,25 +42,25 @@ std::uint32_t file_version(const std::string& path) {
 TEST(EmbreeFramesTest, AnEmbreeRoutedScenesFileHoldsFramesNotTablesAndAnswersTheSame) {
   const test::TwoSpheres two = test::two_spheres(3.f);
   const BoxScene tables = embree_scene(two);
-  ASSERT_EQ(tables.answering_route(), SceneRoute::embree);
-  const BoxScene frames = tables.without_tables();
-  ASSERT_TRUE(tables.has_tables());
-  EXPECT_FALSE(frames.has_tables());
-  EXPECT_EQ(frames.answering_route(), SceneRoute::embree);
-  EXPECT_EQ(frames.table_bytes(), 0u);
-  EXPECT_LT(frames.memory_bytes(), tables.memory_bytes());
-  ASSERT_EQ(frames.boxes().size(), tables.boxes().size());
-  for (std::size_t b = 0; b < frames.boxes().size(); ++b) {
-    const HapticBox& f = frames.boxes()[b];
+  ASSERT_EQ(tables.route(), SceneRoute::embree);
+  const BoxScene frames = BoxScene(without_tables(tables));
+  ASSERT_TRUE(has_tables(tables.parts()));
+  EXPECT_FALSE(has_tables(frames.parts()));
+  EXPECT_EQ(frames.route(), SceneRoute::embree);
+  EXPECT_EQ(frames.bytes().tables, 0u);
+  EXPECT_LT(frames.bytes().memory, tables.bytes().memory);
+  ASSERT_EQ(frames.parts().boxes.size(), tables.parts().boxes.size());
+  for (std::size_t b = 0; b < frames.parts().boxes.size(); ++b) {
+    const HapticBox& f = frames.parts().boxes[b];
     EXPECT_FALSE(f.has_table());
     EXPECT_EQ(f.raw_table_bytes(), 0u);
-    EXPECT_EQ(f.params().m, tables.boxes()[b].params().m);
-    EXPECT_EQ(f.params().n, tables.boxes()[b].params().n);
-    EXPECT_EQ(f.obb().center, tables.boxes()[b].obb().center);
-    EXPECT_EQ(f.obb().half, tables.boxes()[b].obb().half);
+    EXPECT_EQ(f.params().m, tables.parts().boxes[b].params().m);
+    EXPECT_EQ(f.params().n, tables.parts().boxes[b].params().n);
+    EXPECT_EQ(f.obb().center, tables.parts().boxes[b].obb().center);
+    EXPECT_EQ(f.obb().half, tables.parts().boxes[b].obb().half);
   }
-  EXPECT_EQ(frames.piece_of_triangle(), tables.piece_of_triangle());
-  EXPECT_EQ(frames.surface(), tables.surface());
+  EXPECT_EQ(frames.parts().piece_of_triangle, tables.parts().piece_of_triangle);
+  EXPECT_EQ(frames.parts().surface, tables.parts().surface);
 
   const std::string with = scratch("tables"), without = scratch("frames");
   save_box_file(tables, with);
@@ -70,16 +69,16 @@ TEST(EmbreeFramesTest, AnEmbreeRoutedScenesFileHoldsFramesNotTablesAndAnswersThe
   EXPECT_EQ(file_version(with), 7u);
   EXPECT_EQ(file_version(without), 8u);
   const auto with_bytes = std::filesystem::file_size(with), without_bytes = std::filesystem::file_size(without);
-  EXPECT_GE(with_bytes, without_bytes + tables.table_bytes()) << without_bytes << " " << with_bytes;
+  EXPECT_GE(with_bytes, without_bytes + tables.bytes().tables) << without_bytes << " " << with_bytes;
   const BoxScene loaded = load_box_file(without, LoadOptions{true});
   std::filesystem::remove(with);
   std::filesystem::remove(without);
-  EXPECT_FALSE(loaded.has_tables());
-  EXPECT_EQ(loaded.answering_route(), SceneRoute::embree);
-  EXPECT_EQ(loaded.boxes().size(), tables.boxes().size());
-  EXPECT_EQ(loaded.boxes()[1].obb().center, tables.boxes()[1].obb().center);
-  EXPECT_EQ(loaded.piece_of_triangle(), tables.piece_of_triangle());
-  EXPECT_EQ(loaded.budget_report().serialize(), tables.budget_report().serialize());
+  EXPECT_FALSE(has_tables(loaded.parts()));
+  EXPECT_EQ(loaded.route(), SceneRoute::embree);
+  EXPECT_EQ(loaded.parts().boxes.size(), tables.parts().boxes.size());
+  EXPECT_EQ(loaded.parts().boxes[1].obb().center, tables.parts().boxes[1].obb().center);
+  EXPECT_EQ(loaded.parts().piece_of_triangle, tables.parts().piece_of_triangle);
+  EXPECT_EQ(loaded.parts().budget.serialize(), tables.parts().budget.serialize());
 
   const ForceLaw law = make_workspace(two.mesh.bounds().diagonal()).law();
   const std::vector<Segment> probes = sample_probes(two.mesh, 3000, ProbeOptions{});
@@ -89,20 +88,19 @@ TEST(EmbreeFramesTest, AnEmbreeRoutedScenesFileHoldsFramesNotTablesAndAnswersThe
 
 TEST(EmbreeFramesTest, FramesRefuseTheBoxesRouteAndCompressionNamingWhy) {
   const test::TwoSpheres two = test::two_spheres(3.f);
-  BoxScene frames = embree_scene(two).without_tables();
+  const BoxScene frames(without_tables(embree_scene(two)));
   try {
-    frames.set_route(SceneRoute::boxes);
+    with_route(frames, SceneRoute::boxes);
     FAIL() << "frames took the boxes route";
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("frames without tables"), std::string::npos) << e.what();
   }
-  EXPECT_EQ(frames.answering_route(), SceneRoute::embree);
+  EXPECT_EQ(frames.route(), SceneRoute::embree);
   // The surface cells still answer (exactly) where the grid has them.
-  frames.set_route(SceneRoute::cells);
-  EXPECT_EQ(frames.answering_route(), SceneRoute::cells);
-  EXPECT_THROW(frames.compressed(CodecOptions{CodecId::block}), InvalidInput);
+  EXPECT_EQ(with_route(frames, SceneRoute::cells).route(), SceneRoute::cells);
+  EXPECT_THROW(compressed(frames, CodecOptions{CodecId::block}), InvalidInput);
   // A frame answers nothing by itself, one query or many.
-  const HapticBox& f = frames.boxes()[0];
+  const HapticBox& f = frames.parts().boxes[0];
   const Segment s{f.obb().center + Vec3(3.f, 0.f, 0.f), f.obb().center};
   EXPECT_FALSE(f.query(s, ForceLaw{}).contact);
   Contact many[2];
@@ -120,9 +118,9 @@ TEST(EmbreeFramesTest, AFramesFileNamingNoRouteToAnswerItIsCorrupt) {
   o.params = {8, 4};
   o.refine = true;
   const BoxScene one = bake_scene(two.mesh, {}, o, SourceInfo{});
-  ASSERT_EQ(one.boxes().size(), 1u);
-  const BoxScene frame = one.without_tables();
-  EXPECT_EQ(frame.answering_route(), SceneRoute::embree);
+  ASSERT_EQ(one.parts().boxes.size(), 1u);
+  const BoxScene frame = BoxScene(without_tables(one));
+  EXPECT_EQ(frame.route(), SceneRoute::embree);
   const std::string path = scratch("unrouted");
   save_box_file(frame, path);  // no budget report: nothing names the Embree route
   try {
@@ -137,17 +135,20 @@ TEST(EmbreeFramesTest, AFramesFileNamingNoRouteToAnswerItIsCorrupt) {
 
 TEST(EmbreeFramesTest, AScenesEmbreeTreeServesAnotherOnlyOverTheSameSurface) {
   const test::TwoSpheres two = test::two_spheres(3.f);
-  const BoxScene cells = test::refined_two_spheres(two).without_triangle_ids();
-  BoxScene routed = cells;
-  routed.set_route(SceneRoute::embree);
-  BoxScene same = cells;  // the same surface object
-  EXPECT_EQ(same.embree_bytes(), 0u);
-  EXPECT_TRUE(same.take_embree_tree(routed));
-  EXPECT_EQ(same.embree_bytes(), routed.embree_bytes());
-  EXPECT_EQ(same.answering_route(), SceneRoute::cells);  // the route is still the caller's to set
-  BoxScene other = test::refined_two_spheres(two).without_triangle_ids();  // an equal surface, not the same
-  EXPECT_FALSE(other.take_embree_tree(routed));
-  EXPECT_EQ(other.embree_bytes(), 0u);
+  const BoxScene cells(without_triangle_ids(test::refined_two_spheres(two)));
+  const BoxScene routed = with_route(cells, SceneRoute::embree);
+  ASSERT_NE(routed.parts().embree, nullptr);
+  EXPECT_EQ(routed.bytes().embree, with_route(cells, SceneRoute::embree).bytes().embree);
+  // Parts carrying the tree over the same surface object: the new scene builds none.
+  SceneParts same = cells.parts();
+  same.embree = routed.parts().embree;
+  same.route = SceneRoute::embree;
+  EXPECT_EQ(BoxScene(same).parts().embree, routed.parts().embree);
+  // An equal surface, not the same object: its own tree.
+  SceneParts other = without_triangle_ids(test::refined_two_spheres(two));
+  other.embree = routed.parts().embree;
+  other.route = SceneRoute::embree;
+  EXPECT_NE(BoxScene(other).parts().embree, routed.parts().embree);
 }
 
 // The default bake's scene answered by Embree (small meshes; the clock decides) holds frames
@@ -161,15 +162,15 @@ TEST(EmbreeFramesTest, ABudgetedBakeRoutedToEmbreeKeepsOnlyFramesUnlessIdsAreKep
   recipe.budget.samplings = {{0.1f, 6}};
   recipe.budget.budget.raw = false;  // the raw box is another test's (RawBoxTrialTest)
   const BakeResult baked = bake(two.mesh, recipe);
-  const bool embree = baked.scene.budget_report().answer == "embree";
-  EXPECT_EQ(baked.scene.answering_route() == SceneRoute::embree, embree);
-  EXPECT_EQ(baked.scene.has_tables(), !embree) << baked.scene.budget_report().summary();
+  const bool embree = baked.scene.parts().budget.answer == Answerer::embree;
+  EXPECT_EQ(baked.scene.route() == SceneRoute::embree, embree);
+  EXPECT_EQ(has_tables(baked.scene.parts()), !embree) << baked.scene.parts().budget.summary();
   if (embree) {
     EXPECT_EQ(baked.stats.table_bytes, 0u);
   }
   recipe.budget.keep_triangle_ids = true;
   const BakeResult kept = bake(two.mesh, recipe);
-  EXPECT_TRUE(kept.scene.has_tables());
+  EXPECT_TRUE(has_tables(kept.scene.parts()));
 }
 
 } // namespace

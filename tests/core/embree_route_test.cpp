@@ -18,18 +18,17 @@ BoxScene cells_scene(const test::TwoSpheres& two) {
   BakeOptions o;
   o.params = {12, 6};
   o.refine = true;
-  return bake_scene(two.mesh, two.piece, o, SourceInfo{}).without_triangle_ids();
+  return BoxScene(without_triangle_ids(bake_scene(two.mesh, two.piece, o, SourceInfo{})));
 }
 
 TEST(EmbreeRouteTest, AnswersAsTheSurfaceCellsAndAsExactAtTheWorkspaceScale) {
   const test::TwoSpheres two = test::two_spheres(3.f);
   const BoxScene cells = cells_scene(two);
-  ASSERT_EQ(cells.answering_route(), SceneRoute::cells);
-  BoxScene embree = cells;
-  embree.set_route(SceneRoute::embree);
-  ASSERT_EQ(embree.answering_route(), SceneRoute::embree);
-  EXPECT_GT(embree.embree_bytes(), 0u);
-  EXPECT_GT(embree.memory_bytes(), cells.memory_bytes());
+  ASSERT_EQ(cells.route(), SceneRoute::cells);
+  const BoxScene embree = with_route(cells, SceneRoute::embree);
+  ASSERT_EQ(embree.route(), SceneRoute::embree);
+  EXPECT_GT(embree.bytes().embree, 0u);
+  EXPECT_GT(embree.bytes().memory, cells.bytes().memory);
   const ExactQuery exact(two.mesh);
   const float diagonal = two.mesh.bounds().diagonal();
   const ForceLaw law = make_workspace(diagonal).law();
@@ -61,12 +60,14 @@ TEST(EmbreeRouteTest, AnswersAsTheSurfaceCellsAndAsExactAtTheWorkspaceScale) {
 
 TEST(EmbreeRouteTest, CopiesKeepTheRouteAndTheCellsRouteComesBack) {
   const test::TwoSpheres two = test::two_spheres(3.f);
-  BoxScene scene = cells_scene(two);
-  scene.set_route(SceneRoute::embree);
-  EXPECT_EQ(scene.without_grid().answering_route(), SceneRoute::embree);
-  EXPECT_EQ(scene.without_triangle_ids().answering_route(), SceneRoute::embree);
-  scene.set_route(SceneRoute::cells);
-  EXPECT_EQ(scene.answering_route(), SceneRoute::cells);
+  const BoxScene scene = with_route(cells_scene(two), SceneRoute::embree);
+  const BoxScene copy = scene;
+  EXPECT_EQ(copy.route(), SceneRoute::embree);
+  SceneParts no_grid = scene.parts();
+  no_grid.grid.reset();
+  EXPECT_EQ(BoxScene(no_grid).route(), SceneRoute::embree);
+  EXPECT_EQ(BoxScene(without_triangle_ids(scene)).route(), SceneRoute::embree);
+  EXPECT_EQ(with_route(scene, SceneRoute::cells).route(), SceneRoute::cells);
   EXPECT_STREQ(route_name(SceneRoute::embree), "embree");
 }
 
@@ -74,14 +75,14 @@ TEST(EmbreeRouteTest, ASceneWithoutASurfaceRefusesTheRouteNamingWhy) {
   const test::TwoSpheres two = test::two_spheres(3.f);
   BakeOptions o;
   o.params = {8, 4};
-  BoxScene raw = bake_scene(two.mesh, {}, o, SourceInfo{});
+  const BoxScene raw = bake_scene(two.mesh, {}, o, SourceInfo{});
   try {
-    raw.set_route(SceneRoute::embree);
+    with_route(raw, SceneRoute::embree);
     FAIL() << "a raw scene took the embree route";
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("embree route needs"), std::string::npos) << e.what();
   }
-  EXPECT_NE(raw.answering_route(), SceneRoute::embree);
+  EXPECT_NE(raw.route(), SceneRoute::embree);
 }
 
 } // namespace

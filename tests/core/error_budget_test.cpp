@@ -125,7 +125,7 @@ TEST(ErrorBudgetTest, ReportKeepsTheBakesQueryTimesAndReadsOlderFilesWithout) {
   BudgetReport r;
   r.present = true;
   r.met = true;
-  r.answer = "cells";
+  r.answer = Answerer::cells;
   r.answer_ns = 812.5;
   r.exact_ns = 1450.25;
   BudgetReport::RawTried t;
@@ -209,18 +209,18 @@ TEST(ErrorBudgetTest, BudgetedBakeMeetsTheBudgetOnFreshProbesAndTheFileKeepsIt) 
   BakeRecipe recipe = two_piece_recipe(two, 3000);
   recipe.budget.samplings = {{0.2f, 4}, {0.1f, 6}};
   const BakeResult baked = bake(two.mesh, recipe);
-  const BudgetReport& rep = baked.scene.budget_report();
+  const BudgetReport& rep = baked.scene.parts().budget;
   ASSERT_TRUE(rep.present);
   EXPECT_TRUE(rep.met) << rep.summary();
   EXPECT_EQ(rep.probes, 3000u);
   EXPECT_EQ(rep.seed, recipe.budget.check_seed);
   ASSERT_EQ(rep.pieces.size(), 2u);
-  ASSERT_EQ(baked.scene.boxes().size(), 2u);
+  ASSERT_EQ(baked.scene.parts().boxes.size(), 2u);
   bool any_refined = false;
   for (std::size_t b = 0; b < 2; ++b) {
-    EXPECT_EQ(baked.scene.boxes()[b].params().n, rep.pieces[b].n);
+    EXPECT_EQ(baked.scene.parts().boxes[b].params().n, rep.pieces[b].n);
     // The surface cells answer a refined scene: no box keeps triangle ids.
-    EXPECT_FALSE(baked.scene.boxes()[b].refines());
+    EXPECT_FALSE(baked.scene.parts().boxes[b].refines());
     EXPECT_GT(rep.pieces[b].probes, 0u);
     any_refined = any_refined || rep.pieces[b].refine;
   }
@@ -241,9 +241,9 @@ TEST(ErrorBudgetTest, BudgetedBakeMeetsTheBudgetOnFreshProbesAndTheFileKeepsIt) 
   save_box_file(baked.scene, path);
   const BoxScene loaded = load_box_file(path, LoadOptions{true});
   std::filesystem::remove(path);
-  ASSERT_TRUE(loaded.budget_report().present);
-  EXPECT_EQ(loaded.budget_report().serialize(), rep.serialize());
-  ASSERT_TRUE(loaded.grid() != nullptr);
+  ASSERT_TRUE(loaded.parts().budget.present);
+  EXPECT_EQ(loaded.parts().budget.serialize(), rep.serialize());
+  ASSERT_TRUE(loaded.parts().grid != nullptr);
 }
 
 // The default bake keeps no triangle ids where the surface cells answer: the same answers,
@@ -256,23 +256,23 @@ TEST(ErrorBudgetTest, DefaultBakeDropsTheTriangleIdsTheCellsRouteDoesNotRead) {
   const BakeResult dropped = bake(two.mesh, recipe);
   recipe.budget.keep_triangle_ids = true;
   const BakeResult kept = bake(two.mesh, recipe);
-  ASSERT_EQ(kept.scene.answering_route(), SceneRoute::cells);
-  ASSERT_TRUE(kept.scene.has_triangle_ids());
-  EXPECT_FALSE(dropped.scene.has_triangle_ids());
+  ASSERT_EQ(kept.scene.route(), SceneRoute::cells);
+  ASSERT_TRUE(has_triangle_ids(kept.scene.parts()));
+  EXPECT_FALSE(has_triangle_ids(dropped.scene.parts()));
   EXPECT_TRUE(dropped.scene.refines());
-  EXPECT_EQ(dropped.scene.answering_route(), SceneRoute::cells);
-  ASSERT_TRUE(dropped.scene.surface() != nullptr);
-  EXPECT_EQ(dropped.scene.refinement_bytes(), dropped.scene.surface()->bytes());
-  EXPECT_LT(dropped.scene.refinement_bytes(), kept.scene.refinement_bytes());
+  EXPECT_EQ(dropped.scene.route(), SceneRoute::cells);
+  ASSERT_TRUE(dropped.scene.parts().surface != nullptr);
+  EXPECT_EQ(dropped.scene.bytes().refinement, dropped.scene.parts().surface->bytes());
+  EXPECT_LT(dropped.scene.bytes().refinement, kept.scene.bytes().refinement);
   // The same choice and figures; only the query times each bake measured differ.
-  EXPECT_EQ(dropped.scene.budget_report().without_times().serialize(), kept.scene.budget_report().without_times().serialize());
+  EXPECT_EQ(dropped.scene.parts().budget.without_times().serialize(), kept.scene.parts().budget.without_times().serialize());
 
   const std::string path = "/tmp/hb_ids_test_" + std::to_string(::getpid()) + ".hbox";
   save_box_file(dropped.scene, path);
   const BoxScene loaded = load_box_file(path, LoadOptions{true});
   std::filesystem::remove(path);
-  EXPECT_FALSE(loaded.has_triangle_ids());
-  EXPECT_EQ(loaded.answering_route(), SceneRoute::cells);
+  EXPECT_FALSE(has_triangle_ids(loaded.parts()));
+  EXPECT_EQ(loaded.route(), SceneRoute::cells);
   ProbeOptions po;
   po.seed = 7;
   EXPECT_GT(test::expect_same_answers(kept.scene, loaded, sample_probes(two.mesh, 3000, po), ForceLaw{}), 300u);
@@ -289,22 +289,22 @@ TEST(ErrorBudgetTest, ASceneTheSurfaceCellsAnswerIsBakedAtTheCoarsestSamplingOnl
   const BakeResult quick = bake(two.mesh, recipe);
   recipe.budget.full_search = true;
   const BakeResult full = bake(two.mesh, recipe);
-  const BudgetReport& rep = quick.scene.budget_report();
-  ASSERT_EQ(quick.scene.answering_route(), SceneRoute::cells);
-  ASSERT_EQ(full.scene.answering_route(), SceneRoute::cells);
+  const BudgetReport& rep = quick.scene.parts().budget;
+  ASSERT_EQ(quick.scene.route(), SceneRoute::cells);
+  ASSERT_EQ(full.scene.route(), SceneRoute::cells);
   EXPECT_TRUE(rep.met) << rep.summary();
   EXPECT_EQ(rep.candidates_tried, 1u);
-  EXPECT_GT(full.scene.budget_report().candidates_tried, 1u);
+  EXPECT_GT(full.scene.parts().budget.candidates_tried, 1u);
   ASSERT_EQ(rep.pieces.size(), 2u);
   for (std::size_t b = 0; b < 2; ++b) {
     EXPECT_TRUE(rep.pieces[b].refine);
     EXPECT_FLOAT_EQ(rep.pieces[b].cell, 0.2f);
     EXPECT_EQ(rep.pieces[b].n, 4);
-    EXPECT_EQ(quick.scene.boxes()[b].params().n, 4);
+    EXPECT_EQ(quick.scene.parts().boxes[b].params().n, 4);
   }
   std::size_t quick_tables = 0, full_tables = 0;
-  for (const HapticBox& b : quick.scene.boxes()) quick_tables += b.table_bytes();
-  for (const HapticBox& b : full.scene.boxes()) full_tables += b.table_bytes();
+  for (const HapticBox& b : quick.scene.parts().boxes) quick_tables += b.table_bytes();
+  for (const HapticBox& b : full.scene.parts().boxes) full_tables += b.table_bytes();
   EXPECT_LE(quick_tables, full_tables);
   ProbeOptions po;
   po.seed = 9;
@@ -318,7 +318,7 @@ TEST(ErrorBudgetTest, BudgetedBakeRecordsItsStageTimesButTheFileDoesNot) {
   BakeRecipe recipe = two_piece_recipe(two, 1000);
   recipe.budget.samplings = {{0.2f, 4}};
   const BakeResult baked = bake(two.mesh, recipe);
-  const BudgetReport& rep = baked.scene.budget_report();
+  const BudgetReport& rep = baked.scene.parts().budget;
   std::vector<std::string> names;
   for (const auto& st : rep.stage_seconds) {
     names.push_back(st.first);
@@ -356,10 +356,10 @@ TEST(ErrorBudgetTest, PiecesWhoseBlendsAnswerOffTheSurfaceAreRefined) {
   const BakeResult loose = bake(two.mesh, recipe);
   recipe.budget.surface_tolerance = BudgetRecipe{}.surface_tolerance;
   const BakeResult checked = bake(two.mesh, recipe);
-  ASSERT_EQ(loose.scene.budget_report().pieces.size(), 2u);
-  ASSERT_EQ(checked.scene.budget_report().pieces.size(), 2u);
-  for (const PieceChoice& p : loose.scene.budget_report().pieces) EXPECT_FALSE(p.refine);
-  for (const PieceChoice& p : checked.scene.budget_report().pieces) EXPECT_TRUE(p.refine);
+  ASSERT_EQ(loose.scene.parts().budget.pieces.size(), 2u);
+  ASSERT_EQ(checked.scene.parts().budget.pieces.size(), 2u);
+  for (const PieceChoice& p : loose.scene.parts().budget.pieces) EXPECT_FALSE(p.refine);
+  for (const PieceChoice& p : checked.scene.parts().budget.pieces) EXPECT_TRUE(p.refine);
   const std::size_t before = off_surface(loose.scene), after = off_surface(checked.scene);
   EXPECT_GT(before, 0u);
   EXPECT_LT(after, before);
@@ -371,9 +371,9 @@ TEST(ErrorBudgetTest, AnUnreachableBudgetIsReportedMissedNotHidden) {
   recipe.budget.samplings = {{0.3f, 3}};
   recipe.budget.budget = parse_budget("p95=0,median=0,dir99=0,agree=100");
   const BakeResult baked = bake(two.mesh, recipe);
-  EXPECT_TRUE(baked.scene.budget_report().present);
-  EXPECT_FALSE(baked.scene.budget_report().met);
-  EXPECT_NE(baked.scene.budget_report().summary().find("MISSED"), std::string::npos);
+  EXPECT_TRUE(baked.scene.parts().budget.present);
+  EXPECT_FALSE(baked.scene.parts().budget.met);
+  EXPECT_NE(baked.scene.parts().budget.summary().find("MISSED"), std::string::npos);
 }
 
 TEST(ErrorBudgetTest, BadSamplingsThrow) {

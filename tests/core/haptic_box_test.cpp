@@ -335,10 +335,10 @@ TEST(HapticBoxBakeTest, PerBoxDensityFollowsTheCellSize) {
   options.density.min_m = 3;
   BakeStats stats;
   const BoxScene scene = bake_scene_from_lists(both, lists, options, SourceInfo{}, &stats);
-  const int m0 = scene.boxes()[0].params().m, m1 = scene.boxes()[1].params().m;
+  const int m0 = scene.parts().boxes[0].params().m, m1 = scene.parts().boxes[1].params().m;
   EXPECT_LT(m0, m1);
   EXPECT_LE(m1, options.density.max_m);
-  EXPECT_EQ(stats.rays, scene.boxes()[0].params().sample_count() + scene.boxes()[1].params().sample_count());
+  EXPECT_EQ(stats.rays, scene.parts().boxes[0].params().sample_count() + scene.parts().boxes[1].params().sample_count());
   const Contact c = scene.query({Vec3(4.f, 0.f, 3.f), Vec3(4.f, 0.f, 1.3f)}, kLaw);
   ASSERT_TRUE(c.contact);
   EXPECT_NEAR(c.depth, 0.2f, 0.02f);
@@ -352,7 +352,7 @@ TEST(BoxSceneTest, ContactNearestTheHandleWins) {
   BakeOptions options;
   options.params = {8, 6};
   const BoxScene scene = bake_scene(two.mesh, two.piece, options, {});
-  ASSERT_EQ(scene.boxes().size(), 2u);
+  ASSERT_EQ(scene.parts().boxes.size(), 2u);
   const Contact c = scene.query({Vec3(6.f, 0.01f, 0.f), Vec3(-0.5f, 0.01f, 0.f)}, kLaw);
   ASSERT_TRUE(c.contact);
   EXPECT_NEAR(c.point.x(), 4.f, 0.02f);

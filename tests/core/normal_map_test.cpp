@@ -164,20 +164,20 @@ TEST_F(NormalMapFileTest, TheSimplifiedBakeKeepsTheFullShadingThroughItsFile) {
   recipe.budget.simplify_above = 1000;
   recipe.budget.fastest_exact = false;  // the simplified surface's scene, not Embree's
   const BakeResult baked = bake(fine, recipe);
-  const BudgetReport& rep = baked.scene.budget_report();
+  const BudgetReport& rep = baked.scene.parts().budget;
   ASSERT_TRUE(rep.met) << rep.summary();
   EXPECT_LE(rep.surface_triangles, fine.triangle_count() / 8);
   EXPECT_EQ(rep.surface_map_side, 4u);
   EXPECT_LT(rep.direction_p99_deg, 0.1) << rep.summary();
   EXPECT_EQ(BudgetReport::parse(rep.serialize()).surface_map_side, 4u);
-  ASSERT_TRUE(baked.scene.surface() != nullptr);
-  EXPECT_EQ(baked.scene.surface()->normal_map_side(), 4);
+  ASSERT_TRUE(baked.scene.parts().surface != nullptr);
+  EXPECT_EQ(baked.scene.parts().surface->normal_map_side(), 4);
 
   const std::string path = (dir_ / "mapped.hbox").string();
   save_box_file(baked.scene, path);
   const BoxScene loaded = load_box_file(path, LoadOptions{true});
-  ASSERT_TRUE(loaded.surface() != nullptr);
-  EXPECT_EQ(loaded.surface()->normal_map_side(), 4);
+  ASSERT_TRUE(loaded.parts().surface != nullptr);
+  EXPECT_EQ(loaded.parts().surface->normal_map_side(), 4);
   for (const Segment& s : sample_probes(fine, 500)) {
     const Contact a = baked.scene.query(s, ForceLaw{}), b = loaded.query(s, ForceLaw{});
     ASSERT_EQ(a.contact, b.contact);

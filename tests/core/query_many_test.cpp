@@ -132,10 +132,10 @@ TEST(QueryManyTest, SceneOfSeveralBoxesGivesTheSameAnswersAsSingleQueries) {
   BakeOptions options;
   options.params = {8, 6};
   const BoxScene scene = bake_scene(both, two.piece, options, {});
-  ASSERT_EQ(scene.boxes().size(), 2u);
+  ASSERT_EQ(scene.parts().boxes.size(), 2u);
   const std::vector<Segment> probes = mixed_probes(both);
   EXPECT_GT(expect_same_as_single(scene, probes), 0u);
-  const BoxScene one(std::vector<HapticBox>{scene.boxes()[0]});
+  const BoxScene one(SceneParts({scene.parts().boxes[0]}));
   expect_same_as_single(one, mixed_probes(make_sphere(1.f, 4)));
 }
 
@@ -143,13 +143,29 @@ TEST(QueryManyTest, ARefinedSceneOnTheCellsRouteGivesTheSameAnswersAsSingleQueri
   // The batch of a scene on the cells route (overlapping pieces): the single queries'
   // answers, bit for bit.
   const test::TwoSpheres two = test::two_spheres(1.5f);
-  BoxScene scene = test::refined_two_spheres(two);
-  ASSERT_EQ(scene.answering_route(), SceneRoute::cells);
+  const BoxScene scene = test::refined_two_spheres(two);
+  ASSERT_EQ(scene.route(), SceneRoute::cells);
   EXPECT_GT(expect_same_as_single(scene, mixed_probes(two.mesh)), 0u);
-  // The walks side by side (automatic leaves so small a surface to one at a time).
-  ASSERT_FALSE(scene.surface_cells()->walks_side_by_side());
-  scene.set_side_by_side(BoxScene::SideBySide::always);
-  EXPECT_GT(expect_same_as_single(scene, mixed_probes(two.mesh)), 0u);
+  // The walks side by side (the scene leaves so small a surface to one at a time): the same
+  // crossings as one walk at a time, bit for bit.
+  const SurfaceCells& cells = *scene.cells();
+  ASSERT_FALSE(cells.walks_side_by_side());
+  const std::vector<Segment> probes = mixed_probes(two.mesh);
+  std::vector<Vec3> a, b;
+  for (const Segment& s : probes) a.push_back(s.start), b.push_back(s.end);
+  std::vector<SurfaceCells::Crossing> side(probes.size());
+  cells.first_crossings_along(a.data(), b.data(), probes.size(), side.data());
+  std::size_t crossed = 0;
+  for (std::size_t i = 0; i < probes.size(); ++i) {
+    SurfaceCells::Crossing one;
+    cells.first_crossing_along(a[i], b[i], 1.f, one.s, one.front, one.triangle);
+    ASSERT_EQ(side[i].triangle, one.triangle) << i;
+    if (one.triangle == kNoTriangle) continue;
+    ASSERT_EQ(side[i].s, one.s) << i;
+    ASSERT_EQ(side[i].front, one.front) << i;
+    ++crossed;
+  }
+  EXPECT_GT(crossed, probes.size() / 4);
 }
 
 } // namespace

@@ -19,7 +19,7 @@ BoxScene block_coded_ellipsoid(const TriangleMesh& ellipsoid, float max_error) {
   CodecOptions codec;
   codec.codec = CodecId::block;
   codec.max_error = max_error;
-  return bake_scene(ellipsoid, {}, o, SourceInfo{}).compressed(codec);
+  return BoxScene(compressed(bake_scene(ellipsoid, {}, o, SourceInfo{}), codec));
 }
 
 void expect_same_answers_along_strokes(const test::TwoSpheres& two, std::size_t& from_state, std::size_t& ticks,
@@ -27,9 +27,8 @@ void expect_same_answers_along_strokes(const test::TwoSpheres& two, std::size_t&
   BakeOptions o;
   o.params = {12, 6};
   o.refine = true;
-  BoxScene scene = bake_scene(two.mesh, two.piece, o, SourceInfo{});
-  scene.set_route(route);
-  ASSERT_TRUE(scene.grid() != nullptr);
+  const BoxScene scene = with_route(bake_scene(two.mesh, two.piece, o, SourceInfo{}), route);
+  ASSERT_TRUE(scene.parts().grid != nullptr);
   const std::vector<Segment> strokes = sample_strokes(two.mesh, 20, 200, 0.02f);
   SceneQueryState state;
   std::size_t differ = 0, contacts = 0;
@@ -81,14 +80,14 @@ TEST(QueryStateTest, ABlockCodedBoxDecodesAQuadOnceWhileAStrokeStaysInItsCellsWi
   // used in another scene (the same place, another table) forgets it.
   const TriangleMesh sphere = make_ellipsoid(Vec3(1.f, 0.8f, 0.6f), 4);
   const BoxScene scene = block_coded_ellipsoid(sphere, 4e-5f);
-  ASSERT_EQ(scene.boxes().size(), 1u);
-  ASSERT_EQ(scene.boxes()[0].codec(), CodecId::block);
+  ASSERT_EQ(scene.parts().boxes.size(), 1u);
+  ASSERT_EQ(scene.parts().boxes[0].codec(), CodecId::block);
   const std::vector<Segment> strokes = sample_strokes(sphere, 10, 200, 0.02f);
   SceneQueryState state;
   std::size_t contacts = 0;
   // A grazing tick may settle on the quadric the last one fitted (SettledQuadric): within a
   // tenth of a cell of where the stateless query settles, not the same bits.
-  const float cell = scene.boxes()[0].layout().obb().diagonal() / 16.f;
+  const float cell = scene.parts().boxes[0].layout().obb().diagonal() / 16.f;
   std::size_t from_quadric = 0;
   for (const Segment& s : strokes) {
     const std::uint64_t before = state.quads.settled.reused;
@@ -120,8 +119,8 @@ TEST(QueryStateTest, AGrazingStrokeSettlesOnTheQuadricItsLastTickFittedWithinATe
   // tenth of a position cell of the stateless ones, and another table does not take it.
   const TriangleMesh ellipsoid = make_ellipsoid(Vec3(1.f, 0.8f, 0.6f), 5);
   const BoxScene scene = block_coded_ellipsoid(ellipsoid, 4e-5f);
-  ASSERT_EQ(scene.boxes().size(), 1u);
-  const float cell = scene.boxes()[0].layout().obb().diagonal() / 16.f;
+  ASSERT_EQ(scene.parts().boxes.size(), 1u);
+  const float cell = scene.parts().boxes[0].layout().obb().diagonal() / 16.f;
   SceneQueryState state;
   std::size_t contacts = 0;
   for (int i = 0; i < 200; ++i) {
@@ -157,13 +156,11 @@ TEST(QueryStateTest, AStateIsNotTakenForAnotherScenesOrAFarSegments) {
   SceneQueryState state;
   const std::vector<Segment> probes = sample_probes(two.mesh, 200);
   {
-    BoxScene first = bake_scene(two.mesh, two.piece, o, SourceInfo{});
-    first.set_route(SceneRoute::cells);
+    const BoxScene first = with_route(bake_scene(two.mesh, two.piece, o, SourceInfo{}), SceneRoute::cells);
     first.query(probes[0], kStateLaw, state);
     EXPECT_EQ(state.full, 1u);
   }
-  BoxScene second = bake_scene(two.mesh, two.piece, o, SourceInfo{});
-  second.set_route(SceneRoute::cells);
+  const BoxScene second = with_route(bake_scene(two.mesh, two.piece, o, SourceInfo{}), SceneRoute::cells);
   const Contact c = second.query(probes[0], kStateLaw, state);
   EXPECT_EQ(state.full, 2u);
   EXPECT_EQ(state.from_state, 0u);
@@ -188,8 +185,7 @@ TEST(QueryStateTest, PrimingAProbeLeavesItsStateAndItsAnswersAsTheyWere) {
   BakeOptions o;
   o.params = {12, 6};
   o.refine = true;
-  BoxScene scene = bake_scene(two.mesh, two.piece, o, SourceInfo{});
-  scene.set_route(SceneRoute::boxes);
+  const BoxScene scene = with_route(bake_scene(two.mesh, two.piece, o, SourceInfo{}), SceneRoute::boxes);
   const std::vector<Segment> strokes = sample_strokes(two.mesh, 4, 200, 0.02f);
   SceneProbe primed(scene), plain(scene);
   std::size_t contacts = 0;

@@ -78,9 +78,9 @@ TEST(SceneGridTest, EveryCellWithoutSurfaceHasTheStateOfItsPoints) {
 TEST(SurfaceCellsTest, EveryPointOfASurfaceCellIsInsideExactlyWhenItIsInsideTheMesh) {
   const test::TwoSpheres two = test::two_spheres(3.f);
   const BoxScene scene = test::refined_two_spheres(two);
-  ASSERT_NE(scene.surface_cells(), nullptr);
-  const SurfaceCells& cells = *scene.surface_cells();
-  const SceneGrid& grid = *scene.grid();
+  ASSERT_NE(scene.cells(), nullptr);
+  const SurfaceCells& cells = *scene.cells();
+  const SceneGrid& grid = *scene.parts().grid;
   ASSERT_GT(cells.cell_count(), 0u);
   // Points of surface cells, clear of the polyhedron (inscribed in the unit spheres, within
   // 0.01 of them at this subdivision) by 0.02: inside exactly when inside a sphere.
@@ -109,8 +109,8 @@ TEST(SurfaceCellsTest, EveryPointOfASurfaceCellIsInsideExactlyWhenItIsInsideTheM
 TEST(SurfaceCellsTest, ASurfaceCellListsEveryTriangleThatMeetsIt) {
   const test::TwoSpheres two = test::two_spheres(3.f);
   const BoxScene scene = test::refined_two_spheres(two);
-  ASSERT_NE(scene.surface_cells(), nullptr);
-  const SurfaceCells& cells = *scene.surface_cells();
+  ASSERT_NE(scene.cells(), nullptr);
+  const SurfaceCells& cells = *scene.cells();
   const SurfaceTriangles& surface = cells.surface();
   for (std::uint32_t t = 0; t < two.mesh.triangle_count(); ++t) {
     const Triangle& tri = two.mesh.triangles[t];
@@ -334,9 +334,11 @@ TEST(SceneGridTest, BytesRoundTripAndBadBytesThrow) {
 TEST(BoxSceneGridTest, RoutedQueriesAskOneBoxAndAgreeWithExactAsWellAsAllBoxes) {
   const test::TwoSpheres two = test::two_spheres(2.5f);
   const BoxScene scene = test::refined_two_spheres(two);
-  ASSERT_NE(scene.grid(), nullptr);
-  const BoxScene plain = scene.without_grid();
-  ASSERT_EQ(plain.grid(), nullptr);
+  ASSERT_NE(scene.parts().grid, nullptr);
+  SceneParts no_grid = scene.parts();
+  no_grid.grid.reset();
+  const BoxScene plain(std::move(no_grid));
+  ASSERT_EQ(plain.parts().grid, nullptr);
   const ExactQuery exact(two.mesh);
   const auto probes = sample_probes(two.mesh, 3000, ProbeOptions{});
   const float diagonal = two.mesh.bounds().diagonal();
@@ -365,7 +367,7 @@ TEST(BoxSceneGridTest, RoutedQueriesAskOneBoxAndAgreeWithExactAsWellAsAllBoxes) 
     EXPECT_EQ(one.depth, many[i].depth) << i;
   }
   // The compressed scene keeps the grid.
-  EXPECT_EQ(scene.compressed(CodecOptions{}).grid(), scene.grid());
+  EXPECT_EQ(compressed(scene, CodecOptions{}).grid, scene.parts().grid);
 }
 
 TEST(BoxSceneGridTest, TheGridSurvivesTheBoxFileAndACorruptGridFailsToLoad) {
@@ -379,8 +381,8 @@ TEST(BoxSceneGridTest, TheGridSurvivesTheBoxFileAndACorruptGridFailsToLoad) {
   const std::string path = (dir / "two.hbox").string();
   save_box_file(scene, path);
   const BoxScene loaded = load_box_file(path);
-  ASSERT_NE(loaded.grid(), nullptr);
-  EXPECT_EQ(loaded.grid()->codes(), scene.grid()->codes());
+  ASSERT_NE(loaded.parts().grid, nullptr);
+  EXPECT_EQ(loaded.parts().grid->codes(), scene.parts().grid->codes());
   const auto probes = sample_probes(two.mesh, 500, ProbeOptions{});
   for (const Segment& s : probes) {
     const Contact a = scene.query(s, kGridLaw), b = loaded.query(s, kGridLaw);

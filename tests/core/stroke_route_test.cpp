@@ -1,4 +1,4 @@
-// The stroke route (BoxScene::set_stroke_mesh, recipe/stroke_route.h): a probe's successive
+// The stroke route (SceneParts::stroke, recipe/stroke_route.h): a probe's successive
 // queries answered by exact Embree over the full mesh while the queries without a state keep
 // the surface cells; kept through copies and box files; chosen by timing at bake time.
 #include "contact/workspace.h"
@@ -18,6 +18,17 @@
 namespace hb {
 namespace {
 
+BoxScene with_stroke_mesh(const BoxScene& scene, const TriangleMesh& mesh) {
+  SceneParts parts = scene.parts();
+  parts.stroke = make_stroke_route(mesh);
+  return BoxScene(std::move(parts));
+}
+
+// What a servo loop's cache priming (BoxScene::prime) reads: the stroke route's answer.
+Contact prime_answer(const BoxScene& scene, const Segment& s, const ForceLaw& law) {
+  return strokes_by_full_mesh(scene) ? scene.parts().stroke->exact->query(s, law) : scene.query(s, law);
+}
+
 bool same_bits(const Contact& a, const Contact& b) {
   return a.contact == b.contact && a.depth == b.depth && a.force == b.force && a.point == b.point;
 }
@@ -27,7 +38,7 @@ protected:
   StrokeRouteTest() : ScratchDirTest("hb_stroke_route_") {}
   void SetUp() override {
     ScratchDirTest::SetUp();
-    cells_ = test::refined_two_spheres(two_).without_triangle_ids();
+    cells_ = BoxScene(without_triangle_ids(test::refined_two_spheres(two_)));
     law_ = make_workspace(two_.mesh.bounds().diagonal()).law();
     strokes_ = sample_strokes(two_.mesh, 8, 100, 0.02f);
   }
@@ -46,12 +57,12 @@ protected:
 };
 
 TEST_F(StrokeRouteTest, AProbesTicksAreExactEmbreeOverTheFullMeshAndQueriesWithoutAStateKeepTheCells) {
-  ASSERT_EQ(cells_.answering_route(), SceneRoute::cells);
+  ASSERT_EQ(cells_.route(), SceneRoute::cells);
   BoxScene scene = cells_;
-  scene.set_stroke_mesh(two_.mesh);
+  scene = with_stroke_mesh(scene, two_.mesh);
   EXPECT_EQ(scene.stroke_route(), SceneRoute::embree);
-  EXPECT_EQ(scene.answering_route(), SceneRoute::cells);
-  EXPECT_GT(scene.embree_bytes(), cells_.embree_bytes());
+  EXPECT_EQ(scene.route(), SceneRoute::cells);
+  EXPECT_GT(scene.bytes().embree, cells_.bytes().embree);
   const ExactQuery exact(two_.mesh);
   SceneQueryState state;
   std::size_t contacts = 0, as_exact = 0, as_cells = 0, primed_as_exact = 0, primed_as_cells = 0;
@@ -61,24 +72,24 @@ TEST_F(StrokeRouteTest, AProbesTicksAreExactEmbreeOverTheFullMeshAndQueriesWitho
     as_exact += same_bits(ticked, e) ? 1 : 0;
     as_cells += same_bits(scene.query(s, law_), cells_.query(s, law_)) ? 1 : 0;
     // A servo loop's cache priming (SceneProbe::prime) asks what the next tick reads.
-    primed_as_exact += same_bits(scene.query_as_stroke(s, law_), e) ? 1 : 0;
-    primed_as_cells += same_bits(cells_.query_as_stroke(s, law_), cells_.query(s, law_)) ? 1 : 0;
+    primed_as_exact += same_bits(prime_answer(scene, s, law_), e) ? 1 : 0;
+    primed_as_cells += same_bits(prime_answer(cells_, s, law_), cells_.query(s, law_)) ? 1 : 0;
   }
   EXPECT_EQ(primed_as_exact, strokes_.size());
   EXPECT_EQ(primed_as_cells, strokes_.size());
   EXPECT_GT(contacts, strokes_.size() / 4);
   EXPECT_EQ(as_exact, strokes_.size());
   EXPECT_EQ(as_cells, strokes_.size());
-  // Copies keep it; without_stroke_mesh() and a named route drop it; other routes ignore it.
-  const BoxScene copy = scene.without_grid();
-  EXPECT_NE(copy.stroke_mesh(), nullptr);
-  EXPECT_EQ(scene.without_stroke_mesh().stroke_route(), SceneRoute::cells);
-  BoxScene embree = scene;
-  embree.set_route(SceneRoute::embree);
+  // Copies keep it; parts without it drop it; other routes ignore it.
+  const BoxScene copy = scene;
+  EXPECT_NE(stroke_mesh(copy), nullptr);
+  SceneParts without = scene.parts();
+  without.stroke.reset();
+  EXPECT_EQ(BoxScene(without).stroke_route(), SceneRoute::cells);
+  const BoxScene embree = with_route(scene, SceneRoute::embree);
   EXPECT_EQ(embree.stroke_route(), SceneRoute::embree);
-  BoxScene boxes = test::refined_two_spheres(two_);
-  boxes.set_route(SceneRoute::boxes);
-  boxes.set_stroke_mesh(two_.mesh);
+  BoxScene boxes = with_route(test::refined_two_spheres(two_), SceneRoute::boxes);
+  boxes = with_stroke_mesh(boxes, two_.mesh);
   EXPECT_EQ(boxes.stroke_route(), SceneRoute::boxes);
 }
 
@@ -87,18 +98,18 @@ TEST_F(StrokeRouteTest, AMeshWithoutTrianglesOrNormalsIsRefusedNamingWhy) {
   TriangleMesh no_normals = two_.mesh;
   no_normals.normals.clear();
   try {
-    scene.set_stroke_mesh(no_normals);
+    scene = with_stroke_mesh(scene, no_normals);
     FAIL() << "no error";
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("vertex normals"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(scene.set_stroke_mesh(TriangleMesh{}), InvalidInput);
-  EXPECT_EQ(scene.stroke_mesh(), nullptr);
+  EXPECT_THROW(scene = with_stroke_mesh(scene, TriangleMesh{}), InvalidInput);
+  EXPECT_EQ(stroke_mesh(scene), nullptr);
 }
 
 TEST_F(StrokeRouteTest, ABoxFileKeepsTheFullMeshAndAFileWithoutOneIsWrittenAsBefore) {
   BoxScene scene = cells_;
-  scene.set_stroke_mesh(two_.mesh);
+  scene = with_stroke_mesh(scene, two_.mesh);
   const std::string with = (dir_ / "with.hbox").string(), without = (dir_ / "without.hbox").string();
   save_box_file(scene, with);
   save_box_file(cells_, without);
@@ -108,9 +119,9 @@ TEST_F(StrokeRouteTest, ABoxFileKeepsTheFullMeshAndAFileWithoutOneIsWrittenAsBef
   std::memcpy(&version, read(without).data() + 8, 4);
   EXPECT_EQ(version, 7u);
   const BoxScene loaded = load_box_file(with, LoadOptions{true});
-  ASSERT_NE(loaded.stroke_mesh(), nullptr);
-  EXPECT_EQ(loaded.stroke_mesh()->triangle_count(), two_.mesh.triangle_count());
-  EXPECT_EQ(load_box_file(without).stroke_mesh(), nullptr);
+  ASSERT_NE(stroke_mesh(loaded), nullptr);
+  EXPECT_EQ(stroke_mesh(loaded)->triangle_count(), two_.mesh.triangle_count());
+  EXPECT_EQ(stroke_mesh(load_box_file(without)), nullptr);
   SceneQueryState a, b;
   std::size_t same = 0;
   for (const Segment& s : strokes_) same += same_bits(loaded.query(s, law_, a), scene.query(s, law_, b)) ? 1 : 0;
@@ -119,7 +130,7 @@ TEST_F(StrokeRouteTest, ABoxFileKeepsTheFullMeshAndAFileWithoutOneIsWrittenAsBef
 
 TEST_F(StrokeRouteTest, AStrokeMeshNamingAVertexItDoesNotHoldIsRefusedAtLoad) {
   BoxScene scene = cells_;
-  scene.set_stroke_mesh(two_.mesh);
+  scene = with_stroke_mesh(scene, two_.mesh);
   const std::string path = (dir_ / "good.hbox").string();
   save_box_file(scene, path);
   std::vector<char> data = read(path);
@@ -162,9 +173,9 @@ TEST_F(StrokeRouteTest, TheBakeKeepsEmbreeForStrokesOnlyWhereItMeasuredItFaster)
   choose_stroke_route(scene, two_.mesh, law_, 7, report);
   ASSERT_GT(report.stroke_cells_ns, 0.0);
   ASSERT_GT(report.stroke_embree_ns, 0.0);
-  EXPECT_EQ(scene.stroke_mesh() != nullptr, report.stroke_answer == "embree");
-  if (report.stroke_answer == "embree") EXPECT_LT(report.stroke_embree_ns, kStrokeEmbreeShare * report.stroke_cells_ns);
-  else EXPECT_EQ(report.stroke_answer, "cells");
+  EXPECT_EQ(stroke_mesh(scene) != nullptr, report.stroke_answer == Answerer::embree);
+  if (report.stroke_answer == Answerer::embree) EXPECT_LT(report.stroke_embree_ns, kStrokeEmbreeShare * report.stroke_cells_ns);
+  else EXPECT_EQ(report.stroke_answer, Answerer::cells);
   // The report carries the choice through its file form; a scene the cells do not answer is
   // left as it is, untimed.
   report.present = true;
@@ -173,12 +184,11 @@ TEST_F(StrokeRouteTest, TheBakeKeepsEmbreeForStrokesOnlyWhereItMeasuredItFaster)
   EXPECT_DOUBLE_EQ(back.stroke_cells_ns, report.stroke_cells_ns);
   EXPECT_EQ(back.without_times().stroke_embree_ns, 0.0);
   EXPECT_THROW(BudgetReport::parse("stroke_answer=boxes\n"), InvalidInput);
-  BoxScene embree = cells_;
-  embree.set_route(SceneRoute::embree);
+  BoxScene embree = with_route(cells_, SceneRoute::embree);
   BudgetReport untouched;
   choose_stroke_route(embree, two_.mesh, law_, 7, untouched);
-  EXPECT_TRUE(untouched.stroke_answer.empty());
-  EXPECT_EQ(embree.stroke_mesh(), nullptr);
+  EXPECT_EQ(untouched.stroke_answer, Answerer::none);
+  EXPECT_EQ(stroke_mesh(embree), nullptr);
 }
 
 } // namespace

@@ -285,8 +285,8 @@ TEST(ToolContactTest, TheScenesStarQueryAnswersEverySegmentAsQueryDoes) {
   // The two spheres (radius 1) on the cells route; a sphere tool of radius 0.3 placed all over
   // their surfaces, from clear of them to a third of its radius in, and in the gap between.
   const test::TwoSpheres two = test::two_spheres(2.2f);
-  const BoxScene scene = test::refined_two_spheres(two).without_triangle_ids();
-  ASSERT_EQ(scene.answering_route(), SceneRoute::cells);
+  const BoxScene scene(without_triangle_ids(test::refined_two_spheres(two)));
+  ASSERT_EQ(scene.route(), SceneRoute::cells);
   const ToolShape tool = make_sphere_tool(0.3, 500);  // 1 unit a metre: radius 0.3 units
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(-1.f, 1.f);

@@ -164,7 +164,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::uint64_t seed = XXH3_64bits(data, size);
     std::size_t boxes = 0;
     const hb::SceneProbe probe(scene);  // a probe's successive queries (the stroke route, when stored)
-    for (const hb::HapticBox& box : scene.boxes()) {
+    for (const hb::HapticBox& box : scene.parts().boxes) {
       if (++boxes > 4) break;
       const std::vector<hb::Segment> segments = probes(box.obb(), seed);
       std::vector<hb::Contact> many(segments.size());

@@ -366,7 +366,7 @@ TEST(MainWindowTest, SweepFillsTheChartAndAPointLoadsItsConfiguration) {
   EXPECT_EQ(w.session()->bakeSettings().m, 12);
   ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }, 120));
   ASSERT_TRUE(w.session()->hasBoxes());
-  EXPECT_EQ(w.session()->boxes()->boxes().front().params().m, 12);
+  EXPECT_EQ(w.session()->boxes()->parts().boxes.front().params().m, 12);
 }
 
 TEST(MainWindowTest, APieceFileBakesOneBoxPerPieceAndABadOneIsReported) {
@@ -392,7 +392,7 @@ TEST(MainWindowTest, APieceFileBakesOneBoxPerPieceAndABadOneIsReported) {
   w.bakePanel()->bakeButton()->click();
   ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }));
   ASSERT_TRUE(w.session()->hasBoxes());
-  EXPECT_EQ(w.session()->boxes()->boxes().size(), 2u);
+  EXPECT_EQ(w.session()->boxes()->parts().boxes.size(), 2u);
   EXPECT_EQ(w.session()->outlines()->GetNumberOfLines(), 24);
 
   const QString bad = data.dir.filePath(QStringLiteral("short.pieces"));
@@ -410,7 +410,7 @@ TEST(MainWindowTest, APieceFileBakesOneBoxPerPieceAndABadOneIsReported) {
   w.bakePanel()->bakeButton()->click();
   ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }));
   EXPECT_TRUE(message.contains("piece ids")) << message.toStdString();
-  EXPECT_EQ(w.session()->boxes()->boxes().size(), 2u) << "the previous boxes stay";
+  EXPECT_EQ(w.session()->boxes()->parts().boxes.size(), 2u) << "the previous boxes stay";
 }
 
 TEST(MainWindowTest, OpensVtkPolyDataFiles) {
@@ -448,8 +448,8 @@ TEST(MainWindowTest, AutomaticPiecesAndTheBlockCodecBakeACompressedSceneOfSevera
   w.bakePanel()->bakeButton()->click();
   ASSERT_TRUE(waitFor([&] { return !w.session()->job()->isRunning(); }));
   ASSERT_TRUE(w.session()->hasBoxes());
-  EXPECT_GT(w.session()->boxes()->boxes().size(), 1u);
-  for (const hb::HapticBox& box : w.session()->boxes()->boxes()) {
+  EXPECT_GT(w.session()->boxes()->parts().boxes.size(), 1u);
+  for (const hb::HapticBox& box : w.session()->boxes()->parts().boxes) {
     EXPECT_EQ(box.codec(), hb::CodecId::block);
     EXPECT_TRUE(box.refines());  // the panel's "Refine exactly" reached the bake
   }

@@ -232,7 +232,7 @@ TEST(SessionModelTest, WindowAndCommandLineHashAFolderTheSame) {
   ASSERT_TRUE(s.startBake(&error)) << error.toStdString();
   ASSERT_TRUE(hbtest::waitFor([&] { return !s.job()->isRunning(); }, 300));
   ASSERT_TRUE(s.hasBoxes());
-  EXPECT_EQ(s.boxes()->source().mesh_hash, s.meshHash());
+  EXPECT_EQ(s.boxes()->parts().source.mesh_hash, s.meshHash());
   const QString box = data.dir.filePath(QStringLiteral("series.hbox"));
   ASSERT_TRUE(s.saveBoxFile(box));
   QProcess cli;
@@ -337,7 +337,7 @@ TEST(SessionJobsTest, DefaultBakeGivesTheCommandLinesBoxes) {
   ASSERT_TRUE(s.startBake(&error)) << error.toStdString();
   ASSERT_TRUE(hbtest::waitFor([&] { return !s.job()->isRunning(); }, 600));
   ASSERT_TRUE(s.hasBoxes());
-  EXPECT_TRUE(s.boxes()->budget_report().present);
+  EXPECT_TRUE(s.boxes()->parts().budget.present);
   const QString window = data.dir.filePath(QStringLiteral("window.hbox"));
   const QString line = data.dir.filePath(QStringLiteral("line.hbox"));
   ASSERT_TRUE(s.saveBoxFile(window));
@@ -353,7 +353,7 @@ TEST(SessionJobsTest, DefaultBakeGivesTheCommandLinesBoxes) {
   // A box file's bytes with its bake-time query times left out, written again.
   const auto untimed = [&](const QString& path) {
     hb::BoxScene scene = hb::load_box_file(QFile::encodeName(path).toStdString());
-    scene.set_budget_report(scene.budget_report().without_times());
+    scene = hb::with_budget(scene, scene.parts().budget.without_times());
     const QString out = data.dir.filePath(QFileInfo(path).fileName() + QStringLiteral(".untimed"));
     hb::save_box_file(scene, QFile::encodeName(out).toStdString());
     return bytes(out);

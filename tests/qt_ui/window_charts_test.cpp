@@ -53,7 +53,7 @@ TEST(WindowChartsTest, RightAfterTheDefaultBakeTheSpeedChartShowsItExactAndTheRa
   QString error;
   ASSERT_TRUE(w.session()->startBake(&error)) << error.toStdString();
   ASSERT_TRUE(waitFor([&] { return w.session()->hasBoxes() && !w.session()->job()->isRunning(); }, 600));
-  const hb::BudgetReport& rep = w.session()->boxes()->budget_report();
+  const hb::BudgetReport& rep = w.session()->boxes()->parts().budget;
   ASSERT_TRUE(rep.present);
   ASSERT_FALSE(rep.raw_tried.empty()) << rep.summary();
   ASSERT_GT(rep.answer_ns, 0.0);
@@ -113,7 +113,7 @@ TEST(WindowChartsTest, RightAfterTheDefaultBakeTheSpeedChartShowsItExactAndTheRa
   const QString untimed = data.dir.filePath(QStringLiteral("untimed.hbox"));
   {
     hb::BoxScene old = *w.session()->boxes();
-    old.set_budget_report(old.budget_report().without_times());
+    old = hb::with_budget(old, old.parts().budget.without_times());
     hb::save_box_file(old, untimed.toStdString());
   }
   ASSERT_TRUE(w.session()->openBoxFile(untimed, &error)) << error.toStdString();

@@ -79,7 +79,7 @@ TEST(WindowPipelineTest, BakeRunsThePipelineAndCachesTheCommandLinesBox) {
   const std::string entry = hb::BoxCache().path_for(hb::hash_model(path), recipe);
   EXPECT_EQ(p->bake()->GetCachePath(), entry);
   ASSERT_TRUE(QFileInfo::exists(QString::fromStdString(entry))) << entry;
-  EXPECT_GT(s.boxes()->boxes().size(), 1u);
+  EXPECT_GT(s.boxes()->parts().boxes.size(), 1u);
 
   // `hapticbox bake MESH -o BOX -m 8 -n 4 --pieces auto` (the same absolute path the window
   // records) writes the same bytes.
@@ -153,7 +153,7 @@ TEST(WindowPipelineTest, BakeRunsThePipelineAndCachesTheCommandLinesBox) {
 
   // Reopening the model opens the cached entry through the bake filter: no decomposition (the
   // .hbox file holds the piece ids), the same pieces.
-  const std::vector<std::uint32_t> pieces = s.boxes()->piece_of_triangle();
+  const std::vector<std::uint32_t> pieces = s.boxes()->parts().piece_of_triangle;
   MainWindow again;
   again.setBakeOnOpen(false);
   again.session()->setBakeSettings(settings);
@@ -165,6 +165,6 @@ TEST(WindowPipelineTest, BakeRunsThePipelineAndCachesTheCommandLinesBox) {
   EXPECT_TRUE(q->bake()->GetFromCache());
   EXPECT_EQ(q->bake()->GetInputAlgorithm(), q->reader());
   EXPECT_EQ(q->decomposition()->GetOutput()->GetNumberOfCells(), 0) << "the decomposition ran on reopening";
-  EXPECT_EQ(t.boxes()->piece_of_triangle(), pieces);
+  EXPECT_EQ(t.boxes()->parts().piece_of_triangle, pieces);
   EXPECT_EQ(t.surface()->GetCellData()->GetArray("PieceId"), q->bake()->GetOutput(3)->GetCellData()->GetArray("PieceId"));
 }

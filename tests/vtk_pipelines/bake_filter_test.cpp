@@ -25,8 +25,8 @@ TEST(BakeFilterTest, OneBoxWithOutlinesAndPositionPoints) {
   vtkHapticBoxSet* set = bake->GetBoxSet();
   ASSERT_NE(set, nullptr);
   ASSERT_EQ(set->GetNumberOfBoxes(), 1);
-  EXPECT_EQ(set->GetScene()->boxes()[0].params().m, 4);
-  EXPECT_EQ(set->GetScene()->table_bytes(), std::size_t(6 * 16 * 12 * 9 * 8));
+  EXPECT_EQ(set->GetScene()->parts().boxes[0].params().m, 4);
+  EXPECT_EQ(set->GetScene()->bytes().tables, std::size_t(6 * 16 * 12 * 9 * 8));
   vtkPolyData* outlines = vtkPolyData::SafeDownCast(bake->GetOutputDataObject(1));
   vtkPolyData* positions = vtkPolyData::SafeDownCast(bake->GetOutputDataObject(2));
   EXPECT_EQ(outlines->GetNumberOfLines(), 12);
@@ -51,7 +51,7 @@ TEST(BakeFilterTest, RefineOnGivesBoxesThatRefineExactly) {
   bake->Update();
   const std::shared_ptr<const hb::BoxScene> scene = bake->GetBoxSet()->GetScene();
   ASSERT_NE(scene, nullptr);
-  ASSERT_TRUE(scene->boxes()[0].refines());
+  ASSERT_TRUE(scene->parts().boxes[0].refines());
   // A probe straight down onto the sphere's pole answers with the mesh's own surface.
   const hb::Contact c = scene->query({hb::Vec3(0.f, 0.f, 2.f), hb::Vec3(0.f, 0.f, 0.9f)}, hb::ForceLaw{});
   ASSERT_TRUE(c.contact);
@@ -101,8 +101,8 @@ TEST(BakeFilterTest, PiecesShareTheirSeamsAsEveryFrontEndBakesThem) {
   bake->Update();
   const std::shared_ptr<const hb::BoxScene> filtered = bake->GetBoxSet()->GetScene();
   ASSERT_NE(filtered, nullptr);
-  ASSERT_EQ(filtered->boxes().size(), 2u);
-  EXPECT_EQ(filtered->piece_of_triangle(), ids);
+  ASSERT_EQ(filtered->parts().boxes.size(), 2u);
+  EXPECT_EQ(filtered->parts().piece_of_triangle, ids);
 
   hb::BakeRecipe recipe = bake->GetRecipe();
   recipe.pieces.kind = hb::PiecesRecipe::Kind::given;
@@ -113,14 +113,14 @@ TEST(BakeFilterTest, PiecesShareTheirSeamsAsEveryFrontEndBakesThem) {
   recipe.seams.cells = 0.f;
   const hb::BoxScene no_seams = hb::bake(mesh, recipe).scene;
   for (std::size_t b = 0; b < 2; ++b) {
-    const hb::HapticBox& f = filtered->boxes()[b];
-    const hb::HapticBox& d = direct.boxes()[b];
+    const hb::HapticBox& f = filtered->parts().boxes[b];
+    const hb::HapticBox& d = direct.parts().boxes[b];
     EXPECT_EQ(f.obb().center, d.obb().center);
     EXPECT_EQ(f.obb().half, d.obb().half);
     ASSERT_EQ(f.table_bytes(), d.table_bytes());
     EXPECT_EQ(std::memcmp(f.samples().data(), d.samples().data(), f.table_bytes()), 0);
     // The shared seam triangles make each half's box reach past the equator.
-    EXPECT_NE(f.obb().half, no_seams.boxes()[b].obb().half);
+    EXPECT_NE(f.obb().half, no_seams.parts().boxes[b].obb().half);
   }
 }
 
@@ -203,7 +203,7 @@ TEST(BakeFilterTest, CacheDirectoryMakesItTheCoresCachedBake) {
   ASSERT_TRUE(again->GetLastError().empty()) << again->GetLastError();
   EXPECT_TRUE(again->GetFromCache());
   EXPECT_EQ(again->GetBakeSeconds(), 0.0);
-  EXPECT_EQ(again->GetBoxSet()->GetScene()->table_bytes(), bake->GetBoxSet()->GetScene()->table_bytes());
+  EXPECT_EQ(again->GetBoxSet()->GetScene()->bytes().tables, bake->GetBoxSet()->GetScene()->bytes().tables);
 
   again->SetM(5);  // another recipe: not cached
   vtkObject::GlobalWarningDisplayOff();
@@ -237,7 +237,7 @@ TEST(BakeFilterTest, DecompositionFilterPiecesAreTheAutomaticRecipes) {
   bake->Update();
   ASSERT_TRUE(bake->GetLastError().empty()) << bake->GetLastError();
   const std::shared_ptr<const hb::BoxScene> scene = bake->GetBoxSet()->GetScene();
-  ASSERT_GT(scene->boxes().size(), 1u);
+  ASSERT_GT(scene->parts().boxes.size(), 1u);
   EXPECT_EQ(bake->GetCachePath(), hb::BoxCache(dir.path).path_for(source.mesh_hash, recipe));
 
   const hb::TriangleMesh mesh = vtkHapticBoxUtilities::ToTriangleMesh(sphere);
@@ -245,7 +245,7 @@ TEST(BakeFilterTest, DecompositionFilterPiecesAreTheAutomaticRecipes) {
   full.triangles = mesh.triangle_count();
   full.diagonal = mesh.bounds().diagonal();
   const hb::BoxScene direct = hb::bake(mesh, recipe, full).scene;
-  EXPECT_EQ(scene->piece_of_triangle(), direct.piece_of_triangle());
+  EXPECT_EQ(scene->parts().piece_of_triangle, direct.parts().piece_of_triangle);
   const std::string path = dir.path + "/direct.hbox.tmp";
   hb::save_box_file(direct, path);
   EXPECT_EQ(fileBytes(bake->GetCachePath()), fileBytes(path));
@@ -255,7 +255,7 @@ TEST(BakeFilterTest, DecompositionFilterPiecesAreTheAutomaticRecipes) {
   ASSERT_NE(ids, nullptr);
   ASSERT_EQ(std::size_t(ids->GetNumberOfTuples()), mesh.triangle_count());
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t)
-    ASSERT_EQ(std::uint32_t(ids->GetTuple1(vtkIdType(t))), scene->piece_of_triangle()[t]) << t;
+    ASSERT_EQ(std::uint32_t(ids->GetTuple1(vtkIdType(t))), scene->parts().piece_of_triangle[t]) << t;
 
   // Other decomposition options: the ids are given ones (another key), not the recipe's.
   decomposition->SetMaxPieces(1);

@@ -137,10 +137,12 @@ TEST_F(ReportFixture, AStrokeRouteIsNamedBesideTheRouteTheFiguresWereMeasuredOn)
   hb::BakeOptions bake;
   bake.params = {8, 4};
   bake.refine = true;
-  hb::BoxScene cells = hb::bake_scene(halves, piece, bake, {"ellipsoid", 0, halves.triangle_count(), halves.bounds().diagonal()})
-                           .without_triangle_ids();
-  ASSERT_EQ(cells.answering_route(), hb::SceneRoute::cells);
-  cells.set_stroke_mesh(halves);
+  const hb::BoxScene plain_cells(hb::without_triangle_ids(
+      hb::bake_scene(halves, piece, bake, {"ellipsoid", 0, halves.triangle_count(), halves.bounds().diagonal()})));
+  ASSERT_EQ(plain_cells.route(), hb::SceneRoute::cells);
+  hb::SceneParts parts = plain_cells.parts();
+  parts.stroke = hb::make_stroke_route(halves);
+  const hb::BoxScene cells(std::move(parts));
   const vtkHapticBoxReferenceQueries refs(halves);
   hb::ReportOptions options;
   options.samples = 300;
@@ -154,6 +156,6 @@ TEST_F(ReportFixture, AStrokeRouteIsNamedBesideTheRouteTheFiguresWereMeasuredOn)
   EXPECT_NE(ReadText(std::filesystem::path(dir) / "summary.txt").find("along strokes"), std::string::npos);
   EXPECT_NE(ReadText(std::filesystem::path(dir) / "report.html").find("exact Embree over the full mesh"), std::string::npos);
   // Without it, the stroke route is the route.
-  hb::ReportData plain = hb::compute_report(halves, {}, cells.without_stroke_mesh(), 0.0, refs.References(), options);
-  EXPECT_EQ(plain.stroke_route, "cells");
+  hb::ReportData plain = hb::compute_report(halves, {}, plain_cells, 0.0, refs.References(), options);
+  EXPECT_EQ(plain.stroke_route, hb::Answerer::cells);
 }
