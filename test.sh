@@ -4,7 +4,7 @@
 # do not need one (CLI tests unset DISPLAY themselves). -noreset keeps Xvfb from resetting
 # (and refusing connections for a moment) each time its last client leaves.
 #
-# Then the hostile-input stage (issue 12): the core and device suites built with clang,
+# Then the hostile-input stage: the core and device suites built with clang,
 # AddressSanitizer + UndefinedBehaviorSanitizer (+ float-cast-overflow) in build-asan/ (only
 # those suites and the fuzz targets are built: no VTK, Qt, CLI, MPI or benchmarks), run without
 # the few long algorithm tests that read no file (they run in the plain suite above), then each

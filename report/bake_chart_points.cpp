@@ -61,7 +61,7 @@ std::vector<BakeChartPoint> bake_chart_points(const BoxScene& scene) {
     row.angle_error_p99_deg = r.direction_p99_deg;
     row.perceptible_share = r.perceptible;
     row.within_budget = r.met;
-    const std::string answer = r.answer.empty() ? "cells" : r.answer;  // files before 2026-12-06: the cells
+    const std::string answer = r.answer.empty() ? "cells" : r.answer;  // older files name none: the cells
     p.about = row.label + ", answered by " + route_words(answer) + ": " + duration_text(r.answer_ns * 1e-9) + timed +
               ", perceptibly different on " + percent(r.perceptible) + " of " + count_text(double(r.probes)) +
               " fresh probes (the budget: at most " + percent(r.budget.perceptible) + ", " + (r.met ? "met" : "MISSED") +

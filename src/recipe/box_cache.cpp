@@ -42,7 +42,8 @@ std::string default_box_cache_dir() {
 std::uint64_t recipe_key(const BakeRecipe& r) {
   std::ostringstream k;
   const BakeOptions& o = r.options;
-  // hbcache2: budgeted bakes since 2026-12-07 may carry the stroke route (recipe/stroke_route.h).
+  // hbcache2: a budgeted bake may carry the stroke route (recipe/stroke_route.h), so entries
+  // keyed otherwise are not reused.
   k << "hbcache2 m " << o.params.m << " n " << o.params.n << " cell " << hexfloat(o.density.cell) << " min_m "
     << o.density.min_m << " max_m " << o.density.max_m << " padding " << hexfloat(o.obb.padding) << " obb_iter "
     << o.obb.refine_iterations << " refine " << o.refine;
@@ -70,8 +71,8 @@ std::uint64_t recipe_key(const BakeRecipe& r) {
     k << ' ' << hexfloat(r.codec.max_error) << ' ' << hexfloat(r.codec.ratio) << ' ' << r.codec.normal_bits;
   if (r.budget.enabled) {
     const BudgetRecipe& b = r.budget;
-    // "timed": entries since 2026-12-07 hold the query times of every raw sampling tried (an
-    // older entry would give the speed chart nothing to place; it is baked again).
+    // "timed": the entry holds the query times of every raw sampling tried (an entry without
+    // them would give the speed chart nothing to place; it is baked again).
     k << " budget timed " << budget_spec(b.budget) << ' ' << b.probes << ' ' << b.tuning_seed << ' ' << b.check_seed;
     for (const Sampling& s : b.samplings) k << ' ' << hexfloat(s.cell) << ' ' << s.n;
     if (b.surface_tolerance > 0) k << " surface " << hexfloat(float(b.surface_tolerance));
