@@ -24,6 +24,8 @@ fi
 bash scripts/folder_edges.sh --check
 # Size: no source file over 600 lines and no function over 150 in the code folders.
 bash scripts/long_functions.sh --check
+# Comments say what and why: no ISO date or issue number in a code comment.
+bash scripts/check_comments.sh
 
 (cd build && xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --output-on-failure -j2 --timeout 600)
 
