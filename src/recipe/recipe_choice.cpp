@@ -29,33 +29,29 @@ void parse_default_budget(const std::string& spec, BudgetRecipe& recipe) {
   if (spec_trim(spec).empty() || spec_trim(spec) == "default") return;
   // The error budget's own keys go to parse_budget together; the surface's are read here.
   std::string budget_keys;
-  std::stringstream ss(spec);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    item = spec_trim(item);
-    if (item.empty()) continue;
-    const auto eq = item.find('=');
-    const std::string key = spec_trim(item.substr(0, eq)), value = eq == std::string::npos ? "" : item.substr(eq + 1);
-    const std::string what = "--budget " + key;
-    if (key == "simplify") {
-      const std::string v = spec_trim(value);
-      if (v.empty() || v == "on" || v == "1" || v == "yes") recipe.simplify = true;
-      else if (v == "off" || v == "0" || v == "no") recipe.simplify = false;
-      else throw InvalidInput(what + ": '" + v + "' is not on or off");
-    } else if (key == "simplify-above") {
-      recipe.simplify_above = std::size_t(spec_number(value, what, 0, 1e15));
-    } else if (key == "deviation") {
-      recipe.simplify_deviation = spec_number(value, what, 0.0, 0.099);
-    } else if (key == "shading-map") {
-      recipe.shading_map_side = int(spec_number(value, what, -1, 64));
-    } else if (key == "felt" || key == "raw" || key == "memory" || key == "relative" || key == "p95" ||
-               key == "median" || key == "dir99" || key == "agree" || eq == std::string::npos) {
-      budget_keys += (budget_keys.empty() ? "" : ",") + item;  // parse_budget names a bare item
-    } else {
-      throw InvalidInput("--budget: unknown key '" + key + "' (keys: felt, raw, memory, relative, p95, median, dir99, "
-                         "agree, simplify, simplify-above, deviation, shading-map)");
-    }
-  }
+  const auto budget_key = [&budget_keys](const char* key) {
+    return SpecKey{key, [&budget_keys, key](const std::string& v, const std::string&) {
+                     budget_keys += (budget_keys.empty() ? "" : ",") + std::string(key) + "=" + v;
+                   }};
+  };
+  parse_spec_keys("--budget", spec,
+                  {budget_key("felt"), budget_key("raw"), budget_key("memory"), budget_key("relative"),
+                   budget_key("p95"), budget_key("median"), budget_key("dir99"), budget_key("agree"),
+                   {"simplify", [&recipe](const std::string& value, const std::string& what) {
+                      const std::string v = spec_trim(value);
+                      if (v.empty() || v == "on" || v == "1" || v == "yes") recipe.simplify = true;
+                      else if (v == "off" || v == "0" || v == "no") recipe.simplify = false;
+                      else throw InvalidInput(what + ": '" + v + "' is not on or off");
+                    }},
+                   {"simplify-above", [&recipe](const std::string& v, const std::string& what) {
+                      recipe.simplify_above = std::size_t(spec_number(v, what, 0, 1e15));
+                    }},
+                   {"deviation", [&recipe](const std::string& v, const std::string& what) {
+                      recipe.simplify_deviation = spec_number(v, what, 0.0, 0.099);
+                    }},
+                   {"shading-map", [&recipe](const std::string& v, const std::string& what) {
+                      recipe.shading_map_side = int(spec_number(v, what, -1, 64));
+                    }}});
   if (!budget_keys.empty()) recipe.budget = parse_budget(budget_keys);
 }
 
