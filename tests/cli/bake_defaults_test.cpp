@@ -82,8 +82,8 @@ TEST_F(BakeDefaultsTest, HelpPrintsTheDefaultBakesOwnDefaults) {
   expect_number(help, R"(seam-cells=C \(seam overlap, position cells; default ([-0-9.e+]+))", dr.seams.cells);
   expect_number(help, R"(fraction of its diagonal; default ([-0-9.e+]+))", dr.options.obb.padding);
   // --codec, --cell and the one-sampling options.
-  EXPECT_EQ(captured(help, R"(\(default (\w+) for the default bake, \w+ for one sampling\))"), hb::codec_name(dr.codec.codec));
-  EXPECT_EQ(captured(help, R"(\(default \w+ for the default bake, (\w+) for one sampling\))"), hb::codec_name(one.codec.codec));
+  EXPECT_EQ(captured(help, R"(block \(ours\) \(default (\w+) for the default bake, \w+ for one sampling\))"), hb::codec_name(dr.codec.codec));
+  EXPECT_EQ(captured(help, R"(block \(ours\) \(default \w+ for the default bake, (\w+) for one sampling\))"), hb::codec_name(one.codec.codec));
   expect_number(help, R"(box diagonal, default ([-0-9.e+]+))", dr.codec.max_error);
   expect_number(help, R"(coordinate, 6-14; default ([0-9]+))", dr.codec.normal_bits);
   expect_number(help, R"(takes only max-m, default ([0-9]+))", dr.options.density.max_m);
