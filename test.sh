@@ -4,7 +4,7 @@
 # do not need one (CLI tests unset DISPLAY themselves). -noreset keeps Xvfb from resetting
 # (and refusing connections for a moment) each time its last client leaves.
 #
-# Then the hostile-input stage (issue 12): the core and device suites built with clang,
+# Then the hostile-input stage: the core and device suites built with clang,
 # AddressSanitizer + UndefinedBehaviorSanitizer (+ float-cast-overflow) in build-asan/ (only
 # those suites and the fuzz targets are built: no VTK, Qt, CLI, MPI or benchmarks), run without
 # the few long algorithm tests that read no file (they run in the plain suite above), then each
@@ -24,6 +24,8 @@ fi
 bash scripts/folder_edges.sh --check
 # Size: no source file over 600 lines and no function over 150 in the code folders.
 bash scripts/long_functions.sh --check
+# Comments say what and why: no ISO date or issue number in a code comment.
+bash scripts/check_comments.sh
 
 (cd build && xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --output-on-failure -j2 --timeout 600)
 

@@ -3,14 +3,18 @@
 // that sampling: [-m 32] [-n 16] [--refine] [--cell C[,max-m=M]] [--pieces auto|FILE|none]
 // [--codec none|haar|block[,max-error=E|ratio=R]].
 // Through the box cache (hb::bake_cached, the one the window, sweep and report use): a scene
-// cached for the model's hash and the whole recipe is copied to -o instead of baked; a bake is
-// stored there. [--cache DIR|none].
+// cached for the model's hash and the whole recipe is copied to -o instead of baked; a fresh
+// bake is stored there once and -o copied from it (hb::write_baked_scene). [--cache DIR|none].
+// The command parses, calls the core and prints: the default recipe and its overrides are
+// hb::default_recipe(overrides), and the help's defaults are read from the recipes.
 #include "cli_support.h"
 #include "figure_text.h"
 #include "commands.h"
 #include "errors.h"
 #include "recipe/bake_recipe.h"
 #include "recipe/box_cache.h"
+#include "recipe/recipe_choice.h"
+#include "contact/workspace.h"
 #include "haptic_box/box_file.h"
 #include "haptic_box/density_range.h"
 #include "haptic_box/scene_codec_stats.h"
@@ -26,46 +30,6 @@
 
 namespace {
 
-// The default bake's tuning folded into --budget: the keys of the error budget itself
-// (hb::parse_budget) and those of the simplified surface (hb::BudgetRecipe).
-struct BudgetArgs {
-  std::string budget;  // the error budget's keys, for hb::parse_budget
-  std::optional<bool> simplify;
-  std::optional<double> simplify_above, deviation, shading_map;
-  bool simplify_keys() const { return simplify || simplify_above || deviation || shading_map; }
-};
-
-BudgetArgs parse_budget_args(const std::string& spec) {
-  BudgetArgs a;
-  const auto pass = [&a](const std::string& key) {
-    return [&a, key](const std::string& v, const std::string&) { a.budget += (a.budget.empty() ? "" : ",") + key + "=" + v; };
-  };
-  const auto number = [](std::optional<double>& field, double lo, double hi) {
-    return [&field, lo, hi](const std::string& v, const std::string& what) {
-      field = hb::cli::spec_number_or_usage(v, what, lo, hi);
-    };
-  };
-  if (hb::spec_trim(spec) == "default") return a;
-  hb::cli::parse_spec("--budget", spec,
-                      {{"p95", pass("p95")},
-                       {"median", pass("median")},
-                       {"dir99", pass("dir99")},
-                       {"agree", pass("agree")},
-                       {"felt", pass("felt")},
-                       {"raw", pass("raw")},
-                       {"memory", pass("memory")},
-                       {"relative", pass("relative")},
-                       {"simplify", [&a](const std::string& v, const std::string& what) {
-                          bool on = true;
-                          hb::cli::flag_key("simplify", on).set(v, what);
-                          a.simplify = on;
-                        }},
-                       {"simplify-above", number(a.simplify_above, 0, 1e15)},
-                       {"deviation", number(a.deviation, 0.0, 0.099)},
-                       {"shading-map", number(a.shading_map, -1, 64)}});
-  return a;
-}
-
 // What the command line gave bake.
 struct BakeOpts {
   hb::cli::ModelArgs model;
@@ -80,38 +44,53 @@ struct BakeOpts {
   bool strict = false;
 };
 
+// --budget's help, every default read from the default recipe (what a bake without options
+// uses) and the workspace the budget is judged at.
+std::string budget_help(const hb::BakeRecipe& dr) {
+  const hb::ErrorBudget& b = dr.budget.budget;
+  const hb::WorkspaceOptions w;
+  const auto on_off = [](bool on) { return std::string(on ? "on" : "off"); };
+  return "The default bake meets this error budget at the lowest cost it finds, against exact Embree: "
+         "felt=PERCENT (default " + hb::spec_format(b.perceptible * 100.0) + ": at most that share of probes and of "
+         "slide ticks perceptibly different, forces with the model fitted to a " + hb::spec_format(w.diagonal_m * 1000.0) +
+         " mm workspace at " + hb::spec_format(w.stiffness_n_per_m) + " N/m); raw=on|off (default " + on_off(b.raw) +
+         ": try the paper's raw box first) and memory=MB (its cap, default " + hb::spec_format(b.raw_memory_bytes / 1e6) +
+         "); the relative criteria p95=PERCENT,median=PERCENT,dir99=DEGREES,agree=PERCENT (default " +
+         (b.relative ? "on" : "off unless named") + "); and for meshes above simplify-above=N triangles (default " +
+         std::to_string(dr.budget.simplify_above) + "), simplify=on|off (default " + on_off(dr.budget.simplify) +
+         ": bake against the mesh simplified within deviation=F of the diagonal, default " +
+         hb::spec_format(dr.budget.simplify_deviation) + ": the depth whose force is a sixteenth of the force threshold, " +
+         hb::spec_format(hb::simplification_bound(b)) + "; shaded by a normal map of side shading-map=S, default " +
+         std::to_string(dr.budget.shading_map_side) + ": automatic, -1: none; the full mesh instead when it misses the "
+         "budget)";
+}
+
 void add_bake_options(CLI::App& cmd, const std::shared_ptr<BakeOpts>& opts) {
-  const hb::BakeRecipe d;
-  const hb::BudgetRecipe db;
+  const hb::BakeRecipe one;                          // one sampling: -m, -n, --cell or --refine
+  const hb::BakeRecipe dr = hb::default_recipe();    // the default bake
   cmd.add_option("MESH", opts->mesh, "Input mesh")->required();
   cmd.add_option("-o,--output", opts->out, "Output box file (.hbox)")->required();
-  cmd.add_option("--budget", opts->budget,
-                 "The default bake meets this error budget at the lowest cost it finds, against exact Embree: "
-                 "felt=PERCENT (default 0.1: at most 0.1% of probes and of slide ticks perceptibly different, forces "
-                 "with the model fitted to an 80 mm workspace at 1500 N/m); raw=on|off (default on: try the paper's "
-                 "raw box first) and memory=MB (its cap, default 48); the relative criteria p95=PERCENT,"
-                 "median=PERCENT,dir99=DEGREES,agree=PERCENT (off unless named); and for meshes above simplify-above=N "
-                 "triangles (default " + std::to_string(db.simplify_above) + "), simplify=on|off (default on: bake "
-                 "against the mesh simplified within deviation=F of the diagonal, default 0: the depth whose force is a sixteenth of the force threshold, 2.1e-5; "
-                 "shaded by a normal map of side shading-map=S, default 0: automatic, -1: none; the full mesh "
-                 "instead when it misses the budget)")
+  cmd.add_option("--budget", opts->budget, budget_help(dr))
       ->type_name("KEY=VALUE,...")
       ->group("Default bake");
-  hb::cli::add_pieces_options(cmd, opts->pieces, "auto for the default bake, none for one sampling");
+  hb::cli::add_pieces_options(cmd, opts->pieces, "auto for the default bake, none for one sampling", dr, &one);
   hb::cli::add_codec_option(cmd, opts->codec, opts->recipe.codec, &opts->strict, &opts->bound_given,
                             {"none", "haar", "block"},
-                            "Table codec: none, haar (the paper's) or block (ours) (default block for the default bake, "
-                            "none for one sampling); then max-error=E (bound on |t1 - t0| / box diagonal, default " +
-                                hb::spec_format(d.codec.max_error) +
+                            std::string("Table codec: none, haar (the paper's) or block (ours) (default ") +
+                                hb::codec_name(dr.codec.codec) + " for the default bake, " + hb::codec_name(one.codec.codec) +
+                                " for one sampling); then max-error=E (bound on |t1 - t0| / box diagonal, default " +
+                                hb::spec_format(dr.codec.max_error) +
                                 ") or ratio=R (the tightest bound reaching this compression ratio; with strict: fail, "
                                 "exit 1, when the codec cannot reach it), normal-bits=B (octahedral bits per "
-                                "coordinate, 6-14; default " + std::to_string(d.codec.normal_bits) + ")")
+                                "coordinate, 6-14; default " + std::to_string(dr.codec.normal_bits) + ")")
       ->type_name("NAME[,KEY=VALUE...]");
-  const std::string one = "One sampling (instead of the default bake)";
-  cmd.add_option("-m", opts->recipe.options.params.m, "Position points per PBB face edge (default 32)")
-      ->check(CLI::Range(2, 1024))->group(one);
-  cmd.add_option("-n", opts->recipe.options.params.n, "Directional points per sub-block face edge (default 16)")
-      ->check(CLI::Range(2, 256))->group(one);
+  const std::string one_group = "One sampling (instead of the default bake)";
+  cmd.add_option("-m", opts->recipe.options.params.m,
+                 "Position points per PBB face edge (default " + std::to_string(one.options.params.m) + ")")
+      ->check(CLI::Range(2, 1024))->group(one_group);
+  cmd.add_option("-n", opts->recipe.options.params.n,
+                 "Directional points per sub-block face edge (default " + std::to_string(one.options.params.n) + ")")
+      ->check(CLI::Range(2, 256))->group(one_group);
   cmd.add_option_function<std::string>(
          "--cell",
          [opts](const std::string& spec) {
@@ -119,74 +98,68 @@ void add_bake_options(CLI::App& cmd, const std::shared_ptr<BakeOpts>& opts) {
            hb::cli::parse_spec("--cell", spec, {hb::cli::number_key("max-m", opts->recipe.options.density.max_m, 2, 1024)}, &cell);
            opts->recipe.options.density.cell = float(hb::cli::spec_number_or_usage(cell, "--cell", 0.0, 1.0));
          },
-         "Per-box m: the position-cell size, fraction of the mesh diagonal (default 0: -m for every box), then "
-         "max-m=M: the largest per-box m (default " + std::to_string(d.options.density.max_m) + ")")
+         "Per-box m: the position-cell size, fraction of the mesh diagonal (default " +
+             hb::spec_format(one.options.density.cell) + ": -m for every box), then max-m=M: the largest per-box m "
+             "(default " + std::to_string(one.options.density.max_m) + "; the default bake keeps its own cells and "
+             "takes only max-m, default " + std::to_string(dr.options.density.max_m) + ")")
       ->type_name("C[,max-m=M]")
-      ->group(one);
+      ->group(one_group);
   cmd.add_flag("--refine", opts->recipe.options.refine,
                "Store the triangle each sample hit and the mesh's triangles: queries then refine the blend exactly "
                "(2 or 4 bytes more per sample, 64 per triangle)")
-      ->group(one);
+      ->group(one_group);
   hb::cli::add_cache_option(cmd, opts->cache);
   cmd.add_flag("--json", opts->json, "Print a JSON summary");
   hb::cli::add_model_options(cmd, opts->model);
 }
 
-// The default bake's recipe (hb::default_recipe) with the budget, the measurement switches and
-// the pieces, codec and cell options given on the command line.
-void use_default_recipe(BakeOpts& o, const BudgetArgs& budget_args, bool cell_given, bool codec_given) {
-  const auto full_search = hb::cli::measurement("full-search"), keep_ids = hb::cli::measurement("keep-ids"),
-             shading = hb::cli::measurement("simplify-shading"),
-             shading_check = hb::cli::measurement("simplify-shading-check");
-  hb::BakeRecipe r = hb::default_recipe();
-  try {
-    r.budget.budget = hb::parse_budget(budget_args.budget);
-  } catch (const hb::InvalidInput& e) {
-    throw hb::cli::UsageError(std::string("bake: ") + e.what());
+// The measurement-only switches of the default bake (HB_MEASURE, measurement_switches.h), read
+// once.
+hb::DefaultRecipeOverrides measured_overrides() {
+  hb::DefaultRecipeOverrides ov;
+  ov.full_search = hb::cli::measurement("full-search").has_value();
+  ov.keep_triangle_ids = hb::cli::measurement("keep-ids").has_value();
+  if (const auto shading = hb::cli::measurement("simplify-shading"))
+    ov.simplify_shading_deg = hb::cli::spec_number_or_usage(*shading, "HB_MEASURE simplify-shading", 0.0, 180.0);
+  if (const auto check = hb::cli::measurement("simplify-shading-check")) {
+    if (*check != "fit" && *check != "ring")
+      throw hb::cli::UsageError("HB_MEASURE simplify-shading-check: '" + *check + "' is not fit or ring");
+    ov.simplify_shading_check =
+        *check == "ring" ? hb::DecimationOptions::ShadingCheck::ring : hb::DecimationOptions::ShadingCheck::fit;
   }
-  if (budget_args.simplify) r.budget.simplify = *budget_args.simplify;
-  if (budget_args.simplify_above) r.budget.simplify_above = std::size_t(*budget_args.simplify_above);
-  if (budget_args.deviation) r.budget.simplify_deviation = *budget_args.deviation;
-  if (budget_args.shading_map) r.budget.shading_map_side = int(*budget_args.shading_map);
-  if (shading) r.budget.simplify_shading_deg = hb::cli::spec_number_or_usage(*shading, "HB_MEASURE simplify-shading", 0.0, 180.0);
-  if (shading_check) {
-    if (*shading_check != "fit" && *shading_check != "ring")
-      throw hb::cli::UsageError("HB_MEASURE simplify-shading-check: '" + *shading_check + "' is not fit or ring");
-    r.budget.simplify_shading_check = *shading_check == "ring" ? hb::DecimationOptions::ShadingCheck::ring
-                                                               : hb::DecimationOptions::ShadingCheck::fit;
-  }
-  r.budget.keep_triangle_ids = keep_ids.has_value();
-  r.budget.full_search = full_search.has_value();
-  if (cell_given) r.options.density.max_m = o.recipe.options.density.max_m;
-  if (!o.pieces.given) o.pieces.spec = "auto";
-  if (!codec_given) o.codec = "block";
-  if (o.bound_given) {
-    r.codec.max_error = o.recipe.codec.max_error;
-    r.codec.ratio = o.recipe.codec.ratio;
-  }
-  r.pieces.automatic.progress = o.recipe.pieces.automatic.progress;
-  o.recipe = r;
+  return ov;
 }
 
 // The recipe of this bake. Without a sampling option (-m, -n, --cell, --refine) it is the
-// default, budgeted one (hb::choose_recipe): the pieces, codec and seam options given still
-// apply to it; with one, exactly that sampling.
+// default, budgeted one (hb::default_recipe(overrides): --budget, --cell's max-m, --codec's
+// bound and the measurement switches); the pieces, codec and seam options given still apply to
+// it. With one, exactly that sampling.
 void choose_bake_recipe(BakeOpts& o, const CLI::App& cmd) {
   const bool sampling_given = !hb::bakes_default_recipe(hb::cli::sampling_given(cmd));
-  const BudgetArgs budget_args = parse_budget_args(o.budget);
-  // Measurement-only switches of the default bake (HB_MEASURE, measurement_switches.h).
-  const bool full_search = hb::cli::measurement("full-search").has_value(),
-             keep_ids = hb::cli::measurement("keep-ids").has_value(),
-             shading = hb::cli::measurement("simplify-shading") || hb::cli::measurement("simplify-shading-check");
-  if (sampling_given && (budget_args.simplify_keys() || shading))
-    throw hb::cli::UsageError("bake: --budget's simplify keys belong to the default bake; drop -m, -n, --cell and --refine, or them");
-  if (sampling_given && full_search)
-    throw hb::cli::UsageError("bake: full-search (HB_MEASURE) belongs to the default bake (-m, -n, --cell and --refine bake one sampling); drop it");
-  if (sampling_given && keep_ids)
-    throw hb::cli::UsageError("bake: keep-ids (HB_MEASURE) belongs to the default bake (a --refine bake always keeps its ids); drop it");
-  if (sampling_given && cmd.count("--budget"))
-    throw hb::cli::UsageError("bake: --budget chooses -n, --cell and --refine per piece; drop -m, -n, --cell and --refine, or --budget");
-  if (!sampling_given) use_default_recipe(o, budget_args, cmd.count("--cell") > 0, cmd.count("--codec") > 0);
+  hb::DefaultRecipeOverrides ov = measured_overrides();
+  ov.budget = o.budget;
+  if (sampling_given) {
+    if (hb::budget_names_surface_keys(o.budget) || ov.simplify_shading_deg || ov.simplify_shading_check)
+      throw hb::cli::UsageError("bake: --budget's simplify keys belong to the default bake; drop -m, -n, --cell and --refine, or them");
+    if (ov.full_search)
+      throw hb::cli::UsageError("bake: full-search (HB_MEASURE) belongs to the default bake (-m, -n, --cell and --refine bake one sampling); drop it");
+    if (ov.keep_triangle_ids)
+      throw hb::cli::UsageError("bake: keep-ids (HB_MEASURE) belongs to the default bake (a --refine bake always keeps its ids); drop it");
+    if (cmd.count("--budget"))
+      throw hb::cli::UsageError("bake: --budget chooses -n, --cell and --refine per piece; drop -m, -n, --cell and --refine, or --budget");
+  } else {
+    if (cmd.count("--cell")) ov.max_m = o.recipe.options.density.max_m;
+    if (o.bound_given) ov.codec_max_error = o.recipe.codec.max_error, ov.codec_ratio = o.recipe.codec.ratio;
+    const auto progress = o.recipe.pieces.automatic.progress;
+    try {
+      o.recipe = hb::default_recipe(ov);
+    } catch (const hb::InvalidInput& e) {
+      throw hb::cli::UsageError(std::string("bake: ") + e.what());
+    }
+    o.recipe.pieces.automatic.progress = progress;
+    if (!o.pieces.given) o.pieces.spec = "auto";
+    if (!cmd.count("--codec")) o.codec = "block";
+  }
   o.pieces.apply_tuning(o.recipe);
   o.recipe.codec.codec = hb::parse_codec(o.codec);
   if (o.recipe.codec.codec == hb::CodecId::none && o.bound_given)
@@ -207,20 +180,6 @@ void report_bake_stages(hb::BakeRecipe& recipe) {
     std::fprintf(stderr, "%sbake: %s%s\n", tty ? "\r" : "", note.c_str(), tty ? "\033[K" : "");
     std::fflush(stderr);
   };
-}
-
-// Writes -o: the scene baked now, or a copy of the cache entry (the bake's file byte for byte).
-void write_baked_file(const hb::CachedBake& cached, const std::string& out) {
-  namespace fs = std::filesystem;
-  std::error_code same_ec;
-  if (cached.from_cache && fs::equivalent(cached.path, out, same_ec)) return;  // -o is the cache entry itself
-  if (!cached.from_cache) {
-    hb::save_box_file(cached.result.scene, out);
-    return;
-  }
-  std::error_code ec;
-  fs::copy_file(cached.path, out, fs::copy_options::overwrite_existing, ec);
-  if (ec) throw hb::IoError(out + ": cannot write the box file (" + ec.message() + ")");
 }
 
 // How the work was shared: per rank the rays cast, the seconds its share took and the bytes it
@@ -382,9 +341,12 @@ void run_bake(BakeOpts& o, const CLI::App& cmd) {
   if (!comm.is_root()) return;  // rank 0 holds the tables and writes the file
   if (!cached.from_cache) hb::cli::print_decomposition(o.recipe, cached.result);
   if (!cached.warning.empty()) std::cerr << "warning: " << cached.warning << "\n";
-  write_baked_file(cached, o.out);
+  const hb::BakedFileWrite written = hb::write_baked_scene(cached, o.out);
   const BakeSummary summary = summarise_bake(cached.result.scene, o.out);
-  const nlohmann::json j = bake_json(o, mesh, cached, summary);
+  nlohmann::json j = bake_json(o, mesh, cached, summary);
+  j["output_written"] = written == hb::BakedFileWrite::entry  ? "entry"
+                        : written == hb::BakedFileWrite::copy ? "copy of the cache entry"
+                                                              : "saved";
   if (o.json) hb::cli::print_json(j);
   else print_bake(o, cached, summary, j);
 }

@@ -43,11 +43,11 @@ nlohmann::json budget_json(const BudgetReport& r) {
                    {"slide_ticks_felt", t.ticks_felt < 0 ? nlohmann::json(nullptr) : nlohmann::json(t.ticks_felt)},
                    {"light_touches_felt", t.light_felt < 0 ? nlohmann::json(nullptr) : nlohmann::json(t.light_felt)},
                    {"outcome", t.outcome},
-                   // at bake time, one core, random order (null: a file written before 2026-12-07)
+                   // at bake time, one core, random order (null: a file that holds no times)
                    {"box_ns", t.box_ns > 0 ? nlohmann::json(t.box_ns) : nlohmann::json(nullptr)},
                    {"exact_ns", t.exact_ns > 0 ? nlohmann::json(t.exact_ns) : nlohmann::json(nullptr)}});
   j["raw_tried"] = raw;
-  // Query times at bake time (in the file since 2026-12-07).
+  // Query times at bake time (absent from older files).
   if (r.answer_ns > 0) j["answer_ns"] = r.answer_ns, j["exact_ns"] = r.exact_ns;
   if (r.cells_ns > 0) j["cells_ns"] = r.cells_ns, j["embree_ns"] = r.embree_ns;
   // Along strokes (recipe/stroke_route.h): what answers a probe's successive queries, and the

@@ -16,8 +16,14 @@ void PiecesArgs::apply_tuning(BakeRecipe& recipe) const {
   if (padding) recipe.options.obb.padding = *padding;
 }
 
-void add_pieces_options(CLI::App& cmd, PiecesArgs& args, const std::string& default_kind) {
-  const BakeRecipe d;
+void add_pieces_options(CLI::App& cmd, PiecesArgs& args, const std::string& default_kind, const BakeRecipe& defaults,
+                        const BakeRecipe* other) {
+  // "0.001" or, when the other recipe differs, "0.001 for the default bake, 0.004 for one sampling".
+  const auto shown = [&](auto field) {
+    const std::string mine = spec_format(double(field(defaults)));
+    if (!other || spec_format(double(field(*other))) == mine) return mine;
+    return mine + " for the default bake, " + spec_format(double(field(*other))) + " for one sampling";
+  };
   cmd.add_option_function<std::string>(
          "--pieces",
          [&args](const std::string& spec) {
@@ -46,12 +52,14 @@ void add_pieces_options(CLI::App& cmd, PiecesArgs& args, const std::string& defa
          },
          "How the mesh is cut into boxes: none (one box), auto, faces (a CAD solid's faces) or a piece file (.txt, "
          ".ply, .vtp with a PieceId cell array) (default " + default_kind + "); then any of threshold=T (auto: "
-         "largest pocket probability of a piece; default " + spec_format(d.pieces.automatic.threshold) +
-         "), max=N (auto: most pieces; default " + std::to_string(d.pieces.automatic.max_pieces) +
+         "largest pocket probability of a piece; default " +
+             shown([](const BakeRecipe& r) { return r.pieces.automatic.threshold; }) +
+         "), max=N (auto: most pieces; default " + shown([](const BakeRecipe& r) { return r.pieces.automatic.max_pieces; }) +
          "), seam-rings=R (least rings of seam triangles neighbouring pieces share; default " +
-         std::to_string(d.seams.rings) + "), seam-cells=C (seam overlap, position cells; default " +
-         spec_format(d.seams.cells) + "), padding=P (each box's PBB padding, fraction of its diagonal; default " +
-         spec_format(d.options.obb.padding) + ")")
+         shown([](const BakeRecipe& r) { return r.seams.rings; }) + "), seam-cells=C (seam overlap, position cells; default " +
+         shown([](const BakeRecipe& r) { return r.seams.cells; }) +
+         "), padding=P (each box's PBB padding, fraction of its diagonal; default " +
+         shown([](const BakeRecipe& r) { return r.options.obb.padding; }) + ")")
       ->type_name("KIND[,KEY=VALUE...]");
 }
 

@@ -22,8 +22,11 @@ struct PiecesArgs {
 };
 
 /// Adds --pieces KIND[,threshold=T,max=N,seam-rings=R,seam-cells=C,padding=P] to a command;
-/// `default_kind` is what the command uses when it is not given (said in the help).
-void add_pieces_options(CLI::App& cmd, PiecesArgs& args, const std::string& default_kind = "none");
+/// `default_kind` is what the command uses when it is not given (said in the help). The help's
+/// defaults are `defaults`' (the recipe the command bakes); with `other` (a command that bakes
+/// one of two recipes), a default that differs there is given for both.
+void add_pieces_options(CLI::App& cmd, PiecesArgs& args, const std::string& default_kind = "none",
+                        const BakeRecipe& defaults = BakeRecipe(), const BakeRecipe* other = nullptr);
 
 /// Sets recipe.pieces from `spec` (hb::pieces_from_spec), keeping the automatic options,
 /// with a terminal progress bar for an automatic decomposition. "faces" gives a CAD model's

@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
     };
     save(hb::make_bumpy_sphere(), "bumpy_sphere.off");
     save(hb::make_chess_piece(), "chess_piece.off");
-    // A second smooth, finely tessellated, quasi-convex object (issue 37): an ellipsoid of
+    // A second smooth, finely tessellated, quasi-convex object: an ellipsoid of
     // semi-axes 1, 0.75, 0.6 with gentle bumps (2% of the radius, 3 around a great circle),
     // 327,680 triangles.
     hb::BumpySphereOptions gentle;

@@ -25,7 +25,7 @@ const char* to_string(SafetyEvent e) noexcept;
 enum class FaultResponse : std::uint8_t {
   /// Keep the held force as a ceiling and ramp the ceiling back up from it over `ramp_seconds`
   /// (the default): a probe inside the object is never dropped and then re-stiffened, which
-  /// lets a pushing hand pop through the stylus or injects energy (issue 11, test T8).
+  /// lets a pushing hand pop through the stylus or injects energy (stability test T8).
   hold_and_ramp,
   /// Zero the force and restart the ramp from zero (the first servo's behaviour).
   zero_and_ramp,

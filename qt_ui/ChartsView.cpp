@@ -166,7 +166,7 @@ QString ChartsView::emptyHint() {
 }
 
 QString ChartsView::untimedBakeHint() {
-  return tr("This box file was baked before bakes timed what they tried (2026-12-07), so there is nothing to chart: "
+  return tr("This box file was baked by an older version, before bakes timed what they tried, so there is nothing to chart: "
             "bake the model again (Bake) to see the default bake, exact and the raw samplings it tried, or run a "
             "sweep (Tools > Run Sweep).");
 }

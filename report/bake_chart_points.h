@@ -1,5 +1,5 @@
 #pragma once
-// The speed chart of a budgeted bake on its own (issue 37: the first chart a user meets, in
+// The speed chart of a budgeted bake on its own (the first chart a user meets, in
 // the window right after a bake and in a report, shows what a hand feels against query time
 // with the default bake, exact and the raw configurations the bake tried). Every figure comes
 // from the scene's budget report (hb::BudgetReport), measured at bake time: nothing is baked
@@ -19,7 +19,7 @@ struct BakeChartPoint {
 };
 
 /// The points of `scene`'s budget report, each only when its query time was recorded (files
-/// written before 2026-12-07 record none): exact Embree ("exact_embree", timed beside the bake's
+/// from older versions record none): exact Embree ("exact_embree", timed beside the bake's
 /// answer, 0 % perceptibly different); the bake ("haptic_box", labelled as the sweep's row,
 /// "default bake: N boxes", or "bake to <budget>: N boxes" for another budget; its share of
 /// the fresh probes perceptibly different); each raw sampling tried ("haptic_box", labelled

@@ -7,7 +7,7 @@ namespace hb {
 /// "host (CPU model, N cores)" from the host name and /proc/cpuinfo ("unknown CPU" elsewhere).
 std::string machine_description();
 
-/// The current UTC time, ISO 8601 to the second: "2026-12-01T23:40:05Z".
+/// The current UTC time, ISO 8601 to the second: "YYYY-MM-DDThh:mm:ssZ".
 std::string utc_now_iso();
 
 } // namespace hb

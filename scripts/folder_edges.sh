@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The folder-level include graph of the core (src/): which folder's files include which other
-# folder's headers, and the cycles in it (issue 40: the core in rooms, "no folder cycle").
+# folder's headers, and the cycles in it (the core's folders must depend one way only).
 #
 #   scripts/folder_edges.sh              edges of src/ and its cycles; exit 1 when there is one
 #   scripts/folder_edges.sh --from DIR   which src/ folders the files under DIR include (e.g.

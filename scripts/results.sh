@@ -15,6 +15,8 @@
 #   --huge      also the armadillo subdivided to 53M triangles (a 1 GB binary PLY; about 8 minutes
 #               more, 8 GB of memory)
 #   --no-write  print the tables, change no file
+#   HB_TABLE_ONLY=1  measure nothing: the tables again from the last run's out/results/ (its
+#               stamp and models in out/results/stamp.txt), e.g. after a change of their words
 #
 # Every model is baked with `hapticbox bake MESH -o BOX` and no other option (the default bake),
 # in a cache of its own (so the bake time is a real bake's), then `info --json`,
@@ -32,16 +34,22 @@ for arg in "$@"; do
     --large) models+=(armadillo_13m) ;;
     --huge) models+=(armadillo_53m) ;;
     --no-write) write=0 ;;
-    -h|--help) sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "results.sh: unknown argument '$arg' (try --help)" >&2; exit 2 ;;
   esac
 done
+table_only=${HB_TABLE_ONLY:-0}
+out=out/results
+if [ "$table_only" = 1 ]; then
+  [ -f "$out/stamp.txt" ] || { echo "results.sh: HB_TABLE_ONLY=1 needs a previous run's $out/stamp.txt" >&2; exit 1; }
+  { read -r commit; read -r started; read -r machine; read -r load; read -r version; read -r took
+    read -r -a models; } < "$out/stamp.txt"
+else
 [ -x "$HB" ] || { echo "results.sh: $HB is not built (bash scripts/build.sh)" >&2; exit 1; }
 data=datasets/data
 [ -f "$data/meshes/armadillo.off" ] ||
   { echo "results.sh: no datasets in $data (bash datasets/fetch.sh build/datasets/hb_generate_datasets)" >&2; exit 1; }
 
-out=out/results
 mkdir -p "$out"
 cache=$(mktemp -d)
 trap 'rm -rf "$cache"' EXIT
@@ -86,9 +94,13 @@ for name in "${models[@]}"; do
   "$HB" bench "$out/$name.hbox" "$mesh" --seed 2 --json > "$out/$name.bench.json"
 done
 took=$((SECONDS - start))
+printf '%s\n' "$commit" "$started" "$machine" "$load" "$version" "$took" "${models[*]}" > "$out/stamp.txt"
+fi
 
 python3 - "$out" "$write" "$commit" "$started" "$machine" "$load" "$version" "$took" "${models[@]}" <<'PY'
 import json, os, re, sys
+sys.path.insert(0, "scripts")
+from route_words import answer_words
 
 out, write, commit, started, machine, load, version, took = sys.argv[1:9]
 models = sys.argv[9:]
@@ -111,19 +123,6 @@ def ratio(box, exact):  # "1.6x slower" / "2.1x faster" / "as fast" (within 5%)
     r, word = (r, "slower") if r > 1 else (1 / r, "faster")
     return f"{r:.1f}x {word}" if r < 10 else f"{r:.0f}x {word}"
 
-def answer_text(b):  # what answers the queries, and the raw box's fate
-    a = b.get("answer", "cells")
-    if b.get("stroke_answer") == "embree":  # a probe's strokes by exact Embree over the full mesh
-        a += ", strokes embree"
-    raw = b.get("raw_tried") or []
-    if a == "raw" or not raw:
-        return a
-    last = raw[-1]
-    felt = f"{100 * last['probes_felt']:.2g}% probes"
-    if last.get("slide_ticks_felt") is not None:
-        felt += f", {100 * last['slide_ticks_felt']:.2g}% slide ticks"
-    return f"{a} (raw m{last['m']} n{last['n']}: {last['outcome']}, {felt})"
-
 rows, perceptible = [], True
 for m in models:
     bake, info, ev, be = read(m, "bake"), read(m, "info"), read(m, "eval"), read(m, "bench")
@@ -145,7 +144,7 @@ for m in models:
         strokes=f"{be['box_stroke_ns']:,.0f} / {be['exact_stroke_ns']:,.0f} ns, {ratio(be['box_stroke_ns'], be['exact_stroke_ns'])}",
         tail=f"{be['box_single_tail']['probe_p999_ns'] / 1000:.2g} / {be['exact_single_tail']['probe_p999_ns'] / 1000:.2g} us",
         met="met" if info.get("budget_report", {}).get("met") else "MISSED",
-        answer=answer_text(info.get("budget_report") or {})))
+        answer=answer_words(info.get("budget_report") or {})))
 
 def table(cols):
     head = "| " + " | ".join(t for _, t in cols) + " |\n|" + "---|" * len(cols) + "\n"
@@ -170,9 +169,10 @@ stamp = (f"Made by `scripts/results.sh` on {started}, commit {commit} ({version}
          f"load average {load} at the start; {took} s.")
 readme_block = (
     "<!-- results:begin (scripts/results.sh writes this table; do not edit) -->\n"
-    + table(short) + "\n" + stamp + " Default bake (`hapticbox bake MESH -o BOX`), then `eval --seed 2` (20,000\n"
-    "probes) and `bench --seed 2` (one core), box against exact Embree on the same probes in the same run.\n"
-    "Every order, the tails and the budget: `docs/results.md`.\n"
+    + table(short) + "\n"
+    "Default bake (`hapticbox bake MESH -o BOX`), then `eval --seed 2` (20,000 probes) and `bench --seed 2`\n"
+    f"(one core), box against exact Embree on the same probes in the same run, at commit {commit}. The\n"
+    "machine, the date, every order, the tails and the budget: `docs/results.md`.\n"
     "<!-- results:end -->")
 doc = f"""# Results
 

@@ -55,15 +55,16 @@ for name in "${models[@]}"; do
 done
 rows=$(/usr/bin/python3 - "$out" "${models[@]}" <<'PY'
 import json, sys
+sys.path.insert(0, "scripts")
+from route_words import tool_route_words
 out, names = sys.argv[1], sys.argv[2:]
-words = {"embree": "exact: Embree over its surface", "cells": "exact: the surface cells", "boxes": "the paper's raw box"}
 def us(v): return f"{v:.0f}" if v >= 10 else f"{v:.1f}"
 for name in names:
     j = json.load(open(f"{out}/tool_{name}.json"))
     label = name.replace('_', ' ').replace('832k', '832K').replace('13m', '13M')
     ratio = j['exact_tool_tick_p99_us'] / j['box_tool_tick_p99_us']
     verdict = f"{ratio:.1f}x faster" if ratio >= 1.05 else (f"{1/ratio:.1f}x slower" if ratio <= 1/1.05 else "as fast")
-    print(f"| {label} | {j['triangles']:,} | {words.get(j['route'], j['route'])} | {j['tool_contact_ticks']:,} | "
+    print(f"| {label} | {j['triangles']:,} | {tool_route_words(j['route'])} | {j['tool_contact_ticks']:,} | "
           f"{100*j['tool_perceptible_tick_share']:.3g}% | {us(j['box_tool_tick_p50_us'])} / {us(j['box_tool_tick_p99_us'])} us | "
           f"{us(j['exact_tool_tick_p50_us'])} / {us(j['exact_tool_tick_p99_us'])} us ({j['exact_tool_api']}) | {verdict} | "
           f"{us(j['sdf_tool_tick_p99_us'])} us, {100*j['sdf_perceptible_tick_share']:.3g}% felt |")

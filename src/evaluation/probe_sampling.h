@@ -18,8 +18,8 @@ struct ProbeOptions {
 /// A light touch at any angle: within 85 degrees of the inward normal, tips up to 0.5% of the
 /// diagonal past the surface (under 0.6 N at the default workspace). The default probes
 /// (within 30 degrees, up to 3% deep: 1-3 N) do not show a box's error along lines far from
-/// the normal at a touch light enough to feel it (2026-12-07: the raw box's lines 37-53
-/// degrees off the normal, 0.03-0.1 mm off, were felt on 1-1.5% of such lines). `eval` reports
+/// the normal at a touch light enough to feel it (a raw box's lines 37-53 degrees off the
+/// normal can be 0.03-0.1 mm off, felt at such a touch but not at 1-3 N). `eval` reports
 /// both.
 inline ProbeOptions light_touch_probe_options(std::uint64_t seed) {
   ProbeOptions o;

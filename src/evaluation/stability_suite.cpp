@@ -7,7 +7,7 @@
 //    stability_objects.cpp), each baked into a box here with the model box's refinement.
 // 3. Sites on the model: surface points by area (sample_probes), kept when exact Embree
 //    answers a 1 mm-deep probe along the inward normal there.
-// 4. Tests T1-T8 (issue 11; stability_tests.cpp), each a trajectory run on the box and on
+// 4. Tests T1-T8 (stability_tests.cpp), each a trajectory run on the box and on
 //    exact, the same trajectory for both; every figure becomes a StabilityMetric judged
 //    against its threshold, for the box and for exact (a failure exact shares is the law's).
 // 5. Ranks: the gate and each (scene, test) pair are tasks dealt to the ranks in turn; every

@@ -1,5 +1,5 @@
 #pragma once
-// The stability suite (issue 11, docs/stability.md): deterministic, hardware-free trajectory
+// The stability suite (docs/stability.md): deterministic, hardware-free trajectory
 // tests, the box and exact Embree side by side on the same trajectories, every figure as box,
 // exact, difference, threshold and verdict. A calibration gate on an analytic wall runs first.
 #include "evaluation/trajectory.h"

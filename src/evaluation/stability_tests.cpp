@@ -1,4 +1,4 @@
-// The stability suite's tests T1-T8 (issue 11; stability_harness.h): each a trajectory run on
+// The stability suite's tests T1-T8 (stability_harness.h): each a trajectory run on
 // the box and on exact, the same trajectory for both; every figure becomes a StabilityMetric
 // judged against its threshold, for the box and for exact (a failure exact shares is the
 // law's). Also the sites on the model (surface points by area, kept when exact answers a
@@ -240,7 +240,7 @@ void Suite::t2(const Scene& s) {
             // Embree on a 0.2 mm segment through it, both ways: front or back face; and on
             // 0.1 mm from just before the point each way, so that a face within a few microns
             // on the other side, an ear touching the head, does not hide the one the point is
-            // on), along the stylus and, since 2026-12-07, along the box's normal too: a
+            // on), along the stylus and along the box's normal too: a
             // stylus within a degree of the tangent plane passes 0.1 mm of a point 2 um off
             // the surface along itself, and such a point is on the surface for any hand.
             const auto there_along = [&](const Vec3d& u) {

@@ -284,11 +284,10 @@ bool HapticBox::finish(const Fetch& fetch, const Located<Fetch>& q, const ForceL
     if (blended_hit) {
       // Only a crossing that could be the segment's: the blend's own error along l grows as
       // 1 / |n . l|, so one farther than kSettleReachCells / |n . l| position cells beyond
-      // either end stays a miss however it settles (measured 2026-12-07: 200,000 segments
-      // of each smooth model placed from 6 mm before to 6 mm past the surface, the same
-      // answers bit for bit as settling all; 1 / |n . l| cells changed 4). A servo loop's
-      // handle inside the object no longer settles the entry behind it (bumpy sphere: such
-      // ticks 940 -> 120 ns).
+      // either end stays a miss however it settles (on 200,000 segments of each smooth model
+      // placed from 6 mm before to 6 mm past the surface, the same answers bit for bit as
+      // settling all; a reach of 1 / |n . l| cells changed 4). So a servo loop's handle
+      // inside the object does not settle the entry behind it.
       const float c = -(nx * lx + ny * ly + nz * lz);
       const float reach = kSettleReachCells * position_cell() / std::max(std::fabs(c), 0.02f);
       if (t_enter + t0 >= -reach && t0 <= d + reach) {

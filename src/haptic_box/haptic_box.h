@@ -94,7 +94,7 @@ public:
   int long_walk_steps() const noexcept { return long_walk_steps_; }
   /// Refinement (step 7): test the candidate whose plane the line crosses nearest first and
   /// shade it alone, answering at once when it is accepted (true, the default), or shade
-  /// every nearer crossing in candidate order (false: the loop before 2026-12-02). The same
+  /// every nearer crossing in candidate order (false: the plain loop). The same
   /// answers either way, bit for bit (tests/core/refinement_test.cpp); for tests and timing.
   void set_nearest_first(bool on) noexcept { nearest_first_ = on; }
   bool nearest_first() const noexcept { return nearest_first_; }

@@ -67,12 +67,12 @@ int HapticBox::refine_candidates(std::size_t p00, int a0, int b0, std::size_t sf
 // that walk ends at a crease, a border or a fold (it turned back), or crosses a surface the
 // blend does not see, walk from every other candidate (at most 15 bounded walks, only here)
 // and keep the nearest accepted crossing: at creases and grazing strokes the nearest
-// candidate is often on the other face (issue 11: the contacts `reject` lost on slides,
-// fandisk 8.3% of the ticks before, 3.5% after). None accepted: the walk from the nearest
+// candidate is often on the other face (walking from it alone, `reject` loses contacts on
+// slides: on the fandisk 8.3% of the ticks instead of 3.5%). None accepted: the walk from the nearest
 // candidate goes on (a surface far from the box face, where the samples' hits lie many
 // triangles from the crossing: a handle deep in the PBB, a thin rim between samples). Rare
-// (31-445 of 20,000 random probes on the default bakes); it cut the slides' lost contacts
-// 10-20x (issue 11, docs/stability.md).
+// (31-445 of 20,000 random probes on the default bakes); it cuts the slides' lost contacts
+// 10-20x (docs/stability.md).
 bool HapticBox::refine_walks(std::uint32_t start, const std::uint32_t* candidates, int count, const float p1[3],
                              const float l[3], float t_blend, RefineHit& best) const noexcept {
   if (start == kNoTriangle) return false;

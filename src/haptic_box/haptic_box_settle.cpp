@@ -72,9 +72,9 @@ bool cross_kept_quadric(SettledQuadric* memo, const Vec3& p1, const Vec3& l, con
 // Step 6a. Along a line that meets the surface at a grazing angle, the blend of parallel rays
 // from neighbouring position points is ill-conditioned: their hits lie far apart on the
 // surface (a position cell over the cosine), so t0 strays by the surface's curvature times
-// that distance squared, over the cosine again (measured before 2026-12-07: every slide tick
-// of the smooth ellipsoid and the bumpy sphere felt against exact had |n . l| < 0.55, none
-// above). The line's crossing is found instead on the surface itself, seen across: from the
+// that distance squared, over the cosine again (without this step, every slide tick of the
+// smooth ellipsoid and the bumpy sphere felt against exact had |n . l| < 0.55, none above).
+// The line's crossing is found instead on the surface itself, seen across: from the
 // point y on the line, the 16 samples of a segment across the surface along -n (where they
 // are well-conditioned) give their hits and normals, and a quadric height field fitted to
 // them (surface_fit.h: second-order exact, where a blend is first-order) is met by the line;
@@ -93,9 +93,9 @@ bool HapticBox::settle_grazing(const Fetch& fetch, float p1x, float p1y, float p
                                float& t0, float& nx, float& ny, float& nz) const noexcept {
   // At most 8 fits; the surface is fitted from the samples of a segment 3 position cells
   // either side of the line's point; settled when a step moves less than 0.05 cell along l
-  // (a quadric step that small lands well within the fit's reach: measured 2026-12-07 on
-  // 70,000 lines of each smooth model, as accurate as 0.01 and 0.003 and one fit fewer, the
-  // servo's grazing ticks 960 -> 680 ns); a step farther than 8 cells is no crossing.
+  // (a quadric step that small lands well within the fit's reach: on 70,000 lines of each
+  // smooth model as accurate as 0.01 and 0.003, with one fit fewer); a step farther than 8
+  // cells is no crossing.
   constexpr int kSteps = 8;
   constexpr float kReachCells = 3.f, kFarthestCells = 8.f, kSettledCells = 0.05f;
   const float cell = position_cell();
@@ -165,7 +165,7 @@ bool HapticBox::settle_grazing(const Fetch& fetch, float p1x, float p1y, float p
 // Step 6b. Between kGrazingCosine and kRefitCosine the blend is well conditioned but
 // first-order: on the bumpy sphere's and the smooth ellipsoid's default boxes, lines 46-53
 // degrees from the normal (|n . l| 0.6-0.7) were 0.03-0.1 mm off along l, felt at a light touch
-// (under 0.75 N) on 1.1-1.5% of lines with |n . l| 0.6-1 (measured 2026-12-07). One quadric
+// (under 0.75 N) on 1.1-1.5% of lines with |n . l| 0.6-1 without this step. One quadric
 // fitted to the line's own 16 samples (no segment across: at such an angle they are
 // well-conditioned) and met by the line puts them within the fit's error. False (the blend
 // stands) without a fit, with a sample facing away (a crease) or without a crossing within a

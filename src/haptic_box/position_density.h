@@ -1,5 +1,5 @@
 #pragma once
-// How a bake picks each box's position density m (per-piece densities, issue 4).
+// How a bake picks each box's position density m (one density per piece).
 #include <cmath>
 
 namespace hb {

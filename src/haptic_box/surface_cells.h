@@ -14,7 +14,7 @@
 
 namespace hb {
 
-/// Below the grid's surface cells (issues 11 and 17): per surface cell, the surface slots of
+/// Below the grid's surface cells: per surface cell, the surface slots of
 /// the triangles meeting it (the grid's triangle-box test, on the triangles of the scene's
 /// shared SurfaceTriangles) and the inside/outside state of its centre. Built from the grid
 /// and the surface when a scene is made (bake or load: files need not store it, and files

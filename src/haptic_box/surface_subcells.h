@@ -1,5 +1,5 @@
 #pragma once
-// A second level below the surface cells (issue 17): a crowded surface cell (more triangles
+// A second level below the surface cells: a crowded surface cell (more triangles
 // listed than a probe should test) is cut into side^3 sub-cells (side 4, 8 or 16, from how
 // crowded the cells are), each listing the
 // triangles meeting it, so a segment through it tests the triangles of the sub-cells it

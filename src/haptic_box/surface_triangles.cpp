@@ -61,7 +61,7 @@ SurfaceTriangles::SurfaceTriangles(const TriangleMesh& mesh) {
   // Neighbour across the edge opposite vertex k: the first triangle (in mesh order) holding
   // both of the edge's end points. End points are compared by position, not by vertex index:
   // a flat-shaded crease (each face its own vertices, for its own normals) or a mesh read
-  // from triangle soup still joins its faces, so a walk can cross the crease (issue 11: the
+  // from triangle soup still joins its faces, so a walk can cross the crease (unwelded, the
   // refinement of a crisp groove could not, and its contacts were lost).
   std::vector<std::uint32_t> weld(mesh.positions.size());
   {

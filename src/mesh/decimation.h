@@ -1,7 +1,7 @@
 #pragma once
 // Simplifying a mesh within a deviation bound (OpenMesh's Decimater, quadric error), for
 // surfaces that only need to be as fine as an error budget: the budgeted bake refines its
-// boxes against such a surface (issue 17), so its memory and bake time stop growing with
+// boxes against such a surface, so its memory and bake time stop growing with
 // the triangle count. Exact comparisons stay on the full mesh.
 #include "mesh/triangle_mesh.h"
 #include <cstddef>

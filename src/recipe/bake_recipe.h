@@ -63,11 +63,11 @@ struct BudgetRecipe {
   /// A piece stays unrefined only when none of the tuning probes it owns is answered from
   /// off the surface: a contact exact does not have, or a surface point farther than this
   /// (fraction of the mesh diagonal, along the probe) from exact's. Such a blend is a ghost
-  /// surface on a trajectory (issue 11, stability T2: 0.1 mm in the suite's 80 mm device
-  /// space is 0.125% of the OBB diagonal). 0: no such check (the first budgeted bakes).
+  /// surface on a trajectory (stability test T2: 0.1 mm in the suite's 80 mm device space
+  /// is 0.125% of the OBB diagonal). 0: no such check.
   double surface_tolerance = 0.001;
-  /// The surface the boxes are baked and refined against (issue 17: memory and bake time
-  /// that stop growing with the triangle count): with `simplify`, meshes of more than
+  /// The surface the boxes are baked and refined against (so that memory and bake time stop
+  /// growing with the triangle count): with `simplify`, meshes of more than
   /// `simplify_above` triangles are simplified (hb::decimate) within a deviation bound, and
   /// the decomposition, the rays, the triangle ids, the refinement records and the scene grid
   /// all use the simplified surface. The tuning and the fresh check compare against exact
@@ -76,11 +76,11 @@ struct BudgetRecipe {
   /// (simplification_bound()). A simplification that keeps more than 90% of the triangles
   /// is not used, nor is one for pieces from a file or given ids (they name the full
   /// mesh's triangles).
-  /// On by default since 2026-12-05 (docs/speed.md, "The simplified surface's normal
-  /// map"): with the normal map below, the armadillo subdivided to 832K comes back to 52K
-  /// triangles with the full mesh's shading (14 MB instead of 64, faster than exact), the
-  /// 13M one to 79K (62 MB instead of 914). Before the map the exact answers' faceted
-  /// shading was lost (direction p99 17.6 deg). A simplified surface whose bake misses the
+  /// On by default (docs/speed.md, "The simplified surface's normal map"): with the normal
+  /// map below, a finely subdivided mesh comes back to about the triangles of its coarse
+  /// original with the full mesh's shading, at a fraction of the memory; without the map the
+  /// exact answers would shade faceted (direction p99 near 18 degrees on the armadillo at
+  /// 832K triangles). A simplified surface whose bake misses the
   /// budget on the fresh probes, or that the box alone fails along the stability suite's T2
   /// trajectories (BakeResult::surface_miss), is dropped (BudgetReport::
   /// surface_rejected) and the mesh simplified again within a quarter of the bound (twice
@@ -89,9 +89,9 @@ struct BudgetRecipe {
   std::size_t simplify_above = 200000;
   /// With `simplify`, above this many triangles the full mesh is decimated once, within the
   /// last retry's bound, and each attempt's surface is decimated from that one (within the
-  /// rest of its bound): a 13M-triangle mesh's decimation was most of its bake, three times
-  /// over (117 s, 2026-12-07). Below, each attempt decimates the full mesh (a surface that
-  /// meets at once then costs one decimation, not two).
+  /// rest of its bound): decimating a 13M-triangle mesh afresh for each attempt would be
+  /// most of its bake, three times over. Below, each attempt decimates the full mesh (a
+  /// surface that meets at once then costs one decimation, not two).
   std::size_t simplify_once_above = 2000000;
   /// With `simplify`: the simplified surface shades through a normal map of this side
   /// (SurfaceTriangles::set_normal_map, hb::fit_normal_map: the full mesh's shading on a
@@ -100,8 +100,8 @@ struct BudgetRecipe {
   /// 0: automatic, the power of two nearest above sqrt(full / simplified triangles) less 5%, at most
   /// 32 (a mesh flat-subdivided L times comes back with side 2^L, its shading exactly; a map
   /// coarser than that is felt: the armadillo at 832K with side 2 instead of 4, 0.32% of
-  /// the fresh probes; at 53M with side 16 instead of 32, 1.5% of T2's slide ticks,
-  /// 2026-12-07. Side 32 costs 2.2 KB a simplified triangle);
+  /// the fresh probes; at 53M with side 16 instead of 32, 1.5% of T2's slide ticks. Side 32
+  /// costs 2.2 KB a simplified triangle);
   /// -1: no map (corner normals fitted per face, the checks above).
   int shading_map_side = 0;
   double simplify_deviation = 0.0;
@@ -110,20 +110,20 @@ struct BudgetRecipe {
   double simplify_shading_deg = 0.0;
   /// How the shading is checked while simplifying (DecimationOptions::shading_check): by
   /// default `fit` (each face's corner normals fitted to the shading of the vertices it
-  /// replaced); `ring` is the first check (2026-12-02 morning). Either way the simplified
+  /// replaced); `ring` compares each vertex ring's normals instead. Either way the simplified
   /// surface's corner normals are then fitted to the full mesh's shading (hb::fit_shading).
   DecimationOptions::ShadingCheck simplify_shading_check = DecimationOptions::ShadingCheck::fit;
   /// Whether the chosen scene keeps its boxes' triangle ids. By default a scene whose grid's
   /// surface cells answer (SceneRoute::cells, every scene of several pieces with a refined
   /// one) drops them (BoxScene::without_triangle_ids): the cells route never reads them, and
-  /// they were two thirds of a default file (bunny 20.4 of 32.2 MB, 2026-12-04); and a scene
+  /// they can be two thirds of a default file (the bunny: 20.4 of 32.2 MB); and a scene
   /// routed to Embree (BudgetReport::answer "embree") keeps only its boxes' frames, no tables
   /// nor ids (BoxScene::without_tables: Embree reads the surface alone). Keep them to compare
   /// `--route boxes` on the default recipe (`bake --keep-ids`).
   bool keep_triangle_ids = false;
   /// Bake every piece at every sampling and search them all even when the surface cells
-  /// answer the scene exactly (budgeted_bake.cpp step 2a): the bakes before 2026-12-04, for
-  /// before/after figures (`bake --full-search`). Off: such a scene is baked at the coarsest
+  /// answer the scene exactly (budgeted_bake.cpp step 2a), to compare every sampling's
+  /// figures (`bake --full-search`). Off: such a scene is baked at the coarsest
   /// sampling only, unless the coarsest blend alone already meets the budget.
   bool full_search = false;
   /// Time the surface cells against Embree over the scene's surface at bake time and answer

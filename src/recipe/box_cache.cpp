@@ -4,7 +4,9 @@
 //     its bytes, given ids by the hash of their values);
 //  2. the entry: DIR/<mesh hash>_<key>.hbox, written through save_box_file (temporary file
 //     and rename, so a reader never sees half a file);
-//  3. a load checks the recorded mesh hash; an unreadable entry is removed and rebaked.
+//  3. a load checks the recorded mesh hash; an unreadable entry is removed and rebaked;
+//  4. a front end's output file is a copy of the entry (write_baked_scene): a fresh bake is
+//     serialised once.
 #include "recipe/box_cache.h"
 #include "errors.h"
 #include "haptic_box/box_file.h"
@@ -42,7 +44,8 @@ std::string default_box_cache_dir() {
 std::uint64_t recipe_key(const BakeRecipe& r) {
   std::ostringstream k;
   const BakeOptions& o = r.options;
-  // hbcache2: budgeted bakes since 2026-12-07 may carry the stroke route (recipe/stroke_route.h).
+  // hbcache2: a budgeted bake may carry the stroke route (recipe/stroke_route.h), so entries
+  // keyed otherwise are not reused.
   k << "hbcache2 m " << o.params.m << " n " << o.params.n << " cell " << hexfloat(o.density.cell) << " min_m "
     << o.density.min_m << " max_m " << o.density.max_m << " padding " << hexfloat(o.obb.padding) << " obb_iter "
     << o.obb.refine_iterations << " refine " << o.refine;
@@ -70,8 +73,8 @@ std::uint64_t recipe_key(const BakeRecipe& r) {
     k << ' ' << hexfloat(r.codec.max_error) << ' ' << hexfloat(r.codec.ratio) << ' ' << r.codec.normal_bits;
   if (r.budget.enabled) {
     const BudgetRecipe& b = r.budget;
-    // "timed": entries since 2026-12-07 hold the query times of every raw sampling tried (an
-    // older entry would give the speed chart nothing to place; it is baked again).
+    // "timed": the entry holds the query times of every raw sampling tried (an entry without
+    // them would give the speed chart nothing to place; it is baked again).
     k << " budget timed " << budget_spec(b.budget) << ' ' << b.probes << ' ' << b.tuning_seed << ' ' << b.check_seed;
     for (const Sampling& s : b.samplings) k << ' ' << hexfloat(s.cell) << ' ' << s.n;
     if (b.surface_tolerance > 0) k << " surface " << hexfloat(float(b.surface_tolerance));
@@ -167,11 +170,32 @@ CachedBake bake_cached(const TriangleMesh& mesh, const BakeRecipe& recipe, const
   if (cached && comm.is_root()) {
     try {
       cache->store(out.result.scene, recipe);
+      out.stored = true;
     } catch (const Error& e) {
       out.warning = std::string("baked, but not cached: ") + e.what();
     }
   }
   return out;
+}
+
+BakedFileWrite write_baked_scene(const CachedBake& baked, const std::string& out) {
+  std::error_code ec;
+  const bool has_entry = !baked.path.empty() && (baked.from_cache || baked.stored) && fs::exists(baked.path, ec);
+  if (!has_entry) {
+    save_box_file(baked.result.scene, out);
+    return BakedFileWrite::saved;
+  }
+  if (fs::equivalent(baked.path, out, ec)) return BakedFileWrite::entry;
+  const std::string tmp = out + ".tmp";
+  ec.clear();
+  fs::copy_file(baked.path, tmp, fs::copy_options::overwrite_existing, ec);
+  if (!ec) fs::rename(tmp, out, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw IoError(out + ": cannot write the box file (" + ec.message() + ")");
+  }
+  return BakedFileWrite::copy;
 }
 
 } // namespace hb

@@ -55,6 +55,7 @@ struct CachedBake {
   BakeResult result;        ///< stats are zero when the scene came from the cache.
   bool from_cache = false;
   std::string path;         ///< the cache entry (empty without a cache or a mesh hash).
+  bool stored = false;      ///< baked now and stored at `path`.
   std::string warning;      ///< set when the scene was baked but could not be stored.
 };
 
@@ -62,5 +63,17 @@ struct CachedBake {
 /// recipe, source) and store the result. No cache (nullptr) or a zero mesh hash: a plain bake.
 CachedBake bake_cached(const TriangleMesh& mesh, const BakeRecipe& recipe, const SourceInfo& source,
                        const BoxCache* cache);
+
+/// How write_baked_scene wrote its file.
+enum class BakedFileWrite {
+  entry,  ///< the output is the cache entry itself: nothing written.
+  copy,   ///< a copy of the cache entry (the scene was serialised once, into the cache).
+  saved,  ///< no cache entry: the scene saved (save_box_file).
+};
+
+/// Writes `baked`'s scene to `out` serialising it at most once: a scene with a cache entry
+/// (loaded from it, or stored by this bake) is copied from the entry byte for byte (through a
+/// temporary file and a rename, like save_box_file), else saved. Throws hb::IoError.
+BakedFileWrite write_baked_scene(const CachedBake& baked, const std::string& out);
 
 } // namespace hb

@@ -296,7 +296,7 @@ SceneRoute BudgetSearch::timed_score(std::size_t v, BoxScene* keep) {
 // blend view). Its cheapest form is every piece at the coarsest sampling, refined (the
 // surface is shared). Only a scene with no refined piece, which needs no surface at all,
 // could cost less; when the coarsest blend misses the budget or answers off the surface
-// (every piece of the six models of issue 17 under the default budget), the finer samplings
+// (every piece of the exactly answered models of docs/results.md under the default budget), the finer samplings
 // are not baked and that exact scene is taken (BudgetRecipe::full_search bakes and searches
 // them all). Returns whether it was taken (then `refined_coarse` holds it and every piece
 // is at variant 1).

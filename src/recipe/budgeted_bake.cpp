@@ -81,7 +81,7 @@ double simplification_bound(const ErrorBudget& budget) {
     // k d <= F0 / 16 with the model's diagonal shown at the device's workspace diagonal (2.1e-5
     // of the diagonal, 1.7 um at 80 mm). F0 / 4 missed along T2's slides on the armadillo at
     // 832K triangles (0.36% of contact ticks felt: the slides' contact events, not the
-    // deviation's force, decide), F0 / 16 met it (2026-12-06).
+    // deviation's force, decide); F0 / 16 meets it.
     const WorkspaceOptions w;
     return kBudgetFelt.floor_n / (16.0 * w.stiffness_n_per_m * w.diagonal_m);
   }

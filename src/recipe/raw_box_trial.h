@@ -49,11 +49,11 @@ struct RawTrialOptions {
 
 /// The screen's forecast along the slides: the coarsest sampling's share of slide ticks felt,
 /// divided by the fifth power of the finest's refinement over it, is still above the allowed
-/// share: no sampling up to the finest can serve, none is baked. Measured (block-coded at
-/// raw_codec_bound, grazing lines settled on a fitted quadric, 2026-12-07): m16 n8 to m32 n16
-/// took the bumpy sphere from 1.57% to 0.039% (40x) and the smooth ellipsoid from 1.32% to
-/// 0.039% (34x). (Settled by tangent-plane steps the fall was 9-11x, and before any settle
-/// the square of the refinement.)
+/// share: no sampling up to the finest can serve, none is baked. Why the fifth power: with
+/// the boxes block-coded at raw_codec_bound and grazing lines settled on a fitted quadric,
+/// m16 n8 to m32 n16 takes the bumpy sphere from 1.57% to 0.039% (40x) and the smooth
+/// ellipsoid from 1.32% to 0.039% (34x), about 2^5. (Settled by tangent-plane steps the fall
+/// would be 9-11x, and without any settle the square of the refinement.)
 bool slides_hopeless(double screen_ticks_felt, const RawSampling& screen, const RawSampling& finest, double allowed_share);
 
 /// The codec bound (fraction of a box's diagonal) whose worst position error makes a force

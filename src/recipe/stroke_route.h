@@ -1,5 +1,5 @@
 #pragma once
-// Never slower than exact along strokes (issue 37, budgeted bake step 7): a scene the surface
+// Never slower than exact along strokes (budgeted bake step 7): a scene the surface
 // cells answer on a simplified surface is timed along hand-like strokes, one probe with its
 // query state as a servo loop asks, against exact Embree over the full mesh; where Embree is
 // faster there it answers the scene's strokes (BoxScene::set_stroke_mesh), and the cells keep

@@ -1,4 +1,4 @@
-// The default bake's query times end to end (issue 37): `bake --json` holds a query time for
+// The default bake's query times end to end: `bake --json` holds a query time for
 // every raw sampling the bake tried, the box file keeps them (`info`, `info --json`), and the
 // report's first chart carries the raw samplings beside the default bake and exact.
 #include "mesh/generators.h"

@@ -410,7 +410,7 @@ TEST_F(CliTest, BadSegmentsCsvNamesFileAndLine) {
   EXPECT_NE(r.err.find("bad.csv:3"), std::string::npos) << r.err;
 }
 
-// --- hostile input (issue 12) ----------------------------------------------------------
+// --- hostile input ---------------------------------------------------------------------
 
 // Finding 6: `query --stiffness nan` printed NaN forces, 1e38 infinities; `servo --seconds nan`
 // ran 0 ticks and exited 0. Every numeric option now refuses non-finite and absurd values.
@@ -680,7 +680,7 @@ std::vector<double> csv_numbers(const std::string& line) {
 
 } // namespace
 
-// Issue 37: one workspace for every command. The sphere (20 mm across, diagonal 34.6 mm) is
+// One workspace for every command. The sphere (20 mm across, diagonal 34.6 mm) is
 // fitted to the device's 80 mm, at 1500 N/m: a force per unit of depth (along the normal) of
 // 1500 x 0.08 / 34.64 N per model unit, the same in `query`, `servo --exact` and `eval`, which
 // all state the workspace; `--workspace real-size` shows the model at 1 unit = 1 mm instead.

@@ -1,4 +1,4 @@
-// Hostile input to the readers of volumes, CAD solids, scenes and piece files (issue 38), end
+// Hostile input to the readers of volumes, CAD solids, scenes and piece files, end
 // to end through `hapticbox`: each damaged file is a valid one written here (the CT phantom,
 // a sphere exported through Assimp, the real pydicom CT) with one fault of a class the fuzzing
 // found; the command must exit non-zero (never by a signal), name the file and give the cause.

@@ -149,7 +149,7 @@ TEST_F(BoxFileTest, ResignedUnchangedFileLoads) {
   EXPECT_NO_THROW(load_box_file(write("resigned.hbox", data), LoadOptions{true}));
 }
 
-// Issue 12, finding 1: a box whose OBB holds NaN, Inf or 3.4e38 loaded and crashed the query.
+// Found by fuzzing: a box whose OBB holds NaN, Inf or 3.4e38 loaded and crashed the query.
 TEST_F(BoxFileTest, NonFiniteOrHugeObbAxisIsRejectedAtLoad) {
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
   int k = 0;

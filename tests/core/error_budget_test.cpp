@@ -175,7 +175,7 @@ TEST(ErrorBudgetTest, ReportKeepsTheBakesQueryTimesAndReadsOlderFilesWithout) {
   EXPECT_EQ(both.raw_tried[1].light_felt, -1.0);  // not judged
   EXPECT_THROW(BudgetReport::parse("raw_tried=16 8 4500000 0.71 -1 felt-light 210 300 0 0 0.5 9\n"), InvalidInput);
   r.raw_tried.pop_back();
-  // Written before 2026-12-07: six fields, no times.
+  // An older file: six fields, no times.
   const BudgetReport old = BudgetReport::parse("met=1\nraw_tried=16 8 4500000 0.71 -1 felt-probes\n");
   ASSERT_EQ(old.raw_tried.size(), 1u);
   EXPECT_EQ(old.raw_tried[0].box_ns, 0.0);
@@ -311,7 +311,7 @@ TEST(ErrorBudgetTest, ASceneTheSurfaceCellsAnswerIsBakedAtTheCoarsestSamplingOnl
   EXPECT_GT(test::expect_same_answers(quick.scene, full.scene, sample_probes(two.mesh, 3000, po), ForceLaw{}), 300u);
 }
 
-// The bake records where its time went, stage by stage in step order (issue 17: the 13M bake's
+// The bake records where its time went, stage by stage in step order (a 13M-triangle bake's
 // minutes must be attributable); the times stay out of the file form like `seconds`.
 TEST(ErrorBudgetTest, BudgetedBakeRecordsItsStageTimesButTheFileDoesNot) {
   const test::TwoSpheres two = test::two_spheres(3.f);

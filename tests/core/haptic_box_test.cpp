@@ -189,7 +189,7 @@ TEST(HapticBoxQueryTest, ALineFortyFiveDegreesOffTheNormalIsRefittedOnItsOwnSamp
 }
 
 TEST(HapticBoxQueryTest, ALineWhoseBlendLandsInAHollowIsSettledBackWhereItEnters) {
-  // Found along T2's slides (2026-12-07): 7 degrees from the tangent plane, the blend puts
+  // Found along T2's slides: 7 degrees from the tangent plane, the blend puts
   // the crossing 2.8 mm (at an 80 mm workspace) early, in a hollow between bumps, where the
   // quadric fitted there curves around the line; the settle steps back and brackets the
   // crossing (before: the blend stood, a force from 0.1 mm off the surface).
@@ -359,7 +359,7 @@ TEST(BoxSceneTest, ContactNearestTheHandleWins) {
   EXPECT_GT(c.normal.x(), 0.99f);
 }
 
-// Issue 12, finding 1: a NaN reaching the cell split became a far index. Whatever the segment
+// Found by fuzzing: a NaN reaching the cell split became a far index. Whatever the segment
 // (NaN, Inf, huge, denormal-short, along a face), the query answers without reading outside
 // the table (the sanitizer build checks the reads) and any contact it reports is sound; the
 // batched lanes give the same answers on finite input.

@@ -337,7 +337,7 @@ TEST_F(MeshReadTest, HashModelOfAFolderFoldsItsFilesInNameOrder) {
   EXPECT_THROW(hash_model(path("absent")), IoError);
 }
 
-// --- hostile input found by fuzzing (issue 12) ------------------------------------------
+// --- hostile input found by fuzzing ---------------------------------------------------------
 
 std::string ply_header(const std::string& format, const std::string& vertex_count, const std::string& face_count,
                        const std::string& list = "uchar int") {

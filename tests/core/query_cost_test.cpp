@@ -1,4 +1,4 @@
-// The cheaper routed query (issue 17): the candidates' plane crossings four at a time, the
+// The cheaper routed query: the candidates' plane crossings four at a time, the
 // walk memo that stops the refinement's walks where an earlier walk of the same line went,
 // and the grid's brick summaries. Each must give the answers of the plain code.
 #include "haptic_box/scene_grid.h"

@@ -210,7 +210,7 @@ TEST(ReplayTest, ReplayDeviceEndsWithEndOfStream) {
   EXPECT_EQ(dev.read_state(s), DeviceStatus::end_of_stream);
 }
 
-// Issue 12, finding 5: a replay trusted the log header. Rates no loop can run (0.05 Hz never
+// Found by fuzzing: a replay trusted the log header. Rates no loop can run (0.05 Hz never
 // returned; 1e-300 Hz overflowed), a negative stiffness (every force reversed into the
 // surface) and an infinite, NaN, zero or negative force maximum are refused at reading.
 namespace {

@@ -176,7 +176,7 @@ TEST(ServoLoopTest, ScriptedTrajectoryRunsThroughTheSamePath) {
   EXPECT_GT(loop.report().compute.count, 0u);
 }
 
-// Issue 12, finding 6: a non-finite or overflowing force law gave NaN or silently zero force.
+// Found by fuzzing: a non-finite or overflowing force law gave NaN or silently zero force.
 TEST(ServoLoopTest, RejectsANonFiniteOrOverflowingForceLaw) {
   VirtualDevice dev;
   test::HalfSpaceScene scene;

@@ -1,4 +1,4 @@
-// The desktop basics (issue 13, items 4 and 5): preferences that persist, toolbar, orientation
+// The desktop basics: preferences that persist, toolbar, orientation
 // axes and view buttons, screenshots at a resolution with a transparent background, the probe
 // in sessions, last folders, readable arrows, job feedback that is current and complete, docks
 // that keep their width.

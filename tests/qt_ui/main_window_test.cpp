@@ -98,7 +98,7 @@ TEST(MainWindowTest, OpensBakesAndShowsBothArrowsAtContact) {
   EXPECT_TRUE(w.readoutPanel()->rowText("exact").endsWith(" N"));
   EXPECT_TRUE(w.readoutPanel()->rowText("approx").endsWith(" N"));
   EXPECT_TRUE(w.readoutPanel()->rowText("device").contains("Hz"));
-  // Whether a hand would feel the difference, against its threshold in newtons (issue 37).
+  // Whether a hand would feel the difference, against its threshold in newtons.
   const QString felt = w.readoutPanel()->rowText("felt");
   EXPECT_TRUE(felt.startsWith("no: ") || felt.startsWith("yes (")) << felt.toStdString();
   EXPECT_TRUE(felt.contains(" N against ")) << felt.toStdString();

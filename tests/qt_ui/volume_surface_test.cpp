@@ -111,7 +111,7 @@ TEST(VolumeSurfaceTest, TheBoneIsoOfTheFemurCtFindsTheFemurWithinAVoxel) {
   EXPECT_LT(boneToSource, voxel);
   // And it finds the whole femur: its area, and its surface within a voxel except where two
   // sheets of femur.off lie closer than a voxel (at the condyles: no 1 mm CT resolves that gap,
-  // the blur fills it with bone; 2026-12-06: 88.8 % of the source's vertices within 1 mm,
+  // the blur fills it with bone; typically 88.8 % of the source's vertices within 1 mm,
   // 98.0 % within 2 mm).
   const auto [sourceToBone, sourceFar] = farthest(source, bone, voxel);
   const auto [sourceToBone2, sourceFar2] = farthest(source, bone, 2.0 * voxel);

@@ -1,4 +1,4 @@
-// The first chart a user meets in the window (issue 37): right after the default bake, with no
+// The first chart a user meets in the window: right after the default bake, with no
 // sweep, the speed chart shows what a hand feels against query time for the default bake, exact
 // and the raw samplings the bake tried, each labelled on the chart and explained in its tooltip;
 // a box file loaded back shows the same points (the times are in the file); a sweep replaces

@@ -1,5 +1,5 @@
 // Damaged files the mutation campaign (tests/fuzz/mutate_campaign.cpp) found accepted or
-// crashing a reader, and the IGES faults of issue 38, each through load_model (the path the
+// crashing a reader, and the IGES faults the mutation campaign found, each through load_model (the path the
 // CLI and the window take, readers in their child process): a clear error naming the file and
 // the cause, never a crash, a silently different model or a silent change of unit.
 #include "errors.h"
