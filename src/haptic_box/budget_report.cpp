@@ -73,9 +73,8 @@ std::string budget_spec(const ErrorBudget& b) {
 // The file form leaves out `seconds` and the stages' (this run's wall times of the budgeted
 // bake). It keeps the query times measured at bake time (answer_ns, ..., each raw sampling's),
 // which the speed chart of a loaded box shows: the same inputs give the same bytes but for
-// them, and without_times() gives what the byte-for-byte comparisons compare. parse() still
-// reads `seconds=` from files written before 2026-12-02 and six-field raw_tried lines (no
-// times) from files written before 2026-12-07.
+// them, and without_times() gives what the byte-for-byte comparisons compare. parse() also
+// reads the older forms: a `seconds=` line and six-field raw_tried lines (no times).
 std::string BudgetReport::serialize() const {
   std::ostringstream os;
   os.precision(9);
@@ -155,7 +154,7 @@ BudgetReport BudgetReport::parse(const std::string& text) {
     else if (key == "tuning_force_median") r.tuning_force_median = number(v, key, 0, 1e30);
     else if (key == "tuning_force_p95") r.tuning_force_p95 = number(v, key, 0, 1e30);
     else if (key == "tuning_direction_p99_deg") r.tuning_direction_p99_deg = number(v, key, 0, 180);
-    else if (key == "seconds") r.seconds = number(v, key, 0, 1e9);  // files written before 2026-12-02
+    else if (key == "seconds") r.seconds = number(v, key, 0, 1e9);  // older files
     else if (key == "candidates_tried") r.candidates_tried = std::uint32_t(number(v, key, 0, 1e6));
     else if (key == "full_triangles") r.full_triangles = count(v, key);
     else if (key == "surface_triangles") r.surface_triangles = count(v, key);
@@ -203,8 +202,8 @@ BudgetReport BudgetReport::parse(const std::string& text) {
     } else if (key == "raw_tried") {
       std::stringstream ps(v);
       std::string m, n, bytes, probes, ticks, outcome, box_ns, exact_ns, stroke_ns, exact_stroke_ns, light, extra;
-      // Six fields before 2026-12-07; since, the query times too (random order, then along
-      // strokes when timed), and since that evening the light touches' share.
+      // Six fields in older files; then the query times (random order, then along strokes
+      // when timed) and the light touches' share.
       if (!(ps >> m >> n >> bytes >> probes >> ticks >> outcome) || ((ps >> box_ns) && !(ps >> exact_ns)) ||
           ((ps >> stroke_ns) && !(ps >> exact_stroke_ns)) || ((ps >> light) && (ps >> extra)))
         throw InvalidInput("budget report: raw_tried line '" + v.substr(0, 80) +

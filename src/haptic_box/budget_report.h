@@ -1,8 +1,8 @@
 #pragma once
-#include "haptic_box/scene_route.h"
-// The error budget a budgeted bake meets (issue 17: "model no more than a scene needs"), and
+// The error budget a budgeted bake meets ("model no more than a scene needs"), and
 // the record of what a bake achieved against it, stored in the box file (version 6). The
 // budget search that fills it is in recipe/ (recipe/bake_recipe.h, recipe/error_budget.h).
+#include "haptic_box/scene_route.h"
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -16,7 +16,7 @@ namespace hb {
 struct ErrorBudget {
   /// Whether the relative criteria below (p95, median, dir99, agree) bind too. Off by default:
   /// the perceptual criterion alone decides (a 20% error on a 0.01 N force is felt by no one);
-  /// naming any of their keys in the spec turns them on, as in files baked before 2026-12-06.
+  /// naming any of their keys in the spec turns them on.
   bool relative = false;
   double force_p95 = 0.07;        ///< 95th percentile of the relative force error, fraction.
   double force_median = 0.02;     ///< median relative force error, fraction.
@@ -73,26 +73,24 @@ struct BudgetReport {
   /// outcome box_ns exact_ns" with outcome one of kept, serves (a finer one that a cheaper kept
   /// one made unneeded), felt-probes, felt-light, felt-slides, over-cap, slower, slower-strokes; box_ns and
   /// exact_ns the raw box's query time and exact Embree's beside it at bake time (one core,
-  /// random order, on the tuning probes; 0 in files written before 2026-12-07, whose lines have
-  /// six fields), then along strokes when timed (box_stroke_ns, exact_stroke_ns).
+  /// random order, on the tuning probes; 0 in older files, whose lines have six fields), then along strokes when timed (box_stroke_ns, exact_stroke_ns).
   struct RawTried {
     int m = 0, n = 0;
     double bytes = 0, probes_felt = 0, ticks_felt = -1;
-    /// Share of the light touches at any angle felt (-1: not judged; in the file since
-    /// 2026-12-07 evening, an eleventh field, the stroke times then written even when 0).
+    /// Share of the light touches at any angle felt (-1: not judged; an eleventh field, the
+    /// stroke times then written even when 0).
     double light_felt = -1;
     std::string outcome;
     double box_ns = 0, exact_ns = 0;
     /// Along strokes (SceneProbe against exact), for a sampling that reached that timing
-    /// (0: not timed; in the file since 2026-12-07, two fields more when timed).
+    /// (0: not timed; two fields more when timed).
     double box_stroke_ns = 0, exact_stroke_ns = 0;
   };
   std::vector<RawTried> raw_tried;
   /// The query times measured at bake time, one core, random order, ns: the answer chosen and
   /// exact Embree's; the cells route's and Embree's over the scene's surface when both were
-  /// timed. In the file form since 2026-12-07 (the speed chart a loaded box shows, hb::
-  /// bake_chart_rows), so two bakes of the same inputs differ in these values only; 0 in older
-  /// files.
+  /// timed. In the file form (the speed chart a loaded box shows, hb::bake_chart_rows), so
+  /// two bakes of the same inputs differ in these values only; 0 in older files.
   double answer_ns = 0, exact_ns = 0, cells_ns = 0, embree_ns = 0;
   /// Along strokes (a probe's successive queries through its SceneQueryState, as the servo
   /// loop asks), for a scene the cells answer (recipe/stroke_route.h): Answerer::embree when
@@ -124,7 +122,7 @@ struct BudgetReport {
   /// tighter bound, when surface_triangles > 0, or the full mesh's); 0 when none was.
   std::uint64_t surface_rejected = 0;
   /// What that surface missed, one line (BakeResult::surface_miss); empty when none was
-  /// rejected, or in files written before 2026-12-06.
+  /// rejected, or in older files.
   std::string surface_rejected_why;
   /// Every simplified surface this run tried and dropped, in order: its triangles, its bound
   /// (model units) and what it missed. Like `seconds`, not in the file form (bake --json).
