@@ -7,8 +7,8 @@
 #include "codec/sample_table.h"
 #include "evaluation/probe_sampling.h"
 #include "geometry/octahedral.h"
-#include "haptic_box/bake.h"
-#include "haptic_box/box_file.h"
+#include "scene/bake.h"
+#include "store/box_file.h"
 #include "mesh/generators.h"
 #include "mesh/mesh_io.h"
 #include <benchmark/benchmark.h>

@@ -7,7 +7,7 @@
 // triangles, their exact tests and the walk).
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include "mesh/mesh_io.h"
 #include <benchmark/benchmark.h>
 #include <algorithm>

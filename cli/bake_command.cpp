@@ -15,9 +15,9 @@
 #include "recipe/box_cache.h"
 #include "recipe/recipe_choice.h"
 #include "contact/workspace.h"
-#include "haptic_box/box_file.h"
-#include "haptic_box/density_range.h"
-#include "haptic_box/scene_codec_stats.h"
+#include "store/box_file.h"
+#include "scene/density_range.h"
+#include "scene/scene_codec_stats.h"
 #include "mesh/mesh_io.h"
 #include "pieces_option.h"
 #include <algorithm>

@@ -11,7 +11,7 @@
 #include "evaluation/probe_sampling.h"
 #include "evaluation/query_timing.h"
 #include "exact/exact_query.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include <algorithm>
 #include <filesystem>
 #include <iomanip>

@@ -1,5 +1,5 @@
 #include "budget_json.h"
-#include "haptic_box/budget_report.h"
+#include "perception/budget_report.h"
 
 namespace hb::cli {
 

@@ -1,6 +1,6 @@
 #pragma once
 // A budgeted bake's report as JSON: what `bake --json`, `info --json` and `report` print of it.
-#include "haptic_box/budget_report.h"
+#include "perception/budget_report.h"
 #include <nlohmann/json.hpp>
 
 namespace hb::cli {

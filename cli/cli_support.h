@@ -16,7 +16,7 @@
 #include "contact/contact.h"
 #include "contact/workspace.h"
 #include "evaluation/comparison.h"
-#include "haptic_box/box_scene.h"
+#include "scene/box_scene.h"
 #include "math/bounds.h"
 #include "parallel/communicator.h"
 #include "progress.h"

@@ -4,7 +4,7 @@
 #include "figure_text.h"
 #include "commands.h"
 #include "errors.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include <algorithm>
 #include <filesystem>
 #include <iostream>

@@ -9,7 +9,7 @@
 #include "evaluation/compression_sweep.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include "mesh/mesh_io.h"
 #include <filesystem>
 #include <fstream>

@@ -8,7 +8,7 @@
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include "mesh/mesh_io.h"
 #include <iomanip>
 #include <optional>

@@ -10,7 +10,7 @@
 #include "commands.h"
 #include "errors.h"
 #include "evaluation/error_field.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include "vtkHapticBoxErrorFieldFilter.h"
 #include "vtkHapticBoxUtilities.h"
 #include "vtkHapticBoxSet.h"

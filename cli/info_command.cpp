@@ -7,9 +7,9 @@
 #include "commands.h"
 #include "errors.h"
 #include "figure_text.h"
-#include "haptic_box/box_file.h"
-#include "haptic_box/density_range.h"
-#include "haptic_box/scene_codec_stats.h"
+#include "store/box_file.h"
+#include "scene/density_range.h"
+#include "scene/scene_codec_stats.h"
 #include "mesh/file_hash.h"
 #include "mesh/mesh_io.h"
 #include <algorithm>

@@ -6,7 +6,7 @@
 #include "evaluation/segments_csv.h"
 #include "evaluation/tool_poses_csv.h"
 #include "exact/exact_query.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include "mesh/mesh_io.h"
 #include "tool/tool_spec.h"
 #include "tool/tool_verdict.h"

@@ -8,7 +8,7 @@
 #include "commands.h"
 #include "errors.h"
 #include "recipe/bake_recipe.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include "mesh/mesh_io.h"
 #include "figure_text.h"
 #include "report_request.h"

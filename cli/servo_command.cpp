@@ -19,7 +19,7 @@
 #include "errors.h"
 #include "exact/exact_query.h"
 #include "figure_text.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include "mesh/file_hash.h"
 #ifdef HB_WITH_VTK
 #include "trajectory_export.h"

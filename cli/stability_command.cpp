@@ -9,7 +9,7 @@
 #include "exact/exact_query.h"
 #include "recipe/bake_recipe.h"
 #include "tool_options.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include "mesh/mesh_io.h"
 #include "stability_json.h"
 #include <cmath>

@@ -2,7 +2,7 @@
 #include "figure_text.h"
 #include "model_args.h"
 #include "exact/exact_query.h"
-#include "haptic_box/box_scene.h"
+#include "scene/box_scene.h"
 #include "tool/tool_spec.h"
 #include "peers/sdf_peer.h"
 #include <chrono>

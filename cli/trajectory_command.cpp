@@ -8,7 +8,7 @@
 #include "errors.h"
 #include "formats/quoted_text.h"
 #include "figure_text.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include "polydata_files.h"
 #include "trajectory_export.h"
 #include <vtkFieldData.h>

@@ -1,5 +1,5 @@
 #include "workspace_options.h"
-#include "contact/perceptible.h"
+#include "perception/perceptible.h"
 #include "spec_option.h"
 
 namespace hb::cli {

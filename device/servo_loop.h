@@ -9,7 +9,7 @@
 #include "device/timing_histogram.h"
 #include "contact/contact.h"
 #include "contact/god_object.h"
-#include "contact/perceptible.h"
+#include "perception/perceptible.h"
 #include "tool/tool_coupling.h"
 #include <memory>
 #include <atomic>

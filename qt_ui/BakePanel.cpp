@@ -2,8 +2,8 @@
 #include "BackgroundJob.h"
 #include "HapticSession.h"
 #include "figure_text.h"
-#include "haptic_box/density_range.h"
-#include "haptic_box/haptic_box.h"
+#include "scene/density_range.h"
+#include "box/haptic_box.h"
 #include <QCheckBox>
 #include <QComboBox>
 #include <QDoubleSpinBox>

@@ -1,6 +1,6 @@
 #include "ReadoutPanel.h"
 #include "series_colours.h"
-#include "contact/perceptible.h"
+#include "perception/perceptible.h"
 #include "HapticSession.h"
 #include <QFontDatabase>
 #include <QFormLayout>

@@ -7,7 +7,7 @@
 #include "SessionRunSettings.h"
 #include "device/device_choice.h"
 #include "device/servo_loop.h"
-#include "haptic_box/box_scene.h"
+#include "scene/box_scene.h"
 #include "geometry/segment.h"
 #include <QObject>
 #include <QString>

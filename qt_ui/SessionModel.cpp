@@ -11,7 +11,7 @@
 #include "SessionModel.h"
 #include "SessionPipeline.h"
 #include "errors.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include "model_load_text.h"
 #include "model_loader.h"
 #include "model_options_key.h"

@@ -7,7 +7,7 @@
 #include "contact/workspace.h"
 #include "evaluation/error_field.h"
 #include "exact/exact_query.h"
-#include "haptic_box/box_scene.h"
+#include "scene/box_scene.h"
 #include "contact/contact.h"
 #include "mesh/triangle_mesh.h"
 #include "model_loader.h"

@@ -9,7 +9,7 @@
 // Updates run on whatever thread calls them (the job's worker), one at a time; nothing here
 // touches a widget.
 #include "recipe/bake_recipe.h"
-#include "haptic_box/box_scene.h"
+#include "scene/box_scene.h"
 #include "vtkHapticBoxBakeFilter.h"
 #include "vtkHapticBoxDecompositionFilter.h"
 #include "vtkHapticBoxErrorFieldFilter.h"

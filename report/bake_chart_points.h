@@ -4,7 +4,7 @@
 // with the default bake, exact and the raw configurations the bake tried). Every figure comes
 // from the scene's budget report (hb::BudgetReport), measured at bake time: nothing is baked
 // or timed again.
-#include "haptic_box/box_scene.h"
+#include "scene/box_scene.h"
 #include "recipe/sweep.h"
 #include <string>
 #include <vector>

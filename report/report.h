@@ -9,8 +9,8 @@
 #include "evaluation/stability_suite.h"
 #include "recipe/sweep.h"
 #include "evaluation/worst_probes.h"
-#include "haptic_box/box_scene.h"
-#include "haptic_box/density_range.h"
+#include "scene/box_scene.h"
+#include "scene/density_range.h"
 #include <memory>
 #include <string>
 #include <utility>

@@ -1,7 +1,7 @@
 #pragma once
 // The report's charts, drawn with PLplot's cairo drivers (a path ending .svg: SVG, otherwise
 // PNG): no display needed.
-#include "contact/perceptible.h"
+#include "perception/perceptible.h"
 #include "recipe/sweep.h"
 #include <string>
 #include <utility>

@@ -2,7 +2,7 @@
 // a polydata from core values only; write_polydata_xml writes it atomically.
 #include "polydata_files.h"
 #include "errors.h"
-#include "haptic_box/box_scene.h"
+#include "scene/box_scene.h"
 #include "vtkHapticBoxUtilities.h"
 #include "isolated_reader.h"
 #include <vtkCellArray.h>

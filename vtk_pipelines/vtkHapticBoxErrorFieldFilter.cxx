@@ -9,7 +9,7 @@
 #include "codec/codec.h"
 #include "evaluation/error_field.h"
 #include "exact/exact_query.h"
-#include "haptic_box/density_range.h"
+#include "scene/density_range.h"
 #include "vtkHapticBoxSet.h"
 #include "vtkHapticBoxUtilities.h"
 #include <vtkCellArray.h>

@@ -31,7 +31,7 @@
 #ifndef vtkHapticBoxErrorFieldFilter_h
 #define vtkHapticBoxErrorFieldFilter_h
 
-#include "contact/perceptible.h"
+#include "perception/perceptible.h"
 #include <vtkPolyDataAlgorithm.h>
 #include <cstdint>
 #include <memory>

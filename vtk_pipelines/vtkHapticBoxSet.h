@@ -9,7 +9,7 @@
 #ifndef vtkHapticBoxSet_h
 #define vtkHapticBoxSet_h
 
-#include "haptic_box/box_scene.h"
+#include "scene/box_scene.h"
 #include <vtkDataObject.h>
 #include <memory>
 

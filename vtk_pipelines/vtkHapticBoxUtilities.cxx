@@ -1,6 +1,6 @@
 #include "vtkHapticBoxUtilities.h"
 #include "errors.h"
-#include "haptic_box/box_scene.h"
+#include "scene/box_scene.h"
 #include <vtkCellData.h>
 #include <vtkIntArray.h>
 #include <vtkAlgorithm.h>

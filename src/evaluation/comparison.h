@@ -1,7 +1,7 @@
 #pragma once
 // Comparing an approximated answer with the exact one over a set of probes (paper 6.1.2).
 #include "contact/contact.h"
-#include "contact/perceptible.h"
+#include "perception/perceptible.h"
 #include "mesh/triangle_mesh.h"
 #include "parallel/communicator.h"
 #include <cstdint>

@@ -3,7 +3,7 @@
 // ratio against the errors it causes, for `hapticbox compress-sweep`, reports and charts.
 #include "codec/codec.h"
 #include "evaluation/comparison.h"
-#include "haptic_box/box_scene.h"
+#include "scene/box_scene.h"
 #include "progress.h"
 #include <vector>
 

@@ -3,7 +3,7 @@
 // the surface from a cone of directions; the exact and approximated answers are compared per
 // point (paper 6.1.2's relative force error, mapped over the surface).
 #include "contact/contact.h"
-#include "contact/perceptible.h"
+#include "perception/perceptible.h"
 #include "mesh/triangle_mesh.h"
 #include "parallel/communicator.h"
 #include "progress.h"

@@ -4,7 +4,7 @@
 // tests T1-T8 (stability_tests.cpp). run_stability_suite (stability_suite.cpp) deals the
 // tests to the ranks; the calibration gate is stability_calibration.cpp's, the generated
 // objects stability_objects.cpp's.
-#include "contact/perceptible.h"
+#include "perception/perceptible.h"
 #include "evaluation/stability_suite.h"
 #include "mesh/triangle_mesh.h"
 #include <memory>

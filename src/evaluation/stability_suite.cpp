@@ -16,7 +16,7 @@
 #include "evaluation/stability_harness.h"
 #include "errors.h"
 #include "exact/exact_query.h"
-#include "haptic_box/bake.h"
+#include "scene/bake.h"
 #include "parallel/byte_buffer.h"
 #include "parallel/work_split.h"
 #include <algorithm>

@@ -3,7 +3,7 @@
 // tests, the box and exact Embree side by side on the same trajectories, every figure as box,
 // exact, difference, threshold and verdict. A calibration gate on an analytic wall runs first.
 #include "evaluation/trajectory.h"
-#include "haptic_box/box_scene.h"
+#include "scene/box_scene.h"
 #include "parallel/communicator.h"
 #include <cstdint>
 #include <string>

@@ -4,13 +4,13 @@
 // law's). Also the sites on the model (surface points by area, kept when exact answers a
 // 1 mm-deep probe along the inward normal there) and the simulated free bounce.
 #include "evaluation/stability_harness.h"
-#include "contact/perceptible.h"
+#include "perception/perceptible.h"
 #include "evaluation/stability_suite.h"
 #include "math/constants.h"
 #include "errors.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
-#include "haptic_box/bake.h"
+#include "scene/bake.h"
 #include "mesh/triangle_mesh.h"
 #include "parallel/byte_buffer.h"
 #include "parallel/work_split.h"

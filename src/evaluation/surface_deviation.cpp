@@ -3,7 +3,7 @@
 #include "errors.h"
 #include "stopwatch.h"
 #include "exact/embree_scene.h"
-#include "haptic_box/surface_triangles.h"
+#include "surface/surface_triangles.h"
 #include "geometry/octahedral.h"
 #include <Eigen/Dense>
 #include <tbb/parallel_for.h>

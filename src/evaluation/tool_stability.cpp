@@ -13,7 +13,7 @@
 #include "errors.h"
 #include "evaluation/tool_ticks.h"
 #include "exact/exact_query.h"
-#include "haptic_box/bake.h"
+#include "scene/bake.h"
 #include "mesh/generators.h"
 #include "mesh/triangle_mesh.h"
 #include "tool/tool_verdict.h"

@@ -5,7 +5,7 @@
 // press and release; on objects of their own, at true size (1 model unit = 1 mm): a thin plate
 // pushed through at 0.5 m/s, a sphere centred in a narrow channel, a peg in a hole with 0.5 mm
 // clearance (each baked as a refined box and answered exactly too).
-#include "contact/perceptible.h"
+#include "perception/perceptible.h"
 #include "contact/workspace.h"
 #include "tool/tool_coupling.h"
 #include <functional>

@@ -3,7 +3,7 @@
 // (docs/tools.md). A slide is a tool held at a depth while it glides over the surface at a
 // hand's speed, guided by exact answers; the box (any ContactQuery) and exact are then asked
 // the same poses, and each contact tick's net force and torque are judged as a hand would.
-#include "contact/perceptible.h"
+#include "perception/perceptible.h"
 #include "contact/workspace.h"
 #include "tool/tool_contact.h"
 #include <cstdint>

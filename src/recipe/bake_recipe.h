@@ -6,7 +6,7 @@
 #include "codec/codec.h"
 #include "decomposition/auto_decomposition.h"
 #include "decomposition/seam_overlap.h"
-#include "haptic_box/bake.h"
+#include "scene/bake.h"
 #include "recipe/error_budget.h"
 #include "mesh/decimation.h"
 #include <cstdint>

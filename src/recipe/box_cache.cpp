@@ -9,7 +9,7 @@
 //     serialised once.
 #include "recipe/box_cache.h"
 #include "errors.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include "mesh/file_hash.h"
 #include <xxhash.h>
 #include <cstdio>

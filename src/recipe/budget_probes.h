@@ -4,7 +4,7 @@
 // surface attempt), and the probe-level verdicts (felt, failing the budget, off the surface)
 // the search counts. Internal to recipe/ (budgeted_bake.cpp, budget_search.cpp).
 #include "contact/contact.h"
-#include "contact/perceptible.h"
+#include "perception/perceptible.h"
 #include "contact/workspace.h"
 #include "exact/exact_query.h"
 #include "geometry/segment.h"

@@ -18,6 +18,7 @@
 //  5. choose_route: no triangle ids for the cells route; the cells or Embree by their time.
 //  6. check_fresh, check_trajectories: the fresh probes and, on a simplified surface, T2.
 #include "recipe/budget_search.h"
+#include "recipe/route_rule.h"
 #include "errors.h"
 #include "evaluation/probe_sampling.h"
 #include "evaluation/query_timing.h"
@@ -362,7 +363,7 @@ bool BudgetSearch::exact_first(BoxScene& refined_coarse, bool exact_scene) {
     early_ = paired_query_ns(refined_coarse, embree_tree_, timed_, law_);
   }
   stage_done("exact_first", seconds_since(tstage));
-  if (early_->a_ns > early_->b_ns) {
+  if (!clearly_faster_than_embree(early_->a_ns, early_->b_ns)) {
     slower_than_exact_ = surface_mesh_.use_simplified;
     choice_.assign(pieces_, 1);
     return true;
@@ -473,7 +474,7 @@ void BudgetSearch::choose_route(BoxScene& scene) {
     // Embree reads the surface alone: the boxes keep their frames (the window draws them,
     // `info` lists them), not their tables and ids (most of the file), unless asked to
     // (BudgetRecipe::keep_triangle_ids: `--route boxes` to compare).
-    if (t.a_ns > t.b_ns) scene = br_.keep_triangle_ids ? by_embree : BoxScene(without_tables(by_embree));
+    if (!clearly_faster_than_embree(t.a_ns, t.b_ns)) scene = br_.keep_triangle_ids ? by_embree : BoxScene(without_tables(by_embree));
   } else {
     const PairedTiming t = paired_query_ns(scene, *exact_, timed_, law_);
     rep_.answer_ns = t.a_ns, rep_.exact_ns = t.b_ns;

@@ -6,7 +6,7 @@
 // current choice) lives in the members. Internal to recipe/ (budgeted_bake.cpp).
 #include "evaluation/comparison.h"
 #include "evaluation/query_timing.h"
-#include "haptic_box/scene_grid.h"
+#include "surface/scene_grid.h"
 #include "recipe/bake_recipe.h"
 #include "recipe/budget_probes.h"
 #include "recipe/budget_surface.h"

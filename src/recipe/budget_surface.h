@@ -4,8 +4,8 @@
 // simplified within the budget's deviation, measured against the full surface, and shaded by
 // a normal map of the full mesh's normals (or, without a map, by corner normals fitted to
 // them). Internal to recipe/ (budget_search.cpp).
-#include "haptic_box/budget_report.h"
-#include "haptic_box/surface_triangles.h"
+#include "perception/budget_report.h"
+#include "surface/surface_triangles.h"
 #include "mesh/triangle_mesh.h"
 #include "recipe/bake_recipe.h"
 #include "recipe/budget_probes.h"

@@ -1,6 +1,6 @@
 #pragma once
-// Whether a scene's accuracy meets an error budget (hb::ErrorBudget, haptic_box/budget_report.h).
-#include "haptic_box/budget_report.h"
+// Whether a scene's accuracy meets an error budget (hb::ErrorBudget, perception/budget_report.h).
+#include "perception/budget_report.h"
 #include <string>
 
 namespace hb {

@@ -1,4 +1,5 @@
 #include "recipe/raw_box_trial.h"
+#include "recipe/route_rule.h"
 #include "recipe/bake_recipe.h"
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
@@ -139,7 +140,7 @@ RawTrial try_raw_boxes(const TriangleMesh& mesh, const ExactQuery& exact, const 
     if (!timing_reference) timing_reference = std::make_unique<ExactQuery>(mesh, BvhBuild::best);
     stage("raw_timing", seconds_since(t));
     time_against(scene, *timing_reference, c);
-    if (!(c.box_ns < c.exact_ns)) return c.outcome = "slower than exact", std::nullopt;
+    if (!clearly_faster_than_embree(c.box_ns, c.exact_ns)) return c.outcome = "slower than exact", std::nullopt;
     // Along strokes too, as a servo loop asks (one probe with its query state): a hand feels
     // trajectories, and a table that is faster at random can be slower there (a codec's
     // decode costs the same while exact's walk stays in cache: measured on the bumpy sphere,
@@ -150,7 +151,8 @@ RawTrial try_raw_boxes(const TriangleMesh& mesh, const ExactQuery& exact, const 
     const PairedTiming along = paired_query_ns(probe, *timing_reference, strokes, law);
     c.box_stroke_ns = along.a_ns, c.exact_stroke_ns = along.b_ns;
     stage("raw_timing", seconds_since(t));
-    if (!(c.box_stroke_ns < c.exact_stroke_ns)) return c.outcome = "slower than exact on strokes", std::nullopt;
+    if (!clearly_faster_than_embree(c.box_stroke_ns, c.exact_stroke_ns))
+      return c.outcome = "slower than exact on strokes", std::nullopt;
     c.outcome = "kept";
     trial.stats = stats;
     return scene;

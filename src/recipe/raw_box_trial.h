@@ -7,8 +7,8 @@
 // that fits the memory cap and that answers faster than exact is kept; a detailed model stops
 // at the first sampling (most of its probes are felt), so asking costs one coarse bake.
 #include "contact/contact.h"
-#include "contact/perceptible.h"
-#include "haptic_box/bake.h"
+#include "perception/perceptible.h"
+#include "scene/bake.h"
 #include <functional>
 #include <optional>
 #include <string>

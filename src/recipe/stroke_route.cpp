@@ -1,5 +1,6 @@
 // The stroke route's choice (stroke_route.h).
 #include "recipe/stroke_route.h"
+#include "recipe/route_rule.h"
 #include "evaluation/probe_sampling.h"
 #include "evaluation/query_timing.h"
 #include <utility>
@@ -22,7 +23,7 @@ void choose_stroke_route(BoxScene& scene, const TriangleMesh& mesh, const ForceL
   const PairedTiming t = paired_query_ns(cells, embree, strokes, law);
   report.stroke_cells_ns = t.a_ns;
   report.stroke_embree_ns = t.b_ns;
-  if (t.b_ns < kStrokeEmbreeShare * t.a_ns) {
+  if (!clearly_faster_than_embree(t.a_ns, t.b_ns)) {
     report.stroke_answer = Answerer::embree;
     scene = std::move(by_embree);
   }

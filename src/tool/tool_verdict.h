@@ -3,7 +3,7 @@
 // the product's perceptual thresholds (contact/perceptible.h), the net torque by the torque
 // JND (about 13% at a 60 mN m reference, Jandura and Srinivasan 1994) with a floor of the
 // force floor times the tool's radius (research/tools.md). docs/tools.md.
-#include "contact/perceptible.h"
+#include "perception/perceptible.h"
 #include "tool/tool_contact.h"
 
 namespace hb {

@@ -5,12 +5,17 @@
 #include "recipe/bake_recipe.h"
 #include "recipe/box_cache.h"
 #include "recipe/recipe_choice.h"
-#include "haptic_box/density_range.h"
-#include "haptic_box/box_file.h"
+#include "recipe/route_rule.h"
+#include "scene/box_scene.h"
+#include "scene/density_range.h"
+#include "store/box_file.h"
 #include "mesh/generators.h"
 #include <gtest/gtest.h>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <unistd.h>
 
 namespace hb {
 namespace {
@@ -155,6 +160,45 @@ TEST(DensityRangeTest, ASceneIsItsBoxesRangeNotItsFirstBox) {
   recipe.options.params = {6, 3};
   const DensityRange one = density_range(bake(make_sphere(1.f, 2), recipe).scene);
   EXPECT_EQ(density_range_text(one), "m=6 n=3");
+}
+
+} // namespace
+} // namespace hb
+
+namespace hb {
+namespace {
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// The route rule (recipe/route_rule.h) settles near-ties for Embree: the same model baked
+// again on the same machine takes the same route and writes the same bytes, apart from the
+// query times the bake recorded.
+TEST(RouteRuleTest, ADefaultBakeRepeatedGivesTheSameRouteAndTheSameBytesApartFromTimes) {
+  const TriangleMesh torus = make_torus(1.f, 0.35f, 48, 24);
+  BakeRecipe recipe = default_recipe();
+  recipe.budget.probes = 1000;
+  const std::string path = (std::filesystem::temp_directory_path() / ("hb_route_rule_" + std::to_string(::getpid()))).string();
+  std::string first_bytes;
+  Answerer first_answer = Answerer::none;
+  for (int run = 0; run < 3; ++run) {
+    const BakeResult baked = bake(torus, recipe);
+    const BoxScene timeless = with_budget(baked.scene, baked.scene.parts().budget.without_times());
+    save_box_file(timeless, path);
+    if (run == 0) {
+      first_bytes = file_bytes(path);
+      first_answer = baked.scene.parts().budget.answer;
+      continue;
+    }
+    EXPECT_EQ(baked.scene.parts().budget.answer, first_answer) << "run " << run;
+    EXPECT_TRUE(file_bytes(path) == first_bytes) << "run " << run << ": " << baked.scene.parts().budget.summary();
+  }
+  std::filesystem::remove(path);
+  EXPECT_TRUE(clearly_faster_than_embree(70.0, 100.0));
+  EXPECT_FALSE(clearly_faster_than_embree(90.0, 100.0));  // a near-tie goes to Embree
+  EXPECT_FALSE(clearly_faster_than_embree(0.0, 100.0));   // not timed
 }
 
 } // namespace

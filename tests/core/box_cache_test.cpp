@@ -1,7 +1,7 @@
 // The box cache: a key from the mesh hash and the whole recipe, one directory, size and clear.
 #include "errors.h"
 #include "recipe/box_cache.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include "mesh/generators.h"
 #include <gtest/gtest.h>
 #include <cstdlib>

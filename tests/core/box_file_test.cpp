@@ -1,7 +1,7 @@
 // .hbox round trip and every way a box file can be bad.
 #include "errors.h"
-#include "haptic_box/bake.h"
-#include "haptic_box/box_file.h"
+#include "scene/bake.h"
+#include "store/box_file.h"
 #include "mesh/generators.h"
 #include <gtest/gtest.h>
 #include <xxhash.h>

@@ -3,8 +3,8 @@
 #include "codec/sample_table.h"
 #include "errors.h"
 #include "geometry/octahedral.h"
-#include "haptic_box/bake.h"
-#include "haptic_box/box_file.h"
+#include "scene/bake.h"
+#include "store/box_file.h"
 #include "mesh/mesh_io.h"
 #include "mesh/generators.h"
 #include <gtest/gtest.h>

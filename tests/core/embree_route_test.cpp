@@ -1,11 +1,11 @@
 // SceneRoute::embree: a scene that answers by exact Embree over its own surface gives the
 // surface cells' contacts, keeps its route through copies, and refuses what it cannot serve.
-#include "contact/perceptible.h"
+#include "perception/perceptible.h"
 #include "contact/workspace.h"
 #include "errors.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
-#include "haptic_box/bake.h"
+#include "scene/bake.h"
 #include "two_spheres.h"
 #include <gtest/gtest.h>
 #include <cmath>

@@ -6,7 +6,7 @@
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
 #include "recipe/bake_recipe.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include "same_answers.h"
 #include "two_spheres.h"
 #include <gtest/gtest.h>

@@ -3,8 +3,8 @@
 #include "exact/embree_scene.h"
 #include "exact/exact_query.h"
 #include "grazing_probes.h"
-#include "haptic_box/bake.h"
-#include "haptic_box/box_scene.h"
+#include "scene/bake.h"
+#include "scene/box_scene.h"
 #include "mesh/generators.h"
 #include "two_spheres.h"
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // One workspace scale and the perceptual judgement (contact/workspace.h, contact/perceptible.h),
 // and the perceptible figures compare_queries reports with them.
-#include "contact/perceptible.h"
+#include "perception/perceptible.h"
 #include "contact/workspace.h"
 #include "errors.h"
 #include "evaluation/comparison.h"

@@ -1,8 +1,8 @@
 // The cheaper routed query: the candidates' plane crossings four at a time, the
 // walk memo that stops the refinement's walks where an earlier walk of the same line went,
 // and the grid's brick summaries. Each must give the answers of the plain code.
-#include "haptic_box/scene_grid.h"
-#include "haptic_box/surface_triangles.h"
+#include "surface/scene_grid.h"
+#include "surface/surface_triangles.h"
 #include "mesh/generators.h"
 #include "two_spheres.h"
 #include <gtest/gtest.h>

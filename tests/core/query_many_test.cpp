@@ -1,7 +1,7 @@
 // Batched queries (query_many) give the same answers as query(), bit for bit.
 #include "evaluation/probe_sampling.h"
-#include "haptic_box/bake.h"
-#include "haptic_box/box_scene.h"
+#include "scene/bake.h"
+#include "scene/box_scene.h"
 #include "mesh/generators.h"
 #include "grazing_probes.h"
 #include "two_spheres.h"

@@ -1,7 +1,7 @@
 // Per-probe query state (BoxScene::query with a SceneQueryState): along strokes it answers
 // most ticks from the last contact, with the answers of the stateless query.
 #include "evaluation/probe_sampling.h"
-#include "haptic_box/bake.h"
+#include "scene/bake.h"
 #include "mesh/generators.h"
 #include "two_spheres.h"
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // The budgeted bake's raw-box trial (recipe/raw_box_trial.h): the screen, its forecast along
 // the slides, and the codec bound derived from the force threshold.
-#include "contact/perceptible.h"
+#include "perception/perceptible.h"
 #include "contact/workspace.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"

@@ -6,9 +6,9 @@
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
-#include "haptic_box/bake.h"
-#include "haptic_box/box_file.h"
-#include "haptic_box/surface_triangles.h"
+#include "scene/bake.h"
+#include "store/box_file.h"
+#include "surface/surface_triangles.h"
 #include "mesh/generators.h"
 #include <gtest/gtest.h>
 #include <algorithm>

@@ -3,9 +3,9 @@
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
-#include "haptic_box/bake.h"
-#include "haptic_box/scene_grid.h"
-#include "haptic_box/surface_cells.h"
+#include "scene/bake.h"
+#include "surface/scene_grid.h"
+#include "surface/surface_cells.h"
 #include "two_spheres.h"
 #include <gtest/gtest.h>
 

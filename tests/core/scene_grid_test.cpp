@@ -3,10 +3,10 @@
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
-#include "haptic_box/bake.h"
-#include "haptic_box/box_file.h"
-#include "haptic_box/scene_grid.h"
-#include "haptic_box/surface_cells.h"
+#include "scene/bake.h"
+#include "store/box_file.h"
+#include "surface/scene_grid.h"
+#include "surface/surface_cells.h"
 #include "two_spheres.h"
 #include <gtest/gtest.h>
 #include <array>

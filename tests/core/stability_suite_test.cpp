@@ -2,7 +2,7 @@
 #include "evaluation/stability_suite.h"
 #include "errors.h"
 #include "exact/exact_query.h"
-#include "haptic_box/bake.h"
+#include "scene/bake.h"
 #include "evaluation/probe_sampling.h"
 #include "mesh/generators.h"
 #include "mesh/mesh_io.h"

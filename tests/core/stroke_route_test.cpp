@@ -5,7 +5,8 @@
 #include "errors.h"
 #include "evaluation/probe_sampling.h"
 #include "exact/exact_query.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
+#include "recipe/route_rule.h"
 #include "recipe/stroke_route.h"
 #include "scratch_dir_test.h"
 #include "two_spheres.h"
@@ -167,15 +168,15 @@ TEST_F(StrokeRouteTest, AStrokeMeshNamingAVertexItDoesNotHoldIsRefusedAtLoad) {
   }
 }
 
-TEST_F(StrokeRouteTest, TheBakeKeepsEmbreeForStrokesOnlyWhereItMeasuredItFaster) {
+TEST_F(StrokeRouteTest, TheBakeKeepsTheCellsForStrokesOnlyWhereTheyAreClearlyFaster) {
   BoxScene scene = cells_;
   BudgetReport report;
   choose_stroke_route(scene, two_.mesh, law_, 7, report);
   ASSERT_GT(report.stroke_cells_ns, 0.0);
   ASSERT_GT(report.stroke_embree_ns, 0.0);
   EXPECT_EQ(stroke_mesh(scene) != nullptr, report.stroke_answer == Answerer::embree);
-  if (report.stroke_answer == Answerer::embree) EXPECT_LT(report.stroke_embree_ns, kStrokeEmbreeShare * report.stroke_cells_ns);
-  else EXPECT_EQ(report.stroke_answer, Answerer::cells);
+  EXPECT_EQ(report.stroke_answer == Answerer::cells,
+            clearly_faster_than_embree(report.stroke_cells_ns, report.stroke_embree_ns));
   // The report carries the choice through its file form; a scene the cells do not answer is
   // left as it is, untimed.
   report.present = true;

@@ -1,7 +1,7 @@
 #pragma once
 // Two unit spheres on the x axis as one mesh, a piece id per triangle (0: the first, 1: the
 // second): the smallest scene of several boxes.
-#include "haptic_box/bake.h"
+#include "scene/bake.h"
 #include "mesh/generators.h"
 #include <cstdint>
 #include <vector>

@@ -11,8 +11,8 @@
 #include "errors.h"
 #include "evaluation/stability_suite.h"
 #include "exact/exact_query.h"
-#include "haptic_box/bake.h"
-#include "haptic_box/box_scene.h"
+#include "scene/bake.h"
+#include "scene/box_scene.h"
 #include <gtest/gtest.h>
 #include <chrono>
 #include <cstdio>

@@ -15,7 +15,7 @@
 //     length] and a unit normal; query_many must give query()'s answers bit for bit on finite
 //     segments; nothing may crash or read out of bounds (the build runs ASan + UBSan).
 #include "fuzz_support.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 
 #include <xxhash.h>
 

@@ -7,7 +7,7 @@
 #include "exact/exact_query.h"
 #include "SessionPipeline.h"
 #include "recipe/box_cache.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include "mesh/file_hash.h"
 #include "ui_test_support.h"
 #include <QFile>

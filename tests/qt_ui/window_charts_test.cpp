@@ -4,7 +4,7 @@
 // a box file loaded back shows the same points (the times are in the file); a sweep replaces
 // them.
 #include "ChartsView.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include "window_test_support.h"
 #include <QDockWidget>
 #include <QFileInfo>

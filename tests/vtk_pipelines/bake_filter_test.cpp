@@ -1,5 +1,5 @@
 #include "recipe/box_cache.h"
-#include "haptic_box/box_file.h"
+#include "store/box_file.h"
 #include "test_meshes.h"
 #include "vtkHapticBoxBakeFilter.h"
 #include "vtkHapticBoxDecompositionFilter.h"

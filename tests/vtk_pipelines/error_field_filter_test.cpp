@@ -1,6 +1,6 @@
 #include "evaluation/error_field.h"
 #include "exact/exact_query.h"
-#include "haptic_box/bake.h"
+#include "scene/bake.h"
 #include "test_meshes.h"
 #include "vtkHapticBoxBakeFilter.h"
 #include "vtkHapticBoxErrorFieldFilter.h"

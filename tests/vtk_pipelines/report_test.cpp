@@ -1,5 +1,5 @@
 #include "evaluation/probe_sampling.h"
-#include "haptic_box/bake.h"
+#include "scene/bake.h"
 #include "mesh/generators.h"
 #include "report.h"
 #include "test_meshes.h"
