@@ -1,0 +1,54 @@
+#pragma once
+// numpy arrays in and out of the core: probe segments read in place from an (N, 6) float32
+// array (no copy), answers written into new arrays, and the one checker whose ValueErrors say
+// which element is bad and why.
+#include "contact/contact.h"
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <cstddef>
+
+namespace hb::python {
+
+namespace py = pybind11;
+
+/// Segments checked for the core: `segments` points at `count` hb::Segment (sx, sy, sz, ex, ey,
+/// ez in model units), which `keep` holds alive (the caller's array itself for a C-contiguous
+/// float32 array, else a float32 copy of it).
+struct SegmentArray {
+  py::array keep;
+  const Segment* segments = nullptr;
+  std::size_t count = 0;
+};
+
+/// Reads `obj` as an (N, 6) array of finite floats within hb::kMaxSegmentCoordinate. A
+/// C-contiguous float32 array is read in place; another float array (float64, strided) is
+/// converted once. Throws py::value_error naming the argument and what is wrong: not an
+/// array, its shape, a dtype that is not a float, or the first NaN, infinite or too large
+/// value with its row and column. `name` names the argument in messages ("segments").
+SegmentArray segment_array(py::handle obj, const char* name);
+
+/// The answers as numpy arrays: "contact" (N,) bool, "depth" (N,) float32 model units,
+/// "point" and "normal" (N, 3) float32, "force" (N, 3) float32 newtons.
+struct ContactArrays {
+  py::array_t<bool> contact;
+  py::array_t<float> depth, point, normal, force;
+  /// Allocates the arrays (with the GIL).
+  explicit ContactArrays(std::size_t n);
+  /// Copies answers [first, first + count) in (no Python object touched: the GIL may be off).
+  void put(const Contact* answers, std::size_t first, std::size_t count);
+  py::dict dict() const;
+
+private:
+  bool* c_ = nullptr;
+  float *d_ = nullptr, *p_ = nullptr, *n_ = nullptr, *f_ = nullptr;
+};
+
+/// `query`'s answers to the segments (ContactQuery::query_many, in chunks, the GIL released
+/// from the check of the values to the last answer) under `law`.
+py::dict answer_segments(const ContactQuery& query, py::handle segments, const ForceLaw& law);
+
+/// The contacts of a dict of answer arrays as answer_segments returns it (contact, depth,
+/// point, normal, force; N the same in all). `name` names the argument in messages.
+std::vector<Contact> contacts_from_dict(py::handle answers, const char* name);
+
+} // namespace hb::python
