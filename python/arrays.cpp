@@ -6,6 +6,7 @@
 //    buffer and scattered into the output arrays (allocated before, with the GIL).
 #include "arrays.h"
 #include "evaluation/segments_csv.h"
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -108,6 +109,17 @@ py::dict answer_segments(const ContactQuery& query, py::handle segments, const F
     }
   }
   return out.dict();
+}
+
+std::pair<double, std::uintptr_t> time_query_many(const ContactQuery& query, py::handle segments, const ForceLaw& law) {
+  const SegmentArray in = segment_array(segments, "segments");
+  py::gil_scoped_release release;
+  std::vector<Contact> buffer(std::min(in.count, kChunk));
+  const auto start = std::chrono::steady_clock::now();
+  for (std::size_t first = 0; first < in.count; first += kChunk)
+    query.query_many(in.segments + first, std::min(kChunk, in.count - first), law, buffer.data());
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return {seconds, reinterpret_cast<std::uintptr_t>(in.segments)};
 }
 
 std::vector<Contact> contacts_from_dict(py::handle answers, const char* name) {

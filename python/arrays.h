@@ -6,6 +6,9 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
 
 namespace hb::python {
 
@@ -46,6 +49,11 @@ private:
 /// `query`'s answers to the segments (ContactQuery::query_many, in chunks, the GIL released
 /// from the check of the values to the last answer) under `law`.
 py::dict answer_segments(const ContactQuery& query, py::handle segments, const ForceLaw& law);
+
+/// For the batch's measurement (bench/python_query.py): the seconds `query.query_many` takes
+/// over the segments in C++ alone (the same chunks, no numpy output), and the address it read
+/// them from (the array's own buffer when it is read in place).
+std::pair<double, std::uintptr_t> time_query_many(const ContactQuery& query, py::handle segments, const ForceLaw& law);
 
 /// The contacts of a dict of answer arrays as answer_segments returns it (contact, depth,
 /// point, normal, force; N the same in all). `name` names the argument in messages.

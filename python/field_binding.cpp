@@ -71,6 +71,11 @@ void bind_field(py::module_& m) {
   py::class_<PolyDataHandle>(m, "_PolyDataHandle")
       .def_property_readonly("pointer_text", &PolyDataHandle::pointer_text)
       .def_property_readonly("points", [](const PolyDataHandle& h) { return h.data->GetNumberOfPoints(); });
+  m.def("_model_polydata", [](const Model& model) {
+    PolyDataHandle h;
+    h.data = vtkHapticBoxUtilities::ToPolyData(model.mesh());
+    return h;
+  });
   m.def("_error_field", &error_field, py::arg("scene"), py::arg("model"), py::kw_only(), py::arg("probes") = 1,
         py::arg("seed") = 1, py::arg("even") = 0, py::arg("workspace") = py::none(), py::arg("perceptual") = "nominal");
 }

@@ -10,6 +10,7 @@
 #include "recipe/box_cache.h"
 #include "recipe/recipe_choice.h"
 #include "scene_access.h"
+#include <pybind11/stl.h>
 #include <optional>
 
 namespace hb::python {
@@ -135,6 +136,14 @@ Exact(model))doc")
             return answer_segments(*e.query, segments, ws.law());
           },
           py::arg("segments"), py::kw_only(), py::arg("workspace") = py::none(), kQueryDoc);
+
+  // The batch's measurement (bench/python_query.py): C++ query_many alone on the same array.
+  m.def("_time_query_many", [](const Scene& s, py::handle segments) {
+    return time_query_many(*s.scene, segments, workspace_of(scene_facts(*s.scene).diagonal, py::none()).law());
+  });
+  m.def("_time_query_many", [](const Exact& e, py::handle segments) {
+    return time_query_many(*e.query, segments, workspace_of(e.model->mesh.bounds().diagonal(), py::none()).law());
+  });
 }
 
 } // namespace hb::python

@@ -28,7 +28,7 @@ from ._core import (  # noqa: F401  (the compiled part: pybind11 over the core)
 from . import _core
 
 __all__ = ["Error", "IoError", "InvalidInput", "Model", "Scene", "Exact", "bake", "perceive", "evaluate",
-           "error_field", "info", "__version__"]
+           "error_field", "polydata", "info", "__version__"]
 
 
 def error_field(scene, model, *, probes=1, seed=1, even=0, workspace=None, perceptual="nominal"):
@@ -45,15 +45,24 @@ def error_field(scene, model, *, probes=1, seed=1, even=0, workspace=None, perce
     PerceptibleRatio (the difference over what a hand can feel: above 1 it is felt; the active
     scalars), PerceptibleFraction, Normals. Field data: units and provenance.
     """
+    return _to_vtk(_core._error_field(scene, model, probes=probes, seed=seed, even=even, workspace=workspace,
+                                      perceptual=perceptual))
+
+
+def _to_vtk(handle):
     from vtkmodules.vtkCommonDataModel import vtkPolyData
 
-    handle = _core._error_field(scene, model, probes=probes, seed=seed, even=even, workspace=workspace,
-                                perceptual=perceptual)
     wrapped = vtkPolyData(handle.pointer_text)  # the C++ object, seen from VTK's Python
-    field = vtkPolyData()
-    field.ShallowCopy(wrapped)  # owned by Python: the handle may go now
-    del wrapped, handle
-    return field
+    data = vtkPolyData()
+    data.ShallowCopy(wrapped)  # owned by Python: the handle may go now
+    return data
+
+
+def polydata(model):
+    """The model's triangles as a vtkPolyData of VTK's own Python (points in mm, triangle cells
+    in the model's order, point data "Normals": the shaded vertex normals the queries use).
+    Written as .vtp it reads back as the same mesh in HapticBox, ParaView and PyVista."""
+    return _to_vtk(_core._model_polydata(model))
 
 
 def info(path, **model_options):
