@@ -3,15 +3,15 @@
 # the Debian package python3-paraview without installing it (scripts/paraview_python.sh: it
 # conflicts with python3-vtk9), loads the plugin and runs plugin_field.py on the armadillo:
 # the error field's arrays against `hapticbox field`'s, bit for bit.
-# Usage: run_plugin_test.sh HAPTICBOX_CLI PLUGIN PYTHONPATH_OF_HAPTICBOX WORK_DIR DATASETS_DIR
+# Usage: run_plugin_test.sh HAPTICBOX_CLI PLUGIN PVPYTHON PYTHONPATH_OF_HAPTICBOX WORK_DIR DATASETS_DIR
 set -euo pipefail
-cli="$1" plugin="$2" module_dir="$3" work="$4" data="$5"
+cli="$1" plugin="$2" pvpython="$3" module_dir="$4" work="$5" data="$6"
 here="$(cd "$(dirname "$0")" && pwd)"
 mesh="$data/meshes/armadillo.off"
 [ -f "$mesh" ] || { echo "run_plugin_test: $mesh missing (datasets/fetch.sh)"; exit 1; }
 [ -f "$plugin" ] || { echo "run_plugin_test: $plugin missing (the plugin was not built)"; exit 1; }
 mkdir -p "$work"
-pvpython="$(bash "$here/../../scripts/paraview_python.sh" "$work/paraview-python")"
+[ -x "$pvpython" ] || { echo "run_plugin_test: $pvpython missing (scripts/paraview_python.sh)"; exit 1; }
 "$cli" bake "$mesh" -o "$work/armadillo.hbox" --cache "$work/cache" >/dev/null
 "$cli" field "$work/armadillo.hbox" "$mesh" -o "$work/armadillo_field.vtp" >/dev/null
 PYTHONPATH="$module_dir" /usr/bin/python3 - "$mesh" "$work/armadillo.vtp" <<'PY'
