@@ -18,7 +18,7 @@ std::string spec_or_empty(const py::object& o, const char* name) {
   return py::cast<std::string>(o);
 }
 
-Model load(const std::string& path, const py::object& unit, const py::object& volume, const py::object& cad) {
+Model load_model(const std::string& path, const py::object& unit, const py::object& volume, const py::object& cad) {
   Model m;
   m.path = path;
   m.options = vtk::model_options_from_specs(spec_or_empty(unit, "unit"), spec_or_empty(volume, "volume"),
@@ -76,7 +76,7 @@ Model(path, unit=None, volume=None, cad=None)
   cad:    a CAD solid's tessellation, "chordal-mm=D,force-tolerance=N,accept-lost-faces" (`--cad`).
 Raises hapticbox.IoError (an OSError) for a missing or unreadable file, hapticbox.InvalidInput
 (a ValueError) for a damaged one or a bad option; the message names the file and the cause.)doc")
-      .def(py::init(&load), py::arg("path"), py::kw_only(), py::arg("unit") = py::none(),
+      .def(py::init(&load_model), py::arg("path"), py::kw_only(), py::arg("unit") = py::none(),
            py::arg("volume") = py::none(), py::arg("cad") = py::none())
       .def_property_readonly("path", [](const Model& m) { return m.path; }, "The file it was read from.")
       .def_property_readonly("triangle_count", [](const Model& m) { return m.mesh().triangle_count(); })

@@ -66,7 +66,7 @@ Scene bake(const Model& model, const py::object& m, const py::object& n, const p
   return Scene{std::make_shared<const BoxScene>(std::move(baked.result.scene)), {}};
 }
 
-Scene load(const std::string& path, bool verify) {
+Scene load_scene(const std::string& path, bool verify) {
   LoadOptions options;
   options.verify = verify;
   py::gil_scoped_release release;
@@ -86,7 +86,7 @@ Exact exact_of(const Model& model) {
 void bind_scene(py::module_& m) {
   py::class_<Scene>(m, "Scene", R"doc(A scene of haptic boxes: what `hapticbox bake` writes to a .hbox file. Made by
 hapticbox.bake(model) or Scene.load(path); immutable, safe to query from several threads.)doc")
-      .def_static("load", &load, py::arg("path"), py::kw_only(), py::arg("verify") = false,
+      .def_static("load", &load_scene, py::arg("path"), py::kw_only(), py::arg("verify") = false,
                   "Opens a .hbox file (memory-mapped). verify=True hashes every table (`hapticbox info --verify`). "
                   "Raises hapticbox.IoError or hapticbox.InvalidInput naming the file and the cause.")
       .def(
