@@ -56,7 +56,7 @@ def probe_segments(model, count, seed=7):
     directions /= np.linalg.norm(directions, axis=1, keepdims=True)
     handles = tips + directions * 0.1 * diag
     lo, hi = vertices.min(axis=0), vertices.max(axis=0)
-    free = rng.uniform(lo, hi, (count - near, 6)).reshape(-1, 6)
+    free = rng.uniform(np.tile(lo, 2), np.tile(hi, 2), (count - near, 6))
     near_rows = np.hstack([handles, tips])
     return np.ascontiguousarray(np.vstack([near_rows, free]).astype(np.float32))
 

@@ -1,5 +1,6 @@
 #include "vtkPVHapticBoxErrorField.h"
 #include "error_colour_map.h"
+#include "errors.h"
 #include "polydata_files.h"
 #include "pv_scene_source.h"
 #include "vtkHapticBoxErrorFieldFilter.h"
