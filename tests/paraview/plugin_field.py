@@ -6,13 +6,12 @@ import sys
 
 import numpy as np
 from paraview import servermanager
-from paraview.simple import (HapticBoxDecomposition, HapticBoxErrorField, HapticBoxProbe, LoadPlugin,
-                             OpenDataFile, XMLPolyDataReader)
+from paraview.simple import LoadPlugin, OpenDataFile, XMLPolyDataReader
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 plugin, model_vtp, box, cli_vtp = sys.argv[1:5]
-LoadPlugin(plugin, remote=False, ns=globals())
+LoadPlugin(plugin, remote=False, ns=globals())  # defines HapticBoxErrorField, HapticBoxProbe, ... here
 
 model = XMLPolyDataReader(FileName=[model_vtp])
 field = HapticBoxErrorField(Input=model, BoxFile=box)

@@ -12,8 +12,9 @@ mesh="$data/meshes/armadillo.off"
 [ -f "$plugin" ] || { echo "run_plugin_test: $plugin missing (the plugin was not built)"; exit 1; }
 mkdir -p "$work"
 [ -x "$pvpython" ] || { echo "run_plugin_test: $pvpython missing (scripts/paraview_python.sh)"; exit 1; }
-"$cli" bake "$mesh" -o "$work/armadillo.hbox" --cache "$work/cache" >/dev/null
-"$cli" field "$work/armadillo.hbox" "$mesh" -o "$work/armadillo_field.vtp" >/dev/null
+quiet() { "$@" >"$work/step.log" 2>&1 || { cat "$work/step.log"; exit 1; }; }
+quiet "$cli" bake "$mesh" -o "$work/armadillo.hbox" --cache "$work/cache"
+quiet "$cli" field "$work/armadillo.hbox" "$mesh" -o "$work/armadillo_field.vtp"
 PYTHONPATH="$module_dir" /usr/bin/python3 - "$mesh" "$work/armadillo.vtp" <<'PY'
 import sys
 import hapticbox

@@ -4,11 +4,11 @@ The error field coloured by the product's perceptible scale (PerceptibleColour, 
 the boxes of the .hbox file as outlines."""
 import sys
 
-from paraview.simple import (ColorBy, GetActiveViewOrCreate, HapticBoxErrorField, LoadPlugin, OpenDataFile,
-                             ResetCamera, SaveScreenshot, Show, XMLPolyDataReader)
+from paraview.simple import (ColorBy, GetActiveViewOrCreate, LoadPlugin, OpenDataFile, ResetCamera, SaveScreenshot,
+                             Show, XMLPolyDataReader)
 
 plugin, model_vtp, box, out = sys.argv[1:5]
-LoadPlugin(plugin, remote=False, ns=globals())
+LoadPlugin(plugin, remote=False, ns=globals())  # defines HapticBoxErrorField here
 view = GetActiveViewOrCreate("RenderView")
 view.ViewSize = [1000, 800]
 view.Background = [1, 1, 1]
