@@ -7,26 +7,12 @@
 Both read the same float32 (N, 6) array: `scene.query(segments)` (the binding: checks the
 values, answers in chunks with the GIL released, fills numpy arrays) and
 `hapticbox._core._time_query_many(scene, segments)` (C++ query_many alone over the same chunks,
-no numpy output). The best of the repeats of each, interleaved; also exact Embree's."""
+no numpy output), on eval's random probes (hapticbox.sample_probes). The best of the repeats of
+each, interleaved; also exact Embree's."""
 import argparse
 import time
 
-import numpy as np
-
 import hapticbox
-
-
-def segments_near(model, count, seed=7):
-    rng = np.random.default_rng(seed)
-    v = model.vertices
-    tips = v[rng.integers(0, len(v), count)] + rng.normal(0, 0.002 * model.diagonal, (count, 3))
-    d = rng.normal(size=(count, 3))
-    d /= np.linalg.norm(d, axis=1, keepdims=True)
-    return np.ascontiguousarray(np.hstack([tips + d * 0.1 * model.diagonal, tips]).astype(np.float32))
-
-
-def best(fn, repeats):
-    return min(fn() for _ in range(repeats))
 
 
 def main():
@@ -37,7 +23,7 @@ def main():
     p.add_argument("--repeats", type=int, default=5)
     a = p.parse_args()
     model = hapticbox.Model(a.model)
-    segments = segments_near(model, a.count)
+    segments = hapticbox.sample_probes(model, a.count, seed=2)  # eval's and bench's probes
     for name, answerer in (("scene", hapticbox.Scene.load(a.box)), ("exact", hapticbox.Exact(model))):
         answerer.query(segments[:10000])  # warm the pages and caches
         py_times, cpp_times = [], []

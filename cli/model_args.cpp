@@ -29,6 +29,18 @@ std::string volume_help() {
   return "Volumes (needs the VTK pipelines)";
 #endif
 }
+#ifdef HB_WITH_VTK
+// A bad spec is a usage error now, before any file is read.
+template <class Options>
+void check_spec(void (*parse)(const std::string&, Options&), const std::string& spec) {
+  Options checked;
+  try {
+    parse(spec, checked);
+  } catch (const InvalidInput& e) {
+    throw UsageError(e.what());
+  }
+}
+#endif
 std::string volume_syntax() {
 #ifdef HB_WITH_VTK
   return hb::vtk::kVolumeSpecSyntax;
@@ -61,12 +73,7 @@ void add_model_options(CLI::App& cmd, ModelArgs& args) {
          "--volume",
          [&args](const std::string& spec) {
 #ifdef HB_WITH_VTK
-           hb::vtk::VolumeSurfaceOptions checked;  // a bad spec is a usage error now, before any file is read
-           try {
-             hb::vtk::parse_volume_spec(spec, checked);
-           } catch (const InvalidInput& e) {
-             throw UsageError(e.what());
-           }
+           check_spec(hb::vtk::parse_volume_spec, spec);
 #endif
            args.volume = spec;
          },
@@ -77,12 +84,7 @@ void add_model_options(CLI::App& cmd, ModelArgs& args) {
          "--cad",
          [&args](const std::string& spec) {
 #ifdef HB_WITH_VTK
-           hb::vtk::CadOptions checked;  // a bad spec is a usage error now, before any file is read
-           try {
-             hb::vtk::parse_cad_spec(spec, checked);
-           } catch (const InvalidInput& e) {
-             throw UsageError(e.what());
-           }
+           check_spec(hb::vtk::parse_cad_spec, spec);
 #endif
            args.cad = spec;
          },

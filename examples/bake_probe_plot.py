@@ -13,20 +13,8 @@ import matplotlib
 
 matplotlib.use("Agg")  # no display needed
 import matplotlib.pyplot as plt
-import numpy as np
 
 import hapticbox
-
-
-def probes(model, count, seed=1):
-    """Segments ending just inside the surface near a vertex, from a handle a tenth of the
-    diagonal away (model units, float32: read in place)."""
-    rng = np.random.default_rng(seed)
-    v = model.vertices
-    tips = v[rng.integers(0, len(v), count)] + rng.normal(0, 0.002 * model.diagonal, (count, 3))
-    d = rng.normal(size=(count, 3))
-    d /= np.linalg.norm(d, axis=1, keepdims=True)
-    return np.ascontiguousarray(np.hstack([tips + d * 0.1 * model.diagonal, tips]).astype(np.float32))
 
 
 def timed(answerer, segments):
@@ -44,7 +32,7 @@ def main():
     a = p.parse_args()
 
     model = hapticbox.Model(a.model)
-    segments = probes(model, a.probes)
+    segments = hapticbox.sample_probes(model, a.probes)  # eval's random probes, (N, 6) float32
     exact_answers, exact_ns = timed(hapticbox.Exact(model), segments)
     points = [("exact Embree", exact_ns, 0.0)]
     bakes = [("default bake", {})] + [(f"raw m{m} n{n}", {"m": m, "n": n}) for m, n in ((8, 4), (16, 8), (32, 16))]

@@ -7,6 +7,7 @@
 #include "evaluation/probe_sampling.h"
 #include "scene_access.h"
 #include <pybind11/numpy.h>
+#include <cstring>
 #include <vector>
 
 namespace hb::python {
@@ -74,9 +75,28 @@ py::object evaluate(const Scene& scene, const Model& model, std::size_t samples,
   return py::module_::import("json").attr("loads")(j.dump());
 }
 
+py::array_t<float> probes_of(const Model& model, std::size_t count, std::uint64_t seed) {
+  if (count > 100000000) throw py::value_error("count: " + std::to_string(count) + " is over 1e8");
+  ProbeOptions options;
+  options.seed = seed;
+  std::vector<Segment> probes;
+  {
+    py::gil_scoped_release release;
+    probes = sample_probes(model.mesh(), count, options);
+  }
+  py::array_t<float> out({py::ssize_t(probes.size()), py::ssize_t(6)});
+  std::memcpy(out.mutable_data(), probes.data(), probes.size() * sizeof(Segment));  // six floats a segment
+  return out;
+}
+
 } // namespace
 
 void bind_evaluation(py::module_& m) {
+  m.def("sample_probes", &probes_of, py::arg("model"), py::arg("count"), py::kw_only(), py::arg("seed") = 1,
+        R"doc(eval's random probes of a model: `count` segments (an (N, 6) float32 array, handle then tip, model
+units), aimed at the surface from a cone of directions, the tip past it by up to 3% of the
+diagonal (hb::sample_probes). The same count and seed give the probes `hapticbox eval --samples
+N --seed S` and `hapticbox bench` use.)doc");
   m.def("perceive", &perceive_arrays, py::arg("exact"), py::arg("box"), py::kw_only(), py::arg("workspace") = py::none(),
         py::arg("perceptual") = "nominal",
         R"doc(Whether a hand on the device could tell two answers to the same probes apart (hb::perceive).

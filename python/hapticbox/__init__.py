@@ -24,10 +24,11 @@ from ._core import (  # noqa: F401  (the compiled part: pybind11 over the core)
     bake,
     evaluate,
     perceive,
+    sample_probes,
 )
 from . import _core
 
-__all__ = ["Error", "IoError", "InvalidInput", "Model", "Scene", "Exact", "bake", "perceive", "evaluate",
+__all__ = ["Error", "IoError", "InvalidInput", "Model", "Scene", "Exact", "bake", "sample_probes", "perceive", "evaluate",
            "error_field", "polydata", "info", "__version__"]
 
 
