@@ -97,3 +97,25 @@ def test_the_error_field_equals_hapticbox_fields_arrays(small_model_path, tmp_pa
         assert a.dtype == b.dtype and a.shape == b.shape, name
         assert np.array_equal(a.view(np.uint8), b.view(np.uint8)), f"{name} differs from hapticbox field"
     assert field.GetNumberOfPoints() == read_vtp(out).GetNumberOfPoints()
+
+
+@pytest.mark.parametrize("relative, options", [
+    ("generated/reference_solid.step", {}),
+    ("generated/elephant.gltf", {}),
+    ("generated/elephant.glb", {}),
+    ("generated/elephant.3mf", {}),
+    ("generated/elephant.dae", {}),
+    ("generated/elephant.fbx", {}),
+    ("generated/ct_phantom.mha", {"volume": "iso=300"}),
+    ("generated/ct_phantom.nrrd", {"volume": "iso=300"}),
+    ("generated/femur_ct_dicom", {"volume": "iso=300"}),
+    ("meshes/elephant.off", {"unit": "cm"}),
+])
+def test_every_format_reads_as_the_command_line_reads_it(relative, options):
+    path = dataset(relative)
+    model = hapticbox.Model(path, **options)
+    args = ["info", path, "--json"] + [f"--{k}={v}" for k, v in options.items()]
+    cli = json.loads(run_cli(*args).stdout)
+    assert model.triangle_count == cli["triangles"] > 0
+    assert model.diagonal == pytest.approx(cli["diagonal"], rel=1e-6)
+    assert model.hash == hapticbox.Model(path, **options).hash
