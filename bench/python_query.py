@@ -35,7 +35,7 @@ def main():
             cpp_times.append(seconds)
         in_place = address == segments.ctypes.data
         py_ns, cpp_ns = min(py_times) / a.count * 1e9, min(cpp_times) / a.count * 1e9
-        print(f"{name}: {a.count:,} segments: Python scene.query {py_ns:.1f} ns/segment, C++ query_many "
+        print(f"{name}: {a.count:,} segments: Python .query() {py_ns:.1f} ns/segment, C++ query_many "
               f"{cpp_ns:.1f} ns/segment: {py_ns / cpp_ns:.3f}x; segments read in place (no copy): {in_place}")
 
 
