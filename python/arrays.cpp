@@ -35,35 +35,48 @@ std::size_t first_bad_value(const float* v, std::size_t values) noexcept {
 
 } // namespace
 
-SegmentArray segment_array(py::handle obj, const char* name) {
+FloatRows float_rows(py::handle obj, const char* name, std::initializer_list<std::size_t> widths, const char* columns) {
+  std::string shapes;
+  for (std::size_t w : widths) shapes += (shapes.empty() ? "" : " or ") + std::string("(N, ") + std::to_string(w) + ")";
   if (!py::isinstance<py::array>(obj))
-    throw py::value_error(std::string(name) + ": expected a numpy array of shape (N, 6) (sx, sy, sz, ex, ey, ez), got " +
+    throw py::value_error(std::string(name) + ": expected a numpy array of shape " + shapes + " (" + columns + "), got " +
                           std::string(py::str(py::type::handle_of(obj).attr("__name__"))));
   py::array a = py::reinterpret_borrow<py::array>(obj);
-  if (a.ndim() != 2 || a.shape(1) != 6)
-    throw py::value_error(std::string(name) + ": expected shape (N, 6) (sx, sy, sz, ex, ey, ez per row), got shape " +
+  bool width_ok = false;
+  for (std::size_t w : widths) width_ok = width_ok || (a.ndim() == 2 && std::size_t(a.shape(1)) == w);
+  if (!width_ok)
+    throw py::value_error(std::string(name) + ": expected shape " + shapes + " (" + columns + " per row), got shape " +
                           shape_text(a));
-  const char kind = a.dtype().kind();
-  if (kind != 'f')
+  if (a.dtype().kind() != 'f')
     throw py::value_error(std::string(name) + ": expected a float array (float32 is read in place, float64 converted), got dtype " +
                           std::string(py::str(a.dtype())));
-  SegmentArray out;
+  FloatRows out;
   const bool in_place = a.dtype().is(py::dtype::of<float>()) && (a.flags() & py::array::c_style);
   out.keep = in_place ? a : py::array(py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a));
   if (!out.keep) throw py::value_error(std::string(name) + ": cannot be converted to float32");
   out.count = std::size_t(a.shape(0));
-  out.segments = reinterpret_cast<const Segment*>(out.keep.data());
+  out.width = std::size_t(a.shape(1));
+  out.values = static_cast<const float*>(out.keep.data());
   std::size_t bad = 0;
   {
     py::gil_scoped_release release;
-    bad = first_bad_value(reinterpret_cast<const float*>(out.segments), out.count * 6);
+    bad = first_bad_value(out.values, out.count * out.width);
   }
-  if (bad < out.count * 6) {
-    const float v = reinterpret_cast<const float*>(out.segments)[bad];
+  if (bad < out.count * out.width) {
+    const float v = out.values[bad];
     const std::string what = std::isnan(v) ? "NaN" : std::isinf(v) ? "infinite" : "beyond 4e15 (the largest coordinate a probe may have)";
-    throw py::value_error(std::string(name) + "[" + std::to_string(bad / 6) + ", " + std::to_string(bad % 6) + "] is " +
-                          what + ": every coordinate must be a finite number within 4e15 model units");
+    throw py::value_error(std::string(name) + "[" + std::to_string(bad / out.width) + ", " + std::to_string(bad % out.width) +
+                          "] is " + what + ": every value must be a finite number within 4e15 model units");
   }
+  return out;
+}
+
+SegmentArray segment_array(py::handle obj, const char* name) {
+  FloatRows rows = float_rows(obj, name, {6}, "sx, sy, sz, ex, ey, ez");
+  SegmentArray out;
+  out.keep = rows.keep;
+  out.count = rows.count;
+  out.segments = reinterpret_cast<const Segment*>(rows.values);
   return out;
 }
 

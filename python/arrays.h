@@ -7,6 +7,7 @@
 #include <pybind11/pybind11.h>
 #include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 #include <utility>
 #include <vector>
 
@@ -22,6 +23,19 @@ struct SegmentArray {
   const Segment* segments = nullptr;
   std::size_t count = 0;
 };
+
+/// Rows of floats read from numpy: `values` points at count x width floats, held by `keep`.
+struct FloatRows {
+  py::array keep;
+  const float* values = nullptr;
+  std::size_t count = 0, width = 0;
+};
+
+/// Reads `obj` as an (N, W) array of finite floats within hb::kMaxSegmentCoordinate, W one of
+/// `widths` (`columns` names them in messages, e.g. "sx, sy, sz, ex, ey, ez"). A C-contiguous
+/// float32 array is read in place; another float array is converted once. Throws
+/// py::value_error as segment_array does.
+FloatRows float_rows(py::handle obj, const char* name, std::initializer_list<std::size_t> widths, const char* columns);
 
 /// Reads `obj` as an (N, 6) array of finite floats within hb::kMaxSegmentCoordinate. A
 /// C-contiguous float32 array is read in place; another float array (float64, strided) is

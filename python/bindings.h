@@ -47,5 +47,6 @@ void bind_model(py::module_& m);
 void bind_scene(py::module_& m);
 void bind_evaluation(py::module_& m);
 void bind_field(py::module_& m);
+void bind_tool(py::module_& m);
 
 } // namespace hb::python

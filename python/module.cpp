@@ -57,4 +57,5 @@ PYBIND11_MODULE(_core, m) {
   hb::python::bind_scene(m);
   hb::python::bind_evaluation(m);
   hb::python::bind_field(m);
+  hb::python::bind_tool(m);
 }

@@ -20,6 +20,7 @@ from ._core import (  # noqa: F401  (the compiled part: pybind11 over the core)
     IoError,
     Model,
     Scene,
+    Tool,
     __version__,
     bake,
     evaluate,
@@ -28,7 +29,7 @@ from ._core import (  # noqa: F401  (the compiled part: pybind11 over the core)
 )
 from . import _core
 
-__all__ = ["Error", "IoError", "InvalidInput", "Model", "Scene", "Exact", "bake", "sample_probes", "perceive", "evaluate",
+__all__ = ["Error", "IoError", "InvalidInput", "Model", "Scene", "Exact", "Tool", "bake", "sample_probes", "perceive", "evaluate",
            "error_field", "polydata", "info", "__version__"]
 
 

@@ -102,3 +102,32 @@ def test_the_workspace_scales_the_force():
     assert hit.any()
     assert np.allclose(stiffer["force"][hit], 2 * default["force"][hit], rtol=1e-5)
     assert np.array_equal(stiffer["depth"], default["depth"])
+
+
+def test_a_tool_answers_as_query_tool_does_bit_for_bit(tmp_path):
+    mesh = dataset(RESULTS_MODELS["armadillo"])
+    box = cli_bake(mesh, "armadillo")
+    model = hapticbox.Model(mesh)
+    rng = np.random.default_rng(5)
+    v = model.vertices
+    centres = v[rng.integers(0, len(v), 200)] + rng.normal(0, 0.004 * model.diagonal, (200, 3))
+    q = rng.normal(size=(200, 4))
+    poses = np.ascontiguousarray(np.hstack([centres, q]).astype(np.float32))
+    spec = "sphere,radius-mm=2,points=300"
+    pose_csv, out_csv = tmp_path / "poses.csv", tmp_path / "tool.csv"
+    np.savetxt(pose_csv, poses, fmt="%.9g", delimiter=",", header="x,y,z,qw,qx,qy,qz", comments="")
+    run_cli("query", box, "--tool", spec, "--poses", pose_csv, "--out", out_csv)
+    with open(out_csv, newline="") as f:
+        rows = list(csv.DictReader(f))
+    cli_force = np.array([[np.float32(r[k]) for k in ("fx", "fy", "fz")] for r in rows], np.float32)
+    cli_torque = np.array([[np.float32(r[k]) for k in ("tx", "ty", "tz")] for r in rows], np.float32)
+    cli_contacts = np.array([int(r["contacts"]) for r in rows])
+    tool = hapticbox.Tool(spec)
+    assert tool.points == 300
+    mine = tool.answer(hapticbox.Scene.load(box), poses)
+    assert np.array_equal(mine["force"].view(np.uint32), cli_force.view(np.uint32))
+    assert np.array_equal(mine["torque"].view(np.uint32), cli_torque.view(np.uint32))
+    assert np.array_equal(mine["contacts"], cli_contacts)
+    assert (cli_contacts > 0).any() and (cli_contacts == 0).any()
+    exact = tool.answer(hapticbox.Exact(model), poses[:, :3])  # (N, 3): no rotation
+    assert exact["force"].shape == (200, 3)

@@ -154,3 +154,17 @@ def test_bad_field_and_eval_arguments_say_which(scene, model):
         hapticbox.error_field(scene, model, probes=0)
     with pytest.raises(ValueError, match="samples: 0 is outside"):
         hapticbox.evaluate(scene, model, samples=0)
+
+
+def test_bad_tools_and_poses_say_which(scene):
+    with pytest.raises(hapticbox.InvalidInput, match="radius"):
+        hapticbox.Tool("sphere,radius-mm=-2")
+    with pytest.raises(hapticbox.IoError, match="nowhere.stl"):
+        hapticbox.Tool("mesh=/nowhere.stl,points=10")
+    tool = hapticbox.Tool("sphere,radius-mm=1,points=20")
+    with pytest.raises(ValueError, match=r"\(N, 3\) or \(N, 7\)"):
+        tool.answer(scene, np.zeros((2, 4), np.float32))
+    with pytest.raises(ValueError, match=r"poses\[1\]: the orientation qw,qx,qy,qz has no length"):
+        tool.answer(scene, np.array([[0, 0, 0, 1, 0, 0, 0], [0, 0, 0, 0, 0, 0, 0]], np.float32))
+    with pytest.raises(ValueError, match=r"poses\[0, 2\] is NaN"):
+        tool.answer(scene, np.array([[0, 0, float("nan")]], np.float32))
