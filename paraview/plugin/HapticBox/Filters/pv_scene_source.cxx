@@ -4,12 +4,19 @@
 #include "recipe/bake_recipe.h"
 #include "vtkHapticBoxBakeFilter.h"
 #include "vtkHapticBoxSet.h"
+#include <vtkInformationVector.h>
 #include <vtkPolyData.h>
 #include <filesystem>
 #include <map>
 #include <mutex>
 
 namespace hb::paraview {
+
+vtkSmartPointer<vtkPolyData> input_surface(vtkInformationVector** inputVector) {
+  auto surface = vtkSmartPointer<vtkPolyData>::New();
+  surface->ShallowCopy(vtkPolyData::GetData(inputVector[0]));
+  return surface;
+}
 
 std::shared_ptr<const BoxScene> scene_for(const std::string& box_file, vtkPolyData* surface) {
   if (box_file.empty()) {

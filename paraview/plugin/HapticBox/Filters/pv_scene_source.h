@@ -9,9 +9,16 @@
 #include <memory>
 #include <string>
 
+#include <vtkSmartPointer.h>
+
+class vtkInformationVector;
 class vtkPolyData;
 
 namespace hb::paraview {
+
+/// The polydata on input port 0, shallow-copied: the input of an inner vtk_pipelines filter that
+/// leaves ParaView's pipeline object untouched.
+vtkSmartPointer<vtkPolyData> input_surface(vtkInformationVector** inputVector);
 
 /// The scene of `box_file` (empty: the default bake of `surface`). Throws hb::Error naming the
 /// file and the cause.

@@ -1,5 +1,6 @@
 #include "vtkPVHapticBoxBake.h"
 #include "errors.h"
+#include "pv_scene_source.h"
 #include "haptic_box/box_file.h"
 #include "haptic_box/budget_report.h"
 #include "recipe/bake_recipe.h"
@@ -21,10 +22,8 @@ vtkPVHapticBoxBake::~vtkPVHapticBoxBake() {
 }
 
 int vtkPVHapticBoxBake::RequestData(vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector) {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   try {
-    vtkNew<vtkPolyData> surface;
-    surface->ShallowCopy(input);
+    const vtkSmartPointer<vtkPolyData> surface = hb::paraview::input_surface(inputVector);
     hb::BakeRecipe recipe = hb::default_recipe();
     if (this->Budget && *this->Budget) recipe.budget.budget = hb::parse_budget(this->Budget);
     vtkNew<vtkHapticBoxBakeFilter> bake;

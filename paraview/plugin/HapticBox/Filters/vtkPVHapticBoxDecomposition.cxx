@@ -1,5 +1,6 @@
 #include "vtkPVHapticBoxDecomposition.h"
 #include "errors.h"
+#include "pv_scene_source.h"
 #include "recipe/bake_recipe.h"
 #include "vtkHapticBoxDecompositionFilter.h"
 #include <vtkObjectFactory.h>
@@ -18,11 +19,9 @@ vtkPVHapticBoxDecomposition::vtkPVHapticBoxDecomposition() {
 
 int vtkPVHapticBoxDecomposition::RequestData(vtkInformation*, vtkInformationVector** inputVector,
                                              vtkInformationVector* outputVector) {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   try {
-    vtkNew<vtkPolyData> surface;
-    surface->ShallowCopy(input);
+    const vtkSmartPointer<vtkPolyData> surface = hb::paraview::input_surface(inputVector);
     vtkNew<vtkHapticBoxDecompositionFilter> pieces;
     hb::AutoDecompositionOptions options = hb::default_recipe().pieces.automatic;
     options.threshold = this->Threshold;

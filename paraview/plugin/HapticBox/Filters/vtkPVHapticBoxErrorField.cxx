@@ -33,11 +33,9 @@ void vtkPVHapticBoxErrorField::PrintSelf(ostream& os, vtkIndent indent) {
 
 int vtkPVHapticBoxErrorField::RequestData(vtkInformation*, vtkInformationVector** inputVector,
                                           vtkInformationVector* outputVector) {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   try {
-    vtkNew<vtkPolyData> surface;
-    surface->ShallowCopy(input);
+    const vtkSmartPointer<vtkPolyData> surface = hb::paraview::input_surface(inputVector);
     const double diagonal = vtkHapticBoxUtilities::ToTriangleMesh(surface).bounds().diagonal();  // as `field`
     const std::string workspace = this->Workspace ? this->Workspace : "";
     vtkNew<vtkHapticBoxSet> boxes;

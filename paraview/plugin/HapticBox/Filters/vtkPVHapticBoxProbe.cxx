@@ -26,11 +26,9 @@ vtkPVHapticBoxProbe::~vtkPVHapticBoxProbe() {
 }
 
 int vtkPVHapticBoxProbe::RequestData(vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector) {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   try {
-    vtkNew<vtkPolyData> surface;
-    surface->ShallowCopy(input);
+    const vtkSmartPointer<vtkPolyData> surface = hb::paraview::input_surface(inputVector);
     const hb::TriangleMesh mesh = vtkHapticBoxUtilities::ToTriangleMesh(surface);
     const std::string workspace = this->Workspace ? this->Workspace : "";
     const hb::ForceLaw law = hb::paraview::workspace_for(mesh.bounds().diagonal(), workspace).law();
