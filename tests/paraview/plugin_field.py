@@ -14,7 +14,7 @@ plugin, model_vtp, box, cli_vtp = sys.argv[1:5]
 LoadPlugin(plugin, remote=False, ns=globals())  # defines HapticBoxErrorField, HapticBoxProbe, ... here
 
 model = XMLPolyDataReader(FileName=[model_vtp])
-field = HapticBoxErrorField(Input=model, BoxFile=box)
+field = HapticBoxErrorField(Input=model, BoxFile=box)  # noqa: F821 (the plugin's)
 field.UpdatePipeline()
 mine = servermanager.Fetch(field)
 
@@ -48,8 +48,8 @@ print(f"plugin_field: {box}: {outlines.GetNumberOfCells() // 12} box(es)")
 
 bounds = mine.GetBounds()
 centre = [(bounds[0] + bounds[1]) / 2, (bounds[2] + bounds[3]) / 2, (bounds[4] + bounds[5]) / 2]
-probe = HapticBoxProbe(Input=model, BoxFile=box, Point1=[centre[0], centre[1], bounds[5] * 1.5],
-                       Point2=centre)
+probe = HapticBoxProbe(  # noqa: F821 (the plugin's)
+    Input=model, BoxFile=box, Point1=[centre[0], centre[1], bounds[5] * 1.5], Point2=centre)
 probe.UpdatePipeline()
 answer = servermanager.Fetch(probe)
 verdict = answer.GetFieldData().GetAbstractArray("Perceptible").GetValue(0)
@@ -58,9 +58,18 @@ box_n = answer.GetFieldData().GetArray("BoxForceN").GetValue(0)
 print(f"plugin_field: probe {exact_n:.4g} N exact, {box_n:.4g} N box, perceptible: {verdict}")
 assert verdict in ("none", "magnitude", "direction", "contact", "magnitude+direction")
 
-pieces = HapticBoxDecomposition(Input=model)
+pieces = HapticBoxDecomposition(Input=model)  # noqa: F821 (the plugin's)
 pieces.UpdatePipeline()
 ids = vtk_to_numpy(servermanager.Fetch(pieces).GetCellData().GetArray("PieceId"))
 print(f"plugin_field: decomposition: {len(np.unique(ids))} piece(s)")
 assert len(ids) > 0
+baked_file = box.replace(".hbox", "_paraview.hbox")
+bake = HapticBoxBake(Input=pieces, OutputFile=baked_file)  # noqa: F821 (the plugin's)
+bake.UpdatePipeline()
+baked = servermanager.Fetch(bake)
+assert baked.GetNumberOfCells() == 12 * len(np.unique(ids)), "one box a piece of the decomposition"
+reread = OpenDataFile(baked_file)
+reread.UpdatePipeline()
+assert servermanager.Fetch(reread).GetNumberOfCells() == baked.GetNumberOfCells()
+print(f"plugin_field: bake: {baked.GetNumberOfCells() // 12} box(es), saved as {baked_file}")
 print("plugin_field: OK")
