@@ -17,6 +17,7 @@
 #include "contact/workspace.h"
 #include "evaluation/comparison.h"
 #include "scene/box_scene.h"
+#include "scene/scene_extent.h"
 #include "math/bounds.h"
 #include "parallel/communicator.h"
 #include "progress.h"
@@ -48,13 +49,9 @@ void add_probe_options(CLI::App& cmd, std::size_t& samples, std::uint64_t& seed,
 /// bake without the cache and store nothing in it (`dir` is then empty).
 void add_cache_option(CLI::App& cmd, std::string& dir);
 
-/// The axis-aligned bounds of a scene's boxes (the union of their PBB corners), model units;
-/// the servo loop centres the device's workspace on them. Empty bounds for no boxes.
-Bounds scene_bounds(const BoxScene& scene);
-
-/// The diagonal of the mesh a box file was baked from (SourceInfo::diagonal), or of its
-/// boxes' bounds for a file that does not record it.
-double model_diagonal(const BoxScene& scene);
+/// hb::scene_bounds and hb::model_diagonal (haptic_box/scene_extent.h), as the commands name them.
+using hb::scene_bounds;
+using hb::model_diagonal;
 
 /// The sampling options (-m, -n, --cell, --refine) given to `cmd`, for hb::choose_recipe; an
 /// option the command does not define counts as not given.

@@ -13,6 +13,7 @@
 #include "model_load_text.h"
 #include "model_loader.h"
 #include "model_options_key.h"
+#include "model_spec.h"
 #include "volume_spec.h"
 #endif
 
@@ -28,6 +29,18 @@ std::string volume_help() {
   return "Volumes (needs the VTK pipelines)";
 #endif
 }
+#ifdef HB_WITH_VTK
+// A bad spec is a usage error now, before any file is read.
+template <class Options>
+void check_spec(void (*parse)(const std::string&, Options&), const std::string& spec) {
+  Options checked;
+  try {
+    parse(spec, checked);
+  } catch (const InvalidInput& e) {
+    throw UsageError(e.what());
+  }
+}
+#endif
 std::string volume_syntax() {
 #ifdef HB_WITH_VTK
   return hb::vtk::kVolumeSpecSyntax;
@@ -60,12 +73,7 @@ void add_model_options(CLI::App& cmd, ModelArgs& args) {
          "--volume",
          [&args](const std::string& spec) {
 #ifdef HB_WITH_VTK
-           hb::vtk::VolumeSurfaceOptions checked;  // a bad spec is a usage error now, before any file is read
-           try {
-             hb::vtk::parse_volume_spec(spec, checked);
-           } catch (const InvalidInput& e) {
-             throw UsageError(e.what());
-           }
+           check_spec(hb::vtk::parse_volume_spec, spec);
 #endif
            args.volume = spec;
          },
@@ -75,14 +83,10 @@ void add_model_options(CLI::App& cmd, ModelArgs& args) {
   cmd.add_option_function<std::string>(
          "--cad",
          [&args](const std::string& spec) {
-           parse_spec("--cad", spec,
-                      {{"chordal-mm", [&args](const std::string& v, const std::string& what) {
-                          args.chordal_mm = spec_number_or_usage(v, what, 0.0, 1e30);
-                        }},
-                       {"force-tolerance", [&args](const std::string& v, const std::string& what) {
-                          args.force_tolerance_n = spec_number_or_usage(v, what, 1e-30, 1e30);
-                        }},
-                       flag_key("accept-lost-faces", args.accept_lost_faces)});
+#ifdef HB_WITH_VTK
+           check_spec(hb::vtk::parse_cad_spec, spec);
+#endif
+           args.cad = spec;
          },
          "CAD (STEP, IGES): chordal-mm=D (the tessellation's chordal deviation in mm; default: force-tolerance / "
          "stiffness 500 N/m), force-tolerance=N (the force error in N it may cause; default 0.01), "
@@ -95,7 +99,7 @@ void add_model_options(CLI::App& cmd, ModelArgs& args) {
 #ifndef HB_WITH_VTK
 namespace {
 bool has_model_args(const ModelArgs& a) {
-  return !a.volume.empty() || !a.unit.empty() || a.chordal_mm > 0 || a.accept_lost_faces;
+  return !a.volume.empty() || !a.unit.empty() || !a.cad.empty();
 }
 } // namespace
 #endif
@@ -104,13 +108,7 @@ TriangleMesh load_mesh(const std::string& path, MeshReadReport* report) { return
 
 #ifdef HB_WITH_VTK
 hb::vtk::ModelOptions to_model_options(const ModelArgs& args) {
-  hb::vtk::ModelOptions options;
-  options.unit = args.unit;
-  hb::vtk::parse_volume_spec(args.volume, options.volume);
-  options.cad.chordal_deviation_mm = args.chordal_mm;
-  options.cad.force_tolerance_n = args.force_tolerance_n;
-  options.cad.accept_lost_faces = args.accept_lost_faces;
-  return options;
+  return hb::vtk::model_options_from_specs(args.unit, args.volume, args.cad);
 }
 #endif
 
@@ -119,6 +117,9 @@ TriangleMesh load_mesh_unguarded(const std::string& path, const ModelArgs& args,
 } // namespace
 
 TriangleMesh load_mesh(const std::string& path, const ModelArgs& args, MeshReadReport* report) {
+#ifdef HB_WITH_VTK
+  return load_mesh_unguarded(path, args, report);  // hb::vtk::load_model_guarded names a damaged size
+#else
   // A size in a damaged file that no allocation can meet names the file, never a bare
   // "std::bad_alloc" or "vector::reserve".
   try {
@@ -128,13 +129,14 @@ TriangleMesh load_mesh(const std::string& path, const ModelArgs& args, MeshReadR
   } catch (const std::length_error& e) {
     throw InvalidInput(path + ": the file asks for an impossible size (" + std::string(e.what()) + ")");
   }
+#endif
 }
 
 namespace {
 TriangleMesh load_mesh_unguarded(const std::string& path, const ModelArgs& args, MeshReadReport* report) {
 #ifdef HB_WITH_VTK
   const hb::vtk::ModelOptions options = to_model_options(args);
-  hb::vtk::LoadedModel model = hb::vtk::load_model(path, options);
+  hb::vtk::LoadedModel model = hb::vtk::load_model_guarded(path, options);
   for (const std::string& w : model.report.warnings) std::cerr << "hapticbox: warning: " << w << "\n";
   const std::string how = hb::vtk::model_load_text(model, options, "; set --volume iso=V");
   if (!how.empty()) std::cerr << "hapticbox: " << path << ": " << how << "\n";

@@ -26,9 +26,9 @@ namespace hb::cli {
 struct ModelArgs {
   std::string unit;
   std::string volume;  ///< --volume's spec as given (hb::vtk::parse_volume_spec reads it).
-  double chordal_mm = 0.0;
-  double force_tolerance_n = 0.01;
-  bool accept_lost_faces = false;  ///< CAD: keep a model some of whose faces failed to translate.
+  /// --cad's spec as given (hb::vtk::parse_cad_spec reads it: chordal-mm, force-tolerance,
+  /// accept-lost-faces, which keeps a model some of whose faces failed to translate).
+  std::string cad;
   /// Filled by load_mesh: what the loader found (format, unit, volume/CAD facts) and, for CAD
   /// solids, the face of each triangle (used by --pieces faces).
   mutable nlohmann::json facts;

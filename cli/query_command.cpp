@@ -13,6 +13,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -75,12 +76,17 @@ std::unique_ptr<Answerers> load_answerers(const std::string& box, const std::str
   return a;
 }
 
-// OUT (a file) or stdout.
+// OUT (a file) or stdout, its floats written to read back the same (9 significant digits): the
+// Python module's answers compare with them bit for bit.
 std::ostream& output(const std::string& path, std::ofstream& file) {
-  if (path.empty()) return std::cout;
-  file.open(path);
-  if (!file) throw hb::IoError(path + ": cannot open for writing");
-  return file;
+  std::ostream* out = &std::cout;
+  if (!path.empty()) {
+    file.open(path);
+    if (!file) throw hb::IoError(path + ": cannot open for writing");
+    out = &file;
+  }
+  out->precision(std::numeric_limits<float>::max_digits10);
+  return *out;
 }
 
 } // namespace

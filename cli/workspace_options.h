@@ -10,14 +10,10 @@
 namespace hb::cli {
 
 struct WorkspaceArgs {
-  double workspace_mm = WorkspaceOptions::kDefaultDiagonalM * 1000.0;
-  bool real_size = false;
-  double metres_per_unit = 0.0;  ///< > 0: an explicit scale.
-  double stiffness = WorkspaceOptions::kDefaultStiffness;
-  double max_force = WorkspaceOptions::kDefaultMaxForce;
+  WorkspaceOptions given;  ///< --workspace (hb::parse_workspace_spec)
   std::string perceptual = "nominal";
 
-  WorkspaceOptions options() const;
+  WorkspaceOptions options() const { return given; }
   /// The workspace of a model of this diagonal (model units).
   Workspace workspace(double model_diagonal) const;
   /// The thresholds (--perceptual) and the force limit.

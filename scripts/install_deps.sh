@@ -26,6 +26,8 @@ PACKAGES=(
   libopenvdb-dev libboost-iostreams-dev  # peers/: the distance field peer (FindOpenVDB asks for Boost iostreams, which libopenvdb-dev does not bring)
   python3-nibabel python3-pydicom
   universal-ctags  # scripts/long_functions.sh (./test.sh: no function over 150 lines, no file over 600)
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib  # python/: the hapticbox module, its tests, examples/
+  paraview-dev libqt5svg5-dev  # paraview/: the plugin (without its Recommends: python3-paraview conflicts with python3-vtk9, see above; its CMake package also asks for Qt5Svg)
 )
 
 # HB_PRETEND_INSTALLED="pkg ..." / HB_PRETEND_MISSING="pkg ..." treat those packages as

@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 check=0; [ "${1:-}" = --check ] && { check=1; shift; }
 limit=${1:-150}; file_limit=${2:-600}
 command -v ctags >/dev/null || { echo "long_functions.sh: needs universal-ctags (apt-get install universal-ctags)" >&2; exit 2; }
-folders=(src cli device qt_ui vtk_pipelines report peers)
+folders=(src cli device qt_ui vtk_pipelines report peers python paraview)
 files=$(find "${folders[@]}" -type f \( -name '*.cpp' -o -name '*.cxx' -o -name '*.h' \) | sort)
 found=0
 while read -r lines file; do

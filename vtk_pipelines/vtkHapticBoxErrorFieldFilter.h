@@ -32,6 +32,8 @@
 #define vtkHapticBoxErrorFieldFilter_h
 
 #include "perception/perceptible.h"
+#include "contact/workspace.h"
+#include "evaluation/comparison.h"
 #include <vtkPolyDataAlgorithm.h>
 #include <cstdint>
 #include <memory>
@@ -114,6 +116,14 @@ public:
     this->Modified();
   }
   const hb::PerceptualThresholds& GetPerceptualThresholds() const { return this->Thresholds; }
+  /// The force law, the force limit and the thresholds of a model's workspace and judgement
+  /// (Stiffness, MetresPerUnit, MaxForce, PerceptualThresholds): what every front end sets.
+  void SetWorkspace(const hb::Workspace& workspace, const hb::PerceptualJudge& judge) {
+    this->SetStiffness(workspace.stiffness_n_per_m);
+    this->SetMetresPerUnit(workspace.metres_per_unit);
+    this->SetMaxForce(workspace.max_force_n);
+    this->SetPerceptualThresholds(judge.thresholds);
+  }
   ///@}
 
   ///@{

@@ -71,4 +71,34 @@ Workspace make_workspace(double model_diagonal, const WorkspaceOptions& o) {
   return w;
 }
 
+void parse_workspace_spec(const std::string& spec, WorkspaceOptions& options) {
+  // Bounded so that k x depth x metres per unit stays finite for any model within
+  // kMaxCoordinate (1e5 x 4e15 x 1e6 < 3.4e38).
+  bool mm = false, mpu = false, real = options.fit == WorkspaceFit::real_size, real_given = false;
+  parse_spec_keys("--workspace", spec,
+                  {{"mm", [&](const std::string& v, const std::string& what) {
+                      options.diagonal_m = spec_number(v, what, 1.0, 4000.0) * 1e-3;
+                      mm = true;
+                    }},
+                   {"real-size", [&](const std::string& v, const std::string& what) {
+                      if (v.empty() || v == "1" || v == "on" || v == "yes") real = true;
+                      else if (v == "0" || v == "off" || v == "no") real = false;
+                      else throw InvalidInput(what + ": '" + v + "' is not on or off");
+                      real_given = real;
+                    }},
+                   {"metres-per-unit", [&](const std::string& v, const std::string& what) {
+                      options.metres_per_unit = spec_number(v, what, 1e-12, 1e6);
+                      mpu = true;
+                    }},
+                   {"stiffness", [&](const std::string& v, const std::string& what) {
+                      options.stiffness_n_per_m = spec_number(v, what, 1e-3, 1e5);
+                    }},
+                   {"max-force", [&](const std::string& v, const std::string& what) {
+                      options.max_force_n = spec_number(v, what, 1e-3, 500.0);
+                    }}});
+  if (int(mm) + int(mpu) + int(real_given) > 1)
+    throw InvalidInput("--workspace: mm, real-size and metres-per-unit exclude each other (give one)");
+  options.fit = options.metres_per_unit > 0 ? WorkspaceFit::scale : real ? WorkspaceFit::real_size : WorkspaceFit::device;
+}
+
 } // namespace hb

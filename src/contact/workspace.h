@@ -60,6 +60,14 @@ struct Workspace {
   const char* fit_name() const noexcept;
 };
 
+/// Reads the front ends' workspace spec "mm=D|real-size|metres-per-unit=S,stiffness=K,max-force=F"
+/// (any subset; `--workspace` on the command line, `workspace=` in Python) into `options` (keys not
+/// given keep their value): mm in [1, 4000] (WorkspaceFit::device), real-size a flag
+/// (WorkspaceFit::real_size), metres-per-unit in [1e-12, 1e6] (WorkspaceFit::scale), stiffness
+/// in [1e-3, 1e5] N/m, max-force in [1e-3, 500] N. Throws hb::InvalidInput naming "--workspace",
+/// the key and the bad value, or two of mm, real-size and metres-per-unit given together.
+void parse_workspace_spec(const std::string& spec, WorkspaceOptions& options);
+
 /// The workspace of a model whose bounding-box diagonal is `model_diagonal` (model units; the
 /// mesh's, or SourceInfo::diagonal for a box file) under `options`. Throws hb::InvalidInput
 /// naming the value when an option is out of range (diagonal in [1 mm, 4 m], stiffness in

@@ -69,17 +69,21 @@ std::vector<ToolPose> parse_tool_poses_csv(std::string_view text, const std::str
       if (k < 3 && std::fabs(v[k]) > kMaxSegmentCoordinate)
         throw InvalidInput(where() + kNames[k] + " is beyond the supported range (|x| <= 4e15)");
     }
-    Eigen::Quaternionf q(v[3], v[4], v[5], v[6]);
-    const float length = q.norm();
-    if (!(length > 1e-6f) || !std::isfinite(length))
-      throw InvalidInput(where() + "the orientation qw,qx,qy,qz has no length (give a unit quaternion)");
-    ToolPose pose;
-    pose.position = Vec3(v[0], v[1], v[2]);
-    pose.orientation = Eigen::Quaternionf(q.coeffs() / length);
-    out.push_back(pose);
+    out.push_back(tool_pose(v, where()));
   }
   if (!header_seen) throw InvalidInput(name + ": empty poses file (expected a header with x,y,z)");
   return out;
+}
+
+ToolPose tool_pose(const float v[7], const std::string& where) {
+  Eigen::Quaternionf q(v[3], v[4], v[5], v[6]);
+  const float length = q.norm();
+  if (!(length > 1e-6f) || !std::isfinite(length))
+    throw InvalidInput(where + "the orientation qw,qx,qy,qz has no length (give a unit quaternion)");
+  ToolPose pose;
+  pose.position = Vec3(v[0], v[1], v[2]);
+  pose.orientation = Eigen::Quaternionf(q.coeffs() / length);
+  return pose;
 }
 
 std::vector<ToolPose> read_tool_poses_csv(const std::string& path) {

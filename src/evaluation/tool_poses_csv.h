@@ -9,6 +9,11 @@
 
 namespace hb {
 
+/// The pose of x, y, z (model units) and the orientation qw, qx, qy, qz (normalised): `v` holds
+/// the seven values. Throws hb::InvalidInput, `where` then the cause, for a quaternion of no
+/// length (below 1e-6, or not finite). The CSV reader and the Python module both make poses here.
+ToolPose tool_pose(const float v[7], const std::string& where);
+
 /// Parses poses CSV text (a UTF-8 byte order mark, CRLF line ends, blank lines and spaces
 /// around cells accepted). A quaternion is normalised; one of length below 1e-6 is refused.
 /// Throws hb::InvalidInput naming `name`, the line, the column and the cause.

@@ -1,6 +1,6 @@
 #pragma once
 // Whether a hand could tell a tool's answer from exact's at the same pose: the net force by
-// the product's perceptual thresholds (contact/perceptible.h), the net torque by the torque
+// the product's perceptual thresholds (perception/perceptible.h), the net torque by the torque
 // JND (about 13% at a 60 mN m reference, Jandura and Srinivasan 1994) with a floor of the
 // force floor times the tool's radius (research/tools.md). docs/tools.md.
 #include "perception/perceptible.h"

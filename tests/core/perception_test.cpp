@@ -1,4 +1,4 @@
-// One workspace scale and the perceptual judgement (contact/workspace.h, contact/perceptible.h),
+// One workspace scale and the perceptual judgement (contact/workspace.h, perception/perceptible.h),
 // and the perceptible figures compare_queries reports with them.
 #include "perception/perceptible.h"
 #include "contact/workspace.h"
@@ -9,6 +9,7 @@
 #include "mesh/generators.h"
 #include <gtest/gtest.h>
 #include <cmath>
+#include <string>
 
 namespace {
 
@@ -53,6 +54,39 @@ TEST(WorkspaceTest, RealSizeAndAnExplicitScaleKeepTheirUnitsAndBadValuesAreNamed
   }
   EXPECT_THROW(hb::make_workspace(0.0), hb::InvalidInput);  // nothing to fit
   EXPECT_THROW(hb::make_workspace(std::nan("")), hb::InvalidInput);
+}
+
+TEST(WorkspaceTest, TheFrontEndsSpecSetsTheFitTheSpringAndTheLimit) {
+  hb::WorkspaceOptions o;
+  hb::parse_workspace_spec("mm=120,stiffness=3000,max-force=5", o);
+  EXPECT_EQ(o.fit, hb::WorkspaceFit::device);
+  EXPECT_DOUBLE_EQ(o.diagonal_m, 0.12);
+  EXPECT_DOUBLE_EQ(o.stiffness_n_per_m, 3000.0);
+  EXPECT_DOUBLE_EQ(o.max_force_n, 5.0);
+  hb::WorkspaceOptions r;
+  hb::parse_workspace_spec("real-size", r);
+  EXPECT_EQ(r.fit, hb::WorkspaceFit::real_size);
+  hb::WorkspaceOptions s;
+  hb::parse_workspace_spec("metres-per-unit=0.002", s);
+  EXPECT_EQ(s.fit, hb::WorkspaceFit::scale);
+  EXPECT_DOUBLE_EQ(hb::make_workspace(229.0, s).metres_per_unit, 0.002);
+  hb::WorkspaceOptions d;
+  hb::parse_workspace_spec("", d);
+  EXPECT_EQ(d.fit, hb::WorkspaceFit::device);
+  EXPECT_DOUBLE_EQ(d.diagonal_m, hb::WorkspaceOptions::kDefaultDiagonalM);
+  const auto refusal = [](const std::string& spec) {
+    hb::WorkspaceOptions w;
+    try {
+      hb::parse_workspace_spec(spec, w);
+    } catch (const hb::InvalidInput& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(refusal("stiffness=-5").find("--workspace stiffness"), std::string::npos);
+  EXPECT_NE(refusal("mm=80,real-size").find("exclude each other"), std::string::npos);
+  EXPECT_NE(refusal("depth=3").find("unknown key 'depth'"), std::string::npos);
+  EXPECT_NE(refusal("mm=nan").find("--workspace mm"), std::string::npos);
 }
 
 TEST(PerceptionTest, MagnitudeDifferencesCountOnlyBeyondTheJndOrTheAbsoluteThreshold) {

@@ -8,6 +8,7 @@
 #include "polydata_files.h"
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <vtkPolyData.h>  // piece_polydata()'s result, passed as vtkPolyData*
 #include <cstring>
 #include <filesystem>
 #include <fstream>
