@@ -317,7 +317,9 @@ void print_bake(const BakeOpts& o, const hb::CachedBake& cached, const BakeSumma
               << hb::bytes_text(j["bytes_sent"].get<std::uint64_t>()) << ", "
               << hb::sig(j["bytes_sent_over_tables"].get<double>()) << " x their tables\n";
   const hb::SceneCodecStats& cs = s.codec;
-  if (o.recipe.codec.codec != hb::CodecId::none)
+  if (o.recipe.codec.codec != hb::CodecId::none && cached.result.scene.bytes().tables == 0)
+    std::cout << "codec " << o.codec << ": nothing to compress (the boxes are frames without tables)\n";
+  else if (o.recipe.codec.codec != hb::CodecId::none)
     std::cout << "codec " << o.codec << ": ratio " << hb::sig(cs.compression_ratio()) << ":1, bound "
               << hb::percent(cs.max_error_bound) << " of the box diagonal; t error mean " << hb::percent(cs.t_error_mean)
               << ", max " << hb::percent(cs.t_error_max) << "; normal error mean " << hb::sig(cs.normal_error_mean_deg)
@@ -326,6 +328,10 @@ void print_bake(const BakeOpts& o, const hb::CachedBake& cached, const BakeSumma
 
 void run_bake(BakeOpts& o, const CLI::App& cmd) {
   hb::cli::check_output_file(o.out);  // an unwritable -o fails now, not after the bake
+  if (std::filesystem::path(o.out).extension() != ".hbox")
+    std::cerr << "hapticbox: warning: " << o.out
+              << ": a box file is written under a name that does not end in .hbox (the window's Open dialog and "
+                 "the other commands take it by its content, but look for .hbox)\n";
   choose_bake_recipe(o, cmd);
   const hb::TriangleMesh mesh = hb::cli::load_mesh(o.mesh, o.model);
   hb::SourceInfo source{o.mesh, hb::cli::hash_model(o.mesh, o.model), mesh.triangle_count(), mesh.bounds().diagonal()};

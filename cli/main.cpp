@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "errors.h"
 #include "mpi_communicator.h"
+#include "option_typos.h"
 #include "parallel/huge_pages.h"
 #include "parallel/thread_limit.h"
 #include <algorithm>
@@ -132,6 +133,13 @@ int main(int argc, char** argv) {
     if (rank == 0)
       std::cerr << "hapticbox: unknown command '" << word << "'; the commands are: " << command_list(app)
                 << "\n(hapticbox --help describes them; hapticbox COMMAND --help, one)\n";
+    return 2;
+  }
+  // A misspelt option is named with the nearest real one (CLI11 would report a required
+  // option missing, or the misspelt one's value as an extra argument).
+  if (const std::string typo = hb::cli::unknown_option_message(app, subcommand_of(app, argc, argv), argc, argv);
+      !typo.empty()) {
+    if (rank == 0) std::cerr << "hapticbox: " << typo << "\n";
     return 2;
   }
   if (ranks > 1) {

@@ -192,11 +192,12 @@ void add_stability_command(CLI::App& app) {
       std::printf("stability %s vs %s: device %s, contact law %s, depth law %s, route %s, T6/T8 filter: %s\n",
                   o->box.c_str(), o->mesh.c_str(), rep.device.c_str(), rep.contact_law.c_str(), rep.depth_law.c_str(),
                   hb::route_name(scene.route()), rep.filter.c_str());
-      std::printf("calibration gate: %s\n", rep.calibration_pass ? "pass" : "FAIL (the harness is wrong)");
       print_table(rep.calibration);
+      print_table(rep.metrics);
+      // The verdict last, where a reader of the output looks for it.
+      std::printf("calibration gate: %s\n", rep.calibration_pass ? "pass" : "FAIL (the harness is wrong)");
       std::printf("tests: %zu pass, %zu fail (%zu of them exact fails too: the law, not the box), %.1f s\n",
                   rep.passed, rep.failed, rep.failed_law, rep.seconds);
-      print_table(rep.metrics);
     }
     if (!rep.calibration_pass) throw std::runtime_error("stability: the calibration gate failed");
     if (o->strict && box_failed) throw std::runtime_error("stability: a test failed because of the box (--strict)");

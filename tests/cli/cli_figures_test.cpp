@@ -1,6 +1,7 @@
 // The command line's small promises: `info` prints figures one way (thousands separators from
 // 10,000 up for counts too, 4 significant digits, no raw doubles, a minimum before its maximum,
-// the mesh hash in hex as the report), an unknown --unit is a usage error (exit 2), an
+// the mesh hash in hex as the report), an unknown --unit is a usage error (exit 2), a misspelt
+// option is named with the nearest real one, an
 // unwritable output fails before the long work, and `sweep`'s rows on a terminal never share
 // a line with its progress bar.
 #include "mesh/generators.h"
@@ -73,6 +74,26 @@ TEST(CliFiguresTest, AnUnknownUnitIsAUsageError) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("unknown unit 'furlong'"), std::string::npos) << r.err;
   EXPECT_EQ(run_cli("info " + s.mesh + " --unit inch", s.dir.string()).code, 0);
+}
+
+TEST(CliFiguresTest, AMisspeltOptionIsNamedWithTheNearestRealOne) {
+  Scratch s;
+  const auto r = run_cli("bake " + s.mesh + " --ouput x.hbox", s.dir.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("unknown option --ouput for 'bake' (did you mean --output?)"), std::string::npos) << r.err;
+  const auto e = run_cli("eval x.hbox " + s.mesh + " --sampels=100", s.dir.string());
+  EXPECT_EQ(e.code, 2);
+  EXPECT_NE(e.err.find("did you mean --samples?"), std::string::npos) << e.err;
+  // A box file under another name is written, with a warning that says so.
+  const auto txt = run_cli("bake " + s.mesh + " -m 8 -n 4 -o x.txt", s.dir.string());
+  EXPECT_EQ(txt.code, 0) << txt.err;
+  EXPECT_NE(txt.err.find("x.txt: a box file is written under a name that does not end in .hbox"), std::string::npos)
+      << txt.err;
+  // Nothing near: the option is still named, without a guess.
+  const auto far = run_cli("info " + s.mesh + " --zzzzzzzz", s.dir.string());
+  EXPECT_EQ(far.code, 2);
+  EXPECT_NE(far.err.find("unknown option --zzzzzzzz for 'info'"), std::string::npos) << far.err;
+  EXPECT_EQ(far.err.find("did you mean"), std::string::npos) << far.err;
 }
 
 TEST(CliFiguresTest, AnUnwritableOutputFailsBeforeTheBake) {

@@ -51,3 +51,15 @@ TEST_F(StabilityCommandTest, BadTestOrDeviceIsAUsageError) {
   EXPECT_EQ(missing.code, 1);
   EXPECT_NE(missing.err.find("nope.hbox"), std::string::npos);
 }
+
+TEST_F(StabilityCommandTest, TheTextOutputEndsWithItsVerdict) {
+  const auto r = run("stability " + path("sphere.hbox") + " " + path("sphere.off") +
+                     " --sites 3 --tests T2 --no-generated");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::size_t gate = r.out.rfind("calibration gate: pass"), tests = r.out.rfind("tests: ");
+  ASSERT_NE(gate, std::string::npos) << r.out;
+  ASSERT_NE(tests, std::string::npos) << r.out;
+  EXPECT_GT(tests, gate);
+  // Nothing but the verdict's line after it.
+  EXPECT_EQ(r.out.find('\n', tests), r.out.size() - 1) << r.out;
+}
