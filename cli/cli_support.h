@@ -16,6 +16,7 @@
 #include "contact/contact.h"
 #include "contact/workspace.h"
 #include "evaluation/comparison.h"
+#include "evaluation/scene_workspace.h"
 #include "haptic_box/box_scene.h"
 #include "math/bounds.h"
 #include "parallel/communicator.h"
@@ -47,14 +48,6 @@ void add_probe_options(CLI::App& cmd, std::size_t& samples, std::uint64_t& seed,
 /// --cache DIR|none: the box cache directory (default hb::default_box_cache_dir()); "none":
 /// bake without the cache and store nothing in it (`dir` is then empty).
 void add_cache_option(CLI::App& cmd, std::string& dir);
-
-/// The axis-aligned bounds of a scene's boxes (the union of their PBB corners), model units;
-/// the servo loop centres the device's workspace on them. Empty bounds for no boxes.
-Bounds scene_bounds(const BoxScene& scene);
-
-/// The diagonal of the mesh a box file was baked from (SourceInfo::diagonal), or of its
-/// boxes' bounds for a file that does not record it.
-double model_diagonal(const BoxScene& scene);
 
 /// The sampling options (-m, -n, --cell, --refine) given to `cmd`, for hb::choose_recipe; an
 /// option the command does not define counts as not given.

@@ -71,7 +71,7 @@ Scene load_scene(const std::string& box, const std::string& route) {
   }
   auto scene = std::make_unique<hb::BoxScene>(hb::load_box_file(box));
   if (scene->parts().boxes.empty()) throw hb::InvalidInput(box + ": the box file holds no boxes");
-  const hb::Bounds bounds = hb::cli::scene_bounds(*scene);
+  const hb::Bounds bounds = hb::scene_bounds(*scene);
   s.min = bounds.min;
   s.max = bounds.max;
   s.mesh_hash = scene->parts().source.mesh_hash;
@@ -216,7 +216,7 @@ void print_proxy(const char* what, const hb::GodObjectStats& p) {
 // One scale for every command: the model's diagonal (its mesh's, as the box file records it)
 // at the workspace's size, the workspace's stiffness.
 hb::Workspace scene_workspace(const ServoArgs& a, const Scene& scene) {
-  const double diagonal = scene.box ? hb::cli::model_diagonal(*scene.box) : double((scene.max - scene.min).norm());
+  const double diagonal = scene.box ? hb::model_diagonal(*scene.box) : double((scene.max - scene.min).norm());
   return a.workspace.workspace(diagonal);
 }
 

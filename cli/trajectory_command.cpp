@@ -92,9 +92,9 @@ void add_trajectory_command(CLI::App& app) {
     if (opts->box != "plane") {
       const hb::BoxScene scene = hb::load_box_file(opts->box);
       if (scene.parts().boxes.empty()) throw hb::InvalidInput(opts->box + ": the box file holds no boxes");
-      const hb::Bounds b = hb::cli::scene_bounds(scene);
+      const hb::Bounds b = hb::scene_bounds(scene);
       lo = b.min, hi = b.max;
-      diagonal = hb::cli::model_diagonal(scene);
+      diagonal = hb::model_diagonal(scene);
     }
     // The servo's mapping: centred on the scene, at the workspace's scale (the same options).
     hb::WorkspaceMapping mapping = hb::fit_workspace(lo, hi, log.spec);
