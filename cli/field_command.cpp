@@ -92,9 +92,7 @@ void add_field_command(CLI::App& app) {
     field->SetCommunicator(&hb::cli::communicator());
     field->SetProbesPerPoint(opts->probes);
     field->SetSeed(opts->seed);
-    field->SetStiffness(ws.stiffness_n_per_m);
-    field->SetMetresPerUnit(ws.metres_per_unit);
-    field->SetMaxForce(ws.max_force_n);
+    field->SetWorkspace(ws);
     field->SetPerceptualThresholds(judge.thresholds);
     if (opts->even > 0) {
       field->SetSampleModeToEven();

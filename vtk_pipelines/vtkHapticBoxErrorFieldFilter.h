@@ -32,6 +32,7 @@
 #define vtkHapticBoxErrorFieldFilter_h
 
 #include "contact/perceptible.h"
+#include "contact/workspace.h"
 #include <vtkPolyDataAlgorithm.h>
 #include <cstdint>
 #include <memory>
@@ -98,12 +99,16 @@ public:
   ///@}
 
   ///@{
-  /// Force law: stiffness in N/m and model units to metres (defaults: hb::ForceLaw's, 500 N/m
-  /// and 0.001); the front ends set their model's workspace (hb::Workspace::law).
+  /// Force law: stiffness in N/m and model units to metres (defaults: the product's stiffness,
+  /// hb::WorkspaceOptions::kDefaultStiffness, and 0.001); the front ends set their model's
+  /// workspace with SetWorkspace.
   vtkSetClampMacro(Stiffness, double, 1e-12, VTK_DOUBLE_MAX);
   vtkGetMacro(Stiffness, double);
   vtkSetClampMacro(MetresPerUnit, double, 1e-12, VTK_DOUBLE_MAX);
   vtkGetMacro(MetresPerUnit, double);
+  /// Stiffness, MetresPerUnit and MaxForce from the model's workspace (the scale every front end
+  /// computes forces at; hb::Workspace::law gives the same law).
+  void SetWorkspace(const hb::Workspace& workspace);
   /// Largest force the device renders, N (forces are judged clamped to it; default 8).
   vtkSetClampMacro(MaxForce, double, 1e-6, VTK_DOUBLE_MAX);
   vtkGetMacro(MaxForce, double);
@@ -152,9 +157,9 @@ protected:
   double LengthFraction = 0.10;
   double MaxDepthFraction = 0.03;
   vtkTypeUInt64 Seed = 1;
-  double Stiffness = 500.0;
+  double Stiffness = hb::WorkspaceOptions::kDefaultStiffness;
   double MetresPerUnit = 0.001;
-  double MaxForce = 8.0;
+  double MaxForce = hb::WorkspaceOptions::kDefaultMaxForce;
   hb::PerceptualThresholds Thresholds;
   hb::Communicator* Communicator = nullptr;
   std::shared_ptr<const hb::ExactQuery> Exact;

@@ -23,6 +23,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The default CAD chordal deviation: 0.01 N over the product's stiffness at the device, the
+// solid's bounding-box diagonal fitted to the default workspace, clamped to [1e-4, 1e-2] x it.
+[[maybe_unused]] double cad_budget_mm(const nlohmann::json& facts) {
+  const auto& box = facts["bounding_box_mm"];
+  double d2 = 0;
+  for (int i = 0; i < 3; ++i) d2 += std::pow(box[1][i].get<double>() - box[0][i].get<double>(), 2);
+  const double diagonal = std::sqrt(d2);
+  const double budget = 0.01 / hb::WorkspaceOptions::kDefaultStiffness * diagonal / hb::WorkspaceOptions::kDefaultDiagonalM;
+  return std::clamp(budget, 1e-4 * diagonal, 1e-2 * diagonal);
+}
+
 fs::path temp_dir(const char* name) {
   const fs::path d = fs::temp_directory_path() / (std::string(name) + std::to_string(::getpid()));
   fs::create_directories(d);
@@ -81,9 +92,9 @@ TEST_F(CadReaderTest, StepTessellationStaysWithinItsChordalDeviation) {
 }
 
 TEST_F(CadReaderTest, DeviationFollowsTheForceBudgetAndFacesBecomePieces) {
-  hb::vtk::ModelOptions options;  // 0.01 N / 500 N/m = 0.02 mm
+  hb::vtk::ModelOptions options;  // 0.01 N / 1500 N/m at the device, the solid fitted to 80 mm
   const hb::vtk::LoadedModel coarse = hb::vtk::load_model(path("reference.step"), options);
-  EXPECT_NEAR(coarse.facts["chordal_deviation_mm"].get<double>(), 0.02, 1e-9);
+  EXPECT_NEAR(coarse.facts["chordal_deviation_mm"].get<double>(), cad_budget_mm(coarse.facts), 1e-9);
   EXPECT_EQ(coarse.kind, hb::vtk::ModelKind::Cad);
   EXPECT_EQ(coarse.unit, "mm");
   ASSERT_EQ(coarse.face_ids.size(), coarse.mesh.triangle_count());
