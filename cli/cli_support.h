@@ -49,10 +49,6 @@ void add_probe_options(CLI::App& cmd, std::size_t& samples, std::uint64_t& seed,
 /// bake without the cache and store nothing in it (`dir` is then empty).
 void add_cache_option(CLI::App& cmd, std::string& dir);
 
-/// hb::scene_bounds and hb::model_diagonal (haptic_box/scene_extent.h), as the commands name them.
-using hb::scene_bounds;
-using hb::model_diagonal;
-
 /// The sampling options (-m, -n, --cell, --refine) given to `cmd`, for hb::choose_recipe; an
 /// option the command does not define counts as not given.
 SamplingGiven sampling_given(const CLI::App& cmd);

@@ -84,7 +84,7 @@ void add_compress_sweep_command(CLI::App& app) {
     for (const auto& c : opts->codecs) o.codecs.push_back(hb::parse_codec(c));
     if (!opts->errors.empty()) o.max_errors = opts->errors;
     o.normal_bits = opts->normal_bits;
-    const hb::Workspace ws = opts->workspace.workspace(hb::cli::model_diagonal(scene));
+    const hb::Workspace ws = opts->workspace.workspace(hb::model_diagonal(scene));
     o.law = ws.law();
     o.judge = opts->workspace.judge();
     std::string mesh_path = opts->mesh;

@@ -176,8 +176,8 @@ nlohmann::json box_info(const std::string& path, bool verify) {
           {"source_triangles", scene.parts().source.triangles},
           {"source_diagonal", scene.parts().source.diagonal},
           {"budget", scene.parts().budget.summary()},
-          {"workspace", hb::cli::model_diagonal(scene) > 0
-                            ? hb::make_workspace(hb::cli::model_diagonal(scene)).describe() +
+          {"workspace", hb::model_diagonal(scene) > 0
+                            ? hb::make_workspace(hb::model_diagonal(scene)).describe() +
                                   " (the default every command judges at; --workspace-mm, --real-size to change)"
                             : std::string("none (no boxes)")},
           {"budget_report", hb::cli::budget_json(scene.parts().budget)},

@@ -89,7 +89,7 @@ void add_model_options(CLI::App& cmd, ModelArgs& args) {
            args.cad = spec;
          },
          "CAD (STEP, IGES): chordal-mm=D (the tessellation's chordal deviation in mm; default: force-tolerance / "
-         "stiffness 500 N/m), force-tolerance=N (the force error in N it may cause; default 0.01), "
+         "stiffness at the default workspace, clamped to [1e-4, 1e-2] x the solid's diagonal), force-tolerance=N (the force error in N it may cause; default 0.01), "
          "accept-lost-faces (keep a model some of whose faces failed to translate or tessellate; default: refuse "
          "it)")
       ->type_name("chordal-mm=D,force-tolerance=N,accept-lost-faces")

@@ -72,7 +72,7 @@ std::unique_ptr<Answerers> load_answerers(const std::string& box, const std::str
     a->mesh = hb::cli::load_mesh(exact_mesh, model);
     a->exact = std::make_unique<hb::ExactQuery>(a->mesh);
   }
-  a->workspace = workspace.workspace(a->exact ? double(a->mesh.bounds().diagonal()) : hb::cli::model_diagonal(a->scene));
+  a->workspace = workspace.workspace(a->exact ? double(a->mesh.bounds().diagonal()) : hb::model_diagonal(a->scene));
   return a;
 }
 

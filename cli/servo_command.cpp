@@ -59,7 +59,7 @@ struct ServoArgs {
 struct Scene {
   std::unique_ptr<hb::BoxScene> box;  // the box file's scene (null for `plane`)
   std::unique_ptr<hb::ContactQuery> query;
-  hb::Vec3 min{hb::Vec3::Constant(-40.f)}, max{hb::Vec3::Constant(40.f)};
+  hb::Vec3 min{hb::Vec3::Constant(-40.f)}, max{hb::Vec3::Constant(40.f)};  // the plane's model (mm)
   std::uint64_t mesh_hash = 0;  // of the mesh the box was baked from (0: unknown)
 };
 
@@ -71,9 +71,6 @@ Scene load_scene(const std::string& box, const std::string& route) {
   }
   auto scene = std::make_unique<hb::BoxScene>(hb::load_box_file(box));
   if (scene->parts().boxes.empty()) throw hb::InvalidInput(box + ": the box file holds no boxes");
-  const hb::Bounds bounds = hb::cli::scene_bounds(*scene);
-  s.min = bounds.min;
-  s.max = bounds.max;
   s.mesh_hash = scene->parts().source.mesh_hash;
   hb::cli::apply_route(*scene, route);
   // The servo thread is one probe: its query state starts each tick from the last tick's
@@ -213,24 +210,24 @@ void print_proxy(const char* what, const hb::GodObjectStats& p) {
               static_cast<unsigned long long>(p.fallbacks), static_cast<unsigned long long>(p.max_planes));
 }
 
-// One scale for every command: the model's diagonal (its mesh's, as the box file records it)
-// at the workspace's size, the workspace's stiffness.
+// One scale for every command and the window: the box file's model (its mesh's diagonal,
+// centred on its boxes) at the workspace's size and stiffness (hb::scene_workspace).
 hb::Workspace scene_workspace(const ServoArgs& a, const Scene& scene) {
-  const double diagonal = scene.box ? hb::cli::model_diagonal(*scene.box) : double((scene.max - scene.min).norm());
-  return a.workspace.workspace(diagonal);
+  if (scene.box) return hb::scene_workspace(*scene.box, a.workspace.options());
+  hb::Bounds plane;
+  plane.min = scene.min;
+  plane.max = scene.max;
+  return hb::make_workspace(plane, a.workspace.options());
 }
 
-// The loop's options from the command line, centred as fit_workspace centres the model.
-hb::ServoOptions servo_options(const ServoArgs& a, const Scene& scene, const hb::Workspace& ws,
-                               const hb::DeviceSpec& spec, double replay_rate_hz) {
+// The loop's options from the command line.
+hb::ServoOptions servo_options(const ServoArgs& a, const hb::Workspace& ws, double replay_rate_hz) {
   hb::ServoOptions o;
   o.rate_hz = a.rate_hz;
   o.request_realtime = !a.no_realtime;
   o.spin_s = a.spin_us * 1e-6;
   o.prime = !a.no_prime;
-  o.mapping = hb::fit_workspace(scene.min, scene.max, spec);
-  o.mapping.model_units_per_metre = float(1.0 / ws.metres_per_unit);
-  o.law = ws.law();
+  o.workspace = ws;
   o.perceptual = a.workspace.judge().thresholds;
   o.shadow_is_reference = a.render != "exact";  // the JND is taken of exact's force
   o.contact_law = hb::contact_law(a.law);  // checked by the option already
@@ -252,7 +249,7 @@ void run_servo(const ServoArgs& a) {
   hb::OpenedDevice opened = open_chosen_device(a, 1.0 / a.rate_hz);
   hb::HapticDevice* device = opened.device.get();
   const hb::Workspace ws = scene_workspace(a, scene);
-  const hb::ServoOptions o = servo_options(a, scene, ws, device->spec(), opened.rate_hz);
+  const hb::ServoOptions o = servo_options(a, ws, opened.rate_hz);
 
   std::unique_ptr<hb::LogRecorder> recorder;
   // --trajectory without --record records into a temporary log beside the .vtp.
@@ -280,7 +277,7 @@ void run_servo(const ServoArgs& a) {
   if (!a.trajectory.empty()) {
     const hb::ServoLog log = hb::read_servo_log(log_path);
     if (a.record.empty()) std::remove(log_path.c_str());
-    trajectory_points = hb::cli::write_trajectory_vtp(log, o.mapping, a.box, a.trajectory);
+    trajectory_points = hb::cli::write_trajectory_vtp(log, o.workspace, a.box, a.trajectory);
   }
 #endif
   if (!a.csv.empty()) hb::write_servo_log_csv(hb::read_servo_log(a.record), a.csv);

@@ -41,15 +41,14 @@ void check_trajectory_records(const ServoLog& log, const std::string& source) {
   }
 }
 
-std::size_t write_trajectory_vtp(const ServoLog& log, const WorkspaceMapping& mapping, const std::string& source,
+std::size_t write_trajectory_vtp(const ServoLog& log, const Workspace& workspace, const std::string& source,
                                  const std::string& path) {
   std::vector<hb::vtk::TrajectorySample> samples;
   samples.reserve(log.records.size());
   for (const LogRecord& r : log.records) {
     hb::vtk::TrajectorySample s;
     s.time_s = r.time_s;
-    s.tip = mapping.model_origin +
-            Vec3(r.position_m[0], r.position_m[1], r.position_m[2]) * mapping.model_units_per_metre;
+    s.tip = workspace.to_model(Vec3(r.position_m[0], r.position_m[1], r.position_m[2]).cast<double>());
     s.force = Vec3(r.force_n[0], r.force_n[1], r.force_n[2]);
     s.depth = r.depth;
     s.contact = r.contact != 0;
@@ -61,10 +60,10 @@ std::size_t write_trajectory_vtp(const ServoLog& log, const WorkspaceMapping& ma
   hb::vtk::add_provenance(pd->GetFieldData(),
                           {{{"HapticBoxVersion", HB_VERSION}, {"Source", source}, {"Device", log.spec.name}},
                            {{"Rate_Hz", log.rate_hz},
-                            {"ModelUnitsPerMetre", mapping.model_units_per_metre},
-                            {"ModelOriginX", mapping.model_origin.x()},
-                            {"ModelOriginY", mapping.model_origin.y()},
-                            {"ModelOriginZ", mapping.model_origin.z()}}});
+                            {"ModelUnitsPerMetre", 1.0 / workspace.metres_per_unit},
+                            {"ModelOriginX", workspace.model_origin.x()},
+                            {"ModelOriginY", workspace.model_origin.y()},
+                            {"ModelOriginZ", workspace.model_origin.z()}}});
   hb::vtk::write_polydata_xml(pd, path);
   return samples.size();
 }
@@ -87,19 +86,19 @@ void add_trajectory_command(CLI::App& app) {
       throw hb::cli::UsageError("-o " + opts->out + ": the trajectory is written as VTK XML PolyData; name it .vtp");
     const hb::ServoLog log = hb::read_servo_log(opts->log);
     hb::cli::check_trajectory_records(log, opts->log);
-    hb::Vec3 lo = hb::Vec3::Constant(-40.f), hi = hb::Vec3::Constant(40.f);  // `plane`, as servo
-    double diagonal = double((hi - lo).norm());
+    // The servo's workspace: the same call on the same box file with the same options.
+    hb::Workspace workspace;
     if (opts->box != "plane") {
       const hb::BoxScene scene = hb::load_box_file(opts->box);
       if (scene.parts().boxes.empty()) throw hb::InvalidInput(opts->box + ": the box file holds no boxes");
-      const hb::Bounds b = hb::cli::scene_bounds(scene);
-      lo = b.min, hi = b.max;
-      diagonal = hb::cli::model_diagonal(scene);
+      workspace = hb::scene_workspace(scene, opts->workspace.options());
+    } else {
+      hb::Bounds plane;  // `plane`, as servo: an 80 mm cube around the plane z = 0
+      plane.min = hb::Vec3::Constant(-40.f);
+      plane.max = hb::Vec3::Constant(40.f);
+      workspace = hb::make_workspace(plane, opts->workspace.options());
     }
-    // The servo's mapping: centred on the scene, at the workspace's scale (the same options).
-    hb::WorkspaceMapping mapping = hb::fit_workspace(lo, hi, log.spec);
-    mapping.model_units_per_metre = float(1.0 / opts->workspace.workspace(diagonal).metres_per_unit);
-    const std::size_t n = hb::cli::write_trajectory_vtp(log, mapping, opts->log, opts->out);
+    const std::size_t n = hb::cli::write_trajectory_vtp(log, workspace, opts->log, opts->out);
     const double seconds = log.records.empty() ? 0.0 : log.records.back().time_s - log.records.front().time_s;
     std::cout << "trajectory " << opts->out << ": " << hb::count_text(double(n)) << " points over "
               << hb::duration_text(seconds) << " at " << hb::sig(log.rate_hz) << " Hz\n";

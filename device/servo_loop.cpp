@@ -71,17 +71,6 @@ const char* to_string(ServoExit e) noexcept {
   return "unknown";
 }
 
-WorkspaceMapping fit_workspace(const Vec3& model_min, const Vec3& model_max,
-                               const DeviceSpec& spec) {
-  WorkspaceMapping m;
-  m.model_origin = 0.5f * (model_min + model_max);
-  const float half_diag = 0.5f * (model_max - model_min).norm();
-  if (half_diag > 0 && spec.workspace_radius_m > 0)
-    m.model_units_per_metre = half_diag / spec.workspace_radius_m;
-  m.probe_length = half_diag > 0 ? 0.2f * half_diag : 1.f;
-  return m;
-}
-
 TimingStats timing_stats(const TimingHistogram& h) {
   TimingStats s;
   s.count = h.count();
@@ -121,35 +110,31 @@ void ServoLoop::start() {
     throw InvalidInput("servo loop: rate " + std::to_string(options_.rate_hz) + " Hz is outside [1, 20000]");
   if (const std::string why = device_spec_problem(device_.spec()); !why.empty())
     throw InvalidInput("servo loop: " + device_.spec().name + ": " + why);
-  if (!(std::isfinite(options_.law.stiffness_n_per_m) && options_.law.stiffness_n_per_m > 0.f &&
-        std::isfinite(options_.law.metres_per_unit) && options_.law.metres_per_unit > 0.f))
-    throw InvalidInput("servo loop: the force law needs a finite positive stiffness and metres per unit");
-  if (!(options_.mapping.model_units_per_metre > 0) || !std::isfinite(options_.mapping.model_units_per_metre) ||
-      !(options_.mapping.probe_length > 0) || !std::isfinite(options_.mapping.probe_length) ||
-      !options_.mapping.probe_direction.allFinite() ||
-      options_.mapping.probe_direction.norm() < 1e-6f)
-    throw InvalidInput("servo loop: workspace mapping needs a positive scale, a positive probe "
-                       "length and a non-zero probe direction");
+  const Workspace& ws = options_.workspace;
+  if (!(std::isfinite(ws.stiffness_n_per_m) && ws.stiffness_n_per_m > 0 && std::isfinite(float(ws.stiffness_n_per_m)) &&
+        std::isfinite(ws.metres_per_unit) && float(ws.metres_per_unit) > 0.f && std::isfinite(1.0 / ws.metres_per_unit)))
+    throw InvalidInput("servo loop: the workspace needs a finite positive stiffness and metres per unit");
+  if (!(ws.probe_length > 0) || !std::isfinite(ws.probe_length) || !ws.model_origin.allFinite() ||
+      !ws.probe_direction.allFinite() || ws.probe_direction.norm() < 1e-6f)
+    throw InvalidInput("servo loop: the workspace needs a finite model origin, a positive probe length and a "
+                       "non-zero probe direction");
   if (options_.contact_law == ContactLaw::proxy &&
       !(std::isfinite(options_.proxy.clearance_m) && options_.proxy.clearance_m > 0.f && options_.proxy.max_queries >= 1))
     throw InvalidInput("servo loop: the proxy needs a finite positive clearance and at least one query a tick");
-  options_.mapping.probe_direction.normalize();
+  options_.workspace.probe_direction.normalize();
 
   report_ = ServoReport{};
   report_.nominal_rate_hz = options_.rate_hz;
   const DeviceSpec& spec = device_.spec();
   // What the law can make the device feel: k at any tilt with the normal depth law, up to
-  // k / cos(75 deg) with the depth along the segment.
-  const float felt = options_.law.stiffness_n_per_m * options_.law.metres_per_unit *
-                     options_.mapping.model_units_per_metre * felt_stiffness_factor(options_.law);
-  if (!std::isfinite(felt))
-    throw InvalidInput("servo loop: the stiffness felt at the device (stiffness x metres per unit x model units "
-                       "per metre) overflows");
+  // k / cos(75 deg) with the depth along the segment (the workspace's metres per unit and its
+  // inverse, the device to the model, cancel).
+  const double felt = options_.workspace.stiffness_n_per_m * felt_stiffness_factor(options_.workspace.law());
   if (options_.limit_stiffness && felt > spec.max_stiffness_n_per_m && felt > 0) {
-    options_.law.stiffness_n_per_m *= spec.max_stiffness_n_per_m / felt;
+    options_.workspace.stiffness_n_per_m *= spec.max_stiffness_n_per_m / felt;
     report_.stiffness_limited = true;
   }
-  report_.stiffness_n_per_m = options_.law.stiffness_n_per_m;
+  report_.stiffness_n_per_m = float(options_.workspace.stiffness_n_per_m);
   report_.contact_law = options_.contact_law;
   proxy_.reset();
   shadow_proxy_.reset();
@@ -160,8 +145,8 @@ void ServoLoop::start() {
   coupling_.reset();
   shadow_coupling_.reset();
   if (options_.tool) {
-    coupling_.emplace(scene_, *options_.tool, options_.law.metres_per_unit, options_.coupling);
-    if (shadow_) shadow_coupling_.emplace(*shadow_, *options_.tool, options_.law.metres_per_unit, options_.coupling);
+    coupling_.emplace(scene_, *options_.tool, options_.workspace, options_.coupling);
+    if (shadow_) shadow_coupling_.emplace(*shadow_, *options_.tool, options_.workspace, options_.coupling);
   }
   safety_ = SafetyFilter(spec, options_.safety, 1.0 / options_.rate_hz);
   guard_ = EnergyGuard(options_.energy_guard, 1.0 / options_.rate_hz);
@@ -359,8 +344,8 @@ void ServoLoop::run() noexcept {
 
   const std::int64_t period = static_cast<std::int64_t>(std::llround(1e9 / options_.rate_hz));
   const std::int64_t spin = static_cast<std::int64_t>(std::max(0.0, options_.spin_s) * 1e9);
-  const ForceLaw law = options_.law;
-  const WorkspaceMapping map = options_.mapping;
+  const ForceLaw law = options_.workspace.law();
+  const Workspace workspace = options_.workspace;
   DeviceState state;
   ServoSnapshot snap;
   LogRecord rec;
@@ -437,7 +422,7 @@ void ServoLoop::run() noexcept {
     }
 
     const std::int64_t c0 = now_ns();
-    const Segment seg = map.probe(state.position_m);
+    const Segment seg = workspace.probe(state.position_m);
     before_last = last_segment;
     last_segment = seg;
     ++queried;

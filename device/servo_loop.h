@@ -10,6 +10,7 @@
 #include "contact/contact.h"
 #include "contact/god_object.h"
 #include "perception/perceptible.h"
+#include "contact/workspace.h"
 #include "tool/tool_coupling.h"
 #include <memory>
 #include <atomic>
@@ -23,27 +24,6 @@ class LogRecorder;
 struct LogRecord;
 struct ShadowRecord;
 
-/// Device frame (m, origin at the workspace centre) to model frame (model units), and the probe.
-/// A 3-DOF device has no stylus orientation, so the probe is a virtual stylus of fixed
-/// direction: the tip E is the mapped device position, the handle S lies `probe_length` behind
-/// it along `probe_direction` (paper section 5: S -> E).
-struct WorkspaceMapping {
-  Vec3 model_origin{Vec3::Zero()};      ///< model point at the device origin, model units.
-  float model_units_per_metre = 1000.f; ///< > 0.
-  Vec3 probe_direction{0.f, 0.f, -1.f}; ///< unit, handle -> tip, model frame.
-  float probe_length = 10.f;            ///< model units, > 0.
-
-  Segment probe(const Vec3& device_position_m) const noexcept {
-    const Vec3 tip = model_origin + device_position_m * model_units_per_metre;
-    return Segment{tip - probe_direction * probe_length, tip};
-  }
-};
-
-/// Fits the device workspace sphere to the box [min, max] of a model (its half diagonal), with
-/// a probe one tenth of the model's diagonal long.
-WorkspaceMapping fit_workspace(const Vec3& model_min, const Vec3& model_max,
-                               const DeviceSpec& spec);
-
 /// Options of ServoLoop.
 struct ServoOptions {
   double rate_hz = 1000.0;          ///< tick rate, Hz, in (0, 20000].
@@ -55,13 +35,15 @@ struct ServoOptions {
                                     ///< that segment moved once more (answers discarded), so the
                                     ///< tick's query finds the scene's data in cache; no effect
                                     ///< on any answer (`servo --no-prime`: the figures without).
-  ForceLaw law;                     ///< stiffness and model units; see limit_stiffness.
-  bool limit_stiffness = true;      ///< lower law.stiffness so the stiffness felt at the device
+  /// The model at the device: each tick's probe (Workspace::probe of the device position) and
+  /// its force law (Workspace::law); see limit_stiffness. `hapticbox servo` and the window
+  /// both take hb::scene_workspace of the boxes they run against.
+  Workspace workspace;
+  bool limit_stiffness = true;      ///< lower the stiffness so the stiffness felt at the device
                                     ///< stays <= spec.max_stiffness_n_per_m, for any stylus
                                     ///< tilt up to 75 degrees (felt_stiffness_factor: 1 for
                                     ///< the normal depth law, 3.86 along the segment).
   EnergyGuardOptions energy_guard;  ///< passivity observer / controller, off by default.
-  WorkspaceMapping mapping;
   SafetyOptions safety;
   /// How each tick's answer becomes the force (`servo --law`): ContactLaw::penalty, the force
   /// law on the scene's answer (stateless; the default for now), or ContactLaw::proxy, a

@@ -8,6 +8,7 @@
 //     and the box's answer; the exact answer is computed here on the same segment.
 #include "SessionDevice.h"
 #include "evaluation/comparison.h"
+#include "scene/scene_extent.h"
 #include <QFile>
 #include <algorithm>
 #include <chrono>
@@ -46,14 +47,27 @@ SessionDevice::~SessionDevice() { stopServo(); }
 
 void SessionDevice::meshChanged() {
   stopServo();
-  const hb::Bounds b = model_->mesh().bounds();
-  mapping_ = hb::fit_workspace(b.min, b.max, hb::virtual_device_spec());
-  mapping_.probe_direction = probeDirection_;
+  workspace_ = model_->workspace();
+  workspace_.probe_direction = probeDirection_;
   picked_.reset();
 }
 
 void SessionDevice::boxesChanged() {
   stopServo();
+  // The boxes' workspace, the one `hapticbox servo` computes from their box file: the same
+  // model at the same device position then gives the CLI's newtons, bit for bit.
+  if (const hb::BoxScene* boxes = model_->boxes()) {
+    try {
+      workspace_ = hb::scene_workspace(*boxes);
+    } catch (const std::exception& e) {
+      emit statusMessage(tr("Device workspace: %1").arg(QString::fromStdString(e.what())));
+      workspace_ = model_->workspace();
+    }
+  } else if (model_->hasMesh()) {
+    workspace_ = model_->workspace();
+  }
+  workspace_.probe_direction = probeDirection_;
+  if (picked_) setProbeTarget(*picked_);
   startServo();
 }
 
@@ -63,7 +77,7 @@ void SessionDevice::setProbeTarget(const hb::Vec3& surfacePoint) {
   picked_ = surfacePoint;
   if (opened_.virtual_device) {
     const hb::Vec3 tip = surfacePoint + probeDirection_ * static_cast<float>(depthFraction_ * model_->diagonal());
-    opened_.virtual_device->set_target((tip - mapping_.model_origin) / mapping_.model_units_per_metre);
+    opened_.virtual_device->set_target(workspace_.to_device(tip).cast<float>());
   }
 }
 
@@ -71,7 +85,7 @@ void SessionDevice::setProbeDirection(const hb::Vec3& direction) {
   const hb::Vec3 d = direction.normalized();
   if (!d.allFinite() || d.dot(probeDirection_) > 0.99996f) return;  // < ~0.5 degree: keep
   probeDirection_ = d;
-  mapping_.probe_direction = d;
+  workspace_.probe_direction = d;
   if (loop_) {
     stopServo();
     startServo();
@@ -108,10 +122,10 @@ ProbeReading SessionDevice::reading() {
   r.deviceRunning = servo;
   if (servo) {
     const hb::ServoSnapshot s = loop_->snapshot();
-    law = loop_->options().law;
+    law = loop_->options().workspace.law();
     tip = hb::Vec3(s.tip_model[0], s.tip_model[1], s.tip_model[2]);
     r.placed = opened_.virtual_device ? picked_.has_value() : s.tick > 0;
-    r.segment = hb::Segment{tip - probeDirection_ * mapping_.probe_length, tip};
+    r.segment = hb::Segment{tip - probeDirection_ * workspace_.probe_length, tip};
     r.approx.contact = s.contact != 0;
     r.approx.depth = s.depth;
     r.approx.normal = hb::Vec3(s.normal[0], s.normal[1], s.normal[2]);
@@ -124,7 +138,7 @@ ProbeReading SessionDevice::reading() {
     if (!picked_) return r;
     r.placed = true;
     tip = *picked_ + probeDirection_ * static_cast<float>(depthFraction_ * model_->diagonal());
-    r.segment = hb::Segment{tip - probeDirection_ * mapping_.probe_length, tip};
+    r.segment = hb::Segment{tip - probeDirection_ * workspace_.probe_length, tip};
     if (boxes) r.approx = boxes->query(r.segment, law);
   }
   if (!r.placed) return r;
@@ -195,9 +209,8 @@ void SessionDevice::startServo() {
     deviceName_ = QString::fromStdString(opened_.description);
   }
   hb::ServoOptions o;
-  o.law = model_->law();
+  o.workspace = workspace_;
   o.contact_law = contactLaw_;
-  o.mapping = mapping_;
   o.request_realtime = sessionRunSettings().realtime;
   // No busy-wait before each deadline: the window renders on the same cores (software GL
   // uses every core), and a real-time thread spinning 50 us per tick halves its frame rate
@@ -231,6 +244,11 @@ void SessionDevice::setContactLaw(hb::ContactLaw law) {
 std::optional<hb::ContactLaw> SessionDevice::servoContactLaw() const {
   if (!servoRunning()) return std::nullopt;
   return loop_->options().contact_law;
+}
+
+std::optional<hb::ServoOptions> SessionDevice::servoOptions() const {
+  if (!servoRunning()) return std::nullopt;
+  return loop_->options();
 }
 
 void SessionDevice::setEmergencyStop(bool on) {

@@ -7,6 +7,7 @@
 #include "SessionRunSettings.h"
 #include "device/device_choice.h"
 #include "device/servo_loop.h"
+#include "contact/workspace.h"
 #include "scene/box_scene.h"
 #include "geometry/segment.h"
 #include <QObject>
@@ -41,8 +42,9 @@ struct ProbeReading {
 class SessionDevice : public QObject {
   Q_OBJECT
 public:
-  /// Follows `model`: a new mesh stops the servo thread and refits the workspace, new boxes
-  /// restart it. `model` outlives this object.
+  /// Follows `model`: a new mesh stops the servo thread and takes the model's workspace, new
+  /// boxes take theirs (hb::scene_workspace, as `hapticbox servo` does of the same box file)
+  /// and restart it. `model` outlives this object.
   explicit SessionDevice(SessionModel* model, QObject* parent = nullptr);
   ~SessionDevice() override;  ///< stops the servo thread.
 
@@ -63,7 +65,10 @@ public:
   /// Push depth past the picked point, fraction of the diagonal; clamped to [-0.05, 0.1].
   void setDepthFraction(double f);
   double depthFraction() const { return depthFraction_; }
-  float probeLength() const { return mapping_.probe_length; }
+  float probeLength() const { return workspace_.probe_length; }
+  /// The model at the device: the servo thread's probe and force law (its probe direction is
+  /// probeDirection()).
+  const hb::Workspace& workspace() const { return workspace_; }
   std::optional<hb::Vec3> surfacePoint() const { return picked_; }
   /// The state to show now (GUI thread, display rate; lock-free read of the servo snapshot).
   ProbeReading reading();
@@ -89,6 +94,9 @@ public:
   hb::ContactLaw contactLaw() const { return contactLaw_; }
   /// The law the running servo thread uses (the chosen one; nullopt when it is not running).
   std::optional<hb::ContactLaw> servoContactLaw() const;
+  /// The options the running servo thread uses (its stiffness limited to the device's);
+  /// nullopt when it is not running.
+  std::optional<hb::ServoOptions> servoOptions() const;
 
 signals:
   void deviceChanged(const QString& description);
@@ -101,7 +109,7 @@ private:
   void stopServo();
 
   SessionModel* model_;
-  hb::WorkspaceMapping mapping_;
+  hb::Workspace workspace_;
   hb::Vec3 probeDirection_{0.f, 0.f, -1.f};
   double depthFraction_ = 0.01;
   double tiltDegrees_ = 0.0;

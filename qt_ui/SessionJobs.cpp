@@ -185,10 +185,10 @@ bool SessionJobs::startErrorField(int probesPerPoint, QString* error) {
   const bool fromBake =
       pipeline->bakeCurrent() && pipeline->bake()->GetBoxSet()->GetScene() == model_->sharedBoxes();
   const std::shared_ptr<const hb::BoxScene> boxes = fromBake ? nullptr : model_->sharedBoxes();
-  const hb::ForceLaw law = model_->law();
+  const hb::Workspace workspace = model_->workspace();
   const SessionModel::References refsFuture = model_->references();
-  return job_->start(tr("Error field"), [this, pipeline, boxes, law, probesPerPoint, refsFuture](const auto& progress) {
-    pipeline->runErrorField(boxes, SessionModel::exactOf(refsFuture), law, probesPerPoint, progress);
+  return job_->start(tr("Error field"), [this, pipeline, boxes, workspace, probesPerPoint, refsFuture](const auto& progress) {
+    pipeline->runErrorField(boxes, SessionModel::exactOf(refsFuture), workspace, probesPerPoint, progress);
     vtkHapticBoxErrorFieldFilter* filter = pipeline->errorField();
     pendingFieldSurface_ = vtkSmartPointer<vtkPolyData>::New();
     pendingFieldSurface_->ShallowCopy(filter->GetOutput());

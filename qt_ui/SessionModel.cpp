@@ -109,7 +109,7 @@ bool SessionModel::openMesh(const QString& path, QString* error, OpenTiming* tim
     meshHash_ = hash;
     meshPath_ = QFileInfo(path).absoluteFilePath();
     diagonal_ = mesh_->bounds().diagonal();
-    workspace_ = hb::make_workspace(diagonal_);
+    workspace_ = hb::make_workspace(mesh_->bounds());
     law_ = workspace_.law();
     options_ = options;
     facts_ = model.facts;

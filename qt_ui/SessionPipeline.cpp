@@ -118,7 +118,7 @@ void SessionPipeline::runBake(const std::function<bool(double)>& progress, bool 
 }
 
 void SessionPipeline::runErrorField(std::shared_ptr<const hb::BoxScene> boxes,
-                                    std::shared_ptr<const hb::ExactQuery> exact, const hb::ForceLaw& law,
+                                    std::shared_ptr<const hb::ExactQuery> exact, const hb::Workspace& workspace,
                                     int probesPerPoint, const std::function<bool(double)>& progress) {
   if (boxes) {
     auto set = vtkSmartPointer<vtkHapticBoxSet>::New();
@@ -130,8 +130,7 @@ void SessionPipeline::runErrorField(std::shared_ptr<const hb::BoxScene> boxes,
   }
   errorField_->SetExactQuery(std::move(exact));
   errorField_->SetProbesPerPoint(probesPerPoint);
-  errorField_->SetStiffness(law.stiffness_n_per_m);
-  errorField_->SetMetresPerUnit(law.metres_per_unit);
+  errorField_->SetWorkspace(workspace);
   errorField_->SetAbortExecute(0);
   bool cancelled = false;
   {

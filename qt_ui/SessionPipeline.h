@@ -56,7 +56,7 @@ public:
   /// `boxes` is null (they must be current), else against `boxes` (e.g. a loaded .hbox file);
   /// `exact` is the session's exact reference over the same mesh (not built again).
   void runErrorField(std::shared_ptr<const hb::BoxScene> boxes, std::shared_ptr<const hb::ExactQuery> exact,
-                     const hb::ForceLaw& law, int probesPerPoint, const std::function<bool(double)>& progress);
+                     const hb::Workspace& workspace, int probesPerPoint, const std::function<bool(double)>& progress);
 
 private:
   vtkSmartPointer<vtkHapticBoxMeshReader> reader_;

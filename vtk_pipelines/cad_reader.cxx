@@ -317,8 +317,7 @@ CadModel read_cad(const std::string& path, const CadOptions& options) {
   if (!fs::exists(path)) throw IoError(path + ": no such file");
   if (!std::ifstream(path).good()) throw IoError(path + ": cannot open the file");
   if (fs::file_size(path) == 0) throw IoError(path + ": the file is empty");
-  if (!(options.force_tolerance_n > 0) || !(options.stiffness_n_per_m > 0))
-    throw InvalidInput(path + ": the force tolerance and the stiffness must be > 0");
+  if (!(options.force_tolerance_n > 0)) throw InvalidInput(path + ": the force tolerance must be > 0");
   mute_opencascade();
   const std::string p = lower(path);
   const bool step = p.size() > 4 && (p.substr(p.size() - 4) == ".stp" || p.substr(p.size() - 5) == ".step");
@@ -362,11 +361,13 @@ CadModel read_cad(const std::string& path, const CadOptions& options) {
     if (deviation > 0) {
       f["chordal_deviation_source"] = "--chordal-mm";
     } else {
-      const double budget = options.force_tolerance_n / options.stiffness_n_per_m * 1000.0;
+      // The solid (in mm) at the scale it is felt at: F / k at the device, in model mm.
+      const hb::Workspace ws = hb::make_workspace(diagonal, options.workspace);
+      const double budget = options.force_tolerance_n / ws.stiffness_n_per_m / ws.metres_per_unit;
       deviation = std::clamp(budget, 1e-4 * diagonal, 1e-2 * diagonal);
       f["chordal_deviation_source"] = "force budget: " + std::to_string(options.force_tolerance_n) + " N / " +
-                                      std::to_string(options.stiffness_n_per_m) + " N/m = " + std::to_string(budget) +
-                                      " mm, clamped to [1e-4, 1e-2] x diagonal";
+                                      std::to_string(ws.stiffness_n_per_m) + " N/m at the device (" + ws.describe() +
+                                      ") = " + std::to_string(budget) + " mm, clamped to [1e-4, 1e-2] x diagonal";
     }
     if (deviation < 1e-5 * diagonal)
       throw InvalidInput(path + ": chordal deviation " + std::to_string(deviation) + " mm is below 1e-5 x the diagonal (" +

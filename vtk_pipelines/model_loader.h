@@ -2,6 +2,7 @@
 // One function that opens every model HapticBox takes (meshes, medical volumes, CAD solids,
 // everyday interchange formats) as the core's triangle mesh in millimetres. The CLI, the
 // window and vtkHapticBoxMeshReader all go through it, so they see the same triangles.
+#include "contact/workspace.h"
 #include "mesh/mesh_io.h"
 #include "mesh/triangle_mesh.h"
 #include "volume_reader.h"
@@ -16,13 +17,14 @@ namespace hb::vtk {
 /// How a CAD solid (STEP, IGES) is tessellated.
 struct CadOptions {
   /// Chordal deviation in mm (largest distance from a triangle to the exact surface). 0: derived
-  /// from the force budget, d = force_tolerance_n / stiffness_n_per_m (in metres, then mm),
-  /// clamped to [1e-4, 1e-2] x the solid's bounding-box diagonal: a deviation d moves the
-  /// surface by at most d, so the spring force by at most k d, and a finer mesh would only
-  /// cost triangles the force cannot feel.
+  /// from the force budget at the scale the solid is felt at (hb::make_workspace of its
+  /// bounding-box diagonal under `workspace`): d = force_tolerance_n / k at the device, in
+  /// model millimetres, clamped to [1e-4, 1e-2] x the solid's bounding-box diagonal: a
+  /// deviation d moves the surface by at most d, so the spring force by at most k d, and a
+  /// finer mesh would only cost triangles the force cannot feel.
   double chordal_deviation_mm = 0.0;
   double force_tolerance_n = 0.01;   ///< force error the tessellation may cause, N (> 0).
-  double stiffness_n_per_m = 500.0;  ///< the force law's k, N/m (> 0).
+  hb::WorkspaceOptions workspace;    ///< the scale and stiffness the model is felt with.
   double angular_deviation_deg = 20.0;  ///< largest angle between neighbouring facets' normals.
   /// A file some of whose faces fail to translate or tessellate is refused (naming how many)
   /// unless this is set; then it loads with a warning.

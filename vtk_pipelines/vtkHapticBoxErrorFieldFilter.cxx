@@ -39,6 +39,12 @@ void vtkHapticBoxErrorFieldFilter::SetExactQuery(std::shared_ptr<const hb::Exact
   this->Modified();
 }
 
+void vtkHapticBoxErrorFieldFilter::SetWorkspace(const hb::Workspace& workspace) {
+  this->SetStiffness(workspace.stiffness_n_per_m);
+  this->SetMetresPerUnit(workspace.metres_per_unit);
+  this->SetMaxForce(workspace.max_force_n);
+}
+
 int vtkHapticBoxErrorFieldFilter::FillInputPortInformation(int port, vtkInformation* info) {
   if (port == 0) {
     info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");

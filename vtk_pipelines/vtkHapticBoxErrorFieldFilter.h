@@ -100,12 +100,16 @@ public:
   ///@}
 
   ///@{
-  /// Force law: stiffness in N/m and model units to metres (defaults: hb::ForceLaw's, 500 N/m
-  /// and 0.001); the front ends set their model's workspace (hb::Workspace::law).
+  /// Force law: stiffness in N/m and model units to metres (defaults: the product's stiffness,
+  /// hb::WorkspaceOptions::kDefaultStiffness, and 0.001); the front ends set their model's
+  /// workspace with SetWorkspace.
   vtkSetClampMacro(Stiffness, double, 1e-12, VTK_DOUBLE_MAX);
   vtkGetMacro(Stiffness, double);
   vtkSetClampMacro(MetresPerUnit, double, 1e-12, VTK_DOUBLE_MAX);
   vtkGetMacro(MetresPerUnit, double);
+  /// Stiffness, MetresPerUnit and MaxForce from the model's workspace (the scale every front end
+  /// computes forces at; hb::Workspace::law gives the same law).
+  void SetWorkspace(const hb::Workspace& workspace);
   /// Largest force the device renders, N (forces are judged clamped to it; default 8).
   vtkSetClampMacro(MaxForce, double, 1e-6, VTK_DOUBLE_MAX);
   vtkGetMacro(MaxForce, double);
@@ -119,9 +123,7 @@ public:
   /// The force law, the force limit and the thresholds of a model's workspace and judgement
   /// (Stiffness, MetresPerUnit, MaxForce, PerceptualThresholds): what every front end sets.
   void SetWorkspace(const hb::Workspace& workspace, const hb::PerceptualJudge& judge) {
-    this->SetStiffness(workspace.stiffness_n_per_m);
-    this->SetMetresPerUnit(workspace.metres_per_unit);
-    this->SetMaxForce(workspace.max_force_n);
+    this->SetWorkspace(workspace);
     this->SetPerceptualThresholds(judge.thresholds);
   }
   ///@}
@@ -162,9 +164,9 @@ protected:
   double LengthFraction = 0.10;
   double MaxDepthFraction = 0.03;
   vtkTypeUInt64 Seed = 1;
-  double Stiffness = 500.0;
+  double Stiffness = hb::WorkspaceOptions::kDefaultStiffness;
   double MetresPerUnit = 0.001;
-  double MaxForce = 8.0;
+  double MaxForce = hb::WorkspaceOptions::kDefaultMaxForce;
   hb::PerceptualThresholds Thresholds;
   hb::Communicator* Communicator = nullptr;
   std::shared_ptr<const hb::ExactQuery> Exact;

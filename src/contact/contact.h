@@ -1,6 +1,7 @@
 #pragma once
 // The answer to a probe query, shared by the exact reference and the haptic box so that a
 // comparison isolates the approximation.
+#include "contact/workspace_options.h"
 #include "geometry/segment.h"
 #include <algorithm>
 #include <cmath>
@@ -23,7 +24,9 @@ enum class DepthLaw : std::uint8_t {
 /// Hooke's law (paper eq. 2): F = k (d - t0) n, with the depth converted to metres, the depth
 /// projected on the normal by default (DepthLaw).
 struct ForceLaw {
-  float stiffness_n_per_m = 500.f;   ///< k in N/m, > 0.
+  /// k in N/m, > 0. The product's default (WorkspaceOptions); a law for a model comes from
+  /// its Workspace (Workspace::law), which also sets metres_per_unit.
+  float stiffness_n_per_m = float(WorkspaceOptions::kDefaultStiffness);
   float metres_per_unit = 0.001f;    ///< model units to metres (default: models in mm).
   DepthLaw depth = DepthLaw::normal;
 };

@@ -2,7 +2,7 @@
 // A simulated haptic device's profile and the per-tick filter between the force law and the
 // device (the servo's safety, an energy guard): what the trajectory harness (evaluation/) drives
 // and the device layer (device/) implements, so neither includes the other.
-#include <Eigen/Core>
+#include "math/vec3.h"
 #include <functional>
 #include <memory>
 #include <string>
@@ -28,8 +28,6 @@ DeviceProfile falcon_profile();
 DeviceProfile touch_profile();
 /// "falcon" or "touch"; throws hb::InvalidInput naming the value otherwise.
 DeviceProfile device_profile(const std::string& name);
-
-using Vec3d = Eigen::Vector3d;
 
 /// A filter between the force law and the device (the servo's safety, an energy guard),
 /// called once per tick. Implemented in the device layer (hb::device) over SafetyFilter.

@@ -44,7 +44,11 @@ std::string Workspace::describe() const {
          "), k " + spec_format(stiffness_n_per_m) + " N/m, forces up to " + spec_format(max_force_n) + " N";
 }
 
-Workspace make_workspace(double model_diagonal, const WorkspaceOptions& o) {
+Workspace make_workspace(const Bounds& model_bounds, const WorkspaceOptions& options) {
+  return make_workspace(double(model_bounds.diagonal()), options, 0.5f * (model_bounds.min + model_bounds.max));
+}
+
+Workspace make_workspace(double model_diagonal, const WorkspaceOptions& o, const Vec3& model_origin) {
   check_range(o.stiffness_n_per_m, 0.0, 1e5, "stiffness", "N/m");
   check_range(o.max_force_n, 0.0, 500.0, "maximum force", "N");
   Workspace w;
@@ -52,6 +56,9 @@ Workspace make_workspace(double model_diagonal, const WorkspaceOptions& o) {
   w.stiffness_n_per_m = o.stiffness_n_per_m;
   w.max_force_n = o.max_force_n;
   w.model_diagonal = std::isfinite(model_diagonal) && model_diagonal > 0 ? model_diagonal : 0.0;
+  if (!model_origin.allFinite()) throw InvalidInput("the model's bounding box has a non-finite centre");
+  w.model_origin = model_origin;
+  w.probe_length = w.model_diagonal > 0 ? float(Workspace::kProbeFraction * w.model_diagonal) : 1.f;
   switch (o.fit) {
     case WorkspaceFit::device:
       check_range(o.diagonal_m, 1e-3 - 1e-12, 4.0, "workspace diagonal", "m");

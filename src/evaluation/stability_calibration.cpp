@@ -12,7 +12,7 @@ namespace {
 // A closed run of the wall used by the gate: the plane z = 0 of a model in metres.
 struct Wall {
   AnalyticWall wall{Vec3::Zero(), Vec3(0, 0, 1)};
-  DeviceSpaceMap map;  // model units are metres
+  Workspace map;  // model units are metres
   ForceLaw law;
   Wall(double k) {
     map.metres_per_unit = 1.0;

@@ -27,7 +27,7 @@ struct Bounce {
   bool popped = false;  // the tip went on inward: contact lost while moving in
 };
 
-Bounce free_bounce(const ContactQuery& q, const ForceLaw& law, const DeviceSpaceMap& map, const DeviceProfile& dev,
+Bounce free_bounce(const ContactQuery& q, const ForceLaw& law, const Workspace& map, const DeviceProfile& dev,
                    const Vec3d& surface_m, const Vec3d& inward, double v0, double stylus_m,
                    const std::vector<Stall>& stalls = {}, TickFilter* filter = nullptr,
                    ContactLaw contact_law = ContactLaw::penalty);
@@ -50,11 +50,11 @@ struct Scene {
   const ContactQuery* box = nullptr;
   const ContactQuery* exact = nullptr;
   const BoxScene* box_scene = nullptr;
-  DeviceSpaceMap map;
+  Workspace workspace;  // the model at the device (its mesh in mm for the generated objects)
   std::vector<Site> sites;
 };
 
-std::vector<Site> pick_sites(const TriangleMesh& mesh, const ContactQuery& exact, const DeviceSpaceMap& map,
+std::vector<Site> pick_sites(const TriangleMesh& mesh, const ContactQuery& exact, const Workspace& map,
                              const ForceLaw& law, std::size_t count, std::uint64_t seed, double stylus_m);
 
 // ---- helpers over tick records ------------------------------------------------------------
@@ -74,7 +74,7 @@ public:
   ForceLaw law(const Scene& s, double k) const {
     ForceLaw l;
     l.stiffness_n_per_m = float(k);
-    l.metres_per_unit = float(s.map.metres_per_unit);
+    l.metres_per_unit = float(s.workspace.metres_per_unit);
     l.depth = o_.depth_law;
     return l;
   }

@@ -14,6 +14,7 @@
 //    rank receives every task's figures and traces and assembles them in task order, so the
 //    report is the one process's (StabilityOptions::communicator).
 #include "evaluation/stability_harness.h"
+#include "scene/scene_extent.h"
 #include "errors.h"
 #include "exact/exact_query.h"
 #include "scene/bake.h"
@@ -90,7 +91,7 @@ public:
     model_.box = &box;
     model_.exact = &exact_;
     model_.box_scene = &box;
-    model_.map = fit_device_space(mesh, o.diagonal_m);
+    model_.workspace = scene_workspace(box, o.workspace);  // the scale `hapticbox servo` runs this box at
     bake_.params.m = o.generated_m;
     bake_.params.n = o.generated_n;
     bake_.refine = o.generated_refine;
@@ -98,7 +99,7 @@ public:
 
   const Scene& model(Suite& suite) {
     if (!sites_picked_) {
-      model_.sites = stability::pick_sites(mesh_, exact_, model_.map, suite.law(model_, suite.k_half()), o_.sites, o_.seed, o_.stylus_m);
+      model_.sites = stability::pick_sites(mesh_, exact_, model_.workspace, suite.law(model_, suite.k_half()), o_.sites, o_.seed, o_.stylus_m);
       sites_picked_ = true;
     }
     return model_;
@@ -135,7 +136,7 @@ public:
     sc.box = g.box.get();
     sc.exact = g.exact.get();
     sc.box_scene = g.box.get();
-    sc.map.metres_per_unit = 0.001;  // mm
+    sc.workspace.metres_per_unit = 0.001;  // mm (the objects are centred at the origin)
     return sc;
   }
 

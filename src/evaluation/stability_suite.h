@@ -52,7 +52,10 @@ struct StabilityOptions {
   std::size_t sites = 12;        ///< trajectories per test and model (surface points by area).
   std::uint64_t seed = 1;
   double stylus_m = 0.008;       ///< the virtual stylus, handle to tip (the project's 8 mm).
-  double diagonal_m = 0.08;      ///< the model's OBB diagonal in device space.
+  /// The model's scale at the device: hb::scene_workspace of the box (its mesh's bounding-box
+  /// diagonal at diagonal_m, 80 mm by default; centred on its boxes), as `hapticbox servo`
+  /// renders it. The tests set the stiffness themselves (the device's).
+  WorkspaceOptions workspace;
   DepthLaw depth_law = DepthLaw::normal;
   /// How answers become forces along a trajectory: the penalty law (default) or a proxy
   /// (god-object) over the same answerer, box and exact alike.

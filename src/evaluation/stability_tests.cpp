@@ -38,7 +38,7 @@ StabilityMetric metric(const std::string& test, const std::string& scene, const 
   return m;
 }
 
-Bounce free_bounce(const ContactQuery& q, const ForceLaw& law, const DeviceSpaceMap& map, const DeviceProfile& dev,
+Bounce free_bounce(const ContactQuery& q, const ForceLaw& law, const Workspace& map, const DeviceProfile& dev,
                    const Vec3d& surface_m, const Vec3d& inward, double v0, double stylus_m,
                    const std::vector<Stall>& stalls, TickFilter* filter,
                    ContactLaw contact_law) {
@@ -71,7 +71,7 @@ Vec3d tilted(const Vec3d& inward, double degrees, std::size_t which) {
   return (std::cos(a) * inward + std::sin(a) * u).normalized();
 }
 
-std::vector<Site> pick_sites(const TriangleMesh& mesh, const ContactQuery& exact, const DeviceSpaceMap& map,
+std::vector<Site> pick_sites(const TriangleMesh& mesh, const ContactQuery& exact, const Workspace& map,
                              const ForceLaw& law, std::size_t count, std::uint64_t seed, double stylus_m) {
   ProbeOptions po;
   po.cone_degrees = 0.f;
@@ -119,11 +119,11 @@ void Suite::t1(const Scene& s) {
   for (const Site& site : s.sites) {
     DeviceProfile dev = o_.device;
     dev.damping_n_s_per_m = 0;
-    const Bounce bb = free_bounce(*s.box, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {}, nullptr, cl());
-    const Bounce be = free_bounce(*s.exact, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {}, nullptr, cl());
+    const Bounce bb = free_bounce(*s.box, lw, s.workspace, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {}, nullptr, cl());
+    const Bounce be = free_bounce(*s.exact, lw, s.workspace, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {}, nullptr, cl());
     dev.damping_n_s_per_m = dev.passivity_damping(k_max());
-    const Bounce db = free_bounce(*s.box, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {}, nullptr, cl());
-    const Bounce de = free_bounce(*s.exact, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {}, nullptr, cl());
+    const Bounce db = free_bounce(*s.box, lw, s.workspace, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {}, nullptr, cl());
+    const Bounce de = free_bounce(*s.exact, lw, s.workspace, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {}, nullptr, cl());
     // A bounce that went through (the tip slid off an edge and went on inward) has no
     // restitution: the difference is over the sites where both bounce, and the sites where
     // only one goes through are counted apart (the box going through where exact bounces
@@ -135,9 +135,9 @@ void Suite::t1(const Scene& s) {
     boxb = std::max(boxb, db.restitution), exb = std::max(exb, de.restitution);
     if (o_.filter) {  // the same bounce through the servo's force path (energy guard, safety)
       auto fb = filter(), fe = filter();
-      const Bounce gb = free_bounce(*s.box, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {},
+      const Bounce gb = free_bounce(*s.box, lw, s.workspace, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {},
                                     fb.get(), cl());
-      const Bounce ge = free_bounce(*s.exact, lw, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {},
+      const Bounce ge = free_bounce(*s.exact, lw, s.workspace, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, {},
                                     fe.get(), cl());
       boxf = std::max(boxf, gb.restitution), exf = std::max(exf, ge.restitution);
     }
@@ -161,7 +161,7 @@ void Suite::t1(const Scene& s) {
     const Site& site = s.sites[i];
     for (int which = 0; which < 2; ++which) {
       const ClosedLoopRun run = hold_run(site, 2.5);
-      const auto ticks = run_closed_loop(which ? *s.exact : *s.box, lh, s.map, run);
+      const auto ticks = run_closed_loop(which ? *s.exact : *s.box, lh, s.workspace, run);
       const double early = rms_speed(ticks, 1.0, 1.75), late = rms_speed(ticks, 1.75, 2.5);
       const double decay = early > 1e-4 ? late / early : 0.0;
       (which ? decay_e : decay_b) = std::max(which ? decay_e : decay_b, decay);
@@ -185,7 +185,7 @@ std::vector<Vec3d> Suite::surface_path(const Scene& s, const Site& site, const V
     tips.push_back(surf + (0.001 / cosine) * dir);
     const Vec3d guess = surf + step * u;
     // The surface along the stylus line through the guess, from exact Embree.
-    const Rendered r = render(*s.exact, lw, s.map, guess + h * dir, dir, 2 * h);
+    const Rendered r = render(*s.exact, lw, s.workspace, guess + h * dir, dir, 2 * h);
     if (!r.contact) break;
     surf = guess + h * dir - r.depth_m * dir;
     n = r.normal;
@@ -210,8 +210,8 @@ void Suite::t2(const Scene& s) {
         const Vec3d dir = tilt > 0 ? tilted(site.inward, tilt, i) : site.inward;
         const auto tips = surface_path(s, site, dir, speed, 150, i + std::size_t(speed * 100));
         if (tips.size() < 10) continue;
-        const auto rb = play_positions(*s.box, lw, s.map, tips, dir, o_.stylus_m, o_.device.period_s, cl());
-        const auto re = play_positions(*s.exact, lw, s.map, tips, dir, o_.stylus_m, o_.device.period_s, cl());
+        const auto rb = play_positions(*s.box, lw, s.workspace, tips, dir, o_.stylus_m, o_.device.period_s, cl());
+        const auto re = play_positions(*s.exact, lw, s.workspace, tips, dir, o_.stylus_m, o_.device.period_s, cl());
         std::size_t prev_met = 0;
         for (std::size_t k = 0; k < tips.size(); ++k) {
           const bool cb = rb[k].contact, ce = re[k].contact;
@@ -232,8 +232,8 @@ void Suite::t2(const Scene& s) {
           }
           if (ce && !cb) ++lost;
           if (cb && !ce && fb > kFloor) ++extra;
-          const Rendered qb = render(*s.box, lw, s.map, tips[k], dir, o_.stylus_m);
-          const Rendered qe = render(*s.exact, lw, s.map, tips[k], dir, o_.stylus_m);
+          const Rendered qb = render(*s.box, lw, s.workspace, tips[k], dir, o_.stylus_m);
+          const Rendered qe = render(*s.exact, lw, s.workspace, tips[k], dir, o_.stylus_m);
           if (qb.contact && qb.force.norm() > kFloor) {
             if (!qe.contact || std::fabs(qb.depth_m - qe.depth_m) > 0.25e-3) ++other;
             // A ghost: no triangle of the mesh within 0.1 mm of the box's surface point (exact
@@ -245,18 +245,18 @@ void Suite::t2(const Scene& s) {
             // the surface along itself, and such a point is on the surface for any hand.
             const auto there_along = [&](const Vec3d& u) {
               const Vec3d a = qb.point_m - 1e-4 * u, b = qb.point_m + 1e-4 * u;
-              return render(*s.exact, lw, s.map, b, u, 2e-4).contact || render(*s.exact, lw, s.map, a, -u, 2e-4).contact ||
-                     render(*s.exact, lw, s.map, b, u, 1e-4 + 1e-6).contact ||
-                     render(*s.exact, lw, s.map, a, -u, 1e-4 + 1e-6).contact;
+              return render(*s.exact, lw, s.workspace, b, u, 2e-4).contact || render(*s.exact, lw, s.workspace, a, -u, 2e-4).contact ||
+                     render(*s.exact, lw, s.workspace, b, u, 1e-4 + 1e-6).contact ||
+                     render(*s.exact, lw, s.workspace, a, -u, 1e-4 + 1e-6).contact;
             };
             const bool there = there_along(dir) || there_along(-qb.normal);
             if (!there) ++ghost;
           }
           std::size_t met = 0;
           if (s.box_scene) {
-            const Vec3 tip = s.map.to_model(tips[k]);
+            const Vec3 tip = s.workspace.to_model(tips[k]);
             met = boxes_met(*s.box_scene, 
-                Segment{tip - (dir * (o_.stylus_m / s.map.metres_per_unit)).cast<float>(), tip});
+                Segment{tip - (dir * (o_.stylus_m / s.workspace.metres_per_unit)).cast<float>(), tip});
           }
           const bool at_seam = k > 0 && met != prev_met;
           prev_met = met;
@@ -332,7 +332,7 @@ void Suite::t3(const Scene& s, double thickness_mm) {
     std::vector<Vec3d> tips;
     for (double d = -0.001; d <= 0.012; d += 0.1 * o_.device.period_s) tips.push_back(top + d * dir);
     for (int which = 0; which < 2; ++which) {
-      const auto r = play_positions(which ? *s.exact : *s.box, lw, s.map, tips, dir, o_.stylus_m,
+      const auto r = play_positions(which ? *s.exact : *s.box, lw, s.workspace, tips, dir, o_.stylus_m,
                                     o_.device.period_s, cl());
       bool began = false;
       for (std::size_t k = 0; k < r.size(); ++k) {
@@ -368,7 +368,7 @@ void Suite::t4(const Scene& s) {
     run.stylus_dir = Vec3d(0, 0, -1);
     run.stylus_m = o_.stylus_m;
     run.contact_law = cl();
-    const auto ticks = run_closed_loop(which ? *s.exact : *s.box, lw, s.map, run);
+    const auto ticks = run_closed_loop(which ? *s.exact : *s.box, lw, s.workspace, run);
     double lat2 = 0, fsum = 0;
     int n = 0, sw = 0, last = 0;
     for (const auto& r : ticks) {
@@ -400,7 +400,7 @@ double Suite::keff_ratio(const Scene& s, const ContactQuery& q, const Site& site
   const double step = 0.1 * o_.device.period_s;
   for (double d = -0.0005; d < 0.001; d += step) tips.push_back(site.surface_m + d * site.inward);
   for (double d = 0.001; d > -0.0005; d -= step) tips.push_back(site.surface_m + d * site.inward);
-  const auto r = play_positions(q, lw, s.map, tips, dir, o_.stylus_m, o_.device.period_s, cl());
+  const auto r = play_positions(q, lw, s.workspace, tips, dir, o_.stylus_m, o_.device.period_s, cl());
   return passivity_equivalent_stiffness(r, o_.device.period_s) / k;
 }
 
@@ -434,7 +434,7 @@ void Suite::t6(const Scene& s) {
         auto f = o_.filter ? o_.filter() : nullptr;  // a servo (re)starting: its ramp runs
         const Vec3d tip = site.surface_m + depth * site.inward;
         std::vector<double> mags;
-        TrajectoryRenderer rend(q, lw, s.map, cl());
+        TrajectoryRenderer rend(q, lw, s.workspace, cl());
         for (int k = 0; k < 300; ++k) {
           const Rendered r = rend(tip, site.inward, o_.stylus_m);
           Vec3d out = f ? f->apply(r.force, tip, Vec3d::Zero(), 0.0) : r.force;
@@ -459,14 +459,14 @@ void Suite::t6(const Scene& s) {
   };
   std::size_t into = 0, wrong = 0, into_exact = 0;
   const std::size_t probes = 4000;
-  const double half = 0.5 * o_.diagonal_m / std::sqrt(3.0);
+  const double half = 0.5 * o_.workspace.diagonal_m / std::sqrt(3.0);
   for (std::size_t i = 0; i < probes; ++i) {
     const Vec3d tip(half * (2 * uniform() - 1), half * (2 * uniform() - 1), half * (2 * uniform() - 1));
     Vec3d dir(2 * uniform() - 1, 2 * uniform() - 1, 2 * uniform() - 1);
     if (dir.norm() < 1e-6) continue;
     dir.normalize();
-    const Rendered b = render(*s.box, lw, s.map, tip, dir, o_.stylus_m);
-    const Rendered e = render(*s.exact, lw, s.map, tip, dir, o_.stylus_m);
+    const Rendered b = render(*s.box, lw, s.workspace, tip, dir, o_.stylus_m);
+    const Rendered e = render(*s.exact, lw, s.workspace, tip, dir, o_.stylus_m);
     if (b.contact && b.force.norm() > kFloor && !e.contact) ++wrong;
     if (b.contact && e.contact && b.force.dot(e.normal) < -kFloor) ++into;
     if (e.contact && e.force.dot(e.normal) < -kFloor) ++into_exact;
@@ -486,8 +486,8 @@ void Suite::t7(const Scene& s) {
       std::vector<Vec3d> tips;
       for (double d = 0.001; d > -0.002; d -= speed * o_.device.period_s)
         tips.push_back(site.surface_m + d * site.inward);
-      const auto rb = play_positions(*s.box, lw, s.map, tips, site.inward, o_.stylus_m, o_.device.period_s, cl());
-      const auto re = play_positions(*s.exact, lw, s.map, tips, site.inward, o_.stylus_m, o_.device.period_s, cl());
+      const auto rb = play_positions(*s.box, lw, s.workspace, tips, site.inward, o_.stylus_m, o_.device.period_s, cl());
+      const auto re = play_positions(*s.exact, lw, s.workspace, tips, site.inward, o_.stylus_m, o_.device.period_s, cl());
       std::size_t end_e = 0, end_b = 0;
       for (std::size_t k = 0; k < tips.size(); ++k) {
         if (re[k].contact) end_e = k + 1;
@@ -497,8 +497,8 @@ void Suite::t7(const Scene& s) {
     }
     for (double h : {0.0001, 0.0003, 0.0005}) {
       const Vec3d tip = site.surface_m - h * site.inward;
-      hover += render(*s.box, lw, s.map, tip, site.inward, o_.stylus_m).force.norm() > kFloor;
-      hover_exact += render(*s.exact, lw, s.map, tip, site.inward, o_.stylus_m).force.norm() > kFloor;
+      hover += render(*s.box, lw, s.workspace, tip, site.inward, o_.stylus_m).force.norm() > kFloor;
+      hover_exact += render(*s.exact, lw, s.workspace, tip, site.inward, o_.stylus_m).force.norm() > kFloor;
     }
   }
   add(metric("T7", s.name, "ticks of force after exact's contact ended (retract 0.01-0.5 m/s), worst", "ticks",
@@ -529,7 +529,7 @@ void Suite::t8(const Scene& s) {
         run.stalls = {Stall{1000, ticks}};
         auto f = filter();
         run.filter = f.get();
-        const auto rec = run_closed_loop(q, lh, s.map, run);
+        const auto rec = run_closed_loop(q, lh, s.workspace, run);
         double deepest = 0;
         for (const auto& r : rec) deepest = std::max(deepest, (r.x - site.surface_m).dot(site.inward));
         if (ms == 0) {
@@ -544,8 +544,8 @@ void Suite::t8(const Scene& s) {
         const double quarter = 0.5 * kPi * std::sqrt(dev.mass_kg / k_max()) / dev.period_s;
         const std::vector<Stall> stall{Stall{std::size_t(std::llround(1.2 * quarter)) + 1, ticks}};
         auto g = filter();
-        const Bounce b = free_bounce(q, lb, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, stall, g.get(), cl());
-        const Bounce n = free_bounce(q, lb, s.map, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, stall, nullptr, cl());
+        const Bounce b = free_bounce(q, lb, s.workspace, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, stall, g.get(), cl());
+        const Bounce n = free_bounce(q, lb, s.workspace, dev, site.surface_m, site.inward, 0.1, o_.stylus_m, stall, nullptr, cl());
         const double rb = b.popped ? 9.0 : b.restitution, rn = n.popped ? 9.0 : n.restitution;
         added[which] = std::max(added[which], rb - rn);
         with[which] = std::max(with[which], rb);

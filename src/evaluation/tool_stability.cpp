@@ -32,7 +32,7 @@ struct Driven {
 };
 
 Driven drive(const ContactQuery& query, const ToolShape& tool, const Workspace& ws, const Path& path) {
-  ToolCoupling coupling(query, tool, ws.metres_per_unit);
+  ToolCoupling coupling(query, tool, ws);
   Driven d;
   const ForceLaw law = ws.law();
   for (const ToolPose& p : path.poses) {

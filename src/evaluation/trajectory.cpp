@@ -7,8 +7,6 @@
 // 3. play_positions(): prescribed tips, one query per tick.
 #include "evaluation/trajectory.h"
 #include "errors.h"
-#include "geometry/obb.h"
-#include "mesh/triangle_mesh.h"
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -19,23 +17,14 @@ HandModel no_hand() { return HandModel{}; }
 HandModel light_grip() { return HandModel{"light grip", 0.1, 2.0, 50.0}; }
 HandModel arm_hand() { return HandModel{"arm", 0.554, 6.45, 135.0}; }
 
-DeviceSpaceMap fit_device_space(const TriangleMesh& mesh, double diagonal_m) {
-  const Obb obb = fit_obb(mesh);
-  DeviceSpaceMap m;
-  m.model_origin = obb.center;
-  const double diag = obb.diagonal();
-  m.metres_per_unit = diag > 0 ? diagonal_m / diag : 1.0;
-  return m;
-}
-
 namespace {
 
-Segment trajectory_segment(const DeviceSpaceMap& map, const Vec3d& tip_m, const Vec3d& dir, double stylus_m) {
+Segment trajectory_segment(const Workspace& map, const Vec3d& tip_m, const Vec3d& dir, double stylus_m) {
   const Vec3 tip = map.to_model(tip_m);
   return Segment{tip - (dir * (stylus_m / map.metres_per_unit)).cast<float>(), tip};
 }
 
-Rendered rendered_answer(const Contact& c, const DeviceSpaceMap& map) {
+Rendered rendered_answer(const Contact& c, const Workspace& map) {
   Rendered r;
   if (!c.contact) return r;
   r.contact = true;
@@ -48,12 +37,12 @@ Rendered rendered_answer(const Contact& c, const DeviceSpaceMap& map) {
 
 } // namespace
 
-Rendered render(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map, const Vec3d& tip_m,
+Rendered render(const ContactQuery& query, const ForceLaw& law, const Workspace& map, const Vec3d& tip_m,
                 const Vec3d& dir, double stylus_m) {
   return rendered_answer(query.query(trajectory_segment(map, tip_m, dir, stylus_m), law), map);
 }
 
-TrajectoryRenderer::TrajectoryRenderer(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map,
+TrajectoryRenderer::TrajectoryRenderer(const ContactQuery& query, const ForceLaw& law, const Workspace& map,
                                        ContactLaw kind, GodObjectOptions proxy_options)
     : query_(query), law_(law), map_(map), kind_(kind), proxy_(query, proxy_options) {}
 
@@ -76,7 +65,7 @@ Contact AnalyticWall::query(const Segment& segment, const ForceLaw& law) const n
   return contact_along(segment.start, l, length, t, normal_, law);
 }
 
-std::vector<TickRecord> run_closed_loop(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map,
+std::vector<TickRecord> run_closed_loop(const ContactQuery& query, const ForceLaw& law, const Workspace& map,
                                         const ClosedLoopRun& run) {
   const DeviceProfile& dev = run.device;
   if (!(dev.period_s > 0) || !(dev.mass_kg > 0) || dev.delay_ticks < 0 || run.substeps < 1 || !(run.seconds > 0))
@@ -154,7 +143,7 @@ std::vector<TickRecord> run_closed_loop(const ContactQuery& query, const ForceLa
   return out;
 }
 
-std::vector<TickRecord> play_positions(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map,
+std::vector<TickRecord> play_positions(const ContactQuery& query, const ForceLaw& law, const Workspace& map,
                                        const std::vector<Vec3d>& tips_m, const Vec3d& stylus_dir, double stylus_m,
                                        double period_s, ContactLaw contact_law) {
   std::vector<TickRecord> out(tips_m.size());

@@ -6,6 +6,7 @@
 #include "contact/contact.h"
 #include "contact/god_object.h"
 #include "contact/tick_filter.h"
+#include "contact/workspace.h"
 #include <cstdint>
 #include <Eigen/Core>
 #include <limits>
@@ -26,20 +27,6 @@ HandModel no_hand();
 HandModel light_grip();  ///< 0.1 kg, 2 N s/m, 50 N/m: the least stabilising grip.
 HandModel arm_hand();    ///< 0.554 kg, 6.45 N s/m, 135 N/m.
 
-/// Model units to device metres: device = (model - origin) * metres_per_unit.
-struct DeviceSpaceMap {
-  Vec3 model_origin{Vec3::Zero()};
-  double metres_per_unit = 0.001;
-  Vec3 to_model(const Vec3d& device_m) const {
-    return model_origin + (device_m / metres_per_unit).cast<float>();
-  }
-  Vec3d to_device(const Vec3& model) const { return ((model - model_origin).cast<double>()) * metres_per_unit; }
-};
-
-/// The map that puts the mesh's OBB diagonal at `diagonal_m` (80 mm: a Falcon's workspace).
-struct TriangleMesh;
-DeviceSpaceMap fit_device_space(const TriangleMesh& mesh, double diagonal_m = 0.08);
-
 /// One rendered answer in device space.
 struct Rendered {
   bool contact = false;
@@ -49,9 +36,10 @@ struct Rendered {
   Vec3d point_m{Vec3d::Zero()}; ///< the surface point of the answer, device space.
 };
 
-/// The probe: the tip at the device position, the handle `stylus_m` behind it along `dir`
-/// (unit, handle -> tip). `law.metres_per_unit` must equal map.metres_per_unit.
-Rendered render(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map, const Vec3d& tip_m,
+/// The probe: the tip at the device position (mapped to the model by `map`), the handle
+/// `stylus_m` behind it along `dir` (unit, handle -> tip). `law.metres_per_unit` must equal
+/// map.metres_per_unit (the tests vary the stiffness; the scale is the workspace's).
+Rendered render(const ContactQuery& query, const ForceLaw& law, const Workspace& map, const Vec3d& tip_m,
                 const Vec3d& dir, double stylus_m);
 
 // How a trajectory's answers become forces: ContactLaw (contact/god_object.h).
@@ -60,7 +48,7 @@ Rendered render(const ContactQuery& query, const ForceLaw& law, const DeviceSpac
 /// GodObject (created per renderer: its state is the trajectory's) with the proxy.
 class TrajectoryRenderer {
 public:
-  TrajectoryRenderer(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map, ContactLaw kind,
+  TrajectoryRenderer(const ContactQuery& query, const ForceLaw& law, const Workspace& map, ContactLaw kind,
                      GodObjectOptions proxy_options = {});
   Rendered operator()(const Vec3d& tip_m, const Vec3d& dir, double stylus_m) noexcept;
   /// The proxy (nullptr with the penalty law).
@@ -69,7 +57,7 @@ public:
 private:
   const ContactQuery& query_;
   ForceLaw law_;
-  DeviceSpaceMap map_;
+  Workspace map_;
   ContactLaw kind_;
   GodObject proxy_;
 };
@@ -126,12 +114,12 @@ struct TickRecord {
 };
 
 /// Runs a closed loop on `query`. Deterministic. Throws hb::InvalidInput on bad options.
-std::vector<TickRecord> run_closed_loop(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map,
+std::vector<TickRecord> run_closed_loop(const ContactQuery& query, const ForceLaw& law, const Workspace& map,
                                         const ClosedLoopRun& run);
 
 /// Prescribed motion: the probe at each tip position in turn (one per tick), fixed stylus.
 /// Work and velocity fields follow the positions (v from finite differences).
-std::vector<TickRecord> play_positions(const ContactQuery& query, const ForceLaw& law, const DeviceSpaceMap& map,
+std::vector<TickRecord> play_positions(const ContactQuery& query, const ForceLaw& law, const Workspace& map,
                                        const std::vector<Vec3d>& tips_m, const Vec3d& stylus_dir, double stylus_m,
                                        double period_s, ContactLaw contact_law = ContactLaw::penalty);
 

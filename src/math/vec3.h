@@ -8,5 +8,6 @@
 namespace hb {
 
 using Vec3 = Eigen::Vector3f;
+using Vec3d = Eigen::Vector3d;  ///< device space (m) and the simulations in it.
 
 } // namespace hb

@@ -25,4 +25,9 @@ double model_diagonal(const BoxScene& scene) {
   return scene.parts().boxes.empty() ? 0.0 : double(scene_bounds(scene).diagonal());
 }
 
+Workspace scene_workspace(const BoxScene& scene, const WorkspaceOptions& options) {
+  const Bounds b = scene_bounds(scene);
+  return make_workspace(model_diagonal(scene), options, 0.5f * (b.min + b.max));
+}
+
 } // namespace hb

@@ -14,9 +14,10 @@
 
 namespace hb {
 
-ToolCoupling::ToolCoupling(const ContactQuery& query, const ToolShape& tool, double metres_per_unit,
+ToolCoupling::ToolCoupling(const ContactQuery& query, const ToolShape& tool, const Workspace& workspace,
                            const ToolCouplingOptions& options)
-    : query_(query), probe_(tool, metres_per_unit), options_(options) {
+    : query_(query), probe_(tool, workspace.metres_per_unit), options_(options) {
+  const double metres_per_unit = workspace.metres_per_unit;
   const double fraction = std::min(1.0, std::max(1e-3, options.max_step_fraction));
   const double size = tool.size_m > 0.0 ? tool.size_m : 1e-3;
   max_step_ = float(fraction * size / metres_per_unit);

@@ -7,6 +7,7 @@
 // crosses a surface however hard or fast the device pushes: no pop-through, and the points'
 // handles stay outside the model. The hand feels the coupling spring (the workspace's
 // stiffness), not the number of touching points. docs/tools.md.
+#include "contact/workspace.h"
 #include "tool/tool_contact.h"
 
 namespace hb {
@@ -34,7 +35,8 @@ struct ToolCouplingStep {
 /// step() allocates nothing.
 class ToolCoupling {
 public:
-  ToolCoupling(const ContactQuery& query, const ToolShape& tool, double metres_per_unit,
+  /// The tool at `workspace`'s scale (its metres per unit; the force law comes with each step).
+  ToolCoupling(const ContactQuery& query, const ToolShape& tool, const Workspace& workspace,
                const ToolCouplingOptions& options = {});
   /// Places the simulated tool at `pose` (the first tick's device pose; the tool should start
   /// out of the model).

@@ -26,7 +26,7 @@ const StabilityMetric* find(const std::vector<StabilityMetric>& ms, const std::s
 // A prescribed normal stroke 1 mm into the analytic wall z = 0 (model in metres) at 0.1 m/s.
 double wall_keff_ratio(DepthLaw depth, double tilt_degrees) {
   const AnalyticWall wall(Vec3::Zero(), Vec3(0, 0, 1));
-  DeviceSpaceMap map;
+  Workspace map;
   map.metres_per_unit = 1.0;
   ForceLaw law;
   law.stiffness_n_per_m = 1000.f;
@@ -76,7 +76,7 @@ TEST(StabilityTrajectoryTest, StallHeldWithoutAFilterInjectsEnergy) {
   // A plain device holds its last force through a stall: a bounce at the passivity bound
   // comes back faster than it went in.
   const AnalyticWall wall(Vec3::Zero(), Vec3(0, 0, 1));
-  DeviceSpaceMap map;
+  Workspace map;
   map.metres_per_unit = 1.0;
   ForceLaw law;
   law.stiffness_n_per_m = 3000.f;
@@ -186,7 +186,7 @@ namespace {
 // The light grip of T4 pushing down the bisector of a groove, 0.5 mm off it, for 2 s;
 // returns the lateral ripple (rms F_x / mean |F|) and the wall switches a second after 1 s.
 std::pair<double, double> groove_push(const ContactQuery& q, ContactLaw law_kind) {
-  DeviceSpaceMap map;  // the groove in mm
+  Workspace map;  // the groove in mm
   ForceLaw law;
   law.stiffness_n_per_m = 1500.f;
   law.metres_per_unit = 0.001f;
@@ -251,7 +251,7 @@ TEST(StabilityProxyTest, ProxyComesToRestOnTheCreaseLineHeldByTwoPlanes) {
 
 TEST(StabilityProxyTest, FlatWallFeelsAsUnderTheNormalLawAtAnyTiltAndReleasesWithTheStylus) {
   const AnalyticWall wall(Vec3::Zero(), Vec3(0, 0, 1));
-  DeviceSpaceMap map;
+  Workspace map;
   map.metres_per_unit = 1.0;
   ForceLaw law;
   law.stiffness_n_per_m = 3000.f;
@@ -276,7 +276,7 @@ TEST(StabilityProxyTest, FlatWallFeelsAsUnderTheNormalLawAtAnyTiltAndReleasesWit
 
 TEST(StabilityProxyTest, BouncesOffAWallWithThePenaltyLawsRestitution) {
   const AnalyticWall wall(Vec3::Zero(), Vec3(0, 0, 1));
-  DeviceSpaceMap map;
+  Workspace map;
   map.metres_per_unit = 1.0;
   ForceLaw law;
   law.stiffness_n_per_m = 3000.f;
@@ -317,11 +317,12 @@ TEST(StabilitySuiteTest, RefinedBoxesOfCrispGroovesHoldTheCornerCalmlyWithThePro
 
 namespace {
 
-// The armadillo (datasets/data/meshes), fitted into the device space as the suite fits it,
-// with the suite's second T1 site (seed 1, sites by area): a point under an overhang.
+// The armadillo (datasets/data/meshes), fitted into the device space as the suite fits it (its
+// diagonal at 80 mm), with the suite's second T1 site (seed 1, sites by area): a point under
+// an overhang.
 struct ArmadilloSite {
   TriangleMesh mesh;
-  DeviceSpaceMap map;
+  Workspace map;
   ForceLaw law;  // k = K_max / 2, T1's hold
   Vec3d surface{Vec3d::Zero()}, inward{Vec3d::Zero()};
 };
@@ -331,7 +332,7 @@ bool armadillo_site(ArmadilloSite& a) {
   if (!std::ifstream(file)) return false;
   a.mesh = read_mesh(file);
   const ExactQuery exact(a.mesh);
-  a.map = fit_device_space(a.mesh, 0.08);
+  a.map = make_workspace(a.mesh.bounds());  // the suite: the bounding-box diagonal at 80 mm
   a.law.stiffness_n_per_m = float(0.5 * falcon_profile().max_stiffness_n_per_m);
   a.law.metres_per_unit = float(a.map.metres_per_unit);
   ProbeOptions po;

@@ -21,6 +21,12 @@ constexpr float kStiffness = 1500.f;
 constexpr double kMetresPerUnit = 1e-3;
 
 ForceLaw law() { return ForceLaw{kStiffness, float(kMetresPerUnit), DepthLaw::normal}; }
+// Models in millimetres at the device (the coupling's scale).
+Workspace mm_workspace() {
+  Workspace w;
+  w.metres_per_unit = kMetresPerUnit;
+  return w;
+}
 
 // A slab whose top face is the plane z = 0 (50 mm each way), finely split.
 TriangleMesh plane_slab() {
@@ -234,7 +240,7 @@ TEST(ToolCouplingTest, ASpherePushedThroughAThinPlateAtHalfAMetreASecondNeverPop
   TriangleMesh plate = make_cube(Vec3(50.f, 50.f, 0.5f), 8);
   plate.compute_vertex_normals();
   const ExactQuery exact(plate);
-  ToolCoupling coupling(exact, make_sphere_tool(0.002, 1000), kMetresPerUnit);
+  ToolCoupling coupling(exact, make_sphere_tool(0.002, 1000), mm_workspace());
   ToolPose device;
   float last_force = 0.f;
   for (int tick = 0; tick <= 34; ++tick) {
@@ -253,7 +259,7 @@ TEST(ToolCouplingTest, ASpherePushedThroughAThinPlateAtHalfAMetreASecondNeverPop
 TEST(ToolCouplingTest, Resting10SecondsOnASurfaceHoldsOneSteadyForce) {
   const TriangleMesh slab = plane_slab();
   const ExactQuery exact(slab);
-  ToolCoupling coupling(exact, make_sphere_tool(0.002, 1000), kMetresPerUnit);
+  ToolCoupling coupling(exact, make_sphere_tool(0.002, 1000), mm_workspace());
   ToolPose device;
   device.position = Vec3(1.f, 2.f, 1.5f);  // 0.5 mm in
   float lo = 1e9f, hi = -1e9f;
@@ -271,7 +277,7 @@ TEST(ToolCouplingTest, Resting10SecondsOnASurfaceHoldsOneSteadyForce) {
 TEST(ToolCouplingTest, AToolAwayFromTheSurfaceFeelsNoForce) {
   const TriangleMesh slab = plane_slab();
   const ExactQuery exact(slab);
-  ToolCoupling coupling(exact, make_capsule_tool(0.001, 0.01, 1000), kMetresPerUnit);
+  ToolCoupling coupling(exact, make_capsule_tool(0.001, 0.01, 1000), mm_workspace());
   ToolPose device;
   for (int tick = 0; tick < 100; ++tick) {
     device.position = Vec3(0.1f * float(tick), 0.f, 8.f);

@@ -22,8 +22,9 @@ ServoOptions options() {
   o.request_realtime = false;
   // Default watchdog: a late tick in the recording is re-applied by the replay.
   o.safety.ramp_seconds = 0.05f;
-  o.mapping.model_units_per_metre = 1000.f;
-  o.law.stiffness_n_per_m = 2000.f;
+  o.workspace.metres_per_unit = 1e-3;
+  o.workspace.probe_length = 10.f;
+  o.workspace.stiffness_n_per_m = 2000.0;
   return o;
 }
 

@@ -89,7 +89,7 @@ TEST(ServoLoopTest, StiffnessIsLimitedToTheDevice) {
   VirtualDevice dev;
   test::HalfSpaceScene scene(0.f);
   ServoOptions o = test_options();
-  o.law.stiffness_n_per_m = 1e6f;  // far above the 3000 N/m the device can render
+  o.workspace.stiffness_n_per_m = 1e6;  // far above the 3000 N/m the device can render
   ServoLoop loop(dev, scene, o);
   loop.start();
   loop.stop();
@@ -182,15 +182,18 @@ TEST(ServoLoopTest, RejectsANonFiniteOrOverflowingForceLaw) {
   test::HalfSpaceScene scene;
   for (float k : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(), -500.f, 0.f}) {
     ServoOptions o = test_options();
-    o.law.stiffness_n_per_m = k;
+    o.workspace.stiffness_n_per_m = k;
     ServoLoop loop(dev, scene, o);
     EXPECT_THROW(loop.start(), InvalidInput) << k;
   }
   ServoOptions o = test_options();
-  o.law.stiffness_n_per_m = 1e38f;
-  o.mapping.model_units_per_metre = 1e38f;  // k x m/unit x units/m overflows
+  o.workspace.stiffness_n_per_m = 1e39;  // finite, but not as the law's float
   ServoLoop loop(dev, scene, o);
   EXPECT_THROW(loop.start(), InvalidInput);
+  ServoOptions tiny = test_options();
+  tiny.workspace.metres_per_unit = 1e-320;  // the device to the model (1 / metres per unit) overflows
+  ServoLoop tiny_loop(dev, scene, tiny);
+  EXPECT_THROW(tiny_loop.start(), InvalidInput);
 }
 
 TEST(ServoLoopTest, RejectsARateBelowOneHertz) {

@@ -66,8 +66,8 @@ struct ProxyTick {
 ServoOptions proxy_options(ContactLaw law) {
   ServoOptions o = test::servo_test_options();  // mm, 10 mm probe, k = 1000 N/m
   o.contact_law = law;
-  o.mapping.model_origin = Vec3::Zero();
-  o.mapping.probe_direction = Vec3(0.f, 0.f, -1.f);
+  o.workspace.model_origin = Vec3::Zero();
+  o.workspace.probe_direction = Vec3(0.f, 0.f, -1.f);
   return o;
 }
 
@@ -100,7 +100,7 @@ std::vector<ProxyTick> run_groove(HapticDevice& device, const ServoOptions& o, s
     const LogRecord& r = log.records[i];
     const ShadowRecord& s = log.shadow[i];
     ProxyTick t;
-    t.tip_mm = o.mapping.model_origin + Vec3(r.position_m[0], r.position_m[1], r.position_m[2]) * 1000.f;
+    t.tip_mm = o.workspace.model_origin + Vec3(r.position_m[0], r.position_m[1], r.position_m[2]) * 1000.f;
     t.contact[0] = r.contact != 0;
     t.contact[1] = s.shadow_contact != 0;
     t.force[0] = Vec3(s.drive_force_n[0], s.drive_force_n[1], s.drive_force_n[2]);

@@ -14,9 +14,9 @@ inline ServoOptions servo_test_options() {
   o.request_realtime = false;
   o.safety.watchdog_bound_s = 10.0;
   o.safety.ramp_seconds = 0.01f;
-  o.mapping.model_units_per_metre = 1000.f;
-  o.mapping.probe_length = 10.f;
-  o.law.stiffness_n_per_m = 1000.f;
+  o.workspace.metres_per_unit = 1e-3;
+  o.workspace.probe_length = 10.f;
+  o.workspace.stiffness_n_per_m = 1000.0;
   return o;
 }
 

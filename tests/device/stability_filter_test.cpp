@@ -9,7 +9,7 @@ namespace {
 
 struct WallRun {
   AnalyticWall wall{Vec3::Zero(), Vec3(0, 0, 1)};
-  DeviceSpaceMap map;
+  Workspace map;
   ForceLaw law;
   explicit WallRun(float k) {
     map.metres_per_unit = 1.0;

@@ -9,6 +9,8 @@
 #include "recipe/box_cache.h"
 #include "store/box_file.h"
 #include "mesh/file_hash.h"
+#include "device/servo_log.h"
+#include "device/servo_loop.h"
 #include "ui_test_support.h"
 #include <QFile>
 #include <QFileInfo>
@@ -18,6 +20,8 @@
 #include <vtkDataArray.h>
 #include <vtkPointData.h>
 #include <cmath>
+#include <cstring>
+#include <optional>
 #include <thread>
 
 TEST(SessionFileTest, RoundTripsEveryField) {
@@ -365,4 +369,44 @@ TEST(SessionJobsTest, DefaultBakeGivesTheCommandLinesBoxes) {
   ASSERT_GT(written.size(), 0);
   EXPECT_TRUE(untimed(QString::fromStdString(entry)) == written) << "the window's cache entry differs from `hapticbox bake`'s file";
   EXPECT_TRUE(untimed(window) == written) << "the window's saved box differs from `hapticbox bake`'s file";
+}
+
+// The window's servo thread and `hapticbox servo` run the same box file at one workspace
+// (hb::scene_workspace: the probe, the scale and the stiffness): at every device position the
+// command line's loop recorded, the window's servo options give the command line's force
+// (its driving answer before safety), bit for bit.
+TEST(SessionDeviceTest, WindowAndCommandLineServoForcesAgreeBitForBit) {
+  hbtest::MeshDir data;
+  HapticSession s;
+  ASSERT_TRUE(s.openMesh(data.mesh));
+  ASSERT_NO_FATAL_FAILURE(bakeSmallBox(s));
+  ASSERT_TRUE(s.hasBoxes());
+  ASSERT_TRUE(hbtest::waitFor([&] { return s.device()->servoRunning(); }, 30));
+  const std::optional<hb::ServoOptions> window = s.device()->servoOptions();
+  ASSERT_TRUE(window.has_value());
+  const QString box = data.dir.filePath(QStringLiteral("bumpy.hbox"));
+  const QString log = data.dir.filePath(QStringLiteral("servo.hbslog"));
+  ASSERT_TRUE(s.saveBoxFile(box));
+  const auto [code, out] = runCli({QStringLiteral("servo"), box, QStringLiteral("--exact"), data.mesh,
+                                   QStringLiteral("--device"), QStringLiteral("virtual"), QStringLiteral("--seconds"),
+                                   QStringLiteral("0.5"), QStringLiteral("--no-realtime"), QStringLiteral("--record"), log});
+  ASSERT_EQ(code, 0) << out.toStdString();
+  const hb::ServoLog recorded = hb::read_servo_log(QFile::encodeName(log).toStdString());
+  ASSERT_TRUE(recorded.comparison);
+  ASSERT_EQ(recorded.shadow.size(), recorded.records.size());
+  ASSERT_GT(recorded.records.size(), 100u);
+
+  // The window's servo thread: its probe over its boxes, its workspace's probe and law.
+  hb::SceneProbe probe(*s.boxes());
+  const hb::ForceLaw law = window->workspace.law();
+  std::size_t contacts = 0, same = 0;
+  for (std::size_t i = 0; i < recorded.records.size(); ++i) {
+    const float* p = recorded.records[i].position_m;
+    const hb::Contact c = probe.query(window->workspace.probe(hb::Vec3(p[0], p[1], p[2])), law);
+    const float* f = recorded.shadow[i].drive_force_n;
+    same += std::memcmp(c.force.data(), f, 3 * sizeof(float)) == 0 ? 1 : 0;
+    contacts += c.contact ? 1 : 0;
+  }
+  EXPECT_EQ(same, recorded.records.size());
+  EXPECT_GT(contacts, 10u);
 }
