@@ -3,7 +3,7 @@
 #include "BackgroundJob.h"
 #include "SessionJobs.h"
 #include "device/safety_tick_filter.h"
-#include "evaluation/stability_suite.h"
+#include "stability/stability_suite.h"
 #include "errors.h"
 #include <QFileInfo>
 #include <memory>

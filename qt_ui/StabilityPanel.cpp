@@ -1,7 +1,7 @@
 #include "StabilityPanel.h"
 #include "BackgroundJob.h"
 #include "HapticSession.h"
-#include "evaluation/stability_suite.h"
+#include "stability/stability_suite.h"
 #include "figure_text.h"
 #include <QCheckBox>
 #include <QComboBox>

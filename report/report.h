@@ -6,7 +6,7 @@
 #include "contact/workspace.h"
 #include "evaluation/comparison.h"
 #include "evaluation/error_field.h"
-#include "evaluation/stability_suite.h"
+#include "stability/stability_suite.h"
 #include "recipe/sweep.h"
 #include "evaluation/worst_probes.h"
 #include "scene/box_scene.h"

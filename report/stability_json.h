@@ -1,7 +1,7 @@
 #pragma once
 // The JSON of `hapticbox stability --json`, shared by the command and the report's
 // summary.json (the same keys and values for the same input and options).
-#include "evaluation/stability_suite.h"
+#include "stability/stability_suite.h"
 #include <nlohmann/json.hpp>
 #include <cmath>
 

@@ -1,7 +1,7 @@
 #pragma once
 // The stability section of report.html: the suite's table (test, metric, box, exact,
 // difference, threshold, verdict) and a plot of the force along one trajectory.
-#include "evaluation/stability_suite.h"
+#include "stability/stability_suite.h"
 #include <string>
 
 namespace hb {

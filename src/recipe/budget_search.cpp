@@ -22,7 +22,7 @@
 #include "errors.h"
 #include "evaluation/probe_sampling.h"
 #include "evaluation/query_timing.h"
-#include "evaluation/stability_suite.h"
+#include "stability/stability_suite.h"
 #include "stopwatch.h"
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

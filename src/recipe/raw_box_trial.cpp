@@ -4,7 +4,7 @@
 #include "evaluation/comparison.h"
 #include "evaluation/probe_sampling.h"
 #include "evaluation/query_timing.h"
-#include "evaluation/stability_suite.h"
+#include "stability/stability_suite.h"
 #include "exact/exact_query.h"
 #include "stopwatch.h"
 #include <tbb/blocked_range.h>

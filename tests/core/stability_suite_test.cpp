@@ -1,5 +1,5 @@
 // The stability suite's harness and gate (label `stability`).
-#include "evaluation/stability_suite.h"
+#include "stability/stability_suite.h"
 #include "errors.h"
 #include "exact/exact_query.h"
 #include "scene/bake.h"

@@ -9,7 +9,7 @@
 #include "device/servo_loop.h"
 #include "device/virtual_device.h"
 #include "errors.h"
-#include "evaluation/stability_suite.h"
+#include "stability/stability_suite.h"
 #include "exact/exact_query.h"
 #include "scene/bake.h"
 #include "scene/box_scene.h"

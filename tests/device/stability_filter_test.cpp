@@ -1,6 +1,6 @@
 // The servo's force path in the stability harness: stalls and the energy guard (label `stability`).
 #include "device/safety_tick_filter.h"
-#include "evaluation/trajectory.h"
+#include "stability/trajectory.h"
 #include <gtest/gtest.h>
 
 using namespace hb;

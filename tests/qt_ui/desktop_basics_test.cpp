@@ -7,7 +7,7 @@
 #include "ScreenshotDialog.h"
 #include "SessionFile.h"
 #include "StabilityPanel.h"
-#include "evaluation/stability_suite.h"
+#include "stability/stability_suite.h"
 #include "window_test_support.h"
 #include "series_colours.h"
 #include <QAction>

@@ -1,6 +1,6 @@
 // The stability suite's generated objects (stability_suite.h, stability_harness.h): flat
 // shaded prisms in mm (a wall, plates, V-grooves), built from quads of their own vertices.
-#include "evaluation/stability_harness.h"
+#include "stability/stability_harness.h"
 #include "errors.h"
 #include "math/constants.h"
 #include <algorithm>

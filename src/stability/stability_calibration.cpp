@@ -1,8 +1,8 @@
 // The stability suite's calibration gate (stability_suite.h): free bounces and prescribed
 // strokes on an AnalyticWall must give the reference simulation's figures
 // (docs/stability.md), else the harness is wrong. And judge(), every metric's verdict.
-#include "evaluation/stability_harness.h"
-#include "evaluation/trajectory.h"
+#include "stability/stability_harness.h"
+#include "stability/trajectory.h"
 #include <cmath>
 #include <cstdio>
 

@@ -5,7 +5,7 @@
 //    saturate, then hold that force while RK4 integrates device (+ hand) over T in
 //    `substeps` steps. A stall holds the last force for its ticks; the next tick is late.
 // 3. play_positions(): prescribed tips, one query per tick.
-#include "evaluation/trajectory.h"
+#include "stability/trajectory.h"
 #include "errors.h"
 #include <algorithm>
 #include <cmath>

@@ -9,7 +9,7 @@
 //     reach of the simulated tool (nothing holds it off); a jump is a tick whose force differs perceptibly from the last.
 //  4. Criteria per test (ToolStabilityResult::criterion); the box is held to exact's figures
 //     where geometry itself makes them (jumps along slides, the energy of a press).
-#include "evaluation/tool_stability.h"
+#include "stability/tool_stability.h"
 #include "errors.h"
 #include "evaluation/tool_ticks.h"
 #include "exact/exact_query.h"

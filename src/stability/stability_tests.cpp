@@ -3,9 +3,9 @@
 // judged against its threshold, for the box and for exact (a failure exact shares is the
 // law's). Also the sites on the model (surface points by area, kept when exact answers a
 // 1 mm-deep probe along the inward normal there) and the simulated free bounce.
-#include "evaluation/stability_harness.h"
+#include "stability/stability_harness.h"
 #include "perception/perceptible.h"
-#include "evaluation/stability_suite.h"
+#include "stability/stability_suite.h"
 #include "math/constants.h"
 #include "errors.h"
 #include "evaluation/probe_sampling.h"

@@ -13,7 +13,7 @@
 // 5. Ranks: the gate and each (scene, test) pair are tasks dealt to the ranks in turn; every
 //    rank receives every task's figures and traces and assembles them in task order, so the
 //    report is the one process's (StabilityOptions::communicator).
-#include "evaluation/stability_harness.h"
+#include "stability/stability_harness.h"
 #include "scene/scene_extent.h"
 #include "errors.h"
 #include "exact/exact_query.h"

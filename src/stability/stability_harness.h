@@ -5,7 +5,7 @@
 // tests to the ranks; the calibration gate is stability_calibration.cpp's, the generated
 // objects stability_objects.cpp's.
 #include "perception/perceptible.h"
-#include "evaluation/stability_suite.h"
+#include "stability/stability_suite.h"
 #include "mesh/triangle_mesh.h"
 #include <memory>
 #include <string>

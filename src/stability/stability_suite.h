@@ -2,7 +2,7 @@
 // The stability suite (docs/stability.md): deterministic, hardware-free trajectory
 // tests, the box and exact Embree side by side on the same trajectories, every figure as box,
 // exact, difference, threshold and verdict. A calibration gate on an analytic wall runs first.
-#include "evaluation/trajectory.h"
+#include "stability/trajectory.h"
 #include "scene/box_scene.h"
 #include "parallel/communicator.h"
 #include <cstdint>
