@@ -38,7 +38,7 @@ fuzz_seconds=${HB_FUZZ_SECONDS:-10}
 asan_skip='ErrorShrinksAsDensitiesGrow|EllipsoidDepthConvergesToExact|AutoDecompositionTest|QuadFetchEqualsPerSampleFetchOnArmadillo|QuadFetchEqualsPerSampleFetchAtEveryTileSize|SeamCrossingKeepsContact|ASceneOfSeveralRefinedBoxesAnswersExactly'
 # ... and the budgeted bakes, a decomposition run twice, the stroke and many-probe agreement runs, the analytic sphere and the
 # codec's ratio search (4-30 s each under the sanitizers, the input they read is their own).
-asan_skip+='|QueryStateTest|ErrorBudgetTest|ResolvedAutomaticPiecesAreTheDecompositionsOwn|SphereDepthAndNormalMatchAnalyticAnswer|RoutedQueriesAskOneBox|SceneOfSeveralBoxesGivesTheSameAnswers|RefinedSphereHasNoGhosts|ContactNearestTheHandleWins|RatioTargetIsReached|ErrorBoundIsHonouredOnRealTables'
+asan_skip+='|QueryStateTest|RouteRuleTest|ErrorBudgetTest|ResolvedAutomaticPiecesAreTheDecompositionsOwn|SphereDepthAndNormalMatchAnalyticAnswer|RoutedQueriesAskOneBox|SceneOfSeveralBoxesGivesTheSameAnswers|RefinedSphereHasNoGhosts|ContactNearestTheHandleWins|RatioTargetIsReached|ErrorBoundIsHonouredOnRealTables'
 start=$SECONDS
 bash scripts/build_sanitized.sh
 echo "test.sh: sanitizer build took $((SECONDS - start)) s"

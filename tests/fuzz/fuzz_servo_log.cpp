@@ -70,10 +70,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   o.request_realtime = false;
   o.spin_s = 0.0;
   o.safety.ramp_seconds = 0.f;  // full forces from the first tick: the clamp is what is tested
-  hb::Bounds plane;  // an 80 mm cube around the plane, as `servo plane`
-  plane.min = hb::Vec3::Constant(-40.f);
-  plane.max = hb::Vec3::Constant(40.f);
-  o.workspace = hb::make_workspace(plane);
+  hb::Bounds cube;  // an 80 mm cube around the plane, as `servo plane`
+  cube.min = hb::Vec3::Constant(-40.f);
+  cube.max = hb::Vec3::Constant(40.f);
+  o.workspace = hb::make_workspace(cube);
   o.workspace.stiffness_n_per_m = 1e7;  // far above any device: the stiffness limit must hold it
   hb::ServoLoop loop(device, plane, o);
   // A comparison log replays with a shadow answer too (a plane 1 unit higher): it must change
