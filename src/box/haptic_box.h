@@ -160,7 +160,7 @@ public:
   /// among them (or the bounded walk from the one the line passes nearest) with no blended t
   /// to agree with, then the contact test of step 6. What query_into(..., Refine::all)
   /// returns when its refinement confirms a contact and the blend is not consulted; a scene
-  /// that never answers with unconfirmed blends (UnconfirmedBlend::reject) routes a probe's
+  /// (which never answers with an unconfirmed blend) routes a probe's
   /// box query here (box_scene.cpp). False (no contact) when the box does not refine, the
   /// line misses the box, no sample of the cell hit, or the crossing is no contact.
   bool query_refined(const Segment& segment, const ForceLaw& law, Contact& out, float& distance_from_handle,

@@ -2,7 +2,7 @@
 // Never slower than exact along strokes (budgeted bake step 7): a scene the surface
 // cells answer on a simplified surface is timed along hand-like strokes, one probe with its
 // query state as a servo loop asks, against exact Embree over the full mesh; where Embree is
-// faster there it answers the scene's strokes (BoxScene::set_stroke_mesh), and the cells keep
+// faster there it answers the scene's strokes (SceneParts::stroke), and the cells keep
 // the queries without a state (random, batched), where they are faster.
 #include "contact/contact.h"
 #include "scene/box_scene.h"

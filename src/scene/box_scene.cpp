@@ -128,9 +128,7 @@ std::size_t BoxScene::box_queries(const Segment& segment, const ForceLaw& law) c
 }
 
 void BoxScene::prime(const Segment& segment, const ForceLaw& law) const noexcept {
-  const Contact c = stroke_route_ == SceneRoute::embree && route_ == SceneRoute::cells
-                        ? parts_.stroke->exact->query(segment, law)
-                        : query(segment, law);
+  const Contact c = strokes_by_full_mesh(*this) ? parts_.stroke->exact->query(segment, law) : query(segment, law);
   keep_result(c);
 }
 

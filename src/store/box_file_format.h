@@ -21,7 +21,7 @@
 //     written only when a box does (every other file is written as version 7, byte for byte
 //     as before); version 9 adds the stroke route's full mesh (u64 offset, u64 bytes, u64
 //     hash; its bytes: u32 vertex count V, u32 triangle count T, V f32 positions xyz, V f32
-//     unit vertex normals xyz, T u32 vertex index triples; BoxScene::set_stroke_mesh) and is
+//     unit vertex normals xyz, T u32 vertex index triples; SceneParts::stroke) and is
 //     written only when a scene has one; then u64 hash of all header bytes before it.
 //  2. Tables at 64-byte aligned offsets: raw records in BoxLayout::sample_index order (box_layout.h), or a
 //     compressed payload (codec/table_payload.h); then each refined box's triangle ids

@@ -199,6 +199,8 @@ TEST(RouteRuleTest, ADefaultBakeRepeatedGivesTheSameRouteAndTheSameBytesApartFro
   EXPECT_TRUE(clearly_faster_than_embree(70.0, 100.0));
   EXPECT_FALSE(clearly_faster_than_embree(90.0, 100.0));  // a near-tie goes to Embree
   EXPECT_FALSE(clearly_faster_than_embree(0.0, 100.0));   // not timed
+  EXPECT_TRUE(not_slower_than_embree(90.0, 100.0));        // along strokes, after a clear win at random
+  EXPECT_FALSE(not_slower_than_embree(101.0, 100.0));
 }
 
 } // namespace
